@@ -1,0 +1,54 @@
+/* cli_common.c - helpers shared by the subcommands. */
+#include "pom_cli.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+
+const char *const pom_cli_known_top[] = {
+    "name",     "architecture", "geometry", "limits",     "workspace", "inertia",
+    "actuator", "controller",   "joints",   "scene",      "solver",    "maneuver",
+    "montecarlo", "study",      "candidates", "synthesis", "tuning",   NULL};
+
+void pom_cli_report(const char *context, const pom_error *err) {
+  if (err && err->message[0]) {
+    fprintf(stderr, "pomlab: %s: %s\n", context, err->message);
+  } else {
+    fprintf(stderr, "pomlab: %s: %s\n", context,
+            pom_strerror(err ? err->status : POM_ERR_INTERNAL));
+  }
+}
+
+int pom_cli_exit_code(pom_status st) {
+  if (st == POM_OK) return 0;
+  if (st == POM_ERR_CONFIG || st == POM_ERR_ARG) return 2;
+  return 1;
+}
+
+int pom_cli_parse_list(const char *text, int n, double *out) {
+  const char *p = text;
+  for (int k = 0; k < n; ++k) {
+    char *end = NULL;
+    errno = 0;
+    double v = strtod(p, &end);
+    if (end == p || errno != 0) return -1;
+    out[k] = v;
+    p = end;
+    if (k < n - 1) {
+      if (*p != ',') return -1;
+      ++p;
+    }
+  }
+  return *p == '\0' ? 0 : -1;
+}
+
+pom_cfg *pom_cli_load_config(const char *path) {
+  pom_error err;
+  pom_error_clear(&err);
+  pom_cfg *cfg = NULL;
+  if (pom_cfg_load(&cfg, path, &err) != POM_OK) {
+    pom_cli_report("config", &err);
+    return NULL;
+  }
+  return cfg;
+}

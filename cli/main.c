@@ -1,0 +1,45 @@
+/* main.c - pomlab: dispatch to the subcommands. */
+#include "pom_cli.h"
+
+#include <stdio.h>
+#include <string.h>
+
+typedef struct {
+  const char *name;
+  pom_cli_fn fn;
+  const char *summary;
+} command;
+
+/* One line per subcommand; each lives in cli/cmd_<name>.c. */
+static const command commands[] = {
+    {NULL, NULL, NULL} /* end */
+};
+
+static void usage(FILE *out) {
+  fprintf(out, "usage: pomlab COMMAND CONFIG [options]   (pomlab COMMAND --help for details)\n\n"
+               "Design study toolkit for 3-DOF parallel orientation manipulators.\n\n"
+               "commands:\n");
+  for (size_t k = 0; commands[k].name; ++k)
+    fprintf(out, "  %-10s %s\n", commands[k].name, commands[k].summary);
+  fprintf(out, "\n  --version  print version and git commit\n");
+}
+
+int main(int argc, char **argv) {
+  if (argc < 2) {
+    usage(stderr);
+    return 2;
+  }
+  if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
+    usage(stdout);
+    return 0;
+  }
+  if (strcmp(argv[1], "--version") == 0) {
+    printf("pomlab %s (commit %s)\n", POM_VERSION, POM_GIT_COMMIT);
+    return 0;
+  }
+  for (size_t k = 0; commands[k].name; ++k)
+    if (strcmp(argv[1], commands[k].name) == 0) return commands[k].fn(argc - 1, argv + 1);
+  fprintf(stderr, "pomlab: unknown command '%s'\n\n", argv[1]);
+  usage(stderr);
+  return 2;
+}

@@ -1,0 +1,36 @@
+/* pom_cli.h - the pomlab command-line program: shared helpers for the
+ * subcommands. Only cli/ prints or decides exit codes. */
+#ifndef POM_CLI_H
+#define POM_CLI_H
+
+#include "pom_config.h"
+#include "pom_status.h"
+
+#include <stdio.h>
+
+/* A subcommand: argv[0] is the subcommand name. Returns the process exit code
+ * (0 ok, 1 runtime failure, 2 usage or config error). */
+typedef int (*pom_cli_fn)(int argc, char **argv);
+
+/* Prints "pomlab: <context>: <message>" on stderr for a failed status. */
+void pom_cli_report(const char *context, const pom_error *err);
+
+/* Exit code for a status: 2 for config/argument errors, 1 otherwise, 0 ok. */
+int pom_cli_exit_code(pom_status st);
+
+/* Parses "a,b,c" into n doubles; returns 0 on success. */
+int pom_cli_parse_list(const char *text, int n, double *out);
+
+/* Every top-level config name any command understands (NULL-terminated). */
+extern const char *const pom_cli_known_top[];
+
+/* Loads a config file, reporting failures; returns NULL on error. */
+pom_cfg *pom_cli_load_config(const char *path);
+
+/* Subcommands, one file each (cli/cmd_<name>.c). */
+int pom_cmd_model(int argc, char **argv);
+int pom_cmd_ik(int argc, char **argv);
+int pom_cmd_fk(int argc, char **argv);
+int pom_cmd_workspace(int argc, char **argv);
+
+#endif

@@ -1,0 +1,105 @@
+/* pom_config.h - validated access to libconfig files.
+ *
+ * Every getter takes a dotted key ("actuator.resistance_ohm", list elements as
+ * "candidates.[0].name"), checks type and range, converts to SI with the given
+ * factor and marks the setting as used. After all consumers have read their
+ * keys, pom_cfg_check_unknown() rejects every setting nobody asked for.
+ * Every message names file, line, key, the value found and what was expected.
+ * Ranges are given in the config's own unit (the unit in the key name); the
+ * factor converts the checked value to SI. */
+#ifndef POM_CONFIG_H
+#define POM_CONFIG_H
+
+#include "pom_status.h"
+
+#include <stddef.h>
+
+typedef struct pom_cfg pom_cfg;
+
+/* Loads and parses a config file (with @include resolved relative to the
+ * file's folder). On failure *out is NULL and err names file, line and the
+ * parse error. The caller owns *out. */
+pom_status pom_cfg_load(pom_cfg **out, const char *path, pom_error *err);
+
+/* Same from a string; name is used in messages (e.g. "<test>"). */
+pom_status pom_cfg_load_string(pom_cfg **out, const char *text, const char *name,
+                               pom_error *err);
+
+/* Frees; NULL is allowed. */
+void pom_cfg_destroy(pom_cfg *cfg);
+
+/* Path given at load (or the name for strings). */
+const char *pom_cfg_path(const pom_cfg *cfg);
+
+/* The raw text of the main file, as read (for provenance in results files). */
+const char *pom_cfg_text(const pom_cfg *cfg);
+
+/* 1 when the key exists (does not mark it used). */
+int pom_cfg_has(const pom_cfg *cfg, const char *key);
+
+/* Number of elements of a list/array/group at key, 0 when absent. */
+int pom_cfg_length(const pom_cfg *cfg, const char *key);
+
+/* Marks a key (and everything below it) as used without reading it. */
+void pom_cfg_mark_used(const pom_cfg *cfg, const char *key);
+
+/* Required real (an integer literal is accepted). min/max in config units,
+ * inclusive; out = value * to_si. */
+pom_status pom_cfg_real(const pom_cfg *cfg, const char *key, double to_si, double min, double max,
+                        double *out, pom_error *err);
+/* Optional real: absent -> *out = dflt_si (already SI). */
+pom_status pom_cfg_real_opt(const pom_cfg *cfg, const char *key, double to_si, double min,
+                            double max, double dflt_si, double *out, pom_error *err);
+
+/* Array of exactly n reals, each checked against [min, max], times to_si. */
+pom_status pom_cfg_reals(const pom_cfg *cfg, const char *key, int n, double to_si, double min,
+                         double max, double *out, pom_error *err);
+/* Array of 1..max_n reals; *n_out receives the count. */
+pom_status pom_cfg_reals_var(const pom_cfg *cfg, const char *key, int max_n, double to_si,
+                             double min, double max, double *out, int *n_out, pom_error *err);
+
+/* Required / optional integer in [min, max]. */
+pom_status pom_cfg_int(const pom_cfg *cfg, const char *key, long min, long max, long *out,
+                       pom_error *err);
+pom_status pom_cfg_int_opt(const pom_cfg *cfg, const char *key, long min, long max, long dflt,
+                           long *out, pom_error *err);
+
+/* Required / optional boolean (true/false). */
+pom_status pom_cfg_bool(const pom_cfg *cfg, const char *key, int *out, pom_error *err);
+pom_status pom_cfg_bool_opt(const pom_cfg *cfg, const char *key, int dflt, int *out,
+                            pom_error *err);
+
+/* Required / optional string copied into buf (size cap, NUL-terminated). */
+pom_status pom_cfg_string(const pom_cfg *cfg, const char *key, char *buf, size_t cap,
+                          pom_error *err);
+pom_status pom_cfg_string_opt(const pom_cfg *cfg, const char *key, const char *dflt, char *buf,
+                              size_t cap, pom_error *err);
+
+/* String that must be one of choices (NULL-terminated array); *index gets its
+ * position. The optional form leaves *index = dflt when absent. */
+pom_status pom_cfg_choice(const pom_cfg *cfg, const char *key, const char *const choices[],
+                          int *index, pom_error *err);
+pom_status pom_cfg_choice_opt(const pom_cfg *cfg, const char *key, const char *const choices[],
+                              int dflt, int *index, pom_error *err);
+
+/* Rejects settings that nobody read. Only settings under the top-level names
+ * listed in `scopes` (NULL-terminated; NULL pointer = everything) are
+ * checked, plus any top-level name not in `known_top` (NULL-terminated list of
+ * every top-level name any pomlab command understands; NULL = skip that
+ * check). The message names file, line and key. */
+pom_status pom_cfg_check_unknown(const pom_cfg *cfg, const char *const scopes[],
+                                 const char *const known_top[], pom_error *err);
+
+/* Source line of a key (0 when unknown), for callers' own messages. */
+int pom_cfg_line(const pom_cfg *cfg, const char *key);
+
+/* Fills err with "FILE:LINE: key 'KEY' = VALUE: MESSAGE" for a semantic error
+ * found by the caller (value_text may be NULL). Returns POM_ERR_CONFIG. */
+pom_status pom_cfg_error(const pom_cfg *cfg, const char *key, const char *value_text,
+                         pom_error *err, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 5, 6)))
+#endif
+    ;
+
+#endif

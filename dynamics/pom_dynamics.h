@@ -1,0 +1,131 @@
+/* pom_dynamics.h - bond-graph multi-body simulation of a mechanism with
+ * voice-coil actuators and saturated PID control, integrated with CVODE
+ * (derivations: docs/dynamics.md).
+ *
+ * A const model (pom_dyn_model) is built once from a pom_mechanism and the
+ * parameters; each worker thread owns a pom_dyn_data. One call of
+ * pom_dyn_simulate runs one maneuver from rest at home to actuator setpoints.
+ *
+ * This header is a contract used by doe/, optimize/ and cli/: extend it, do
+ * not rename or remove fields. */
+#ifndef POM_DYNAMICS_H
+#define POM_DYNAMICS_H
+
+#include "pom_config.h"
+#include "pom_mechanism.h"
+#include "pom_status.h"
+
+typedef enum { POM_PID_IDEAL = 0, POM_PID_PARALLEL = 1 } pom_pid_form;
+typedef enum { POM_ORIENT_EULER_ZYX = 0, POM_ORIENT_QUATERNION = 1 } pom_orient_kind;
+typedef enum { POM_LINSOL_DENSE = 0, POM_LINSOL_KLU = 1 } pom_linsol_kind;
+
+/* Voice-coil actuator, identical for the three limbs. */
+typedef struct {
+  double force_constant;  /* K_m: force per current = back-EMF per velocity (N/A = V s/m) */
+  double resistance;      /* coil resistance R_c (ohm) */
+  double inductance;      /* coil inductance L (H) */
+  double bearing_friction; /* viscous bearing friction b (N s/m) */
+  double voltage_limit;   /* saturation of the drive voltage, +- (V) */
+  double sensor_gain;     /* K_S (V/m) */
+} pom_dyn_actuator;
+
+/* PID on e = q_set - q (m); derivative on the measured velocity.
+ * ideal:    u = sat(K_S K_P (e + K_I int e - tau_D q_dot))
+ * parallel: u = sat(K_S (K_P e + K_I int e - K_D q_dot)) */
+typedef struct {
+  pom_pid_form form;
+  double kp;  /* K_P (V/V) */
+  double ki;  /* ideal: integral factor (1/s); parallel: K_I (1/s) */
+  double kd;  /* ideal: tau_D (s); parallel: K_D (s) */
+} pom_dyn_controller;
+
+/* Parasitic joint elements (pseudo-constraints). */
+typedef struct {
+  double stiffness;         /* k_p for linear constraints (N/m) */
+  double damping;           /* R_p for linear constraints (N s/m) */
+  double angular_stiffness; /* k_p for angular constraints (N m/rad) */
+  double angular_damping;   /* R_p for angular constraints (N m s/rad) */
+} pom_dyn_joints;
+
+/* What the scene models. */
+typedef struct {
+  int gravity;               /* 1: gravity on */
+  int bearing_friction;      /* 1: b v on each actuator */
+  int coil_inductance;       /* 1: L di/dt dynamics; 0: quasi-static current */
+  pom_orient_kind orientation;
+} pom_dyn_scene;
+
+/* CVODE settings. */
+typedef struct {
+  double rtol;          /* relative tolerance */
+  double atol_scale;    /* absolute tolerances = atol_scale * characteristic scale per state kind */
+  double max_step;      /* s, 0 = unlimited */
+  long max_steps;       /* per maneuver */
+  pom_linsol_kind linear_solver;
+} pom_dyn_solver;
+
+/* Maneuver definition. */
+typedef struct {
+  double horizon;      /* s (default 0.100) */
+  double settle_band;  /* fraction of |step| (default 0.02) */
+  double output_dt;    /* s, trace sampling period (default 1e-4) */
+} pom_dyn_maneuver;
+
+typedef struct {
+  pom_dyn_actuator actuator;
+  pom_dyn_controller controller;
+  pom_dyn_joints joints;
+  pom_dyn_scene scene;
+  pom_dyn_solver solver;
+  pom_dyn_maneuver maneuver;
+} pom_dyn_params;
+
+/* Defaults: the reference values of PARAMETERS.md for the 3P-S-S/S. */
+void pom_dyn_params_defaults(pom_dyn_params *p);
+
+/* Reads the `actuator`, `controller`, `joints`, `scene`, `solver` and
+ * `maneuver` groups (docs/config.md) over the defaults. */
+pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error *err);
+
+typedef struct pom_dyn_model pom_dyn_model;
+typedef struct pom_dyn_data pom_dyn_data;
+
+pom_status pom_dyn_model_create(pom_dyn_model **out, const pom_mechanism *mech,
+                                const pom_dyn_params *p, pom_error *err);
+void pom_dyn_model_destroy(pom_dyn_model *m);
+
+pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_error *err);
+void pom_dyn_data_destroy(pom_dyn_data *d);
+
+/* Metrics of one maneuver. Times in s, energies in J. */
+typedef struct {
+  pom_status status;          /* POM_OK or why it failed */
+  char reason[256];           /* failure reason, "" when ok */
+  double target[3];           /* setpoints (m) */
+  double settling_time[3];    /* last time outside the band of settle_band |step| about the setpoint (s); NaN if unsettled */
+  int settled[3];             /* 1 when inside the band at the horizon */
+  double settling_time_final[3]; /* stepinfo variant: band about the final value */
+  double execution_time;      /* max of settling_time (s); NaN if any unsettled */
+  double energy[3];           /* int u i dt, signed (J) */
+  double energy_positive[3];  /* int max(u i, 0) dt (J) */
+  double energy_total;        /* sum of energy[] (J) */
+  double peak_voltage[3];     /* max |u| (V) */
+  double saturation_time[3];  /* time with |u| at the limit (s) */
+  double final_q[3];          /* q at the horizon (m) */
+  double max_deflection;      /* largest parasitic deflection (m) */
+  double energy_balance_error; /* |supplied - dissipated - stored change| / supplied */
+  long steps, rhs_evals, jac_evals, newton_iters, error_test_fails;
+  double wall_time;           /* s */
+} pom_dyn_metrics;
+
+/* Optional traces of a maneuver, sampled every output_dt. Owned by caller:
+ * create with pom_dyn_trace_create, free with pom_dyn_trace_destroy. */
+typedef struct pom_dyn_trace pom_dyn_trace;
+
+/* Runs one maneuver to `target` (m, per actuator). Numerical failure is
+ * reported in metrics->status/reason and returned; the model and data stay
+ * usable. trace may be NULL. */
+pom_status pom_dyn_simulate(const pom_dyn_model *m, pom_dyn_data *d, const double target[3],
+                            pom_dyn_metrics *metrics, pom_dyn_trace *trace, pom_error *err);
+
+#endif

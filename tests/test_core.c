@@ -1,0 +1,221 @@
+/* test_core.c - status list, rotations, RNG and config validation. */
+#include "check.h"
+#include "pom_config.h"
+#include "pom_math.h"
+#include "pom_rng.h"
+#include "pom_status.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- rotations ------------------------------------------------------------ */
+static void random_euler(pom_rng *rng, double e[3], double max_pitch) {
+  e[0] = pom_rng_range(rng, -POM_PI, POM_PI);
+  e[1] = pom_rng_range(rng, -max_pitch, max_pitch);
+  e[2] = pom_rng_range(rng, -POM_PI, POM_PI);
+}
+
+static double mat_diff(const double A[9], const double B[9]) {
+  double m = 0.0;
+  for (int k = 0; k < 9; ++k) m = fmax(m, fabs(A[k] - B[k]));
+  return m;
+}
+
+static void test_rotations(void) {
+  pom_rng rng;
+  pom_rng_seed(&rng, 2385, 0);
+  double worst_rt = 0.0, worst_q = 0.0, worst_orth = 0.0;
+  for (int n = 0; n < 2000; ++n) {
+    double e[3], e2[3], R[9], R2[9], q[4], Rq[9], RtR[9], I[9];
+    random_euler(&rng, e, 0.49 * POM_PI);
+    pom_euler_zyx_to_matrix(R, e);
+    check_true(pom_euler_zyx_from_matrix(e2, R) == POM_OK);
+    pom_euler_zyx_to_matrix(R2, e2);
+    worst_rt = fmax(worst_rt, mat_diff(R, R2));
+    pom_quat_from_matrix(q, R);
+    pom_quat_to_matrix(Rq, q);
+    worst_q = fmax(worst_q, mat_diff(R, Rq));
+    pom_m3_tmul(RtR, R, R);
+    pom_m3_identity(I);
+    worst_orth = fmax(worst_orth, mat_diff(RtR, I));
+  }
+  /* 2000 round trips of O(10) flops each: a few ulps */
+  check_abs(worst_rt, 0.0, 1e-13);
+  check_abs(worst_q, 0.0, 1e-13);
+  check_abs(worst_orth, 0.0, 1e-14);
+
+  /* Known matrix: yaw 90 deg maps x to y. */
+  double e[3] = {0.5 * POM_PI, 0.0, 0.0}, R[9], x[3] = {1, 0, 0}, y[3];
+  pom_euler_zyx_to_matrix(R, e);
+  pom_m3_apply(y, R, x);
+  check_abs(y[0], 0.0, 1e-15);
+  check_abs(y[1], 1.0, 1e-15);
+
+  /* Gimbal lock is reported and still decomposes R exactly. */
+  double el[3] = {0.3, 0.5 * POM_PI, -0.2}, Rl[9], e3[3], R3[9];
+  pom_euler_zyx_to_matrix(Rl, el);
+  check_true(pom_euler_zyx_from_matrix(e3, Rl) == POM_ERR_EULER_SINGULAR);
+  pom_euler_zyx_to_matrix(R3, e3);
+  check_abs(mat_diff(Rl, R3), 0.0, 1e-12);
+  double E[9];
+  check_true(pom_euler_zyx_rate_matrix(E, el, 1e-9) == POM_ERR_EULER_SINGULAR);
+
+  /* Euler rates: finite difference of R(e(t)) against omega (fixed frame). */
+  double e0[3] = {0.41, -0.63, 1.27}, w[3] = {0.37, -1.13, 0.71}, ed[3];
+  check_true(pom_euler_zyx_rate_matrix(E, e0, 1e-9) == POM_OK);
+  pom_m3_apply(ed, E, w);
+  double h = 1e-6, ep[3], em[3], Rp[9], Rm[9], R0[9], Rd[9], W[9];
+  for (int k = 0; k < 3; ++k) {
+    ep[k] = e0[k] + h * ed[k];
+    em[k] = e0[k] - h * ed[k];
+  }
+  pom_euler_zyx_to_matrix(Rp, ep);
+  pom_euler_zyx_to_matrix(Rm, em);
+  pom_euler_zyx_to_matrix(R0, e0);
+  for (int k = 0; k < 9; ++k) Rd[k] = (Rp[k] - Rm[k]) / (2 * h);
+  pom_m3_mult(W, Rd, R0); /* Rdot R^T = skew(omega) */
+  /* central difference error ~ h^2 |R'''| ~ 1e-12 */
+  check_abs(W[7], w[0], 1e-8);
+  check_abs(W[2], w[1], 1e-8);
+  check_abs(W[3], w[2], 1e-8);
+
+  /* Quaternion rate against the same omega. */
+  double q0[4], qd[4], qp[4];
+  pom_quat_from_matrix(q0, R0);
+  pom_quat_rate(qd, q0, w);
+  for (int k = 0; k < 4; ++k) qp[k] = q0[k] + h * qd[k];
+  pom_quat_normalize(qp);
+  double Rqp[9];
+  pom_quat_to_matrix(Rqp, qp);
+  double rv[3], dR[9];
+  pom_m3_mult(dR, Rqp, R0);
+  pom_m3_rotvec(rv, dR);
+  for (int k = 0; k < 3; ++k) check_abs(rv[k] / h, w[k], 1e-5);
+
+  /* Singular values of a known matrix: diag(3, 2, 1) rotated on both sides. */
+  double D[9] = {3, 0, 0, 0, 2.385, 0, 0, 0, 0.5}, A[9], T[9], sv[3];
+  double Ra[9], Rb[9], ea[3] = {0.3, 0.2, 0.1}, eb[3] = {-1.1, 0.4, 2.0};
+  pom_euler_zyx_to_matrix(Ra, ea);
+  pom_euler_zyx_to_matrix(Rb, eb);
+  pom_m3_mul(T, Ra, D);
+  pom_m3_mult(A, T, Rb);
+  pom_m3_singular_values(sv, A);
+  check_rel(sv[0], 3.0, 1e-14);
+  check_rel(sv[1], 2.385, 1e-14);
+  check_rel(sv[2], 0.5, 1e-13);
+
+  double Ai[9], P[9], Id[9];
+  check_true(pom_m3_inverse(Ai, A, 1e-14) == POM_OK);
+  pom_m3_mul(P, A, Ai);
+  pom_m3_identity(Id);
+  check_abs(mat_diff(P, Id), 0.0, 1e-14);
+  double Z[9] = {1, 2, 3, 2, 4, 6, 0, 1, 0};
+  check_true(pom_m3_inverse(Ai, Z, 1e-14) == POM_ERR_SINGULAR);
+}
+
+/* ---- RNG ---------------------------------------------------------------------- */
+static void test_rng(void) {
+  pom_rng a, b;
+  pom_rng_seed(&a, 42, 7);
+  pom_rng_seed(&b, 42, 7);
+  int same = 1;
+  for (int k = 0; k < 100; ++k) same &= pom_rng_next(&a) == pom_rng_next(&b);
+  check_true(same);
+  pom_rng_seed(&b, 42, 8);
+  check_true(pom_rng_next(&a) != pom_rng_next(&b));
+  /* Mean and variance of 1e5 uniforms: 5 sigma bounds (sd of mean = 0.289/316). */
+  double s = 0.0, s2 = 0.0;
+  const int n = 100000;
+  for (int k = 0; k < n; ++k) {
+    double u = pom_rng_uniform(&a);
+    s += u;
+    s2 += u * u;
+  }
+  check_abs(s / n, 0.5, 5 * 0.2887 / sqrt(n));
+  check_abs(s2 / n - (s / n) * (s / n), 1.0 / 12.0, 5 * 0.0745 / sqrt(n));
+}
+
+/* ---- config --------------------------------------------------------------------- */
+static pom_cfg *load(const char *text, pom_error *err) {
+  pom_cfg *cfg = NULL;
+  pom_cfg_load_string(&cfg, text, "<test>", err);
+  return cfg;
+}
+
+static void test_config(void) {
+  pom_error err;
+  const char *good = "a = { x_mm = 2.385; n = 7; flag = true; s = \"ideal\"; v = [1.0, 2.0, 3.5]; };\n"
+                     "b = 4.0;\n";
+  pom_cfg *cfg = load(good, &err);
+  check_true(cfg != NULL);
+  if (!cfg) return;
+  double x, v[3];
+  long n;
+  int flag, idx;
+  const char *const forms[] = {"ideal", "parallel", NULL};
+  check_true(pom_cfg_real(cfg, "a.x_mm", 1e-3, 0.0, 10.0, &x, &err) == POM_OK);
+  check_rel(x, 2.385e-3, 1e-15);
+  check_true(pom_cfg_int(cfg, "a.n", 0, 10, &n, &err) == POM_OK && n == 7);
+  check_true(pom_cfg_bool(cfg, "a.flag", &flag, &err) == POM_OK && flag == 1);
+  check_true(pom_cfg_choice(cfg, "a.s", forms, &idx, &err) == POM_OK && idx == 0);
+  check_true(pom_cfg_reals(cfg, "a.v", 3, 1.0, 0.0, 5.0, v, &err) == POM_OK && v[2] == 3.5);
+  /* b unread: unknown key named with its line */
+  check_true(pom_cfg_check_unknown(cfg, NULL, NULL, &err) == POM_ERR_CONFIG);
+  check_true(strstr(err.message, "<test>:2: key 'b'") != NULL);
+  check_true(strstr(err.message, "unknown key") != NULL);
+  /* scoped check ignores b */
+  const char *const scope_a[] = {"a", NULL};
+  check_true(pom_cfg_check_unknown(cfg, scope_a, NULL, &err) == POM_OK);
+  const char *const known[] = {"a", NULL};
+  check_true(pom_cfg_check_unknown(cfg, scope_a, known, &err) == POM_ERR_CONFIG);
+  /* out of range */
+  check_true(pom_cfg_real(cfg, "a.x_mm", 1e-3, 0.0, 1.0, &x, &err) == POM_ERR_CONFIG);
+  check_true(strstr(err.message, "<test>:1: key 'a.x_mm' = 2.385: out of range") != NULL);
+  /* wrong type */
+  check_true(pom_cfg_real(cfg, "a.s", 1.0, 0.0, 1.0, &x, &err) == POM_ERR_CONFIG);
+  check_true(strstr(err.message, "found a string") != NULL);
+  check_true(pom_cfg_int(cfg, "a.x_mm", 0, 10, &n, &err) == POM_ERR_CONFIG);
+  check_true(pom_cfg_bool(cfg, "a.n", &flag, &err) == POM_ERR_CONFIG);
+  /* missing */
+  check_true(pom_cfg_real(cfg, "a.y_mm", 1e-3, 0.0, 1.0, &x, &err) == POM_ERR_CONFIG);
+  check_true(strstr(err.message, "key 'a.y_mm': missing") != NULL);
+  check_true(pom_cfg_real_opt(cfg, "a.y_mm", 1e-3, 0.0, 1.0, 0.25, &x, &err) == POM_OK &&
+             x == 0.25);
+  /* bad choice lists the choices */
+  const char *const other[] = {"euler", "quaternion", NULL};
+  check_true(pom_cfg_choice(cfg, "a.s", other, &idx, &err) == POM_ERR_CONFIG);
+  check_true(strstr(err.message, "\"euler\", \"quaternion\"") != NULL);
+  /* wrong array length */
+  double v2[2];
+  check_true(pom_cfg_reals(cfg, "a.v", 2, 1.0, 0.0, 5.0, v2, &err) == POM_ERR_CONFIG);
+  check_true(strstr(err.message, "expected exactly 2") != NULL);
+  pom_cfg_destroy(cfg);
+
+  /* syntax error names the line */
+  cfg = load("a = 1;\nb = ;\n", &err);
+  check_true(cfg == NULL && err.status == POM_ERR_CONFIG);
+  check_true(strstr(err.message, "<test>:2:") != NULL);
+
+  /* a missing file */
+  check_true(pom_cfg_load(&cfg, "/nonexistent/x.cfg", &err) == POM_ERR_IO && cfg == NULL);
+  pom_cfg_destroy(NULL);
+}
+
+static void test_status(void) {
+  check_true(strcmp(pom_strerror(POM_OK), "success") == 0);
+  check_true(strcmp(pom_status_name(POM_ERR_CONFIG), "POM_ERR_CONFIG") == 0);
+  pom_error err;
+  pom_error_clear(&err);
+  check_true(pom_error_set(&err, POM_ERR_LIMIT, "f.c", 3, "limb %d", 2) == POM_ERR_LIMIT);
+  pom_error_prefix(&err, "pose %s", "p");
+  check_true(strcmp(err.message, "pose p: limb 2") == 0);
+  check_true(pom_error_set(NULL, POM_ERR_IO, "f.c", 1, "x") == POM_ERR_IO);
+}
+
+int main(void) {
+  test_status();
+  test_rotations();
+  test_rng();
+  test_config();
+  return check_summary("test_core");
+}
