@@ -9,10 +9,10 @@
 #include <string.h>
 
 struct pom_cfg {
-  config_t lc;   /* parsed tree */
-  char *path;    /* file path or name */
-  char *dir;     /* folder for @include, NULL for strings */
-  char *text;    /* raw text of the main file */
+  config_t lc; /* parsed tree */
+  char *path;  /* file path or name */
+  char *dir;   /* folder for @include, NULL for strings */
+  char *text;  /* raw text of the main file */
 };
 
 /* ---- helpers ---------------------------------------------------------------- */
@@ -32,7 +32,8 @@ static void mark_tree(config_setting_t *s, void *marker) {
   config_setting_set_hook(s, marker);
   if (config_setting_is_aggregate(s)) {
     int n = config_setting_length(s);
-    for (int k = 0; k < n; ++k) mark_tree(config_setting_get_elem(s, (unsigned int)k), marker);
+    for (int k = 0; k < n; ++k)
+      mark_tree(config_setting_get_elem(s, (unsigned int)k), marker);
   }
 }
 
@@ -48,14 +49,12 @@ static void value_text(const config_setting_t *s, char *buf, size_t cap) {
   case CONFIG_TYPE_INT64:
     snprintf(buf, cap, "%lld", config_setting_get_int64(s));
     break;
-  case CONFIG_TYPE_FLOAT:
-  {
+  case CONFIG_TYPE_FLOAT: {
     /* shortest of %.15g / %.17g that reads back exactly */
     double v = config_setting_get_float(s);
     snprintf(buf, cap, "%.15g", v);
     if (strtod(buf, NULL) != v) snprintf(buf, cap, "%.17g", v);
-  }
-    break;
+  } break;
   case CONFIG_TYPE_BOOL:
     snprintf(buf, cap, "%s", config_setting_get_bool(s) ? "true" : "false");
     break;
@@ -115,8 +114,7 @@ static pom_status setting_error(const pom_cfg *cfg, const config_setting_t *s, c
   if (s) {
     value_text(s, val, sizeof val);
     return pom_error_set(err, POM_ERR_CONFIG, __FILE__, __LINE__, "%s:%d: key '%s' = %s: %s",
-                         setting_file(cfg, s), (int)config_setting_source_line(s), key, val,
-                         what);
+                         setting_file(cfg, s), (int)config_setting_source_line(s), key, val, what);
   }
   return pom_error_set(err, POM_ERR_CONFIG, __FILE__, __LINE__, "%s: key '%s': %s", cfg->path, key,
                        what);
@@ -140,10 +138,10 @@ static double number_of(const config_setting_t *s) {
 static pom_status finish_load(pom_cfg *cfg, int ok, pom_error *err) {
   if (!ok) {
     const char *f = config_error_file(&cfg->lc);
-    pom_status st = pom_error_set(err, POM_ERR_CONFIG, __FILE__, __LINE__, "%s:%d: %s",
-                                  f ? f : cfg->path, config_error_line(&cfg->lc),
-                                  config_error_text(&cfg->lc) ? config_error_text(&cfg->lc)
-                                                              : "cannot read");
+    pom_status st =
+        pom_error_set(err, POM_ERR_CONFIG, __FILE__, __LINE__, "%s:%d: %s", f ? f : cfg->path,
+                      config_error_line(&cfg->lc),
+                      config_error_text(&cfg->lc) ? config_error_text(&cfg->lc) : "cannot read");
     return st;
   }
   return POM_OK;
@@ -199,8 +197,7 @@ fail:
   return st;
 }
 
-pom_status pom_cfg_load_string(pom_cfg **out, const char *text, const char *name,
-                               pom_error *err) {
+pom_status pom_cfg_load_string(pom_cfg **out, const char *text, const char *name, pom_error *err) {
   pom_status st = POM_OK;
   *out = NULL;
   pom_cfg *cfg = cfg_alloc(name);
@@ -224,10 +221,16 @@ void pom_cfg_destroy(pom_cfg *cfg) {
   free(cfg);
 }
 
-const char *pom_cfg_path(const pom_cfg *cfg) { return cfg->path; }
-const char *pom_cfg_text(const pom_cfg *cfg) { return cfg->text ? cfg->text : ""; }
+const char *pom_cfg_path(const pom_cfg *cfg) {
+  return cfg->path;
+}
+const char *pom_cfg_text(const pom_cfg *cfg) {
+  return cfg->text ? cfg->text : "";
+}
 
-int pom_cfg_has(const pom_cfg *cfg, const char *key) { return lookup(cfg, key) != NULL; }
+int pom_cfg_has(const pom_cfg *cfg, const char *key) {
+  return lookup(cfg, key) != NULL;
+}
 
 int pom_cfg_length(const pom_cfg *cfg, const char *key) {
   config_setting_t *s = lookup(cfg, key);
@@ -247,8 +250,8 @@ int pom_cfg_line(const pom_cfg *cfg, const char *key) {
   return s ? (int)config_setting_source_line(s) : 0;
 }
 
-pom_status pom_cfg_error(const pom_cfg *cfg, const char *key, const char *value_txt,
-                         pom_error *err, const char *fmt, ...) {
+pom_status pom_cfg_error(const pom_cfg *cfg, const char *key, const char *value_txt, pom_error *err,
+                         const char *fmt, ...) {
   char what[512];
   va_list ap;
   va_start(ap, fmt);
@@ -272,8 +275,8 @@ pom_status pom_cfg_error(const pom_cfg *cfg, const char *key, const char *value_
 static pom_status check_real(const pom_cfg *cfg, const config_setting_t *s, const char *key,
                              double to_si, double min, double max, double *out, pom_error *err) {
   if (!is_number(s))
-    return setting_error(cfg, s, key, err, "expected a real number in [%g, %g], found %s", min,
-                         max, type_name(config_setting_type(s)));
+    return setting_error(cfg, s, key, err, "expected a real number in [%g, %g], found %s", min, max,
+                         type_name(config_setting_type(s)));
   double v = number_of(s);
   if (!isfinite(v) || v < min || v > max)
     return setting_error(cfg, s, key, err, "out of range: expected a value in [%g, %g]", min, max);

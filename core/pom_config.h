@@ -22,8 +22,7 @@ typedef struct pom_cfg pom_cfg;
 pom_status pom_cfg_load(pom_cfg **out, const char *path, pom_error *err);
 
 /* Same from a string; name is used in messages (e.g. "<test>"). */
-pom_status pom_cfg_load_string(pom_cfg **out, const char *text, const char *name,
-                               pom_error *err);
+pom_status pom_cfg_load_string(pom_cfg **out, const char *text, const char *name, pom_error *err);
 
 /* Frees; NULL is allowed. */
 void pom_cfg_destroy(pom_cfg *cfg);

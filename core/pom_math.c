@@ -21,7 +21,9 @@ void pom_m3_identity(double M[9]) {
   M[0] = M[4] = M[8] = 1.0;
 }
 
-void pom_m3_copy(double out[9], const double A[9]) { memcpy(out, A, 9 * sizeof(double)); }
+void pom_m3_copy(double out[9], const double A[9]) {
+  memcpy(out, A, 9 * sizeof(double));
+}
 
 void pom_m3_mul(double out[9], const double A[9], const double B[9]) {
   for (int r = 0; r < 3; ++r)
@@ -44,7 +46,8 @@ void pom_m3_mult(double out[9], const double A[9], const double B[9]) {
 
 void pom_m3_transpose(double out[9], const double A[9]) {
   for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) out[3 * c + r] = A[3 * r + c];
+    for (int c = 0; c < 3; ++c)
+      out[3 * c + r] = A[3 * r + c];
 }
 
 void pom_m3_apply(double out[3], const double A[9], const double v[3]) {
@@ -79,7 +82,8 @@ double pom_m3_det(const double A[9]) {
 pom_status pom_m3_inverse(double out[9], const double A[9], double tiny) {
   double det = pom_m3_det(A);
   double scale = 0.0;
-  for (int k = 0; k < 9; ++k) scale = fmax(scale, fabs(A[k]));
+  for (int k = 0; k < 9; ++k)
+    scale = fmax(scale, fabs(A[k]));
   if (!(fabs(det) > tiny * scale * scale * scale)) return POM_ERR_SINGULAR;
   double inv = 1.0 / det;
   double t[9];
@@ -183,14 +187,16 @@ void pom_m3_sym_eig(double w[3], double V[9], const double S[9]) {
     }
   }
   if (pom_m3_det(V) < 0.0)
-    for (int k = 0; k < 3; ++k) V[3 * k + 2] = -V[3 * k + 2];
+    for (int k = 0; k < 3; ++k)
+      V[3 * k + 2] = -V[3 * k + 2];
 }
 
 void pom_m3_singular_values(double sv[3], const double A[9]) {
   double AtA[9], V[9], w[3];
   pom_m3_tmul(AtA, A, A);
   pom_m3_sym_eig(w, V, AtA);
-  for (int k = 0; k < 3; ++k) sv[k] = w[k] > 0.0 ? sqrt(w[k]) : 0.0;
+  for (int k = 0; k < 3; ++k)
+    sv[k] = w[k] > 0.0 ? sqrt(w[k]) : 0.0;
 }
 
 /* ---- ZYX Euler angles ------------------------------------------------------ */
@@ -287,7 +293,8 @@ void pom_quat_from_matrix(double q[4], const double R[9]) {
     q[3] = 0.25 * s;
   }
   if (q[0] < 0.0)
-    for (int k = 0; k < 4; ++k) q[k] = -q[k];
+    for (int k = 0; k < 4; ++k)
+      q[k] = -q[k];
   pom_quat_normalize(q);
 }
 
@@ -307,13 +314,15 @@ void pom_quat_rotate(double out[3], const double q[4], const double v[3]) {
 void pom_quat_normalize(double q[4]) {
   double n = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
   if (n > 0.0)
-    for (int k = 0; k < 4; ++k) q[k] /= n;
+    for (int k = 0; k < 4; ++k)
+      q[k] /= n;
 }
 
 void pom_quat_rate(double qdot[4], const double q[4], const double omega_fixed[3]) {
   double wq[4] = {0.0, omega_fixed[0], omega_fixed[1], omega_fixed[2]};
   pom_quat_mul(qdot, wq, q);
-  for (int k = 0; k < 4; ++k) qdot[k] *= 0.5;
+  for (int k = 0; k < 4; ++k)
+    qdot[k] *= 0.5;
 }
 
 void pom_quat_from_euler_zyx(double q[4], const double e[3]) {

@@ -17,7 +17,7 @@
 
 #include <math.h>
 
-#define POM_PI 3.14159265358979323846
+#define POM_PI  3.14159265358979323846
 #define POM_DEG (POM_PI / 180.0) /* radians per degree */
 
 /* ---- vectors ------------------------------------------------------------ */
@@ -61,7 +61,9 @@ static inline void pom_v3_cross(double out[3], const double a[3], const double b
   out[1] = a[2] * b[0] - a[0] * b[2];
   out[2] = a[0] * b[1] - a[1] * b[0];
 }
-static inline double pom_v3_norm(const double a[3]) { return sqrt(pom_v3_dot(a, a)); }
+static inline double pom_v3_norm(const double a[3]) {
+  return sqrt(pom_v3_dot(a, a));
+}
 /* Normalizes a in place into out; returns the original norm (0 leaves out = a). */
 double pom_v3_normalize(double out[3], const double a[3]);
 

@@ -14,11 +14,14 @@ void pom_rng_seed(pom_rng *rng, uint64_t seed, uint64_t stream) {
   uint64_t x = seed;
   uint64_t h = splitmix64(&x);
   x = h ^ (stream * 0xd1b54a32d192ed03ULL + 0x8cb92ba72f3d8dd7ULL);
-  for (int k = 0; k < 4; ++k) rng->s[k] = splitmix64(&x);
+  for (int k = 0; k < 4; ++k)
+    rng->s[k] = splitmix64(&x);
   if ((rng->s[0] | rng->s[1] | rng->s[2] | rng->s[3]) == 0) rng->s[0] = 1;
 }
 
-static inline uint64_t rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+static inline uint64_t rotl(uint64_t x, int k) {
+  return (x << k) | (x >> (64 - k));
+}
 
 uint64_t pom_rng_next(pom_rng *rng) {
   uint64_t *s = rng->s;
@@ -33,7 +36,9 @@ uint64_t pom_rng_next(pom_rng *rng) {
   return result;
 }
 
-double pom_rng_uniform(pom_rng *rng) { return (double)(pom_rng_next(rng) >> 11) * 0x1.0p-53; }
+double pom_rng_uniform(pom_rng *rng) {
+  return (double)(pom_rng_next(rng) >> 11) * 0x1.0p-53;
+}
 
 double pom_rng_range(pom_rng *rng, double lo, double hi) {
   return lo + (hi - lo) * pom_rng_uniform(rng);

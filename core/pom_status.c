@@ -61,9 +61,12 @@ pom_status pom_error_prefix(pom_error *err, const char *fmt, ...) {
   memcpy(old, err->message, sizeof old);
   /* head + ": " + old, truncated to the buffer */
   size_t cap = sizeof err->message, n = 0;
-  for (const char *p = head; *p && n + 1 < cap; ++p) err->message[n++] = *p;
-  for (const char *p = ": "; *p && n + 1 < cap; ++p) err->message[n++] = *p;
-  for (const char *p = old; *p && n + 1 < cap; ++p) err->message[n++] = *p;
+  for (const char *p = head; *p && n + 1 < cap; ++p)
+    err->message[n++] = *p;
+  for (const char *p = ": "; *p && n + 1 < cap; ++p)
+    err->message[n++] = *p;
+  for (const char *p = old; *p && n + 1 < cap; ++p)
+    err->message[n++] = *p;
   err->message[n] = '\0';
   return err->status;
 }

@@ -45,8 +45,8 @@ const char *pom_status_name(pom_status status);
 /* Error record filled by a failing call: the code, a specific message (what,
  * where, which value, what was expected) and the source location. */
 typedef struct {
-  pom_status status; /* the code, POM_OK when nothing failed */
-  char message[1024]; /* specific message, NUL-terminated */
+  pom_status status;    /* the code, POM_OK when nothing failed */
+  char message[1024];   /* specific message, NUL-terminated */
   const char *src_file; /* source file of the failure (static string) */
   int src_line;         /* source line of the failure */
 } pom_error;
@@ -72,7 +72,8 @@ pom_status pom_error_prefix(pom_error *err, const char *fmt, ...)
     ;
 
 /* Fails: records the error and returns its status from the calling function. */
-#define POM_FAIL(err, code, ...) return pom_error_set((err), (code), __FILE__, __LINE__, __VA_ARGS__)
+#define POM_FAIL(err, code, ...)                                                                   \
+  return pom_error_set((err), (code), __FILE__, __LINE__, __VA_ARGS__)
 
 /* Fails inside a function with a `pom_status st` and a cleanup label. */
 #define POM_FAIL_GOTO(err, code, label, ...)                                                       \

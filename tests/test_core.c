@@ -17,7 +17,8 @@ static void random_euler(pom_rng *rng, double e[3], double max_pitch) {
 
 static double mat_diff(const double A[9], const double B[9]) {
   double m = 0.0;
-  for (int k = 0; k < 9; ++k) m = fmax(m, fabs(A[k] - B[k]));
+  for (int k = 0; k < 9; ++k)
+    m = fmax(m, fabs(A[k] - B[k]));
   return m;
 }
 
@@ -72,7 +73,8 @@ static void test_rotations(void) {
   pom_euler_zyx_to_matrix(Rp, ep);
   pom_euler_zyx_to_matrix(Rm, em);
   pom_euler_zyx_to_matrix(R0, e0);
-  for (int k = 0; k < 9; ++k) Rd[k] = (Rp[k] - Rm[k]) / (2 * h);
+  for (int k = 0; k < 9; ++k)
+    Rd[k] = (Rp[k] - Rm[k]) / (2 * h);
   pom_m3_mult(W, Rd, R0); /* Rdot R^T = skew(omega) */
   /* central difference error ~ h^2 |R'''| ~ 1e-12 */
   check_abs(W[7], w[0], 1e-8);
@@ -83,14 +85,16 @@ static void test_rotations(void) {
   double q0[4], qd[4], qp[4];
   pom_quat_from_matrix(q0, R0);
   pom_quat_rate(qd, q0, w);
-  for (int k = 0; k < 4; ++k) qp[k] = q0[k] + h * qd[k];
+  for (int k = 0; k < 4; ++k)
+    qp[k] = q0[k] + h * qd[k];
   pom_quat_normalize(qp);
   double Rqp[9];
   pom_quat_to_matrix(Rqp, qp);
   double rv[3], dR[9];
   pom_m3_mult(dR, Rqp, R0);
   pom_m3_rotvec(rv, dR);
-  for (int k = 0; k < 3; ++k) check_abs(rv[k] / h, w[k], 1e-5);
+  for (int k = 0; k < 3; ++k)
+    check_abs(rv[k] / h, w[k], 1e-5);
 
   /* Singular values of a known matrix: diag(3, 2, 1) rotated on both sides. */
   double D[9] = {3, 0, 0, 0, 2.385, 0, 0, 0, 0.5}, A[9], T[9], sv[3];
@@ -119,7 +123,8 @@ static void test_rng(void) {
   pom_rng_seed(&a, 42, 7);
   pom_rng_seed(&b, 42, 7);
   int same = 1;
-  for (int k = 0; k < 100; ++k) same &= pom_rng_next(&a) == pom_rng_next(&b);
+  for (int k = 0; k < 100; ++k)
+    same &= pom_rng_next(&a) == pom_rng_next(&b);
   check_true(same);
   pom_rng_seed(&b, 42, 8);
   check_true(pom_rng_next(&a) != pom_rng_next(&b));
@@ -144,8 +149,9 @@ static pom_cfg *load(const char *text, pom_error *err) {
 
 static void test_config(void) {
   pom_error err;
-  const char *good = "a = { x_mm = 2.385; n = 7; flag = true; s = \"ideal\"; v = [1.0, 2.0, 3.5]; };\n"
-                     "b = 4.0;\n";
+  const char *good =
+      "a = { x_mm = 2.385; n = 7; flag = true; s = \"ideal\"; v = [1.0, 2.0, 3.5]; };\n"
+      "b = 4.0;\n";
   pom_cfg *cfg = load(good, &err);
   check_true(cfg != NULL);
   if (!cfg) return;

@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Sets up pomlab on a fresh Debian machine and runs every check CI runs:
+# the formatting check, the ctest suite, and the suite again under
+# AddressSanitizer + UndefinedBehaviorSanitizer.
+# Usage: bash scripts/run-tests.sh
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+bash scripts/setup.sh -DPOM_WERROR=ON
+
+echo "== formatting (clang-format, .clang-format) =="
+mapfile -t sources < <(git ls-files '*.c' '*.h')
+clang-format --dry-run --Werror "${sources[@]}"
+echo "formatting ok (${#sources[@]} files)"
+
+echo "== test suite =="
+ctest --test-dir build --output-on-failure -j2
+
+echo "== test suite under -fsanitize=address,undefined =="
+cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPOM_SANITIZE=ON -DPOM_WERROR=ON >/dev/null
+cmake --build build-asan -j"$(nproc)"
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  ctest --test-dir build-asan --output-on-failure -j2
