@@ -1,0 +1,2 @@
+pom_add_test(test_optimize test_optimize.c)
+target_link_libraries(test_optimize PRIVATE pom_optimize)

@@ -1,0 +1,498 @@
+/* test_optimize.c - experimental designs, quadratic response surfaces,
+ * desirability and the NLopt driver. */
+#include "check.h"
+#include "pom_design.h"
+#include "pom_desirability.h"
+#include "pom_nlopt.h"
+#include "pom_rng.h"
+#include "pom_rsm.h"
+
+#include <nlopt.h>
+
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- designs ------------------------------------------------------------ */
+static pom_design *make(pom_design_kind kind, int k, int centre, int reps) {
+  pom_design_options o;
+  pom_design_defaults(&o);
+  o.kind = kind;
+  o.center_points = centre;
+  o.replicates = reps;
+  pom_design *d = NULL;
+  pom_error err;
+  pom_error_clear(&err);
+  (void)pom_design_create(&d, k, &o, &err); /* NULL on failure, checked by callers */
+  return d;
+}
+
+/* Unscaled prediction variance x^T (X^T X)^-1 x of the quadratic model of a
+ * design at coded point u, through a fit to an arbitrary response. */
+static double pred_var(const pom_rsm_fit *fit, const double u[]) {
+  double row[POM_RSM_MAX_TERMS];
+  pom_rsm_row_terms(fit->k, u, row);
+  double s = 0.0;
+  for (int a = 0; a < fit->p; ++a)
+    for (int b = 0; b < fit->p; ++b)
+      s += row[a] * fit->cov_unscaled[a * fit->p + b] * row[b];
+  return s;
+}
+
+/* Largest relative spread of the prediction variance over random points on
+ * the sphere |u| = radius. */
+static double variance_spread_on_sphere(const pom_design *d, double radius) {
+  double *y = malloc(sizeof(double) * (size_t)d->n);
+  pom_rng rng;
+  pom_rng_seed(&rng, 77, 1);
+  for (int r = 0; r < d->n; ++r)
+    y[r] = pom_rng_normal(&rng);
+  pom_rsm_fit fit;
+  pom_error err;
+  check_true(pom_rsm_fit_quadratic(&fit, d->k, d->n, d->coded, y, NULL, &err) == POM_OK);
+  double vmin = 1e300, vmax = 0.0;
+  for (int t = 0; t < 50; ++t) {
+    double u[POM_RSM_MAX_K], n2 = 0.0;
+    for (int j = 0; j < d->k; ++j) {
+      u[j] = pom_rng_normal(&rng);
+      n2 += u[j] * u[j];
+    }
+    for (int j = 0; j < d->k; ++j)
+      u[j] *= radius / sqrt(n2);
+    double v = pred_var(&fit, u);
+    vmin = fmin(vmin, v);
+    vmax = fmax(vmax, v);
+  }
+  free(y);
+  return (vmax - vmin) / vmax;
+}
+
+static void test_designs(void) {
+  /* Full factorial 3^3 + 2 centre runs, replicated twice: 2 * 27 + 2. */
+  pom_design_options o;
+  pom_design_defaults(&o);
+  o.kind = POM_DESIGN_FULL_FACTORIAL;
+  o.levels = 3;
+  o.center_points = 2;
+  o.replicates = 2;
+  pom_design *d = NULL;
+  pom_error err;
+  check_true(pom_design_create(&d, 3, &o, &err) == POM_OK);
+  check_true(d->n == 56);
+  /* every level combination exactly twice in the replicated part */
+  int count[27] = {0};
+  for (int r = 0; r < 54; ++r) {
+    int idx = 0;
+    for (int j = 0; j < 3; ++j)
+      idx = idx * 3 + (int)lround(d->coded[r * 3 + j] + 1.0);
+    count[idx]++;
+  }
+  int all2 = 1;
+  for (int c = 0; c < 27; ++c)
+    all2 &= count[c] == 2;
+  check_true(all2);
+  pom_design_destroy(d);
+
+  /* CCD: 2^k + 2k + centre; face-centred alpha = 1; rotatable alpha = (2^k)^(1/4). */
+  for (int k = 2; k <= 5; ++k) {
+    pom_design *f = make(POM_DESIGN_CCD_FACE, k, 4, 1);
+    pom_design *r = make(POM_DESIGN_CCD_ROTATABLE, k, 4, 1);
+    check_true(f->n == (1 << k) + 2 * k + 4 && r->n == f->n);
+    check_abs(f->alpha, 1.0, 0.0);
+    check_rel(r->alpha, pow(pow(2.0, k), 0.25), 1e-15);
+    /* axial runs at +-alpha on one factor */
+    double amax = 0.0;
+    for (int q = 0; q < r->n * k; ++q)
+      amax = fmax(amax, fabs(r->coded[q]));
+    check_rel(amax, r->alpha, 1e-15);
+    /* Rotatability: constant prediction variance on spheres (1e-9 allows for
+       the round-off of (X^T X)^-1); the face-centred design is not rotatable
+       (its spread is several percent), which shows the check can fail. */
+    check_abs(variance_spread_on_sphere(r, 0.7315), 0.0, 1e-9);
+    check_abs(variance_spread_on_sphere(r, 1.2385), 0.0, 1e-9);
+    check_true(variance_spread_on_sphere(f, 1.2385) > 0.01);
+    pom_design_destroy(f);
+    pom_design_destroy(r);
+  }
+
+  /* Box-Behnken: 4 C(k,2) + centre runs (k = 3: 12 + 3 = 15, k = 4: 24 + 3,
+     k = 5: 40 + 3); each run but the centre has two factors at +-1. */
+  const int bb_runs[3] = {15, 27, 43};
+  for (int k = 3; k <= 5; ++k) {
+    pom_design *b = make(POM_DESIGN_BOX_BEHNKEN, k, 3, 1);
+    check_true(b->n == bb_runs[k - 3]);
+    int ok = 1;
+    for (int r = 0; r < b->n - 3; ++r) {
+      int nz = 0;
+      for (int j = 0; j < k; ++j) {
+        double c = b->coded[r * k + j];
+        if (c != 0.0) {
+          ++nz;
+          ok &= fabs(c) == 1.0;
+        }
+      }
+      ok &= nz == 2;
+    }
+    check_true(ok);
+    pom_design_destroy(b);
+  }
+  check_true(make(POM_DESIGN_BOX_BEHNKEN, 2, 3, 1) == NULL);
+  check_true(make(POM_DESIGN_BOX_BEHNKEN, 6, 3, 1) == NULL);
+
+  /* LHS: one run per stratum in every factor; maximin over 200 candidates is
+     at least as spread as the first candidate alone (same stream). */
+  pom_design_defaults(&o);
+  o.kind = POM_DESIGN_LHS;
+  o.center_points = 0;
+  o.lhs_points = 23;
+  pom_design *l200 = NULL, *l1 = NULL;
+  check_true(pom_design_create(&l200, 4, &o, &err) == POM_OK);
+  o.lhs_candidates = 1;
+  check_true(pom_design_create(&l1, 4, &o, &err) == POM_OK);
+  int strat_ok = 1;
+  for (int j = 0; j < 4; ++j) {
+    int hit[23] = {0};
+    for (int r = 0; r < 23; ++r) {
+      double c = l200->coded[r * 4 + j];
+      strat_ok &= c >= -1.0 && c < 1.0;
+      int s = (int)floor((c + 1.0) * 23.0 / 2.0);
+      if (s >= 0 && s < 23) hit[s]++;
+    }
+    for (int s = 0; s < 23; ++s)
+      strat_ok &= hit[s] == 1;
+  }
+  check_true(strat_ok);
+  double d200 = 1e300, d1 = 1e300;
+  for (int a = 0; a < 23; ++a)
+    for (int b = a + 1; b < 23; ++b) {
+      double s200 = 0.0, s1 = 0.0;
+      for (int j = 0; j < 4; ++j) {
+        s200 += pow(l200->coded[a * 4 + j] - l200->coded[b * 4 + j], 2);
+        s1 += pow(l1->coded[a * 4 + j] - l1->coded[b * 4 + j], 2);
+      }
+      d200 = fmin(d200, s200);
+      d1 = fmin(d1, s1);
+    }
+  check_true(d200 >= d1);
+  pom_design_destroy(l200);
+  pom_design_destroy(l1);
+
+  /* Decoding: the extreme coded value lands on the bounds. */
+  pom_design *r = make(POM_DESIGN_CCD_ROTATABLE, 2, 1, 1);
+  const double lo[2] = {0.25, -3.0}, hi[2] = {0.75, 5.0};
+  double nat[2 * 13];
+  pom_design_decode(r, lo, hi, nat);
+  double mn0 = 1e9, mx1 = -1e9;
+  for (int q = 0; q < r->n; ++q) {
+    mn0 = fmin(mn0, nat[2 * q]);
+    mx1 = fmax(mx1, nat[2 * q + 1]);
+  }
+  check_abs(mn0, 0.25, 1e-15);
+  check_abs(mx1, 5.0, 1e-15);
+  check_abs(pom_design_to_coded(pom_design_to_natural(0.3871, r->alpha, 0.25, 0.75), r->alpha, 0.25,
+                                0.75),
+            0.3871, 1e-15);
+  pom_design_destroy(r);
+
+  /* errors */
+  pom_design_defaults(&o);
+  o.replicates = 0;
+  check_true(pom_design_create(&d, 3, &o, &err) == POM_ERR_ARG && d == NULL);
+  o.replicates = 1;
+  check_true(pom_design_create(&d, 0, &o, &err) == POM_ERR_ARG);
+}
+
+/* ---- response surfaces -------------------------------------------------- */
+static const double beta3[10] = {2.385, -1.17, 0.643, 3.29,   -0.871,
+                                 1.93,  -2.46, 0.517, -0.339, 1.081};
+
+static double quad3(const double u[3]) {
+  double row[10];
+  pom_rsm_row_terms(3, u, row);
+  double y = 0.0;
+  for (int j = 0; j < 10; ++j)
+    y += beta3[j] * row[j];
+  return y;
+}
+
+static void test_rsm_exact(void) {
+  pom_design *d = make(POM_DESIGN_CCD_FACE, 3, 3, 1);
+  double y[64];
+  for (int r = 0; r < d->n; ++r)
+    y[r] = quad3(d->coded + 3 * r);
+  pom_rsm_fit fit;
+  pom_error err;
+  check_true(pom_rsm_fit_quadratic(&fit, 3, d->n, d->coded, y, NULL, &err) == POM_OK);
+  /* an exact quadratic is recovered to round-off (coefficients are O(1)) */
+  for (int j = 0; j < 10; ++j)
+    check_abs(fit.beta[j], beta3[j], 1e-12);
+  check_abs(fit.r2, 1.0, 1e-12);
+  check_abs(fit.sigma, 0.0, 1e-12);
+  /* ANOVA adds up: model + residual = total; linear + square + interaction = model */
+  const pom_rsm_anova_row *A = fit.anova;
+  check_rel(A[POM_RSM_ROW_MODEL].ss + A[POM_RSM_ROW_RESIDUAL].ss, A[POM_RSM_ROW_TOTAL].ss, 1e-12);
+  check_rel(A[POM_RSM_ROW_LINEAR].ss + A[POM_RSM_ROW_SQUARE].ss + A[POM_RSM_ROW_INTERACTION].ss,
+            A[POM_RSM_ROW_MODEL].ss, 1e-12);
+  check_true(A[POM_RSM_ROW_MODEL].df == 9 && A[POM_RSM_ROW_TOTAL].df == d->n - 1);
+  /* centre points only: pure error has 2 df and lack of fit 14 - 10 = 4 */
+  check_true(fit.has_lack_of_fit && fit.n_distinct == 15);
+  double u[3] = {0.3, -0.7, 0.11};
+  check_abs(pom_rsm_predict(&fit, u, NULL), quad3(u), 1e-12);
+  char name[16];
+  pom_rsm_term_name(3, 9, name, sizeof name);
+  check_true(strcmp(name, "x2*x3") == 0);
+
+  /* errors: too few runs, a 2-level design (squares not estimable), NaN */
+  check_true(pom_rsm_fit_quadratic(&fit, 3, 10, d->coded, y, NULL, &err) == POM_ERR_ARG);
+  pom_design_options o;
+  pom_design_defaults(&o);
+  o.kind = POM_DESIGN_FULL_FACTORIAL;
+  o.levels = 2;
+  o.replicates = 2;
+  pom_design *f2 = NULL;
+  check_true(pom_design_create(&f2, 3, &o, &err) == POM_OK);
+  check_true(pom_rsm_fit_quadratic(&fit, 3, f2->n, f2->coded, y, NULL, &err) == POM_ERR_ARG);
+  pom_design_destroy(f2);
+  y[4] = NAN;
+  check_true(pom_rsm_fit_quadratic(&fit, 3, d->n, d->coded, y, NULL, &err) == POM_ERR_NONFINITE);
+  pom_design_destroy(d);
+}
+
+static const double beta2[6] = {1.385, 0.62, -0.47, -1.13, 0.84, 0.391};
+
+static double quad2(const double u[2], double cubic) {
+  double row[6];
+  pom_rsm_row_terms(2, u, row);
+  double y = cubic * u[0] * u[0] * u[0];
+  for (int j = 0; j < 6; ++j)
+    y += beta2[j] * row[j];
+  return y;
+}
+
+static void test_rsm_noisy(void) {
+  const double sigma = 0.1;
+  pom_design *d = make(POM_DESIGN_CCD_ROTATABLE, 2, 5, 3); /* 3 * 8 + 5 = 29 runs */
+  double y[64];
+  pom_rng rng;
+  pom_rng_seed(&rng, 2385, 5);
+  for (int r = 0; r < d->n; ++r)
+    y[r] = quad2(d->coded + 2 * r, 0.0) + sigma * pom_rng_normal(&rng);
+  pom_rsm_options o;
+  pom_rsm_defaults(&o);
+  o.confidence = 0.999;
+  pom_rsm_fit fit;
+  pom_error err;
+  check_true(pom_rsm_fit_quadratic(&fit, 2, d->n, d->coded, y, &o, &err) == POM_OK);
+  /* Every true coefficient inside its 99.9 % interval: a correct fit misses
+     one of six with probability < 0.6 %; the seed is fixed. */
+  for (int j = 0; j < 6; ++j)
+    check_true(fabs(fit.beta[j] - beta2[j]) <= fit.ci_half[j]);
+  /* s estimates sigma: with 23 df, s/sigma lies in [0.6, 1.4] with
+     probability > 99.9 % (chi-square). */
+  check_true(fit.sigma > 0.6 * sigma && fit.sigma < 1.4 * sigma);
+  /* replicates give pure error; lack of fit is not significant */
+  check_true(fit.has_lack_of_fit);
+  check_true(fit.anova[POM_RSM_ROW_LACK_OF_FIT].p > 0.001);
+  check_true(fit.anova[POM_RSM_ROW_MODEL].p < 1e-6);
+
+  /* Held-out check: 40 LHS points, 95 % prediction intervals. The count
+     inside is binomial(40, 0.95); below 0.8 has probability < 0.3 %. */
+  pom_design_options lo;
+  pom_design_defaults(&lo);
+  lo.kind = POM_DESIGN_LHS;
+  lo.center_points = 0;
+  lo.lhs_points = 40;
+  pom_design *h = NULL;
+  check_true(pom_design_create(&h, 2, &lo, &err) == POM_OK);
+  double yh[40];
+  for (int r = 0; r < 40; ++r)
+    yh[r] = quad2(h->coded + 2 * r, 0.0) + sigma * pom_rng_normal(&rng);
+  pom_rsm_check chk;
+  pom_rsm_validate(&fit, 40, h->coded, yh, 0.95, &chk);
+  check_true(chk.within_pi >= 0.8);
+  check_true(chk.rmse < 1.5 * sigma && chk.r2 > 0.9);
+
+  /* A cubic term the quadratic cannot follow: lack of fit is significant. */
+  pom_rng_seed(&rng, 2385, 5);
+  for (int r = 0; r < d->n; ++r)
+    y[r] = quad2(d->coded + 2 * r, 1.5) + sigma * pom_rng_normal(&rng);
+  check_true(pom_rsm_fit_quadratic(&fit, 2, d->n, d->coded, y, &o, &err) == POM_OK);
+  check_true(fit.anova[POM_RSM_ROW_LACK_OF_FIT].p < 1e-6);
+  pom_design_destroy(h);
+  pom_design_destroy(d);
+}
+
+/* PRESS from the hat matrix equals brute-force leave-one-out refits. */
+static void test_press(void) {
+  pom_design_options o;
+  pom_design_defaults(&o);
+  o.kind = POM_DESIGN_LHS;
+  o.center_points = 0;
+  o.lhs_points = 17;
+  pom_design *d = NULL;
+  pom_error err;
+  check_true(pom_design_create(&d, 2, &o, &err) == POM_OK);
+  double y[17];
+  pom_rng rng;
+  pom_rng_seed(&rng, 99, 0);
+  for (int r = 0; r < 17; ++r)
+    y[r] = sin(2.1 * d->coded[2 * r]) + exp(d->coded[2 * r + 1]) + 0.05 * pom_rng_normal(&rng);
+  pom_rsm_fit full, loo;
+  check_true(pom_rsm_fit_quadratic(&full, 2, 17, d->coded, y, NULL, &err) == POM_OK);
+  double press = 0.0, u16[32], y16[16];
+  for (int out = 0; out < 17; ++out) {
+    int m = 0;
+    for (int r = 0; r < 17; ++r)
+      if (r != out) {
+        u16[2 * m] = d->coded[2 * r];
+        u16[2 * m + 1] = d->coded[2 * r + 1];
+        y16[m++] = y[r];
+      }
+    check_true(pom_rsm_fit_quadratic(&loo, 2, 16, u16, y16, NULL, &err) == POM_OK);
+    double e = y[out] - pom_rsm_predict(&loo, d->coded + 2 * out, NULL);
+    press += e * e;
+  }
+  check_rel(full.press, press, 1e-9);
+  check_true(full.r2_pred < full.r2 && full.r2_adj < full.r2);
+  check_true(!full.has_lack_of_fit); /* no replicates in an LHS */
+  pom_design_destroy(d);
+}
+
+/* ---- desirability ------------------------------------------------------- */
+static void test_desirability(void) {
+  /* Maximize on [80, 100]: halfway = 0.5; s = 2 gives 0.25, s = 0.5 sqrt(0.5). */
+  pom_desir_spec mx = pom_desir_make(POM_DESIR_MAXIMIZE, 80.0, 0.0, 100.0);
+  check_abs(pom_desir_individual(&mx, 90.0), 0.5, 1e-15);
+  check_abs(pom_desir_individual(&mx, 79.0), 0.0, 0.0);
+  check_abs(pom_desir_individual(&mx, 101.0), 1.0, 0.0);
+  mx.shape_low = 2.0;
+  check_abs(pom_desir_individual(&mx, 90.0), 0.25, 1e-15);
+  mx.shape_low = 0.5;
+  check_abs(pom_desir_individual(&mx, 90.0), sqrt(0.5), 1e-15);
+  /* Minimize on [0.2, 0.7]: y = 0.325 -> 0.75. */
+  pom_desir_spec mn = pom_desir_make(POM_DESIR_MINIMIZE, 0.2, 0.0, 0.7);
+  check_abs(pom_desir_individual(&mn, 0.325), 0.75, 1e-15);
+  check_abs(pom_desir_individual(&mn, 0.1), 1.0, 0.0);
+  /* Target 67.5 in [60, 75] (Derringer-Suich hardness): 63.75 -> 0.5; 71.25 with t = 2 -> 0.25. */
+  pom_desir_spec tg = pom_desir_make(POM_DESIR_TARGET, 60.0, 67.5, 75.0);
+  tg.shape_high = 2.0;
+  check_abs(pom_desir_individual(&tg, 63.75), 0.5, 1e-15);
+  check_abs(pom_desir_individual(&tg, 71.25), 0.25, 1e-15);
+  check_abs(pom_desir_individual(&tg, 67.5), 1.0, 1e-15);
+  check_abs(pom_desir_individual(&tg, 76.0), 0.0, 0.0);
+  check_abs(pom_desir_individual(&tg, NAN), 0.0, 0.0);
+  /* Overall: geometric mean; importances weight it; one zero makes D = 0. */
+  pom_desir_spec sp[2] = {pom_desir_make(POM_DESIR_MAXIMIZE, 80.0, 0.0, 100.0), tg};
+  double yv[2] = {90.0, 71.25}, dv[2];
+  check_abs(pom_desir_overall(2, sp, yv, dv), sqrt(0.125), 1e-15);
+  check_abs(dv[1], 0.25, 1e-15);
+  sp[0].importance = 2.0;
+  check_abs(pom_desir_overall(2, sp, yv, NULL), cbrt(0.0625), 1e-15);
+  yv[0] = 70.0;
+  check_abs(pom_desir_overall(2, sp, yv, NULL), 0.0, 0.0);
+  /* validation */
+  pom_error err;
+  check_true(pom_desir_validate(&tg, "hardness", &err) == POM_OK);
+  tg.target = 80.0;
+  check_true(pom_desir_validate(&tg, "hardness", &err) == POM_ERR_ARG);
+  check_true(strstr(err.message, "hardness") != NULL);
+}
+
+/* ---- NLopt driver ------------------------------------------------------- */
+/* Negated Rastrigin shifted to (0.3, -0.2): global maximum 0 there, a local
+ * maximum near every other integer offset. */
+static pom_status rastrigin(void *ctx, const double x[], double *f, pom_error *err) {
+  (void)ctx;
+  (void)err;
+  double s = 0.0;
+  const double c[2] = {0.3, -0.2};
+  for (int i = 0; i < 2; ++i) {
+    double z = x[i] - c[i];
+    s += z * z - 10.0 * cos(2.0 * 3.14159265358979323846 * z) + 10.0;
+  }
+  *f = -s;
+  return POM_OK;
+}
+
+typedef struct {
+  int calls;
+  int fail_at;
+  int nan;
+} failing_ctx;
+
+static pom_status failing(void *ctx, const double x[], double *f, pom_error *err) {
+  failing_ctx *c = ctx;
+  if (++c->calls == c->fail_at) {
+    if (c->nan) {
+      *f = NAN;
+      return POM_OK;
+    }
+    POM_FAIL(err, POM_ERR_UNREACHABLE, "limb 2 cannot be assembled at x = %g", x[0]);
+  }
+  *f = -(x[0] * x[0] + x[1] * x[1]);
+  return POM_OK;
+}
+
+static void test_nlopt(void) {
+  const double lo[2] = {-5.12, -5.12}, hi[2] = {5.12, 5.12};
+  pom_opt_options o;
+  pom_opt_defaults(&o);
+  pom_opt_result res, res2;
+  pom_error err;
+  /* CRS2 then BOBYQA: the global maximum, polished to 1e-6. */
+  check_true(pom_opt_maximize(2, lo, hi, NULL, rastrigin, NULL, &o, &res, &err) == POM_OK);
+  check_abs(res.x[0], 0.3, 1e-6);
+  check_abs(res.x[1], -0.2, 1e-6);
+  check_abs(res.f, 0.0, 1e-9);
+  check_true(res.evals_global > 0 && res.evals_local > 0 && res.result_global > 0);
+  /* the same seed gives the same run */
+  check_true(pom_opt_maximize(2, lo, hi, NULL, rastrigin, NULL, &o, &res2, &err) == POM_OK);
+  check_true(res.x[0] == res2.x[0] && res.x[1] == res2.x[1] &&
+             res.evals_global == res2.evals_global);
+  /* deterministic DIRECT-L */
+  o.global = POM_OPT_GLOBAL_DIRECT_L;
+  check_true(pom_opt_maximize(2, lo, hi, NULL, rastrigin, NULL, &o, &res, &err) == POM_OK);
+  check_abs(res.x[0], 0.3, 1e-6);
+  check_abs(res.x[1], -0.2, 1e-6);
+  /* local only from a start in the global basin */
+  o.global = POM_OPT_GLOBAL_NONE;
+  const double x0[2] = {0.1, -0.1};
+  check_true(pom_opt_maximize(2, lo, hi, x0, rastrigin, NULL, &o, &res, &err) == POM_OK);
+  check_abs(res.x[0], 0.3, 1e-6);
+  check_true(res.result_global == 0 && res.evals_global == 0);
+
+  /* A failing objective stops NLopt and returns its own status. */
+  pom_opt_defaults(&o);
+  failing_ctx fc = {0, 10, 0};
+  pom_error_clear(&err);
+  check_true(pom_opt_maximize(2, lo, hi, NULL, failing, &fc, &o, &res, &err) ==
+             POM_ERR_UNREACHABLE);
+  check_true(fc.calls == 10 && res.evals_global == 10);
+  check_true(res.result_global == NLOPT_FORCED_STOP);
+  check_true(strstr(err.message, "limb 2") != NULL);
+  /* ... also in the local stage */
+  failing_ctx fl = {0, 0, 0};
+  o.global_max_evals = 50;
+  check_true(pom_opt_maximize(2, lo, hi, NULL, failing, &fl, &o, &res, &err) == POM_OK);
+  fl.calls = 0;
+  fl.fail_at = (int)res.evals_global + 10;
+  check_true(pom_opt_maximize(2, lo, hi, NULL, failing, &fl, &o, &res, &err) ==
+             POM_ERR_UNREACHABLE);
+  check_true(res.result_local == NLOPT_FORCED_STOP && res.evals_local == 10);
+  /* a NaN objective is a failure, not a value */
+  failing_ctx fn = {0, 7, 1};
+  check_true(pom_opt_maximize(2, lo, hi, NULL, failing, &fn, &o, &res, &err) == POM_ERR_NONFINITE);
+  /* invalid arguments */
+  const double bad_hi[2] = {-6.0, 5.12};
+  check_true(pom_opt_maximize(2, lo, bad_hi, NULL, rastrigin, NULL, &o, &res, &err) == POM_ERR_ARG);
+  check_true(pom_opt_maximize(0, lo, hi, NULL, rastrigin, NULL, &o, &res, &err) == POM_ERR_ARG);
+}
+
+int main(void) {
+  test_designs();
+  test_rsm_exact();
+  test_rsm_noisy();
+  test_press();
+  test_desirability();
+  test_nlopt();
+  return check_summary("test_optimize");
+}
