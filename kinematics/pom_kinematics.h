@@ -22,26 +22,57 @@ typedef enum {
   POM_ARCH_3SPS = 1  /* 3S-P-S/S (3-UPS/S): extensible limbs, U joint at the ground */
 } pom_arch_type;
 
+/* Dimensionless design parameters of both architectures plus one scale
+ * (docs/kinematics.md section 2). Limb i = 1, 2, 3 sits at azimuth
+ * phi_i = first_azimuth + (i - 1) 2 pi / 3, with the local unit vectors
+ * e_r = (cos phi, sin phi, 0), e_t = (-sin phi, cos phi, 0), e_z. A direction
+ * given by (lean, azimuth) is sin(lean) (cos(azimuth) e_r + sin(azimuth) e_t)
+ * + cos(lean) e_z. */
+typedef struct {
+  double scale;         /* platform radius r: distance of the platform points from the z axis (m) */
+  double first_azimuth; /* phi_1 (rad) */
+  double platform_height; /* height of the platform points above O, divided by r */
+  double
+      limb_length; /* 3PSS: link length |B_i C_i| / r; 3SPS: mid-stroke limb length |A_i B_i| / r */
+  double limb_lean;        /* angle of the home limb direction from +z (rad) */
+  double limb_azimuth;     /* azimuth of the home limb direction, from e_r toward e_t (rad) */
+  double actuator_tilt;    /* 3PSS: angle of the slider axis d_i from +z (rad); 3SPS: unused */
+  double actuator_azimuth; /* 3PSS: azimuth of the slider axis, from e_r toward e_t (rad) */
+} pom_kin_design;
+
 /* Geometry and limits of one architecture instance (everything in metres,
  * radians, fixed frame at home). Filled by pom_kin_arch_load(). */
 typedef struct {
   pom_arch_type type;
-  char name[64];            /* config `name` */
+  char name[64]; /* config `name` */
   /* 3P-S-S/S */
   double slider_mid[3][3];  /* B_i at mid-stroke (m) */
   double slider_axis[3][3]; /* unit actuator axis d_i (positive = extension) */
   double link_length[3];    /* |B_i C_i| (m) */
   /* 3S-P-S/S */
-  double base_point[3][3];  /* A_i, U-joint centre on the ground (m) */
+  double base_point[3][3];   /* A_i, U-joint centre on the ground (m) */
   double limb_length_mid[3]; /* |B_i - A_i| at mid-stroke (m) */
-  double ujoint_axis[3][3]; /* U-joint axis fixed in the ground, unit */
+  double ujoint_axis[3][3];  /* U-joint axis fixed in the ground, unit */
   /* both */
-  double platform_point[3][3]; /* C_i (3PSS) or B_i (3SPS) in the platform frame = fixed at home (m) */
+  double platform_point[3]
+                       [3]; /* C_i (3PSS) or B_i (3SPS) in the platform frame = fixed at home (m) */
   /* limits */
-  double stroke;               /* total actuator stroke (m): |q_i| <= stroke / 2 */
-  double cone_base_max;        /* largest angle of a limb at its ground/slider joint from its home direction (rad) */
-  double cone_platform_max;    /* largest angle of a limb at its platform joint, platform frame, from home (rad) */
-  double min_limb_distance;    /* smallest allowed distance between limb segments (m) */
+  double stroke;            /* total actuator stroke (m): |q_i| <= stroke / 2 */
+  double cone_base_max;     /* largest angle of a limb at its ground/slider joint from its home
+                               direction (rad) */
+  double cone_platform_max; /* largest angle of a limb at its platform joint, platform frame, from
+                               home (rad) */
+  double min_limb_distance; /* smallest allowed distance between limb segments (m) */
+  /* derived at load (added after the first contract) */
+  double limb_dir_home[3]
+                      [3]; /* unit limb direction at home: 3PSS link B_i -> C_i, 3SPS A_i -> B_i */
+  double radial_dir[3]
+                   [3];  /* unit horizontal direction e_r,i from O toward limb i's platform point */
+  double branch_sign[3]; /* 3PSS: sign of (l_i . d_i) at home, selects the IK root (+1 or -1) */
+  double home_det_sign;  /* sign of det J at home (+1 or -1): FK rejects solutions across a
+                            singularity */
+  int has_design;        /* 1 when loaded from design parameters (mode = "parameters") */
+  pom_kin_design design; /* the design parameters when has_design (else zero) */
 } pom_kin_arch;
 
 /* Loads geometry and limits from the `architecture`, `geometry` and `limits`
@@ -62,5 +93,185 @@ pom_status pom_kin_jacobian(const pom_kin_arch *arch, const double R[9], double 
  * `inertia` keys of cfg, joints, actuators) at the home pose. */
 pom_status pom_kin_mechanism_build(pom_mechanism *mech, const pom_kin_arch *arch,
                                    const pom_cfg *cfg, pom_error *err);
+
+/* ---- additions: design parameters, limits, pose evaluation -------------- */
+
+/* Default limits: 12 mm stroke, cones of 90 deg (not binding), no limb
+ * clearance requirement. */
+void pom_kin_limits_defaults(pom_kin_arch *arch);
+
+/* Builds the geometry of an architecture from design parameters (limits set to
+ * pom_kin_limits_defaults, name set to "3PSS"/"3SPS"). POM_ERR_ARG with a
+ * message when the design is degenerate (e.g. a limb perpendicular to its
+ * slider axis at home). */
+pom_status pom_kin_arch_from_design(pom_kin_arch *arch, pom_arch_type type,
+                                    const pom_kin_design *design, pom_error *err);
+
+/* Completes an arch whose points were filled by the caller (explicit-points
+ * form): checks it and computes the derived fields. */
+pom_status pom_kin_arch_finish(pom_kin_arch *arch, pom_error *err);
+
+/* IK and Jacobian together (cheaper than the two calls): q (m) and J (m/rad).
+ * Same failures as pom_kin_inverse. */
+pom_status pom_kin_inverse_jacobian(const pom_kin_arch *arch, const double R[9], double q[3],
+                                    double J[9], pom_error *err);
+
+/* Singular values sv (descending, m/rad), condition number kappa = sv0/sv2
+ * (INFINITY when sv2 = 0) and dexterity 1/kappa in [0, 1] of J. Any output
+ * pointer may be NULL. */
+void pom_kin_dexterity(const double J[9], double sv[3], double *kappa, double *dexterity);
+
+/* Limit bits of pom_kin_pose.violations: bit (kind + limb) for the stroke and
+ * the two cones, bit (POM_KIN_LIM_DISTANCE + pair) for the limb pairs
+ * (0: limbs 1-2, 1: limbs 2-3, 2: limbs 3-1). */
+enum {
+  POM_KIN_LIM_STROKE = 0,
+  POM_KIN_LIM_CONE_BASE = 3,
+  POM_KIN_LIM_CONE_PLATFORM = 6,
+  POM_KIN_LIM_DISTANCE = 9,
+  POM_KIN_LIM_COUNT = 12
+};
+
+/* Name of limit bit k ("stroke limb 2", "platform cone limb 1",
+ * "distance limbs 3-1"); "?" when out of range. Static string. */
+const char *pom_kin_limit_name(int k);
+
+/* Everything known about one pose. */
+typedef struct {
+  int reachable;        /* 1 when every limb was assembled on the home branch */
+  int unreachable_limb; /* 0-based limb that failed, -1 when reachable */
+  double q[3];          /* actuator displacements from mid-stroke (m) */
+  double J[9];          /* Jacobian, q_dot = J omega (m/rad), row-major */
+  double sv[3];         /* singular values of J, descending (m/rad) */
+  double kappa;         /* condition number sv0/sv2 (INFINITY when singular) */
+  double dexterity;     /* 1/kappa in [0, 1] */
+  double
+      cone_base[3]; /* angle of limb i at its ground/slider joint from its home direction (rad) */
+  double
+      cone_platform[3]; /* angle of limb i at its platform joint, platform frame, from home (rad) */
+  double limb_distance[3]; /* distance between limb segments, pairs 1-2, 2-3, 3-1 (m) */
+  unsigned violations;     /* bit k set when limit k is violated (pom_kin_limit_name) */
+} pom_kin_pose;
+
+/* Evaluates the pose R: IK, J, dexterity and every limit. Returns POM_OK when
+ * reachable and within limits; POM_ERR_UNREACHABLE (pose->reachable = 0,
+ * err names the limb); POM_ERR_LIMIT when reachable but some limit is violated
+ * (pose fully filled, err names every violation with its value and bound).
+ * err may be NULL (no message formatting: use this in loops). */
+pom_status pom_kin_pose_evaluate(const pom_kin_arch *arch, const double R[9], pom_kin_pose *pose,
+                                 pom_error *err);
+
+/* Writes the names of the violated limits of `violations` into buf as
+ * "stroke limb 1, platform cone limb 2" ("none" when 0). */
+void pom_kin_violations_text(unsigned violations, char *buf, size_t cap);
+
+/* ---- forward kinematics -------------------------------------------------- */
+
+/* Options of the forward kinematics (docs/kinematics.md section 4). */
+typedef struct {
+  double residual_tol; /* converged when max_i |q_i(R) - q_i| <= this (m); default 1e-12 */
+  int max_iterations;  /* Newton iterations per continuation step; default 30 */
+  double max_rotation; /* largest rotation of one Newton update (rad); default 0.3 */
+  int initial_steps;   /* continuation steps tried first when direct Newton fails; default 4 */
+  int max_halvings;    /* times a failing continuation step may be halved; default 16 */
+  double singular_tol; /* J treated as singular when sv2 <= singular_tol * sv0; default 1e-10 */
+} pom_kin_fk_opts;
+
+void pom_kin_fk_defaults(pom_kin_fk_opts *opts);
+
+/* What the forward kinematics did. */
+typedef struct {
+  int iterations;         /* total Newton iterations, all steps */
+  int continuation_steps; /* successful continuation steps; 0 when direct Newton converged */
+  double residual;        /* final max_i |q_i(R) - q_i| (m) */
+} pom_kin_fk_info;
+
+/* Forward kinematics: the rotation R (on the home branch) whose IK gives q
+ * (m). Newton with the analytic Jacobian from R_start (NULL = home, R = I);
+ * when it fails, continuation along q(t) = q_start + t (q - q_start).
+ * POM_ERR_NOCONVERGE (R untouched, err says where it stalled) on failure.
+ * opts and info may be NULL (defaults / not reported). */
+pom_status pom_kin_forward(const pom_kin_arch *arch, const double q[3], const double R_start[9],
+                           const pom_kin_fk_opts *opts, double R[9], pom_kin_fk_info *info,
+                           pom_error *err);
+
+/* ---- workspace ----------------------------------------------------------- */
+
+/* Regular dexterous workspace settings (`workspace` group; docs/kinematics.md
+ * section 6). */
+typedef struct {
+  double dexterity_min;  /* threshold on 1/kappa; default 0.3 */
+  double resolution;     /* grid step in each ZYX Euler angle (rad); default 1 deg */
+  double max_half_width; /* search stops at this cube half-width (rad); default 45 deg */
+  int check_limits;      /* 1: stroke, cones and clearance count; default 1 */
+  double gci_half_width; /* GCI region: Euler cube half-width (rad); 0 = the RDW; default 0 */
+  double map_half_width; /* half-width of the CSV dexterity map (rad); default 20 deg */
+} pom_kin_ws_opts;
+
+void pom_kin_ws_defaults(pom_kin_ws_opts *opts);
+
+/* Reads the `workspace` group (all keys optional) over the defaults. */
+pom_status pom_kin_ws_load(pom_kin_ws_opts *opts, const pom_cfg *cfg, pom_error *err);
+
+/* Result of the regular dexterous workspace search. */
+typedef struct {
+  double half_width;        /* largest a (rad, a multiple of the resolution) such that every grid
+                               pose of the Euler cube [-a, a]^3 passes; -1 when home fails */
+  int capped;               /* 1 when the search reached max_half_width without a failure */
+  double min_dexterity;     /* smallest 1/kappa over the accepted cube */
+  double fail_euler[3];     /* first failing pose (psi, theta, phi) (rad) when !capped */
+  pom_status fail_status;   /* why it failed: POM_ERR_UNREACHABLE, POM_ERR_LIMIT or POM_ERR_SINGULAR
+                               (dexterity) */
+  unsigned fail_violations; /* limit bits of the failing pose */
+  double fail_dexterity;    /* 1/kappa of the failing pose (0 when unreachable) */
+  long poses;               /* poses evaluated */
+} pom_kin_ws_result;
+
+/* Regular dexterous workspace: the largest cube centred at home in ZYX Euler
+ * space whose grid poses are all assemblable, within limits (if
+ * check_limits) and have dexterity >= dexterity_min. */
+pom_status pom_kin_workspace(const pom_kin_arch *arch, const pom_kin_ws_opts *opts,
+                             pom_kin_ws_result *res, pom_error *err);
+
+/* Global conditioning index over the Euler cube of half-width half_width
+ * (rad): the mean of 1/kappa over the usable poses (assemblable and, when
+ * check_limits, within limits) with the invariant measure cos(theta) dpsi
+ * dtheta dphi, midpoint rule with cells of size <= resolution. *usable_fraction
+ * (may be NULL) receives the measure fraction of usable poses. POM_ERR_ARG
+ * when no pose is usable. */
+pom_status pom_kin_gci(const pom_kin_arch *arch, double half_width, double resolution,
+                       int check_limits, double *gci, double *usable_fraction, pom_error *err);
+
+/* ---- mechanism inputs ---------------------------------------------------- */
+
+/* Mass properties of one body (docs/kinematics.md section 7). */
+typedef struct {
+  double mass;        /* kg */
+  double moments[3];  /* principal moments about the CM along body axes x, y, z (kg m^2); limb
+                         bodies: z = limb axis */
+  double cm[3];       /* platform: CM at home, fixed frame (m) */
+  double cm_offset;   /* 3PSS piston: CM from B_i along d_i; 3SPS cylinder: from A_i along the limb;
+                         3SPS piston: from B_i toward A_i (m) */
+  double cm_fraction; /* 3PSS link: CM at B_i + cm_fraction (C_i - B_i) */
+} pom_kin_body_inertia;
+
+typedef struct {
+  pom_kin_body_inertia platform;
+  pom_kin_body_inertia piston;   /* both */
+  pom_kin_body_inertia link;     /* 3PSS */
+  pom_kin_body_inertia cylinder; /* 3SPS */
+  double gravity[3];             /* gravitational acceleration, fixed frame (m/s^2) */
+} pom_kin_inertia;
+
+/* Reads the `inertia` group for arch->type. */
+pom_status pom_kin_inertia_load(pom_kin_inertia *in, const pom_kin_arch *arch, const pom_cfg *cfg,
+                                pom_error *err);
+
+/* Builds the mechanism from an arch and mass properties (no config). */
+pom_status pom_kin_mechanism_from(pom_mechanism *mech, const pom_kin_arch *arch,
+                                  const pom_kin_inertia *in, pom_error *err);
+
+/* Name of an architecture ("3PSS", "3SPS"). */
+const char *pom_kin_arch_name(pom_arch_type type);
 
 #endif

@@ -9,10 +9,10 @@
 #ifndef POM_MECHANISM_H
 #define POM_MECHANISM_H
 
-#define POM_MECH_MAX_BODIES 16
-#define POM_MECH_MAX_JOINTS 24
+#define POM_MECH_MAX_BODIES    16
+#define POM_MECH_MAX_JOINTS    24
 #define POM_MECH_MAX_ACTUATORS 6
-#define POM_MECH_NAME_LEN 32
+#define POM_MECH_NAME_LEN      32
 
 typedef enum {
   POM_JOINT_SPHERICAL = 0, /* points coincide; rotation free */
@@ -24,37 +24,39 @@ typedef enum {
 typedef struct {
   char name[POM_MECH_NAME_LEN]; /* e.g. "platform", "link2" */
   double mass;                  /* kg (0 for the ground) */
-  double inertia[9];            /* inertia tensor about the CM, fixed-frame axes at home (kg m^2), row-major */
-  double cm[3];                 /* centre of mass at home, fixed frame (m) */
+  double inertia[9]; /* inertia tensor about the CM, fixed-frame axes at home (kg m^2), row-major */
+  double cm[3];      /* centre of mass at home, fixed frame (m) */
 } pom_mech_body;
 
 typedef struct {
   char name[POM_MECH_NAME_LEN]; /* e.g. "O", "B1", "P2" */
   pom_joint_type type;
-  int body[2];    /* the two bodies (indices into body[]); body[0] is the "outer" side, e.g. ground */
-  double point[3]; /* joint centre at home, fixed frame (m); for a prismatic joint a point on its axis */
+  int body[2]; /* the two bodies (indices into body[]); body[0] is the "outer" side, e.g. ground */
+  double point[3]; /* joint centre at home, fixed frame (m); for a prismatic joint a point on its
+                      axis */
   double axis[3];  /* unit, fixed frame at home: prismatic sliding axis (positive = actuator
                       extension, direction body[0] -> body[1]); revolute hinge axis; universal:
                       axis fixed in body[0]; unused for spherical */
-  double axis2[3]; /* universal: second axis, fixed in body[1], perpendicular to axis; else unused */
-  int actuator;    /* index into actuator[] driving this (prismatic) joint, -1 if passive */
+  double
+      axis2[3]; /* universal: second axis, fixed in body[1], perpendicular to axis; else unused */
+  int actuator; /* index into actuator[] driving this (prismatic) joint, -1 if passive */
 } pom_mech_joint;
 
 typedef struct {
-  int joint;            /* the prismatic joint it drives */
-  double stroke;        /* total stroke (m); travel is [-stroke/2, +stroke/2] about home */
-  int moving_body;      /* body carrying the coil/piston (mass moved by the force) */
+  int joint;       /* the prismatic joint it drives */
+  double stroke;   /* total stroke (m); travel is [-stroke/2, +stroke/2] about home */
+  int moving_body; /* body carrying the coil/piston (mass moved by the force) */
 } pom_mech_actuator;
 
 typedef struct {
-  int n_bodies;                                    /* including the ground (body 0) */
+  int n_bodies; /* including the ground (body 0) */
   int n_joints;
   int n_actuators;
-  pom_mech_body body[POM_MECH_MAX_BODIES];         /* [n_bodies] */
-  pom_mech_joint joint[POM_MECH_MAX_JOINTS];       /* [n_joints] */
+  pom_mech_body body[POM_MECH_MAX_BODIES];            /* [n_bodies] */
+  pom_mech_joint joint[POM_MECH_MAX_JOINTS];          /* [n_joints] */
   pom_mech_actuator actuator[POM_MECH_MAX_ACTUATORS]; /* [n_actuators] */
-  int platform;                                    /* index of the moving platform body */
-  double gravity[3];                               /* gravitational acceleration, fixed frame (m/s^2) */
+  int platform;                                       /* index of the moving platform body */
+  double gravity[3]; /* gravitational acceleration, fixed frame (m/s^2) */
 } pom_mechanism;
 
 #endif

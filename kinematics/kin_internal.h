@@ -1,0 +1,23 @@
+/* kin_internal.h - constants and helpers shared by the kinematics sources
+ * (not part of the public contract). */
+#ifndef POM_KIN_INTERNAL_H
+#define POM_KIN_INTERNAL_H
+
+#include "pom_kinematics.h"
+
+/* Degeneracy guard used only when a geometry is loaded: a home pose whose
+ * |cos(link, slider axis)|, U-joint axis length or sv_min/sv_max falls below
+ * this is rejected as singular (docs/kinematics.md section 3). It never
+ * affects a computed result. */
+#define POM_KIN_HOME_MIN_COS 1e-6
+
+/* Limb segment endpoints at rotation R with displacements q: 3PSS link
+ * B_i(q) -> C_i(R), 3SPS limb A_i -> B_i(R). */
+void pom_kin_limb_segments(const pom_kin_arch *arch, const double R[9], const double q[3],
+                           double from[3][3], double to[3][3]);
+
+/* Smallest distance between segments [p0, p1] and [q0, q1] (m). */
+double pom_kin_segment_distance(const double p0[3], const double p1[3], const double q0[3],
+                                const double q1[3]);
+
+#endif
