@@ -21,12 +21,12 @@ typedef enum { POM_LINSOL_DENSE = 0, POM_LINSOL_KLU = 1 } pom_linsol_kind;
 
 /* Voice-coil actuator, identical for the three limbs. */
 typedef struct {
-  double force_constant;  /* K_m: force per current = back-EMF per velocity (N/A = V s/m) */
-  double resistance;      /* coil resistance R_c (ohm) */
-  double inductance;      /* coil inductance L (H) */
+  double force_constant;   /* K_m: force per current = back-EMF per velocity (N/A = V s/m) */
+  double resistance;       /* coil resistance R_c (ohm) */
+  double inductance;       /* coil inductance L (H) */
   double bearing_friction; /* viscous bearing friction b (N s/m) */
-  double voltage_limit;   /* saturation of the drive voltage, +- (V) */
-  double sensor_gain;     /* K_S (V/m) */
+  double voltage_limit;    /* saturation of the drive voltage, +- (V) */
+  double sensor_gain;      /* K_S (V/m) */
 } pom_dyn_actuator;
 
 /* PID on e = q_set - q (m); derivative on the measured velocity.
@@ -34,9 +34,9 @@ typedef struct {
  * parallel: u = sat(K_S (K_P e + K_I int e - K_D q_dot)) */
 typedef struct {
   pom_pid_form form;
-  double kp;  /* K_P (V/V) */
-  double ki;  /* ideal: integral factor (1/s); parallel: K_I (1/s) */
-  double kd;  /* ideal: tau_D (s); parallel: K_D (s) */
+  double kp; /* K_P (V/V) */
+  double ki; /* ideal: integral factor (1/s); parallel: K_I (1/s) */
+  double kd; /* ideal: tau_D (s); parallel: K_D (s) */
 } pom_dyn_controller;
 
 /* Parasitic joint elements (pseudo-constraints). */
@@ -49,26 +49,28 @@ typedef struct {
 
 /* What the scene models. */
 typedef struct {
-  int gravity;               /* 1: gravity on */
-  int bearing_friction;      /* 1: b v on each actuator */
-  int coil_inductance;       /* 1: L di/dt dynamics; 0: quasi-static current */
+  int gravity;          /* 1: gravity on */
+  int bearing_friction; /* 1: b v on each actuator */
+  int coil_inductance;  /* 1: L di/dt dynamics; 0: quasi-static current */
   pom_orient_kind orientation;
+  double euler_cos_min; /* |cos pitch| of any body below which the Euler path stops with
+                           POM_ERR_EULER_SINGULAR (default 1e-2, pitch beyond 89.4 deg) */
 } pom_dyn_scene;
 
 /* CVODE settings. */
 typedef struct {
-  double rtol;          /* relative tolerance */
-  double atol_scale;    /* absolute tolerances = atol_scale * characteristic scale per state kind */
-  double max_step;      /* s, 0 = unlimited */
-  long max_steps;       /* per maneuver */
+  double rtol;       /* relative tolerance */
+  double atol_scale; /* absolute tolerances = atol_scale * characteristic scale per state kind */
+  double max_step;   /* s, 0 = unlimited */
+  long max_steps;    /* per maneuver */
   pom_linsol_kind linear_solver;
 } pom_dyn_solver;
 
 /* Maneuver definition. */
 typedef struct {
-  double horizon;      /* s (default 0.100) */
-  double settle_band;  /* fraction of |step| (default 0.02) */
-  double output_dt;    /* s, trace sampling period (default 1e-4) */
+  double horizon;     /* s (default 0.100) */
+  double settle_band; /* fraction of |step| (default 0.02) */
+  double output_dt;   /* s, trace sampling period (default 1e-4) */
 } pom_dyn_maneuver;
 
 typedef struct {
@@ -99,33 +101,108 @@ void pom_dyn_data_destroy(pom_dyn_data *d);
 
 /* Metrics of one maneuver. Times in s, energies in J. */
 typedef struct {
-  pom_status status;          /* POM_OK or why it failed */
-  char reason[256];           /* failure reason, "" when ok */
-  double target[3];           /* setpoints (m) */
-  double settling_time[3];    /* last time outside the band of settle_band |step| about the setpoint (s); NaN if unsettled */
-  int settled[3];             /* 1 when inside the band at the horizon */
+  pom_status status;       /* POM_OK or why it failed */
+  char reason[256];        /* failure reason, "" when ok */
+  double target[3];        /* setpoints (m) */
+  double settling_time[3]; /* last time outside the band of settle_band |step| about the setpoint
+                              (s); NaN if unsettled */
+  int settled[3];          /* 1 when inside the band at the horizon */
   double settling_time_final[3]; /* stepinfo variant: band about the final value */
-  double execution_time;      /* max of settling_time (s); NaN if any unsettled */
-  double energy[3];           /* int u i dt, signed (J) */
-  double energy_positive[3];  /* int max(u i, 0) dt (J) */
-  double energy_total;        /* sum of energy[] (J) */
-  double peak_voltage[3];     /* max |u| (V) */
-  double saturation_time[3];  /* time with |u| at the limit (s) */
-  double final_q[3];          /* q at the horizon (m) */
-  double max_deflection;      /* largest parasitic deflection (m) */
-  double energy_balance_error; /* |supplied - dissipated - stored change| / supplied */
+  double execution_time;         /* max of settling_time (s); NaN if any unsettled */
+  double energy[3];              /* int u i dt, signed (J) */
+  double energy_positive[3];     /* int max(u i, 0) dt (J) */
+  double energy_total;           /* sum of energy[] (J) */
+  double peak_voltage[3];        /* max |u| (V) */
+  double saturation_time[3];     /* time with |u| at the limit (s) */
+  double final_q[3];             /* q at the horizon (m) */
+  double max_deflection;         /* largest parasitic deflection (m) */
+  double energy_balance_error;   /* |supplied - dissipated - stored change| / supplied */
   long steps, rhs_evals, jac_evals, newton_iters, error_test_fails;
-  double wall_time;           /* s */
+  double wall_time; /* s */
+  /* added by dynamics (issue 3) */
+  double max_angular_deflection; /* largest angular parasitic deflection (rad) */
+  double energy_supplied;        /* sum over sources of int u i dt (J) = energy_total */
+  double energy_dissipated;      /* coil + bearing + parasitic dampers (J) */
+  double energy_stored_change;   /* kinetic + gravity + springs + coil, end minus start (J) */
+  double energy_coil[3];         /* int R_c i^2 dt per actuator (J) */
+  double energy_bearing[3];      /* int b q_dot^2 dt per actuator (J) */
+  double energy_parasitic;       /* int of all parasitic damper powers (J) */
+  double energy_balance_scale;   /* denominator of energy_balance_error (J), see docs/dynamics.md */
+  long jac_rhs_evals;            /* RHS evaluations spent inside the Jacobian (part of rhs_evals) */
+  long linsol_setups;            /* Newton matrix factorizations */
+  long nonlin_conv_fails;        /* Newton convergence failures */
+  double last_step;              /* last internal step size (s) */
 } pom_dyn_metrics;
 
 /* Optional traces of a maneuver, sampled every output_dt. Owned by caller:
  * create with pom_dyn_trace_create, free with pom_dyn_trace_destroy. */
 typedef struct pom_dyn_trace pom_dyn_trace;
+struct pom_dyn_trace {
+  int capacity;       /* samples allocated */
+  int n;              /* samples filled by the last pom_dyn_simulate */
+  int n_actuators;    /* actuator columns in use (<= 3 stored) */
+  double *t;          /* [capacity] time (s) */
+  double *q;          /* [capacity][3] actuator displacement from mid-stroke (m) */
+  double *q_dot;      /* [capacity][3] actuator velocity (m/s) */
+  double *current;    /* [capacity][3] coil current (A) */
+  double *voltage;    /* [capacity][3] saturated drive voltage u (V) */
+  double *energy;     /* [capacity][3] cumulative source energy int u i dt (J) */
+  double *euler_zyx;  /* [capacity][3] platform (psi, theta, phi) (rad) */
+  double *quat;       /* [capacity][4] platform unit quaternion (w, x, y, z) */
+  double *deflection; /* [capacity] largest linear parasitic deflection at t (m) */
+};
+
+/* Allocates a trace for the model's horizon and output_dt (capacity =
+ * horizon / output_dt + 2). The caller owns *out. */
+pom_status pom_dyn_trace_create(pom_dyn_trace **out, const pom_dyn_model *m, pom_error *err);
+void pom_dyn_trace_destroy(pom_dyn_trace *tr);
 
 /* Runs one maneuver to `target` (m, per actuator). Numerical failure is
  * reported in metrics->status/reason and returned; the model and data stay
  * usable. trace may be NULL. */
 pom_status pom_dyn_simulate(const pom_dyn_model *m, pom_dyn_data *d, const double target[3],
                             pom_dyn_metrics *metrics, pom_dyn_trace *trace, pom_error *err);
+
+/* ---- added by dynamics (issue 3) ----------------------------------------- */
+
+/* Initial body velocities for pom_dyn_simulate_ex (used by tests and
+ * free-motion studies): body k (mechanism index, 1..n_bodies-1) starts at home
+ * with CM velocity v[k] (m/s) and angular velocity omega[k] (rad/s), both in
+ * the fixed frame. Entries for the ground are ignored. */
+typedef struct {
+  double v[POM_MECH_MAX_BODIES][3];
+  double omega[POM_MECH_MAX_BODIES][3];
+} pom_dyn_initial;
+
+/* pom_dyn_simulate with an optional initial velocity field (NULL = rest, the
+ * maneuver definition). */
+pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const double target[3],
+                               const pom_dyn_initial *init, pom_dyn_metrics *metrics,
+                               pom_dyn_trace *trace, pom_error *err);
+
+/* Parameters the model was built with (never NULL for a valid model). */
+const pom_dyn_params *pom_dyn_model_params(const pom_dyn_model *m);
+
+/* Number of ODE states of the model (bodies, coils, integrators, energy
+ * accumulators), and the number of colours of its finite-difference
+ * Jacobian (= RHS evaluations per Jacobian). */
+int pom_dyn_model_n_states(const pom_dyn_model *m);
+int pom_dyn_model_n_colors(const pom_dyn_model *m);
+
+/* Pose of mechanism body k at the end of the last simulation of d: rotation
+ * from home R (fixed frame) and CM position x (m). POM_ERR_ARG for a bad k. */
+pom_status pom_dyn_body_pose(const pom_dyn_model *m, const pom_dyn_data *d, int k, double R[9],
+                             double x[3], pom_error *err);
+
+/* Stored energy (kinetic + gravitational relative to home + parasitic springs
+ * + coil) at the end of the last simulation of d (J; NaN before any run).
+ * Uses d's scratch. */
+double pom_dyn_stored_energy(const pom_dyn_model *m, pom_dyn_data *d);
+
+/* Short names for messages and JSON: "ideal"/"parallel", "euler"/"quaternion",
+ * "dense"/"klu". */
+const char *pom_dyn_pid_form_name(pom_pid_form f);
+const char *pom_dyn_orient_name(pom_orient_kind k);
+const char *pom_dyn_linsol_name(pom_linsol_kind k);
 
 #endif

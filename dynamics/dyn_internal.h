@@ -1,0 +1,155 @@
+/* dyn_internal.h - model and data layout shared by the files of dynamics/
+ * (not a public header). The model is the bond graph of docs/dynamics.md
+ * flattened into arrays; the data holds one worker's CVODE objects and
+ * scratch, all allocated at create time. */
+#ifndef POM_DYN_INTERNAL_H
+#define POM_DYN_INTERNAL_H
+
+#include "pom_dynamics.h"
+
+#include <cvode/cvode.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sundials/sundials_linearsolver.h>
+#include <sundials/sundials_matrix.h>
+
+/* states per body: displacement u (3), momentum p (3), principal angular
+ * momentum h' (3), orientation (3 Euler angles or 4 quaternion components) */
+#define DYN_BODY_U   0
+#define DYN_BODY_P   3
+#define DYN_BODY_H   6
+#define DYN_BODY_ORI 9
+
+/* energy accumulators per actuator (docs/dynamics.md section 6) */
+enum {
+  DYN_ACC_SOURCE = 0, /* int u i dt */
+  DYN_ACC_SOURCE_POS, /* int max(u i, 0) dt */
+  DYN_ACC_SATURATED,  /* int [|u_raw| >= limit] dt */
+  DYN_ACC_COIL,       /* int R_c i^2 dt */
+  DYN_ACC_BEARING,    /* int b q_dot^2 dt */
+  DYN_ACC_PER_ACT
+};
+
+typedef struct {
+  int mech_index;      /* index in the mechanism */
+  int offset;          /* first state index */
+  double mass;         /* kg */
+  double principal[3]; /* principal moments (kg m^2) */
+  double V[9];         /* principal axes at home (columns, fixed frame), det +1 */
+  double cm_home[3];   /* CM at home (m) */
+} dyn_body;
+
+#define DYN_MAX_LIN 3
+#define DYN_MAX_ANG 3
+
+typedef struct {
+  pom_joint_type type;
+  int slot[2];                    /* model body slot of each side, -1 for the ground */
+  double rho[2][3];               /* joint point minus CM at home, fixed axes at home (m) */
+  int n_lin;                      /* linear pseudo-constraints */
+  int lin_rotates;                /* 1: directions fixed in side 0 (prismatic); 0: fixed frame */
+  double lin_dir[DYN_MAX_LIN][3]; /* directions at home (unit) */
+  int n_ang;                      /* angular pseudo-constraints g = (R0 e).(R1 h) */
+  double ang_e[DYN_MAX_ANG][3];   /* vector fixed in side 0, home */
+  double ang_h[DYN_MAX_ANG][3];   /* vector fixed in side 1, home, e.h = 0 */
+  double axis[3];                 /* prismatic axis at home (unit) */
+  int actuator;                   /* model actuator index, -1 passive */
+} dyn_joint;
+
+typedef struct {
+  int joint;      /* model joint index (prismatic) */
+  int flux_state; /* state index of the coil flux linkage, -1 when quasi-static */
+  int int_state;  /* state index of the PID integral */
+  int acc_state;  /* first of DYN_ACC_PER_ACT accumulator states */
+} dyn_actuator;
+
+struct pom_dyn_model {
+  pom_dyn_params par;
+  double gravity[3]; /* m/s^2, zero when the scene has gravity off */
+  int n_bodies;      /* moving bodies (the ground is not a model body) */
+  int n_joints;
+  int n_actuators;
+  int platform_slot; /* model slot of the platform, -1 if none */
+  int body_states;   /* states per body, 12 (Euler) or 13 (quaternion) */
+  int n_states;
+  int acc_parasitic; /* state index of the parasitic damper dissipation */
+  dyn_body body[POM_MECH_MAX_BODIES];
+  dyn_joint joint[POM_MECH_MAX_JOINTS];
+  dyn_actuator act[POM_MECH_MAX_ACTUATORS];
+  int slot_of_mech[POM_MECH_MAX_BODIES]; /* mechanism body -> slot, -1 ground */
+  double *atol;                          /* [n_states] absolute tolerances */
+  double *scale; /* [n_states] characteristic scale (finite-difference increments) */
+  /* Jacobian structure (docs/dynamics.md section 7) */
+  unsigned char *dep; /* [n_states][n_states] row i depends on column j */
+  int *color;         /* [n_states] colour of each column */
+  int n_colors;
+  long nnz; /* structural non-zeros (including the diagonal) */
+};
+
+/* Per-body kinematic quantities at one evaluation. */
+typedef struct {
+  double R[9];  /* rotation from home (fixed frame) */
+  double Rp[9]; /* principal axes -> fixed frame = R V */
+  double x[3];  /* CM position (m) */
+  double v[3];  /* CM velocity (m/s) */
+  double w[3];  /* angular velocity, fixed frame (rad/s) */
+  double wp[3]; /* angular velocity, principal axes (rad/s) */
+  double F[3];  /* force sum, fixed frame (N) */
+  double T[3];  /* torque sum about the CM, fixed frame (N m) */
+} dyn_body_eval;
+
+/* Outputs of one evaluation that metrics and traces use. */
+typedef struct {
+  double q[POM_MECH_MAX_ACTUATORS];       /* actuator displacement (m) */
+  double q_dot[POM_MECH_MAX_ACTUATORS];   /* m/s */
+  double current[POM_MECH_MAX_ACTUATORS]; /* A */
+  double voltage[POM_MECH_MAX_ACTUATORS]; /* saturated u (V) */
+  double max_lin_deflection;              /* m */
+  double max_ang_deflection;              /* rad */
+  double spring_energy;                   /* J */
+  double parasitic_power;                 /* W */
+  int euler_singular;                     /* 1 when a body was too close to pitch 90 deg */
+  int nonfinite;                          /* 1 when a derivative was not finite */
+} dyn_outputs;
+
+struct pom_dyn_data {
+  const pom_dyn_model *m;
+  SUNContext ctx;
+  void *cvode;
+  N_Vector y, atol, ytmp, ftmp;
+  SUNMatrix A;
+  SUNLinearSolver LS;
+  dyn_body_eval be[POM_MECH_MAX_BODIES];
+  dyn_outputs out;
+  double target[POM_MECH_MAX_ACTUATORS];
+  long rhs_count;     /* all RHS evaluations (CVODE + Jacobian) */
+  long jac_rhs_count; /* RHS evaluations inside the Jacobian */
+  long jac_count;
+  int last_euler_singular;
+  int last_nonfinite;
+  char cvode_msg[256]; /* last CVODE error message (from its handler) */
+  int n_samples;       /* output grid size */
+  double *qs;          /* [n_samples][n_actuators] sampled positions for metrics */
+  double *yfinal;      /* [n_states] state at the end of the last run */
+  int have_final;
+};
+
+/* dyn_rhs.c: evaluates the state derivative (ydot may be NULL to compute the
+ * outputs only). Returns 0, or 1 (recoverable) for a non-finite value or the
+ * Euler singularity; never allocates. */
+int pom_dyn_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot);
+
+/* dyn_rhs.c: stored energy of a state (J). */
+double pom_dyn_stored(const pom_dyn_model *m, pom_dyn_data *d, const double *y);
+
+/* dyn_rhs.c: the CVODE RHS callback. */
+int pom_dyn_cvode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data);
+
+/* dyn_jac.c: builds dep/color/nnz of the model (called by model create). */
+pom_status pom_dyn_structure_build(pom_dyn_model *m, pom_error *err);
+
+/* dyn_jac.c: the CVODE Jacobian callback (dense or CSC by the matrix id). */
+int pom_dyn_cvode_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *user_data,
+                      N_Vector tmp1, N_Vector tmp2, N_Vector tmp3);
+
+#endif

@@ -1,0 +1,129 @@
+/* dyn_params.c - defaults and config loading of the dynamics parameters
+ * (keys: docs/dynamics.md section 9). */
+#include "pom_dynamics.h"
+
+#include <string.h>
+
+/* ---- defaults ------------------------------------------------------------ */
+void pom_dyn_params_defaults(pom_dyn_params *p) {
+  memset(p, 0, sizeof *p);
+  /* reference actuator of PARAMETERS.md (a) */
+  p->actuator.force_constant = 3.8;
+  p->actuator.resistance = 10.0;
+  p->actuator.inductance = 1.45e-4;
+  p->actuator.bearing_friction = 9.8e-2;
+  p->actuator.voltage_limit = 24.0;
+  p->actuator.sensor_gain = 833.33;
+  /* 3P-S-S/S reference gains, ideal form (PARAMETERS.md controller-form note) */
+  p->controller.form = POM_PID_IDEAL;
+  p->controller.kp = 1.2e4;
+  p->controller.ki = 1.0e-3;
+  p->controller.kd = 3.0e-3;
+  p->joints.stiffness = 1.0e6;
+  p->joints.damping = 200.0;
+  p->joints.angular_stiffness = 1.0e6;
+  p->joints.angular_damping = 200.0;
+  p->scene.gravity = 1;
+  p->scene.bearing_friction = 1;
+  p->scene.coil_inductance = 1;
+  p->scene.orientation = POM_ORIENT_EULER_ZYX;
+  p->scene.euler_cos_min = 1.0e-2;
+  p->solver.rtol = 1.0e-6;
+  p->solver.atol_scale = 1.0e-3;
+  p->solver.max_step = 0.0;
+  p->solver.max_steps = 200000;
+  p->solver.linear_solver = POM_LINSOL_DENSE;
+  p->maneuver.horizon = 0.100;
+  p->maneuver.settle_band = 0.02;
+  p->maneuver.output_dt = 1.0e-4;
+}
+
+/* ---- names --------------------------------------------------------------- */
+static const char *const pid_forms[] = {"ideal", "parallel", NULL};
+static const char *const orient_kinds[] = {"euler", "quaternion", NULL};
+static const char *const linsol_kinds[] = {"dense", "klu", NULL};
+
+const char *pom_dyn_pid_form_name(pom_pid_form f) {
+  return (f == POM_PID_PARALLEL) ? pid_forms[1] : pid_forms[0];
+}
+const char *pom_dyn_orient_name(pom_orient_kind k) {
+  return (k == POM_ORIENT_QUATERNION) ? orient_kinds[1] : orient_kinds[0];
+}
+const char *pom_dyn_linsol_name(pom_linsol_kind k) {
+  return (k == POM_LINSOL_KLU) ? linsol_kinds[1] : linsol_kinds[0];
+}
+
+/* ---- loading ------------------------------------------------------------- */
+pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error *err) {
+  pom_dyn_actuator *a = &p->actuator;
+  pom_dyn_controller *c = &p->controller;
+  pom_dyn_joints *j = &p->joints;
+  pom_dyn_scene *s = &p->scene;
+  pom_dyn_solver *v = &p->solver;
+  pom_dyn_maneuver *m = &p->maneuver;
+  int idx = 0;
+  long lval = 0;
+
+  POM_TRY(pom_cfg_real_opt(cfg, "actuator.force_constant_N_per_A", 1.0, 1e-6, 1e4,
+                           a->force_constant, &a->force_constant, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "actuator.resistance_ohm", 1.0, 1e-6, 1e6, a->resistance,
+                           &a->resistance, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "actuator.inductance_H", 1.0, 1e-12, 10.0, a->inductance,
+                           &a->inductance, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "actuator.bearing_friction_Ns_per_m", 1.0, 0.0, 1e6,
+                           a->bearing_friction, &a->bearing_friction, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "actuator.voltage_limit_V", 1.0, 1e-3, 1e5, a->voltage_limit,
+                           &a->voltage_limit, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "actuator.sensor_gain_V_per_m", 1.0, 1e-6, 1e9, a->sensor_gain,
+                           &a->sensor_gain, err));
+
+  idx = (int)c->form;
+  POM_TRY(pom_cfg_choice_opt(cfg, "controller.form", pid_forms, idx, &idx, err));
+  c->form = (idx == 1) ? POM_PID_PARALLEL : POM_PID_IDEAL;
+  POM_TRY(pom_cfg_real_opt(cfg, "controller.kp", 1.0, 0.0, 1e12, c->kp, &c->kp, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "controller.ki_per_s", 1.0, 0.0, 1e9, c->ki, &c->ki, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "controller.kd_s", 1.0, 0.0, 1e3, c->kd, &c->kd, err));
+
+  POM_TRY(pom_cfg_real_opt(cfg, "joints.stiffness_N_per_m", 1.0, 1.0, 1e12, j->stiffness,
+                           &j->stiffness, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "joints.damping_Ns_per_m", 1.0, 0.0, 1e9, j->damping, &j->damping,
+                           err));
+  POM_TRY(pom_cfg_real_opt(cfg, "joints.angular_stiffness_Nm_per_rad", 1.0, 1e-3, 1e12,
+                           j->angular_stiffness, &j->angular_stiffness, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "joints.angular_damping_Nms_per_rad", 1.0, 0.0, 1e9,
+                           j->angular_damping, &j->angular_damping, err));
+
+  POM_TRY(pom_cfg_bool_opt(cfg, "scene.gravity", s->gravity, &s->gravity, err));
+  POM_TRY(pom_cfg_bool_opt(cfg, "scene.bearing_friction", s->bearing_friction, &s->bearing_friction,
+                           err));
+  POM_TRY(
+      pom_cfg_bool_opt(cfg, "scene.coil_inductance", s->coil_inductance, &s->coil_inductance, err));
+  idx = (int)s->orientation;
+  POM_TRY(pom_cfg_choice_opt(cfg, "scene.orientation", orient_kinds, idx, &idx, err));
+  s->orientation = (idx == 1) ? POM_ORIENT_QUATERNION : POM_ORIENT_EULER_ZYX;
+
+  POM_TRY(pom_cfg_real_opt(cfg, "solver.rtol", 1.0, 1e-13, 1e-1, v->rtol, &v->rtol, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "solver.atol_scale", 1.0, 1e-13, 1.0, v->atol_scale, &v->atol_scale,
+                           err));
+  POM_TRY(
+      pom_cfg_real_opt(cfg, "solver.max_step_ms", 1e-3, 0.0, 1e6, v->max_step, &v->max_step, err));
+  POM_TRY(pom_cfg_int_opt(cfg, "solver.max_steps", 1, 1000000000L, v->max_steps, &lval, err));
+  v->max_steps = lval;
+  idx = (int)v->linear_solver;
+  POM_TRY(pom_cfg_choice_opt(cfg, "solver.linear_solver", linsol_kinds, idx, &idx, err));
+  v->linear_solver = (idx == 1) ? POM_LINSOL_KLU : POM_LINSOL_DENSE;
+
+  POM_TRY(
+      pom_cfg_real_opt(cfg, "maneuver.horizon_ms", 1e-3, 1e-3, 1e7, m->horizon, &m->horizon, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "maneuver.settle_band_percent", 1e-2, 1e-6, 100.0, m->settle_band,
+                           &m->settle_band, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "maneuver.output_dt_ms", 1e-3, 1e-6, 1e6, m->output_dt,
+                           &m->output_dt, err));
+  if (m->output_dt > m->horizon)
+    return pom_cfg_error(cfg, "maneuver.output_dt_ms", NULL, err,
+                         "must not exceed maneuver.horizon_ms (%g ms)", m->horizon * 1e3);
+  if (m->horizon / m->output_dt > 1e7)
+    return pom_cfg_error(cfg, "maneuver.output_dt_ms", NULL, err,
+                         "more than 1e7 trace samples over the horizon; raise output_dt_ms");
+  return POM_OK;
+}

@@ -1,0 +1,269 @@
+/* dyn_rhs.c - one pass through the bond graph: body flows from the I-element
+ * states (momenta), articulation-point velocities, parasitic C/R elements of
+ * the joints, voice-coil GY/I/R elements and the controller's MSe, efforts
+ * summed back onto the Eulerian junction structures (docs/dynamics.md
+ * sections 3-6). Allocates nothing. */
+#include "dyn_internal.h"
+#include "pom_math.h"
+
+#include <math.h>
+#include <string.h>
+
+/* ---- body flows ---------------------------------------------------------- */
+/* Fills the kinematic quantities of every body from the state; returns 1 when
+ * an Euler-angle body is too close to pitch = +-90 deg. */
+static int bodies_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y) {
+  int singular = 0;
+  for (int b = 0; b < m->n_bodies; ++b) {
+    const dyn_body *bd = &m->body[b];
+    dyn_body_eval *e = &d->be[b];
+    const double *yb = y + bd->offset;
+    if (m->par.scene.orientation == POM_ORIENT_QUATERNION) {
+      double q[4] = {yb[DYN_BODY_ORI], yb[DYN_BODY_ORI + 1], yb[DYN_BODY_ORI + 2],
+                     yb[DYN_BODY_ORI + 3]};
+      pom_quat_normalize(q); /* the rotation of the unit quaternion along q */
+      pom_quat_to_matrix(e->R, q);
+    } else {
+      pom_euler_zyx_to_matrix(e->R, yb + DYN_BODY_ORI);
+      if (fabs(cos(yb[DYN_BODY_ORI + 1])) < m->par.scene.euler_cos_min) singular = 1;
+    }
+    pom_m3_mul(e->Rp, e->R, bd->V);
+    pom_v3_add(e->x, bd->cm_home, yb + DYN_BODY_U);
+    pom_v3_scale(e->v, 1.0 / bd->mass, yb + DYN_BODY_P);
+    for (int k = 0; k < 3; ++k)
+      e->wp[k] = yb[DYN_BODY_H + k] / bd->principal[k];
+    pom_m3_apply(e->w, e->Rp, e->wp);
+    pom_v3_scale(e->F, bd->mass, m->gravity); /* gravity: effort source on each EJS */
+    pom_v3_set(e->T, 0.0, 0.0, 0.0);
+  }
+  return singular;
+}
+
+/* Articulation point of side s of joint jt: position p, velocity v and the
+ * lever arm r = p - x (fixed frame). The ground is at rest with R = I. */
+static void point_eval(const pom_dyn_model *m, const pom_dyn_data *d, const dyn_joint *jt, int s,
+                       double p[3], double v[3], double r[3]) {
+  int slot = jt->slot[s];
+  (void)m;
+  if (slot < 0) {
+    /* ground: at rest, rho holds the fixed point itself (dyn_model.c) */
+    pom_v3_set(r, 0.0, 0.0, 0.0);
+    pom_v3_set(v, 0.0, 0.0, 0.0);
+    pom_v3_copy(p, jt->rho[s]);
+    return;
+  }
+  const dyn_body_eval *e = &d->be[slot];
+  double wxr[3];
+  pom_m3_apply(r, e->R, jt->rho[s]);
+  pom_v3_add(p, e->x, r);
+  pom_v3_cross(wxr, e->w, r);
+  pom_v3_add(v, e->v, wxr);
+}
+
+/* Applies force F at lever arm r to side s (no-op for the ground). */
+static void apply_force(pom_dyn_data *d, const dyn_joint *jt, int s, const double F[3],
+                        const double r[3]) {
+  int slot = jt->slot[s];
+  if (slot < 0) return;
+  dyn_body_eval *e = &d->be[slot];
+  double t[3];
+  pom_v3_add(e->F, e->F, F);
+  pom_v3_cross(t, r, F);
+  pom_v3_add(e->T, e->T, t);
+}
+
+static void apply_torque(pom_dyn_data *d, const dyn_joint *jt, int s, double scale,
+                         const double T[3]) {
+  int slot = jt->slot[s];
+  if (slot < 0) return;
+  pom_v3_axpy(d->be[slot].T, d->be[slot].T, scale, T);
+}
+
+static const double identity3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+static const double zero3[3] = {0, 0, 0};
+
+/* ---- the pass ------------------------------------------------------------ */
+int pom_dyn_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot) {
+  const pom_dyn_params *par = &m->par;
+  const pom_dyn_actuator *ap = &par->actuator;
+  const pom_dyn_controller *cp = &par->controller;
+  const double kl = par->joints.stiffness, cl = par->joints.damping;
+  const double ka = par->joints.angular_stiffness, ca = par->joints.angular_damping;
+  dyn_outputs *o = &d->out;
+  o->euler_singular = bodies_eval(m, d, y);
+  o->nonfinite = 0;
+  o->max_lin_deflection = 0.0;
+  o->max_ang_deflection = 0.0;
+  o->spring_energy = 0.0;
+  o->parasitic_power = 0.0;
+
+  for (int j = 0; j < m->n_joints; ++j) {
+    const dyn_joint *jt = &m->joint[j];
+    double p0[3], v0[3], r0[3], p1[3], v1[3], r1[3], dd[3], dv[3];
+    point_eval(m, d, jt, 0, p0, v0, r0);
+    point_eval(m, d, jt, 1, p1, v1, r1);
+    pom_v3_sub(dd, p1, p0);
+    pom_v3_sub(dv, v1, v0);
+    const double *R0 = jt->slot[0] >= 0 ? d->be[jt->slot[0]].R : identity3;
+    const double *R1 = jt->slot[1] >= 0 ? d->be[jt->slot[1]].R : identity3;
+    const double *w0 = jt->slot[0] >= 0 ? d->be[jt->slot[0]].w : zero3;
+    const double *w1 = jt->slot[1] >= 0 ? d->be[jt->slot[1]].w : zero3;
+
+    /* linear pseudo-constraints: C (k_p) and R (R_p) on a 1-junction with the
+     * forbidden relative velocity; directions fixed in side 0 when they rotate */
+    double lin2 = 0.0;
+    for (int k = 0; k < jt->n_lin; ++k) {
+      double mk[3], F[3], mxd[3] = {0.0, 0.0, 0.0};
+      if (jt->lin_rotates)
+        pom_m3_apply(mk, R0, jt->lin_dir[k]);
+      else
+        pom_v3_copy(mk, jt->lin_dir[k]);
+      double delta = pom_v3_dot(mk, dd);
+      double rate = pom_v3_dot(mk, dv);
+      if (jt->lin_rotates) {
+        pom_v3_cross(mxd, mk, dd);
+        rate += pom_v3_dot(w0, mxd);
+      }
+      double f = kl * delta + cl * rate;
+      o->spring_energy += 0.5 * kl * delta * delta;
+      o->parasitic_power += cl * rate * rate;
+      lin2 += delta * delta;
+      pom_v3_scale(F, -f, mk);
+      apply_force(d, jt, 1, F, r1);
+      pom_v3_scale(F, f, mk);
+      apply_force(d, jt, 0, F, r0);
+      if (jt->lin_rotates) apply_torque(d, jt, 0, -f, mxd);
+    }
+    o->max_lin_deflection = fmax(o->max_lin_deflection, sqrt(lin2));
+
+    /* angular pseudo-constraints g = (R0 e).(R1 h) */
+    for (int k = 0; k < jt->n_ang; ++k) {
+      double ea[3], hb[3], n[3], dw[3];
+      pom_m3_apply(ea, R0, jt->ang_e[k]);
+      pom_m3_apply(hb, R1, jt->ang_h[k]);
+      pom_v3_cross(n, ea, hb);
+      pom_v3_sub(dw, w0, w1);
+      double g = pom_v3_dot(ea, hb);
+      double rate = pom_v3_dot(dw, n);
+      double f = ka * g + ca * rate;
+      o->spring_energy += 0.5 * ka * g * g;
+      o->parasitic_power += ca * rate * rate;
+      o->max_ang_deflection = fmax(o->max_ang_deflection, fabs(g));
+      apply_torque(d, jt, 0, -f, n);
+      apply_torque(d, jt, 1, f, n);
+    }
+
+    /* actuator: MSe (controller) -> coil I, R -> GY (K_m) -> force on the
+     * prismatic joint's relative motion, with bearing friction */
+    int a = jt->actuator;
+    if (a >= 0) {
+      const dyn_actuator *ac = &m->act[a];
+      double n[3], nxd[3], F[3];
+      pom_m3_apply(n, R0, jt->axis);
+      pom_v3_cross(nxd, n, dd);
+      double q = pom_v3_dot(n, dd);
+      double qd = pom_v3_dot(n, dv) + pom_v3_dot(w0, nxd);
+      double e = d->target[a] - q;
+      double z = y[ac->int_state];
+      double u_raw;
+      if (cp->form == POM_PID_IDEAL)
+        u_raw = ap->sensor_gain * cp->kp * (e + cp->ki * z - cp->kd * qd);
+      else
+        u_raw = ap->sensor_gain * (cp->kp * e + cp->ki * z - cp->kd * qd);
+      double lim = ap->voltage_limit;
+      double u = u_raw > lim ? lim : (u_raw < -lim ? -lim : u_raw);
+      double i;
+      if (ac->flux_state >= 0)
+        i = y[ac->flux_state] / ap->inductance;
+      else
+        i = (u - ap->force_constant * qd) / ap->resistance;
+      double b = par->scene.bearing_friction ? ap->bearing_friction : 0.0;
+      double force = ap->force_constant * i - b * qd;
+      pom_v3_scale(F, force, n);
+      apply_force(d, jt, 1, F, r1);
+      pom_v3_scale(F, -force, n);
+      apply_force(d, jt, 0, F, r0);
+      apply_torque(d, jt, 0, force, nxd);
+      o->q[a] = q;
+      o->q_dot[a] = qd;
+      o->current[a] = i;
+      o->voltage[a] = u;
+      if (ydot) {
+        if (ac->flux_state >= 0)
+          ydot[ac->flux_state] = u - ap->resistance * i - ap->force_constant * qd;
+        ydot[ac->int_state] = e;
+        double *acc = ydot + ac->acc_state;
+        double pw = u * i;
+        acc[DYN_ACC_SOURCE] = pw;
+        acc[DYN_ACC_SOURCE_POS] = pw > 0 ? pw : 0.0;
+        acc[DYN_ACC_SATURATED] = fabs(u_raw) >= lim ? 1.0 : 0.0;
+        acc[DYN_ACC_COIL] = ap->resistance * i * i;
+        acc[DYN_ACC_BEARING] = b * qd * qd;
+      }
+    }
+  }
+  if (!ydot) return 0;
+  ydot[m->acc_parasitic] = o->parasitic_power;
+
+  /* Eulerian junction structures: p_dot = F, h'_dot = T' - w' x h' */
+  for (int b = 0; b < m->n_bodies; ++b) {
+    const dyn_body *bd = &m->body[b];
+    const dyn_body_eval *e = &d->be[b];
+    const double *yb = y + bd->offset;
+    double *fb = ydot + bd->offset;
+    double Tp[3], gyro[3];
+    pom_v3_copy(fb + DYN_BODY_U, e->v);
+    pom_v3_copy(fb + DYN_BODY_P, e->F);
+    pom_m3_tapply(Tp, e->Rp, e->T);
+    pom_v3_cross(gyro, e->wp, yb + DYN_BODY_H);
+    pom_v3_sub(fb + DYN_BODY_H, Tp, gyro);
+    if (m->par.scene.orientation == POM_ORIENT_QUATERNION) {
+      pom_quat_rate(fb + DYN_BODY_ORI, yb + DYN_BODY_ORI, e->w);
+    } else {
+      double E[9];
+      if (pom_euler_zyx_rate_matrix(E, yb + DYN_BODY_ORI, m->par.scene.euler_cos_min) != POM_OK) {
+        o->euler_singular = 1;
+        memset(fb + DYN_BODY_ORI, 0, 3 * sizeof(double));
+      } else {
+        pom_m3_apply(fb + DYN_BODY_ORI, E, e->w);
+      }
+    }
+  }
+  for (int i = 0; i < m->n_states; ++i)
+    if (!isfinite(ydot[i])) {
+      o->nonfinite = 1;
+      break;
+    }
+  return (o->euler_singular || o->nonfinite) ? 1 : 0;
+}
+
+/* ---- CVODE callback ------------------------------------------------------ */
+int pom_dyn_cvode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data) {
+  (void)t;
+  pom_dyn_data *d = user_data;
+  ++d->rhs_count;
+  int r = pom_dyn_eval(d->m, d, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
+  d->last_euler_singular = d->out.euler_singular;
+  d->last_nonfinite = d->out.nonfinite;
+  return r;
+}
+
+/* ---- stored energy ------------------------------------------------------- */
+double pom_dyn_stored(const pom_dyn_model *m, pom_dyn_data *d, const double *y) {
+  pom_dyn_eval(m, d, y, NULL);
+  double E = d->out.spring_energy;
+  for (int b = 0; b < m->n_bodies; ++b) {
+    const dyn_body *bd = &m->body[b];
+    const double *yb = y + bd->offset;
+    E += 0.5 * pom_v3_dot(yb + DYN_BODY_P, yb + DYN_BODY_P) / bd->mass;
+    for (int k = 0; k < 3; ++k)
+      E += 0.5 * yb[DYN_BODY_H + k] * yb[DYN_BODY_H + k] / bd->principal[k];
+    E -= bd->mass * pom_v3_dot(m->gravity, yb + DYN_BODY_U);
+  }
+  for (int a = 0; a < m->n_actuators; ++a)
+    if (m->act[a].flux_state >= 0) {
+      double lam = y[m->act[a].flux_state];
+      E += 0.5 * lam * lam / m->par.actuator.inductance;
+    }
+  return E;
+}

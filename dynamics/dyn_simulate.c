@@ -1,0 +1,435 @@
+/* dyn_simulate.c - per-worker CVODE data, one maneuver (BDF + Newton with the
+ * coloured finite-difference Jacobian), traces and maneuver metrics
+ * (docs/dynamics.md sections 7-8). */
+#include "dyn_internal.h"
+#include "pom_math.h"
+
+#include <cvode/cvode_ls.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunlinsol/sunlinsol_klu.h>
+#include <sunmatrix/sunmatrix_dense.h>
+#include <sunmatrix/sunmatrix_sparse.h>
+#include <time.h>
+
+/* ---- helpers ------------------------------------------------------------- */
+static double now_seconds(void) {
+  struct timespec ts;
+  if (timespec_get(&ts, TIME_UTC) != TIME_UTC) return 0.0;
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* CVODE reports its failures here instead of printing them. */
+static void cvode_error_handler(int code, const char *module, const char *function, char *msg,
+                                void *user_data) {
+  pom_dyn_data *d = user_data;
+  snprintf(d->cvode_msg, sizeof d->cvode_msg, "%s (%s, %s, flag %d)", msg ? msg : "",
+           module ? module : "", function ? function : "", code);
+}
+
+/* Number of output samples: t_k = min(k dt, horizon), k = 0..K. */
+static int sample_count(const pom_dyn_params *p) {
+  double r = p->maneuver.horizon / p->maneuver.output_dt;
+  int K = (int)ceil(r - 1e-9 * r);
+  return K + 1;
+}
+
+static double sample_time(const pom_dyn_params *p, int k) {
+  return fmin((double)k * p->maneuver.output_dt, p->maneuver.horizon);
+}
+
+/* ---- data create / destroy ----------------------------------------------- */
+pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_error *err) {
+  pom_status st = POM_OK;
+  pom_dyn_data *d = NULL;
+  if (!out || !m) POM_FAIL(err, POM_ERR_ARG, "pom_dyn_data_create: NULL argument");
+  *out = NULL;
+  d = calloc(1, sizeof *d);
+  if (!d) POM_FAIL(err, POM_ERR_NOMEM, "allocating dynamics data");
+  d->m = m;
+  const pom_dyn_params *p = &m->par;
+  const sunindextype n = m->n_states;
+  if (SUNContext_Create(NULL, &d->ctx) != 0)
+    POM_FAIL_GOTO(err, POM_ERR_SOLVER, fail, "SUNContext_Create failed");
+  d->y = N_VNew_Serial(n, d->ctx);
+  d->atol = N_VNew_Serial(n, d->ctx);
+  d->ytmp = N_VNew_Serial(n, d->ctx);
+  d->ftmp = N_VNew_Serial(n, d->ctx);
+  if (!d->y || !d->atol || !d->ytmp || !d->ftmp)
+    POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "allocating CVODE vectors (%ld states)", (long)n);
+  memcpy(N_VGetArrayPointer(d->atol), m->atol, (size_t)n * sizeof(double));
+  N_VConst(0.0, d->y);
+
+  d->cvode = CVodeCreate(CV_BDF, d->ctx);
+  if (!d->cvode) POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "CVodeCreate failed");
+  if (CVodeSetErrHandlerFn(d->cvode, cvode_error_handler, d) != CV_SUCCESS ||
+      CVodeInit(d->cvode, pom_dyn_cvode_rhs, 0.0, d->y) != CV_SUCCESS ||
+      CVodeSVtolerances(d->cvode, p->solver.rtol, d->atol) != CV_SUCCESS ||
+      CVodeSetUserData(d->cvode, d) != CV_SUCCESS ||
+      CVodeSetMaxNumSteps(d->cvode, p->solver.max_steps) != CV_SUCCESS ||
+      (p->solver.max_step > 0 && CVodeSetMaxStep(d->cvode, p->solver.max_step) != CV_SUCCESS))
+    POM_FAIL_GOTO(err, POM_ERR_SOLVER, fail, "configuring CVODE: %s", d->cvode_msg);
+
+  if (p->solver.linear_solver == POM_LINSOL_KLU) {
+    d->A = SUNSparseMatrix(n, n, (sunindextype)m->nnz, CSC_MAT, d->ctx);
+    if (d->A) d->LS = SUNLinSol_KLU(d->y, d->A, d->ctx);
+  } else {
+    d->A = SUNDenseMatrix(n, n, d->ctx);
+    if (d->A) d->LS = SUNLinSol_Dense(d->y, d->A, d->ctx);
+  }
+  if (!d->A || !d->LS)
+    POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "creating the %s linear solver",
+                  pom_dyn_linsol_name(p->solver.linear_solver));
+  if (CVodeSetLinearSolver(d->cvode, d->LS, d->A) != CV_SUCCESS ||
+      CVodeSetJacFn(d->cvode, pom_dyn_cvode_jac) != CV_SUCCESS)
+    POM_FAIL_GOTO(err, POM_ERR_SOLVER, fail, "attaching the linear solver: %s", d->cvode_msg);
+
+  d->n_samples = sample_count(p);
+  d->qs = calloc((size_t)d->n_samples * 3, sizeof *d->qs);
+  d->yfinal = calloc((size_t)n, sizeof *d->yfinal);
+  if (!d->qs || !d->yfinal) POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "allocating sample buffers");
+  *out = d;
+  return POM_OK;
+fail:
+  pom_dyn_data_destroy(d);
+  return st;
+}
+
+void pom_dyn_data_destroy(pom_dyn_data *d) {
+  if (!d) return;
+  if (d->cvode) CVodeFree(&d->cvode);
+  if (d->LS) SUNLinSolFree(d->LS);
+  if (d->A) SUNMatDestroy(d->A);
+  if (d->y) N_VDestroy(d->y);
+  if (d->atol) N_VDestroy(d->atol);
+  if (d->ytmp) N_VDestroy(d->ytmp);
+  if (d->ftmp) N_VDestroy(d->ftmp);
+  if (d->ctx) SUNContext_Free(&d->ctx);
+  free(d->qs);
+  free(d->yfinal);
+  free(d);
+}
+
+/* ---- traces -------------------------------------------------------------- */
+pom_status pom_dyn_trace_create(pom_dyn_trace **out, const pom_dyn_model *m, pom_error *err) {
+  pom_status st = POM_OK;
+  if (!out || !m) POM_FAIL(err, POM_ERR_ARG, "pom_dyn_trace_create: NULL argument");
+  *out = NULL;
+  pom_dyn_trace *tr = calloc(1, sizeof *tr);
+  if (!tr) POM_FAIL(err, POM_ERR_NOMEM, "allocating a trace");
+  size_t cap = (size_t)sample_count(&m->par) + 1;
+  tr->capacity = (int)cap;
+  tr->t = calloc(cap, sizeof(double));
+  tr->q = calloc(cap * 3, sizeof(double));
+  tr->q_dot = calloc(cap * 3, sizeof(double));
+  tr->current = calloc(cap * 3, sizeof(double));
+  tr->voltage = calloc(cap * 3, sizeof(double));
+  tr->energy = calloc(cap * 3, sizeof(double));
+  tr->euler_zyx = calloc(cap * 3, sizeof(double));
+  tr->quat = calloc(cap * 4, sizeof(double));
+  tr->deflection = calloc(cap, sizeof(double));
+  if (!tr->t || !tr->q || !tr->q_dot || !tr->current || !tr->voltage || !tr->energy ||
+      !tr->euler_zyx || !tr->quat || !tr->deflection)
+    POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "allocating a trace of %zu samples", cap);
+  *out = tr;
+  return POM_OK;
+fail:
+  pom_dyn_trace_destroy(tr);
+  return st;
+}
+
+void pom_dyn_trace_destroy(pom_dyn_trace *tr) {
+  if (!tr) return;
+  free(tr->t);
+  free(tr->q);
+  free(tr->q_dot);
+  free(tr->current);
+  free(tr->voltage);
+  free(tr->energy);
+  free(tr->euler_zyx);
+  free(tr->quat);
+  free(tr->deflection);
+  free(tr);
+}
+
+/* Rotation of model body slot b in state y. */
+static void slot_rotation(const pom_dyn_model *m, const double *y, int b, double R[9]) {
+  if (b < 0) {
+    pom_m3_identity(R);
+    return;
+  }
+  const double *o = y + m->body[b].offset + DYN_BODY_ORI;
+  if (m->par.scene.orientation == POM_ORIENT_QUATERNION) {
+    double q[4] = {o[0], o[1], o[2], o[3]};
+    pom_quat_normalize(q);
+    pom_quat_to_matrix(R, q);
+  } else {
+    pom_euler_zyx_to_matrix(R, o);
+  }
+}
+
+/* ---- metrics ------------------------------------------------------------- */
+/* Time after which |x(t) - ref| stays <= band, with linear interpolation of
+ * the last crossing between samples; returns -1 when the last sample is
+ * outside the band. */
+static double last_exit_time(const pom_dyn_params *p, const double *qs, int n, int stride,
+                             double ref, double band) {
+  int last = -1;
+  for (int k = 0; k < n; ++k)
+    if (fabs(qs[k * stride] - ref) > band) last = k;
+  if (last < 0) return 0.0;
+  if (last == n - 1) return -1.0;
+  double e0 = qs[last * stride] - ref, e1 = qs[(last + 1) * stride] - ref;
+  double edge = e0 > 0 ? band : -band;
+  double tau = (e0 - edge) / (e0 - e1);
+  tau = fmin(fmax(tau, 0.0), 1.0);
+  double t0 = sample_time(p, last), t1 = sample_time(p, last + 1);
+  return t0 + tau * (t1 - t0);
+}
+
+static void settle_metrics(const pom_dyn_model *m, const pom_dyn_data *d, pom_dyn_metrics *mt) {
+  const pom_dyn_params *p = &m->par;
+  int n = d->n_samples;
+  mt->execution_time = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    mt->settling_time[a] = mt->settling_time_final[a] = 0.0;
+    mt->settled[a] = 1;
+  }
+  for (int a = 0; a < m->n_actuators; ++a) {
+    const double *qa = d->qs + a;
+    double r = d->target[a];
+    double band = p->maneuver.settle_band * fabs(r);
+    /* a zero step has no band: it is settled from the start (docs 8) */
+    double ts = (r == 0.0) ? 0.0 : last_exit_time(p, qa, n, 3, r, band);
+    mt->settled[a] = ts >= 0.0;
+    mt->settling_time[a] = ts >= 0.0 ? ts : NAN;
+    /* stepinfo variant: band = settle_band * max |q - q_final| */
+    double yf = qa[(n - 1) * 3], peak = 0.0;
+    for (int k = 0; k < n; ++k)
+      peak = fmax(peak, fabs(qa[k * 3] - yf));
+    double tf = peak > 0 ? last_exit_time(p, qa, n, 3, yf, p->maneuver.settle_band * peak) : 0.0;
+    mt->settling_time_final[a] = tf >= 0 ? tf : NAN;
+    mt->final_q[a] = yf;
+    if (!mt->settled[a])
+      mt->execution_time = NAN;
+    else if (!isnan(mt->execution_time))
+      mt->execution_time = fmax(mt->execution_time, ts);
+  }
+}
+
+/* ---- one maneuver -------------------------------------------------------- */
+/* Records output sample k from state y (outputs must be evaluated). */
+static void record_sample(const pom_dyn_model *m, pom_dyn_data *d, int k, double t, const double *y,
+                          pom_dyn_trace *tr) {
+  const dyn_outputs *o = &d->out;
+  for (int a = 0; a < m->n_actuators; ++a)
+    d->qs[k * 3 + a] = o->q[a];
+  if (!tr || k >= tr->capacity) return;
+  tr->t[k] = t;
+  for (int a = 0; a < 3; ++a) {
+    int on = a < m->n_actuators;
+    tr->q[3 * k + a] = on ? o->q[a] : 0.0;
+    tr->q_dot[3 * k + a] = on ? o->q_dot[a] : 0.0;
+    tr->current[3 * k + a] = on ? o->current[a] : 0.0;
+    tr->voltage[3 * k + a] = on ? o->voltage[a] : 0.0;
+    tr->energy[3 * k + a] = on ? y[m->act[a].acc_state + DYN_ACC_SOURCE] : 0.0;
+  }
+  double R[9];
+  slot_rotation(m, y, m->platform_slot, R);
+  (void)pom_euler_zyx_from_matrix(tr->euler_zyx + 3 * k, R); /* angles valid even if singular */
+  pom_quat_from_matrix(tr->quat + 4 * k, R);
+  tr->deflection[k] = o->max_lin_deflection;
+  tr->n = k + 1;
+}
+
+static void track_extremes(const pom_dyn_model *m, const pom_dyn_data *d, pom_dyn_metrics *mt) {
+  for (int a = 0; a < m->n_actuators; ++a)
+    mt->peak_voltage[a] = fmax(mt->peak_voltage[a], fabs(d->out.voltage[a]));
+  mt->max_deflection = fmax(mt->max_deflection, d->out.max_lin_deflection);
+  mt->max_angular_deflection = fmax(mt->max_angular_deflection, d->out.max_ang_deflection);
+}
+
+static void initial_state(const pom_dyn_model *m, double *y, const pom_dyn_initial *init) {
+  memset(y, 0, (size_t)m->n_states * sizeof(double));
+  for (int b = 0; b < m->n_bodies; ++b) {
+    const dyn_body *bd = &m->body[b];
+    double *yb = y + bd->offset;
+    if (m->par.scene.orientation == POM_ORIENT_QUATERNION) yb[DYN_BODY_ORI] = 1.0;
+    if (!init) continue;
+    int k = bd->mech_index;
+    double wp[3];
+    pom_v3_scale(yb + DYN_BODY_P, bd->mass, init->v[k]);
+    pom_m3_tapply(wp, bd->V, init->omega[k]); /* R = I at home: principal = V^T fixed */
+    for (int c = 0; c < 3; ++c)
+      yb[DYN_BODY_H + c] = bd->principal[c] * wp[c];
+  }
+}
+
+static pom_status fail_status(pom_dyn_data *d, int flag, double t, pom_dyn_metrics *mt,
+                              pom_error *err) {
+  pom_status st;
+  if (d->last_euler_singular)
+    st = pom_error_set(err, POM_ERR_EULER_SINGULAR, __FILE__, __LINE__,
+                       "a body reached |cos pitch| < %g at t = %.6g s; use scene.orientation = "
+                       "\"quaternion\"",
+                       d->m->par.scene.euler_cos_min, t);
+  else if (d->last_nonfinite)
+    st = pom_error_set(err, POM_ERR_NONFINITE, __FILE__, __LINE__,
+                       "non-finite state derivative at t = %.6g s", t);
+  else if (flag == CV_TOO_MUCH_WORK)
+    st = pom_error_set(err, POM_ERR_SOLVER, __FILE__, __LINE__,
+                       "CVODE reached solver.max_steps = %ld before t = %.6g s",
+                       d->m->par.solver.max_steps, t);
+  else
+    st = pom_error_set(err, POM_ERR_SOLVER, __FILE__, __LINE__, "CVODE failed at t = %.6g s: %s", t,
+                       d->cvode_msg);
+  mt->status = st;
+  if (err)
+    snprintf(mt->reason, sizeof mt->reason, "%s", err->message);
+  else
+    snprintf(mt->reason, sizeof mt->reason, "%s at t = %.6g s", pom_strerror(st), t);
+  return st;
+}
+
+static void solver_stats(pom_dyn_data *d, pom_dyn_metrics *mt) {
+  long v = 0;
+  if (CVodeGetNumSteps(d->cvode, &v) == CV_SUCCESS) mt->steps = v;
+  if (CVodeGetNumJacEvals(d->cvode, &v) == CV_SUCCESS) mt->jac_evals = v;
+  if (CVodeGetNumNonlinSolvIters(d->cvode, &v) == CV_SUCCESS) mt->newton_iters = v;
+  if (CVodeGetNumErrTestFails(d->cvode, &v) == CV_SUCCESS) mt->error_test_fails = v;
+  if (CVodeGetNumLinSolvSetups(d->cvode, &v) == CV_SUCCESS) mt->linsol_setups = v;
+  if (CVodeGetNumNonlinSolvConvFails(d->cvode, &v) == CV_SUCCESS) mt->nonlin_conv_fails = v;
+  double h = 0;
+  if (CVodeGetLastStep(d->cvode, &h) == CV_SUCCESS) mt->last_step = h;
+  mt->rhs_evals = d->rhs_count;
+  mt->jac_rhs_evals = d->jac_rhs_count;
+}
+
+pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const double target[3],
+                               const pom_dyn_initial *init, pom_dyn_metrics *mt, pom_dyn_trace *tr,
+                               pom_error *err) {
+  if (!m || !d || !target || !mt || d->m != m)
+    POM_FAIL(err, POM_ERR_ARG, "pom_dyn_simulate: NULL argument or data of another model");
+  const pom_dyn_params *p = &m->par;
+  double t0_wall = now_seconds();
+  memset(mt, 0, sizeof *mt);
+  for (int a = 0; a < 3; ++a) {
+    mt->target[a] = target[a];
+    if (!isfinite(target[a])) POM_FAIL(err, POM_ERR_ARG, "target %d is not finite", a + 1);
+  }
+  for (int a = 0; a < m->n_actuators; ++a)
+    d->target[a] = target[a];
+  d->rhs_count = d->jac_rhs_count = d->jac_count = 0;
+  d->last_euler_singular = d->last_nonfinite = 0;
+  d->cvode_msg[0] = '\0';
+  d->have_final = 0;
+  if (tr) tr->n = 0, tr->n_actuators = m->n_actuators;
+
+  double *y = N_VGetArrayPointer(d->y);
+  double *ys = N_VGetArrayPointer(d->ytmp);
+  initial_state(m, y, init);
+  double E0 = pom_dyn_stored(m, d, y);
+  pom_status st = POM_OK;
+  if (CVodeReInit(d->cvode, 0.0, d->y) != CV_SUCCESS ||
+      CVodeSetStopTime(d->cvode, p->maneuver.horizon) != CV_SUCCESS) {
+    st = fail_status(d, CV_ILL_INPUT, 0.0, mt, err);
+    goto finish;
+  }
+  pom_dyn_eval(m, d, y, NULL);
+  record_sample(m, d, 0, 0.0, y, tr);
+  track_extremes(m, d, mt);
+
+  int k = 1;
+  double t = 0.0;
+  while (k < d->n_samples) {
+    int flag = CVode(d->cvode, p->maneuver.horizon, d->y, &t, CV_ONE_STEP);
+    if (flag < 0) {
+      st = fail_status(d, flag, t, mt, err);
+      goto finish;
+    }
+    pom_dyn_eval(m, d, y, NULL); /* extremes at every internal step */
+    track_extremes(m, d, mt);
+    while (k < d->n_samples && sample_time(p, k) <= t) {
+      double tk = sample_time(p, k);
+      if (CVodeGetDky(d->cvode, tk, 0, d->ytmp) != CV_SUCCESS) {
+        st = fail_status(d, CV_BAD_T, tk, mt, err);
+        goto finish;
+      }
+      pom_dyn_eval(m, d, ys, NULL);
+      track_extremes(m, d, mt);
+      record_sample(m, d, k, tk, ys, tr);
+      ++k;
+    }
+  }
+
+  /* energy audit at the horizon (docs/dynamics.md section 6) */
+  memcpy(d->yfinal, y, (size_t)m->n_states * sizeof(double));
+  d->have_final = 1;
+  {
+    double pos = 0.0;
+    for (int a = 0; a < m->n_actuators; ++a) {
+      const double *acc = y + m->act[a].acc_state;
+      mt->energy[a] = acc[DYN_ACC_SOURCE];
+      mt->energy_positive[a] = acc[DYN_ACC_SOURCE_POS];
+      mt->saturation_time[a] = acc[DYN_ACC_SATURATED];
+      mt->energy_coil[a] = acc[DYN_ACC_COIL];
+      mt->energy_bearing[a] = acc[DYN_ACC_BEARING];
+      mt->energy_total += mt->energy[a];
+      mt->energy_dissipated += acc[DYN_ACC_COIL] + acc[DYN_ACC_BEARING];
+      pos += acc[DYN_ACC_SOURCE_POS];
+    }
+    mt->energy_parasitic = y[m->acc_parasitic];
+    mt->energy_dissipated += mt->energy_parasitic;
+    mt->energy_supplied = mt->energy_total;
+    double E1 = pom_dyn_stored(m, d, y);
+    mt->energy_stored_change = E1 - E0;
+    double scale = fmax(fmax(pos, mt->energy_dissipated), fmax(fabs(E0), fabs(E1)));
+    mt->energy_balance_scale = scale;
+    double imbalance = mt->energy_supplied - mt->energy_dissipated - mt->energy_stored_change;
+    mt->energy_balance_error = scale > 0 ? fabs(imbalance) / scale : 0.0;
+  }
+  settle_metrics(m, d, mt);
+  for (int a = 0; a < m->n_actuators; ++a)
+    if (!isfinite(mt->energy[a]) || !isfinite(mt->final_q[a])) {
+      st = pom_error_set(err, POM_ERR_NONFINITE, __FILE__, __LINE__,
+                         "non-finite metrics for actuator %d", a + 1);
+      mt->status = st;
+      snprintf(mt->reason, sizeof mt->reason, "non-finite metrics for actuator %d", a + 1);
+    }
+finish:
+  solver_stats(d, mt);
+  mt->wall_time = now_seconds() - t0_wall;
+  if (st != POM_OK) {
+    mt->execution_time = NAN;
+    for (int a = 0; a < 3; ++a) {
+      mt->settled[a] = 0;
+      mt->settling_time[a] = mt->settling_time_final[a] = NAN;
+    }
+  }
+  return st;
+}
+
+pom_status pom_dyn_simulate(const pom_dyn_model *m, pom_dyn_data *d, const double target[3],
+                            pom_dyn_metrics *metrics, pom_dyn_trace *trace, pom_error *err) {
+  return pom_dyn_simulate_ex(m, d, target, NULL, metrics, trace, err);
+}
+
+/* ---- end-of-run queries -------------------------------------------------- */
+pom_status pom_dyn_body_pose(const pom_dyn_model *m, const pom_dyn_data *d, int k, double R[9],
+                             double x[3], pom_error *err) {
+  if (!m || !d || k < 1 || k >= POM_MECH_MAX_BODIES || m->slot_of_mech[k] < 0)
+    POM_FAIL(err, POM_ERR_ARG, "pom_dyn_body_pose: body %d is not a moving body", k);
+  if (!d->have_final) POM_FAIL(err, POM_ERR_ARG, "pom_dyn_body_pose: no finished simulation");
+  int b = m->slot_of_mech[k];
+  slot_rotation(m, d->yfinal, b, R);
+  pom_v3_add(x, m->body[b].cm_home, d->yfinal + m->body[b].offset + DYN_BODY_U);
+  return POM_OK;
+}
+
+double pom_dyn_stored_energy(const pom_dyn_model *m, pom_dyn_data *d) {
+  if (!d->have_final) return NAN;
+  return pom_dyn_stored(m, d, d->yfinal);
+}
