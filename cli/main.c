@@ -12,6 +12,12 @@ typedef struct {
 
 /* One line per subcommand; each lives in cli/cmd_<name>.c. */
 static const command commands[] = {
+    {"model", pom_cmd_model, "the resolved mechanism: bodies, joints, actuators (SI, home pose)"},
+    {"ik", pom_cmd_ik, "inverse kinematics of a ZYX Euler orientation: q, J, kappa, limits"},
+    {"fk", pom_cmd_fk, "forward kinematics of actuator displacements: orientation"},
+    {"workspace", pom_cmd_workspace, "regular dexterous workspace, GCI, dexterity map"},
+    {"simulate", pom_cmd_simulate, "one maneuver: settling times, energies, traces"},
+    {"synth", pom_cmd_synth, "kinematic synthesis: response surfaces, desirability, scaling"},
     {NULL, NULL, NULL} /* end */
 };
 

@@ -32,5 +32,7 @@ int pom_cmd_model(int argc, char **argv);
 int pom_cmd_ik(int argc, char **argv);
 int pom_cmd_fk(int argc, char **argv);
 int pom_cmd_workspace(int argc, char **argv);
+int pom_cmd_simulate(int argc, char **argv);
+int pom_cmd_synth(int argc, char **argv);
 
 #endif

@@ -191,7 +191,7 @@ pom_status pom_opt_maximize(int n, const double lo[], const double hi[], const d
     res->evals_global = dr.evals;
     if (dr.status != POM_OK) {
       st = dr.status;
-      pom_error_prefix(err, "global stage (%s) stopped: ", pom_opt_result_name(res->result_global));
+      pom_error_prefix(err, "global stage (%s) stopped", pom_opt_result_name(res->result_global));
       goto out;
     }
     if (res->result_global < 0 && res->result_global != NLOPT_ROUNDOFF_LIMITED) {
@@ -209,7 +209,7 @@ pom_status pom_opt_maximize(int n, const double lo[], const double hi[], const d
     res->evals_local = dr.evals - before;
     if (dr.status != POM_OK) {
       st = dr.status;
-      pom_error_prefix(err, "local stage (%s) stopped: ", pom_opt_result_name(res->result_local));
+      pom_error_prefix(err, "local stage (%s) stopped", pom_opt_result_name(res->result_local));
       goto out;
     }
     /* Round-off-limited ends keep the best point found; it is recorded in

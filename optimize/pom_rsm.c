@@ -18,6 +18,7 @@ void pom_rsm_defaults(pom_rsm_options *opts) {
   opts->confidence = 0.95;
   opts->min_rcond = 1e-12;
   opts->leverage_tol = 1e-10;
+  opts->pure_error_rel_tol = 1e-12;
 }
 
 int pom_rsm_terms(int k) {
@@ -88,7 +89,9 @@ done:
 }
 
 static void set_row(pom_rsm_anova_row *r, double ss, double df) {
-  r->ss = ss;
+  /* Differences of nested residual sums can come out a few ulps negative when
+     a group of terms explains nothing. */
+  r->ss = ss < 0.0 ? 0.0 : ss;
   r->df = df;
   r->ms = df > 0 ? ss / df : NAN;
   r->f = NAN;
@@ -96,7 +99,7 @@ static void set_row(pom_rsm_anova_row *r, double ss, double df) {
 }
 
 static void set_f(pom_rsm_anova_row *r, const pom_rsm_anova_row *denominator) {
-  if (r->df > 0 && denominator->df > 0 && denominator->ms > 0) {
+  if (r->df > 0 && denominator->df > 0 && denominator->ms > denominator->floor) {
     r->f = r->ms / denominator->ms;
     r->p = gsl_cdf_fdist_Q(r->f, r->df, denominator->df);
   }
@@ -266,6 +269,9 @@ pom_status pom_rsm_fit_quadratic(pom_rsm_fit *fit, int k, int n, const double u[
   free(group);
   fit->n_distinct = ng;
   int df_pe = n - ng, df_lof = ng - p;
+  /* Replicates of a deterministic computer experiment agree to round-off:
+     such a pure error is zero, and the lack-of-fit F test does not apply. */
+  A[POM_RSM_ROW_PURE_ERROR].floor = opts->pure_error_rel_tol * sst / (df_pe > 0 ? df_pe : 1);
   fit->has_lack_of_fit = df_pe > 0 && df_lof > 0;
   if (fit->has_lack_of_fit) {
     set_row(&A[POM_RSM_ROW_PURE_ERROR], sspe, (double)df_pe);

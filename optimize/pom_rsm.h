@@ -40,8 +40,10 @@ typedef struct {
   double replicate_tol; /* coded distance under which two runs count as replicates (default 1e-9) */
   double confidence;    /* level of the coefficient intervals (default 0.95) */
   double min_rcond;     /* smallest reciprocal condition number of X^T X accepted (default 1e-12) */
-  double leverage_tol;  /* runs with 1 - h_ii below this are interpolated: PRESS undefined (default
-                           1e-10) */
+  double pure_error_rel_tol; /* pure error below this fraction of SST is zero (deterministic
+                                responses; no lack-of-fit test) (default 1e-12) */
+  double leverage_tol; /* runs with 1 - h_ii below this are interpolated: PRESS undefined (default
+                          1e-10) */
 } pom_rsm_options;
 
 /* A fitted surface and its statistics. Term order: intercept, u_1..u_k,

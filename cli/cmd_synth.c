@@ -1,0 +1,301 @@
+/* cmd_synth.c - `pomlab synth CFG [CFG ...]`: kinematic synthesis of one or
+ * more architectures (docs/optimize.md), side by side when several. */
+#include "pom_cli.h"
+#include "pom_math.h"
+#include "pom_progress.h"
+#include "pom_synth.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_CFGS 4
+
+static void usage(FILE *out) {
+  fprintf(out,
+          "usage: pomlab synth CFG [CFG ...] [--out PREFIX] [--no-direct] [--json] [--quiet]\n\n"
+          "Kinematic synthesis by response surfaces and desirability (docs/optimize.md).\n"
+          "Each CFG needs architecture, geometry (mode = \"parameters\"), limits, workspace\n"
+          "and synthesis groups. Writes PREFIX<name>.geometry.cfg (the scaled geometry, a\n"
+          "`geometry` group for simulate/montecarlo/study) and PREFIX<name>.h5 (design,\n"
+          "fits, optimum, confirmation). PREFIX defaults to results/synth_.\n");
+}
+
+static const char *const anova_names[POM_RSM_N_ROWS] = {
+    "model", "linear", "square", "interaction", "residual", "lack of fit", "pure error", "total"};
+
+/* A file-name-safe version of the architecture name. */
+static void safe_name(char *out, size_t cap, const char *name) {
+  size_t j = 0;
+  for (size_t i = 0; name[i] && j + 1 < cap; ++i) {
+    char c = name[i];
+    int ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9');
+    if (ok)
+      out[j++] = c;
+    else if (j > 0 && out[j - 1] != '_')
+      out[j++] = '_';
+    if (j >= 24) break;
+  }
+  while (j > 0 && out[j - 1] == '_')
+    --j;
+  out[j] = '\0';
+}
+
+static void print_human(const pom_syn_run *run, const char *geo_path, const char *h5_path) {
+  const pom_syn_problem *pb = run->pb;
+  int k = pb->n_vars;
+  printf("== %s (%s)\n", pb->base.name, pom_kin_arch_name(pb->base.type));
+  printf("design: %s, %d runs (alpha %.4g), %d degenerate, %.3f s\n",
+         pom_design_kind_name(run->design->kind), run->n_runs, run->design->alpha,
+         run->n_degenerate, run->design_time);
+  printf("variables:");
+  for (int i = 0; i < k; ++i)
+    printf("  %s in [%.4g, %.4g]", pom_syn_var_name(pb->var[i]),
+           pb->lo[i] * pom_syn_var_unit(pb->var[i]), pb->hi[i] * pom_syn_var_unit(pb->var[i]));
+  printf("\n\nfits (full quadratic, coded units):\n");
+  printf("  %-14s %8s %8s %8s %9s %10s %10s %9s\n", "response", "R2", "R2adj", "R2pred", "LOF p",
+         "hold rmse", "hold maxab", "in PI");
+  for (int r = 0; r < POM_SYN_N_RESP; ++r) {
+    double u = pom_syn_resp_unit((pom_syn_resp)r);
+    if (!run->fitted[r]) {
+      printf("  %-14s constant over the design: %.6g\n", pom_syn_resp_name((pom_syn_resp)r),
+             run->resp[r] * u);
+      continue;
+    }
+    const pom_rsm_fit *f = &run->fit[r];
+    const pom_rsm_check *c = &run->check[r];
+    printf("  %-14s %8.4f %8.4f %8.4f %9.3g %10.4g %10.4g %9.2f\n",
+           pom_syn_resp_name((pom_syn_resp)r), f->r2, f->r2_adj, f->r2_pred,
+           f->has_lack_of_fit ? f->anova[POM_RSM_ROW_LACK_OF_FIT].p : NAN, c->rmse * u,
+           c->max_abs * u, c->within_pi);
+  }
+  /* ANOVA of the first goal's surface */
+  pom_syn_resp g0 = pb->goal_resp[0];
+  if (run->fitted[g0]) {
+    const pom_rsm_fit *f = &run->fit[g0];
+    printf("\nANOVA of %s:\n  %-12s %12s %5s %12s %10s %10s\n", pom_syn_resp_name(g0), "source",
+           "SS", "df", "MS", "F", "p");
+    for (int r = 0; r < POM_RSM_N_ROWS; ++r) {
+      const pom_rsm_anova_row *a = &f->anova[r];
+      if ((r == POM_RSM_ROW_LACK_OF_FIT || r == POM_RSM_ROW_PURE_ERROR) && !f->has_lack_of_fit)
+        continue;
+      printf("  %-12s %12.5g %5.0f %12.5g %10.4g %10.3g\n", anova_names[r], a->ss, a->df, a->ms,
+             a->f, a->p);
+    }
+    printf("  coefficients: ");
+    for (int j = 0; j < f->p; ++j) {
+      char nm[16];
+      pom_rsm_term_name(f->k, j, nm, sizeof nm);
+      printf("%s%s %.4g (se %.2g)", j ? ", " : "", nm, f->beta[j], f->se[j]);
+    }
+    printf("\n");
+  }
+  printf("\noptimum on the surfaces (D = %.4f predicted, %.4f confirmed):\n ", run->d_predicted,
+         run->d_confirmed);
+  for (int i = 0; i < k; ++i)
+    printf(" %s = %.5g", pom_syn_var_name(pb->var[i]),
+           run->x_opt[i] * pom_syn_var_unit(pb->var[i]));
+  printf("\n  %-14s %12s %12s %12s\n", "response", "predicted", "confirmed", "error");
+  for (int r = 0; r < POM_SYN_N_RESP; ++r) {
+    double u = pom_syn_resp_unit((pom_syn_resp)r);
+    printf("  %-14s %12.5g %12.5g %12.3g\n", pom_syn_resp_name((pom_syn_resp)r),
+           run->predicted[r] * u, run->confirmed[r] * u,
+           (run->predicted[r] - run->confirmed[r]) * u);
+  }
+  long sur_evals = run->n_runs + run->n_holdout + 1;
+  printf("  surrogate route: %ld true evaluations (%d design + %d held-out + 1 confirmation), "
+         "%ld surface evaluations, %.3f s\n",
+         sur_evals, run->n_runs, run->n_holdout,
+         run->surrogate.evals_global + run->surrogate.evals_local, run->surrogate_time);
+  if (run->direct_done) {
+    printf("\ndirect optimization on the true kinematics (D = %.4f):\n ", run->d_direct);
+    for (int i = 0; i < k; ++i)
+      printf(" %s = %.5g", pom_syn_var_name(pb->var[i]),
+             run->x_direct[i] * pom_syn_var_unit(pb->var[i]));
+    printf("\n  %ld true evaluations (%ld global %s, %ld local %s), %.3f s\n",
+           run->direct.evals_global + run->direct.evals_local, run->direct.evals_global,
+           pom_opt_result_name(run->direct.result_global), run->direct.evals_local,
+           pom_opt_result_name(run->direct.result_local), run->direct.wall_time);
+  }
+  printf("\nscaled to the %.4g mm stroke for +-%.3g deg: platform radius %.4f mm (%d workspace "
+         "evaluations)\n",
+         pb->base.stroke * 1e3, pb->target_half_width / POM_DEG, run->scale * 1e3,
+         run->scale_evals);
+  printf("  wrote %s and %s\n\n", geo_path, h5_path);
+}
+
+static void print_side_by_side(pom_syn_run *const runs[], int n) {
+  printf("== side by side (scaled geometries)\n  %-26s", "");
+  for (int c = 0; c < n; ++c)
+    printf(" %16s", pom_kin_arch_name(runs[c]->pb->base.type));
+  printf("\n  %-26s", "platform radius (mm)");
+  for (int c = 0; c < n; ++c)
+    printf(" %16.4f", runs[c]->scale * 1e3);
+  printf("\n  %-26s", "footprint radius (mm)");
+  for (int c = 0; c < n; ++c)
+    printf(" %16.4f", runs[c]->scaled_resp[POM_SYN_RESP_FOOTPRINT] * runs[c]->scale * 1e3);
+  for (int r = 0; r < POM_SYN_N_RESP; ++r) {
+    if (r == POM_SYN_RESP_FOOTPRINT) continue;
+    printf("\n  %-26s", pom_syn_resp_name((pom_syn_resp)r));
+    for (int c = 0; c < n; ++c)
+      printf(" %16.5g", runs[c]->scaled_resp[r] * pom_syn_resp_unit((pom_syn_resp)r));
+  }
+  printf("\n  %-26s", "desirability (true)");
+  for (int c = 0; c < n; ++c)
+    printf(" %16.4f", pom_syn_desirability(runs[c]->pb, runs[c]->scaled_resp, NULL));
+  printf("\n");
+}
+
+/* A JSON number, or null for NaN/Inf (absent values). */
+static const char *jn(char *buf, double v) {
+  if (isfinite(v))
+    snprintf(buf, 32, "%.10g", v);
+  else
+    snprintf(buf, 32, "null");
+  return buf;
+}
+
+static void print_json(pom_syn_run *const runs[], int n, char paths[][2][512]) {
+  char b1[32], b2[32], b3[32], b4[32], b5[32], b6[32], b7[32];
+  printf("{\"synth\": [");
+  for (int c = 0; c < n; ++c) {
+    const pom_syn_run *run = runs[c];
+    const pom_syn_problem *pb = run->pb;
+    printf("%s{\"name\": \"%s\", \"architecture\": \"%s\", \"runs\": %d, \"degenerate\": %d,",
+           c ? ", " : "", pb->base.name, pom_kin_arch_name(pb->base.type), run->n_runs,
+           run->n_degenerate);
+    printf(" \"variables\": {");
+    for (int i = 0; i < pb->n_vars; ++i)
+      printf("%s\"%s\": {\"optimum\": %s, \"direct\": %s}", i ? ", " : "",
+             pom_syn_var_name(pb->var[i]), jn(b1, run->x_opt[i] * pom_syn_var_unit(pb->var[i])),
+             jn(b2, run->direct_done ? run->x_direct[i] * pom_syn_var_unit(pb->var[i]) : NAN));
+    printf("}, \"responses\": {");
+    for (int r = 0; r < POM_SYN_N_RESP; ++r) {
+      double u = pom_syn_resp_unit((pom_syn_resp)r);
+      int f = run->fitted[r];
+      printf("%s\"%s\": {\"predicted\": %s, \"confirmed\": %s, \"scaled\": %s, "
+             "\"r2\": %s, \"r2_adj\": %s, \"r2_pred\": %s, \"holdout_rmse\": %s}",
+             r ? ", " : "", pom_syn_resp_name((pom_syn_resp)r), jn(b1, run->predicted[r] * u),
+             jn(b2, run->confirmed[r] * u), jn(b3, run->scaled_resp[r] * u),
+             jn(b4, f ? run->fit[r].r2 : NAN), jn(b5, f ? run->fit[r].r2_adj : NAN),
+             jn(b6, f ? run->fit[r].r2_pred : NAN),
+             jn(b7, f && run->n_holdout ? run->check[r].rmse * u : NAN));
+    }
+    printf("}, \"desirability_predicted\": %s, \"desirability_confirmed\": %s,",
+           jn(b1, run->d_predicted), jn(b2, run->d_confirmed));
+    printf(" \"surrogate\": {\"true_evals\": %d, \"surface_evals\": %ld, \"time_s\": %s},",
+           run->n_runs + run->n_holdout + 1,
+           run->surrogate.evals_global + run->surrogate.evals_local, jn(b1, run->surrogate_time));
+    if (run->direct_done)
+      printf(" \"direct\": {\"desirability\": %s, \"true_evals\": %ld, \"time_s\": %s},",
+             jn(b1, run->d_direct), run->direct.evals_global + run->direct.evals_local,
+             jn(b2, run->direct.wall_time));
+    printf(" \"platform_radius_mm\": %s, \"geometry_file\": \"%s\", \"h5_file\": \"%s\"}",
+           jn(b1, run->scale * 1e3), paths[c][0], paths[c][1]);
+  }
+  printf("]}\n");
+}
+
+int pom_cmd_synth(int argc, char **argv) {
+  const char *cfg_paths[MAX_CFGS];
+  int ncfg = 0, json = 0, no_direct = 0, quiet = 0;
+  const char *prefix = "results/synth_";
+  for (int a = 1; a < argc; ++a) {
+    if (strcmp(argv[a], "--help") == 0 || strcmp(argv[a], "-h") == 0) {
+      usage(stdout);
+      return 0;
+    } else if (strcmp(argv[a], "--json") == 0) {
+      json = 1;
+    } else if (strcmp(argv[a], "--no-direct") == 0) {
+      no_direct = 1;
+    } else if (strcmp(argv[a], "--quiet") == 0) {
+      quiet = 1;
+    } else if (strcmp(argv[a], "--out") == 0 && a + 1 < argc) {
+      prefix = argv[++a];
+    } else if (argv[a][0] == '-') {
+      fprintf(stderr, "pomlab synth: unknown option '%s'\n", argv[a]);
+      usage(stderr);
+      return 2;
+    } else if (ncfg < MAX_CFGS) {
+      cfg_paths[ncfg++] = argv[a];
+    } else {
+      fprintf(stderr, "pomlab synth: at most %d configs\n", MAX_CFGS);
+      return 2;
+    }
+  }
+  if (ncfg == 0) {
+    usage(stderr);
+    return 2;
+  }
+
+  static const char *const scopes[] = {"architecture", "name",      "geometry", "limits",
+                                       "workspace",    "synthesis", NULL};
+  pom_cfg *cfgs[MAX_CFGS] = {NULL};
+  pom_syn_problem *pbs = calloc(MAX_CFGS, sizeof *pbs);
+  pom_syn_run *runs[MAX_CFGS] = {NULL};
+  char paths[MAX_CFGS][2][512];
+  int code = 0;
+  pom_error err;
+  pom_error_clear(&err);
+  if (!pbs) {
+    fprintf(stderr, "pomlab synth: out of memory\n");
+    return 1;
+  }
+  for (int c = 0; c < ncfg; ++c) {
+    cfgs[c] = pom_cli_load_config(cfg_paths[c]);
+    if (!cfgs[c]) {
+      code = 2;
+      goto out;
+    }
+    pom_status st = pom_syn_load(&pbs[c], cfgs[c], &err);
+    if (st == POM_OK) {
+      /* inertia etc. belong to other commands: accept but do not check them */
+      st = pom_cfg_check_unknown(cfgs[c], scopes, pom_cli_known_top, &err);
+    }
+    if (st != POM_OK) {
+      pom_cli_report(cfg_paths[c], &err);
+      code = pom_cli_exit_code(st);
+      goto out;
+    }
+    if (no_direct) pbs[c].direct = 0;
+  }
+  for (int c = 0; c < ncfg; ++c) {
+    pom_status st = pom_syn_begin(&runs[c], &pbs[c], &err);
+    if (st == POM_OK) {
+      pom_progress bar;
+      char label[48];
+      snprintf(label, sizeof label, "design %s", pom_kin_arch_name(pbs[c].base.type));
+      pom_progress_init(&bar, quiet ? NULL : stderr, label, runs[c]->n_runs, 0, 0);
+      int remaining = 1;
+      while (st == POM_OK && remaining > 0) {
+        st = pom_syn_step(runs[c], &remaining, &err);
+        pom_progress_update(&bar, runs[c]->next);
+      }
+      pom_progress_finish(&bar, runs[c]->next);
+    }
+    if (st == POM_OK) st = pom_syn_finish(runs[c], &err);
+    char name[32];
+    safe_name(name, sizeof name, pbs[c].base.name);
+    snprintf(paths[c][0], sizeof paths[c][0], "%s%s.geometry.cfg", prefix, name);
+    snprintf(paths[c][1], sizeof paths[c][1], "%s%s.h5", prefix, name);
+    if (st == POM_OK) st = pom_syn_write_geometry(runs[c], paths[c][0], &err);
+    if (st == POM_OK) st = pom_syn_write_h5(runs[c], paths[c][1], pom_cfg_text(cfgs[c]), &err);
+    if (st != POM_OK) {
+      pom_cli_report(cfg_paths[c], &err);
+      code = pom_cli_exit_code(st);
+      goto out;
+    }
+    if (!json) print_human(runs[c], paths[c][0], paths[c][1]);
+  }
+  if (json)
+    print_json(runs, ncfg, paths);
+  else if (ncfg > 1)
+    print_side_by_side(runs, ncfg);
+out:
+  for (int c = 0; c < MAX_CFGS; ++c) {
+    pom_syn_destroy(runs[c]);
+    pom_cfg_destroy(cfgs[c]);
+  }
+  free(pbs);
+  return code;
+}

@@ -1,0 +1,173 @@
+/* pom_synth.h - kinematic synthesis of one architecture by response-surface
+ * methodology: a designed experiment over the dimensionless design
+ * parameters, quadratic surfaces of the kinematic responses, Derringer-Suich
+ * desirability maximized on the surfaces with NLopt, a confirmation run of
+ * the true kinematics, the same problem solved directly on the true
+ * kinematics, and the scaling of the optimum to the actuator stroke
+ * (docs/optimize.md, sections 5-7).
+ *
+ * Driver (STYLE.md 15): pom_syn_begin() builds the design;
+ * pom_syn_step() evaluates one design run (call until it returns 0 runs
+ * left); pom_syn_finish() fits, optimizes, confirms and scales. */
+#ifndef POM_SYNTH_H
+#define POM_SYNTH_H
+
+#include "pom_config.h"
+#include "pom_design.h"
+#include "pom_desirability.h"
+#include "pom_kinematics.h"
+#include "pom_nlopt.h"
+#include "pom_rsm.h"
+#include "pom_status.h"
+
+/* Design parameters the synthesis may vary (fields of pom_kin_design). */
+typedef enum {
+  POM_SYN_VAR_PLATFORM_HEIGHT = 0,  /* platform_height (ratio) */
+  POM_SYN_VAR_LIMB_LENGTH = 1,      /* limb_length (ratio) */
+  POM_SYN_VAR_LIMB_LEAN = 2,        /* limb_lean (rad) */
+  POM_SYN_VAR_LIMB_AZIMUTH = 3,     /* limb_azimuth (rad) */
+  POM_SYN_VAR_ACTUATOR_TILT = 4,    /* actuator_tilt (rad), 3PSS */
+  POM_SYN_VAR_ACTUATOR_AZIMUTH = 5, /* actuator_azimuth (rad), 3PSS */
+  POM_SYN_N_VARS = 6
+} pom_syn_var;
+
+/* Kinematic responses of one geometry. */
+typedef enum {
+  POM_SYN_RESP_RDW = 0,           /* regular dexterous workspace: Euler-cube half-width (rad) */
+  POM_SYN_RESP_GCI = 1,           /* global conditioning index over the region */
+  POM_SYN_RESP_MIN_DEXTERITY = 2, /* smallest 1/kappa over the region (0 where unreachable) */
+  POM_SYN_RESP_FOOTPRINT =
+      3,                 /* radius of the ground-side joints over the stroke / platform radius */
+  POM_SYN_RESP_CONE = 4, /* measure fraction of region poses beyond a joint cone */
+  POM_SYN_RESP_INTERFERENCE = 5, /* measure fraction of region poses with limbs too close */
+  POM_SYN_RESP_STROKE = 6,       /* measure fraction of region poses beyond the stroke */
+  POM_SYN_RESP_UNREACHABLE = 7,  /* measure fraction of region poses that cannot be assembled */
+  POM_SYN_N_RESP = 8
+} pom_syn_resp;
+
+/* Config name of a variable ("limb_lean_deg") / response ("rdw_deg"). */
+const char *pom_syn_var_name(pom_syn_var v);
+const char *pom_syn_resp_name(pom_syn_resp r);
+/* Factor from SI to the config unit of a variable / response (1/POM_DEG for angles, else 1). */
+double pom_syn_var_unit(pom_syn_var v);
+double pom_syn_resp_unit(pom_syn_resp r);
+
+/* The synthesis problem of one architecture (const during a run). */
+typedef struct {
+  pom_kin_arch base; /* architecture, limits and the base design (has_design = 1) */
+  int n_vars;        /* design variables, 1..POM_RSM_MAX_K */
+  pom_syn_var var[POM_SYN_N_VARS];
+  double lo[POM_SYN_N_VARS], hi[POM_SYN_N_VARS]; /* bounds (SI: rad or ratio) */
+  pom_kin_ws_opts ws;                            /* regular dexterous workspace settings */
+  double region_half_width; /* Euler cube of the GCI, min dexterity and violation fractions (rad) */
+  double region_resolution; /* largest cell of that cube (rad) */
+  int n_goals;              /* responses in the desirability */
+  pom_syn_resp goal_resp[POM_SYN_N_RESP];
+  pom_desir_spec goal[POM_SYN_N_RESP]; /* bounds in SI (rad for rdw) */
+  pom_design_options design;
+  int holdout_points; /* LHS runs for the held-out check of the surfaces (0 = none) */
+  pom_rsm_options rsm;
+  pom_opt_options surrogate_opt; /* maximization of D on the surfaces */
+  int direct;                    /* 1: also solve on the true kinematics */
+  pom_opt_options direct_opt;
+  double target_half_width;    /* workspace the stroke must cover after scaling (rad) */
+  double scale_min, scale_max; /* bracket of the platform radius (m) */
+  double scale_rel_tol;        /* relative tolerance of the scale bisection */
+  int scale_scan;              /* log-spaced radii scanned down from scale_max before bisecting */
+} pom_syn_problem;
+
+/* Defaults (docs/optimize.md 7); base is left zero. */
+void pom_syn_defaults(pom_syn_problem *pb);
+
+/* Loads `architecture`, `geometry` (mode "parameters"), `limits`,
+ * `workspace` and `synthesis` (docs/optimize.md 7). */
+pom_status pom_syn_load(pom_syn_problem *pb, const pom_cfg *cfg, pom_error *err);
+
+/* Geometry of design point x[n_vars] (SI) at platform radius scale (m), with
+ * the base limits. POM_ERR_ARG when the design is degenerate. */
+pom_status pom_syn_arch(const pom_syn_problem *pb, const double x[], double scale,
+                        pom_kin_arch *arch, pom_error *err);
+
+/* All responses of one geometry into resp[POM_SYN_N_RESP]. */
+pom_status pom_syn_responses(const pom_syn_problem *pb, const pom_kin_arch *arch, double resp[],
+                             pom_error *err);
+
+/* Responses of design point x at the base scale. A degenerate design (no
+ * assembly or a singular Jacobian at home) has no workspace: rdw, gci and
+ * min dexterity 0, unreachable fraction 1, *degenerate = 1 (may be NULL). */
+pom_status pom_syn_evaluate(const pom_syn_problem *pb, const double x[], double resp[],
+                            int *degenerate, pom_error *err);
+
+/* Overall desirability of a response vector; d[n_goals] (may be NULL)
+ * receives the individual values. */
+double pom_syn_desirability(const pom_syn_problem *pb, const double resp[], double d[]);
+
+/* State and results of one synthesis run. */
+typedef struct {
+  const pom_syn_problem *pb;
+  pom_design *design; /* coded design (owned) */
+  int n_runs;         /* design runs */
+  int next;           /* next run to evaluate */
+  double *x;          /* [n_runs * n_vars] natural design points (SI) */
+  double *resp;       /* [n_runs * POM_SYN_N_RESP] responses */
+  int n_degenerate;   /* degenerate design runs */
+  double design_time; /* s spent evaluating the design */
+  /* surfaces */
+  int fitted[POM_SYN_N_RESP]; /* 1 when a surface was fitted (0: constant response) */
+  pom_rsm_fit fit[POM_SYN_N_RESP];
+  int n_holdout;
+  double *holdout_x;                   /* [n_holdout * n_vars] (SI) */
+  double *holdout_resp;                /* [n_holdout * POM_SYN_N_RESP] */
+  pom_rsm_check check[POM_SYN_N_RESP]; /* surfaces against the held-out runs */
+  /* optimum on the surfaces, and its confirmation */
+  double x_opt[POM_SYN_N_VARS];     /* SI */
+  double predicted[POM_SYN_N_RESP]; /* surfaces at x_opt */
+  double confirmed[POM_SYN_N_RESP]; /* true kinematics at x_opt */
+  double d_predicted, d_confirmed;  /* overall desirability, predicted and true */
+  pom_opt_result surrogate;         /* NLopt on the surfaces */
+  double surrogate_time;            /* s: design + fits + optimization + confirmation */
+  /* the same problem directly on the true kinematics */
+  int direct_done;
+  double x_direct[POM_SYN_N_VARS];
+  double direct_resp[POM_SYN_N_RESP];
+  double d_direct;
+  pom_opt_result direct;
+  /* scaling of the surrogate optimum to the stroke */
+  double scale;                       /* platform radius (m) */
+  pom_kin_arch scaled;                /* the scaled geometry */
+  double scaled_resp[POM_SYN_N_RESP]; /* its responses */
+  int scale_evals;                    /* workspace evaluations of the bisection */
+} pom_syn_run;
+
+/* Builds the design and allocates the run. The caller owns *out. */
+pom_status pom_syn_begin(pom_syn_run **out, const pom_syn_problem *pb, pom_error *err);
+
+/* Evaluates the next design run; *remaining receives the runs still to do. */
+pom_status pom_syn_step(pom_syn_run *run, int *remaining, pom_error *err);
+
+/* Held-out runs, fits, optimum on the surfaces, confirmation, direct
+ * optimization (if asked) and scaling. */
+pom_status pom_syn_finish(pom_syn_run *run, pom_error *err);
+
+/* Frees; NULL allowed. */
+void pom_syn_destroy(pom_syn_run *run);
+
+/* Finds the largest platform radius in [scale_min, scale_max] at which the
+ * regular dexterous workspace of design point x still covers
+ * target_half_width: a log-spaced scan down from scale_max, then bisection
+ * on log scale (docs/optimize.md 6). POM_ERR_LIMIT when no scanned radius
+ * covers it. */
+pom_status pom_syn_scale(const pom_syn_problem *pb, const double x[], double *scale, int *evals,
+                         pom_error *err);
+
+/* Writes the scaled geometry as a libconfig `geometry` group (mode
+ * "parameters", the form pom_kin_arch_load reads) to path, with a header
+ * comment. */
+pom_status pom_syn_write_geometry(const pom_syn_run *run, const char *path, pom_error *err);
+
+/* Writes the HDF5 record of the run (design, responses, fits, optimum,
+ * confirmation, direct solution, scaling) to path. config_text may be NULL. */
+pom_status pom_syn_write_h5(const pom_syn_run *run, const char *path, const char *config_text,
+                            pom_error *err);
+
+#endif

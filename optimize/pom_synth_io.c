@@ -1,0 +1,211 @@
+/* pom_synth_io.c - output of a synthesis run: the scaled geometry as a
+ * config fragment and the HDF5 record (docs/optimize.md, section 7). */
+#include "pom_synth.h"
+
+#include "pom_h5.h"
+#include "pom_math.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+pom_status pom_syn_write_geometry(const pom_syn_run *run, const char *path, pom_error *err) {
+  const pom_kin_design *d = &run->scaled.design;
+  FILE *f = fopen(path, "w");
+  if (!f) POM_FAIL(err, POM_ERR_IO, "cannot write %s: %s", path, strerror(errno));
+  fprintf(f,
+          "# Geometry found by pomlab synth for \"%s\" (%s):\n"
+          "# the optimum of the desirability, scaled so the %.4g mm stroke covers a\n"
+          "# regular dexterous workspace of +-%.4g deg. Overall desirability %.4f\n"
+          "# (surfaces) / %.4f (true kinematics). Limits, workspace and inertia stay\n"
+          "# in the including config; this file holds only the `geometry` group.\n",
+          run->pb->base.name, pom_kin_arch_name(run->pb->base.type), run->pb->base.stroke * 1e3,
+          run->pb->target_half_width / POM_DEG, run->d_predicted, run->d_confirmed);
+  fprintf(f, "geometry = {\n  mode = \"parameters\";\n");
+  fprintf(f, "  platform_radius_mm = %.9g;\n", d->scale * 1e3);
+  fprintf(f, "  first_azimuth_deg = %.9g;\n", d->first_azimuth / POM_DEG);
+  fprintf(f, "  platform_height = %.9g;\n", d->platform_height);
+  fprintf(f, "  limb_length = %.9g;\n", d->limb_length);
+  fprintf(f, "  limb_lean_deg = %.9g;\n", d->limb_lean / POM_DEG);
+  fprintf(f, "  limb_azimuth_deg = %.9g;\n", d->limb_azimuth / POM_DEG);
+  if (run->pb->base.type == POM_ARCH_3PSS) {
+    fprintf(f, "  actuator_tilt_deg = %.9g;\n", d->actuator_tilt / POM_DEG);
+    fprintf(f, "  actuator_azimuth_deg = %.9g;\n", d->actuator_azimuth / POM_DEG);
+  }
+  fprintf(f, "};\n");
+  if (fclose(f) != 0) POM_FAIL(err, POM_ERR_IO, "writing %s: %s", path, strerror(errno));
+  return POM_OK;
+}
+
+/* ---- HDF5 ----------------------------------------------------------------- */
+static pom_status write_fit(hid_t loc, const pom_rsm_fit *fit, const pom_rsm_check *chk,
+                            int has_check, pom_error *err) {
+  size_t p = (size_t)fit->p;
+  POM_TRY(pom_h5_write_doubles(loc, "beta", 1, &p, fit->beta, err));
+  POM_TRY(pom_h5_write_doubles(loc, "se", 1, &p, fit->se, err));
+  POM_TRY(pom_h5_write_doubles(loc, "p_value", 1, &p, fit->p_value, err));
+  POM_TRY(pom_h5_write_doubles(loc, "ci_half", 1, &p, fit->ci_half, err));
+  char names[POM_RSM_MAX_TERMS][16];
+  const char *np[POM_RSM_MAX_TERMS];
+  for (int j = 0; j < fit->p; ++j) {
+    pom_rsm_term_name(fit->k, j, names[j], sizeof names[j]);
+    np[j] = names[j];
+  }
+  POM_TRY(pom_h5_write_strings(loc, "terms", p, np, 16, err));
+  double anova[POM_RSM_N_ROWS * 5];
+  for (int r = 0; r < POM_RSM_N_ROWS; ++r) {
+    anova[5 * r + 0] = fit->anova[r].ss;
+    anova[5 * r + 1] = fit->anova[r].df;
+    anova[5 * r + 2] = fit->anova[r].ms;
+    anova[5 * r + 3] = fit->anova[r].f;
+    anova[5 * r + 4] = fit->anova[r].p;
+  }
+  size_t dims[2] = {POM_RSM_N_ROWS, 5};
+  POM_TRY(pom_h5_write_doubles(loc, "anova", 2, dims, anova, err));
+  static const char *const rows[POM_RSM_N_ROWS] = {
+      "model", "linear", "square", "interaction", "residual", "lack_of_fit", "pure_error", "total"};
+  POM_TRY(pom_h5_write_strings(loc, "anova_rows", POM_RSM_N_ROWS, rows, 16, err));
+  POM_TRY(pom_h5_attr_string(loc, "anova_columns", "ss, df, ms, F, p", err));
+  POM_TRY(pom_h5_attr_double(loc, "r2", fit->r2, err));
+  POM_TRY(pom_h5_attr_double(loc, "r2_adj", fit->r2_adj, err));
+  POM_TRY(pom_h5_attr_double(loc, "r2_pred", fit->r2_pred, err));
+  POM_TRY(pom_h5_attr_double(loc, "press", fit->press, err));
+  POM_TRY(pom_h5_attr_double(loc, "sigma", fit->sigma, err));
+  POM_TRY(pom_h5_attr_int64(loc, "has_lack_of_fit", fit->has_lack_of_fit, err));
+  if (has_check) {
+    POM_TRY(pom_h5_attr_double(loc, "holdout_rmse", chk->rmse, err));
+    POM_TRY(pom_h5_attr_double(loc, "holdout_max_abs", chk->max_abs, err));
+    POM_TRY(pom_h5_attr_double(loc, "holdout_r2", chk->r2, err));
+    POM_TRY(pom_h5_attr_double(loc, "holdout_within_pi", chk->within_pi, err));
+  }
+  return POM_OK;
+}
+
+static pom_status write_opt(hid_t loc, const pom_opt_result *r, pom_error *err) {
+  POM_TRY(pom_h5_attr_int64(loc, "evals_global", r->evals_global, err));
+  POM_TRY(pom_h5_attr_int64(loc, "evals_local", r->evals_local, err));
+  POM_TRY(pom_h5_attr_string(loc, "result_global", pom_opt_result_name(r->result_global), err));
+  POM_TRY(pom_h5_attr_string(loc, "result_local", pom_opt_result_name(r->result_local), err));
+  POM_TRY(pom_h5_attr_double(loc, "wall_time_s", r->wall_time, err));
+  return POM_OK;
+}
+
+static pom_status write_body(hid_t file, const pom_syn_run *run, const char *config_text,
+                             pom_error *err) {
+  const pom_syn_problem *pb = run->pb;
+  size_t k = (size_t)pb->n_vars, nr = POM_SYN_N_RESP;
+  hid_t g = -1;
+  pom_status st = POM_OK;
+  const char *vn[POM_SYN_N_VARS], *rn[POM_SYN_N_RESP];
+  for (size_t i = 0; i < k; ++i)
+    vn[i] = pom_syn_var_name(pb->var[i]);
+  for (size_t r = 0; r < nr; ++r)
+    rn[r] = pom_syn_resp_name((pom_syn_resp)r);
+
+  POM_TRY(pom_h5_attr_string(file, "architecture", pom_kin_arch_name(pb->base.type), err));
+  POM_TRY(pom_h5_attr_string(file, "name", pb->base.name, err));
+  POM_TRY(pom_h5_attr_string(file, "units",
+                             "variables and responses in SI (angles in rad, ratios to the "
+                             "platform radius); names carry the config units",
+                             err));
+  if (config_text) POM_TRY(pom_h5_write_text(file, "config", config_text, err));
+  POM_TRY(pom_h5_write_strings(file, "variables", k, vn, 32, err));
+  POM_TRY(pom_h5_write_strings(file, "responses", nr, rn, 32, err));
+  POM_TRY(pom_h5_write_doubles(file, "lower_bounds", 1, &k, pb->lo, err));
+  POM_TRY(pom_h5_write_doubles(file, "upper_bounds", 1, &k, pb->hi, err));
+
+  /* design */
+  POM_TRY(pom_h5_create_group(&g, file, "design", err));
+  size_t dx[2] = {(size_t)run->n_runs, k}, dr[2] = {(size_t)run->n_runs, nr};
+  POM_TRY_GOTO(pom_h5_attr_string(g, "kind", pom_design_kind_name(run->design->kind), err), out);
+  POM_TRY_GOTO(pom_h5_attr_double(g, "alpha", run->design->alpha, err), out);
+  POM_TRY_GOTO(pom_h5_attr_int64(g, "degenerate_runs", run->n_degenerate, err), out);
+  POM_TRY_GOTO(pom_h5_attr_double(g, "time_s", run->design_time, err), out);
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "coded", 2, dx, run->design->coded, err), out);
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "natural", 2, dx, run->x, err), out);
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "responses", 2, dr, run->resp, err), out);
+  if (run->n_holdout > 0) {
+    size_t hx[2] = {(size_t)run->n_holdout, k}, hr[2] = {(size_t)run->n_holdout, nr};
+    POM_TRY_GOTO(pom_h5_write_doubles(g, "holdout_natural", 2, hx, run->holdout_x, err), out);
+    POM_TRY_GOTO(pom_h5_write_doubles(g, "holdout_responses", 2, hr, run->holdout_resp, err), out);
+  }
+  H5Gclose(g);
+  g = -1;
+
+  /* fits */
+  hid_t fits = -1;
+  POM_TRY(pom_h5_create_group(&fits, file, "fits", err));
+  for (size_t r = 0; r < nr; ++r) {
+    if (!run->fitted[r]) continue;
+    POM_TRY_GOTO(pom_h5_create_group(&g, fits, rn[r], err), out_fits);
+    POM_TRY_GOTO(write_fit(g, &run->fit[r], &run->check[r], run->n_holdout > 0, err), out_fits);
+    H5Gclose(g);
+    g = -1;
+  }
+out_fits:
+  H5Gclose(fits);
+  if (st != POM_OK) goto out;
+
+  /* optimum and confirmation */
+  POM_TRY_GOTO(pom_h5_create_group(&g, file, "optimum", err), out);
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "x", 1, &k, run->x_opt, err), out);
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "predicted", 1, &nr, run->predicted, err), out);
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "confirmed", 1, &nr, run->confirmed, err), out);
+  POM_TRY_GOTO(pom_h5_attr_double(g, "desirability_predicted", run->d_predicted, err), out);
+  POM_TRY_GOTO(pom_h5_attr_double(g, "desirability_confirmed", run->d_confirmed, err), out);
+  POM_TRY_GOTO(pom_h5_attr_double(g, "time_total_s", run->surrogate_time, err), out);
+  POM_TRY_GOTO(write_opt(g, &run->surrogate, err), out);
+  H5Gclose(g);
+  g = -1;
+
+  if (run->direct_done) {
+    POM_TRY_GOTO(pom_h5_create_group(&g, file, "direct", err), out);
+    POM_TRY_GOTO(pom_h5_write_doubles(g, "x", 1, &k, run->x_direct, err), out);
+    POM_TRY_GOTO(pom_h5_write_doubles(g, "responses", 1, &nr, run->direct_resp, err), out);
+    POM_TRY_GOTO(pom_h5_attr_double(g, "desirability", run->d_direct, err), out);
+    POM_TRY_GOTO(write_opt(g, &run->direct, err), out);
+    H5Gclose(g);
+    g = -1;
+  }
+
+  /* scaled geometry */
+  POM_TRY_GOTO(pom_h5_create_group(&g, file, "scaled", err), out);
+  POM_TRY_GOTO(pom_h5_attr_double(g, "platform_radius_m", run->scale, err), out);
+  POM_TRY_GOTO(pom_h5_attr_double(g, "target_half_width_rad", pb->target_half_width, err), out);
+  POM_TRY_GOTO(pom_h5_attr_int64(g, "bisection_evals", run->scale_evals, err), out);
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "responses", 1, &nr, run->scaled_resp, err), out);
+  size_t d33[2] = {3, 3};
+  POM_TRY_GOTO(
+      pom_h5_write_doubles(g, "platform_points_m", 2, d33, &run->scaled.platform_point[0][0], err),
+      out);
+  if (pb->base.type == POM_ARCH_3PSS) {
+    POM_TRY_GOTO(
+        pom_h5_write_doubles(g, "slider_points_m", 2, d33, &run->scaled.slider_mid[0][0], err),
+        out);
+    POM_TRY_GOTO(
+        pom_h5_write_doubles(g, "slider_axes", 2, d33, &run->scaled.slider_axis[0][0], err), out);
+  } else {
+    POM_TRY_GOTO(
+        pom_h5_write_doubles(g, "base_points_m", 2, d33, &run->scaled.base_point[0][0], err), out);
+  }
+out:
+  if (g >= 0) H5Gclose(g);
+  return st;
+}
+
+pom_status pom_syn_write_h5(const pom_syn_run *run, const char *path, const char *config_text,
+                            pom_error *err) {
+  hid_t file = -1;
+  POM_TRY(pom_h5_create_file(&file, path, err));
+  pom_status st = write_body(file, run, config_text, err);
+  pom_error sub;
+  pom_error_clear(&sub);
+  pom_status cst = pom_h5_close_file(file, &sub);
+  if (st == POM_OK && cst != POM_OK) {
+    if (err) *err = sub;
+    st = cst;
+  }
+  if (st != POM_OK) pom_error_prefix(err, "writing %s", path);
+  return st;
+}
