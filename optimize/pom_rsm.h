@@ -28,11 +28,12 @@ typedef enum {
 } pom_rsm_row;
 
 typedef struct {
-  double ss; /* sum of squares (response unit^2) */
-  double df; /* degrees of freedom */
-  double ms; /* mean square ss / df (NaN for the total row) */
-  double f;  /* F = ms / ms_residual (ms_lof / ms_pure_error for lack of fit); NaN where none */
-  double p;  /* upper-tail probability of f; NaN where none */
+  double ss;    /* sum of squares (response unit^2) */
+  double df;    /* degrees of freedom */
+  double ms;    /* mean square ss / df (NaN for the total row) */
+  double f;     /* F = ms / ms_residual (ms_lof / ms_pure_error for lack of fit); NaN where none */
+  double p;     /* upper-tail probability of f; NaN where none */
+  double floor; /* as a denominator: mean squares at or below this count as zero (F, p NaN) */
 } pom_rsm_anova_row;
 
 /* Options of a fit. */
