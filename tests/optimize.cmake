@@ -1,2 +1,4 @@
 pom_add_test(test_optimize test_optimize.c)
 target_link_libraries(test_optimize PRIVATE pom_optimize)
+pom_add_test(test_optimize_synth test_optimize_synth.c)
+target_link_libraries(test_optimize_synth PRIVATE pom_optimize)
