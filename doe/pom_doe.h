@@ -1,0 +1,260 @@
+/* pom_doe.h - Monte-Carlo design of experiments: maneuvers, candidates,
+ * the batch runner (threads; MPI when built with it), the HDF5 results file
+ * and the statistics that rank candidates (docs/results.md).
+ *
+ * A study = candidates x maneuvers. Maneuver k draws its targets from a
+ * generator seeded by (study seed, k) alone, so every candidate sees the same
+ * targets (common random numbers) and the result of a maneuver does not
+ * depend on the thread or rank that ran it. Work is done by an evaluator: a
+ * shared read-only context per candidate plus one worker state per thread;
+ * the real evaluator (pom_doe_dyn_evaluator_create) wraps pom_dyn_simulate,
+ * tests use cheap analytic ones. */
+#ifndef POM_DOE_H
+#define POM_DOE_H
+
+#include "pom_config.h"
+#include "pom_doe_stats.h"
+#include "pom_dynamics.h"
+#include "pom_status.h"
+
+#include <hdf5.h>
+#include <stdint.h>
+
+/* ---- maneuvers ------------------------------------------------------------ */
+typedef enum {
+  POM_DOE_SPACE_JOINT = 0,      /* targets drawn per actuator (the paper) */
+  POM_DOE_SPACE_ORIENTATION = 1 /* tilt/torsion drawn, mapped to actuators by IK */
+} pom_doe_space;
+
+typedef enum {
+  POM_DOE_DIST_UNIFORM = 0, /* uniform in [-range, +range] */
+  POM_DOE_DIST_NORMAL = 1   /* normal(0, sigma) truncated to [-range, +range] */
+} pom_doe_dist;
+
+/* How maneuvers are drawn: the `montecarlo` config group. */
+typedef struct {
+  long count;                /* maneuvers per candidate */
+  uint64_t seed;             /* study seed */
+  pom_doe_space space;       /* joint or orientation space */
+  pom_doe_dist distribution; /* of each joint target (joint space) */
+  double range;              /* joint: targets within +-range of mid-stroke (m) */
+  double sigma;              /* joint, normal: standard deviation (m) */
+  double tilt_max;           /* orientation: largest tilt angle (rad) */
+  double torsion_max;        /* orientation: largest |torsion| angle (rad) */
+} pom_doe_maneuvers;
+
+/* The paper's protocol: 1000 maneuvers, joint space, uniform within +-3 mm,
+ * seed 20120708. */
+void pom_doe_maneuvers_defaults(pom_doe_maneuvers *mv);
+
+/* Reads the `montecarlo` group of cfg over the defaults (absent = defaults). */
+pom_status pom_doe_maneuvers_load(pom_doe_maneuvers *mv, const pom_cfg *cfg, pom_error *err);
+
+/* One drawn maneuver. */
+typedef struct {
+  long index;       /* k */
+  double q[3];      /* joint space: actuator targets from mid-stroke (m) */
+  double orient[3]; /* orientation space: tilt azimuth, tilt, torsion (rad) */
+  double R[9];      /* orientation space: target rotation R = Rz(a) Ry(t) Rz(s - a) */
+} pom_doe_maneuver;
+
+/* Draws maneuver k from a generator seeded by (mv->seed, k) only. */
+void pom_doe_maneuver_draw(pom_doe_maneuver *out, const pom_doe_maneuvers *mv, long k);
+
+/* ---- evaluators -------------------------------------------------------------- */
+/* Runs maneuvers of one candidate. ctx is shared read-only by every worker;
+ * each worker thread owns one state made by worker_create. */
+typedef struct {
+  void *ctx; /* shared state (owned: ctx_destroy frees it) */
+  /* Creates one worker's state (e.g. a pom_dyn_data). */
+  pom_status (*worker_create)(void **worker, const void *ctx, pom_error *err);
+  void (*worker_destroy)(void *worker);
+  /* Actuator targets (m) of an orientation-space maneuver (IK plus stroke
+   * check); NULL when the evaluator only supports joint space. */
+  pom_status (*targets)(const void *ctx, const pom_doe_maneuver *mv, double q[3], pom_error *err);
+  /* Runs one maneuver to `target` (m). A failed maneuver sets out->status and
+   * out->reason (and may return the status); the runner records it and goes
+   * on. */
+  pom_status (*run)(const void *ctx, void *worker, const double target[3], pom_dyn_metrics *out,
+                    pom_error *err);
+  /* Writes provenance (solver settings, gains, ...) as attributes of group;
+   * may be NULL. */
+  pom_status (*describe)(const void *ctx, hid_t group, pom_error *err);
+  void (*ctx_destroy)(void *ctx);
+} pom_doe_evaluator;
+
+/* Frees an evaluator's context (eval may be NULL or empty). */
+void pom_doe_evaluator_clear(pom_doe_evaluator *eval);
+
+/* Makes the evaluator of one candidate from its resolved config. `user` is
+ * passed through. The factory checks its own keys (unknown keys included). */
+typedef pom_status (*pom_doe_evaluator_factory)(pom_doe_evaluator *eval, const pom_cfg *cfg,
+                                                void *user, pom_error *err);
+
+/* The real evaluator: architecture, mechanism and dynamics model from cfg
+ * (kinematics and dynamics groups; unknown keys in them rejected). */
+pom_status pom_doe_dyn_evaluator_create(pom_doe_evaluator *eval, const pom_cfg *cfg, void *user,
+                                        pom_error *err);
+
+/* ---- study -------------------------------------------------------------------- */
+#define POM_DOE_NAME_LEN    64
+#define POM_DOE_PATH_LEN    1024
+#define POM_DOE_MAX_FACTORS 8
+
+typedef struct {
+  char name[POM_DOE_NAME_LEN];   /* label in tables and the results file */
+  char source[POM_DOE_PATH_LEN]; /* config file the candidate starts from */
+  char *resolved;                /* resolved config text (base + overrides), owned */
+  int n_factors;                 /* sweep factors applied (0 for listed candidates) */
+  char factor_key[POM_DOE_MAX_FACTORS][POM_DOE_NAME_LEN]; /* dotted keys */
+  double factor_value[POM_DOE_MAX_FACTORS];               /* values set (config units) */
+  pom_doe_evaluator eval;                                 /* owned */
+} pom_doe_candidate;
+
+typedef enum { POM_DOE_RANK_TIME = 0, POM_DOE_RANK_ENERGY = 1 } pom_doe_rank_by;
+
+typedef struct {
+  char name[POM_DOE_NAME_LEN];   /* study name (file stem) */
+  char source[POM_DOE_PATH_LEN]; /* study config path */
+  char output[POM_DOE_PATH_LEN]; /* results file path */
+  char *config_text;             /* the study file's text, owned */
+  int threads;                   /* 0 = all cores */
+  double alpha;                  /* significance level of the verdict (two-sided) */
+  double confidence;             /* level of the paired interval (default 0.95) */
+  pom_doe_rank_by rank_by;       /* primary ranking metric */
+  pom_doe_maneuvers maneuvers;
+  int n_candidates;
+  pom_doe_candidate *candidates; /* [n_candidates], owned */
+} pom_doe_study;
+
+/* Loads a study file: `name`, `montecarlo`, `study` and `candidates`
+ * (docs/results.md). Every candidate's config is resolved and handed to
+ * factory; unknown keys are rejected. Nothing runs. Free with
+ * pom_doe_study_clear. */
+pom_status pom_doe_study_load(pom_doe_study *study, const pom_cfg *cfg,
+                              pom_doe_evaluator_factory factory, void *user, pom_error *err);
+
+/* A one-candidate study from an ordinary mechanism config (its optional
+ * `montecarlo` group gives the maneuvers): `pomlab montecarlo`. */
+pom_status pom_doe_study_single(pom_doe_study *study, const pom_cfg *cfg,
+                                pom_doe_evaluator_factory factory, void *user, pom_error *err);
+
+/* Frees everything a study owns (NULL allowed); leaves it zeroed. */
+void pom_doe_study_clear(pom_doe_study *study);
+
+/* ---- results rows ------------------------------------------------------------ */
+#define POM_DOE_REASON_LEN 160
+
+/* One maneuver of one candidate, as stored in the results file. */
+typedef struct {
+  int32_t done;                    /* 1 once computed (0 rows are not yet run) */
+  int32_t status;                  /* pom_status of the maneuver (0 ok) */
+  char reason[POM_DOE_REASON_LEN]; /* failure reason, "" when ok */
+  double target[3];                /* actuator setpoints (m) */
+  double settling_time[3];         /* s, NaN when unsettled (see settled) */
+  int32_t settled[3];              /* 1 when inside the band at the horizon */
+  double settling_time_final[3];   /* stepinfo variant (s) */
+  double execution_time;           /* max settling time (s), NaN when any unsettled or failed */
+  double energy[3];                /* signed int u i dt per actuator (J) */
+  double energy_positive[3];       /* int max(u i, 0) dt (J) */
+  double energy_total;             /* expended energy = sum of energy[] (J) */
+  double peak_voltage[3];          /* V */
+  double saturation_time[3];       /* s */
+  double final_q[3];               /* m */
+  double max_deflection;           /* largest parasitic deflection (m) */
+  double energy_balance_error;     /* relative */
+  int64_t steps, rhs_evals, jac_evals, newton_iters, error_test_fails; /* solver statistics */
+  double wall_time; /* s; the only field that differs between identical runs */
+} pom_doe_row;
+
+/* Converts evaluator metrics to a row (done = 1). */
+void pom_doe_row_from_metrics(pom_doe_row *row, const pom_dyn_metrics *m);
+
+/* Reads rows [first, first + n) of candidate c from a results file. */
+pom_status pom_doe_results_read_rows(const char *path, int c, long first, long n, pom_doe_row *rows,
+                                     pom_error *err);
+
+/* ---- report -------------------------------------------------------------------- */
+typedef struct {
+  long n_done;                   /* maneuvers finished */
+  long n_failed;                 /* status != ok */
+  long n_unsettled;              /* ok but some actuator never settled */
+  pom_doe_stats execution_time;  /* s, over ok and settled maneuvers */
+  pom_doe_stats energy;          /* J, expended energy over ok maneuvers */
+  pom_doe_stats energy_positive; /* J, sum of positive parts, over ok maneuvers */
+} pom_doe_candidate_stats;
+
+typedef enum { POM_DOE_METRIC_TIME = 0, POM_DOE_METRIC_ENERGY = 1 } pom_doe_metric;
+
+typedef struct {
+  int a, b;              /* candidate indices, a < b; differences are a - b */
+  pom_doe_metric metric; /* which response */
+  pom_doe_paired test;   /* on maneuvers where both are ok (and settled, for time) */
+} pom_doe_comparison;
+
+typedef struct {
+  int n_candidates;
+  long n_maneuvers;
+  pom_doe_candidate_stats *cand; /* [n_candidates] */
+  int n_comparisons;
+  pom_doe_comparison *cmp; /* [n_comparisons]: every pair, both metrics */
+  int *rank_time;          /* [n_candidates] candidate indices, best (lowest mean) first */
+  int *rank_energy;        /* [n_candidates] */
+  double alpha;            /* level used for "significant" */
+} pom_doe_report;
+
+void pom_doe_report_destroy(pom_doe_report *r);
+
+/* ---- runner -------------------------------------------------------------------- */
+typedef struct {
+  int threads;          /* worker threads; 0 = study->threads, then all cores */
+  long stop_after;      /* stop once this many new units finished (0 = run to the end) */
+  int resume;           /* 1: continue an existing results file (must match the study) */
+  const char *output;   /* results file; NULL = study->output; "" = no file */
+  int queue_capacity;   /* finished rows buffered before workers wait (default 64) */
+  double poll_interval; /* step() returns at least this often (s, default 0.1) */
+  int use_mpi;          /* 1: split units over MPI ranks (needs POM_WITH_MPI) */
+} pom_doe_run_options;
+
+void pom_doe_run_options_defaults(pom_doe_run_options *o);
+
+typedef struct pom_doe_run pom_doe_run;
+
+/* Starts a run: opens/creates the results file (on rank 0), works out what is
+ * left to do, starts the workers. */
+pom_status pom_doe_run_begin(pom_doe_run **out, const pom_doe_study *study,
+                             const pom_doe_run_options *opt, pom_error *err);
+
+/* Waits up to poll_interval for finished maneuvers, stores them (results file
+ * flushed) and sets *finished = 1 once nothing is left to do (or the run was
+ * cancelled and the workers stopped). */
+pom_status pom_doe_run_step(pom_doe_run *run, int *finished, pom_error *err);
+
+/* Asks the workers to stop after their current maneuver (safe to call from
+ * the thread that drives the run; a signal handler should set a flag that the
+ * driver turns into this call). */
+void pom_doe_run_cancel(pom_doe_run *run);
+
+/* Units (candidate x maneuver) finished in total, finished before this run
+ * began (resume) and in the whole study. */
+long pom_doe_run_done(const pom_doe_run *run);
+long pom_doe_run_start_done(const pom_doe_run *run);
+long pom_doe_run_total(const pom_doe_run *run);
+/* 1 on the rank that writes and reports (always 1 without MPI). */
+int pom_doe_run_is_root(const pom_doe_run *run);
+/* Worker threads in use on this rank. */
+int pom_doe_run_threads(const pom_doe_run *run);
+
+/* Stops the workers, computes the report from every finished maneuver (on
+ * the root: *report, owned by the caller; elsewhere NULL), writes statistics,
+ * comparisons and ranking to the results file and closes it. */
+pom_status pom_doe_run_end(pom_doe_run *run, pom_doe_report **report, pom_error *err);
+
+/* Frees a run (joins workers if still running); NULL allowed. */
+void pom_doe_run_destroy(pom_doe_run *run);
+
+/* Convenience: begin, step to the end, end. */
+pom_status pom_doe_run_all(const pom_doe_study *study, const pom_doe_run_options *opt,
+                           pom_doe_report **report, pom_error *err);
+
+#endif

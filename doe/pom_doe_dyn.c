@@ -1,0 +1,125 @@
+/* pom_doe_dyn.c - the real evaluator: one candidate = architecture +
+ * mechanism + dynamics model; each worker owns a pom_dyn_data. */
+#include "pom_doe.h"
+#include "pom_h5.h"
+#include "pom_kinematics.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Every group the evaluator reads; unknown keys there are errors. */
+static const char *const dyn_scopes[] = {"name",    "architecture", "geometry",   "limits",
+                                         "inertia", "actuator",     "controller", "joints",
+                                         "scene",   "solver",       "maneuver",   NULL};
+
+typedef struct {
+  pom_kin_arch arch;     /* geometry and limits (orientation-space targets) */
+  pom_mechanism mech;    /* bodies, joints, actuators */
+  pom_dyn_params params; /* as loaded */
+  pom_dyn_model *model;  /* shared read-only by the workers */
+} dyn_ctx;
+
+static void ctx_destroy(void *p) {
+  dyn_ctx *ctx = p;
+  if (!ctx) return;
+  pom_dyn_model_destroy(ctx->model);
+  free(ctx);
+}
+
+static pom_status worker_create(void **worker, const void *p, pom_error *err) {
+  const dyn_ctx *ctx = p;
+  pom_dyn_data *d = NULL;
+  POM_TRY(pom_dyn_data_create(&d, ctx->model, err));
+  *worker = d;
+  return POM_OK;
+}
+
+static void worker_destroy(void *worker) {
+  pom_dyn_data_destroy(worker);
+}
+
+/* Joint targets must lie inside the stroke: the maneuver fails otherwise. */
+static pom_status check_stroke(const dyn_ctx *ctx, const double q[3], pom_error *err) {
+  double half = 0.5 * ctx->arch.stroke;
+  for (int i = 0; i < 3; ++i)
+    if (!(fabs(q[i]) <= half))
+      POM_FAIL(err, POM_ERR_LIMIT,
+               "target of actuator %d = %.4g mm is outside the stroke +-%.4g mm", i + 1, q[i] * 1e3,
+               half * 1e3);
+  return POM_OK;
+}
+
+static pom_status targets(const void *p, const pom_doe_maneuver *mv, double q[3], pom_error *err) {
+  const dyn_ctx *ctx = p;
+  POM_TRY(pom_kin_inverse(&ctx->arch, mv->R, q, err));
+  return check_stroke(ctx, q, err);
+}
+
+static pom_status run(const void *p, void *worker, const double target[3], pom_dyn_metrics *out,
+                      pom_error *err) {
+  const dyn_ctx *ctx = p;
+  pom_status st = check_stroke(ctx, target, err);
+  if (st != POM_OK) {
+    memset(out, 0, sizeof *out);
+    for (int i = 0; i < 3; ++i)
+      out->target[i] = target[i];
+    out->status = st;
+    snprintf(out->reason, sizeof out->reason, "%s", err ? err->message : "outside the stroke");
+    return st;
+  }
+  return pom_dyn_simulate(ctx->model, worker, target, out, NULL, err);
+}
+
+static pom_status describe(const void *p, hid_t g, pom_error *err) {
+  const dyn_ctx *ctx = p;
+  const pom_dyn_params *par = &ctx->params;
+  POM_TRY(pom_h5_attr_string(g, "architecture", ctx->arch.type == POM_ARCH_3PSS ? "3PSS" : "3SPS",
+                             err));
+  POM_TRY(pom_h5_attr_double(g, "stroke_m", ctx->arch.stroke, err));
+  POM_TRY(
+      pom_h5_attr_string(g, "controller_form", pom_dyn_pid_form_name(par->controller.form), err));
+  POM_TRY(pom_h5_attr_double(g, "controller_kp", par->controller.kp, err));
+  POM_TRY(pom_h5_attr_double(g, "controller_ki", par->controller.ki, err));
+  POM_TRY(pom_h5_attr_double(g, "controller_kd", par->controller.kd, err));
+  POM_TRY(pom_h5_attr_string(g, "orientation", pom_dyn_orient_name(par->scene.orientation), err));
+  POM_TRY(pom_h5_attr_int64(g, "scene_gravity", par->scene.gravity, err));
+  POM_TRY(pom_h5_attr_int64(g, "scene_bearing_friction", par->scene.bearing_friction, err));
+  POM_TRY(pom_h5_attr_int64(g, "scene_coil_inductance", par->scene.coil_inductance, err));
+  POM_TRY(pom_h5_attr_double(g, "solver_rtol", par->solver.rtol, err));
+  POM_TRY(pom_h5_attr_double(g, "solver_atol_scale", par->solver.atol_scale, err));
+  POM_TRY(pom_h5_attr_double(g, "solver_max_step_s", par->solver.max_step, err));
+  POM_TRY(pom_h5_attr_int64(g, "solver_max_steps", par->solver.max_steps, err));
+  POM_TRY(pom_h5_attr_string(g, "solver_linear_solver",
+                             pom_dyn_linsol_name(par->solver.linear_solver), err));
+  POM_TRY(pom_h5_attr_double(g, "maneuver_horizon_s", par->maneuver.horizon, err));
+  POM_TRY(pom_h5_attr_double(g, "maneuver_settle_band", par->maneuver.settle_band, err));
+  POM_TRY(pom_h5_attr_int64(g, "model_states", pom_dyn_model_n_states(ctx->model), err));
+  return POM_OK;
+}
+
+pom_status pom_doe_dyn_evaluator_create(pom_doe_evaluator *eval, const pom_cfg *cfg, void *user,
+                                        pom_error *err) {
+  (void)user;
+  pom_status st = POM_OK;
+  memset(eval, 0, sizeof *eval);
+  dyn_ctx *ctx = calloc(1, sizeof *ctx);
+  if (!ctx) POM_FAIL(err, POM_ERR_NOMEM, "evaluator: out of memory");
+  POM_TRY_GOTO(pom_kin_arch_load(&ctx->arch, cfg, err), fail);
+  POM_TRY_GOTO(pom_kin_mechanism_build(&ctx->mech, &ctx->arch, cfg, err), fail);
+  POM_TRY_GOTO(pom_dyn_params_load(&ctx->params, cfg, err), fail);
+  POM_TRY_GOTO(pom_cfg_check_unknown(cfg, dyn_scopes, NULL, err), fail);
+  POM_TRY_GOTO(pom_dyn_model_create(&ctx->model, &ctx->mech, &ctx->params, err), fail);
+  eval->ctx = ctx;
+  eval->ctx_destroy = ctx_destroy;
+  eval->worker_create = worker_create;
+  eval->worker_destroy = worker_destroy;
+  eval->targets = targets;
+  eval->run = run;
+  eval->describe = describe;
+  return POM_OK;
+fail:
+  ctx_destroy(ctx);
+  return st;
+}

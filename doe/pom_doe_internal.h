@@ -1,0 +1,63 @@
+/* pom_doe_internal.h - helpers shared by the files of doe/ (not public). */
+#ifndef POM_DOE_INTERNAL_H
+#define POM_DOE_INTERNAL_H
+
+#include "pom_doe.h"
+
+#include <libconfig.h>
+
+/* ---- config trees (pom_doe_cfgtree.c) ---- */
+/* Parses a libconfig file, @include resolved relative to the file. */
+pom_status pom_doe_tree_read_file(config_t *tree, const char *path, pom_error *err);
+/* Parses text; @include resolved relative to dir (NULL = current folder). */
+pom_status pom_doe_tree_read_string(config_t *tree, const char *text, const char *name,
+                                    const char *dir, pom_error *err);
+/* Merges group src into group dst: groups recursively, everything else
+ * replaced. `where` names src in messages. */
+pom_status pom_doe_tree_merge(config_setting_t *dst, const config_setting_t *src, const char *where,
+                              pom_error *err);
+/* Sets the dotted key (groups created as needed) to a number; an existing
+ * integer setting takes only integral values. */
+pom_status pom_doe_tree_set_number(config_t *tree, const char *key, double value, pom_error *err);
+/* Serializes a tree to libconfig text that reads back to identical values
+ * (reals with round-trip precision). *text is malloc'ed. */
+pom_status pom_doe_tree_write(const config_t *tree, char **text, pom_error *err);
+
+/* ---- results file (pom_doe_results.c) ---- */
+typedef struct pom_doe_results pom_doe_results;
+/* Creates the file with its provenance and empty (not done) rows. */
+pom_status pom_doe_results_create(pom_doe_results **out, const char *path,
+                                  const pom_doe_study *study, pom_error *err);
+/* Opens an existing file for resume; fails when it belongs to another study. */
+pom_status pom_doe_results_open(pom_doe_results **out, const char *path, const pom_doe_study *study,
+                                pom_error *err);
+/* Writes row k of candidate c. */
+pom_status pom_doe_results_write_row(pom_doe_results *res, int c, long k, const pom_doe_row *row,
+                                     pom_error *err);
+/* Reads rows [first, first + n) of candidate c. */
+pom_status pom_doe_results_read(pom_doe_results *res, int c, long first, long n, pom_doe_row *rows,
+                                pom_error *err);
+pom_status pom_doe_results_flush(pom_doe_results *res, pom_error *err);
+/* Writes statistics, comparisons and ranking (replacing earlier ones). */
+pom_status pom_doe_results_write_report(pom_doe_results *res, const pom_doe_study *study,
+                                        const pom_doe_report *rep, pom_error *err);
+/* Closes (NULL allowed); returns the first failure. */
+pom_status pom_doe_results_close(pom_doe_results *res, pom_error *err);
+
+/* ---- report (pom_doe_report.c) ---- */
+/* Compact per-row values kept in memory for the statistics. */
+typedef struct {
+  int8_t done;            /* 1 when finished */
+  int8_t ok;              /* status == POM_OK */
+  int8_t settled;         /* every actuator settled */
+  double time;            /* execution time (s) */
+  double energy;          /* expended energy (J) */
+  double energy_positive; /* J */
+} pom_doe_cell;
+
+void pom_doe_cell_from_row(pom_doe_cell *cell, const pom_doe_row *row);
+/* Report from cells[c * count + k] (c candidates, count maneuvers each). */
+pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *study,
+                                  const pom_doe_cell *cells, pom_error *err);
+
+#endif

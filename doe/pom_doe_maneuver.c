@@ -1,0 +1,95 @@
+/* pom_doe_maneuver.c - maneuver sampling with common random numbers
+ * (docs/results.md, "Maneuvers"). */
+#include "pom_doe.h"
+#include "pom_math.h"
+#include "pom_rng.h"
+
+#include <math.h>
+#include <string.h>
+
+/* The paper's study: 1000 maneuvers within +-3 mm (PARAMETERS.md, protocol). */
+#define PAPER_MANEUVERS 1000
+#define PAPER_RANGE_M   3.0e-3
+#define DEFAULT_SEED    20120708u
+
+void pom_doe_maneuvers_defaults(pom_doe_maneuvers *mv) {
+  memset(mv, 0, sizeof *mv);
+  mv->count = PAPER_MANEUVERS;
+  mv->seed = DEFAULT_SEED;
+  mv->space = POM_DOE_SPACE_JOINT;
+  mv->distribution = POM_DOE_DIST_UNIFORM;
+  mv->range = PAPER_RANGE_M;
+  mv->sigma = 0.5 * PAPER_RANGE_M;
+  mv->tilt_max = 10.0 * POM_DEG;
+  mv->torsion_max = 5.0 * POM_DEG;
+}
+
+pom_status pom_doe_maneuvers_load(pom_doe_maneuvers *mv, const pom_cfg *cfg, pom_error *err) {
+  static const char *const spaces[] = {"joint", "orientation", NULL};
+  static const char *const dists[] = {"uniform", "normal", NULL};
+  pom_doe_maneuvers_defaults(mv);
+  if (!pom_cfg_has(cfg, "montecarlo")) return POM_OK;
+  long seed = 0;
+  int space = 0, dist = 0;
+  POM_TRY(pom_cfg_int_opt(cfg, "montecarlo.maneuvers", 1, 100000000L, mv->count, &mv->count, err));
+  POM_TRY(
+      pom_cfg_int_opt(cfg, "montecarlo.seed", 0, 9007199254740991L, (long)mv->seed, &seed, err));
+  mv->seed = (uint64_t)seed;
+  POM_TRY(pom_cfg_choice_opt(cfg, "montecarlo.space", spaces, 0, &space, err));
+  POM_TRY(pom_cfg_choice_opt(cfg, "montecarlo.distribution", dists, 0, &dist, err));
+  mv->space = (pom_doe_space)space;
+  mv->distribution = (pom_doe_dist)dist;
+  POM_TRY(
+      pom_cfg_real_opt(cfg, "montecarlo.range_mm", 1e-3, 1e-6, 100.0, mv->range, &mv->range, err));
+  POM_TRY(
+      pom_cfg_real_opt(cfg, "montecarlo.sigma_mm", 1e-3, 1e-6, 100.0, mv->sigma, &mv->sigma, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "montecarlo.tilt_max_deg", POM_DEG, 1e-6, 89.0, mv->tilt_max,
+                           &mv->tilt_max, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "montecarlo.torsion_max_deg", POM_DEG, 0.0, 179.0, mv->torsion_max,
+                           &mv->torsion_max, err));
+  if (mv->space == POM_DOE_SPACE_ORIENTATION && pom_cfg_has(cfg, "montecarlo.distribution"))
+    return pom_cfg_error(cfg, "montecarlo.distribution", NULL, err,
+                         "only applies to space = \"joint\" (orientation targets are uniform in "
+                         "tilt cap and torsion)");
+  return POM_OK;
+}
+
+/* Normal(0, sigma) truncated to [-range, range] by rejection: the number of
+ * draws depends only on the stream, so it stays reproducible. */
+static double truncated_normal(pom_rng *rng, double sigma, double range) {
+  for (;;) {
+    double x = sigma * pom_rng_normal(rng);
+    if (fabs(x) <= range) return x;
+  }
+}
+
+void pom_doe_maneuver_draw(pom_doe_maneuver *out, const pom_doe_maneuvers *mv, long k) {
+  pom_rng rng;
+  memset(out, 0, sizeof *out);
+  out->index = k;
+  pom_rng_seed(&rng, mv->seed, (uint64_t)k);
+  pom_m3_identity(out->R);
+  if (mv->space == POM_DOE_SPACE_JOINT) {
+    for (int i = 0; i < 3; ++i)
+      out->q[i] = mv->distribution == POM_DOE_DIST_UNIFORM
+                      ? pom_rng_range(&rng, -mv->range, mv->range)
+                      : truncated_normal(&rng, mv->sigma, mv->range);
+    return;
+  }
+  /* tilt-and-torsion angles: azimuth uniform, tilt uniform over the spherical
+   * cap (cos t uniform), torsion uniform; R = Rz(a) Ry(t) Rz(s - a) */
+  double a = pom_rng_range(&rng, -POM_PI, POM_PI);
+  double ct = pom_rng_range(&rng, cos(mv->tilt_max), 1.0);
+  double t = acos(ct);
+  double s = pom_rng_range(&rng, -mv->torsion_max, mv->torsion_max);
+  out->orient[0] = a;
+  out->orient[1] = t;
+  out->orient[2] = s;
+  const double ez[3] = {0, 0, 1}, ey[3] = {0, 1, 0};
+  double Rz1[9], Ry[9], Rz2[9], tmp[9];
+  pom_m3_axis_angle(Rz1, ez, a);
+  pom_m3_axis_angle(Ry, ey, t);
+  pom_m3_axis_angle(Rz2, ez, s - a);
+  pom_m3_mul(tmp, Rz1, Ry);
+  pom_m3_mul(out->R, tmp, Rz2);
+}

@@ -1,0 +1,502 @@
+/* pom_doe_results.c - the study's HDF5 results file (layout:
+ * docs/results.md, "Results file"). Only the root rank's driving thread
+ * touches it. */
+#define _POSIX_C_SOURCE 200809L
+#include "pom_doe_internal.h"
+#include "pom_h5.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#define FORMAT_NAME    "pomlab study results"
+#define FORMAT_VERSION 1
+#define ROWS_PER_CHUNK 256
+
+struct pom_doe_results {
+  hid_t file;     /* the open file */
+  hid_t row_mem;  /* compound type of pom_doe_row in memory */
+  hid_t row_file; /* packed compound type in the file */
+  int n_candidates;
+  long n_maneuvers;
+  hid_t *rows; /* [n_candidates] open maneuvers datasets */
+};
+
+/* ---- the row type -------------------------------------------------------------- */
+static pom_status row_types(hid_t *mem, hid_t *file, pom_error *err) {
+  hsize_t three = 3;
+  hid_t d3 = H5Tarray_create2(H5T_NATIVE_DOUBLE, 1, &three);
+  hid_t i3 = H5Tarray_create2(H5T_NATIVE_INT32, 1, &three);
+  hid_t str = H5Tcopy(H5T_C_S1);
+  *mem = *file = -1;
+  if (d3 < 0 || i3 < 0 || str < 0 || H5Tset_size(str, POM_DOE_REASON_LEN) < 0 ||
+      H5Tset_strpad(str, H5T_STR_NULLTERM) < 0)
+    goto fail;
+  *mem = H5Tcreate(H5T_COMPOUND, sizeof(pom_doe_row));
+  if (*mem < 0) goto fail;
+#define INS(name, type)                                                                            \
+  if (H5Tinsert(*mem, #name, HOFFSET(pom_doe_row, name), type) < 0) goto fail
+  INS(done, H5T_NATIVE_INT32);
+  INS(status, H5T_NATIVE_INT32);
+  INS(reason, str);
+  INS(target, d3);
+  INS(settling_time, d3);
+  INS(settled, i3);
+  INS(settling_time_final, d3);
+  INS(execution_time, H5T_NATIVE_DOUBLE);
+  INS(energy, d3);
+  INS(energy_positive, d3);
+  INS(energy_total, H5T_NATIVE_DOUBLE);
+  INS(peak_voltage, d3);
+  INS(saturation_time, d3);
+  INS(final_q, d3);
+  INS(max_deflection, H5T_NATIVE_DOUBLE);
+  INS(energy_balance_error, H5T_NATIVE_DOUBLE);
+  INS(steps, H5T_NATIVE_INT64);
+  INS(rhs_evals, H5T_NATIVE_INT64);
+  INS(jac_evals, H5T_NATIVE_INT64);
+  INS(newton_iters, H5T_NATIVE_INT64);
+  INS(error_test_fails, H5T_NATIVE_INT64);
+  INS(wall_time, H5T_NATIVE_DOUBLE);
+#undef INS
+  *file = H5Tcopy(*mem);
+  if (*file < 0 || H5Tpack(*file) < 0) goto fail;
+  H5Tclose(d3);
+  H5Tclose(i3);
+  H5Tclose(str);
+  return POM_OK;
+fail:;
+  pom_status st = pom_h5_fail(err, __FILE__, __LINE__, "building the maneuver row type");
+  if (*mem >= 0) H5Tclose(*mem);
+  if (*file >= 0) H5Tclose(*file);
+  *mem = *file = -1;
+  if (d3 >= 0) H5Tclose(d3);
+  if (i3 >= 0) H5Tclose(i3);
+  if (str >= 0) H5Tclose(str);
+  return st;
+}
+
+static pom_status results_alloc(pom_doe_results **out, const pom_doe_study *study, pom_error *err) {
+  pom_doe_results *res = calloc(1, sizeof *res);
+  if (!res) POM_FAIL(err, POM_ERR_NOMEM, "results: out of memory");
+  res->file = res->row_mem = res->row_file = -1;
+  res->n_candidates = study->n_candidates;
+  res->n_maneuvers = study->maneuvers.count;
+  res->rows = malloc((size_t)study->n_candidates * sizeof *res->rows);
+  if (!res->rows) {
+    free(res);
+    POM_FAIL(err, POM_ERR_NOMEM, "results: out of memory");
+  }
+  for (int c = 0; c < study->n_candidates; ++c)
+    res->rows[c] = -1;
+  *out = res;
+  return row_types(&res->row_mem, &res->row_file, err);
+}
+
+/* ---- create -------------------------------------------------------------------- */
+static pom_status write_montecarlo(hid_t file, const pom_doe_study *study, pom_error *err) {
+  static const char *const spaces[] = {"joint", "orientation"};
+  static const char *const dists[] = {"uniform", "normal"};
+  const pom_doe_maneuvers *mv = &study->maneuvers;
+  pom_status st = POM_OK;
+  hid_t g = -1;
+  double *buf = NULL;
+  POM_TRY(pom_h5_create_group(&g, file, "montecarlo", err));
+  POM_TRY_GOTO(pom_h5_attr_int64(g, "count", mv->count, err), done);
+  POM_TRY_GOTO(pom_h5_attr_int64(g, "seed", (int64_t)mv->seed, err), done);
+  POM_TRY_GOTO(pom_h5_attr_string(g, "space", spaces[mv->space], err), done);
+  POM_TRY_GOTO(pom_h5_attr_string(g, "distribution", dists[mv->distribution], err), done);
+  POM_TRY_GOTO(pom_h5_attr_double(g, "range_m", mv->range, err), done);
+  POM_TRY_GOTO(pom_h5_attr_double(g, "sigma_m", mv->sigma, err), done);
+  POM_TRY_GOTO(pom_h5_attr_double(g, "tilt_max_rad", mv->tilt_max, err), done);
+  POM_TRY_GOTO(pom_h5_attr_double(g, "torsion_max_rad", mv->torsion_max, err), done);
+  /* the drawn maneuvers, common to every candidate */
+  buf = malloc((size_t)mv->count * 3 * sizeof *buf);
+  if (!buf) POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "results: out of memory");
+  for (long k = 0; k < mv->count; ++k) {
+    pom_doe_maneuver m;
+    pom_doe_maneuver_draw(&m, mv, k);
+    for (int i = 0; i < 3; ++i)
+      buf[3 * k + i] = mv->space == POM_DOE_SPACE_JOINT ? m.q[i] : m.orient[i];
+  }
+  size_t dims[2] = {(size_t)mv->count, 3};
+  POM_TRY_GOTO(pom_h5_write_doubles(g, mv->space == POM_DOE_SPACE_JOINT ? "target" : "tilt_torsion",
+                                    2, dims, buf, err),
+               done);
+done:
+  free(buf);
+  H5Gclose(g);
+  return st;
+}
+
+static pom_status write_candidate(pom_doe_results *res, hid_t parent, const pom_doe_study *study,
+                                  int c, pom_error *err) {
+  const pom_doe_candidate *cand = &study->candidates[c];
+  pom_status st = POM_OK;
+  hid_t g = -1, space = -1, dcpl = -1;
+  char name[32];
+  snprintf(name, sizeof name, "%d", c);
+  POM_TRY(pom_h5_create_group(&g, parent, name, err));
+  POM_TRY_GOTO(pom_h5_attr_string(g, "name", cand->name, err), done);
+  POM_TRY_GOTO(pom_h5_attr_string(g, "source", cand->source, err), done);
+  POM_TRY_GOTO(pom_h5_attr_int64(g, "index", c, err), done);
+  for (int f = 0; f < cand->n_factors; ++f) {
+    char an[POM_DOE_NAME_LEN + 16];
+    snprintf(an, sizeof an, "factor:%s", cand->factor_key[f]);
+    POM_TRY_GOTO(pom_h5_attr_double(g, an, cand->factor_value[f], err), done);
+  }
+  POM_TRY_GOTO(pom_h5_write_text(g, "config", cand->resolved ? cand->resolved : "", err), done);
+  if (cand->eval.describe) POM_TRY_GOTO(cand->eval.describe(cand->eval.ctx, g, err), done);
+  hsize_t n = (hsize_t)res->n_maneuvers;
+  hsize_t chunk = n < ROWS_PER_CHUNK ? n : ROWS_PER_CHUNK;
+  space = H5Screate_simple(1, &n, NULL);
+  dcpl = H5Pcreate(H5P_DATASET_CREATE);
+  if (space < 0 || dcpl < 0 || H5Pset_chunk(dcpl, 1, &chunk) < 0) {
+    st = pom_h5_fail(err, __FILE__, __LINE__, "creating the maneuvers dataset");
+    goto done;
+  }
+  res->rows[c] = H5Dcreate2(g, "maneuvers", res->row_file, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+  if (res->rows[c] < 0) st = pom_h5_fail(err, __FILE__, __LINE__, "creating the maneuvers dataset");
+done:
+  if (dcpl >= 0) H5Pclose(dcpl);
+  if (space >= 0) H5Sclose(space);
+  H5Gclose(g);
+  return st;
+}
+
+pom_status pom_doe_results_create(pom_doe_results **out, const char *path,
+                                  const pom_doe_study *study, pom_error *err) {
+  pom_status st = POM_OK;
+  pom_doe_results *res = NULL;
+  hid_t g = -1;
+  *out = NULL;
+  POM_TRY_GOTO(results_alloc(&res, study, err), fail);
+  POM_TRY_GOTO(pom_h5_create_file(&res->file, path, err), fail);
+  char created[64];
+  time_t now = time(NULL);
+  struct tm tmv;
+  gmtime_r(&now, &tmv);
+  strftime(created, sizeof created, "%Y-%m-%dT%H:%M:%SZ", &tmv);
+  hid_t f = res->file;
+  POM_TRY_GOTO(pom_h5_attr_string(f, "format", FORMAT_NAME, err), fail);
+  POM_TRY_GOTO(pom_h5_attr_int64(f, "format_version", FORMAT_VERSION, err), fail);
+  POM_TRY_GOTO(pom_h5_attr_string(f, "program", "pomlab", err), fail);
+  POM_TRY_GOTO(pom_h5_attr_string(f, "version", POM_VERSION, err), fail);
+  POM_TRY_GOTO(pom_h5_attr_string(f, "git_commit", POM_GIT_COMMIT, err), fail);
+  POM_TRY_GOTO(pom_h5_attr_string(f, "created_utc", created, err), fail);
+  POM_TRY_GOTO(pom_h5_attr_string(f, "study_name", study->name, err), fail);
+  POM_TRY_GOTO(pom_h5_attr_string(f, "study_source", study->source, err), fail);
+  POM_TRY_GOTO(pom_h5_attr_int64(f, "n_candidates", study->n_candidates, err), fail);
+  POM_TRY_GOTO(pom_h5_attr_int64(f, "n_maneuvers", study->maneuvers.count, err), fail);
+  POM_TRY_GOTO(pom_h5_attr_double(f, "alpha", study->alpha, err), fail);
+  POM_TRY_GOTO(pom_h5_attr_double(f, "confidence", study->confidence, err), fail);
+  POM_TRY_GOTO(pom_h5_write_text(f, "study_config", study->config_text, err), fail);
+  POM_TRY_GOTO(write_montecarlo(f, study, err), fail);
+  POM_TRY_GOTO(pom_h5_create_group(&g, f, "candidates", err), fail);
+  for (int c = 0; c < study->n_candidates; ++c)
+    POM_TRY_GOTO(write_candidate(res, g, study, c, err), fail);
+  H5Gclose(g);
+  g = -1;
+  POM_TRY_GOTO(pom_doe_results_flush(res, err), fail);
+  *out = res;
+  return POM_OK;
+fail:
+  if (g >= 0) H5Gclose(g);
+  pom_error_prefix(err, "creating results file '%s'", path);
+  pom_doe_results_close(res, NULL);
+  return st;
+}
+
+/* ---- open for resume -------------------------------------------------------------- */
+/* The study identity: maneuvers and resolved candidate configs. */
+static pom_status check_identity(pom_doe_results *res, const pom_doe_study *study, const char *path,
+                                 pom_error *err) {
+  int64_t nc = 0, nm = 0, seed = 0;
+  char fmt[64];
+  pom_status st = POM_OK;
+  hid_t mc = -1, g = -1;
+  char *text = NULL;
+  POM_TRY(pom_h5_read_attr_string(res->file, "format", fmt, sizeof fmt, err));
+  if (strcmp(fmt, FORMAT_NAME) != 0)
+    POM_FAIL(err, POM_ERR_ARG, "'%s' is not a pomlab study results file", path);
+  POM_TRY(pom_h5_read_attr_int64(res->file, "n_candidates", &nc, err));
+  POM_TRY(pom_h5_read_attr_int64(res->file, "n_maneuvers", &nm, err));
+  POM_TRY(pom_h5_open_group(&mc, res->file, "montecarlo", err));
+  st = pom_h5_read_attr_int64(mc, "seed", &seed, err);
+  double range = NAN;
+  if (st == POM_OK) st = pom_h5_read_attr_double(mc, "range_m", &range, err);
+  H5Gclose(mc);
+  POM_TRY(st);
+  if (nc != study->n_candidates || nm != study->maneuvers.count ||
+      (uint64_t)seed != study->maneuvers.seed || range != study->maneuvers.range)
+    POM_FAIL(err, POM_ERR_ARG,
+             "'%s' holds another study (%lld candidates x %lld maneuvers, seed %lld; this one has "
+             "%d x %ld, seed %llu): remove it or choose another output",
+             path, (long long)nc, (long long)nm, (long long)seed, study->n_candidates,
+             study->maneuvers.count, (unsigned long long)study->maneuvers.seed);
+  for (int c = 0; c < study->n_candidates; ++c) {
+    char name[48];
+    snprintf(name, sizeof name, "candidates/%d", c);
+    POM_TRY_GOTO(pom_h5_open_group(&g, res->file, name, err), done);
+    POM_TRY_GOTO(pom_h5_read_text(g, "config", &text, err), done);
+    const char *want = study->candidates[c].resolved ? study->candidates[c].resolved : "";
+    if (strcmp(text, want) != 0)
+      POM_FAIL_GOTO(err, POM_ERR_ARG, done,
+                    "'%s': candidate %d ('%s') was run with a different configuration: remove the "
+                    "file or choose another output",
+                    path, c, study->candidates[c].name);
+    res->rows[c] = H5Dopen2(g, "maneuvers", H5P_DEFAULT);
+    if (res->rows[c] < 0) {
+      st = pom_h5_fail(err, __FILE__, __LINE__, "opening the maneuvers dataset");
+      goto done;
+    }
+    free(text);
+    text = NULL;
+    H5Gclose(g);
+    g = -1;
+  }
+done:
+  free(text);
+  if (g >= 0) H5Gclose(g);
+  return st;
+}
+
+pom_status pom_doe_results_open(pom_doe_results **out, const char *path, const pom_doe_study *study,
+                                pom_error *err) {
+  pom_status st = POM_OK;
+  pom_doe_results *res = NULL;
+  *out = NULL;
+  POM_TRY_GOTO(results_alloc(&res, study, err), fail);
+  POM_TRY_GOTO(pom_h5_open_file(&res->file, path, 1, err), fail);
+  POM_TRY_GOTO(check_identity(res, study, path, err), fail);
+  *out = res;
+  return POM_OK;
+fail:
+  pom_doe_results_close(res, NULL);
+  return st;
+}
+
+/* ---- rows ---------------------------------------------------------------------------- */
+static pom_status row_io(pom_doe_results *res, int c, long first, long n, pom_doe_row *rows,
+                         int write, pom_error *err) {
+  if (c < 0 || c >= res->n_candidates || first < 0 || n < 0 || first + n > res->n_maneuvers)
+    POM_FAIL(err, POM_ERR_ARG, "rows [%ld, %ld) of candidate %d are outside the study", first,
+             first + n, c);
+  if (n == 0) return POM_OK;
+  pom_h5_quiet();
+  hid_t fs = H5Dget_space(res->rows[c]);
+  hsize_t start = (hsize_t)first, count = (hsize_t)n;
+  hid_t ms = H5Screate_simple(1, &count, NULL);
+  herr_t r = -1;
+  if (fs >= 0 && ms >= 0 &&
+      H5Sselect_hyperslab(fs, H5S_SELECT_SET, &start, NULL, &count, NULL) >= 0) {
+    r = write ? H5Dwrite(res->rows[c], res->row_mem, ms, fs, H5P_DEFAULT, rows)
+              : H5Dread(res->rows[c], res->row_mem, ms, fs, H5P_DEFAULT, rows);
+  }
+  if (ms >= 0) H5Sclose(ms);
+  if (fs >= 0) H5Sclose(fs);
+  if (r < 0) POM_H5_FAIL(err, write ? "writing maneuver rows" : "reading maneuver rows");
+  return POM_OK;
+}
+
+pom_status pom_doe_results_write_row(pom_doe_results *res, int c, long k, const pom_doe_row *row,
+                                     pom_error *err) {
+  return row_io(res, c, k, 1, (pom_doe_row *)row, 1, err);
+}
+
+pom_status pom_doe_results_read(pom_doe_results *res, int c, long first, long n, pom_doe_row *rows,
+                                pom_error *err) {
+  return row_io(res, c, first, n, rows, 0, err);
+}
+
+pom_status pom_doe_results_flush(pom_doe_results *res, pom_error *err) {
+  pom_h5_quiet();
+  if (H5Fflush(res->file, H5F_SCOPE_GLOBAL) < 0) POM_H5_FAIL(err, "flushing the results file");
+  return POM_OK;
+}
+
+pom_status pom_doe_results_read_rows(const char *path, int c, long first, long n, pom_doe_row *rows,
+                                     pom_error *err) {
+  pom_status st = POM_OK;
+  hid_t file = -1, ds = -1, mem = -1, ftype = -1;
+  POM_TRY(pom_h5_open_file(&file, path, 0, err));
+  POM_TRY_GOTO(row_types(&mem, &ftype, err), done);
+  char name[64];
+  snprintf(name, sizeof name, "candidates/%d/maneuvers", c);
+  ds = H5Dopen2(file, name, H5P_DEFAULT);
+  if (ds < 0) {
+    st = pom_h5_fail(err, __FILE__, __LINE__, "opening the maneuvers dataset");
+    goto done;
+  }
+  hid_t fs = H5Dget_space(ds);
+  hsize_t start = (hsize_t)first, count = (hsize_t)n;
+  hid_t ms = H5Screate_simple(1, &count, NULL);
+  herr_t r = -1;
+  if (fs >= 0 && ms >= 0 &&
+      H5Sselect_hyperslab(fs, H5S_SELECT_SET, &start, NULL, &count, NULL) >= 0)
+    r = H5Dread(ds, mem, ms, fs, H5P_DEFAULT, rows);
+  if (ms >= 0) H5Sclose(ms);
+  if (fs >= 0) H5Sclose(fs);
+  if (r < 0) st = pom_h5_fail(err, __FILE__, __LINE__, "reading maneuver rows");
+done:
+  if (ds >= 0) H5Dclose(ds);
+  if (mem >= 0) H5Tclose(mem);
+  if (ftype >= 0) H5Tclose(ftype);
+  pom_h5_close_file(file, NULL);
+  return st;
+}
+
+/* ---- report ------------------------------------------------------------------------------ */
+static pom_status replace_group(hid_t *g, hid_t file, const char *name, pom_error *err) {
+  if (pom_h5_exists(file, name) && H5Ldelete(file, name, H5P_DEFAULT) < 0)
+    POM_H5_FAIL(err, "replacing the report");
+  return pom_h5_create_group(g, file, name, err);
+}
+
+static const char *const stats_columns = "n,max,mean,min,sigma,median,p05,p25,p75,p95";
+
+static pom_status write_statistics(hid_t file, const pom_doe_report *rep, pom_error *err) {
+  pom_status st = POM_OK;
+  hid_t g = -1;
+  size_t nc = (size_t)rep->n_candidates;
+  double *buf = malloc(nc * POM_DOE_STATS_FIELDS * sizeof *buf);
+  int64_t *counts = malloc(nc * 4 * sizeof *counts);
+  if (!buf || !counts) POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "results: out of memory");
+  POM_TRY_GOTO(replace_group(&g, file, "statistics", err), done);
+  const char *names[3] = {"execution_time", "energy", "energy_positive"};
+  const char *units[3] = {"s", "J", "J"};
+  for (int m = 0; m < 3; ++m) {
+    for (size_t c = 0; c < nc; ++c) {
+      const pom_doe_candidate_stats *cs = &rep->cand[c];
+      const pom_doe_stats *s =
+          m == 0 ? &cs->execution_time : (m == 1 ? &cs->energy : &cs->energy_positive);
+      pom_doe_stats_flatten(buf + c * POM_DOE_STATS_FIELDS, s);
+    }
+    size_t dims[2] = {nc, POM_DOE_STATS_FIELDS};
+    POM_TRY_GOTO(pom_h5_write_doubles(g, names[m], 2, dims, buf, err), done);
+    hid_t ds = H5Dopen2(g, names[m], H5P_DEFAULT);
+    if (ds < 0) {
+      st = pom_h5_fail(err, __FILE__, __LINE__, "annotating statistics");
+      goto done;
+    }
+    st = pom_h5_attr_string(ds, "columns", stats_columns, err);
+    if (st == POM_OK) st = pom_h5_attr_string(ds, "unit", units[m], err);
+    H5Dclose(ds);
+    if (st != POM_OK) goto done;
+  }
+  for (size_t c = 0; c < nc; ++c) {
+    counts[4 * c + 0] = rep->cand[c].n_done;
+    counts[4 * c + 1] = rep->cand[c].n_done - rep->cand[c].n_failed;
+    counts[4 * c + 2] = rep->cand[c].n_failed;
+    counts[4 * c + 3] = rep->cand[c].n_unsettled;
+  }
+  POM_TRY_GOTO(pom_h5_write_int64s(g, "counts", nc * 4, counts, err), done);
+  hid_t ds = H5Dopen2(g, "counts", H5P_DEFAULT);
+  if (ds < 0) {
+    st = pom_h5_fail(err, __FILE__, __LINE__, "annotating counts");
+    goto done;
+  }
+  st = pom_h5_attr_string(ds, "columns", "done,ok,failed,unsettled (flat, 4 per candidate)", err);
+  H5Dclose(ds);
+done:
+  if (g >= 0) H5Gclose(g);
+  free(buf);
+  free(counts);
+  return st;
+}
+
+static pom_status write_comparisons(hid_t file, const pom_doe_report *rep, pom_error *err) {
+  pom_status st = POM_OK;
+  hid_t g = -1;
+  size_t n = (size_t)rep->n_comparisons;
+  double *buf = malloc((n ? n : 1) * 11 * sizeof *buf);
+  if (!buf) POM_FAIL(err, POM_ERR_NOMEM, "results: out of memory");
+  POM_TRY_GOTO(replace_group(&g, file, "comparison", err), done);
+  for (size_t j = 0; j < n; ++j) {
+    const pom_doe_comparison *c = &rep->cmp[j];
+    double *r = buf + 11 * j;
+    r[0] = c->a;
+    r[1] = c->b;
+    r[2] = c->metric;
+    r[3] = (double)c->test.n;
+    r[4] = c->test.mean_diff;
+    r[5] = c->test.ci_low;
+    r[6] = c->test.ci_high;
+    r[7] = c->test.wilcoxon_w;
+    r[8] = c->test.wilcoxon_p;
+    r[9] = (double)c->test.n_nonzero;
+    r[10] = c->test.win_fraction;
+  }
+  size_t dims[2] = {n, 11};
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "paired", 2, dims, buf, err), done);
+  POM_TRY_GOTO(pom_h5_attr_string(g, "columns",
+                                  "a,b,metric(0=execution_time s,1=energy J),n,mean_diff(a-b),"
+                                  "ci_low,ci_high,wilcoxon_w_plus,wilcoxon_p,n_nonzero,"
+                                  "win_fraction(a<b)",
+                                  err),
+               done);
+done:
+  if (g >= 0) H5Gclose(g);
+  free(buf);
+  return st;
+}
+
+static pom_status write_ranking(hid_t file, const pom_doe_study *study, const pom_doe_report *rep,
+                                pom_error *err) {
+  pom_status st = POM_OK;
+  hid_t g = -1;
+  size_t nc = (size_t)rep->n_candidates;
+  int64_t *buf = malloc(nc * sizeof *buf);
+  const char **names = malloc(nc * sizeof *names);
+  if (!buf || !names) POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "results: out of memory");
+  POM_TRY_GOTO(replace_group(&g, file, "ranking", err), done);
+  for (size_t c = 0; c < nc; ++c)
+    buf[c] = rep->rank_time[c];
+  POM_TRY_GOTO(pom_h5_write_int64s(g, "execution_time", nc, buf, err), done);
+  for (size_t c = 0; c < nc; ++c)
+    buf[c] = rep->rank_energy[c];
+  POM_TRY_GOTO(pom_h5_write_int64s(g, "energy", nc, buf, err), done);
+  for (size_t c = 0; c < nc; ++c)
+    names[c] = study->candidates[c].name;
+  POM_TRY_GOTO(pom_h5_write_strings(g, "candidate_names", nc, names, POM_DOE_NAME_LEN, err), done);
+  POM_TRY_GOTO(pom_h5_attr_string(g, "rank_by",
+                                  study->rank_by == POM_DOE_RANK_TIME ? "execution_time" : "energy",
+                                  err),
+               done);
+  POM_TRY_GOTO(pom_h5_attr_string(g, "order", "candidate indices, lowest mean first", err), done);
+done:
+  if (g >= 0) H5Gclose(g);
+  free(buf);
+  free(names);
+  return st;
+}
+
+pom_status pom_doe_results_write_report(pom_doe_results *res, const pom_doe_study *study,
+                                        const pom_doe_report *rep, pom_error *err) {
+  pom_h5_quiet();
+  POM_TRY(write_statistics(res->file, rep, err));
+  POM_TRY(write_comparisons(res->file, rep, err));
+  hid_t g = -1;
+  POM_TRY(pom_h5_open_group(&g, res->file, "comparison", err));
+  pom_status st = pom_h5_attr_double(g, "confidence", study->confidence, err);
+  if (st == POM_OK) st = pom_h5_attr_double(g, "alpha", study->alpha, err);
+  H5Gclose(g);
+  POM_TRY(st);
+  POM_TRY(write_ranking(res->file, study, rep, err));
+  return pom_doe_results_flush(res, err);
+}
+
+pom_status pom_doe_results_close(pom_doe_results *res, pom_error *err) {
+  if (!res) return POM_OK;
+  pom_h5_quiet();
+  for (int c = 0; c < res->n_candidates; ++c)
+    if (res->rows && res->rows[c] >= 0) H5Dclose(res->rows[c]);
+  if (res->row_mem >= 0) H5Tclose(res->row_mem);
+  if (res->row_file >= 0) H5Tclose(res->row_file);
+  pom_status st = pom_h5_close_file(res->file, err);
+  free(res->rows);
+  free(res);
+  return st;
+}

@@ -1,0 +1,67 @@
+/* pom_doe_stats.h - descriptive statistics and paired comparisons used to
+ * rank candidates (definitions: docs/results.md, "Statistics").
+ *
+ * Pure functions on caller-owned arrays; the only scratch they need is passed
+ * in explicitly, so they never allocate. NaN inputs are the caller's business:
+ * filter them out before calling. */
+#ifndef POM_DOE_STATS_H
+#define POM_DOE_STATS_H
+
+#include "pom_status.h"
+
+#include <stddef.h>
+
+/* Summary of n values. With n == 0 every field but n is NaN; with n == 1
+ * sigma is NaN (the sample standard deviation needs two values). */
+typedef struct {
+  long n;        /* number of values */
+  double max;    /* largest value */
+  double mean;   /* arithmetic mean */
+  double min;    /* smallest value */
+  double sigma;  /* sample standard deviation (divisor n - 1) */
+  double median; /* 50th percentile */
+  double p05;    /* 5th percentile (linear interpolation between order statistics, "type 7") */
+  double p25;    /* 25th percentile */
+  double p75;    /* 75th percentile */
+  double p95;    /* 95th percentile */
+} pom_doe_stats;
+
+/* Number of doubles in the flat form of pom_doe_stats (for tables/files). */
+#define POM_DOE_STATS_FIELDS 10
+
+/* Computes the summary of x[0..n-1]; sorted receives the values sorted
+ * ascending (n doubles of scratch; may be x itself to sort in place). */
+void pom_doe_stats_compute(pom_doe_stats *s, const double *x, size_t n, double *sorted);
+
+/* Flattens s into out[POM_DOE_STATS_FIELDS] in the order n, max, mean, min,
+ * sigma, median, p05, p25, p75, p95. */
+void pom_doe_stats_flatten(double out[POM_DOE_STATS_FIELDS], const pom_doe_stats *s);
+
+/* Percentile p in [0, 1] of ascending sorted[0..n-1] by linear interpolation
+ * between order statistics at h = (n - 1) p (NaN for n == 0). */
+double pom_doe_percentile(const double *sorted, size_t n, double p);
+
+/* Paired comparison of a and b on the same n maneuvers, d_k = a_k - b_k. */
+typedef struct {
+  long n;            /* pairs */
+  double mean_diff;  /* mean of d */
+  double ci_low;     /* lower end of the two-sided t interval for the mean of d */
+  double ci_high;    /* upper end */
+  double wilcoxon_w; /* Wilcoxon signed-rank statistic W+ (sum of ranks of positive d) */
+  double wilcoxon_p; /* two-sided p (exact for <= 50 non-zero d without ties, else normal approx) */
+  long n_nonzero;    /* pairs with d != 0 (the Wilcoxon test uses these) */
+  double win_fraction; /* fraction of pairs with a < b, ties counted one half */
+} pom_doe_paired;
+
+/* Compares a and b (n each) with confidence `level` (e.g. 0.95) for the
+ * interval. scratch must hold 3 n doubles. With n < 2 the interval is NaN;
+ * with no non-zero difference p = 1. */
+void pom_doe_paired_compute(pom_doe_paired *out, const double *a, const double *b, size_t n,
+                            double level, double *scratch);
+
+/* Two-sided Wilcoxon signed-rank test of the differences d[0..n-1] (zeros
+ * dropped, average ranks for ties). *w gets W+, *n_used the non-zero count.
+ * scratch must hold 2 n doubles. Returns the p value. */
+double pom_doe_wilcoxon(const double *d, size_t n, double *w, long *n_used, double *scratch);
+
+#endif

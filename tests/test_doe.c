@@ -1,0 +1,555 @@
+/* test_doe.c - the Monte-Carlo runner with a cheap analytic evaluator:
+ * statistics against hand-computed values, common random numbers,
+ * bit-identical results on 1 and N threads, interrupt + resume, failures
+ * recorded, config validation, sweeps. */
+#define _POSIX_C_SOURCE 200809L
+#include "check.h"
+#include "pom_doe.h"
+#include "pom_math.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+/* ---- analytic evaluator ---------------------------------------------------------
+ * Actuator i moves at constant speed v after a dead time t0: settling time
+ * t0 + |q_i| / v (unsettled beyond the 100 ms horizon), energy c q_i^2.
+ * Maneuvers with q_0 above fail_above fail on purpose. */
+typedef struct {
+  double speed;       /* m/s */
+  double dead_time;   /* s */
+  double energy_coef; /* J/m^2 */
+  double fail_above;  /* m */
+} analytic;
+
+static int worker_count = 0; /* workers created (checked: one per thread per candidate) */
+
+static pom_status an_worker_create(void **w, const void *ctx, pom_error *err) {
+  (void)ctx, (void)err;
+  int *state = malloc(sizeof *state);
+  if (!state) return POM_ERR_NOMEM;
+  *state = 0;
+  *w = state;
+  __atomic_add_fetch(&worker_count, 1, __ATOMIC_SEQ_CST);
+  return POM_OK;
+}
+
+static void an_worker_destroy(void *w) {
+  free(w);
+}
+
+static pom_status an_run(const void *p, void *w, const double q[3], pom_dyn_metrics *m,
+                         pom_error *err) {
+  const analytic *a = p;
+  ++*(int *)w;
+  memset(m, 0, sizeof *m);
+  for (int i = 0; i < 3; ++i)
+    m->target[i] = q[i];
+  if (q[0] > a->fail_above) {
+    m->status = POM_ERR_SOLVER;
+    snprintf(m->reason, sizeof m->reason, "injected failure at q0 = %.3g mm", q[0] * 1e3);
+    return pom_error_set(err, POM_ERR_SOLVER, __FILE__, __LINE__, "%s", m->reason);
+  }
+  double tmax = 0;
+  int all = 1;
+  for (int i = 0; i < 3; ++i) {
+    double t = a->dead_time + fabs(q[i]) / a->speed;
+    m->settled[i] = t < 0.1;
+    all &= m->settled[i];
+    m->settling_time[i] = m->settled[i] ? t : NAN;
+    m->settling_time_final[i] = m->settling_time[i];
+    m->energy[i] = a->energy_coef * q[i] * q[i];
+    m->energy_positive[i] = m->energy[i];
+    m->energy_total += m->energy[i];
+    m->final_q[i] = q[i];
+    tmax = fmax(tmax, t);
+  }
+  m->execution_time = all ? tmax : NAN;
+  m->steps = 1;
+  return POM_OK;
+}
+
+static pom_status an_targets(const void *p, const pom_doe_maneuver *mv, double q[3],
+                             pom_error *err) {
+  (void)p, (void)err;
+  /* a toy IK: actuator i sees the rotation vector's component i times 15 mm */
+  double rv[3];
+  pom_m3_rotvec(rv, mv->R);
+  for (int i = 0; i < 3; ++i)
+    q[i] = 0.015 * rv[i];
+  return POM_OK;
+}
+
+static void an_destroy(void *p) {
+  free(p);
+}
+
+static pom_status an_factory(pom_doe_evaluator *eval, const pom_cfg *cfg, void *user,
+                             pom_error *err) {
+  static const char *const scopes[] = {"analytic", NULL};
+  (void)user;
+  analytic *a = calloc(1, sizeof *a);
+  if (!a) return POM_ERR_NOMEM;
+  pom_status st = pom_cfg_real(cfg, "analytic.speed_m_per_s", 1.0, 1e-6, 1e3, &a->speed, err);
+  if (st == POM_OK)
+    st = pom_cfg_real_opt(cfg, "analytic.dead_time_ms", 1e-3, 0, 1e3, 0.002, &a->dead_time, err);
+  if (st == POM_OK)
+    st =
+        pom_cfg_real_opt(cfg, "analytic.energy_J_per_mm2", 1e6, 0, 1e3, 0.01, &a->energy_coef, err);
+  if (st == POM_OK)
+    st = pom_cfg_real_opt(cfg, "analytic.fail_above_mm", 1e-3, -1e3, 1e3, 1.0, &a->fail_above, err);
+  if (st == POM_OK) st = pom_cfg_check_unknown(cfg, scopes, NULL, err);
+  if (st != POM_OK) {
+    free(a);
+    return st;
+  }
+  memset(eval, 0, sizeof *eval);
+  eval->ctx = a;
+  eval->ctx_destroy = an_destroy;
+  eval->worker_create = an_worker_create;
+  eval->worker_destroy = an_worker_destroy;
+  eval->run = an_run;
+  eval->targets = an_targets;
+  return POM_OK;
+}
+
+/* ---- files ------------------------------------------------------------------------ */
+static char tmpdir[256];
+
+static void write_file(const char *name, const char *text) {
+  char path[512];
+  snprintf(path, sizeof path, "%s/%s", tmpdir, name);
+  FILE *f = fopen(path, "w");
+  if (!f) {
+    printf("cannot write %s\n", path);
+    exit(1);
+  }
+  fputs(text, f);
+  fclose(f);
+}
+
+static pom_status load_study(pom_doe_study *study, const char *name, pom_error *err) {
+  char path[512];
+  snprintf(path, sizeof path, "%s/%s", tmpdir, name);
+  pom_cfg *cfg = NULL;
+  pom_status st = pom_cfg_load(&cfg, path, err);
+  if (st == POM_OK) st = pom_doe_study_load(study, cfg, an_factory, NULL, err);
+  pom_cfg_destroy(cfg);
+  return st;
+}
+
+/* ---- statistics -------------------------------------------------------------------- */
+static void test_stats(void) {
+  /* values chosen by hand; sorted: 0.75 1.25 2.385 3.5 4.125 (n = 5) */
+  const double x[5] = {2.385, 4.125, 0.75, 3.5, 1.25};
+  double s[5];
+  pom_doe_stats st;
+  pom_doe_stats_compute(&st, x, 5, s);
+  double mean = (2.385 + 4.125 + 0.75 + 3.5 + 1.25) / 5;
+  double ss = 0;
+  for (int k = 0; k < 5; ++k)
+    ss += (x[k] - mean) * (x[k] - mean);
+  check_rel(st.mean, mean, 1e-15);
+  check_rel(st.sigma, sqrt(ss / 4), 1e-14);
+  check_abs(st.min, 0.75, 0);
+  check_abs(st.max, 4.125, 0);
+  check_abs(st.median, 2.385, 0);
+  /* type-7 percentiles: h = 4 p; p25 -> h = 1 -> 1.25; p05 -> h = 0.2 ->
+   * 0.75 + 0.2 (1.25 - 0.75) = 0.85; p95 -> h = 3.8 -> 3.5 + 0.8 (0.625) = 4.0 */
+  check_abs(st.p25, 1.25, 1e-15);
+  check_rel(st.p05, 0.85, 1e-14);
+  check_rel(st.p95, 4.0, 1e-14);
+  check_rel(st.p75, 3.5, 1e-15);
+  pom_doe_stats_compute(&st, x, 0, s);
+  check_true(st.n == 0 && isnan(st.mean));
+
+  /* Wilcoxon, exact: 5 positive differences -> W+ = 15, p = 2 / 2^5 */
+  double d[8] = {0.3, 1.1, 2.2, 0.7, 1.9, 0, 0, 0}, scr[16], w = 0;
+  long used = 0;
+  double p = pom_doe_wilcoxon(d, 5, &w, &used, scr);
+  check_abs(w, 15, 0);
+  check_rel(p, 2.0 / 32.0, 1e-15);
+  /* signs + - + + - on ranks of |d| = 1..5: d sorted by |d|: 0.3(+) 0.7(-)
+   * 1.1(+) 1.9(+) 2.2(-) -> W+ = 1 + 3 + 4 = 8 (mean 7.5): p from the exact
+   * counts of subsets of {1..5} with sum <= 7 (= 16 of 32) and >= 8 (16): 1 */
+  const double d2[5] = {0.3, -0.7, 1.1, 1.9, -2.2};
+  p = pom_doe_wilcoxon(d2, 5, &w, &used, scr);
+  check_abs(w, 8, 0);
+  check_abs(p, 1.0, 1e-15);
+  /* zeros are dropped: n_used counts the others */
+  p = pom_doe_wilcoxon(d, 8, &w, &used, scr);
+  check_true(used == 5);
+  /* ties force the normal approximation: d = 1, 1, -1, 2 -> ranks of |d|:
+   * 1,1,1 tie -> 2 each; 2 -> 4. W+ = 2 + 2 + 4 = 8, mean 5, var =
+   * 4*5*9/24 - (27 - 3)/48 = 7.5 - 0.5 = 7; z = 3/sqrt(7) */
+  const double d3[4] = {1, 1, -1, 2};
+  p = pom_doe_wilcoxon(d3, 4, &w, &used, scr);
+  check_abs(w, 8, 0);
+  check_rel(p, erfc(3 / sqrt(7.0) / sqrt(2.0)), 1e-14);
+
+  /* paired: a - b = constant 0.5 plus symmetric noise; t quantile for 9 df
+   * at 0.975 is 2.2621571627409915 (tables) */
+  double a[10], b[10], scratch[30];
+  const double noise[10] = {0.1, -0.1, 0.2, -0.2, 0.05, -0.05, 0.3, -0.3, 0.0, 0.0};
+  for (int k = 0; k < 10; ++k) {
+    b[k] = 1.0 + 0.37 * k;
+    a[k] = b[k] + 0.5 + noise[k];
+  }
+  pom_doe_paired pr;
+  pom_doe_paired_compute(&pr, a, b, 10, 0.95, scratch);
+  double var = 0;
+  for (int k = 0; k < 10; ++k)
+    var += noise[k] * noise[k];
+  double se = sqrt(var / 9 / 10);
+  check_rel(pr.mean_diff, 0.5, 1e-14);
+  check_rel(pr.ci_high - pr.mean_diff, 2.2621571627409915 * se, 1e-9);
+  check_rel(pr.mean_diff - pr.ci_low, 2.2621571627409915 * se, 1e-9);
+  check_abs(pr.win_fraction, 0.0, 0); /* a > b everywhere */
+  /* 10 positive differences, two tied at 0.5 (ranks 5.5): normal
+   * approximation, W+ = 55, mean 27.5, var = 10 11 21 / 24 - (8 - 2) / 48 */
+  check_abs(pr.wilcoxon_w, 55, 0);
+  check_rel(pr.wilcoxon_p, erfc(27.5 / sqrt(96.25 - 0.125) / sqrt(2.0)), 1e-13);
+}
+
+/* ---- maneuvers ------------------------------------------------------------------------ */
+static void test_maneuvers(void) {
+  pom_doe_maneuvers mv;
+  pom_doe_maneuvers_defaults(&mv);
+  check_true(mv.count == 1000);
+  check_abs(mv.range, 3e-3, 0);
+  /* the same (seed, k) gives the same targets, in any order */
+  pom_doe_maneuver a, b;
+  pom_doe_maneuver_draw(&a, &mv, 417);
+  pom_doe_maneuver_draw(&b, &mv, 3);
+  pom_doe_maneuver_draw(&b, &mv, 417);
+  check_true(memcmp(a.q, b.q, sizeof a.q) == 0);
+  pom_doe_maneuver_draw(&b, &mv, 418);
+  check_true(a.q[0] != b.q[0]);
+  /* uniform in [-3, 3] mm: mean within 4 standard errors of 0 (sigma of a
+   * uniform = range / sqrt(3)); extremes inside the range */
+  double sum = 0, lo = 1, hi = -1;
+  const int n = 20000;
+  for (int k = 0; k < n; ++k) {
+    pom_doe_maneuver_draw(&a, &mv, k);
+    for (int i = 0; i < 3; ++i) {
+      sum += a.q[i];
+      lo = fmin(lo, a.q[i]);
+      hi = fmax(hi, a.q[i]);
+    }
+  }
+  check_abs(sum / (3.0 * n), 0, 4 * 3e-3 / sqrt(3.0) / sqrt(3.0 * n));
+  check_true(lo >= -3e-3 && hi < 3e-3 && lo < -2.99e-3 && hi > 2.99e-3);
+  /* truncated normal stays inside the range */
+  mv.distribution = POM_DOE_DIST_NORMAL;
+  mv.sigma = 2.5e-3;
+  double amax = 0;
+  for (int k = 0; k < 2000; ++k) {
+    pom_doe_maneuver_draw(&a, &mv, k);
+    for (int i = 0; i < 3; ++i)
+      amax = fmax(amax, fabs(a.q[i]));
+  }
+  check_true(amax <= 3e-3 && amax > 2.9e-3);
+  /* orientation space: R is a rotation with tilt (angle of R e_z from e_z) <=
+   * tilt_max and the drawn tilt */
+  mv.space = POM_DOE_SPACE_ORIENTATION;
+  mv.tilt_max = 12.5 * POM_DEG;
+  double worst_orth = 0, worst_tilt = 0;
+  for (int k = 0; k < 500; ++k) {
+    pom_doe_maneuver_draw(&a, &mv, k);
+    double RtR[9];
+    pom_m3_tmul(RtR, a.R, a.R);
+    for (int j = 0; j < 9; ++j)
+      worst_orth = fmax(worst_orth, fabs(RtR[j] - (j % 4 == 0)));
+    double tilt = acos(fmin(1.0, a.R[8]));
+    worst_tilt = fmax(worst_tilt, fabs(tilt - a.orient[1]));
+    check_true(a.orient[1] <= mv.tilt_max + 1e-15);
+    check_true(fabs(a.orient[2]) <= mv.torsion_max);
+  }
+  check_abs(worst_orth, 0, 1e-14);
+  check_abs(worst_tilt, 0, 1e-7); /* acos near 1 loses half the digits */
+}
+
+/* ---- study files ---------------------------------------------------------------------- */
+static const char *study_text =
+    "name = \"toy\";\n"
+    "montecarlo = { maneuvers = 37; seed = 4242; range_mm = 3.0; };\n"
+    "study = { threads = 2; override = { analytic = { dead_time_ms = 1.5; }; }; };\n"
+    "candidates = (\n"
+    "  { name = \"fast\"; config = \"fast.cfg\"; },\n"
+    "  { name = \"slow\"; config = \"fast.cfg\";\n"
+    "    override = { analytic = { speed_m_per_s = 0.025; energy_J_per_mm2 = 0.03; }; }; }\n"
+    ");\n";
+
+static void test_study_config(void) {
+  pom_error err;
+  pom_doe_study study;
+  pom_error_clear(&err);
+  pom_status st = load_study(&study, "toy.cfg", &err);
+  check_true(st == POM_OK);
+  if (st != POM_OK) {
+    printf("  %s\n", err.message);
+    return;
+  }
+  check_true(study.n_candidates == 2);
+  check_true(study.maneuvers.count == 37 && study.maneuvers.seed == 4242);
+  check_true(strcmp(study.name, "toy") == 0);
+  check_true(strcmp(study.output, "results/toy.h5") == 0);
+  const analytic *fast = study.candidates[0].eval.ctx, *slow = study.candidates[1].eval.ctx;
+  check_abs(fast->speed, 0.5, 0);
+  check_abs(fast->dead_time, 1.5e-3, 1e-18);  /* study-wide override */
+  check_abs(slow->speed, 0.025, 0);           /* candidate override */
+  check_abs(slow->energy_coef, 0.03e6, 1e-9); /* J/mm^2 -> J/m^2 */
+  check_true(strstr(study.candidates[1].resolved, "speed_m_per_s = 0.025") != NULL);
+  pom_doe_study_clear(&study);
+
+  /* errors stop before any work, naming the key */
+  struct {
+    const char *file, *text, *want;
+  } bad[] = {
+      {"bad1.cfg", "candidates = ( { name = \"a\"; config = \"fast.cfg\"; colour = 1; } );\n",
+       "candidates.[0].colour"},
+      {"bad2.cfg", "candidates = ( { name = \"a\"; config = \"missing.cfg\"; } );\n",
+       "missing.cfg: cannot open"},
+      {"bad3.cfg",
+       "candidates = ( { name = \"a\"; config = \"fast.cfg\"; },\n"
+       "               { name = \"a\"; config = \"fast.cfg\"; } );\n",
+       "used twice"},
+      {"bad4.cfg",
+       "candidates = ( { name = \"a\"; config = \"fast.cfg\";\n"
+       "  override = { analytic = { sped_m_per_s = 1.0; }; }; } );\n",
+       "analytic.sped_m_per_s"},
+      {"bad5.cfg",
+       "montecarlo = { maneuvers = 0; };\n"
+       "candidates = ( { name = \"a\"; config = \"fast.cfg\"; } );\n",
+       "montecarlo.maneuvers"},
+      {"bad6.cfg", "montecarlo = { maneuvers = 5; };\n", "candidates"},
+      {"bad7.cfg",
+       "candidates = ( { name = \"a\"; config = \"fast.cfg\"; } );\nstudy = { rank_by = \"x\"; "
+       "};\n",
+       "study.rank_by"},
+  };
+  for (size_t j = 0; j < sizeof bad / sizeof bad[0]; ++j) {
+    write_file(bad[j].file, bad[j].text);
+    pom_error_clear(&err);
+    st = load_study(&study, bad[j].file, &err);
+    check_true(st == POM_ERR_CONFIG || st == POM_ERR_IO);
+    if (!check_true(strstr(err.message, bad[j].want) != NULL))
+      printf("  %s: message '%s' lacks '%s'\n", bad[j].file, err.message, bad[j].want);
+    if (st == POM_OK) pom_doe_study_clear(&study);
+  }
+}
+
+static void test_sweep(void) {
+  write_file(
+      "sweep.cfg",
+      "montecarlo = { maneuvers = 4; };\n"
+      "candidates = { sweep = \"grid\";\n"
+      "  base = ( { name = \"A\"; config = \"fast.cfg\"; } );\n"
+      "  factors = ( { key = \"analytic.speed_m_per_s\"; min = 0.2; max = 0.6; levels = 3; },\n"
+      "              { key = \"analytic.dead_time_ms\"; min = 1.0; max = 4.0; levels = 2; } );\n"
+      "};\n");
+  pom_error err;
+  pom_doe_study study;
+  pom_error_clear(&err);
+  pom_status st = load_study(&study, "sweep.cfg", &err);
+  if (!check_true(st == POM_OK)) {
+    printf("  %s\n", err.message);
+    return;
+  }
+  check_true(study.n_candidates == 6);
+  /* last factor fastest: candidate 3 = speed level 1 (0.4), dead time level 1 (4 ms) */
+  const analytic *a = study.candidates[3].eval.ctx;
+  check_rel(a->speed, 0.4, 1e-15);
+  check_rel(a->dead_time, 4e-3, 1e-15);
+  pom_doe_study_clear(&study);
+
+  write_file("lhs.cfg",
+             "montecarlo = { maneuvers = 4; };\n"
+             "candidates = { sweep = \"lhs\"; points = 8; seed = 11;\n"
+             "  base = ( { name = \"A\"; config = \"fast.cfg\"; } );\n"
+             "  factors = ( { key = \"analytic.speed_m_per_s\"; min = 0.1; max = 0.9; } );\n"
+             "};\n");
+  st = load_study(&study, "lhs.cfg", &err);
+  if (!check_true(st == POM_OK)) {
+    printf("  %s\n", err.message);
+    return;
+  }
+  /* Latin hypercube: exactly one point per stratum of width 0.1 */
+  int strata[8] = {0};
+  for (int c = 0; c < study.n_candidates; ++c) {
+    const analytic *x = study.candidates[c].eval.ctx;
+    int s = (int)floor((x->speed - 0.1) / 0.1);
+    if (s >= 0 && s < 8) ++strata[s];
+  }
+  for (int s = 0; s < 8; ++s)
+    check_true(strata[s] == 1);
+  pom_doe_study_clear(&study);
+}
+
+/* ---- runs ----------------------------------------------------------------------------- */
+static pom_doe_row *read_all(const char *path, int nc, long m) {
+  pom_doe_row *rows = calloc((size_t)(nc * m), sizeof *rows);
+  pom_error err;
+  for (int c = 0; c < nc; ++c)
+    if (pom_doe_results_read_rows(path, c, 0, m, rows + (size_t)c * (size_t)m, &err) != POM_OK) {
+      printf("  read %s: %s\n", path, err.message);
+      free(rows);
+      return NULL;
+    }
+  return rows;
+}
+
+static void test_runs(void) {
+  pom_error err;
+  pom_doe_study study;
+  pom_error_clear(&err);
+  if (!check_true(load_study(&study, "toy.cfg", &err) == POM_OK)) {
+    printf("  %s\n", err.message);
+    return;
+  }
+  /* a failure on every maneuver with q0 > 2 mm of the "slow" candidate */
+  ((analytic *)study.candidates[1].eval.ctx)->fail_above = 2e-3;
+  const long m = study.maneuvers.count;
+  char p1[512], p2[512], p3[512];
+  snprintf(p1, sizeof p1, "%s/one.h5", tmpdir);
+  snprintf(p2, sizeof p2, "%s/two.h5", tmpdir);
+  snprintf(p3, sizeof p3, "%s/resumed.h5", tmpdir);
+  pom_doe_run_options o;
+  pom_doe_report *r1 = NULL, *r2 = NULL, *r3 = NULL;
+
+  pom_doe_run_options_defaults(&o);
+  o.threads = 1;
+  o.output = p1;
+  worker_count = 0;
+  check_true(pom_doe_run_all(&study, &o, &r1, &err) == POM_OK);
+  check_true(worker_count == 2); /* one state per candidate for the single worker */
+
+  o.threads = 3;
+  o.queue_capacity = 2; /* workers wait on a full queue */
+  o.output = p2;
+  worker_count = 0;
+  check_true(pom_doe_run_all(&study, &o, &r2, &err) == POM_OK);
+  check_true(worker_count == 6);
+
+  /* interrupted after 9 units, then resumed */
+  pom_doe_run *run = NULL;
+  o.threads = 2;
+  o.output = p3;
+  o.stop_after = 9;
+  check_true(pom_doe_run_begin(&run, &study, &o, &err) == POM_OK);
+  int finished = 0;
+  while (!finished)
+    check_true(pom_doe_run_step(run, &finished, &err) == POM_OK);
+  long done_first = pom_doe_run_done(run);
+  check_true(done_first >= 9 && done_first < 2 * m);
+  pom_doe_report *partial = NULL;
+  check_true(pom_doe_run_end(run, &partial, &err) == POM_OK);
+  pom_doe_run_destroy(run);
+  check_true(partial && partial->cand[0].n_done + partial->cand[1].n_done == done_first);
+  pom_doe_report_destroy(partial);
+  pom_doe_row *part = read_all(p3, 2, m);
+  long stored = 0;
+  for (long j = 0; part && j < 2 * m; ++j)
+    stored += part[j].done;
+  check_true(stored == done_first); /* every finished maneuver kept */
+  free(part);
+
+  o.stop_after = 0;
+  o.resume = 1;
+  run = NULL;
+  check_true(pom_doe_run_begin(&run, &study, &o, &err) == POM_OK);
+  check_true(pom_doe_run_start_done(run) == done_first);
+  finished = 0;
+  while (!finished)
+    check_true(pom_doe_run_step(run, &finished, &err) == POM_OK);
+  check_true(pom_doe_run_done(run) == 2 * m);
+  check_true(pom_doe_run_end(run, &r3, &err) == POM_OK);
+  pom_doe_run_destroy(run);
+
+  pom_doe_row *a = read_all(p1, 2, m), *b = read_all(p2, 2, m), *c = read_all(p3, 2, m);
+  if (a && b && c) {
+    check_true(memcmp(a, b, (size_t)(2 * m) * sizeof *a) == 0);
+    check_true(memcmp(a, c, (size_t)(2 * m) * sizeof *a) == 0);
+    /* rows against the evaluator itself */
+    long failed = 0, unsettled = 0;
+    double esum = 0;
+    long nok = 0;
+    for (long k = 0; k < m; ++k) {
+      pom_doe_maneuver mv;
+      pom_doe_maneuver_draw(&mv, &study.maneuvers, k);
+      const pom_doe_row *f = &a[k], *s = &a[m + k];
+      check_true(f->done && s->done);
+      check_true(memcmp(f->target, mv.q, sizeof mv.q) == 0); /* common random numbers */
+      check_true(memcmp(s->target, mv.q, sizeof mv.q) == 0);
+      double tmax = 0;
+      for (int i = 0; i < 3; ++i)
+        tmax = fmax(tmax, 1.5e-3 + fabs(mv.q[i]) / 0.5);
+      check_rel(f->execution_time, tmax, 1e-15);
+      if (mv.q[0] > 2e-3) {
+        ++failed;
+        check_true(s->status == POM_ERR_SOLVER && strstr(s->reason, "injected") != NULL);
+        check_true(isnan(s->execution_time));
+      } else {
+        check_true(s->status == POM_OK);
+        esum += s->energy_total;
+        ++nok;
+        if (!(s->settled[0] && s->settled[1] && s->settled[2])) ++unsettled;
+      }
+    }
+    check_true(failed > 0 && unsettled > 0);
+    check_true(r1->cand[1].n_failed == failed);
+    check_true(r1->cand[1].n_unsettled == unsettled);
+    check_true(r1->cand[1].energy.n == nok);
+    check_rel(r1->cand[1].energy.mean, esum / (double)nok, 1e-14);
+    /* the fast candidate wins every comparison it can */
+    check_true(r1->rank_time[0] == 0 && r1->rank_energy[0] == 0);
+    check_true(r1->cmp[0].metric == POM_DOE_METRIC_TIME && r1->cmp[0].test.win_fraction == 1.0);
+    check_true(r1->cmp[0].test.mean_diff < 0 && r1->cmp[0].test.ci_high < 0);
+    /* reports identical whatever the threads or interruptions */
+    check_true(memcmp(r1->cand, r2->cand, 2 * sizeof *r1->cand) == 0);
+    check_true(memcmp(r1->cand, r3->cand, 2 * sizeof *r1->cand) == 0);
+    check_true(memcmp(r1->cmp, r3->cmp, (size_t)r1->n_comparisons * sizeof *r1->cmp) == 0);
+  }
+  free(a);
+  free(b);
+  free(c);
+  pom_doe_report_destroy(r1);
+  pom_doe_report_destroy(r2);
+  pom_doe_report_destroy(r3);
+
+  /* resuming a file of another study is refused */
+  study.maneuvers.seed = 4243;
+  o.resume = 1;
+  pom_error_clear(&err);
+  check_true(pom_doe_run_all(&study, &o, NULL, &err) == POM_ERR_ARG);
+  check_true(strstr(err.message, "another study") != NULL);
+  study.maneuvers.seed = 4242;
+
+  /* orientation space: targets from the evaluator's mapping */
+  study.maneuvers.space = POM_DOE_SPACE_ORIENTATION;
+  o.resume = 0;
+  o.output = "";
+  pom_doe_report *r4 = NULL;
+  check_true(pom_doe_run_all(&study, &o, &r4, &err) == POM_OK);
+  check_true(r4 && r4->cand[0].n_done == m);
+  pom_doe_report_destroy(r4);
+  pom_doe_study_clear(&study);
+}
+
+int main(void) {
+  snprintf(tmpdir, sizeof tmpdir, "/tmp/pom_test_doe_XXXXXX");
+  if (!mkdtemp(tmpdir)) {
+    printf("cannot make a temporary folder\n");
+    return 1;
+  }
+  write_file("fast.cfg", "analytic = { speed_m_per_s = 0.5; energy_J_per_mm2 = 0.01; };\n");
+  write_file("toy.cfg", study_text);
+  test_stats();
+  test_maneuvers();
+  test_study_config();
+  test_sweep();
+  test_runs();
+  return check_summary("test_doe");
+}
