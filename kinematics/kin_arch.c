@@ -130,6 +130,22 @@ pom_status pom_kin_arch_finish(pom_kin_arch *arch, pom_error *err) {
 }
 
 /* ---- config --------------------------------------------------------------- */
+pom_status pom_kin_require_known_key(const pom_cfg *cfg, const char *group,
+                                     const char *const known[], pom_error *err) {
+  if (!pom_cfg_has(cfg, group)) return POM_OK;
+  char key[256], list[512] = "";
+  size_t used = 0;
+  for (int k = 0; known[k]; ++k) {
+    snprintf(key, sizeof key, "%s.%s", group, known[k]);
+    if (pom_cfg_has(cfg, key)) return POM_OK;
+    int w = snprintf(list + used, sizeof list - used, "%s%s", k ? ", " : "", known[k]);
+    if (w > 0 && (size_t)w < sizeof list - used) used += (size_t)w;
+  }
+  return pom_cfg_error(cfg, group, NULL, err,
+                       "holds no known key (unknown or misspelt keys?); expected some of: %s",
+                       list);
+}
+
 static pom_status load_design(pom_kin_design *d, pom_arch_type type, const pom_cfg *cfg,
                               pom_error *err) {
   memset(d, 0, sizeof *d);
@@ -213,6 +229,9 @@ pom_status pom_kin_arch_load(pom_kin_arch *arch, const pom_cfg *cfg, pom_error *
   snprintf(arch->name, sizeof arch->name, "%s", name);
 
   /* limits (group optional, every key optional) */
+  static const char *const limit_keys[] = {"stroke_mm", "cone_base_max_deg",
+                                           "cone_platform_max_deg", "min_limb_distance_mm", NULL};
+  POM_TRY(pom_kin_require_known_key(cfg, "limits", limit_keys, err));
   POM_TRY(pom_cfg_real_opt(cfg, "limits.stroke_mm", 1e-3, 0.01, 1000.0, 0.012, &arch->stroke, err));
   POM_TRY(pom_cfg_real_opt(cfg, "limits.cone_base_max_deg", POM_DEG, 0.0, 180.0,
                            arch->cone_base_max, &arch->cone_base_max, err));

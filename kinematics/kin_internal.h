@@ -20,4 +20,11 @@ void pom_kin_limb_segments(const pom_kin_arch *arch, const double R[9], const do
 double pom_kin_segment_distance(const double p0[3], const double p1[3], const double q0[3],
                                 const double q1[3]);
 
+/* For a group whose keys are all optional: when the group is present but
+ * holds none of `known` (NULL-terminated key names), fails with a message
+ * that names the group and lists the known keys (the generic unknown-key
+ * check could only name the group itself). */
+pom_status pom_kin_require_known_key(const pom_cfg *cfg, const char *group,
+                                     const char *const known[], pom_error *err);
+
 #endif

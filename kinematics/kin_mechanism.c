@@ -90,11 +90,11 @@ static void limb_axes(double Q[9], const double a[3], const double er[3], const 
 /* inertia = Q diag(m) Q^T */
 static void rotate_inertia(double I[9], const double Q[9], const double m[3]) {
   for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) {
+    for (int c = r; c < 3; ++c) {
       double s = 0.0;
       for (int k = 0; k < 3; ++k)
         s += Q[3 * r + k] * m[k] * Q[3 * c + k];
-      I[3 * r + c] = s;
+      I[3 * r + c] = I[3 * c + r] = s; /* exactly symmetric */
     }
 }
 

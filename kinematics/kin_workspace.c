@@ -16,10 +16,15 @@ void pom_kin_ws_defaults(pom_kin_ws_opts *o) {
   o->check_limits = 1;
   o->gci_half_width = 0.0;
   o->map_half_width = 20.0 * POM_DEG;
+  o->map_resolution = 2.0 * POM_DEG;
 }
 
 pom_status pom_kin_ws_load(pom_kin_ws_opts *o, const pom_cfg *cfg, pom_error *err) {
+  static const char *const keys[] = {
+      "dexterity_min",      "resolution_deg",     "max_half_width_deg", "check_limits",
+      "gci_half_width_deg", "map_half_width_deg", "map_resolution_deg", NULL};
   pom_kin_ws_defaults(o);
+  POM_TRY(pom_kin_require_known_key(cfg, "workspace", keys, err));
   POM_TRY(pom_cfg_real_opt(cfg, "workspace.dexterity_min", 1.0, 0.0, 1.0, o->dexterity_min,
                            &o->dexterity_min, err));
   POM_TRY(pom_cfg_real_opt(cfg, "workspace.resolution_deg", POM_DEG, 0.01, 10.0, o->resolution,
@@ -32,6 +37,8 @@ pom_status pom_kin_ws_load(pom_kin_ws_opts *o, const pom_cfg *cfg, pom_error *er
                            o->gci_half_width, &o->gci_half_width, err));
   POM_TRY(pom_cfg_real_opt(cfg, "workspace.map_half_width_deg", POM_DEG, 0.0, 85.0,
                            o->map_half_width, &o->map_half_width, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "workspace.map_resolution_deg", POM_DEG, 0.01, 10.0,
+                           o->map_resolution, &o->map_resolution, err));
   return POM_OK;
 }
 

@@ -206,6 +206,7 @@ typedef struct {
   int check_limits;      /* 1: stroke, cones and clearance count; default 1 */
   double gci_half_width; /* GCI region: Euler cube half-width (rad); 0 = the RDW; default 0 */
   double map_half_width; /* half-width of the CSV dexterity map (rad); default 20 deg */
+  double map_resolution; /* grid step of the CSV dexterity map (rad); default 2 deg */
 } pom_kin_ws_opts;
 
 void pom_kin_ws_defaults(pom_kin_ws_opts *opts);

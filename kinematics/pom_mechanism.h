@@ -32,13 +32,13 @@ typedef struct {
   char name[POM_MECH_NAME_LEN]; /* e.g. "O", "B1", "P2" */
   pom_joint_type type;
   int body[2]; /* the two bodies (indices into body[]); body[0] is the "outer" side, e.g. ground */
-  double point[3]; /* joint centre at home, fixed frame (m); for a prismatic joint a point on its
-                      axis */
-  double axis[3];  /* unit, fixed frame at home: prismatic sliding axis (positive = actuator
-                      extension, direction body[0] -> body[1]); revolute hinge axis; universal:
-                      axis fixed in body[0]; unused for spherical */
-  double
-      axis2[3]; /* universal: second axis, fixed in body[1], perpendicular to axis; else unused */
+  /* joint centre at home, fixed frame (m); for a prismatic joint a point on its axis */
+  double point[3];
+  double axis[3]; /* unit, fixed frame at home: prismatic sliding axis (positive = actuator
+                     extension, direction body[0] -> body[1]); revolute hinge axis; universal:
+                     axis fixed in body[0]; unused for spherical */
+  /* universal: second axis, fixed in body[1], perpendicular to axis; else unused */
+  double axis2[3];
   int actuator; /* index into actuator[] driving this (prismatic) joint, -1 if passive */
 } pom_mech_joint;
 

@@ -1,0 +1,40 @@
+/* cli_kin.h - helpers shared by the kinematics subcommands (model, ik, fk,
+ * workspace): argument scanning, loading an architecture with unknown-key
+ * checks, and small JSON writers. */
+#ifndef POM_CLI_KIN_H
+#define POM_CLI_KIN_H
+
+#include "pom_config.h"
+#include "pom_kinematics.h"
+
+#include <stdio.h>
+
+/* Top-level groups read by ik and fk (unknown-key scopes). */
+extern const char *const pom_cli_kin_scopes[];
+
+/* Loads the config at path and its architecture; reports errors on stderr.
+ * When ws is not NULL the `workspace` group is read too. When check_scopes is
+ * not NULL, unknown keys in those groups are rejected (and unknown top-level
+ * names always). Returns the exit code (0 ok, 2 config error); on success
+ * *cfg_out is owned by the caller. */
+int pom_cli_kin_load(const char *path, pom_cfg **cfg_out, pom_kin_arch *arch, pom_kin_ws_opts *ws,
+                     const char *const check_scopes[]);
+
+/* Rejects unknown keys in scopes (and unknown top-level names); returns 0 or
+ * prints the error and returns 2. */
+int pom_cli_kin_check_unknown(const pom_cfg *cfg, const char *const scopes[]);
+
+/* JSON: a string with escapes, a number (null when not finite), arrays. */
+void pom_json_string(FILE *out, const char *s);
+void pom_json_number(FILE *out, double v);
+void pom_json_vec(FILE *out, const double *v, int n, double scale);
+void pom_json_mat3(FILE *out, const double M[9], double scale);
+
+/* Prints limb-wise limit details (human form) of an evaluated pose. */
+void pom_cli_kin_print_limits(FILE *out, const pom_kin_arch *arch, const pom_kin_pose *p);
+
+/* Writes the limit/pose fields of p as JSON members (no braces, leading
+ * comma-free; caller adds separators). */
+void pom_cli_kin_pose_json(FILE *out, const pom_kin_arch *arch, const pom_kin_pose *p);
+
+#endif

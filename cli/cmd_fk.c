@@ -1,0 +1,131 @@
+/* cmd_fk.c - pomlab fk: forward kinematics of three actuator displacements. */
+#include "cli_kin.h"
+#include "pom_cli.h"
+#include "pom_math.h"
+
+#include <stdio.h>
+#include <string.h>
+
+static void fk_usage(FILE *out) {
+  fprintf(out, "usage: pomlab fk CONFIG --q Q1,Q2,Q3 [--json]\n\n"
+               "Forward kinematics: the platform orientation on the home assembly branch for\n"
+               "actuator displacements Q1,Q2,Q3 in MILLIMETRES from mid-stroke (positive =\n"
+               "extension). Newton with the analytic Jacobian from home, continued along\n"
+               "q(t) = t q when direct Newton fails. Prints the rotation matrix, the ZYX Euler\n"
+               "angles (degrees) and the unit quaternion (w, x, y, z), the iterations, the\n"
+               "residual max|q(R) - q| (m), the dexterity and the limits at that pose.\n\n"
+               "  --q Q1,Q2,Q3  actuator displacements in mm (required)\n"
+               "  --json        machine-readable output on stdout\n"
+               "  --help        this text\n\n"
+               "Reads the config groups name, architecture, geometry, limits.\n"
+               "Exit status: 0 solved and within limits; 1 no solution, or a limit violated at\n"
+               "the solution (the report is still printed); 2 usage or config error.\n");
+}
+
+int pom_cmd_fk(int argc, char **argv) {
+  const char *path = NULL, *qtext = NULL;
+  int json = 0;
+  for (int k = 1; k < argc; ++k) {
+    if (strcmp(argv[k], "--help") == 0 || strcmp(argv[k], "-h") == 0) {
+      fk_usage(stdout);
+      return 0;
+    } else if (strcmp(argv[k], "--json") == 0) {
+      json = 1;
+    } else if (strcmp(argv[k], "--q") == 0 && k + 1 < argc) {
+      qtext = argv[++k];
+    } else if (strncmp(argv[k], "--q=", 4) == 0) {
+      qtext = argv[k] + 4;
+    } else if (argv[k][0] == '-' && argv[k][1] != '\0') {
+      fprintf(stderr, "pomlab fk: unknown or incomplete option '%s'\n", argv[k]);
+      fk_usage(stderr);
+      return 2;
+    } else if (!path) {
+      path = argv[k];
+    } else {
+      fprintf(stderr, "pomlab fk: unexpected argument '%s'\n", argv[k]);
+      return 2;
+    }
+  }
+  if (!path || !qtext) {
+    fprintf(stderr, "pomlab fk: %s\n", !path ? "missing CONFIG" : "missing --q Q1,Q2,Q3");
+    fk_usage(stderr);
+    return 2;
+  }
+  double q_mm[3];
+  if (pom_cli_parse_list(qtext, 3, q_mm) != 0) {
+    fprintf(stderr, "pomlab fk: --q '%s': expected three numbers Q1,Q2,Q3 in mm\n", qtext);
+    return 2;
+  }
+  pom_cfg *cfg = NULL;
+  pom_kin_arch arch;
+  int rc = pom_cli_kin_load(path, &cfg, &arch, NULL, pom_cli_kin_scopes);
+  if (rc) return rc;
+
+  double q[3] = {q_mm[0] * 1e-3, q_mm[1] * 1e-3, q_mm[2] * 1e-3}, R[9];
+  pom_kin_fk_info info = {0, 0, 0.0};
+  pom_error err;
+  pom_error_clear(&err);
+  pom_status st = pom_kin_forward(&arch, q, NULL, NULL, R, &info, &err);
+  if (st != POM_OK) {
+    if (json) {
+      printf("{\n  \"config\": ");
+      pom_json_string(stdout, path);
+      printf(",\n  \"q_mm\": ");
+      pom_json_vec(stdout, q_mm, 3, 1.0);
+      printf(",\n  \"solved\": false,\n  \"iterations\": %d,\n  \"message\": ", info.iterations);
+      pom_json_string(stdout, err.message);
+      printf("\n}\n");
+    }
+    pom_cli_report("fk", &err);
+    pom_cfg_destroy(cfg);
+    return 1;
+  }
+  double e[3], quat[4];
+  pom_status est = pom_euler_zyx_from_matrix(e, R);
+  pom_quat_from_matrix(quat, R);
+  pom_kin_pose p;
+  pom_error lerr;
+  pom_error_clear(&lerr);
+  pom_status lst = pom_kin_pose_evaluate(&arch, R, &p, &lerr);
+
+  if (json) {
+    printf("{\n  \"config\": ");
+    pom_json_string(stdout, path);
+    printf(",\n  \"name\": ");
+    pom_json_string(stdout, arch.name);
+    printf(",\n  \"architecture\": \"%s\",\n  \"q_mm\": ", pom_kin_arch_name(arch.type));
+    pom_json_vec(stdout, q_mm, 3, 1.0);
+    printf(",\n  \"solved\": true,\n  \"rotation\": ");
+    pom_json_mat3(stdout, R, 1.0);
+    printf(",\n  \"euler_zyx_deg\": ");
+    pom_json_vec(stdout, e, 3, 1.0 / POM_DEG);
+    printf(",\n  \"euler_singular\": %s,\n  \"quaternion_wxyz\": ",
+           est == POM_OK ? "false" : "true");
+    pom_json_vec(stdout, quat, 4, 1.0);
+    printf(",\n  \"iterations\": %d,\n  \"continuation_steps\": %d,\n  \"residual_m\": ",
+           info.iterations, info.continuation_steps);
+    pom_json_number(stdout, info.residual);
+    printf(",\n  ");
+    pom_cli_kin_pose_json(stdout, &arch, &p);
+    printf("\n}\n");
+  } else {
+    printf("%s (%s), config %s\n", arch.name, pom_kin_arch_name(arch.type), path);
+    printf("q (mm): %g %g %g\n", q_mm[0], q_mm[1], q_mm[2]);
+    printf("rotation R (platform -> fixed frame):\n");
+    for (int i = 0; i < 3; ++i)
+      printf("  [%12.9f %12.9f %12.9f]\n", R[3 * i], R[3 * i + 1], R[3 * i + 2]);
+    printf("ZYX Euler (deg): psi = %.6f, theta = %.6f, phi = %.6f%s\n", e[0] / POM_DEG,
+           e[1] / POM_DEG, e[2] / POM_DEG,
+           est == POM_OK ? "" : "  (gimbal lock: only psi -+ phi is defined)");
+    printf("quaternion (w, x, y, z): %.12f %.12f %.12f %.12f\n", quat[0], quat[1], quat[2],
+           quat[3]);
+    printf("Newton: %d iterations, %d continuation steps%s, residual %.3e m\n", info.iterations,
+           info.continuation_steps, info.continuation_steps ? "" : " (direct)", info.residual);
+    printf("dexterity 1/kappa: %.6f (kappa %.6f)\n", p.dexterity, p.kappa);
+    pom_cli_kin_print_limits(stdout, &arch, &p);
+    printf("limit check: %s%s\n", lst == POM_OK ? "ok" : "FAILED - ",
+           lst == POM_OK ? "" : lerr.message);
+  }
+  pom_cfg_destroy(cfg);
+  return lst == POM_OK ? 0 : 1;
+}

@@ -1,0 +1,116 @@
+/* cmd_ik.c - pomlab ik: inverse kinematics, Jacobian, dexterity and limits of
+ * one orientation. */
+#include "cli_kin.h"
+#include "pom_cli.h"
+#include "pom_math.h"
+
+#include <stdio.h>
+#include <string.h>
+
+static void ik_usage(FILE *out) {
+  fprintf(out, "usage: pomlab ik CONFIG --euler-zyx PSI,THETA,PHI [--json]\n\n"
+               "Inverse kinematics of the platform orientation R = Rz(PSI) Ry(THETA) Rx(PHI),\n"
+               "ZYX Euler angles in DEGREES (yaw, pitch, roll), on the home assembly branch.\n"
+               "Prints the actuator displacements q from mid-stroke (mm and m), the Jacobian J\n"
+               "(q_dot = J omega, omega in the fixed frame, m/rad), its singular values, the\n"
+               "condition number kappa, the dexterity 1/kappa, reachability and every limit\n"
+               "(stroke, joint cones, limb distance) with the ones that fail.\n\n"
+               "  --euler-zyx P,T,R  orientation in degrees (required)\n"
+               "  --json             machine-readable output on stdout\n"
+               "  --help             this text\n\n"
+               "Reads the config groups name, architecture, geometry, limits.\n"
+               "Exit status: 0 reachable and within limits; 1 unreachable or a limit violated\n"
+               "(the report is still printed); 2 usage or config error.\n");
+}
+
+int pom_cmd_ik(int argc, char **argv) {
+  const char *path = NULL, *angles = NULL;
+  int json = 0;
+  for (int k = 1; k < argc; ++k) {
+    if (strcmp(argv[k], "--help") == 0 || strcmp(argv[k], "-h") == 0) {
+      ik_usage(stdout);
+      return 0;
+    } else if (strcmp(argv[k], "--json") == 0) {
+      json = 1;
+    } else if (strcmp(argv[k], "--euler-zyx") == 0 && k + 1 < argc) {
+      angles = argv[++k];
+    } else if (strncmp(argv[k], "--euler-zyx=", 12) == 0) {
+      angles = argv[k] + 12;
+    } else if (argv[k][0] == '-' && argv[k][1] != '\0' &&
+               !(argv[k][1] >= '0' && argv[k][1] <= '9')) {
+      fprintf(stderr, "pomlab ik: unknown or incomplete option '%s'\n", argv[k]);
+      ik_usage(stderr);
+      return 2;
+    } else if (!path) {
+      path = argv[k];
+    } else {
+      fprintf(stderr, "pomlab ik: unexpected argument '%s'\n", argv[k]);
+      return 2;
+    }
+  }
+  if (!path || !angles) {
+    fprintf(stderr, "pomlab ik: %s\n",
+            !path ? "missing CONFIG" : "missing --euler-zyx PSI,THETA,PHI");
+    ik_usage(stderr);
+    return 2;
+  }
+  double e_deg[3];
+  if (pom_cli_parse_list(angles, 3, e_deg) != 0) {
+    fprintf(stderr,
+            "pomlab ik: --euler-zyx '%s': expected three numbers PSI,THETA,PHI in degrees\n",
+            angles);
+    return 2;
+  }
+  if (fabs(e_deg[1]) >= 90.0) {
+    fprintf(stderr, "pomlab ik: --euler-zyx: pitch THETA = %g deg must lie in (-90, 90)\n",
+            e_deg[1]);
+    return 2;
+  }
+  pom_cfg *cfg = NULL;
+  pom_kin_arch arch;
+  int rc = pom_cli_kin_load(path, &cfg, &arch, NULL, pom_cli_kin_scopes);
+  if (rc) return rc;
+
+  double e[3] = {e_deg[0] * POM_DEG, e_deg[1] * POM_DEG, e_deg[2] * POM_DEG}, R[9];
+  pom_euler_zyx_to_matrix(R, e);
+  pom_kin_pose p;
+  pom_error err;
+  pom_error_clear(&err);
+  pom_status st = pom_kin_pose_evaluate(&arch, R, &p, &err);
+
+  if (json) {
+    printf("{\n  \"config\": ");
+    pom_json_string(stdout, path);
+    printf(",\n  \"name\": ");
+    pom_json_string(stdout, arch.name);
+    printf(",\n  \"architecture\": \"%s\",\n  \"euler_zyx_deg\": ", pom_kin_arch_name(arch.type));
+    pom_json_vec(stdout, e_deg, 3, 1.0);
+    printf(",\n  ");
+    pom_cli_kin_pose_json(stdout, &arch, &p);
+    printf(",\n  \"message\": ");
+    pom_json_string(stdout, st == POM_OK ? "" : err.message);
+    printf("\n}\n");
+  } else {
+    printf("%s (%s), config %s\n", arch.name, pom_kin_arch_name(arch.type), path);
+    printf("orientation: ZYX Euler psi = %g deg, theta = %g deg, phi = %g deg\n", e_deg[0],
+           e_deg[1], e_deg[2]);
+    if (!p.reachable) {
+      printf("reachable: NO - %s\n", err.message);
+    } else {
+      printf("reachable: yes\n");
+      printf("q (mm):  %12.6f %12.6f %12.6f\n", p.q[0] * 1e3, p.q[1] * 1e3, p.q[2] * 1e3);
+      printf("q (m):   %12.6e %12.6e %12.6e\n", p.q[0], p.q[1], p.q[2]);
+      printf("J (m/rad), q_dot = J omega (omega in the fixed frame):\n");
+      for (int i = 0; i < 3; ++i)
+        printf("  [%12.6e %12.6e %12.6e]\n", p.J[3 * i], p.J[3 * i + 1], p.J[3 * i + 2]);
+      printf("singular values (mm/rad): %.6f %.6f %.6f\n", p.sv[0] * 1e3, p.sv[1] * 1e3,
+             p.sv[2] * 1e3);
+      printf("condition number kappa: %.6f   dexterity 1/kappa: %.6f\n", p.kappa, p.dexterity);
+      pom_cli_kin_print_limits(stdout, &arch, &p);
+      if (st == POM_ERR_LIMIT) printf("limit check: FAILED - %s\n", err.message);
+      if (st == POM_OK) printf("limit check: ok\n");
+    }
+  }
+  pom_cfg_destroy(cfg);
+  return st == POM_OK ? 0 : 1;
+}

@@ -1,0 +1,200 @@
+/* cmd_workspace.c - pomlab workspace: regular dexterous workspace, global
+ * conditioning index and an optional dexterity map (CSV). */
+#include "cli_kin.h"
+#include "pom_cli.h"
+#include "pom_math.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static const char *const ws_scopes[] = {"name",   "architecture", "geometry",
+                                        "limits", "workspace",    NULL};
+
+static void ws_usage(FILE *out) {
+  fprintf(out,
+          "usage: pomlab workspace CONFIG [--json] [--map FILE.csv]\n\n"
+          "Regular dexterous workspace (RDW): the largest cube [-a, a]^3 of ZYX Euler\n"
+          "angles (psi, theta, phi) about home whose grid poses (step workspace.resolution_deg)\n"
+          "are all assemblable on the home branch, within the limits (when\n"
+          "workspace.check_limits) and have dexterity 1/kappa >= workspace.dexterity_min\n"
+          "(docs/kinematics.md section 6). Also the minimum dexterity inside it and the\n"
+          "global conditioning index (mean 1/kappa, measure cos(theta) dpsi dtheta dphi)\n"
+          "over the cube of half-width workspace.gci_half_width_deg (0 = the RDW).\n\n"
+          "  --map FILE.csv  write the dexterity map over the cube of half-width\n"
+          "                  workspace.map_half_width_deg, step workspace.map_resolution_deg:\n"
+          "                  psi_deg,theta_deg,phi_deg,reachable,within_limits,dexterity,\n"
+          "                  q1_mm,q2_mm,q3_mm,violations\n"
+          "  --json          machine-readable output on stdout\n"
+          "  --help          this text\n\n"
+          "Reads the config groups name, architecture, geometry, limits, workspace.\n"
+          "Exit status: 0 ok; 1 home pose fails or the map cannot be written; 2 usage or\n"
+          "config error.\n");
+}
+
+static const char *reason_text(const pom_kin_ws_result *r, const pom_kin_ws_opts *o, char *buf,
+                               size_t cap) {
+  if (r->capped) {
+    snprintf(buf, cap, "none: the search stopped at max_half_width_deg = %g",
+             o->max_half_width / POM_DEG);
+  } else if (r->fail_status == POM_ERR_UNREACHABLE) {
+    snprintf(buf, cap, "not assemblable");
+  } else if (r->fail_status == POM_ERR_LIMIT) {
+    char v[400];
+    pom_kin_violations_text(r->fail_violations, v, sizeof v);
+    snprintf(buf, cap, "limit: %s", v);
+  } else {
+    snprintf(buf, cap, "dexterity %.4f < %.4g", r->fail_dexterity, o->dexterity_min);
+  }
+  return buf;
+}
+
+static int write_map(const char *file, const pom_kin_arch *arch, const pom_kin_ws_opts *o) {
+  FILE *fp = fopen(file, "w");
+  if (!fp) {
+    fprintf(stderr, "pomlab workspace: --map %s: cannot open for writing (%s)\n", file,
+            strerror(errno));
+    return 1;
+  }
+  fprintf(fp, "psi_deg,theta_deg,phi_deg,reachable,within_limits,dexterity,q1_mm,q2_mm,q3_mm,"
+              "violations\n");
+  const double h = o->map_resolution;
+  const int n = (int)floor(o->map_half_width / h + 1e-9); /* + 1e-9: whole steps survive rounding */
+  for (int i = -n; i <= n; ++i)
+    for (int j = -n; j <= n; ++j)
+      for (int l = -n; l <= n; ++l) {
+        double e[3] = {i * h, j * h, l * h}, R[9];
+        pom_euler_zyx_to_matrix(R, e);
+        pom_kin_pose p;
+        pom_kin_pose_evaluate(arch, R, &p, NULL);
+        char v[400];
+        pom_kin_violations_text(p.violations, v, sizeof v);
+        for (char *c = v; *c; ++c)
+          if (*c == ',') *c = ';';
+        fprintf(fp, "%.6g,%.6g,%.6g,%d,%d,%.6f,%.6f,%.6f,%.6f,%s\n", e[0] / POM_DEG, e[1] / POM_DEG,
+                e[2] / POM_DEG, p.reachable, p.reachable && !p.violations, p.dexterity,
+                p.q[0] * 1e3, p.q[1] * 1e3, p.q[2] * 1e3, p.reachable ? v : "unreachable");
+      }
+  if (fclose(fp) != 0) {
+    fprintf(stderr, "pomlab workspace: --map %s: write failed (%s)\n", file, strerror(errno));
+    return 1;
+  }
+  return 0;
+}
+
+int pom_cmd_workspace(int argc, char **argv) {
+  const char *path = NULL, *map = NULL;
+  int json = 0;
+  for (int k = 1; k < argc; ++k) {
+    if (strcmp(argv[k], "--help") == 0 || strcmp(argv[k], "-h") == 0) {
+      ws_usage(stdout);
+      return 0;
+    } else if (strcmp(argv[k], "--json") == 0) {
+      json = 1;
+    } else if (strcmp(argv[k], "--map") == 0 && k + 1 < argc) {
+      map = argv[++k];
+    } else if (strncmp(argv[k], "--map=", 6) == 0) {
+      map = argv[k] + 6;
+    } else if (argv[k][0] == '-' && argv[k][1] != '\0') {
+      fprintf(stderr, "pomlab workspace: unknown or incomplete option '%s'\n", argv[k]);
+      ws_usage(stderr);
+      return 2;
+    } else if (!path) {
+      path = argv[k];
+    } else {
+      fprintf(stderr, "pomlab workspace: unexpected argument '%s'\n", argv[k]);
+      return 2;
+    }
+  }
+  if (!path) {
+    fprintf(stderr, "pomlab workspace: missing CONFIG\n");
+    ws_usage(stderr);
+    return 2;
+  }
+  pom_cfg *cfg = NULL;
+  pom_kin_arch arch;
+  pom_kin_ws_opts o;
+  int rc = pom_cli_kin_load(path, &cfg, &arch, &o, ws_scopes);
+  if (rc) return rc;
+  pom_cfg_destroy(cfg);
+
+  pom_error err;
+  pom_error_clear(&err);
+  pom_kin_ws_result r;
+  pom_status st = pom_kin_workspace(&arch, &o, &r, &err);
+  if (st != POM_OK) {
+    pom_cli_report("workspace", &err);
+    return pom_cli_exit_code(st);
+  }
+  char why[512];
+  reason_text(&r, &o, why, sizeof why);
+  if (r.half_width < 0.0) {
+    fprintf(stderr, "pomlab workspace: the home pose itself fails (%s)\n", why);
+    return 1;
+  }
+  double gci_region = o.gci_half_width > 0.0 ? o.gci_half_width : r.half_width;
+  double gci = NAN, usable = NAN;
+  st = pom_kin_gci(&arch, gci_region, o.resolution, o.check_limits, &gci, &usable, &err);
+  if (st != POM_OK) {
+    pom_cli_report("workspace: GCI", &err);
+    return 1;
+  }
+  if (map && write_map(map, &arch, &o) != 0) return 1;
+
+  if (json) {
+    printf("{\n  \"config\": ");
+    pom_json_string(stdout, path);
+    printf(",\n  \"name\": ");
+    pom_json_string(stdout, arch.name);
+    printf(",\n  \"architecture\": \"%s\",\n  \"shape\": \"euler_zyx_cube\",\n",
+           pom_kin_arch_name(arch.type));
+    printf("  \"dexterity_min\": ");
+    pom_json_number(stdout, o.dexterity_min);
+    printf(",\n  \"resolution_deg\": ");
+    pom_json_number(stdout, o.resolution / POM_DEG);
+    printf(",\n  \"check_limits\": %s,\n  \"half_width_deg\": ", o.check_limits ? "true" : "false");
+    pom_json_number(stdout, r.half_width / POM_DEG);
+    printf(",\n  \"capped\": %s,\n  \"min_dexterity\": ", r.capped ? "true" : "false");
+    pom_json_number(stdout, r.min_dexterity);
+    printf(",\n  \"first_failure\": ");
+    if (r.capped) {
+      printf("null");
+    } else {
+      printf("{\"euler_zyx_deg\": ");
+      pom_json_vec(stdout, r.fail_euler, 3, 1.0 / POM_DEG);
+      printf(", \"reason\": ");
+      pom_json_string(stdout, why);
+      printf("}");
+    }
+    printf(",\n  \"gci\": ");
+    pom_json_number(stdout, gci);
+    printf(",\n  \"gci_half_width_deg\": ");
+    pom_json_number(stdout, gci_region / POM_DEG);
+    printf(",\n  \"gci_usable_fraction\": ");
+    pom_json_number(stdout, usable);
+    printf(",\n  \"poses_evaluated\": %ld,\n  \"map\": ", r.poses);
+    if (map) {
+      pom_json_string(stdout, map);
+    } else {
+      printf("null");
+    }
+    printf("\n}\n");
+  } else {
+    printf("%s (%s), config %s\n", arch.name, pom_kin_arch_name(arch.type), path);
+    printf("regular dexterous workspace (ZYX Euler cube about home, step %g deg,\n"
+           "  1/kappa >= %g, limits %s):\n",
+           o.resolution / POM_DEG, o.dexterity_min, o.check_limits ? "checked" : "ignored");
+    printf("  half-width:        +-%g deg%s\n", r.half_width / POM_DEG,
+           r.capped ? " (search cap reached)" : "");
+    printf("  min dexterity:     %.4f\n", r.min_dexterity);
+    if (!r.capped)
+      printf("  first failure:     psi = %g, theta = %g, phi = %g deg: %s\n",
+             r.fail_euler[0] / POM_DEG, r.fail_euler[1] / POM_DEG, r.fail_euler[2] / POM_DEG, why);
+    printf("  poses evaluated:   %ld\n", r.poses);
+    printf("global conditioning index over +-%g deg: %.4f (usable fraction %.4f)\n",
+           gci_region / POM_DEG, gci, usable);
+    if (map) printf("dexterity map written to %s\n", map);
+  }
+  return 0;
+}

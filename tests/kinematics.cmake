@@ -1,0 +1,2 @@
+pom_add_test(test_kinematics test_kinematics.c)
+target_link_libraries(test_kinematics PRIVATE pom_kinematics pom_core)

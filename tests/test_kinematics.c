@@ -1,0 +1,586 @@
+/* test_kinematics.c - geometry loading, IK/FK, Jacobian, limits, workspace and
+ * mechanism of both architectures (docs/kinematics.md). */
+#include "check.h"
+#include "kin_internal.h"
+#include "pom_config.h"
+#include "pom_kinematics.h"
+#include "pom_math.h"
+#include "pom_rng.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *const kin_scopes[] = {"name",      "architecture", "geometry", "limits",
+                                         "workspace", "inertia",      NULL};
+
+/* ---- helpers --------------------------------------------------------------- */
+static int load_file(pom_kin_arch *arch, const char *rel) {
+  char path[512];
+  snprintf(path, sizeof path, "%s/%s", POM_SOURCE_DIR, rel);
+  pom_cfg *cfg = NULL;
+  pom_error err;
+  pom_error_clear(&err);
+  int ok = pom_cfg_load(&cfg, path, &err) == POM_OK && pom_kin_arch_load(arch, cfg, &err) == POM_OK;
+  if (!ok) printf("loading %s: %s\n", rel, err.message);
+  pom_cfg_destroy(cfg);
+  return ok;
+}
+
+/* Loads arch from config text; returns the status and leaves the message. */
+static pom_status load_text(pom_kin_arch *arch, const char *text, pom_error *err) {
+  pom_cfg *cfg = NULL;
+  pom_error_clear(err);
+  pom_status st = pom_cfg_load_string(&cfg, text, "<test>", err);
+  if (st == POM_OK) st = pom_kin_arch_load(arch, cfg, err);
+  if (st == POM_OK) {
+    pom_kin_ws_opts o;
+    st = pom_kin_ws_load(&o, cfg, err);
+  }
+  if (st == POM_OK && pom_cfg_has(cfg, "inertia")) {
+    pom_kin_inertia in;
+    st = pom_kin_inertia_load(&in, arch, cfg, err);
+  }
+  if (st == POM_OK) st = pom_cfg_check_unknown(cfg, kin_scopes, NULL, err);
+  pom_cfg_destroy(cfg);
+  return st;
+}
+
+static double rotation_angle_between(const double A[9], const double B[9]) {
+  double D[9], rv[3];
+  pom_m3_mult(D, A, B); /* A B^T */
+  pom_m3_rotvec(rv, D);
+  return pom_v3_norm(rv);
+}
+
+static void random_pose(pom_rng *rng, double R[9], double half_width) {
+  double e[3];
+  for (int k = 0; k < 3; ++k)
+    e[k] = pom_rng_range(rng, -half_width, half_width);
+  pom_euler_zyx_to_matrix(R, e);
+}
+
+/* ---- reference geometry ---------------------------------------------------- */
+static void test_isotropic_home(const pom_kin_arch *arch) {
+  double I[9], q[3], J[9], sv[3], kappa, dex;
+  pom_m3_identity(I);
+  check_true(pom_kin_inverse_jacobian(arch, I, q, J, NULL) == POM_OK);
+  /* home = mid-stroke: q = 0 up to the rounding of |A + ...| - L (~1e-17 m) */
+  for (int i = 0; i < 3; ++i)
+    check_abs(q[i], 0.0, 1e-15);
+  pom_kin_dexterity(J, sv, &kappa, &dex);
+  /* The design is isotropic by construction (PARAMETERS §b); its angles are
+   * given to 16 digits, so sigma = 15 mm and kappa = 1 hold to ~1e-15. */
+  for (int k = 0; k < 3; ++k)
+    check_rel(sv[k], 0.015, 1e-12);
+  check_abs(kappa, 1.0, 1e-12);
+  check_abs(dex, 1.0, 1e-12);
+  /* PARAMETERS §b: row 1 of J at home = (0.012247, 0, 0.008660) m */
+  check_abs(J[0], 0.015 / sqrt(1.5), 1e-15);
+  check_abs(J[1], 0.0, 1e-15);
+  check_abs(J[2], 0.015 / sqrt(3.0), 1e-15);
+}
+
+/* The explicit-points form of PARAMETERS §b tables (6 decimals in m) must give
+ * the arch of the parameter form. Rounding: points 5e-7 m, directions 5e-6
+ * times a length <= 0.11 m, so 1e-6 m; axes 5e-6 -> 1e-5. */
+static void test_points_equal_parameters(const pom_kin_arch *p3, const pom_kin_arch *s3) {
+  const char *pss = "architecture = \"3PSS\";\n"
+                    "geometry = { mode = \"points\";\n"
+                    "  platform_points_m = ( [0.0, 0.012247, 0.0], [-0.010607, -0.006124, 0.0],\n"
+                    "                        [0.010607, -0.006124, 0.0] );\n"
+                    "  slider_points_m = ( [0.022120, 0.000754, -0.031282],\n"
+                    "     [-0.011713, 0.018780, -0.031282], [-0.010407, -0.019533, -0.031282] );\n"
+                    "  slider_axes = ( [0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0] ); };\n";
+  const char *sps =
+      "architecture = \"3SPS\";\n"
+      "geometry = { mode = \"points\";\n"
+      "  platform_points_m = ( [0.0, 0.015, 0.0], [-0.012990, -0.0075, 0.0],\n"
+      "                        [0.012990, -0.0075, 0.0] );\n"
+      "  base_points_m = ( [0.063509, 0.015000, -0.089815],\n"
+      "     [-0.044745, 0.047500, -0.089815], [-0.018764, -0.062500, -0.089815] );\n"
+      "  ujoint_axes = ( [0.0, -1.0, 0.0], [0.86603, 0.5, 0.0], [-0.86603, 0.5, 0.0] );\n"
+      "};\n";
+  pom_kin_arch a;
+  pom_error err;
+  check_true(load_text(&a, pss, &err) == POM_OK);
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) {
+      check_abs(a.platform_point[i][k], p3->platform_point[i][k], 1e-6);
+      check_abs(a.slider_mid[i][k], p3->slider_mid[i][k], 1e-6);
+      check_abs(a.slider_axis[i][k], p3->slider_axis[i][k], 1e-15);
+      check_abs(a.limb_dir_home[i][k], p3->limb_dir_home[i][k], 1e-4);
+    }
+  for (int i = 0; i < 3; ++i)
+    check_abs(a.link_length[i], p3->link_length[i], 1e-6);
+  check_true(load_text(&a, sps, &err) == POM_OK);
+  for (int i = 0; i < 3; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      check_abs(a.platform_point[i][k], s3->platform_point[i][k], 1e-6);
+      check_abs(a.base_point[i][k], s3->base_point[i][k], 1e-6);
+      check_abs(a.ujoint_axis[i][k], s3->ujoint_axis[i][k], 1e-5);
+    }
+    check_abs(a.limb_length_mid[i], s3->limb_length_mid[i], 1e-6);
+  }
+  /* without ujoint_axes the default is unit(e_z x s) = the table's axes */
+  const char *sps_default =
+      "architecture = \"3SPS\";\n"
+      "geometry = { mode = \"points\";\n"
+      "  platform_points_m = ( [0.0, 0.015, 0.0], [-0.012990, -0.0075, 0.0],\n"
+      "                        [0.012990, -0.0075, 0.0] );\n"
+      "  base_points_m = ( [0.063509, 0.015000, -0.089815],\n"
+      "     [-0.044745, 0.047500, -0.089815], [-0.018764, -0.062500, -0.089815] ); };\n";
+  check_true(load_text(&a, sps_default, &err) == POM_OK);
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k)
+      check_abs(a.ujoint_axis[i][k], s3->ujoint_axis[i][k], 1e-5);
+}
+
+/* ---- Jacobian against central differences of the IK ------------------------ */
+/* q(exp(+-eps e_k) R): the truncation error of the central difference is
+ * eps^2/6 |q'''| <= 1e-10 * 0.11 m / 6 ~ 2e-12 m/rad, the rounding error
+ * ~1e-17 m / eps = 1e-12 m/rad; J entries are ~1e-2 m/rad, so 1e-10 m/rad
+ * absolute is a 1e-8 relative check with a margin of ~30. */
+static void test_jacobian_fd(const pom_kin_arch *arch, pom_rng *rng) {
+  const double eps = 1e-5;
+  double worst = 0.0;
+  int fails = 0;
+  for (int n = 0; n < 300; ++n) {
+    double R[9], q[3], J[9];
+    random_pose(rng, R, 13.0 * POM_DEG);
+    if (pom_kin_inverse_jacobian(arch, R, q, J, NULL) != POM_OK) {
+      ++fails;
+      continue;
+    }
+    for (int k = 0; k < 3; ++k) {
+      double axis[3] = {0, 0, 0}, E[9], Rp[9], Rm[9], qp[3], qm[3];
+      axis[k] = 1.0;
+      pom_m3_axis_angle(E, axis, eps);
+      pom_m3_mul(Rp, E, R);
+      pom_m3_axis_angle(E, axis, -eps);
+      pom_m3_mul(Rm, E, R);
+      if (pom_kin_inverse(arch, Rp, qp, NULL) != POM_OK ||
+          pom_kin_inverse(arch, Rm, qm, NULL) != POM_OK) {
+        ++fails;
+        continue;
+      }
+      for (int i = 0; i < 3; ++i)
+        worst = fmax(worst, fabs((qp[i] - qm[i]) / (2.0 * eps) - J[3 * i + k]));
+    }
+  }
+  check_true(fails == 0);
+  check_abs(worst, 0.0, 1e-10);
+  /* pom_kin_jacobian alone equals the combined call */
+  double R[9], J1[9], J2[9], q[3];
+  random_pose(rng, R, 10.0 * POM_DEG);
+  check_true(pom_kin_jacobian(arch, R, J1, NULL) == POM_OK);
+  check_true(pom_kin_inverse_jacobian(arch, R, q, J2, NULL) == POM_OK);
+  for (int k = 0; k < 9; ++k)
+    check_abs(J1[k], J2[k], 0.0);
+}
+
+/* ---- IK -> FK round trips ------------------------------------------------- */
+/* FK stops at max |q(R) - q| <= 1e-12 m; with sv_min >= 0.3 * 15 mm in the
+ * workspace the rotation error is <= 1e-12 / 4.5e-3 ~ 2e-10 rad; 1e-9 rad. */
+static void test_round_trips(const pom_kin_arch *arch, pom_rng *rng, int n) {
+  double worst = 0.0, worst_res = 0.0;
+  int failures = 0, max_iter = 0;
+  for (int k = 0; k < n; ++k) {
+    double R[9], q[3], Rf[9];
+    random_pose(rng, R, 13.0 * POM_DEG);
+    if (pom_kin_inverse(arch, R, q, NULL) != POM_OK) {
+      ++failures;
+      continue;
+    }
+    pom_kin_fk_info info;
+    pom_error err;
+    pom_error_clear(&err);
+    if (pom_kin_forward(arch, q, NULL, NULL, Rf, &info, &err) != POM_OK) {
+      if (failures++ == 0) printf("round trip: %s\n", err.message);
+      continue;
+    }
+    worst = fmax(worst, rotation_angle_between(R, Rf));
+    worst_res = fmax(worst_res, info.residual);
+    if (info.iterations > max_iter) max_iter = info.iterations;
+  }
+  check_true(failures == 0);
+  check_abs(worst, 0.0, 1e-9);
+  check_abs(worst_res, 0.0, 1e-12);
+  /* Newton converges quadratically from home: a handful of iterations */
+  check_true(max_iter <= 10);
+}
+
+/* The continuation path: starve direct Newton (2 iterations) so that FK must
+ * continue along q(t); it must still land on the pose IK came from. */
+static void test_continuation(const pom_kin_arch *arch) {
+  double e[3] = {12.0 * POM_DEG, -11.0 * POM_DEG, 12.5 * POM_DEG}, R[9], q[3], Rf[9];
+  pom_euler_zyx_to_matrix(R, e);
+  check_true(pom_kin_inverse(arch, R, q, NULL) == POM_OK);
+  pom_kin_fk_opts o;
+  pom_kin_fk_defaults(&o);
+  o.max_iterations = 2;
+  pom_kin_fk_info info;
+  pom_error err;
+  pom_error_clear(&err);
+  pom_status st = pom_kin_forward(arch, q, NULL, &o, Rf, &info, &err);
+  check_true(st == POM_OK);
+  if (st != POM_OK) printf("continuation: %s\n", err.message);
+  check_true(info.continuation_steps > 0);
+  check_abs(rotation_angle_between(R, Rf), 0.0, 1e-9);
+  /* a q far outside anything reachable: reported, R untouched */
+  double qbad[3] = {0.5, -0.5, 0.5}, Rb[9] = {7, 7, 7, 7, 7, 7, 7, 7, 7};
+  st = pom_kin_forward(arch, qbad, NULL, NULL, Rb, &info, &err);
+  check_true(st == POM_ERR_NOCONVERGE);
+  check_true(strstr(err.message, "continuation stalled") != NULL);
+  check_abs(Rb[0], 7.0, 0.0);
+}
+
+/* ---- reachability and limits ---------------------------------------------- */
+static void test_out_of_stroke(const pom_kin_arch *arch) {
+  /* 35 deg of pitch is beyond the single-axis range about y (29-30 deg with
+   * the +-6 mm stroke, PARAMETERS §b); each stroke bit must agree with
+   * |q_i| > 6 mm */
+  double e[3] = {0.0, 35.0 * POM_DEG, 0.0}, R[9];
+  pom_euler_zyx_to_matrix(R, e);
+  pom_kin_pose p;
+  pom_error err;
+  pom_error_clear(&err);
+  pom_status st = pom_kin_pose_evaluate(arch, R, &p, &err);
+  check_true(st == POM_ERR_LIMIT);
+  check_true(p.reachable == 1);
+  int over = 0;
+  for (int i = 0; i < 3; ++i) {
+    int bit = (p.violations >> (POM_KIN_LIM_STROKE + i)) & 1u;
+    int truth = fabs(p.q[i]) > 0.006;
+    check_true(bit == truth);
+    over += truth;
+    if (truth) check_true(strstr(err.message, pom_kin_limit_name(POM_KIN_LIM_STROKE + i)) != NULL);
+  }
+  check_true(over > 0);
+  /* home is inside every limit */
+  double I[9];
+  pom_m3_identity(I);
+  check_true(pom_kin_pose_evaluate(arch, I, &p, &err) == POM_OK);
+  check_true(p.violations == 0);
+}
+
+static void test_cone_and_distance_limits(const pom_kin_arch *ref) {
+  pom_kin_arch a = *ref;
+  double e[3] = {0.0, 0.0, 8.0 * POM_DEG}, R[9];
+  pom_euler_zyx_to_matrix(R, e);
+  pom_kin_pose p;
+  check_true(pom_kin_pose_evaluate(&a, R, &p, NULL) == POM_OK);
+  /* Tighten the platform cone just below the largest angle: only that limb trips. */
+  int imax = 0;
+  for (int i = 1; i < 3; ++i)
+    if (p.cone_platform[i] > p.cone_platform[imax]) imax = i;
+  a.cone_platform_max = 0.999 * p.cone_platform[imax];
+  check_true(pom_kin_pose_evaluate(&a, R, &p, NULL) == POM_ERR_LIMIT);
+  check_true((p.violations & (1u << (POM_KIN_LIM_CONE_PLATFORM + imax))) != 0);
+  /* at home every cone angle is zero */
+  double I[9];
+  pom_m3_identity(I);
+  pom_kin_pose_evaluate(ref, I, &p, NULL);
+  for (int i = 0; i < 3; ++i) {
+    check_abs(p.cone_base[i], 0.0, 1e-7);
+    check_abs(p.cone_platform[i], 0.0, 1e-7);
+  }
+  /* distance limit: require more clearance than home has */
+  a = *ref;
+  a.min_limb_distance = p.limb_distance[0] * 1.001;
+  check_true(pom_kin_pose_evaluate(&a, I, &p, NULL) == POM_ERR_LIMIT);
+  check_true((p.violations & (7u << POM_KIN_LIM_DISTANCE)) == (7u << POM_KIN_LIM_DISTANCE));
+  char buf[256];
+  pom_kin_violations_text(p.violations, buf, sizeof buf);
+  check_true(strcmp(buf, "distance limbs 1-2, distance limbs 2-3, distance limbs 3-1") == 0);
+}
+
+/* A 3PSS with long, nearly horizontal links: tilting moves C_i out of the
+ * link's reach of the vertical slider axis. For a vertical slider the IK has a
+ * real root iff the horizontal distance from the slider axis to C_i is <= L. */
+static void test_unreachable(void) {
+  pom_kin_design d = {0.012, 0.5 * POM_PI, 0.0, 2.0, 80.0 * POM_DEG, 60.0 * POM_DEG, 0.0, 0.0};
+  pom_kin_arch a;
+  pom_error err;
+  pom_error_clear(&err);
+  check_true(pom_kin_arch_from_design(&a, POM_ARCH_3PSS, &d, &err) == POM_OK);
+  int found = 0;
+  for (int deg = 1; deg <= 60 && !found; ++deg) {
+    for (int ax = 0; ax < 3 && !found; ++ax) {
+      double e[3] = {0, 0, 0}, R[9];
+      e[ax] = deg * POM_DEG;
+      pom_euler_zyx_to_matrix(R, e);
+      pom_kin_pose p;
+      pom_status st = pom_kin_pose_evaluate(&a, R, &p, &err);
+      if (st != POM_ERR_UNREACHABLE) continue;
+      found = 1;
+      check_true(p.reachable == 0);
+      int i = p.unreachable_limb;
+      check_true(i >= 0 && i < 3);
+      if (i < 0 || i > 2) break;
+      double c[3];
+      pom_m3_apply(c, R, a.platform_point[i]);
+      double h = hypot(c[0] - a.slider_mid[i][0], c[1] - a.slider_mid[i][1]);
+      check_true(h > a.link_length[i]);
+      char want[32];
+      snprintf(want, sizeof want, "limb %d", i + 1);
+      check_true(strstr(err.message, want) != NULL);
+      double q[3] = {9, 9, 9};
+      check_true(pom_kin_inverse(&a, R, q, NULL) == POM_ERR_UNREACHABLE);
+      check_abs(q[0], 9.0, 0.0); /* untouched */
+    }
+  }
+  check_true(found);
+}
+
+static void test_segment_distance(void) {
+  double a0[3] = {-1, 0, 0}, a1[3] = {1, 0, 0};
+  double b0[3] = {0, -1, 0.37}, b1[3] = {0, 1, 0.37};
+  check_abs(pom_kin_segment_distance(a0, a1, b0, b1), 0.37, 1e-15);
+  double c0[3] = {2, 1, 0}, c1[3] = {3, 1, 0}; /* endpoint pair (1,0,0)-(2,1,0) */
+  check_abs(pom_kin_segment_distance(a0, a1, c0, c1), sqrt(2.0), 1e-15);
+  double d0[3] = {-0.5, 0.25, 0}, d1[3] = {0.5, 0.25, 0}; /* parallel, overlapping */
+  check_abs(pom_kin_segment_distance(a0, a1, d0, d1), 0.25, 1e-15);
+}
+
+/* ---- workspace ------------------------------------------------------------- */
+static void test_workspace(const pom_kin_arch *arch, double want_half_width_deg) {
+  pom_kin_ws_opts o;
+  pom_kin_ws_defaults(&o);
+  o.max_half_width = 30.0 * POM_DEG;
+  pom_kin_ws_result r;
+  check_true(pom_kin_workspace(arch, &o, &r, NULL) == POM_OK);
+  /* PARAMETERS §b (independent Python computation): Euler-cube regular
+   * workspace with the +-6 mm stroke = 13.0 deg (3PSS) and 13.5 deg (3SPS);
+   * on a 1 deg grid both are 13 deg. */
+  check_abs(r.half_width / POM_DEG, want_half_width_deg, 1e-9);
+  check_true(!r.capped);
+  check_true(r.min_dexterity >= o.dexterity_min);
+  /* the reported failing pose lies on the next shell and really fails */
+  double m = fmax(fabs(r.fail_euler[0]), fmax(fabs(r.fail_euler[1]), fabs(r.fail_euler[2])));
+  check_abs(m, r.half_width + o.resolution, 1e-12);
+  double R[9];
+  pom_kin_pose p;
+  pom_euler_zyx_to_matrix(R, r.fail_euler);
+  check_true(pom_kin_pose_evaluate(arch, R, &p, NULL) != POM_OK || p.dexterity < o.dexterity_min);
+  /* a pose count of exactly the (2k+1)^3 cube plus part of the next shell */
+  long inner = (long)pow(2.0 * want_half_width_deg + 1.0, 3.0);
+  check_true(r.poses > inner && r.poses <= (long)pow(2.0 * want_half_width_deg + 3.0, 3.0));
+
+  /* GCI: the midpoint rule converges as h^2, so halving h divides the error
+   * by 4: the ratio of successive differences must be near 4 (the kink of
+   * 1/kappa at the isotropic home spoils the coarsest grids only; measured
+   * 4.02 at 2/1/0.5 deg). The limit lies between the dexterity bounds. */
+  double g1, g2, g3, f;
+  double a = 10.0 * POM_DEG;
+  check_true(pom_kin_gci(arch, a, 2.0 * POM_DEG, 1, &g1, &f, NULL) == POM_OK);
+  check_true(pom_kin_gci(arch, a, 1.0 * POM_DEG, 1, &g2, &f, NULL) == POM_OK);
+  check_true(pom_kin_gci(arch, a, 0.5 * POM_DEG, 1, &g3, &f, NULL) == POM_OK);
+  double ratio = (g1 - g2) / (g2 - g3);
+  check_true(ratio > 3.5 && ratio < 4.5);
+  check_abs(f, 1.0, 0.0); /* the 10 deg cube lies inside the 13 deg RDW */
+  check_true(g3 < 1.0 && g3 > r.min_dexterity);
+  /* a vanishing region is the isotropic home: GCI -> 1 */
+  check_true(pom_kin_gci(arch, 0.0, 1.0 * POM_DEG, 1, &g1, NULL, NULL) == POM_OK);
+  check_abs(g1, 1.0, 1e-12);
+}
+
+/* ---- mechanism ------------------------------------------------------------- */
+static void test_mechanism(const char *rel, const pom_kin_arch *arch) {
+  char path[512];
+  snprintf(path, sizeof path, "%s/%s", POM_SOURCE_DIR, rel);
+  pom_cfg *cfg = NULL;
+  pom_error err;
+  pom_error_clear(&err);
+  check_true(pom_cfg_load(&cfg, path, &err) == POM_OK);
+  pom_mechanism m;
+  pom_status st = pom_kin_mechanism_build(&m, arch, cfg, &err);
+  check_true(st == POM_OK);
+  if (st != POM_OK) {
+    printf("mechanism: %s\n", err.message);
+    pom_cfg_destroy(cfg);
+    return;
+  }
+  pom_kin_inertia in;
+  check_true(pom_kin_inertia_load(&in, arch, cfg, &err) == POM_OK);
+  pom_cfg_destroy(cfg);
+  check_true(m.n_bodies == 8 && m.n_joints == 10 && m.n_actuators == 3);
+  check_true(m.platform == 1);
+  check_abs(m.gravity[2], -9.81, 0.0);
+  double total = 0.0,
+         want_total = in.platform.mass + 3.0 * in.piston.mass +
+                      3.0 * (arch->type == POM_ARCH_3PSS ? in.link.mass : in.cylinder.mass);
+  for (int b = 0; b < m.n_bodies; ++b)
+    total += m.body[b].mass;
+  check_rel(total, want_total, 1e-15);
+  for (int b = 1; b < m.n_bodies; ++b) {
+    /* Q diag Q^T: symmetric, eigenvalues = the principal moments of that body
+     * (bodies: 1 platform, then per limb i: 2 + 2i piston (3PSS) / cylinder
+     * (3SPS), 3 + 2i link (3PSS) / piston (3SPS)) */
+    const pom_kin_body_inertia *bi = b == 1 ? &in.platform
+                                     : arch->type == POM_ARCH_3PSS
+                                         ? (b % 2 == 0 ? &in.piston : &in.link)
+                                         : (b % 2 == 0 ? &in.cylinder : &in.piston);
+    const double *I = m.body[b].inertia;
+    check_abs(I[1] - I[3], 0.0, 0.0); /* symmetric by construction */
+    check_abs(I[2] - I[6], 0.0, 0.0);
+    check_abs(I[5] - I[7], 0.0, 0.0);
+    check_rel(m.body[b].mass, bi->mass, 0.0);
+    double w[3], V[9], want[3] = {bi->moments[0], bi->moments[1], bi->moments[2]};
+    pom_m3_sym_eig(w, V, I);
+    for (int x = 0; x < 2; ++x) /* sort descending */
+      for (int y = x + 1; y < 3; ++y)
+        if (want[y] > want[x]) {
+          double t = want[x];
+          want[x] = want[y];
+          want[y] = t;
+        }
+    /* Jacobi eigenvalues: ~1e-15 relative to the largest */
+    for (int k = 0; k < 3; ++k)
+      check_abs(w[k], want[k], 1e-13 * want[0]);
+  }
+  int n_act = 0;
+  for (int j = 0; j < m.n_joints; ++j) {
+    const pom_mech_joint *jt = &m.joint[j];
+    check_true(jt->body[0] >= 0 && jt->body[0] < m.n_bodies && jt->body[1] > 0 &&
+               jt->body[1] < m.n_bodies && jt->body[0] != jt->body[1]);
+    if (jt->type == POM_JOINT_PRISMATIC) {
+      check_abs(pom_v3_norm(jt->axis), 1.0, 1e-15);
+      check_true(jt->actuator >= 0);
+      ++n_act;
+    }
+    if (jt->type == POM_JOINT_UNIVERSAL) {
+      check_abs(pom_v3_dot(jt->axis, jt->axis2), 0.0, 1e-15);
+      check_abs(pom_v3_norm(jt->axis2), 1.0, 1e-15);
+    }
+  }
+  check_true(n_act == 3);
+  /* limb bodies: the axial principal moment is about the limb direction */
+  for (int i = 0; i < 3; ++i) {
+    int b = arch->type == POM_ARCH_3PSS ? 3 + 2 * i : 2 + 2 * i; /* link i / cylinder i */
+    const pom_kin_body_inertia *bi = arch->type == POM_ARCH_3PSS ? &in.link : &in.cylinder;
+    double Is[3];
+    pom_m3_apply(Is, m.body[b].inertia, arch->limb_dir_home[i]);
+    for (int k = 0; k < 3; ++k)
+      check_abs(Is[k], bi->moments[2] * arch->limb_dir_home[i][k], 1e-18);
+  }
+  /* joints at the right places: last joint of each limb is at the platform point */
+  for (int i = 0; i < 3; ++i) {
+    const pom_mech_joint *jt = &m.joint[3 * (i + 1)]; /* O, then 3 joints per limb */
+    check_true(jt->body[1] == m.platform);
+    for (int k = 0; k < 3; ++k)
+      check_abs(jt->point[k], arch->platform_point[i][k], 0.0);
+  }
+}
+
+/* ---- config errors --------------------------------------------------------- */
+static void expect_config_error(const char *text, const char *key, const char *what) {
+  pom_kin_arch a;
+  pom_error err;
+  pom_status st = load_text(&a, text, &err);
+  int ok = st == POM_ERR_CONFIG && strstr(err.message, key) != NULL &&
+           (what == NULL || strstr(err.message, what) != NULL);
+  if (!ok)
+    printf("expected config error naming '%s' (%s), got %d: %s\n", key, what ? what : "", (int)st,
+           err.message);
+  check_true(ok);
+}
+
+#define GEOM_3SPS                                                                                  \
+  "geometry = { mode = \"parameters\"; platform_radius_mm = 15.0; limb_length = 7.3;"              \
+  " limb_lean_deg = 35.0; limb_azimuth_deg = 90.0; };\n"
+
+static void test_config_errors(void) {
+  pom_kin_arch a;
+  pom_error err;
+  /* a minimal good config loads */
+  check_true(load_text(&a, "architecture = \"3SPS\";\n" GEOM_3SPS, &err) == POM_OK);
+  check_abs(a.stroke, 0.012, 0.0); /* default stroke */
+  /* malformed */
+  expect_config_error("architecture = \"3SPS\";\ngeometry = { mode = ;\n", "<test>:2", NULL);
+  /* mistyped */
+  expect_config_error("architecture = \"3SPS\";\n" GEOM_3SPS "limits = { stroke_mm = \"12\"; };\n",
+                      "limits.stroke_mm", "expected a real number");
+  expect_config_error("architecture = 3;\n" GEOM_3SPS, "architecture", "expected one of");
+  /* out of range */
+  expect_config_error("architecture = \"3SPS\";\n" GEOM_3SPS "limits = { stroke_mm = -3.0; };\n",
+                      "limits.stroke_mm", "out of range");
+  expect_config_error("architecture = \"3SPS\";\n" GEOM_3SPS
+                      "workspace = { dexterity_min = 1.5; };\n",
+                      "workspace.dexterity_min", "out of range");
+  expect_config_error("architecture = \"3RRR\";\n" GEOM_3SPS, "architecture", "\"3PSS\", \"3SPS\"");
+  /* unknown keys */
+  expect_config_error(
+      "architecture = \"3SPS\";\n" GEOM_3SPS
+      "limits = { stroke_mm = 12.0; cone_base_max_deg = 40.0; strok_mm = 12.0; };\n",
+      "limits.strok_mm", "unknown key");
+  expect_config_error("architecture = \"3SPS\";\n" GEOM_3SPS "limits = { strok_mm = 12.0; };\n",
+                      "limits", "stroke_mm");
+  expect_config_error("architecture = \"3SPS\";\n" GEOM_3SPS "workspace = { resolution = 1.0; };\n",
+                      "workspace", "resolution_deg");
+  expect_config_error("architecture = \"3SPS\";\n"
+                      "geometry = { mode = \"parameters\"; platform_radius_mm = 15.0; "
+                      "limb_length = 7.3; limb_lean_deg = 35.0; limb_azimuth_deg = 90.0; "
+                      "actuator_tilt_deg = 3.0; };\n",
+                      "geometry.actuator_tilt_deg", "unknown key");
+  /* missing */
+  expect_config_error("architecture = \"3SPS\";\n"
+                      "geometry = { mode = \"parameters\"; limb_length = 7.3; "
+                      "limb_lean_deg = 35.0; limb_azimuth_deg = 90.0; };\n",
+                      "geometry.platform_radius_mm", "missing");
+  /* wrong shape of a point list */
+  expect_config_error("architecture = \"3SPS\";\ngeometry = { mode = \"points\";\n"
+                      "  platform_points_m = ( [0.0, 0.015, 0.0], [-0.01299, -0.0075] );\n"
+                      "  base_points_m = ( [0,0,-1], [0,0,-1], [0,0,-1] ); };\n",
+                      "geometry.platform_points_m", "3 points");
+  /* degenerate design: link perpendicular to the vertical slider */
+  expect_config_error("architecture = \"3PSS\";\n"
+                      "geometry = { mode = \"parameters\"; platform_radius_mm = 12.0; "
+                      "limb_length = 3.0; limb_lean_deg = 90.0; limb_azimuth_deg = 60.0; };\n",
+                      "geometry", "perpendicular");
+  /* inertia: moments that no rigid body has */
+  expect_config_error("architecture = \"3SPS\";\n" GEOM_3SPS
+                      "inertia = { platform = { mass_kg = 0.03; moments_kgm2 = [1e-6, 1e-6, "
+                      "5e-6]; };\n piston = { mass_kg = 0.016; moments_kgm2 = [3e-6, 3e-6, "
+                      "5e-7]; };\n cylinder = { mass_kg = 0.448; moments_kgm2 = [2.2e-4, "
+                      "2.2e-4, 1.31e-4]; }; };\n",
+                      "inertia.platform.moments_kgm2", "principal moments");
+  expect_config_error("architecture = \"3SPS\";\n" GEOM_3SPS
+                      "inertia = { platform = { mass_kg = 0.03; moments_kgm2 = [1e-6, 1e-6, "
+                      "2e-6]; };\n piston = { mass_kg = 0.016; moments_kgm2 = [3e-6, 3e-6, "
+                      "5e-7]; };\n link = { mass_kg = 0.004; moments_kgm2 = [1e-6, 1e-6, "
+                      "2e-7]; }; };\n",
+                      "inertia.cylinder", "missing");
+}
+
+int main(void) {
+  pom_kin_arch p3, s3;
+  pom_rng rng;
+  pom_rng_seed(&rng, 2385, 2);
+  if (!load_file(&p3, "configs/3pss.cfg") || !load_file(&s3, "configs/3sps.cfg")) {
+    check_true(0);
+    return check_summary("test_kinematics");
+  }
+  check_true(p3.type == POM_ARCH_3PSS && s3.type == POM_ARCH_3SPS);
+  test_isotropic_home(&p3);
+  test_isotropic_home(&s3);
+  test_points_equal_parameters(&p3, &s3);
+  test_jacobian_fd(&p3, &rng);
+  test_jacobian_fd(&s3, &rng);
+  test_round_trips(&p3, &rng, 3000);
+  test_round_trips(&s3, &rng, 3000);
+  test_continuation(&p3);
+  test_continuation(&s3);
+  test_out_of_stroke(&p3);
+  test_out_of_stroke(&s3);
+  test_cone_and_distance_limits(&p3);
+  test_cone_and_distance_limits(&s3);
+  test_unreachable();
+  test_segment_distance();
+  test_workspace(&p3, 13.0);
+  test_workspace(&s3, 13.0);
+  test_mechanism("configs/3pss.cfg", &p3);
+  test_mechanism("configs/3sps.cfg", &s3);
+  test_config_errors();
+  return check_summary("test_kinematics");
+}
