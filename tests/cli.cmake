@@ -1,0 +1,4 @@
+# Command-line tests: the pomlab commands on the shipped and on broken configs.
+add_test(NAME test_cli
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_cli.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
