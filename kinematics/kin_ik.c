@@ -84,9 +84,36 @@ pom_status pom_kin_inverse_jacobian(const pom_kin_arch *arch, const double R[9],
   return ik_rows(arch, R, q, J, err);
 }
 
+/* Eigenvalues (descending) of a symmetric 3x3 matrix in closed form: the
+ * trigonometric solution of the characteristic cubic (docs/kinematics.md
+ * 3.4). Absolute error ~1e-16 |S|, growing to ~1e-8 |S| for a (near-)double
+ * eigenvalue, where the cubic's root is ill-conditioned. */
+static void sym3_eigenvalues(double w[3], const double S[9]) {
+  double p1 = S[1] * S[1] + S[2] * S[2] + S[5] * S[5];
+  double q = (S[0] + S[4] + S[8]) / 3.0;
+  double d0 = S[0] - q, d1 = S[4] - q, d2 = S[8] - q;
+  double p2 = d0 * d0 + d1 * d1 + d2 * d2 + 2.0 * p1;
+  if (p2 == 0.0) {
+    w[0] = w[1] = w[2] = q;
+    return;
+  }
+  double p = sqrt(p2 / 6.0), ip = 1.0 / p;
+  /* B = (S - q I) / p; r = det(B) / 2 in [-1, 1] */
+  double b0 = d0 * ip, b4 = d1 * ip, b8 = d2 * ip, b1 = S[1] * ip, b2 = S[2] * ip, b5 = S[5] * ip;
+  double r = 0.5 * (b0 * (b4 * b8 - b5 * b5) - b1 * (b1 * b8 - b5 * b2) + b2 * (b1 * b5 - b4 * b2));
+  r = r < -1.0 ? -1.0 : r > 1.0 ? 1.0 : r;
+  double phi = acos(r) / 3.0;
+  w[0] = q + 2.0 * p * cos(phi);
+  w[2] = q + 2.0 * p * cos(phi + 2.0 * POM_PI / 3.0);
+  w[1] = 3.0 * q - w[0] - w[2];
+}
+
 void pom_kin_dexterity(const double J[9], double sv[3], double *kappa, double *dexterity) {
-  double s[3];
-  pom_m3_singular_values(s, J);
+  double s[3], JtJ[9];
+  pom_m3_tmul(JtJ, J, J);
+  sym3_eigenvalues(s, JtJ);
+  for (int k = 0; k < 3; ++k)
+    s[k] = s[k] > 0.0 ? sqrt(s[k]) : 0.0;
   if (sv) memcpy(sv, s, sizeof s);
   double dex = s[0] > 0.0 ? s[2] / s[0] : 0.0;
   if (dexterity) *dexterity = dex;

@@ -179,6 +179,47 @@ static void test_jacobian_fd(const pom_kin_arch *arch, pom_rng *rng) {
     check_abs(J1[k], J2[k], 0.0);
 }
 
+/* ---- closed-form dexterity against the Jacobi SVD of core ------------------ */
+/* Generic matrices: both are backward stable, eigenvalues of J^T J to
+ * ~1e-15 sv0^2, so sv to ~1e-15 sv0^2 / sv2; with sv2/sv0 >= 1e-2 here,
+ * 1e-11 sv0 has a margin of ~100. A double singular value makes the cubic's
+ * root ill-conditioned: error ~sqrt(1e-16) = 1e-8 sv0 (documented bound). */
+static void test_dexterity_closed_form(pom_rng *rng) {
+  double worst = 0.0, worst_double = 0.0;
+  for (int n = 0; n < 2000; ++n) {
+    double U[9], V[9], D[9] = {0}, T[9], J[9], sv[3], ref[3], e[3];
+    for (int k = 0; k < 3; ++k)
+      e[k] = pom_rng_range(rng, -POM_PI, POM_PI);
+    pom_euler_zyx_to_matrix(U, e);
+    for (int k = 0; k < 3; ++k)
+      e[k] = pom_rng_range(rng, -POM_PI, POM_PI);
+    pom_euler_zyx_to_matrix(V, e);
+    double a = pom_rng_range(rng, 0.01, 0.02), b = a * pom_rng_range(rng, 0.01, 1.0);
+    double c = pom_rng_range(rng, b, a);
+    int doubled = n % 2;
+    D[0] = a;
+    D[4] = doubled ? a : c;
+    D[8] = b;
+    pom_m3_mul(T, U, D);
+    pom_m3_mult(J, T, V); /* U D V^T */
+    pom_kin_dexterity(J, sv, NULL, NULL);
+    pom_m3_singular_values(ref, J);
+    for (int k = 0; k < 3; ++k) {
+      double d = fabs(sv[k] - ref[k]) / ref[0];
+      if (doubled) {
+        worst_double = fmax(worst_double, d);
+      } else {
+        worst = fmax(worst, d);
+      }
+    }
+  }
+  check_abs(worst, 0.0, 1e-11);
+  check_abs(worst_double, 0.0, 1e-7);
+  double Z[9] = {0}, sv[3], kappa, dex;
+  pom_kin_dexterity(Z, sv, &kappa, &dex);
+  check_true(isinf(kappa) && dex == 0.0);
+}
+
 /* ---- IK -> FK round trips ------------------------------------------------- */
 /* FK stops at max |q(R) - q| <= 1e-12 m; with sv_min >= 0.3 * 15 mm in the
  * workspace the rotation error is <= 1e-12 / 4.5e-3 ~ 2e-10 rad; 1e-9 rad. */
@@ -567,6 +608,7 @@ int main(void) {
   test_points_equal_parameters(&p3, &s3);
   test_jacobian_fd(&p3, &rng);
   test_jacobian_fd(&s3, &rng);
+  test_dexterity_closed_form(&rng);
   test_round_trips(&p3, &rng, 3000);
   test_round_trips(&s3, &rng, 3000);
   test_continuation(&p3);
