@@ -17,6 +17,9 @@ static const command commands[] = {
     {"fk", pom_cmd_fk, "forward kinematics of actuator displacements: orientation"},
     {"workspace", pom_cmd_workspace, "regular dexterous workspace, GCI, dexterity map"},
     {"simulate", pom_cmd_simulate, "one maneuver: settling times, energies, traces"},
+    {"tune", pom_cmd_tune, "PID gains by one criterion for every architecture"},
+    {"montecarlo", pom_cmd_montecarlo, "N random maneuvers of one mechanism: time and energy"},
+    {"study", pom_cmd_study, "candidates x maneuvers: results file, tables, verdict, figures"},
     {"synth", pom_cmd_synth, "kinematic synthesis: response surfaces, desirability, scaling"},
     {NULL, NULL, NULL} /* end */
 };

@@ -34,5 +34,8 @@ int pom_cmd_fk(int argc, char **argv);
 int pom_cmd_workspace(int argc, char **argv);
 int pom_cmd_simulate(int argc, char **argv);
 int pom_cmd_synth(int argc, char **argv);
+int pom_cmd_tune(int argc, char **argv);
+int pom_cmd_montecarlo(int argc, char **argv);
+int pom_cmd_study(int argc, char **argv);
 
 #endif

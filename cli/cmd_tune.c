@@ -1,0 +1,152 @@
+/* cmd_tune.c - `pomlab tune CFG [CFG ...]`: PID gains by one criterion for
+ * every architecture (docs/optimize.md section 9). */
+#include "pom_cli.h"
+#include "pom_tune.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_CFGS 4
+
+static void usage(FILE *out) {
+  fprintf(out, "usage: pomlab tune CFG [CFG ...] [--out PREFIX] [--json]\n\n"
+               "Tunes the PID gains of each config by the same criterion: mean execution time\n"
+               "over a fixed maneuver set, with penalties beyond the overshoot and saturation\n"
+               "limits (docs/optimize.md). Writes PREFIX<name>.controller.cfg, a `controller`\n"
+               "group for simulate/montecarlo/study. PREFIX defaults to results/tune_.\n");
+}
+
+static void safe_name(char *out, size_t cap, const char *name) {
+  size_t j = 0;
+  for (size_t i = 0; name[i] && j + 1 < cap && j < 24; ++i) {
+    char c = name[i];
+    if ((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9'))
+      out[j++] = c;
+    else if (j > 0 && out[j - 1] != '_')
+      out[j++] = '_';
+  }
+  while (j > 0 && out[j - 1] == '_')
+    --j;
+  out[j] = '\0';
+}
+
+static const char *jn(char *buf, double v) {
+  if (isfinite(v))
+    snprintf(buf, 32, "%.10g", v);
+  else
+    snprintf(buf, 32, "null");
+  return buf;
+}
+
+static void print_eval(const char *what, const pom_dyn_controller *c, const pom_tune_eval *e) {
+  printf(
+      "  %-8s kp %-10.5g ki %-10.4g 1/s  kd %-10.4g s | criterion %8.3f ms  mean exec %7.3f ms  "
+      "max exec %7.3f ms  overshoot %6.2f %%  saturation %6.3f ms  unsettled %d  energy %.4g J\n",
+      what, c->kp, c->ki, c->kd, e->criterion * 1e3, e->mean_execution * 1e3,
+      e->max_execution * 1e3, e->max_overshoot * 100.0, e->max_saturation * 1e3, e->unsettled,
+      e->mean_energy);
+}
+
+int pom_cmd_tune(int argc, char **argv) {
+  const char *cfg_paths[MAX_CFGS];
+  int ncfg = 0, json = 0;
+  const char *prefix = "results/tune_";
+  for (int a = 1; a < argc; ++a) {
+    if (strcmp(argv[a], "--help") == 0 || strcmp(argv[a], "-h") == 0) {
+      usage(stdout);
+      return 0;
+    } else if (strcmp(argv[a], "--json") == 0) {
+      json = 1;
+    } else if (strcmp(argv[a], "--out") == 0 && a + 1 < argc) {
+      prefix = argv[++a];
+    } else if (argv[a][0] == '-') {
+      fprintf(stderr, "pomlab tune: unknown option '%s'\n", argv[a]);
+      usage(stderr);
+      return 2;
+    } else if (ncfg < MAX_CFGS) {
+      cfg_paths[ncfg++] = argv[a];
+    } else {
+      fprintf(stderr, "pomlab tune: at most %d configs\n", MAX_CFGS);
+      return 2;
+    }
+  }
+  if (ncfg == 0) {
+    usage(stderr);
+    return 2;
+  }
+  static const char *const scopes[] = {"name",     "architecture", "geometry", "limits", "inertia",
+                                       "actuator", "controller",   "joints",   "scene",  "solver",
+                                       "maneuver", "tuning",       NULL};
+  pom_tune_problem *pbs = calloc(MAX_CFGS, sizeof *pbs);
+  pom_tune_result *res = calloc(MAX_CFGS, sizeof *res);
+  char paths[MAX_CFGS][512];
+  int code = 0;
+  pom_error err;
+  pom_error_clear(&err);
+  if (!pbs || !res) {
+    fprintf(stderr, "pomlab tune: out of memory\n");
+    free(pbs);
+    free(res);
+    return 1;
+  }
+  for (int c = 0; c < ncfg && code == 0; ++c) {
+    pom_cfg *cfg = pom_cli_load_config(cfg_paths[c]);
+    if (!cfg) {
+      code = 2;
+      break;
+    }
+    pom_status st = pom_tune_load(&pbs[c], cfg, &err);
+    if (st == POM_OK) st = pom_cfg_check_unknown(cfg, scopes, pom_cli_known_top, &err);
+    pom_cfg_destroy(cfg);
+    if (st != POM_OK) {
+      pom_cli_report(cfg_paths[c], &err);
+      code = pom_cli_exit_code(st);
+    }
+  }
+  for (int c = 0; c < ncfg && code == 0; ++c) {
+    pom_status st = pom_tune_run(&pbs[c], &res[c], &err);
+    char name[32];
+    safe_name(name, sizeof name, pbs[c].arch.name);
+    snprintf(paths[c], sizeof paths[c], "%s%s.controller.cfg", prefix, name);
+    if (st == POM_OK) st = pom_tune_write_controller(&pbs[c], &res[c], paths[c], &err);
+    if (st != POM_OK) {
+      pom_cli_report(cfg_paths[c], &err);
+      code = pom_cli_exit_code(st);
+      break;
+    }
+    if (!json) {
+      printf("== %s (%s): %d maneuvers, overshoot limit %.3g %%, saturation limit %.4g ms\n",
+             pbs[c].arch.name, pom_kin_arch_name(pbs[c].arch.type), pbs[c].n_maneuvers,
+             pbs[c].overshoot_max * 100.0, pbs[c].saturation_time_max * 1e3);
+      print_eval("config", &res[c].initial, &res[c].initial_eval);
+      print_eval("tuned", &res[c].best, &res[c].best_eval);
+      printf("  %ld criterion evaluations (%ld global %s, %ld local %s), %ld simulations, "
+             "%.2f s\n  wrote %s\n\n",
+             res[c].opt.evals_global + res[c].opt.evals_local, res[c].opt.evals_global,
+             pom_opt_result_name(res[c].opt.result_global), res[c].opt.evals_local,
+             pom_opt_result_name(res[c].opt.result_local), res[c].simulations, res[c].opt.wall_time,
+             paths[c]);
+    }
+  }
+  if (code == 0 && json) {
+    char b[8][32];
+    printf("{\"tune\": [");
+    for (int c = 0; c < ncfg; ++c) {
+      const pom_tune_eval *e = &res[c].best_eval;
+      printf("%s{\"name\": \"%s\", \"architecture\": \"%s\", \"kp\": %s, \"ki_per_s\": %s, "
+             "\"kd_s\": %s, \"criterion_s\": %s, \"mean_execution_s\": %s, \"max_overshoot\": %s, "
+             "\"max_saturation_s\": %s, \"unsettled\": %d, \"initial_criterion_s\": %s, "
+             "\"evaluations\": %ld, \"simulations\": %ld, \"file\": \"%s\"}",
+             c ? ", " : "", pbs[c].arch.name, pom_kin_arch_name(pbs[c].arch.type),
+             jn(b[0], res[c].best.kp), jn(b[1], res[c].best.ki), jn(b[2], res[c].best.kd),
+             jn(b[3], e->criterion), jn(b[4], e->mean_execution), jn(b[5], e->max_overshoot),
+             jn(b[6], e->max_saturation), e->unsettled, jn(b[7], res[c].initial_eval.criterion),
+             res[c].opt.evals_global + res[c].opt.evals_local, res[c].simulations, paths[c]);
+    }
+    printf("]}\n");
+  }
+  free(pbs);
+  free(res);
+  return code;
+}

@@ -1,0 +1,282 @@
+/* pom_tune.c - PID gain tuning, one criterion for every architecture
+ * (docs/optimize.md, section 9). */
+#include "pom_tune.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static const char *const var_names[POM_TUNE_N_VARS + 1] = {"kp", "ki_per_s", "kd_s", NULL};
+
+const char *pom_tune_var_name(pom_tune_var v) {
+  return (v >= 0 && v < POM_TUNE_N_VARS) ? var_names[v] : "?";
+}
+
+static double now_s(void) {
+  struct timespec t;
+  timespec_get(&t, TIME_UTC);
+  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* The default maneuver set (mm): the extreme corners of the Monte-Carlo
+ * cube, mixed-sign steps and uneven steps, identical for every architecture. */
+static const double default_targets_mm[6][3] = {{3.0, 3.0, 3.0},   {-3.0, -3.0, -3.0},
+                                                {3.0, -3.0, 0.0},  {-2.0, 1.0, 3.0},
+                                                {1.5, -2.5, -1.0}, {0.5, 2.0, -2.0}};
+
+void pom_tune_defaults(pom_tune_problem *pb) {
+  memset(pb, 0, sizeof *pb);
+  pom_dyn_params_defaults(&pb->params);
+  pb->n_vars = 2;
+  pb->var[0] = POM_TUNE_KP;
+  pb->lo[0] = 1e3;
+  pb->hi[0] = 1e5;
+  pb->log_scale[0] = 1;
+  pb->var[1] = POM_TUNE_KD;
+  pb->lo[1] = 5e-4;
+  pb->hi[1] = 2e-2;
+  pb->log_scale[1] = 1;
+  pb->n_maneuvers = 6;
+  for (int m = 0; m < 6; ++m)
+    for (int i = 0; i < 3; ++i)
+      pb->target[m][i] = default_targets_mm[m][i] * 1e-3;
+  pb->overshoot_max = 0.05;
+  pb->saturation_time_max = 0.02;
+  pb->penalty_weight = pb->params.maneuver.horizon;
+  pom_opt_defaults(&pb->opt);
+  pb->opt.global = POM_OPT_GLOBAL_DIRECT_L;
+  pb->opt.global_max_evals = 40;
+  pb->opt.local = POM_OPT_LOCAL_BOBYQA;
+  pb->opt.local_max_evals = 40;
+  pb->opt.local_xtol_rel = 1e-3;
+}
+
+static pom_status load_opt(const pom_cfg *cfg, pom_opt_options *o, pom_error *err) {
+  static const char *const globals[] = {"none", "crs2", "direct_l", "isres", "esch", NULL};
+  static const char *const locals[] = {"none", "bobyqa", "neldermead", "sbplx", "cobyla", NULL};
+  int g = (int)o->global, l = (int)o->local;
+  long v = 0;
+  POM_TRY(pom_cfg_choice_opt(cfg, "tuning.optimizer.global", globals, g, &g, err));
+  o->global = (pom_opt_global)g;
+  POM_TRY(pom_cfg_choice_opt(cfg, "tuning.optimizer.local", locals, l, &l, err));
+  o->local = (pom_opt_local)l;
+  POM_TRY(pom_cfg_int_opt(cfg, "tuning.optimizer.global_max_evals", 1, 1000000, o->global_max_evals,
+                          &o->global_max_evals, err));
+  POM_TRY(pom_cfg_int_opt(cfg, "tuning.optimizer.local_max_evals", 1, 1000000, o->local_max_evals,
+                          &o->local_max_evals, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "tuning.optimizer.local_xtol_rel", 1.0, 0.0, 1.0, o->local_xtol_rel,
+                           &o->local_xtol_rel, err));
+  POM_TRY(pom_cfg_int_opt(cfg, "tuning.optimizer.seed", 0, 2147483647L, (long)o->seed, &v, err));
+  o->seed = (unsigned long)v;
+  return POM_OK;
+}
+
+pom_status pom_tune_load(pom_tune_problem *pb, const pom_cfg *cfg, pom_error *err) {
+  char key[128];
+  pom_tune_defaults(pb);
+  POM_TRY(pom_kin_arch_load(&pb->arch, cfg, err));
+  POM_TRY(pom_kin_mechanism_build(&pb->mech, &pb->arch, cfg, err));
+  POM_TRY(pom_dyn_params_load(&pb->params, cfg, err));
+  pb->penalty_weight = pb->params.maneuver.horizon;
+  if (!pom_cfg_has(cfg, "tuning")) return POM_OK; /* every tuning key has a default */
+
+  int nv = pom_cfg_length(cfg, "tuning.variables");
+  if (pom_cfg_has(cfg, "tuning.variables")) {
+    if (nv < 1 || nv > POM_TUNE_N_VARS)
+      return pom_cfg_error(cfg, "tuning.variables", NULL, err,
+                           "expected 1..3 groups { name = \"kp\"|\"ki_per_s\"|\"kd_s\"; min = ...; "
+                           "max = ...; log = true|false; }");
+    pb->n_vars = nv;
+    for (int i = 0; i < nv; ++i) {
+      int id = 0;
+      snprintf(key, sizeof key, "tuning.variables.[%d].name", i);
+      POM_TRY(pom_cfg_choice(cfg, key, var_names, &id, err));
+      for (int j = 0; j < i; ++j)
+        if ((int)pb->var[j] == id)
+          return pom_cfg_error(cfg, key, var_names[id], err, "gain listed twice");
+      pb->var[i] = (pom_tune_var)id;
+      snprintf(key, sizeof key, "tuning.variables.[%d].min", i);
+      POM_TRY(pom_cfg_real(cfg, key, 1.0, 0.0, 1e12, &pb->lo[i], err));
+      snprintf(key, sizeof key, "tuning.variables.[%d].max", i);
+      POM_TRY(pom_cfg_real(cfg, key, 1.0, 0.0, 1e12, &pb->hi[i], err));
+      if (!(pb->lo[i] < pb->hi[i]))
+        return pom_cfg_error(cfg, key, NULL, err, "max must exceed min");
+      snprintf(key, sizeof key, "tuning.variables.[%d].log", i);
+      POM_TRY(pom_cfg_bool_opt(cfg, key, 1, &pb->log_scale[i], err));
+      if (pb->log_scale[i] && !(pb->lo[i] > 0.0)) {
+        snprintf(key, sizeof key, "tuning.variables.[%d].min", i);
+        return pom_cfg_error(cfg, key, NULL, err, "a log-scaled gain needs min > 0");
+      }
+    }
+  }
+  if (pom_cfg_has(cfg, "tuning.maneuvers_mm")) {
+    int nm = pom_cfg_length(cfg, "tuning.maneuvers_mm");
+    if (nm < 1 || nm > POM_TUNE_MAX_MANEUVERS)
+      return pom_cfg_error(cfg, "tuning.maneuvers_mm", NULL, err,
+                           "expected a list of 1..%d setpoint triples ( [q1, q2, q3], ... )",
+                           POM_TUNE_MAX_MANEUVERS);
+    pb->n_maneuvers = nm;
+    double half_mm = 0.5 * pb->arch.stroke * 1e3;
+    for (int m = 0; m < nm; ++m) {
+      snprintf(key, sizeof key, "tuning.maneuvers_mm.[%d]", m);
+      POM_TRY(pom_cfg_reals(cfg, key, 3, 1e-3, -half_mm, half_mm, pb->target[m], err));
+    }
+  }
+  POM_TRY(pom_cfg_real_opt(cfg, "tuning.overshoot_max_percent", 1e-2, 0.0, 1000.0,
+                           pb->overshoot_max, &pb->overshoot_max, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "tuning.saturation_time_max_ms", 1e-3, 0.0, 1e7,
+                           pb->saturation_time_max, &pb->saturation_time_max, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "tuning.penalty_weight_ms", 1e-3, 0.0, 1e9, pb->penalty_weight,
+                           &pb->penalty_weight, err));
+  POM_TRY(load_opt(cfg, &pb->opt, err));
+  return POM_OK;
+}
+
+/* ---- criterion ------------------------------------------------------------ */
+/* Largest overshoot of actuator a beyond its setpoint, as a fraction of its
+ * step from mid-stroke; 0 for a zero step (no relative overshoot defined). */
+static double overshoot(const pom_dyn_trace *tr, int a, double target) {
+  if (target == 0.0) return 0.0;
+  double s = target > 0.0 ? 1.0 : -1.0, worst = 0.0;
+  for (int k = 0; k < tr->n; ++k)
+    worst = fmax(worst, s * (tr->q[3 * k + a] - target));
+  return worst / fabs(target);
+}
+
+pom_status pom_tune_evaluate(const pom_tune_problem *pb, const pom_dyn_controller *ctl,
+                             pom_tune_eval *out, pom_error *err) {
+  pom_status st = POM_OK;
+  pom_dyn_model *model = NULL;
+  pom_dyn_data *data = NULL;
+  pom_dyn_trace *trace = NULL;
+  pom_dyn_params p = pb->params;
+  p.controller = *ctl;
+  memset(out, 0, sizeof *out);
+  double t0 = now_s();
+  POM_TRY_GOTO(pom_dyn_model_create(&model, &pb->mech, &p, err), done);
+  POM_TRY_GOTO(pom_dyn_data_create(&data, model, err), done);
+  POM_TRY_GOTO(pom_dyn_trace_create(&trace, model, err), done);
+  double horizon = p.maneuver.horizon, penalty = 0.0;
+  for (int m = 0; m < pb->n_maneuvers; ++m) {
+    pom_dyn_metrics mt;
+    st = pom_dyn_simulate(model, data, pb->target[m], &mt, trace, err);
+    if (st != POM_OK) {
+      pom_error_prefix(err,
+                       "maneuver %d to (%.4g, %.4g, %.4g) mm with kp %.6g, ki %.6g 1/s, kd %.6g s",
+                       m + 1, pb->target[m][0] * 1e3, pb->target[m][1] * 1e3,
+                       pb->target[m][2] * 1e3, ctl->kp, ctl->ki, ctl->kd);
+      goto done;
+    }
+    /* An unsettled maneuver is censored at the horizon (docs/optimize.md 9). */
+    double te = isfinite(mt.execution_time) ? mt.execution_time : horizon;
+    if (!isfinite(mt.execution_time)) out->unsettled++;
+    double os = 0.0, sat = 0.0;
+    for (int a = 0; a < 3; ++a) {
+      os = fmax(os, overshoot(trace, a, pb->target[m][a]));
+      sat = fmax(sat, mt.saturation_time[a]);
+    }
+    out->mean_execution += te / pb->n_maneuvers;
+    out->max_execution = fmax(out->max_execution, te);
+    out->max_overshoot = fmax(out->max_overshoot, os);
+    out->max_saturation = fmax(out->max_saturation, sat);
+    out->mean_energy += mt.energy_total / pb->n_maneuvers;
+    if (os > pb->overshoot_max) penalty += (os - pb->overshoot_max) / fmax(pb->overshoot_max, 1e-3);
+    if (sat > pb->saturation_time_max)
+      penalty += (sat - pb->saturation_time_max) / fmax(pb->saturation_time_max, horizon * 1e-3);
+  }
+  out->criterion = out->mean_execution + pb->penalty_weight * penalty / pb->n_maneuvers;
+  if (!isfinite(out->criterion))
+    POM_FAIL_GOTO(err, POM_ERR_NONFINITE, done, "tuning criterion is %g at kp %g, ki %g, kd %g",
+                  out->criterion, ctl->kp, ctl->ki, ctl->kd);
+done:
+  out->sim_time = now_s() - t0;
+  pom_dyn_trace_destroy(trace);
+  pom_dyn_data_destroy(data);
+  pom_dyn_model_destroy(model);
+  return st;
+}
+
+/* ---- optimization ---------------------------------------------------------- */
+typedef struct {
+  const pom_tune_problem *pb;
+  long simulations;
+  pom_tune_eval last;
+} tune_ctx;
+
+static void search_to_controller(const pom_tune_problem *pb, const double z[],
+                                 pom_dyn_controller *c) {
+  *c = pb->params.controller;
+  for (int i = 0; i < pb->n_vars; ++i) {
+    double g = pb->log_scale[i] ? pow(10.0, z[i]) : z[i];
+    if (pb->var[i] == POM_TUNE_KP) c->kp = g;
+    if (pb->var[i] == POM_TUNE_KI) c->ki = g;
+    if (pb->var[i] == POM_TUNE_KD) c->kd = g;
+  }
+}
+
+static pom_status objective(void *vctx, const double z[], double *f, pom_error *err) {
+  tune_ctx *c = vctx;
+  pom_dyn_controller ctl;
+  search_to_controller(c->pb, z, &ctl);
+  POM_TRY(pom_tune_evaluate(c->pb, &ctl, &c->last, err));
+  c->simulations += c->pb->n_maneuvers;
+  *f = -c->last.criterion; /* the driver maximizes */
+  return POM_OK;
+}
+
+pom_status pom_tune_run(const pom_tune_problem *pb, pom_tune_result *res, pom_error *err) {
+  memset(res, 0, sizeof *res);
+  tune_ctx c;
+  memset(&c, 0, sizeof c);
+  c.pb = pb;
+  res->initial = pb->params.controller;
+  POM_TRY(pom_tune_evaluate(pb, &res->initial, &res->initial_eval, err));
+  c.simulations = pb->n_maneuvers;
+  double lo[POM_TUNE_N_VARS], hi[POM_TUNE_N_VARS], z0[POM_TUNE_N_VARS];
+  for (int i = 0; i < pb->n_vars; ++i) {
+    lo[i] = pb->log_scale[i] ? log10(pb->lo[i]) : pb->lo[i];
+    hi[i] = pb->log_scale[i] ? log10(pb->hi[i]) : pb->hi[i];
+    double g = pb->var[i] == POM_TUNE_KP   ? res->initial.kp
+               : pb->var[i] == POM_TUNE_KI ? res->initial.ki
+                                           : res->initial.kd;
+    z0[i] = pb->log_scale[i] ? (g > 0.0 ? log10(g) : lo[i]) : g;
+  }
+  pom_status st = pom_opt_maximize(pb->n_vars, lo, hi, z0, objective, &c, &pb->opt, &res->opt, err);
+  res->simulations = c.simulations;
+  if (st != POM_OK) return pom_error_prefix(err, "gain tuning");
+  search_to_controller(pb, res->opt.x, &res->best);
+  POM_TRY(pom_tune_evaluate(pb, &res->best, &res->best_eval, err));
+  res->simulations += pb->n_maneuvers;
+  /* Keep the config's gains when the search found nothing better. */
+  if (res->initial_eval.criterion < res->best_eval.criterion) {
+    int inside = 1;
+    for (int i = 0; i < pb->n_vars; ++i)
+      inside &= z0[i] >= lo[i] && z0[i] <= hi[i];
+    if (inside) {
+      res->best = res->initial;
+      res->best_eval = res->initial_eval;
+    }
+  }
+  return POM_OK;
+}
+
+pom_status pom_tune_write_controller(const pom_tune_problem *pb, const pom_tune_result *res,
+                                     const char *path, pom_error *err) {
+  FILE *f = fopen(path, "w");
+  if (!f) POM_FAIL(err, POM_ERR_IO, "cannot write %s", path);
+  fprintf(f,
+          "# PID gains tuned by pomlab tune for \"%s\" (%s): mean execution time %.4g ms over\n"
+          "# %d fixed maneuvers (largest overshoot %.3g %%, largest saturation time %.4g ms,\n"
+          "# %d unsettled); criterion %.6g ms (config gains: %.6g ms).\n",
+          pb->arch.name, pom_kin_arch_name(pb->arch.type), res->best_eval.mean_execution * 1e3,
+          pb->n_maneuvers, res->best_eval.max_overshoot * 100.0,
+          res->best_eval.max_saturation * 1e3, res->best_eval.unsettled,
+          res->best_eval.criterion * 1e3, res->initial_eval.criterion * 1e3);
+  fprintf(
+      f, "controller = {\n  form = \"%s\";\n  kp = %.9g;\n  ki_per_s = %.9g;\n  kd_s = %.9g;\n};\n",
+      pom_dyn_pid_form_name(res->best.form), res->best.kp, res->best.ki, res->best.kd);
+  if (fclose(f) != 0) POM_FAIL(err, POM_ERR_IO, "writing %s failed", path);
+  return POM_OK;
+}
