@@ -139,6 +139,10 @@ struct pom_dyn_data {
  * Euler singularity; never allocates. */
 int pom_dyn_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot);
 
+/* dyn_rhs.c: actuator displacements q[n_actuators] (m) of a state, without
+ * the full pass (for the output grid of the metrics). */
+void pom_dyn_actuator_positions(const pom_dyn_model *m, const double *y, double *q);
+
 /* dyn_rhs.c: stored energy of a state (J). */
 double pom_dyn_stored(const pom_dyn_model *m, pom_dyn_data *d, const double *y);
 
@@ -151,5 +155,11 @@ pom_status pom_dyn_structure_build(pom_dyn_model *m, pom_error *err);
 /* dyn_jac.c: the CVODE Jacobian callback (dense or CSC by the matrix id). */
 int pom_dyn_cvode_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *user_data,
                       N_Vector tmp1, N_Vector tmp2, N_Vector tmp3);
+
+/* dyn_jac.c: largest scaled derivative that the structure leaves out (0 when
+ * the pattern is complete), by one-column finite differences at y; f0, yp, fp
+ * are caller scratch of n_states each. worst_i/j name the entry. */
+double pom_dyn_structure_check(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *f0,
+                               double *yp, double *fp, int *worst_i, int *worst_j);
 
 #endif

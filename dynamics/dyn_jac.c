@@ -12,13 +12,54 @@
 #include <sunmatrix/sunmatrix_sparse.h>
 
 /* ---- structure ----------------------------------------------------------- */
-/* Entity of a state: body slot (0..nb-1), actuator nb + a, or -1 for an
- * energy accumulator (rows left out of the Jacobian, see docs). */
-static int state_entity(const pom_dyn_model *m, int i) {
-  if (i < m->n_bodies * m->body_states) return i / m->body_states;
-  for (int a = 0; a < m->n_actuators; ++a)
-    if (i == m->act[a].flux_state || i == m->act[a].int_state) return m->n_bodies + a;
+enum { KIND_U, KIND_P, KIND_H, KIND_ORI, KIND_FLUX, KIND_INT, KIND_ACC };
+
+/* Entity (body slot 0..nb-1, actuator nb + a, -1 for an accumulator) and
+ * kind of state i. */
+static int state_entity(const pom_dyn_model *m, int i, int *kind) {
+  if (i < m->n_bodies * m->body_states) {
+    int r = i % m->body_states;
+    *kind = r < DYN_BODY_P     ? KIND_U
+            : r < DYN_BODY_H   ? KIND_P
+            : r < DYN_BODY_ORI ? KIND_H
+                               : KIND_ORI;
+    return i / m->body_states;
+  }
+  for (int a = 0; a < m->n_actuators; ++a) {
+    if (i == m->act[a].flux_state) {
+      *kind = KIND_FLUX;
+      return m->n_bodies + a;
+    }
+    if (i == m->act[a].int_state) {
+      *kind = KIND_INT;
+      return m->n_bodies + a;
+    }
+  }
+  *kind = KIND_ACC;
   return -1;
+}
+
+/* Does the derivative of a state of kind ki on entity ei depend on a state of
+ * kind kj on entity ej? (adjacent = same entity or coupled by a joint or an
+ * actuator; docs/dynamics.md section 7) */
+static int depends(int ki, int ei, int kj, int ej, int adjacent) {
+  int same = ei == ej;
+  int body_col = kj <= KIND_ORI;
+  switch (ki) {
+  case KIND_U: /* u_dot = p / m */
+    return same && kj == KIND_P;
+  case KIND_ORI: /* orientation rate from its own orientation and h' */
+    return same && (kj == KIND_ORI || kj == KIND_H);
+  case KIND_P:
+  case KIND_H: /* efforts of joints and actuators on the EJS */
+    return adjacent && (body_col || kj == KIND_FLUX || kj == KIND_INT);
+  case KIND_FLUX: /* coil: u(e, z, q_dot), back-emf, its own flux */
+    return adjacent && (body_col || kj == KIND_FLUX || kj == KIND_INT);
+  case KIND_INT: /* z_dot = e = target - q(u, orientation) */
+    return adjacent && !same && (kj == KIND_U || kj == KIND_ORI);
+  default: /* accumulators: rows left out (they never feed back) */
+    return 0;
+  }
 }
 
 pom_status pom_dyn_structure_build(pom_dyn_model *m, pom_error *err) {
@@ -26,11 +67,14 @@ pom_status pom_dyn_structure_build(pom_dyn_model *m, pom_error *err) {
   int n = m->n_states;
   int ne = m->n_bodies + m->n_actuators;
   unsigned char *adj = NULL, *used = NULL;
+  int *ent = NULL, *kind = NULL;
   adj = calloc((size_t)(ne * ne), 1);
   m->dep = calloc((size_t)n * (size_t)n, 1);
   m->color = calloc((size_t)n, sizeof *m->color);
   used = calloc((size_t)n * (size_t)n, 1);
-  if (!adj || !m->dep || !m->color || !used)
+  ent = calloc((size_t)n, sizeof *ent);
+  kind = calloc((size_t)n, sizeof *kind);
+  if (!adj || !m->dep || !m->color || !used || !ent || !kind)
     POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "allocating the Jacobian structure (%d states)", n);
 
   /* entity adjacency: a joint couples its two bodies; an actuator couples
@@ -47,12 +91,13 @@ pom_status pom_dyn_structure_build(pom_dyn_model *m, pom_error *err) {
         if (jt->slot[s] >= 0) adj[jt->slot[s] * ne + ea] = adj[ea * ne + jt->slot[s]] = 1;
     }
   }
+  for (int i = 0; i < n; ++i)
+    ent[i] = state_entity(m, i, &kind[i]);
   long nnz = 0;
   for (int i = 0; i < n; ++i) {
-    int ei = state_entity(m, i);
     for (int j = 0; j < n; ++j) {
-      int ej = state_entity(m, j);
-      unsigned char dij = (ei >= 0 && ej >= 0 && adj[ei * ne + ej]) ? 1 : 0;
+      int a = ent[i] >= 0 && ent[j] >= 0 && adj[ent[i] * ne + ent[j]];
+      unsigned char dij = (unsigned char)(a ? depends(kind[i], ent[i], kind[j], ent[j], 1) : 0);
       m->dep[(size_t)i * (size_t)n + (size_t)j] = dij;
       if (dij || i == j) ++nnz;
     }
@@ -81,6 +126,8 @@ pom_status pom_dyn_structure_build(pom_dyn_model *m, pom_error *err) {
 done:
   free(adj);
   free(used);
+  free(ent);
+  free(kind);
   return st;
 }
 
@@ -145,4 +192,36 @@ int pom_dyn_cvode_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void 
     }
   }
   return 0;
+}
+
+/* ---- structural check ---------------------------------------------------- */
+double pom_dyn_structure_check(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *f0,
+                               double *yp, double *fp, int *worst_i, int *worst_j) {
+  const int n = m->n_states;
+  const double srur = sqrt(2.220446049250313e-16);
+  double worst = 0.0;
+  *worst_i = *worst_j = -1;
+  pom_dyn_eval(m, d, y, f0);
+  memcpy(yp, y, (size_t)n * sizeof(double));
+  for (int j = 0; j < n; ++j) {
+    double h = srur * fmax(fabs(y[j]), m->scale[j]);
+    yp[j] = y[j] + h;
+    pom_dyn_eval(m, d, yp, fp);
+    yp[j] = y[j];
+    for (int i = 0; i < n; ++i) {
+      if (m->dep[(size_t)i * (size_t)n + (size_t)j]) continue;
+      int acc = 0;
+      for (int a = 0; a < m->n_actuators; ++a)
+        if (i >= m->act[a].acc_state && i < m->act[a].acc_state + DYN_ACC_PER_ACT) acc = 1;
+      if (acc || i == m->acc_parasitic || i == j) continue;
+      /* a derivative outside the pattern, relative to the row's scale / column's scale */
+      double jij = fabs(fp[i] - f0[i]) / h * m->scale[j] / fmax(fabs(f0[i]), m->scale[i]);
+      if (jij > worst) {
+        worst = jij;
+        *worst_i = i;
+        *worst_j = j;
+      }
+    }
+  }
+  return worst;
 }

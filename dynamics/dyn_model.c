@@ -136,11 +136,12 @@ static pom_status params_check(const pom_dyn_params *p, pom_error *err) {
       !(j->angular_damping >= 0))
     POM_FAIL(err, POM_ERR_ARG, "joint stiffness must be > 0 and damping >= 0");
   const pom_dyn_solver *s = &p->solver;
-  if (!(s->rtol > 0) || !(s->atol_scale > 0) || !(s->max_step >= 0) || s->max_steps < 1)
+  if (!(s->rtol > 0) || !(s->atol_scale > 0) || !(s->max_step >= 0) || s->max_steps < 1 ||
+      s->max_order < 1 || s->max_order > 5)
     POM_FAIL(err, POM_ERR_ARG,
              "solver: rtol %g, atol_scale %g must be > 0, max_step %g >= 0, "
-             "max_steps %ld >= 1",
-             s->rtol, s->atol_scale, s->max_step, s->max_steps);
+             "max_steps %ld >= 1, max_order %d in 1..5",
+             s->rtol, s->atol_scale, s->max_step, s->max_steps, s->max_order);
   const pom_dyn_maneuver *m = &p->maneuver;
   if (!(m->horizon > 0) || !(m->output_dt > 0) || !(m->output_dt <= m->horizon) ||
       !(m->settle_band > 0) || !(m->horizon / m->output_dt <= 1e7))
@@ -154,17 +155,18 @@ static pom_status params_check(const pom_dyn_params *p, pom_error *err) {
 }
 
 /* ---- characteristic scales and tolerances -------------------------------- */
-/* Scales of each state kind (docs/dynamics.md section 7): atol = atol_scale *
- * scale, and the finite-difference increment uses the same scale. */
-#define DYN_SCALE_LENGTH 1e-3  /* m: a fraction of the stroke */
-#define DYN_SCALE_SPEED  1.0   /* m/s: actuator speeds in a 3 mm move */
-#define DYN_SCALE_RATE   100.0 /* rad/s */
-#define DYN_SCALE_ANGLE  1e-1  /* rad (and quaternion components) */
+/* Characteristic scales of each state kind (docs/dynamics.md section 7):
+ * the smallest magnitude that still matters in a 3 mm maneuver. atol =
+ * atol_scale * scale; the finite-difference increments use the same scale. */
+#define DYN_SCALE_LENGTH  1e-6 /* m: parasitic deflections are 1-30 um */
+#define DYN_SCALE_SPEED   1e-3 /* m/s: actuator speeds reach ~0.5 m/s */
+#define DYN_SCALE_RATE    1e-2 /* rad/s */
+#define DYN_SCALE_ANGLE   1e-4 /* rad (and quaternion components): 1e-4 rad ~ 3 um at 30 mm */
+#define DYN_SCALE_CURRENT 1e-2 /* A: currents reach V/R = 2.4 A */
+#define DYN_SCALE_ENERGY  1e-3 /* J: a 3 mm move costs ~0.1-1 J */
 
 static void scales_fill(pom_dyn_model *m) {
   const pom_dyn_params *p = &m->par;
-  double i_max = p->actuator.voltage_limit / p->actuator.resistance;
-  double e_max = p->actuator.voltage_limit * i_max * p->maneuver.horizon;
   for (int b = 0; b < m->n_bodies; ++b) {
     const dyn_body *bd = &m->body[b];
     for (int k = 0; k < 3; ++k) {
@@ -177,13 +179,13 @@ static void scales_fill(pom_dyn_model *m) {
   }
   for (int a = 0; a < m->n_actuators; ++a) {
     const dyn_actuator *ac = &m->act[a];
-    if (ac->flux_state >= 0) m->scale[ac->flux_state] = p->actuator.inductance * i_max;
+    if (ac->flux_state >= 0) m->scale[ac->flux_state] = p->actuator.inductance * DYN_SCALE_CURRENT;
     m->scale[ac->int_state] = DYN_SCALE_LENGTH * p->maneuver.horizon;
     for (int k = 0; k < DYN_ACC_PER_ACT; ++k)
-      m->scale[ac->acc_state + k] = e_max;
+      m->scale[ac->acc_state + k] = DYN_SCALE_ENERGY;
     m->scale[ac->acc_state + DYN_ACC_SATURATED] = p->maneuver.horizon;
   }
-  m->scale[m->acc_parasitic] = e_max;
+  m->scale[m->acc_parasitic] = DYN_SCALE_ENERGY;
   for (int i = 0; i < m->n_states; ++i)
     m->atol[i] = p->solver.atol_scale * m->scale[i];
   /* time in saturation integrates a discontinuous indicator: kept out of the

@@ -32,7 +32,9 @@ void pom_dyn_params_defaults(pom_dyn_params *p) {
   p->solver.atol_scale = 1.0e-3;
   p->solver.max_step = 0.0;
   p->solver.max_steps = 200000;
-  p->solver.linear_solver = POM_LINSOL_DENSE;
+  p->solver.linear_solver = POM_LINSOL_KLU;
+  p->solver.max_order = 5;
+  p->solver.stability_limit_detection = 1;
   p->maneuver.horizon = 0.100;
   p->maneuver.settle_band = 0.02;
   p->maneuver.output_dt = 1.0e-4;
@@ -112,6 +114,10 @@ pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error 
   idx = (int)v->linear_solver;
   POM_TRY(pom_cfg_choice_opt(cfg, "solver.linear_solver", linsol_kinds, idx, &idx, err));
   v->linear_solver = (idx == 1) ? POM_LINSOL_KLU : POM_LINSOL_DENSE;
+  POM_TRY(pom_cfg_int_opt(cfg, "solver.max_order", 1, 5, v->max_order, &lval, err));
+  v->max_order = (int)lval;
+  POM_TRY(pom_cfg_bool_opt(cfg, "solver.stability_limit_detection", v->stability_limit_detection,
+                           &v->stability_limit_detection, err));
 
   POM_TRY(
       pom_cfg_real_opt(cfg, "maneuver.horizon_ms", 1e-3, 1e-3, 1e7, m->horizon, &m->horizon, err));

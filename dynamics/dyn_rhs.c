@@ -237,6 +237,50 @@ int pom_dyn_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, doubl
   return (o->euler_singular || o->nonfinite) ? 1 : 0;
 }
 
+/* ---- actuator positions only --------------------------------------------- */
+static void slot_pose(const pom_dyn_model *m, const double *y, int slot, double R[9], double x[3]) {
+  if (slot < 0) {
+    pom_m3_identity(R);
+    pom_v3_set(x, 0.0, 0.0, 0.0);
+    return;
+  }
+  const dyn_body *bd = &m->body[slot];
+  const double *yb = y + bd->offset;
+  if (m->par.scene.orientation == POM_ORIENT_QUATERNION) {
+    double q[4] = {yb[DYN_BODY_ORI], yb[DYN_BODY_ORI + 1], yb[DYN_BODY_ORI + 2],
+                   yb[DYN_BODY_ORI + 3]};
+    pom_quat_normalize(q);
+    pom_quat_to_matrix(R, q);
+  } else {
+    pom_euler_zyx_to_matrix(R, yb + DYN_BODY_ORI);
+  }
+  pom_v3_add(x, bd->cm_home, yb + DYN_BODY_U);
+}
+
+void pom_dyn_actuator_positions(const pom_dyn_model *m, const double *y, double *q) {
+  for (int a = 0; a < m->n_actuators; ++a) {
+    const dyn_joint *jt = &m->joint[m->act[a].joint];
+    double R0[9], R1[9], x0[3], x1[3], p0[3], p1[3], r[3], n[3], dd[3];
+    slot_pose(m, y, jt->slot[0], R0, x0);
+    slot_pose(m, y, jt->slot[1], R1, x1);
+    if (jt->slot[0] < 0) {
+      pom_v3_copy(p0, jt->rho[0]);
+    } else {
+      pom_m3_apply(r, R0, jt->rho[0]);
+      pom_v3_add(p0, x0, r);
+    }
+    if (jt->slot[1] < 0) {
+      pom_v3_copy(p1, jt->rho[1]);
+    } else {
+      pom_m3_apply(r, R1, jt->rho[1]);
+      pom_v3_add(p1, x1, r);
+    }
+    pom_v3_sub(dd, p1, p0);
+    pom_m3_apply(n, R0, jt->axis);
+    q[a] = pom_v3_dot(n, dd);
+  }
+}
+
 /* ---- CVODE callback ------------------------------------------------------ */
 int pom_dyn_cvode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data) {
   (void)t;

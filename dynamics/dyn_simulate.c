@@ -70,6 +70,8 @@ pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_e
       CVodeSVtolerances(d->cvode, p->solver.rtol, d->atol) != CV_SUCCESS ||
       CVodeSetUserData(d->cvode, d) != CV_SUCCESS ||
       CVodeSetMaxNumSteps(d->cvode, p->solver.max_steps) != CV_SUCCESS ||
+      CVodeSetMaxOrd(d->cvode, p->solver.max_order) != CV_SUCCESS ||
+      CVodeSetStabLimDet(d->cvode, p->solver.stability_limit_detection ? 1 : 0) != CV_SUCCESS ||
       (p->solver.max_step > 0 && CVodeSetMaxStep(d->cvode, p->solver.max_step) != CV_SUCCESS))
     POM_FAIL_GOTO(err, POM_ERR_SOLVER, fail, "configuring CVODE: %s", d->cvode_msg);
 
@@ -358,9 +360,14 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
         st = fail_status(d, CV_BAD_T, tk, mt, err);
         goto finish;
       }
-      pom_dyn_eval(m, d, ys, NULL);
-      track_extremes(m, d, mt);
-      record_sample(m, d, k, tk, ys, tr);
+      if (tr) {
+        pom_dyn_eval(m, d, ys, NULL);
+        track_extremes(m, d, mt);
+        record_sample(m, d, k, tk, ys, tr);
+      } else {
+        /* metrics need only q on the grid; extremes come from the steps */
+        pom_dyn_actuator_positions(m, ys, d->qs + 3 * k);
+      }
       ++k;
     }
   }

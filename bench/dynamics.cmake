@@ -1,0 +1,2 @@
+pom_add_bench(bench_dynamics bench_dynamics.c)
+target_link_libraries(bench_dynamics PRIVATE pom_dynamics pom_kinematics pom_core)

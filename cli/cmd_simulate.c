@@ -1,0 +1,373 @@
+/* cmd_simulate.c - `pomlab simulate CFG --target q1,q2,q3`: one maneuver of
+ * the configured mechanism; metrics on stdout, traces to HDF5 or CSV on
+ * request (docs/dynamics.md section 10). */
+#include "pom_cli.h"
+#include "pom_dynamics.h"
+#include "pom_h5.h"
+#include "pom_kinematics.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void simulate_usage(FILE *out) {
+  fprintf(out,
+          "usage: pomlab simulate CONFIG --target q1,q2,q3 [options]\n\n"
+          "One maneuver from rest at home (mid-stroke) to the three actuator setpoints.\n\n"
+          "  --target q1,q2,q3     setpoints in MILLIMETRES from mid-stroke (required)\n"
+          "  --json                machine-readable metrics on stdout\n"
+          "  --out FILE            write traces: FILE.h5 (HDF5) or FILE.csv (SI units)\n"
+          "  --form ideal|parallel override controller.form\n"
+          "  --kp X --ki X --kd X  override controller.kp, ki_per_s, kd_s\n"
+          "  --orientation euler|quaternion   override scene.orientation\n"
+          "  --linsol dense|klu    override solver.linear_solver\n"
+          "  --rtol X              override solver.rtol\n"
+          "  --help                this text\n\n"
+          "Times are reported in ms, energies in mJ, positions in mm (SI in --json and traces).\n");
+}
+
+/* Every group simulate reads; unknown keys there are errors. */
+static const char *const simulate_scopes[] = {"name",    "architecture", "geometry",   "limits",
+                                              "inertia", "actuator",     "controller", "joints",
+                                              "scene",   "solver",       "maneuver",   NULL};
+
+/* ---- output -------------------------------------------------------------- */
+static void json_array(FILE *f, const char *key, const double *v, int n, double scale,
+                       const char *sep) {
+  fprintf(f, "  \"%s\": [", key);
+  for (int k = 0; k < n; ++k) {
+    if (isfinite(v[k]))
+      fprintf(f, "%s%.9g", k ? ", " : "", v[k] * scale);
+    else
+      fprintf(f, "%snull", k ? ", " : "");
+  }
+  fprintf(f, "]%s\n", sep);
+}
+
+static void json_num(FILE *f, const char *key, double v, const char *sep) {
+  if (isfinite(v))
+    fprintf(f, "  \"%s\": %.9g%s\n", key, v, sep);
+  else
+    fprintf(f, "  \"%s\": null%s\n", key, sep);
+}
+
+static void print_json(const char *name, const pom_dyn_params *p, const pom_dyn_metrics *mt) {
+  FILE *f = stdout;
+  double settled[3] = {mt->settled[0], mt->settled[1], mt->settled[2]};
+  fprintf(f, "{\n  \"name\": \"%s\",\n  \"status\": \"%s\",\n  \"reason\": \"%s\",\n", name,
+          pom_status_name(mt->status), mt->reason);
+  fprintf(f,
+          "  \"controller_form\": \"%s\",\n  \"orientation\": \"%s\",\n"
+          "  \"linear_solver\": \"%s\",\n",
+          pom_dyn_pid_form_name(p->controller.form), pom_dyn_orient_name(p->scene.orientation),
+          pom_dyn_linsol_name(p->solver.linear_solver));
+  json_num(f, "horizon_s", p->maneuver.horizon, ",");
+  json_array(f, "target_m", mt->target, 3, 1.0, ",");
+  json_array(f, "final_q_m", mt->final_q, 3, 1.0, ",");
+  json_array(f, "settling_time_s", mt->settling_time, 3, 1.0, ",");
+  json_array(f, "settled", settled, 3, 1.0, ",");
+  json_array(f, "settling_time_final_s", mt->settling_time_final, 3, 1.0, ",");
+  json_num(f, "execution_time_s", mt->execution_time, ",");
+  json_array(f, "energy_J", mt->energy, 3, 1.0, ",");
+  json_array(f, "energy_positive_J", mt->energy_positive, 3, 1.0, ",");
+  json_num(f, "energy_total_J", mt->energy_total, ",");
+  json_array(f, "energy_coil_J", mt->energy_coil, 3, 1.0, ",");
+  json_array(f, "energy_bearing_J", mt->energy_bearing, 3, 1.0, ",");
+  json_num(f, "energy_parasitic_J", mt->energy_parasitic, ",");
+  json_num(f, "energy_dissipated_J", mt->energy_dissipated, ",");
+  json_num(f, "energy_stored_change_J", mt->energy_stored_change, ",");
+  json_num(f, "energy_balance_error", mt->energy_balance_error, ",");
+  json_array(f, "peak_voltage_V", mt->peak_voltage, 3, 1.0, ",");
+  json_array(f, "saturation_time_s", mt->saturation_time, 3, 1.0, ",");
+  json_num(f, "max_deflection_m", mt->max_deflection, ",");
+  json_num(f, "max_angular_deflection_rad", mt->max_angular_deflection, ",");
+  fprintf(f,
+          "  \"steps\": %ld,\n  \"rhs_evals\": %ld,\n  \"jac_evals\": %ld,\n"
+          "  \"jac_rhs_evals\": %ld,\n  \"newton_iters\": %ld,\n  \"linsol_setups\": %ld,\n"
+          "  \"error_test_fails\": %ld,\n  \"nonlin_conv_fails\": %ld,\n",
+          mt->steps, mt->rhs_evals, mt->jac_evals, mt->jac_rhs_evals, mt->newton_iters,
+          mt->linsol_setups, mt->error_test_fails, mt->nonlin_conv_fails);
+  json_num(f, "wall_time_s", mt->wall_time, "");
+  fprintf(f, "}\n");
+}
+
+static void print_human(const char *name, const pom_dyn_params *p, const pom_dyn_metrics *mt) {
+  printf("%s: maneuver to (%.4g, %.4g, %.4g) mm, horizon %.4g ms, PID %s, orientation %s, "
+         "linear solver %s\n",
+         name, mt->target[0] * 1e3, mt->target[1] * 1e3, mt->target[2] * 1e3,
+         p->maneuver.horizon * 1e3, pom_dyn_pid_form_name(p->controller.form),
+         pom_dyn_orient_name(p->scene.orientation), pom_dyn_linsol_name(p->solver.linear_solver));
+  if (mt->status != POM_OK) printf("status: %s (%s)\n", pom_status_name(mt->status), mt->reason);
+  printf("actuator  target(mm)  final(mm)  settle(ms)  settle_final(ms)  energy(mJ)  "
+         "E+(mJ)  peak(V)  saturated(ms)\n");
+  for (int a = 0; a < 3; ++a)
+    printf("%8d  %10.4f  %9.4f  %10.3f%s  %16.3f  %10.3f  %6.3f  %7.2f  %13.3f\n", a + 1,
+           mt->target[a] * 1e3, mt->final_q[a] * 1e3, mt->settling_time[a] * 1e3,
+           mt->settled[a] ? " " : "*", mt->settling_time_final[a] * 1e3, mt->energy[a] * 1e3,
+           mt->energy_positive[a] * 1e3, mt->peak_voltage[a], mt->saturation_time[a] * 1e3);
+  printf("execution time: %.3f ms%s\n", mt->execution_time * 1e3,
+         isnan(mt->execution_time) ? " (an actuator did not settle, marked *)" : "");
+  printf("expended energy: %.4f mJ (positive part %.4f mJ)\n", mt->energy_total * 1e3,
+         (mt->energy_positive[0] + mt->energy_positive[1] + mt->energy_positive[2]) * 1e3);
+  printf("energy audit: supplied %.6g J = dissipated %.6g J (coil %.4g, bearing %.4g, parasitic "
+         "%.4g) + stored change %.6g J; balance error %.2e\n",
+         mt->energy_supplied, mt->energy_dissipated,
+         mt->energy_coil[0] + mt->energy_coil[1] + mt->energy_coil[2],
+         mt->energy_bearing[0] + mt->energy_bearing[1] + mt->energy_bearing[2],
+         mt->energy_parasitic, mt->energy_stored_change, mt->energy_balance_error);
+  printf("largest parasitic deflection: %.3g um, %.3g mrad\n", mt->max_deflection * 1e6,
+         mt->max_angular_deflection * 1e3);
+  printf("solver: %ld steps, %ld RHS evaluations (%ld in %ld Jacobians), %ld Newton iterations, "
+         "%ld factorizations, %ld error-test and %ld convergence failures; %.3f ms wall\n",
+         mt->steps, mt->rhs_evals, mt->jac_rhs_evals, mt->jac_evals, mt->newton_iters,
+         mt->linsol_setups, mt->error_test_fails, mt->nonlin_conv_fails, mt->wall_time * 1e3);
+}
+
+/* ---- traces -------------------------------------------------------------- */
+static int ends_with(const char *s, const char *suffix) {
+  size_t n = strlen(s), k = strlen(suffix);
+  return n >= k && strcmp(s + n - k, suffix) == 0;
+}
+
+static pom_status write_csv(const char *path, const pom_dyn_trace *tr, pom_error *err) {
+  FILE *f = fopen(path, "w");
+  if (!f) POM_FAIL(err, POM_ERR_IO, "cannot write '%s'", path);
+  fprintf(f, "t_s,q1_m,q2_m,q3_m,qdot1_mps,qdot2_mps,qdot3_mps,i1_A,i2_A,i3_A,u1_V,u2_V,u3_V,"
+             "E1_J,E2_J,E3_J,psi_rad,theta_rad,phi_rad,qw,qx,qy,qz,deflection_m\n");
+  for (int k = 0; k < tr->n; ++k) {
+    fprintf(f, "%.9g", tr->t[k]);
+    const double *cols[5] = {tr->q, tr->q_dot, tr->current, tr->voltage, tr->energy};
+    for (int c = 0; c < 5; ++c)
+      for (int a = 0; a < 3; ++a)
+        fprintf(f, ",%.9g", cols[c][3 * k + a]);
+    for (int a = 0; a < 3; ++a)
+      fprintf(f, ",%.9g", tr->euler_zyx[3 * k + a]);
+    for (int a = 0; a < 4; ++a)
+      fprintf(f, ",%.9g", tr->quat[4 * k + a]);
+    fprintf(f, ",%.9g\n", tr->deflection[k]);
+  }
+  if (fclose(f) != 0) POM_FAIL(err, POM_ERR_IO, "writing '%s' failed", path);
+  return POM_OK;
+}
+
+static pom_status write_h5(const char *path, const pom_cfg *cfg, const char *name,
+                           const pom_dyn_params *p, const pom_dyn_trace *tr,
+                           const pom_dyn_metrics *mt, pom_error *err) {
+  pom_status st = POM_OK;
+  hid_t file = -1, g = -1;
+  size_t n = (size_t)tr->n;
+  size_t d1[1] = {n}, d3[2] = {n, 3}, d4[2] = {n, 4};
+  POM_TRY(pom_h5_create_file(&file, path, err));
+  POM_TRY_GOTO(pom_h5_attr_string(file, "program", "pomlab simulate " POM_VERSION, err), done);
+  POM_TRY_GOTO(pom_h5_attr_string(file, "git_commit", POM_GIT_COMMIT, err), done);
+  POM_TRY_GOTO(pom_h5_attr_string(file, "name", name, err), done);
+  POM_TRY_GOTO(pom_h5_write_text(file, "config", pom_cfg_text(cfg), err), done);
+  POM_TRY_GOTO(pom_h5_create_group(&g, file, "trace", err), done);
+  POM_TRY_GOTO(pom_h5_attr_string(g, "units",
+                                  "t s; q m; q_dot m/s; current A; voltage V; "
+                                  "energy J (cumulative int u i dt); euler_zyx rad "
+                                  "(psi, theta, phi); quat (w, x, y, z); deflection m",
+                                  err),
+               done);
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "t", 1, d1, tr->t, err), done);
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "q", 2, d3, tr->q, err), done);
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "q_dot", 2, d3, tr->q_dot, err), done);
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "current", 2, d3, tr->current, err), done);
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "voltage", 2, d3, tr->voltage, err), done);
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "energy", 2, d3, tr->energy, err), done);
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "euler_zyx", 2, d3, tr->euler_zyx, err), done);
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "quat", 2, d4, tr->quat, err), done);
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "deflection", 1, d1, tr->deflection, err), done);
+  H5Gclose(g);
+  g = -1;
+  POM_TRY_GOTO(pom_h5_create_group(&g, file, "metrics", err), done);
+  POM_TRY_GOTO(pom_h5_attr_string(g, "status", pom_status_name(mt->status), err), done);
+  POM_TRY_GOTO(
+      pom_h5_attr_string(g, "controller_form", pom_dyn_pid_form_name(p->controller.form), err),
+      done);
+  POM_TRY_GOTO(pom_h5_attr_string(g, "orientation", pom_dyn_orient_name(p->scene.orientation), err),
+               done);
+  POM_TRY_GOTO(pom_h5_attr_doubles(g, "target_m", mt->target, 3, err), done);
+  POM_TRY_GOTO(pom_h5_attr_doubles(g, "settling_time_s", mt->settling_time, 3, err), done);
+  POM_TRY_GOTO(pom_h5_attr_doubles(g, "settling_time_final_s", mt->settling_time_final, 3, err),
+               done);
+  POM_TRY_GOTO(pom_h5_attr_doubles(g, "energy_J", mt->energy, 3, err), done);
+  POM_TRY_GOTO(pom_h5_attr_doubles(g, "energy_positive_J", mt->energy_positive, 3, err), done);
+  POM_TRY_GOTO(pom_h5_attr_double(g, "execution_time_s", mt->execution_time, err), done);
+  POM_TRY_GOTO(pom_h5_attr_double(g, "energy_total_J", mt->energy_total, err), done);
+  POM_TRY_GOTO(pom_h5_attr_double(g, "energy_balance_error", mt->energy_balance_error, err), done);
+  POM_TRY_GOTO(pom_h5_attr_double(g, "max_deflection_m", mt->max_deflection, err), done);
+done:
+  if (g >= 0) H5Gclose(g);
+  pom_error close_err;
+  pom_error_clear(&close_err);
+  pom_status cst = pom_h5_close_file(file, &close_err);
+  if (st == POM_OK && cst != POM_OK) {
+    if (err) *err = close_err;
+    st = cst;
+  }
+  return st;
+}
+
+/* ---- command ------------------------------------------------------------- */
+static int parse_real(const char *opt, const char *text, double *out) {
+  char *end = NULL;
+  double v = strtod(text, &end);
+  if (end == text || *end != '\0' || !isfinite(v)) {
+    fprintf(stderr, "pomlab simulate: %s expects a number, got '%s'\n", opt, text);
+    return -1;
+  }
+  *out = v;
+  return 0;
+}
+
+int pom_cmd_simulate(int argc, char **argv) {
+  const char *cfg_path = NULL, *out_path = NULL, *target_text = NULL;
+  const char *form = NULL, *orient = NULL, *linsol = NULL;
+  double kp = NAN, ki = NAN, kd = NAN, rtol = NAN;
+  int json = 0;
+  for (int k = 1; k < argc; ++k) {
+    const char *a = argv[k];
+    int has_val = k + 1 < argc;
+    if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+      simulate_usage(stdout);
+      return 0;
+    } else if (strcmp(a, "--json") == 0) {
+      json = 1;
+    } else if (strcmp(a, "--target") == 0 && has_val) {
+      target_text = argv[++k];
+    } else if (strcmp(a, "--out") == 0 && has_val) {
+      out_path = argv[++k];
+    } else if (strcmp(a, "--form") == 0 && has_val) {
+      form = argv[++k];
+    } else if (strcmp(a, "--orientation") == 0 && has_val) {
+      orient = argv[++k];
+    } else if (strcmp(a, "--linsol") == 0 && has_val) {
+      linsol = argv[++k];
+    } else if (strcmp(a, "--kp") == 0 && has_val) {
+      if (parse_real(a, argv[++k], &kp)) return 2;
+    } else if (strcmp(a, "--ki") == 0 && has_val) {
+      if (parse_real(a, argv[++k], &ki)) return 2;
+    } else if (strcmp(a, "--kd") == 0 && has_val) {
+      if (parse_real(a, argv[++k], &kd)) return 2;
+    } else if (strcmp(a, "--rtol") == 0 && has_val) {
+      if (parse_real(a, argv[++k], &rtol)) return 2;
+    } else if (a[0] != '-' && !cfg_path) {
+      cfg_path = a;
+    } else {
+      fprintf(stderr, "pomlab simulate: unknown or incomplete option '%s'\n\n", a);
+      simulate_usage(stderr);
+      return 2;
+    }
+  }
+  double target[3];
+  if (!cfg_path || !target_text) {
+    simulate_usage(stderr);
+    return 2;
+  }
+  if (pom_cli_parse_list(target_text, 3, target) != 0) {
+    fprintf(stderr, "pomlab simulate: --target expects three numbers in mm, 'q1,q2,q3'\n");
+    return 2;
+  }
+  for (int a = 0; a < 3; ++a)
+    target[a] *= 1e-3; /* mm -> m, once, at the edge */
+  if (out_path && !ends_with(out_path, ".h5") && !ends_with(out_path, ".csv")) {
+    fprintf(stderr, "pomlab simulate: --out must end in .h5 or .csv, got '%s'\n", out_path);
+    return 2;
+  }
+
+  int rc = 1;
+  pom_error err;
+  pom_error_clear(&err);
+  pom_dyn_model *model = NULL;
+  pom_dyn_data *data = NULL;
+  pom_dyn_trace *trace = NULL;
+  pom_mechanism *mech = calloc(1, sizeof *mech);
+  pom_kin_arch arch;
+  pom_dyn_params par;
+  pom_dyn_metrics mt;
+  pom_cfg *cfg = pom_cli_load_config(cfg_path);
+  if (!cfg || !mech) goto done;
+  pom_status st = pom_kin_arch_load(&arch, cfg, &err);
+  if (st == POM_OK) st = pom_kin_mechanism_build(mech, &arch, cfg, &err);
+  pom_dyn_params_defaults(&par);
+  if (st == POM_OK) st = pom_dyn_params_load(&par, cfg, &err);
+  if (st == POM_OK) st = pom_cfg_check_unknown(cfg, simulate_scopes, pom_cli_known_top, &err);
+  if (st != POM_OK) {
+    pom_cli_report("simulate", &err);
+    rc = pom_cli_exit_code(st);
+    goto done;
+  }
+  if (form) {
+    if (strcmp(form, "ideal") == 0)
+      par.controller.form = POM_PID_IDEAL;
+    else if (strcmp(form, "parallel") == 0)
+      par.controller.form = POM_PID_PARALLEL;
+    else {
+      fprintf(stderr, "pomlab simulate: --form expects ideal or parallel, got '%s'\n", form);
+      rc = 2;
+      goto done;
+    }
+  }
+  if (orient) {
+    if (strcmp(orient, "euler") == 0)
+      par.scene.orientation = POM_ORIENT_EULER_ZYX;
+    else if (strcmp(orient, "quaternion") == 0)
+      par.scene.orientation = POM_ORIENT_QUATERNION;
+    else {
+      fprintf(stderr, "pomlab simulate: --orientation expects euler or quaternion\n");
+      rc = 2;
+      goto done;
+    }
+  }
+  if (linsol) {
+    if (strcmp(linsol, "dense") == 0)
+      par.solver.linear_solver = POM_LINSOL_DENSE;
+    else if (strcmp(linsol, "klu") == 0)
+      par.solver.linear_solver = POM_LINSOL_KLU;
+    else {
+      fprintf(stderr, "pomlab simulate: --linsol expects dense or klu\n");
+      rc = 2;
+      goto done;
+    }
+  }
+  if (!isnan(kp)) par.controller.kp = kp;
+  if (!isnan(ki)) par.controller.ki = ki;
+  if (!isnan(kd)) par.controller.kd = kd;
+  if (!isnan(rtol)) par.solver.rtol = rtol;
+
+  st = pom_dyn_model_create(&model, mech, &par, &err);
+  if (st == POM_OK) st = pom_dyn_data_create(&data, model, &err);
+  if (st == POM_OK && out_path) st = pom_dyn_trace_create(&trace, model, &err);
+  if (st != POM_OK) {
+    pom_cli_report("simulate", &err);
+    rc = pom_cli_exit_code(st);
+    goto done;
+  }
+  st = pom_dyn_simulate(model, data, target, &mt, trace, &err);
+  if (json)
+    print_json(arch.name, &par, &mt);
+  else
+    print_human(arch.name, &par, &mt);
+  rc = st == POM_OK ? 0 : 1;
+  if (st != POM_OK) pom_cli_report("simulate", &err);
+  if (trace && trace->n > 0) {
+    pom_error werr;
+    pom_error_clear(&werr);
+    pom_status wst = ends_with(out_path, ".csv")
+                         ? write_csv(out_path, trace, &werr)
+                         : write_h5(out_path, cfg, arch.name, &par, trace, &mt, &werr);
+    if (wst != POM_OK) {
+      pom_cli_report("simulate: writing traces", &werr);
+      rc = 1;
+    }
+  }
+done:
+  pom_dyn_trace_destroy(trace);
+  pom_dyn_data_destroy(data);
+  pom_dyn_model_destroy(model);
+  pom_cfg_destroy(cfg);
+  free(mech);
+  return rc;
+}
