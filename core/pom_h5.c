@@ -292,6 +292,14 @@ pom_status pom_h5_write_int64s(hid_t loc, const char *name, size_t n, const int6
                        err);
 }
 
+pom_status pom_h5_write_int64_table(hid_t loc, const char *name, size_t rows, size_t cols,
+                                    const int64_t *data, pom_error *err) {
+  pom_h5_quiet();
+  hsize_t d[2] = {(hsize_t)rows, (hsize_t)cols};
+  return write_dataset(loc, name, H5Tcopy(H5T_NATIVE_INT64), H5Screate_simple(2, d, NULL), data,
+                       err);
+}
+
 pom_status pom_h5_read_doubles(hid_t loc, const char *name, size_t count, double *data,
                                pom_error *err) {
   pom_h5_quiet();

@@ -63,6 +63,9 @@ pom_status pom_h5_write_doubles(hid_t loc, const char *name, int rank, const siz
 /* A 1-D int64 dataset of n values. */
 pom_status pom_h5_write_int64s(hid_t loc, const char *name, size_t n, const int64_t *data,
                                pom_error *err);
+/* A row-major rows x cols int64 dataset. */
+pom_status pom_h5_write_int64_table(hid_t loc, const char *name, size_t rows, size_t cols,
+                                    const int64_t *data, pom_error *err);
 /* Reads a whole double dataset of exactly `count` elements into data. */
 pom_status pom_h5_read_doubles(hid_t loc, const char *name, size_t count, double *data,
                                pom_error *err);

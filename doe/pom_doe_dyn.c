@@ -108,6 +108,7 @@ pom_status pom_doe_dyn_evaluator_create(pom_doe_evaluator *eval, const pom_cfg *
   if (!ctx) POM_FAIL(err, POM_ERR_NOMEM, "evaluator: out of memory");
   POM_TRY_GOTO(pom_kin_arch_load(&ctx->arch, cfg, err), fail);
   POM_TRY_GOTO(pom_kin_mechanism_build(&ctx->mech, &ctx->arch, cfg, err), fail);
+  pom_dyn_params_defaults(&ctx->params);
   POM_TRY_GOTO(pom_dyn_params_load(&ctx->params, cfg, err), fail);
   POM_TRY_GOTO(pom_cfg_check_unknown(cfg, dyn_scopes, NULL, err), fail);
   POM_TRY_GOTO(pom_dyn_model_create(&ctx->model, &ctx->mech, &ctx->params, err), fail);

@@ -392,13 +392,13 @@ static pom_status write_statistics(hid_t file, const pom_doe_report *rep, pom_er
     counts[4 * c + 2] = rep->cand[c].n_failed;
     counts[4 * c + 3] = rep->cand[c].n_unsettled;
   }
-  POM_TRY_GOTO(pom_h5_write_int64s(g, "counts", nc * 4, counts, err), done);
+  POM_TRY_GOTO(pom_h5_write_int64_table(g, "counts", nc, 4, counts, err), done);
   hid_t ds = H5Dopen2(g, "counts", H5P_DEFAULT);
   if (ds < 0) {
     st = pom_h5_fail(err, __FILE__, __LINE__, "annotating counts");
     goto done;
   }
-  st = pom_h5_attr_string(ds, "columns", "done,ok,failed,unsettled (flat, 4 per candidate)", err);
+  st = pom_h5_attr_string(ds, "columns", "done,ok,failed,unsettled", err);
   H5Dclose(ds);
 done:
   if (g >= 0) H5Gclose(g);

@@ -1,0 +1,29 @@
+/* cli_doe.h - what `pomlab study` and `pomlab montecarlo` share: running a
+ * study with a progress bar and Ctrl-C handling, the paper's tables, the
+ * verdict, summary.md and the figures. */
+#ifndef POM_CLI_DOE_H
+#define POM_CLI_DOE_H
+
+#include "pom_doe.h"
+
+#include <stdio.h>
+
+typedef struct {
+  pom_doe_run_options run; /* threads, resume, output, stop_after, use_mpi */
+  int json;                /* 1: JSON report on stdout instead of tables */
+  int summary;             /* 1: write <output folder>/<stem>/summary.md */
+  int plots;               /* 1: PNG figures with scripts/plot_study.py */
+  int quiet;               /* 1: no progress bar */
+} pom_cli_doe_opts;
+
+/* Runs the study and reports; returns the exit code (0 ok, 1 failure,
+ * 130 interrupted). Only the root rank prints. */
+int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o);
+
+/* Prints the tables, comparisons and verdict as Markdown. */
+void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_doe_report *rep);
+
+/* Prints the report as JSON (SI units). */
+void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe_report *rep);
+
+#endif

@@ -1,0 +1,158 @@
+#!/usr/bin/python3
+"""Reads pomlab study results files with h5py (tests/test_doe_study.sh).
+
+usage: test_doe_h5.py REPORT.json REFERENCE.h5 [OTHER.h5 ...]
+
+Checks the documented layout (docs/results.md), that every maneuver is
+stored, that out-of-stroke targets are recorded as failures with a reason,
+that the statistics, paired comparisons and ranking in the file equal an
+independent recomputation (numpy; scipy for the t quantile and the Wilcoxon
+test when available), that the JSON report agrees, and that every OTHER file
+holds bit-identical maneuver rows (wall time excepted) to the reference.
+"""
+import json
+import sys
+
+import h5py
+import numpy as np
+
+failures = 0
+
+
+def check(cond, what):
+    global failures
+    if not cond:
+        failures += 1
+        print("FAIL:", what)
+
+
+def text(v):
+    return v.decode() if isinstance(v, bytes) else str(v)
+
+
+def rel_close(a, b, tol):
+    if np.isnan(a) and np.isnan(b):
+        return True
+    return abs(a - b) <= tol * max(abs(a), abs(b), 1e-300)
+
+
+def rows_of(path):
+    with h5py.File(path, "r") as f:
+        n = int(f.attrs["n_candidates"])
+        out = []
+        for c in range(n):
+            r = f["candidates/%d/maneuvers" % c][:].copy()
+            r["wall_time"] = 0.0  # the one field that differs between identical runs
+            out.append(r)
+        return out
+
+
+def main(argv):
+    report, ref, others = argv[1], argv[2], argv[3:]
+    with h5py.File(ref, "r") as f:
+        # provenance
+        check(text(f.attrs["format"]) == "pomlab study results", "format attribute")
+        check(int(f.attrs["format_version"]) == 1, "format version")
+        check(len(text(f.attrs["git_commit"])) > 0 and len(text(f.attrs["version"])) > 0,
+              "version and commit")
+        check("doe_small" in text(f["study_config"][()]), "study config text stored")
+        mc = f["montecarlo"]
+        m = int(mc.attrs["count"])
+        check(m == int(f.attrs["n_maneuvers"]) == 8, "maneuver count")
+        check(int(mc.attrs["seed"]) == 77, "seed")
+        targets = mc["target"][:]
+        check(targets.shape == (m, 3), "target table shape")
+        nc = int(f.attrs["n_candidates"])
+        names = [text(f["candidates/%d" % c].attrs["name"]) for c in range(nc)]
+        check(names == ["3PSS", "3SPS"], "candidate names %s" % names)
+        for c in range(nc):
+            g = f["candidates/%d" % c]
+            check("architecture" in text(g["config"][()]), "resolved config of %d" % c)
+            check(g.attrs["solver_rtol"] == (1e-6 if c == 0 else 1e-5), "solver settings")
+        rows = [f["candidates/%d/maneuvers" % c][:] for c in range(nc)]
+        stats_t = f["statistics/execution_time"][:]
+        stats_e = f["statistics/energy"][:]
+        counts = f["statistics/counts"][:]
+        paired = f["comparison/paired"][:]
+        conf = float(f["comparison"].attrs["confidence"])
+        rank_t = list(f["ranking/execution_time"][:])
+
+    half_stroke = 6e-3
+    n_fail = 0
+    for c in range(nc):
+        r = rows[c]
+        check(np.all(r["done"] == 1), "every maneuver of candidate %d stored" % c)
+        # common random numbers: every candidate's targets are the drawn ones
+        check(np.array_equal(r["target"], targets), "targets of candidate %d" % c)
+        out = np.any(np.abs(targets) > half_stroke, axis=1)
+        check(np.all(r["status"][out] == -6), "out-of-stroke maneuvers fail with POM_ERR_LIMIT")
+        for k in np.nonzero(out)[0]:
+            check("stroke" in text(r["reason"][k]), "reason names the stroke: %r" % r["reason"][k])
+        check(np.all(r["status"][~out] == 0), "in-stroke maneuvers of %d succeed" % c)
+        n_fail += int(np.sum(out))
+        ok = r["status"] == 0
+        settled = ok & np.all(r["settled"] == 1, axis=1)
+        t = r["execution_time"][settled]
+        e = r["energy_total"][ok]
+        check(counts[c, 0] == m and counts[c, 2] == np.sum(~ok), "counts of %d" % c)
+        check(counts[c, 3] == np.sum(ok & ~settled), "unsettled count of %d" % c)
+        for row, v in ((stats_t[c], t), (stats_e[c], e)):
+            check(row[0] == v.size, "n")
+            want = [v.max(), v.mean(), v.min(), v.std(ddof=1) if v.size > 1 else np.nan,
+                    np.median(v)] + list(np.percentile(v, [5, 25, 75, 95]))
+            for j, w in enumerate(want):
+                check(rel_close(row[1 + j], w, 1e-12), "statistic %d: %r vs %r" % (j, row[1 + j], w))
+    check(n_fail > 0, "the small study has out-of-stroke targets")
+
+    # paired comparisons, recomputed
+    try:
+        from scipy import stats as sps
+    except ImportError:
+        sps = None
+    for p in paired:
+        a, b, metric = int(p[0]), int(p[1]), int(p[2])
+        ra, rb = rows[a], rows[b]
+        if metric == 0:
+            use = [(r["status"] == 0) & np.all(r["settled"] == 1, axis=1) for r in (ra, rb)]
+            key = "execution_time"
+        else:
+            use = [(r["status"] == 0) for r in (ra, rb)]
+            key = "energy_total"
+        both = use[0] & use[1]
+        d = ra[key][both] - rb[key][both]
+        check(p[3] == d.size, "pairs")
+        check(rel_close(p[4], d.mean(), 1e-12), "mean difference")
+        check(rel_close(p[10], (np.sum(d < 0) + 0.5 * np.sum(d == 0)) / d.size, 1e-15), "wins")
+        if sps is not None and d.size >= 2:
+            half = sps.t.ppf(0.5 + 0.5 * conf, d.size - 1) * d.std(ddof=1) / np.sqrt(d.size)
+            check(rel_close(p[6] - p[4], half, 1e-9), "interval half-width")
+            nz = d[d != 0]
+            ties = len(np.unique(np.abs(nz))) < nz.size
+            mode = "exact" if nz.size <= 50 and not ties else "approx"
+            res = sps.wilcoxon(nz, zero_method="wilcox", correction=False, mode=mode)
+            check(rel_close(p[8], res.pvalue, 1e-9), "Wilcoxon p %r vs scipy %r" % (p[8], res.pvalue))
+    means = [stats_t[c][2] for c in range(nc)]
+    check(rank_t == sorted(range(nc), key=lambda c: means[c]) or np.isnan(means).any(),
+          "ranking by mean execution time")
+
+    # the JSON report agrees with the file
+    with open(report) as fj:
+        rep = json.load(fj)
+    for c in range(nc):
+        check(rel_close(rep["candidates"][c]["execution_time_s"]["mean"], stats_t[c][2], 1e-9),
+              "JSON mean execution time")
+        check(rep["candidates"][c]["failed"] == counts[c, 2], "JSON failures")
+
+    # identical rows in every other file
+    ref_rows = rows_of(ref)
+    for path in others:
+        other = rows_of(path)
+        for c in range(nc):
+            check(other[c].tobytes() == ref_rows[c].tobytes(),
+                  "rows of candidate %d in %s equal the reference" % (c, path))
+    print("test_doe_h5: %d failures" % failures)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
