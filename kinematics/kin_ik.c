@@ -52,36 +52,40 @@ static int limb_3sps(const pom_kin_arch *arch, int i, const double R[9], double 
   return 1;
 }
 
+/* q and J of all limbs; outputs untouched on failure, *bad = failing limb. */
 static pom_status ik_rows(const pom_kin_arch *arch, const double R[9], double q[3], double J[9],
-                          pom_error *err) {
-  double qq[3];
+                          int *bad, pom_error *err) {
+  double qq[3], JJ[9];
   for (int i = 0; i < 3; ++i) {
-    int ok = arch->type == POM_ARCH_3PSS ? limb_3pss(arch, i, R, &qq[i], J ? J + 3 * i : NULL)
-                                         : limb_3sps(arch, i, R, &qq[i], J ? J + 3 * i : NULL);
-    if (!ok)
+    int ok = arch->type == POM_ARCH_3PSS ? limb_3pss(arch, i, R, &qq[i], J ? JJ + 3 * i : NULL)
+                                         : limb_3sps(arch, i, R, &qq[i], J ? JJ + 3 * i : NULL);
+    if (!ok) {
+      if (bad) *bad = i;
       POM_FAIL(err, POM_ERR_UNREACHABLE,
                arch->type == POM_ARCH_3PSS
                    ? "limb %d: the link cannot reach the slider axis (no real IK root)"
                    : "limb %d: the limb has zero length",
                i + 1);
+    }
   }
   if (q) memcpy(q, qq, sizeof qq);
+  if (J) memcpy(J, JJ, sizeof JJ);
   return POM_OK;
 }
 
 pom_status pom_kin_inverse(const pom_kin_arch *arch, const double R[9], double q[3],
                            pom_error *err) {
-  return ik_rows(arch, R, q, NULL, err);
+  return ik_rows(arch, R, q, NULL, NULL, err);
 }
 
 pom_status pom_kin_jacobian(const pom_kin_arch *arch, const double R[9], double J[9],
                             pom_error *err) {
-  return ik_rows(arch, R, NULL, J, err);
+  return ik_rows(arch, R, NULL, J, NULL, err);
 }
 
 pom_status pom_kin_inverse_jacobian(const pom_kin_arch *arch, const double R[9], double q[3],
                                     double J[9], pom_error *err) {
-  return ik_rows(arch, R, q, J, err);
+  return ik_rows(arch, R, q, J, NULL, err);
 }
 
 /* Eigenvalues (descending) of a symmetric 3x3 matrix in closed form: the
@@ -258,24 +262,8 @@ pom_status pom_kin_pose_evaluate(const pom_kin_arch *arch, const double R[9], po
                                  pom_error *err) {
   memset(pose, 0, sizeof *pose);
   pose->unreachable_limb = -1;
-  pom_status st = ik_rows(arch, R, pose->q, pose->J, err);
+  pom_status st = ik_rows(arch, R, pose->q, pose->J, &pose->unreachable_limb, err);
   if (st != POM_OK) {
-    /* find the failing limb for callers without an error record */
-    for (int i = 0; i < 3; ++i) {
-      double qi;
-      int ok = arch->type == POM_ARCH_3PSS ? limb_3pss(arch, i, R, &qi, NULL)
-                                           : limb_3sps(arch, i, R, &qi, NULL);
-      double row[3];
-      if (ok)
-        ok = arch->type == POM_ARCH_3PSS ? limb_3pss(arch, i, R, &qi, row)
-                                         : limb_3sps(arch, i, R, &qi, row);
-      if (!ok) {
-        pose->unreachable_limb = i;
-        break;
-      }
-    }
-    memset(pose->q, 0, sizeof pose->q);
-    memset(pose->J, 0, sizeof pose->J);
     pose->kappa = INFINITY;
     return st;
   }
