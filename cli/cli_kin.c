@@ -112,6 +112,15 @@ void pom_cli_kin_pose_json(FILE *out, const pom_kin_arch *arch, const pom_kin_po
   } else {
     fputs("null", out);
   }
+  if (!p->reachable) {
+    /* nothing about the pose is defined beyond which limb failed */
+    fputs(",\n  \"q_m\": null,\n  \"q_mm\": null,\n  \"jacobian_m_per_rad\": null,\n  "
+          "\"singular_values_m_per_rad\": null,\n  \"kappa\": null,\n  \"dexterity\": null,\n  "
+          "\"cone_base_deg\": null,\n  \"cone_platform_deg\": null,\n  \"limb_distance_mm\": "
+          "null,\n  \"within_limits\": false,\n  \"violations\": []",
+          out);
+    return;
+  }
   fputs(",\n  \"q_m\": ", out);
   pom_json_vec(out, p->q, 3, 1.0);
   fputs(",\n  \"q_mm\": ", out);

@@ -220,6 +220,58 @@ static void test_dexterity_closed_form(pom_rng *rng) {
   check_true(isinf(kappa) && dex == 0.0);
 }
 
+/* ---- random designs: the formulas hold beyond the reference ----------------- */
+/* Designs drawn over the ranges synthesis explores, tilted sliders and raised
+ * platform points included; at poses within 8 deg of home that are
+ * assemblable and not near-singular (1/kappa > 0.05), J must match central
+ * differences (bound as in test_jacobian_fd, lengths <= 0.16 m) and FK must
+ * return the pose (1e-12 m / sv_min with sv_min >= 0.05 * ~5 mm: 5e-9 rad). */
+static void test_random_designs(pom_rng *rng) {
+  int designs = 0, poses = 0;
+  double worst_fd = 0.0, worst_rt = 0.0;
+  for (int n = 0; n < 40; ++n) {
+    pom_arch_type type = n % 2 ? POM_ARCH_3SPS : POM_ARCH_3PSS;
+    pom_kin_design d = {pom_rng_range(rng, 0.008, 0.02),
+                        pom_rng_range(rng, -POM_PI, POM_PI),
+                        pom_rng_range(rng, -0.3, 0.3),
+                        pom_rng_range(rng, 2.0, 8.0),
+                        pom_rng_range(rng, 15.0, 60.0) * POM_DEG,
+                        pom_rng_range(rng, 20.0, 160.0) * POM_DEG,
+                        pom_rng_range(rng, 0.0, 20.0) * POM_DEG,
+                        pom_rng_range(rng, -POM_PI, POM_PI)};
+    pom_kin_arch a;
+    if (pom_kin_arch_from_design(&a, type, &d, NULL) != POM_OK) continue;
+    ++designs;
+    for (int k = 0; k < 10; ++k) {
+      double R[9], q[3], J[9], dex, Rf[9];
+      random_pose(rng, R, 8.0 * POM_DEG);
+      if (pom_kin_inverse_jacobian(&a, R, q, J, NULL) != POM_OK) continue;
+      pom_kin_dexterity(J, NULL, NULL, &dex);
+      if (dex < 0.05) continue;
+      ++poses;
+      for (int c = 0; c < 3; ++c) {
+        double axis[3] = {0, 0, 0}, E[9], Rp[9], Rm[9], qp[3], qm[3], eps = 1e-5;
+        axis[c] = 1.0;
+        pom_m3_axis_angle(E, axis, eps);
+        pom_m3_mul(Rp, E, R);
+        pom_m3_axis_angle(E, axis, -eps);
+        pom_m3_mul(Rm, E, R);
+        check_true(pom_kin_inverse(&a, Rp, qp, NULL) == POM_OK &&
+                   pom_kin_inverse(&a, Rm, qm, NULL) == POM_OK);
+        for (int i = 0; i < 3; ++i)
+          worst_fd = fmax(worst_fd, fabs((qp[i] - qm[i]) / (2.0 * eps) - J[3 * i + c]));
+      }
+      /* continue from the home pose of this design */
+      pom_status st = pom_kin_forward(&a, q, NULL, NULL, Rf, NULL, NULL);
+      check_true(st == POM_OK);
+      if (st == POM_OK) worst_rt = fmax(worst_rt, rotation_angle_between(R, Rf));
+    }
+  }
+  check_true(designs >= 20 && poses >= 100);
+  check_abs(worst_fd, 0.0, 1e-10);
+  check_abs(worst_rt, 0.0, 5e-9);
+}
+
 /* ---- IK -> FK round trips ------------------------------------------------- */
 /* FK stops at max |q(R) - q| <= 1e-12 m; with sv_min >= 0.3 * 15 mm in the
  * workspace the rotation error is <= 1e-12 / 4.5e-3 ~ 2e-10 rad; 1e-9 rad. */
@@ -642,6 +694,7 @@ int main(void) {
   test_jacobian_fd(&p3, &rng);
   test_jacobian_fd(&s3, &rng);
   test_dexterity_closed_form(&rng);
+  test_random_designs(&rng);
   test_round_trips(&p3, &rng, 3000);
   test_round_trips(&s3, &rng, 3000);
   test_full_stroke_fk(&p3, 50.5, 0.36);
