@@ -111,6 +111,18 @@ for arch in 3pss 3sps; do
   expect_in "$TMP/err" "workspace.resolution_deg"
 done
 
+# --- an unreachable pose: long, nearly horizontal links (3PSS) ------------------
+cat >"$TMP/reach.cfg" <<'CFG'
+architecture = "3PSS";
+geometry = { mode = "parameters"; platform_radius_mm = 12.0; limb_length = 2.0;
+             limb_lean_deg = 80.0; limb_azimuth_deg = 60.0; };
+CFG
+expect_rc 0 "$POMLAB" ik "$TMP/reach.cfg" --euler-zyx 0,10,0
+expect_rc 1 "$POMLAB" ik "$TMP/reach.cfg" --euler-zyx 10,0,0
+expect_in "$TMP/out" "reachable: NO - limb 1: the link cannot reach the slider axis"
+expect_rc 1 "$POMLAB" ik "$TMP/reach.cfg" --euler-zyx 10,0,0 --json
+json_check "d['reachable'] is False and d['unreachable_limb'] == 1 and d['q_m'] is None"
+
 # --- usage errors and help -----------------------------------------------------
 cfg="$SRC/configs/3pss.cfg"
 for c in model ik fk workspace; do
