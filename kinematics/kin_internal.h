@@ -5,10 +5,12 @@
 
 #include "pom_kinematics.h"
 
-/* Degeneracy guard used only when a geometry is loaded: a home pose whose
- * |cos(link, slider axis)|, U-joint axis length or sv_min/sv_max falls below
- * this is rejected as singular (docs/kinematics.md section 3). It never
- * affects a computed result. */
+/* Degeneracy guard used only when a geometry or mechanism is built: a home
+ * pose whose |cos(link, slider axis)|, U-joint axis length or sv_min/sv_max
+ * falls below this is rejected as singular (docs/kinematics.md section 3),
+ * and a limb axis closer than this (in |e_z x axis|) to vertical gets its
+ * transverse body axis from e_t (section 7). It never affects an IK, FK or
+ * workspace result. */
 #define POM_KIN_HOME_MIN_COS 1e-6
 
 /* Limb segment endpoints at rotation R with displacements q: 3PSS link
