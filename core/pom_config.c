@@ -494,6 +494,11 @@ static void setting_path(const config_setting_t *s, char *buf, size_t cap) {
 }
 
 static pom_status find_unused(const pom_cfg *cfg, config_setting_t *s, pom_error *err) {
+  /* An unread group or list is reported by its first member, which names the
+   * misspelt key rather than its (legitimate) parent. */
+  if (config_setting_get_hook(s) != (void *)cfg && !config_setting_is_array(s) &&
+      config_setting_is_aggregate(s) && config_setting_length(s) > 0)
+    return find_unused(cfg, config_setting_get_elem(s, 0), err);
   if (config_setting_get_hook(s) != (void *)cfg) {
     char path[512];
     setting_path(s, path, sizeof path);

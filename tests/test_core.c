@@ -174,6 +174,18 @@ static void test_config(void) {
   check_true(pom_cfg_check_unknown(cfg, scope_a, NULL, &err) == POM_OK);
   const char *const known[] = {"a", NULL};
   check_true(pom_cfg_check_unknown(cfg, scope_a, known, &err) == POM_ERR_CONFIG);
+  pom_cfg_destroy(cfg);
+  /* a group with only misspelt keys is reported by the key, not the group */
+  cfg = load("lim = { strok_mm = 12.0; };\n", &err);
+  check_true(cfg != NULL);
+  if (!cfg) return;
+  check_true(pom_cfg_real_opt(cfg, "lim.stroke_mm", 1e-3, 1.0, 50.0, 0.012, &x, &err) == POM_OK);
+  check_true(pom_cfg_check_unknown(cfg, NULL, NULL, &err) == POM_ERR_CONFIG);
+  check_true(strstr(err.message, "key 'lim.strok_mm'") != NULL);
+  pom_cfg_destroy(cfg);
+  cfg = load(good, &err);
+  check_true(cfg != NULL);
+  if (!cfg) return;
   /* out of range */
   check_true(pom_cfg_real(cfg, "a.x_mm", 1e-3, 0.0, 1.0, &x, &err) == POM_ERR_CONFIG);
   check_true(strstr(err.message, "<test>:1: key 'a.x_mm' = 2.385: out of range") != NULL);
