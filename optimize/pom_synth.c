@@ -226,6 +226,8 @@ pom_status pom_syn_load(pom_syn_problem *pb, const pom_cfg *cfg, pom_error *err)
   }
 
   POM_TRY(load_design_opts(cfg, &pb->design, err));
+  int in_study = 0; /* read by the study pipeline (pom_pipeline.h) */
+  POM_TRY(pom_cfg_bool_opt(cfg, "synthesis.run_in_study", 0, &in_study, err));
   long v = 0;
   POM_TRY(pom_cfg_int_opt(cfg, "synthesis.holdout_points", 0, 10000, pb->holdout_points, &v, err));
   pb->holdout_points = (int)v;

@@ -131,6 +131,8 @@ pom_status pom_tune_load(pom_tune_problem *pb, const pom_cfg *cfg, pom_error *er
   POM_TRY(pom_cfg_real_opt(cfg, "tuning.penalty_weight_ms", 1e-3, 0.0, 1e9, pb->penalty_weight,
                            &pb->penalty_weight, err));
   POM_TRY(load_opt(cfg, &pb->opt, err));
+  int in_study = 0; /* read by the study pipeline (pom_pipeline.h) */
+  POM_TRY(pom_cfg_bool_opt(cfg, "tuning.run_in_study", 0, &in_study, err));
   return POM_OK;
 }
 
@@ -267,9 +269,10 @@ pom_status pom_tune_write_controller(const pom_tune_problem *pb, const pom_tune_
   FILE *f = fopen(path, "w");
   if (!f) POM_FAIL(err, POM_ERR_IO, "cannot write %s", path);
   fprintf(f,
-          "# PID gains tuned by pomlab tune for \"%s\" (%s): mean execution time %.4g ms over\n"
-          "# %d fixed maneuvers (largest overshoot %.3g %%, largest saturation time %.4g ms,\n"
-          "# %d unsettled); criterion %.6g ms (config gains: %.6g ms).\n",
+          "# PID gains tuned by pomlab tune for \"%s\" (%s):\n"
+          "# mean execution time %.4g ms over %d fixed maneuvers (largest overshoot\n"
+          "# %.3g %%, largest saturation time %.4g ms, %d unsettled); criterion\n"
+          "# %.6g ms (config gains: %.6g ms).\n",
           pb->arch.name, pom_kin_arch_name(pb->arch.type), res->best_eval.mean_execution * 1e3,
           pb->n_maneuvers, res->best_eval.max_overshoot * 100.0,
           res->best_eval.max_saturation * 1e3, res->best_eval.unsettled,

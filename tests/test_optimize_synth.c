@@ -70,8 +70,9 @@ static void test_known_optimum(void) {
     double x[2] = {leans[i] * POM_DEG, 7.0}, resp[POM_SYN_N_RESP];
     int deg = 1;
     check_true(pom_syn_evaluate(&pb, x, resp, &deg, &err) == POM_OK && deg == 0);
-    check_abs(resp[POM_SYN_RESP_MIN_DEXTERITY], home_dexterity(x[0]), 1e-12);
-    check_abs(resp[POM_SYN_RESP_GCI], home_dexterity(x[0]), 1e-12);
+    /* 1e-7: closed-form singular values, see below */
+    check_abs(resp[POM_SYN_RESP_MIN_DEXTERITY], home_dexterity(x[0]), 1e-7);
+    check_abs(resp[POM_SYN_RESP_GCI], home_dexterity(x[0]), 1e-7);
     check_abs(resp[POM_SYN_RESP_UNREACHABLE], 0.0, 0.0);
   }
   pom_syn_run *run = NULL;
@@ -88,7 +89,9 @@ static void test_known_optimum(void) {
   /* The quadratic surface cannot follow the kink exactly: its optimum lies
      within a few degrees, and the confirmation is the true value there. */
   check_abs(run->x_opt[0], lean_opt, 4.0 * POM_DEG);
-  check_abs(run->confirmed[POM_SYN_RESP_MIN_DEXTERITY], home_dexterity(run->x_opt[0]), 1e-12);
+  /* the kinematics module computes singular values in closed form (roots of
+     the cubic of J^T J): near-repeated roots lose about half the digits */
+  check_abs(run->confirmed[POM_SYN_RESP_MIN_DEXTERITY], home_dexterity(run->x_opt[0]), 1e-7);
   check_true(run->d_direct >= run->d_confirmed);
   check_true(run->fitted[POM_SYN_RESP_MIN_DEXTERITY] && run->n_holdout == 6);
 
