@@ -127,10 +127,12 @@ struct pom_dyn_data {
   long jac_count;
   int last_euler_singular;
   int last_nonfinite;
-  char cvode_msg[256]; /* last CVODE error message (from its handler) */
-  int n_samples;       /* output grid size */
-  double *qs;          /* [n_samples][n_actuators] sampled positions for metrics */
-  double *yfinal;      /* [n_states] state at the end of the last run */
+  long euler_singular_count; /* RHS calls of this run that met the Euler singularity */
+  long nonfinite_count;      /* RHS calls of this run with a non-finite derivative */
+  char cvode_msg[256];       /* last CVODE error message (from its handler) */
+  int n_samples;             /* output grid size */
+  double *qs;                /* [n_samples][n_actuators] sampled positions for metrics */
+  double *yfinal;            /* [n_states] state at the end of the last run */
   int have_final;
 };
 

@@ -25,7 +25,7 @@ static int bodies_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y)
       pom_quat_to_matrix(e->R, q);
     } else {
       pom_euler_zyx_to_matrix(e->R, yb + DYN_BODY_ORI);
-      if (fabs(cos(yb[DYN_BODY_ORI + 1])) < m->par.scene.euler_cos_min) singular = 1;
+      if (cos(yb[DYN_BODY_ORI + 1]) < m->par.scene.euler_cos_min) singular = 1;
     }
     pom_m3_mul(e->Rp, e->R, bd->V);
     pom_v3_add(e->x, bd->cm_home, yb + DYN_BODY_U);
@@ -289,6 +289,8 @@ int pom_dyn_cvode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
   int r = pom_dyn_eval(d->m, d, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
   d->last_euler_singular = d->out.euler_singular;
   d->last_nonfinite = d->out.nonfinite;
+  d->euler_singular_count += d->out.euler_singular;
+  d->nonfinite_count += d->out.nonfinite;
   return r;
 }
 

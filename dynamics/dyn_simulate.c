@@ -270,15 +270,24 @@ static void initial_state(const pom_dyn_model *m, double *y, const pom_dyn_initi
   }
 }
 
+/* 1 when an Euler-angle body has cos(pitch) below the scene's limit (also
+ * catches a step that jumped across pitch = 90 deg). */
+static int euler_near_singular(const pom_dyn_model *m, const double *y) {
+  if (m->par.scene.orientation != POM_ORIENT_EULER_ZYX) return 0;
+  for (int b = 0; b < m->n_bodies; ++b)
+    if (cos(y[m->body[b].offset + DYN_BODY_ORI + 1]) < m->par.scene.euler_cos_min) return 1;
+  return 0;
+}
+
 static pom_status fail_status(pom_dyn_data *d, int flag, double t, pom_dyn_metrics *mt,
                               pom_error *err) {
   pom_status st;
-  if (d->last_euler_singular)
+  if (d->last_euler_singular || d->euler_singular_count > 0)
     st = pom_error_set(err, POM_ERR_EULER_SINGULAR, __FILE__, __LINE__,
                        "a body reached |cos pitch| < %g at t = %.6g s; use scene.orientation = "
                        "\"quaternion\"",
                        d->m->par.scene.euler_cos_min, t);
-  else if (d->last_nonfinite)
+  else if (d->last_nonfinite || d->nonfinite_count > 0)
     st = pom_error_set(err, POM_ERR_NONFINITE, __FILE__, __LINE__,
                        "non-finite state derivative at t = %.6g s", t);
   else if (flag == CV_TOO_MUCH_WORK)
@@ -326,6 +335,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
     d->target[a] = target[a];
   d->rhs_count = d->jac_rhs_count = d->jac_count = 0;
   d->last_euler_singular = d->last_nonfinite = 0;
+  d->euler_singular_count = d->nonfinite_count = 0;
   d->cvode_msg[0] = '\0';
   d->have_final = 0;
   if (tr) tr->n = 0, tr->n_actuators = m->n_actuators;
@@ -345,11 +355,23 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
   track_extremes(m, d, mt);
 
   int k = 1;
+  long n_steps = 0;
   double t = 0.0;
   while (k < d->n_samples) {
+    /* one internal step at a time: CVODE's own mxstep counts per call, so
+     * solver.max_steps is enforced here over the whole maneuver */
+    if (n_steps++ >= p->solver.max_steps) {
+      st = fail_status(d, CV_TOO_MUCH_WORK, t, mt, err);
+      goto finish;
+    }
     int flag = CVode(d->cvode, p->maneuver.horizon, d->y, &t, CV_ONE_STEP);
     if (flag < 0) {
       st = fail_status(d, flag, t, mt, err);
+      goto finish;
+    }
+    if (euler_near_singular(m, y)) {
+      d->last_euler_singular = 1;
+      st = fail_status(d, CV_RHSFUNC_FAIL, t, mt, err);
       goto finish;
     }
     pom_dyn_eval(m, d, y, NULL); /* extremes at every internal step */
