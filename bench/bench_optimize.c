@@ -87,9 +87,10 @@ int main(int argc, char **argv) {
   printf("| of which the design runs | %.2f s | %.2f s |\n", m[0][0], m[1][0]);
   printf("| direct NLopt on the true kinematics | %.2f s (%ld true evaluations) | %.2f s (%ld) |\n",
          m[0][2], true_dir[0], m[1][2], true_dir[1]);
-  printf("| scaling to the stroke (bisection) + scaled responses | %.2f s (%ld workspaces) | %.2f s "
-         "(%ld) |\n",
-         m[0][3], scale_evals[0], m[1][3], scale_evals[1]);
+  printf(
+      "| scaling to the stroke (bisection) + scaled responses | %.2f s (%ld workspaces) | %.2f s "
+      "(%ld) |\n",
+      m[0][3], scale_evals[0], m[1][3], scale_evals[1]);
   printf("| desirability: surfaces / confirmed / direct | %.4f / %.4f / %.4f | %.4f / %.4f / %.4f "
          "|\n",
          d_pred[0], d_conf[0], d_dir[0], d_pred[1], d_conf[1], d_dir[1]);
