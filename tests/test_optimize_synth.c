@@ -3,8 +3,10 @@
 #include "pom_math.h"
 #include "pom_synth.h"
 
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
+#include <time.h>
 
 /* 3SPS with the limb purely tangential (azimuth 90 deg) and the platform
  * points in the plane of O: J row i = r (-s_z e_t + s_t e_z), so the singular
@@ -107,9 +109,13 @@ static void test_known_optimum(void) {
   check_abs(run->scaled_resp[POM_SYN_RESP_RDW], pb.target_half_width, 0.5 * pb.ws.resolution);
 
   /* Output files: the fragment loads back as the same geometry. */
-  const char *geo = "test_optimize_synth.geometry.cfg";
+  /* names unique per process: several build trees may run the suite at once */
+  char geo[128], h5[128];
+  unsigned long tag = (unsigned long)time(NULL) ^ (unsigned long)(uintptr_t)&tag;
+  snprintf(geo, sizeof geo, "/tmp/pomlab_test_synth_%lx.geometry.cfg", tag);
+  snprintf(h5, sizeof h5, "/tmp/pomlab_test_synth_%lx.h5", tag);
   check_true(pom_syn_write_geometry(run, geo, &err) == POM_OK);
-  check_true(pom_syn_write_h5(run, "test_optimize_synth.h5", "text", &err) == POM_OK);
+  check_true(pom_syn_write_h5(run, h5, "text", &err) == POM_OK);
   char text[2048];
   snprintf(text, sizeof text, "architecture = \"3SPS\";\n@include \"%s\"\n", geo);
   pom_cfg *cfg = NULL;
@@ -121,7 +127,7 @@ static void test_known_optimum(void) {
       check_abs(back.base_point[i][j], run->scaled.base_point[i][j], 1e-9);
   pom_cfg_destroy(cfg);
   remove(geo);
-  remove("test_optimize_synth.h5");
+  remove(h5);
   pom_syn_destroy(run);
 }
 

@@ -3,7 +3,10 @@
 #include "check.h"
 #include "pom_tune.h"
 
+#include <stdint.h>
+#include <stdio.h>
 #include <string.h>
+#include <time.h>
 
 static pom_tune_problem pb;
 
@@ -78,7 +81,10 @@ static void test_search(void) {
   check_true(res.best.kd >= p.lo[0] && res.best.kd <= p.hi[0]);
   check_true(res.simulations == (res.opt.evals_global + res.opt.evals_local + 2) * p.n_maneuvers);
   /* the gains in config form */
-  const char *path = "test_optimize_tune.controller.cfg";
+  /* a name unique per process: several build trees may run the suite at once */
+  char path[128];
+  unsigned long tag = (unsigned long)time(NULL) ^ (unsigned long)(uintptr_t)&tag;
+  snprintf(path, sizeof path, "/tmp/pomlab_test_tune_%lx.controller.cfg", tag);
   check_true(pom_tune_write_controller(&p, &res, path, &err) == POM_OK);
   pom_cfg *cfg = NULL;
   char text[512];
