@@ -103,6 +103,8 @@ static pom_status write_body(hid_t file, const pom_syn_run *run, const char *con
   for (size_t r = 0; r < nr; ++r)
     rn[r] = pom_syn_resp_name((pom_syn_resp)r);
 
+  POM_TRY(pom_h5_attr_string(file, "program", "pomlab synth " POM_VERSION, err));
+  POM_TRY(pom_h5_attr_string(file, "git_commit", POM_GIT_COMMIT, err));
   POM_TRY(pom_h5_attr_string(file, "architecture", pom_kin_arch_name(pb->base.type), err));
   POM_TRY(pom_h5_attr_string(file, "name", pb->base.name, err));
   POM_TRY(pom_h5_attr_string(file, "units",
