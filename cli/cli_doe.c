@@ -267,8 +267,7 @@ static int run_plot_script(const char *h5, const char *dir) {
 }
 
 static int write_summary(const pom_doe_study *study, const pom_doe_report *rep, const char *output,
-                         const pom_cli_doe_opts *o, double wall, int threads, int plots_ok,
-                         const char *dir) {
+                         double wall, int threads, int ranks, int plots_ok, const char *dir) {
   char path[1200];
   snprintf(path, sizeof path, "%s/summary.md", dir);
   FILE *f = fopen(path, "w");
@@ -290,8 +289,8 @@ static int write_summary(const pom_doe_study *study, const pom_doe_report *rep, 
                                                                        : "truncated normal")
               : "from tilt/torsion via IK",
           study->maneuvers.range * 1e3);
-  fprintf(f, "- this run: %.2f s wall on %d worker thread(s)%s\n\n", wall, threads,
-          o->run.use_mpi ? " per MPI rank" : "");
+  fprintf(f, "- this run: %.2f s wall, %d worker thread(s) x %d MPI rank(s)\n\n", wall, threads,
+          ranks);
   fprintf(f, "| candidate | config |\n|---|---|\n");
   for (int c = 0; c < study->n_candidates; ++c)
     fprintf(f, "| %s | `%s` |\n", study->candidates[c].name, study->candidates[c].source);
@@ -343,7 +342,7 @@ int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o) {
   sigaction(SIGTERM, &old_term, NULL);
   if (st == POM_OK) st = pom_doe_run_end(run, &rep, &err);
   long done = pom_doe_run_done(run), total = pom_doe_run_total(run);
-  int threads = pom_doe_run_threads(run);
+  int threads = pom_doe_run_threads(run), ranks = pom_doe_run_ranks(run);
   pom_doe_run_destroy(run);
   double wall = pom_progress_now() - t0;
   if (st != POM_OK) {
@@ -363,8 +362,9 @@ int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o) {
   if (o->json) {
     pom_cli_doe_print_json(stdout, study, rep);
   } else {
-    printf("## Study %s: %d candidates x %ld maneuvers (%.2f s wall, %d threads)\n\n", study->name,
-           study->n_candidates, study->maneuvers.count, wall, threads);
+    printf("## Study %s: %d candidates x %ld maneuvers (%.2f s wall, %d thread(s) x %d rank(s))"
+           "\n\n",
+           study->name, study->n_candidates, study->maneuvers.count, wall, threads, ranks);
     pom_cli_doe_print_report(stdout, study, rep);
   }
   if (output[0] && (o->summary || o->plots)) {
@@ -383,7 +383,7 @@ int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o) {
                   "needs /usr/bin/python3 with h5py and matplotlib)\n",
                   r);
       }
-      if (o->summary && write_summary(study, rep, output, o, wall, threads, plots_ok, dir) != 0)
+      if (o->summary && write_summary(study, rep, output, wall, threads, ranks, plots_ok, dir) != 0)
         fprintf(stderr, "pomlab: cannot write %s/summary.md\n", dir);
       else if (o->summary && !o->json)
         printf("\nSummary: %s/summary.md%s\n", dir, plots_ok ? " (with figures)" : "");

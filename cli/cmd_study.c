@@ -126,6 +126,8 @@ int pom_cmd_study(int argc, char **argv) {
     return 1;
   }
   int code = study_main(argc, argv, rank, size);
+  /* a runtime failure may leave other ranks waiting for this one */
+  if (code == 1 && size > 1) MPI_Abort(MPI_COMM_WORLD, 1);
   MPI_Finalize();
   return code;
 #else

@@ -244,6 +244,8 @@ long pom_doe_run_total(const pom_doe_run *run);
 int pom_doe_run_is_root(const pom_doe_run *run);
 /* Worker threads in use on this rank. */
 int pom_doe_run_threads(const pom_doe_run *run);
+/* MPI ranks sharing the run (1 without MPI). */
+int pom_doe_run_ranks(const pom_doe_run *run);
 
 /* Stops the workers, computes the report from every finished maneuver (on
  * the root: *report, owned by the caller; elsewhere NULL), writes statistics,

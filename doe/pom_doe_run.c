@@ -412,6 +412,9 @@ int pom_doe_run_is_root(const pom_doe_run *run) {
 int pom_doe_run_threads(const pom_doe_run *run) {
   return run->n_threads;
 }
+int pom_doe_run_ranks(const pom_doe_run *run) {
+  return run->size;
+}
 
 /* ---- end ------------------------------------------------------------------------ */
 static void join_workers(pom_doe_run *run) {

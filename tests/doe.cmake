@@ -3,6 +3,7 @@ target_link_libraries(test_doe PRIVATE pom_doe)
 # The command line on a small real study, read back with h5py.
 set(_pom_doe_mpirun "")
 if(POM_WITH_MPI)
+  find_package(MPI REQUIRED COMPONENTS C)
   set(_pom_doe_mpirun ${MPIEXEC_EXECUTABLE})
 endif()
 add_test(NAME test_doe_study
