@@ -3,6 +3,7 @@
  * actuator axes) is printed by model_mechanism_*; the dynamics groups
  * (actuator electrics, controller gains, joints, scene) are added by the
  * dynamics module in the marked places. */
+#include "cli_dyn.h"
 #include "cli_kin.h"
 #include "pom_cli.h"
 #include "pom_math.h"
@@ -11,8 +12,9 @@
 #include <string.h>
 
 /* groups validated by `model` (unknown keys rejected in these) */
-static const char *const model_scopes[] = {"name",      "architecture", "geometry", "limits",
-                                           "workspace", "inertia",      NULL};
+static const char *const model_scopes[] = {
+    "name",       "architecture", "geometry", "limits", "workspace", "inertia", "actuator",
+    "controller", "joints",       "scene",    "solver", "maneuver",  NULL};
 
 static void model_usage(FILE *out) {
   fprintf(out, "usage: pomlab model CONFIG [--json]\n\n"
@@ -24,7 +26,9 @@ static void model_usage(FILE *out) {
                "  --json   machine-readable output on stdout\n"
                "  --help   this text\n\n"
                "Validates the config groups name, architecture, geometry, limits, workspace,\n"
-               "inertia. Exit status: 0 ok; 2 usage or config error.\n");
+               "inertia, and the dynamics groups actuator, controller, joints, scene, solver,\n"
+               "maneuver (printed after the mechanism). Exit status: 0 ok; 2 usage or config\n"
+               "error.\n");
 }
 
 static const char *joint_type_name(pom_joint_type t) {
@@ -259,8 +263,15 @@ int pom_cmd_model(int argc, char **argv) {
     pom_cfg_destroy(cfg);
     return pom_cli_exit_code(st);
   }
-  /* dynamics: read the actuator/controller/joints/scene/solver/maneuver
-   * groups here and add their names to the scopes checked below. */
+  /* dynamics: the actuator/controller/joints/scene/solver/maneuver groups */
+  pom_dyn_params dyn;
+  pom_dyn_params_defaults(&dyn);
+  st = pom_dyn_params_load(&dyn, cfg, &err);
+  if (st != POM_OK) {
+    pom_cli_report("config", &err);
+    pom_cfg_destroy(cfg);
+    return pom_cli_exit_code(st);
+  }
   rc = pom_cli_kin_check_unknown(cfg, model_scopes);
   pom_cfg_destroy(cfg);
   if (rc) return rc;
@@ -273,12 +284,12 @@ int pom_cmd_model(int argc, char **argv) {
     printf(",\n  \"architecture\": \"%s\",\n", pom_kin_arch_name(arch.type));
     printf("  \"units\": \"SI (m, kg, kg m^2, rad, m/s^2); fixed frame at the home pose\",\n");
     model_mechanism_json(&arch, &mech);
-    /* dynamics: print ",\n  \"actuator\": {...}" etc. here */
+    pom_cli_dyn_params_json(stdout, &dyn);
     printf("\n}\n");
   } else {
     printf("%s (%s), config %s\n", arch.name, pom_kin_arch_name(arch.type), path);
     model_mechanism_text(&arch, &mech);
-    /* dynamics: print the actuator, controller, joints and scene here */
+    pom_cli_dyn_params_text(stdout, &dyn);
   }
   return 0;
 }
