@@ -1,0 +1,69 @@
+#!/bin/bash
+# test_dynamics_cli.sh POMLAB SOURCE_DIR - `pomlab simulate` on the shipped
+# configs (both PID forms, both orientation options, both linear solvers),
+# its traces and the Fig. 7 script; usage errors give exit status 2.
+set -u
+POMLAB=$1
+SRC=$2
+TMP=$(mktemp -d)
+trap 'rm -rf "$TMP"' EXIT
+fail=0
+expect_rc() {
+  local want=$1; shift
+  "$@" > "$TMP/out" 2> "$TMP/err"
+  local rc=$?
+  if [ $rc -ne "$want" ]; then
+    echo "FAIL (rc $rc, want $want): $*"; cat "$TMP/err"; fail=1
+  fi
+}
+PY=/usr/bin/python3
+
+for cfg in 3pss 3sps; do
+  for opt in "--form ideal --orientation euler" "--form ideal --orientation quaternion --linsol dense" \
+             "--form parallel --kp 2e4 --ki 20 --kd 100 --orientation euler"; do
+    expect_rc 0 "$POMLAB" simulate "$SRC/configs/$cfg.cfg" --target 3,-3,3 $opt --json
+    # every actuator settles within the horizon and the energy audit closes
+    if ! $PY -c "
+import json, sys
+r = json.load(open('$TMP/out'))
+assert r['status'] == 'POM_OK', r['status']
+assert all(r['settled']), r['settled']
+assert r['execution_time_s'] < 0.05, r['execution_time_s']
+assert r['energy_balance_error'] < 1e-3, r['energy_balance_error']
+assert all(abs(q - t) < 1e-5 for q, t in zip(r['final_q_m'], r['target_m']))
+"; then echo "FAIL: $cfg $opt metrics"; cat "$TMP/out"; fail=1; fi
+  done
+done
+
+# traces: HDF5 and CSV, then the figure
+expect_rc 0 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target 1,-2,0.5 --out "$TMP/a.h5"
+expect_rc 0 "$POMLAB" simulate "$SRC/configs/3sps.cfg" --target 1,-2,0.5 --out "$TMP/b.csv"
+if ! $PY -c "
+import csv, h5py
+with h5py.File('$TMP/a.h5') as f:
+    t = f['trace/t'][:]; q = f['trace/q'][:]
+    assert len(t) == 1001 and abs(t[-1] - 0.1) < 1e-12, len(t)
+    assert abs(q[-1, 1] + 2e-3) < 1e-5, q[-1]
+    assert 'actuator' in f['config'][()].decode()
+rows = list(csv.DictReader(open('$TMP/b.csv')))
+assert len(rows) == 1001 and abs(float(rows[-1]['q3_m']) - 0.5e-3) < 1e-5
+"; then echo "FAIL: traces"; fail=1; fi
+expect_rc 0 $PY "$SRC/scripts/plot_traces.py" "$TMP/fig.png" "3P-S-S/S=$TMP/a.h5" "3S-P-S/S=$TMP/b.csv"
+[ -s "$TMP/fig.png" ] || { echo "FAIL: no figure"; fail=1; }
+
+# usage and config errors
+expect_rc 2 "$POMLAB" simulate "$SRC/configs/3pss.cfg"
+expect_rc 2 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target 1,2
+expect_rc 2 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target 1,2,3 --out x.txt
+expect_rc 2 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target 1,2,3 --form pid
+expect_rc 2 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target 1,2,3 --bogus
+sed 's/resistance_ohm = 10.0;/resistance_ohm = -10.0;/' "$SRC/configs/3pss.cfg" > "$TMP/bad.cfg"
+expect_rc 2 "$POMLAB" simulate "$TMP/bad.cfg" --target 1,2,3
+grep -q "actuator.resistance_ohm" "$TMP/err" || { echo "FAIL: message does not name the key"; fail=1; }
+sed 's/  rtol = 1.0e-6; /  rtol = 1.0e-6; bogus_key = 1;/' "$SRC/configs/3pss.cfg" > "$TMP/unknown.cfg"
+expect_rc 2 "$POMLAB" simulate "$TMP/unknown.cfg" --target 1,2,3
+expect_rc 0 "$POMLAB" simulate --help
+grep -q -i "millimetres" "$TMP/out" || { echo "FAIL: --help does not state the unit"; fail=1; }
+
+if [ $fail -eq 0 ]; then echo "test_dynamics_cli: passed"; fi
+exit $fail
