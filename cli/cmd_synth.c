@@ -253,7 +253,7 @@ int pom_cmd_synth(int argc, char **argv) {
       st = pom_cfg_check_unknown(cfgs[c], scopes, pom_cli_known_top, &err);
     }
     if (st != POM_OK) {
-      pom_cli_report(cfg_paths[c], &err);
+      pom_cli_report("synth", &err);
       code = pom_cli_exit_code(st);
       goto out;
     }
@@ -281,7 +281,7 @@ int pom_cmd_synth(int argc, char **argv) {
     if (st == POM_OK) st = pom_syn_write_geometry(runs[c], paths[c][0], &err);
     if (st == POM_OK) st = pom_syn_write_h5(runs[c], paths[c][1], pom_cfg_text(cfgs[c]), &err);
     if (st != POM_OK) {
-      pom_cli_report(cfg_paths[c], &err);
+      pom_cli_report("synth", &err);
       code = pom_cli_exit_code(st);
       goto out;
     }

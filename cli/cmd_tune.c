@@ -100,7 +100,7 @@ int pom_cmd_tune(int argc, char **argv) {
     if (st == POM_OK) st = pom_cfg_check_unknown(cfg, scopes, pom_cli_known_top, &err);
     pom_cfg_destroy(cfg);
     if (st != POM_OK) {
-      pom_cli_report(cfg_paths[c], &err);
+      pom_cli_report("tune", &err);
       code = pom_cli_exit_code(st);
     }
   }
@@ -111,7 +111,7 @@ int pom_cmd_tune(int argc, char **argv) {
     snprintf(paths[c], sizeof paths[c], "%s%s.controller.cfg", prefix, name);
     if (st == POM_OK) st = pom_tune_write_controller(&pbs[c], &res[c], paths[c], &err);
     if (st != POM_OK) {
-      pom_cli_report(cfg_paths[c], &err);
+      pom_cli_report("tune", &err);
       code = pom_cli_exit_code(st);
       break;
     }

@@ -31,7 +31,7 @@ void pom_tune_defaults(pom_tune_problem *pb) {
   pom_dyn_params_defaults(&pb->params);
   pb->n_vars = 2;
   pb->var[0] = POM_TUNE_KP;
-  pb->lo[0] = 1e3;
+  pb->lo[0] = 1e2;
   pb->hi[0] = 1e5;
   pb->log_scale[0] = 1;
   pb->var[1] = POM_TUNE_KD;
