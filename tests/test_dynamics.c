@@ -300,7 +300,9 @@ static void test_universal(void) {
     /* ... and axis2 stays perpendicular to axis: I w_z / R_p ~ 1e-8 rad */
     check_abs(pom_v3_dot(xb, yb), 0.0, 1e-6);
     check_abs(r.mt.max_angular_deflection, 0.0, 1e-6);
-    check_abs(r.mt.energy_balance_error, 0.0, 1e-6);
+    /* the audit closes to the BDF's global error, as in the conservation
+     * test (~rtol per step over ~1e3 steps): bound 5e-6 */
+    check_abs(r.mt.energy_balance_error, 0.0, 5e-6);
     check_true(r.mt.energy_parasitic > 0.0); /* the forbidden spin was damped out */
   }
   run_free(&r);
