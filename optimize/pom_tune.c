@@ -38,8 +38,8 @@ void pom_tune_defaults(pom_tune_problem *pb) {
   pb->lo[1] = 5e-4;
   pb->hi[1] = 2e-2;
   pb->log_scale[1] = 1;
-  pb->n_maneuvers = 6;
-  for (int m = 0; m < 6; ++m)
+  pb->n_maneuvers = N_DEFAULT_MANEUVERS;
+  for (int m = 0; m < N_DEFAULT_MANEUVERS; ++m)
     for (int i = 0; i < 3; ++i)
       pb->target[m][i] = default_targets_mm[m][i] * 1e-3;
   pb->overshoot_max = 0.05;
