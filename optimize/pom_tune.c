@@ -21,10 +21,12 @@ static double now_s(void) {
 }
 
 /* The default maneuver set (mm): the extreme corners of the Monte-Carlo
- * cube, mixed-sign steps and uneven steps, identical for every architecture. */
-static const double default_targets_mm[6][3] = {{3.0, 3.0, 3.0},   {-3.0, -3.0, -3.0},
-                                                {3.0, -3.0, 0.0},  {-2.0, 1.0, 3.0},
-                                                {1.5, -2.5, -1.0}, {0.5, 2.0, -2.0}};
+ * cube, mixed-sign, uneven and small steps (a small step's 2 % band exposes
+ * a soft loop's steady-state error), identical for every architecture. */
+#define N_DEFAULT_MANEUVERS 7
+static const double default_targets_mm[N_DEFAULT_MANEUVERS][3] = {
+    {3.0, 3.0, 3.0},   {-3.0, -3.0, -3.0}, {3.0, -3.0, 0.0}, {-2.0, 1.0, 3.0},
+    {1.5, -2.5, -1.0}, {0.5, 2.0, -2.0},   {0.2, -0.1, -3.0}};
 
 void pom_tune_defaults(pom_tune_problem *pb) {
   memset(pb, 0, sizeof *pb);
