@@ -83,7 +83,10 @@ struct pom_dyn_model {
   unsigned char *dep; /* [n_states][n_states] row i depends on column j */
   int *color;         /* [n_states] colour of each column */
   int n_colors;
-  long nnz; /* structural non-zeros (including the diagonal) */
+  long nnz;     /* structural non-zeros (including the diagonal) */
+  long *colptr; /* [n_states + 1] CSC column starts of the pattern */
+  int *rowind;  /* [nnz] CSC row indices */
+  long *diag;   /* [n_states] position of the diagonal entry of each column */
 };
 
 /* Per-body kinematic quantities at one evaluation. */
@@ -125,6 +128,8 @@ struct pom_dyn_data {
   long rhs_count;     /* all RHS evaluations (CVODE + Jacobian) */
   long jac_rhs_count; /* RHS evaluations inside the Jacobian */
   long jac_count;
+  double *jac;   /* [nnz] last finite-difference Jacobian, CSC over the model's pattern */
+  int jac_valid; /* 1 once jac holds a Jacobian of this maneuver */
   int last_euler_singular;
   int last_nonfinite;
   long euler_singular_count; /* RHS calls of this run that met the Euler singularity */
@@ -154,9 +159,11 @@ int pom_dyn_cvode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
 /* dyn_jac.c: builds dep/color/nnz of the model (called by model create). */
 pom_status pom_dyn_structure_build(pom_dyn_model *m, pom_error *err);
 
-/* dyn_jac.c: the CVODE Jacobian callback (dense or CSC by the matrix id). */
-int pom_dyn_cvode_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *user_data,
-                      N_Vector tmp1, N_Vector tmp2, N_Vector tmp3);
+/* dyn_jac.c: the CVODE linear-system callback A = I - gamma J (dense or CSC
+ * by the matrix id), with the coloured finite-difference Jacobian. */
+int pom_dyn_cvode_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, sunbooleantype jok,
+                         sunbooleantype *jcur, sunrealtype gamma, void *user_data, N_Vector tmp1,
+                         N_Vector tmp2, N_Vector tmp3);
 
 /* dyn_jac.c: largest scaled derivative that the structure leaves out (0 when
  * the pattern is complete), by one-column finite differences at y; f0, yp, fp

@@ -103,6 +103,23 @@ pom_status pom_dyn_structure_build(pom_dyn_model *m, pom_error *err) {
     }
   }
   m->nnz = nnz;
+  m->colptr = calloc((size_t)n + 1, sizeof *m->colptr);
+  m->rowind = calloc((size_t)nnz, sizeof *m->rowind);
+  m->diag = calloc((size_t)n, sizeof *m->diag);
+  if (!m->colptr || !m->rowind || !m->diag)
+    POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "allocating the Jacobian pattern (%ld entries)", nnz);
+  {
+    long k = 0;
+    for (int j = 0; j < n; ++j) {
+      m->colptr[j] = k;
+      for (int i = 0; i < n; ++i)
+        if (m->dep[(size_t)i * (size_t)n + (size_t)j] || i == j) {
+          if (i == j) m->diag[j] = k;
+          m->rowind[k++] = i;
+        }
+    }
+    m->colptr[n] = k;
+  }
 
   /* greedy colouring of the columns: a colour's columns touch disjoint rows */
   m->n_colors = 0;
@@ -132,34 +149,14 @@ done:
 }
 
 /* ---- finite-difference Jacobian ------------------------------------------ */
-int pom_dyn_cvode_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *user_data,
-                      N_Vector tmp1, N_Vector tmp2, N_Vector tmp3) {
-  (void)t;
-  (void)tmp3;
-  pom_dyn_data *d = user_data;
+/* J (CSC values over the model's pattern, into d->jac) by one RHS evaluation
+ * per colour at y, f0 = f(y); yp, fp scratch of n_states. */
+static int jacobian_eval(pom_dyn_data *d, const double *yv, const double *f0, double *yp,
+                         double *fp) {
   const pom_dyn_model *m = d->m;
   const int n = m->n_states;
-  const double *yv = N_VGetArrayPointer(y);
-  const double *f0 = N_VGetArrayPointer(fy);
-  double *yp = N_VGetArrayPointer(tmp1);
-  double *fp = N_VGetArrayPointer(tmp2);
   const double srur = sqrt(2.220446049250313e-16); /* sqrt of the unit roundoff */
-  const int sparse = SUNMatGetID(J) == SUNMATRIX_SPARSE;
   ++d->jac_count;
-
-  SUNMatZero(J);
-  if (sparse) {
-    /* CSC pattern: rebuilt every call because SUNMatZero clears it */
-    sunindextype *cp = SUNSparseMatrix_IndexPointers(J);
-    sunindextype *ri = SUNSparseMatrix_IndexValues(J);
-    sunindextype k = 0;
-    for (int j = 0; j < n; ++j) {
-      cp[j] = k;
-      for (int i = 0; i < n; ++i)
-        if (m->dep[(size_t)i * (size_t)n + (size_t)j] || i == j) ri[k++] = i;
-    }
-    cp[n] = k;
-  }
   memcpy(yp, yv, (size_t)n * sizeof(double));
   for (int c = 0; c < m->n_colors; ++c) {
     for (int j = 0; j < n; ++j)
@@ -175,21 +172,62 @@ int pom_dyn_cvode_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void 
     for (int j = 0; j < n; ++j) {
       if (m->color[j] != c) continue;
       double h = yp[j] - yv[j];
-      if (sparse) {
-        sunindextype *cp = SUNSparseMatrix_IndexPointers(J);
-        sunindextype *ri = SUNSparseMatrix_IndexValues(J);
-        double *dv = SUNSparseMatrix_Data(J);
-        for (sunindextype k = cp[j]; k < cp[j + 1]; ++k) {
-          int i = (int)ri[k];
-          dv[k] = m->dep[(size_t)i * (size_t)n + (size_t)j] ? (fp[i] - f0[i]) / h : 0.0;
-        }
-      } else {
-        double *col = SUNDenseMatrix_Column(J, j);
-        for (int i = 0; i < n; ++i)
-          if (m->dep[(size_t)i * (size_t)n + (size_t)j]) col[i] = (fp[i] - f0[i]) / h;
+      for (long k = m->colptr[j]; k < m->colptr[j + 1]; ++k) {
+        int i = m->rowind[k];
+        d->jac[k] = m->dep[(size_t)i * (size_t)n + (size_t)j] ? (fp[i] - f0[i]) / h : 0.0;
       }
       yp[j] = yv[j];
     }
+  }
+  return 0;
+}
+
+/* CVODE's linear-system callback: A = I - gamma J, J re-evaluated unless
+ * CVODE says the stored one is still good (jok). Writing A directly skips
+ * SUNDIALS' copy of a saved J and its scale-add-identity pass. */
+int pom_dyn_cvode_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, sunbooleantype jok,
+                         sunbooleantype *jcur, sunrealtype gamma, void *user_data, N_Vector tmp1,
+                         N_Vector tmp2, N_Vector tmp3) {
+  (void)t;
+  (void)tmp3;
+  pom_dyn_data *d = user_data;
+  const pom_dyn_model *m = d->m;
+  const int n = m->n_states;
+  if (!jok || !d->jac_valid) {
+    int r = jacobian_eval(d, N_VGetArrayPointer(y), N_VGetArrayPointer(fy),
+                          N_VGetArrayPointer(tmp1), N_VGetArrayPointer(tmp2));
+    if (r != 0) return r;
+    d->jac_valid = 1;
+    *jcur = SUNTRUE;
+  } else {
+    *jcur = SUNFALSE;
+  }
+  if (SUNMatGetID(A) == SUNMATRIX_SPARSE) {
+    sunindextype *cp = SUNSparseMatrix_IndexPointers(A);
+    sunindextype *ri = SUNSparseMatrix_IndexValues(A);
+    double *av = SUNSparseMatrix_Data(A);
+    for (int j = 0; j <= n; ++j)
+      cp[j] = (sunindextype)m->colptr[j];
+    for (long k = 0; k < m->nnz; ++k) {
+      ri[k] = m->rowind[k];
+      av[k] = -gamma * d->jac[k];
+    }
+  } else {
+    SUNMatZero(A);
+    for (int j = 0; j < n; ++j) {
+      double *col = SUNDenseMatrix_Column(A, j);
+      for (long k = m->colptr[j]; k < m->colptr[j + 1]; ++k)
+        col[m->rowind[k]] = -gamma * d->jac[k];
+    }
+  }
+  /* the identity: every diagonal entry is in the pattern */
+  if (SUNMatGetID(A) == SUNMATRIX_SPARSE) {
+    double *av = SUNSparseMatrix_Data(A);
+    for (int j = 0; j < n; ++j)
+      av[m->diag[j]] += 1.0;
+  } else {
+    for (int j = 0; j < n; ++j)
+      SUNDenseMatrix_Column(A, j)[j] += 1.0;
   }
   return 0;
 }

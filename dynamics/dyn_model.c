@@ -292,6 +292,9 @@ void pom_dyn_model_destroy(pom_dyn_model *m) {
   free(m->scale);
   free(m->dep);
   free(m->color);
+  free(m->colptr);
+  free(m->rowind);
+  free(m->diag);
   free(m);
 }
 
