@@ -31,9 +31,9 @@ pom_status pom_doe_results_create(pom_doe_results **out, const char *path,
 /* Opens an existing file for resume; fails when it belongs to another study. */
 pom_status pom_doe_results_open(pom_doe_results **out, const char *path, const pom_doe_study *study,
                                 pom_error *err);
-/* Writes row k of candidate c. */
-pom_status pom_doe_results_write_row(pom_doe_results *res, int c, long k, const pom_doe_row *row,
-                                     pom_error *err);
+/* Writes rows [first, first + n) of candidate c. */
+pom_status pom_doe_results_write_rows(pom_doe_results *res, int c, long first, long n,
+                                      const pom_doe_row *rows, pom_error *err);
 /* Reads rows [first, first + n) of candidate c. */
 pom_status pom_doe_results_read(pom_doe_results *res, int c, long first, long n, pom_doe_row *rows,
                                 pom_error *err);

@@ -62,6 +62,7 @@ static pom_status row_types(hid_t *mem, hid_t *file, pom_error *err) {
   INS(wall_time, H5T_NATIVE_DOUBLE);
 #undef INS
   *file = H5Tcopy(*mem);
+  /* packed in the file: no padding bytes (whose contents are undefined) */
   if (*file < 0 || H5Tpack(*file) < 0) goto fail;
   H5Tclose(d3);
   H5Tclose(i3);
@@ -301,9 +302,9 @@ static pom_status row_io(pom_doe_results *res, int c, long first, long n, pom_do
   return POM_OK;
 }
 
-pom_status pom_doe_results_write_row(pom_doe_results *res, int c, long k, const pom_doe_row *row,
-                                     pom_error *err) {
-  return row_io(res, c, k, 1, (pom_doe_row *)row, 1, err);
+pom_status pom_doe_results_write_rows(pom_doe_results *res, int c, long first, long n,
+                                      const pom_doe_row *rows, pom_error *err) {
+  return row_io(res, c, first, n, (pom_doe_row *)rows, 1, err);
 }
 
 pom_status pom_doe_results_read(pom_doe_results *res, int c, long first, long n, pom_doe_row *rows,

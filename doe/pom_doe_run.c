@@ -22,6 +22,7 @@
 
 typedef struct {
   long unit;       /* k * n_candidates + c */
+  long order;      /* c * count + k: the storage order (set when storing) */
   pom_doe_row row; /* its result */
 } finished_unit;
 
@@ -55,6 +56,8 @@ struct pom_doe_run {
   int q_head, q_count;
   /* driving thread only */
   finished_unit *batch;    /* [queue_capacity] units popped by step() */
+  finished_unit *sorted;   /* [queue_capacity] root: units in storage order */
+  pom_doe_row *rows;       /* [queue_capacity] root: contiguous rows for one write */
   pom_doe_worker *workers; /* [n_threads] */
   pthread_t *threads;      /* [n_threads] */
   int n_started;
@@ -280,9 +283,11 @@ pom_status pom_doe_run_begin(pom_doe_run **out, const pom_doe_study *study,
 
   run->queue = malloc((size_t)run->opt.queue_capacity * sizeof *run->queue);
   run->batch = malloc((size_t)run->opt.queue_capacity * sizeof *run->batch);
+  run->sorted = malloc((size_t)run->opt.queue_capacity * sizeof *run->sorted);
+  run->rows = malloc((size_t)run->opt.queue_capacity * sizeof *run->rows);
   run->workers = calloc((size_t)threads, sizeof *run->workers);
   run->threads = calloc((size_t)threads, sizeof *run->threads);
-  if (!run->queue || !run->batch || !run->workers || !run->threads)
+  if (!run->queue || !run->batch || !run->sorted || !run->rows || !run->workers || !run->threads)
     POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "run: out of memory");
   for (int t = 0; t < threads; ++t) {
     pom_doe_worker *w = &run->workers[t];
@@ -324,23 +329,41 @@ fail:
 }
 
 /* ---- step --------------------------------------------------------------------- */
-/* Root: stores one finished unit (file row + compact cell). */
-static pom_status store_unit(pom_doe_run *run, const finished_unit *f, pom_error *err) {
-  int nc = run->study->n_candidates;
-  long m = run->study->maneuvers.count;
-  long k = f->unit / nc;
-  int c = (int)(f->unit % nc);
-  if (run->res) POM_TRY(pom_doe_results_write_row(run->res, c, k, &f->row, err));
-  pom_doe_cell_from_row(&run->cells[(size_t)c * (size_t)m + (size_t)k], &f->row);
-  ++run->done;
-  ++run->new_done;
-  return POM_OK;
+static int cmp_order(const void *a, const void *b) {
+  long x = ((const finished_unit *)a)->order, y = ((const finished_unit *)b)->order;
+  return (x > y) - (x < y);
 }
 
+/* Root: stores finished units (file rows + compact cells). Units are sorted
+ * into storage order so that runs of neighbouring maneuvers of a candidate
+ * go to the file in one write. */
 static pom_status store_units(pom_doe_run *run, const void *units, int n, pom_error *err) {
   const finished_unit *u = units;
-  for (int j = 0; j < n; ++j)
-    POM_TRY(store_unit(run, &u[j], err));
+  int nc = run->study->n_candidates, cap = run->opt.queue_capacity;
+  long m = run->study->maneuvers.count;
+  for (int j0 = 0; j0 < n; j0 += cap) {
+    int cnt = n - j0 < cap ? n - j0 : cap;
+    memcpy(run->sorted, u + j0, (size_t)cnt * sizeof *u);
+    for (int i = 0; i < cnt; ++i)
+      run->sorted[i].order = (run->sorted[i].unit % nc) * m + run->sorted[i].unit / nc;
+    qsort(run->sorted, (size_t)cnt, sizeof *run->sorted, cmp_order);
+    for (int i = 0; i < cnt;) {
+      int c = (int)(run->sorted[i].unit % nc);
+      long k0 = run->sorted[i].unit / nc;
+      int j = i;
+      while (j < cnt && run->sorted[j].unit % nc == c && run->sorted[j].unit / nc == k0 + (j - i))
+        ++j;
+      for (int r = i; r < j; ++r) {
+        run->rows[r - i] = run->sorted[r].row;
+        pom_doe_cell_from_row(&run->cells[(size_t)c * (size_t)m + (size_t)(k0 + r - i)],
+                              &run->sorted[r].row);
+      }
+      if (run->res) POM_TRY(pom_doe_results_write_rows(run->res, c, k0, j - i, run->rows, err));
+      run->done += j - i;
+      run->new_done += j - i;
+      i = j;
+    }
+  }
   return POM_OK;
 }
 
@@ -479,6 +502,8 @@ void pom_doe_run_destroy(pom_doe_run *run) {
   free(run->threads);
   free(run->queue);
   free(run->batch);
+  free(run->sorted);
+  free(run->rows);
   free(run->todo);
   free(run->cells);
   free(run);
