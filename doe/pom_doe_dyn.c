@@ -69,7 +69,23 @@ static pom_status run(const void *p, void *worker, const double target[3], pom_d
     snprintf(out->reason, sizeof out->reason, "%s", err ? err->message : "outside the stroke");
     return st;
   }
-  return pom_dyn_simulate(ctx->model, worker, target, out, NULL, err);
+  st = pom_dyn_simulate(ctx->model, worker, target, out, NULL, err);
+  if (st != POM_OK || out->status != POM_OK) return st;
+  /* The model has no end stops: a loop that runs away can carry a piston
+   * past its stroke. Such a maneuver is physically invalid; record it as a
+   * failure (only the final position is known, docs/results.md section 1). */
+  double half = 0.5 * ctx->arch.stroke;
+  for (int i = 0; i < 3; ++i)
+    if (!(fabs(out->final_q[i]) <= half)) {
+      out->status = POM_ERR_LIMIT;
+      snprintf(
+          out->reason, sizeof out->reason,
+          "actuator %d ended outside its stroke: q = %.4g mm at the horizon (stroke +-%.4g mm; "
+          "the model has no end stops)",
+          i + 1, out->final_q[i] * 1e3, half * 1e3);
+      return pom_error_set(err, POM_ERR_LIMIT, __FILE__, __LINE__, "%s", out->reason);
+    }
+  return POM_OK;
 }
 
 static pom_status describe(const void *p, hid_t g, pom_error *err) {
