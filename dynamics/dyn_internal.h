@@ -91,14 +91,15 @@ struct pom_dyn_model {
 
 /* Per-body kinematic quantities at one evaluation. */
 typedef struct {
-  double R[9];  /* rotation from home (fixed frame) */
-  double Rp[9]; /* principal axes -> fixed frame = R V */
-  double x[3];  /* CM position (m) */
-  double v[3];  /* CM velocity (m/s) */
-  double w[3];  /* angular velocity, fixed frame (rad/s) */
-  double wp[3]; /* angular velocity, principal axes (rad/s) */
-  double F[3];  /* force sum, fixed frame (N) */
-  double T[3];  /* torque sum about the CM, fixed frame (N m) */
+  double R[9];    /* rotation from home (fixed frame) */
+  double Rp[9];   /* principal axes -> fixed frame = R V */
+  double x[3];    /* CM position (m) */
+  double v[3];    /* CM velocity (m/s) */
+  double w[3];    /* angular velocity, fixed frame (rad/s) */
+  double wp[3];   /* angular velocity, principal axes (rad/s) */
+  double F[3];    /* force sum, fixed frame (N) */
+  double T[3];    /* torque sum about the CM, fixed frame (N m) */
+  double trig[4]; /* Euler path: cos psi, sin psi, cos theta, sin theta */
 } dyn_body_eval;
 
 /* Outputs of one evaluation that metrics and traces use. */
@@ -155,6 +156,10 @@ double pom_dyn_stored(const pom_dyn_model *m, pom_dyn_data *d, const double *y);
 
 /* dyn_rhs.c: the CVODE RHS callback. */
 int pom_dyn_cvode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data);
+
+/* dyn_nvec.c: replaces the arithmetic operations of a serial N_Vector (and
+ * of every clone CVODE makes of it) by optimized kernels. */
+void pom_dyn_nvec_fast_ops(N_Vector v);
 
 /* dyn_jac.c: builds dep/color/nnz of the model (called by model create). */
 pom_status pom_dyn_structure_build(pom_dyn_model *m, pom_error *err);

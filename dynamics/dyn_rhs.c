@@ -24,8 +24,27 @@ static int bodies_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y)
       pom_quat_normalize(q); /* the rotation of the unit quaternion along q */
       pom_quat_to_matrix(e->R, q);
     } else {
-      pom_euler_zyx_to_matrix(e->R, yb + DYN_BODY_ORI);
-      if (cos(yb[DYN_BODY_ORI + 1]) < m->par.scene.euler_cos_min) singular = 1;
+      /* R = Rz(psi) Ry(theta) Rx(phi) as pom_euler_zyx_to_matrix, keeping
+       * the sines and cosines for the rate matrix of the same angles */
+      const double *ea = yb + DYN_BODY_ORI;
+      double cps = cos(ea[0]), sps = sin(ea[0]);
+      double cth = cos(ea[1]), sth = sin(ea[1]);
+      double cph = cos(ea[2]), sph = sin(ea[2]);
+      double *R = e->R;
+      R[0] = cps * cth;
+      R[1] = cps * sth * sph - sps * cph;
+      R[2] = cps * sth * cph + sps * sph;
+      R[3] = sps * cth;
+      R[4] = sps * sth * sph + cps * cph;
+      R[5] = sps * sth * cph - cps * sph;
+      R[6] = -sth;
+      R[7] = cth * sph;
+      R[8] = cth * cph;
+      e->trig[0] = cps;
+      e->trig[1] = sps;
+      e->trig[2] = cth;
+      e->trig[3] = sth;
+      if (cth < m->par.scene.euler_cos_min) singular = 1;
     }
     pom_m3_mul(e->Rp, e->R, bd->V);
     pom_v3_add(e->x, bd->cm_home, yb + DYN_BODY_U);
@@ -110,10 +129,12 @@ int pom_dyn_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, doubl
     const double *w1 = jt->slot[1] >= 0 ? d->be[jt->slot[1]].w : zero3;
 
     /* linear pseudo-constraints: C (k_p) and R (R_p) on a 1-junction with the
-     * forbidden relative velocity; directions fixed in side 0 when they rotate */
+     * forbidden relative velocity; directions fixed in side 0 when they rotate.
+     * The forces of one joint act at its two points: summed, applied once. */
+    double F0[3] = {0.0, 0.0, 0.0}, F1[3] = {0.0, 0.0, 0.0};
     double lin2 = 0.0;
     for (int k = 0; k < jt->n_lin; ++k) {
-      double mk[3], F[3], mxd[3] = {0.0, 0.0, 0.0};
+      double mk[3], mxd[3] = {0.0, 0.0, 0.0};
       if (jt->lin_rotates)
         pom_m3_apply(mk, R0, jt->lin_dir[k]);
       else
@@ -128,10 +149,8 @@ int pom_dyn_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, doubl
       o->spring_energy += 0.5 * kl * delta * delta;
       o->parasitic_power += cl * rate * rate;
       lin2 += delta * delta;
-      pom_v3_scale(F, -f, mk);
-      apply_force(d, jt, 1, F, r1);
-      pom_v3_scale(F, f, mk);
-      apply_force(d, jt, 0, F, r0);
+      pom_v3_axpy(F1, F1, -f, mk);
+      pom_v3_axpy(F0, F0, f, mk);
       if (jt->lin_rotates) apply_torque(d, jt, 0, -f, mxd);
     }
     o->max_lin_deflection = fmax(o->max_lin_deflection, sqrt(lin2));
@@ -158,7 +177,7 @@ int pom_dyn_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, doubl
     int a = jt->actuator;
     if (a >= 0) {
       const dyn_actuator *ac = &m->act[a];
-      double n[3], nxd[3], F[3];
+      double n[3], nxd[3];
       pom_m3_apply(n, R0, jt->axis);
       pom_v3_cross(nxd, n, dd);
       double q = pom_v3_dot(n, dd);
@@ -179,10 +198,8 @@ int pom_dyn_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, doubl
         i = (u - ap->force_constant * qd) / ap->resistance;
       double b = par->scene.bearing_friction ? ap->bearing_friction : 0.0;
       double force = ap->force_constant * i - b * qd;
-      pom_v3_scale(F, force, n);
-      apply_force(d, jt, 1, F, r1);
-      pom_v3_scale(F, -force, n);
-      apply_force(d, jt, 0, F, r0);
+      pom_v3_axpy(F1, F1, force, n);
+      pom_v3_axpy(F0, F0, -force, n);
       apply_torque(d, jt, 0, force, nxd);
       o->q[a] = q;
       o->q_dot[a] = qd;
@@ -201,6 +218,8 @@ int pom_dyn_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, doubl
         acc[DYN_ACC_BEARING] = b * qd * qd;
       }
     }
+    apply_force(d, jt, 0, F0, r0);
+    apply_force(d, jt, 1, F1, r1);
   }
   if (!ydot) return 0;
   ydot[m->acc_parasitic] = o->parasitic_power;
@@ -220,12 +239,17 @@ int pom_dyn_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, doubl
     if (m->par.scene.orientation == POM_ORIENT_QUATERNION) {
       pom_quat_rate(fb + DYN_BODY_ORI, yb + DYN_BODY_ORI, e->w);
     } else {
-      double E[9];
-      if (pom_euler_zyx_rate_matrix(E, yb + DYN_BODY_ORI, m->par.scene.euler_cos_min) != POM_OK) {
+      /* e_dot = E(e) omega, E as pom_euler_zyx_rate_matrix (docs 3) */
+      double cps = e->trig[0], sps = e->trig[1], cth = e->trig[2], sth = e->trig[3];
+      if (fabs(cth) < m->par.scene.euler_cos_min) {
         o->euler_singular = 1;
         memset(fb + DYN_BODY_ORI, 0, 3 * sizeof(double));
       } else {
-        pom_m3_apply(fb + DYN_BODY_ORI, E, e->w);
+        double tth = sth / cth;
+        const double *w = e->w;
+        fb[DYN_BODY_ORI] = cps * tth * w[0] + sps * tth * w[1] + w[2];
+        fb[DYN_BODY_ORI + 1] = -sps * w[0] + cps * w[1];
+        fb[DYN_BODY_ORI + 2] = cps / cth * w[0] + sps / cth * w[1];
       }
     }
   }

@@ -60,6 +60,9 @@ pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_e
   d->ftmp = N_VNew_Serial(n, d->ctx);
   if (!d->y || !d->atol || !d->ytmp || !d->ftmp)
     POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "allocating CVODE vectors (%ld states)", (long)n);
+  /* CVODE clones its vectors from y (and atol): they inherit the kernels */
+  pom_dyn_nvec_fast_ops(d->y);
+  pom_dyn_nvec_fast_ops(d->atol);
   memcpy(N_VGetArrayPointer(d->atol), m->atol, (size_t)n * sizeof(double));
   N_VConst(0.0, d->y);
 
