@@ -6,6 +6,7 @@
 #include "check.h"
 #include "pom_doe.h"
 #include "pom_math.h"
+#include "pom_progress.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -538,6 +539,32 @@ static void test_runs(void) {
   pom_doe_study_clear(&study);
 }
 
+/* ---- progress bar ------------------------------------------------------------------- */
+static void test_progress(void) {
+  char line[256];
+  /* 50 of 200 done, 10 of them before this run, 8 s elapsed: rate (50 - 10) / 8
+   * = 5/s, ETA 150 / 5 = 30 s; 25 % of a 20-wide bar = 5 marks */
+  pom_progress_format(line, sizeof line, "paper", 50, 200, 10, 8.0, 20);
+  check_true(strstr(line, "[#####...............]") != NULL);
+  check_true(strstr(line, "50/200") != NULL && strstr(line, " 25%") != NULL);
+  check_true(strstr(line, "5.0/s") != NULL && strstr(line, "ETA 0:30") != NULL);
+  check_true(strstr(line, "0:08 elapsed") != NULL);
+  /* nothing done in this run yet: rate and ETA unknown */
+  pom_progress_format(line, sizeof line, "x", 10, 200, 10, 1.0, 10);
+  check_true(strstr(line, "-/s") != NULL && strstr(line, "ETA --:--") != NULL);
+  /* not a terminal: nothing drawn */
+  FILE *f = tmpfile();
+  pom_progress bar;
+  pom_progress_init(&bar, f, "x", 10, 0, 0);
+  pom_progress_update(&bar, 5);
+  pom_progress_finish(&bar, 10);
+  check_true(ftell(f) == 0);
+  pom_progress_init(&bar, f, "x", 10, 0, 1); /* forced */
+  pom_progress_finish(&bar, 10);
+  check_true(ftell(f) > 0);
+  fclose(f);
+}
+
 int main(void) {
   snprintf(tmpdir, sizeof tmpdir, "/tmp/pom_test_doe_XXXXXX");
   if (!mkdtemp(tmpdir)) {
@@ -547,6 +574,7 @@ int main(void) {
   write_file("fast.cfg", "analytic = { speed_m_per_s = 0.5; energy_J_per_mm2 = 0.01; };\n");
   write_file("toy.cfg", study_text);
   test_stats();
+  test_progress();
   test_maneuvers();
   test_study_config();
   test_sweep();
