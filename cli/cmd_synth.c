@@ -102,11 +102,32 @@ static void print_human(const pom_syn_run *run, const char *geo_path, const char
            run->predicted[r] * u, run->confirmed[r] * u,
            (run->predicted[r] - run->confirmed[r]) * u);
   }
-  long sur_evals = run->n_runs + run->n_holdout + 1;
-  printf("  surrogate route: %ld true evaluations (%d design + %d held-out + 1 confirmation), "
-         "%ld surface evaluations, %.3f s\n",
-         sur_evals, run->n_runs, run->n_holdout,
-         run->surrogate.evals_global + run->surrogate.evals_local, run->surrogate_time);
+  if (run->refined) {
+    printf("\nsequential refinement (best: stage %d):\n  %-6s %5s", run->best_stage, "stage",
+           "runs");
+    for (int i = 0; i < k; ++i)
+      printf(" %24s", pom_syn_var_name(pb->var[i]));
+    printf(" %9s %9s %9s\n", "R2pred", "D pred", "D true");
+    int s = 0;
+    for (const pom_syn_run *r = run; r; r = r->refined, ++s) {
+      printf("  %-6d %5d", s, r->n_runs);
+      for (int i = 0; i < k; ++i) {
+        double u = pom_syn_var_unit(pb->var[i]);
+        char box[64];
+        snprintf(box, sizeof box, "%.4g [%.4g, %.4g]", r->stage_x_opt[i] * u, r->pb->lo[i] * u,
+                 r->pb->hi[i] * u);
+        printf(" %24s", box);
+      }
+      pom_syn_resp g = pb->goal_resp[0];
+      printf(" %9.4f %9.4f %9.4f\n", r->fitted[g] ? r->fit[g].r2_pred : NAN, r->stage_d_predicted,
+             r->stage_d_confirmed);
+    }
+    printf("  (R2pred of the first goal's surface, %s)\n", pom_syn_resp_name(pb->goal_resp[0]));
+  }
+  printf("  surrogate route: %ld true evaluations (design, held-out and confirmation runs of every "
+         "stage), %ld surface evaluations in the first stage, %.3f s\n",
+         run->true_evals, run->surrogate.evals_global + run->surrogate.evals_local,
+         run->surrogate_time);
   if (run->direct_done) {
     printf("\ndirect optimization on the true kinematics (D = %.4f):\n ", run->d_direct);
     for (int i = 0; i < k; ++i)
@@ -184,8 +205,8 @@ static void print_json(pom_syn_run *const runs[], int n, char paths[][2][512]) {
     printf("}, \"desirability_predicted\": %s, \"desirability_confirmed\": %s,",
            jn(b1, run->d_predicted), jn(b2, run->d_confirmed));
     printf(" \"surrogate\": {\"true_evals\": %d, \"surface_evals\": %ld, \"time_s\": %s},",
-           run->n_runs + run->n_holdout + 1,
-           run->surrogate.evals_global + run->surrogate.evals_local, jn(b1, run->surrogate_time));
+           (int)run->true_evals, run->surrogate.evals_global + run->surrogate.evals_local,
+           jn(b1, run->surrogate_time));
     if (run->direct_done)
       printf(" \"direct\": {\"desirability\": %s, \"true_evals\": %ld, \"time_s\": %s},",
              jn(b1, run->d_direct), run->direct.evals_global + run->direct.evals_local,

@@ -60,6 +60,9 @@ void pom_syn_defaults(pom_syn_problem *pb) {
   pb->scale_max = 0.2;
   pb->scale_rel_tol = 1e-3;
   pb->scale_scan = 24;
+  pb->refine_stages = 0;
+  pb->refine_shrink = 0.5;
+  pb->scale_optimum = 1;
 }
 
 static pom_status load_opt(const pom_cfg *cfg, const char *group, pom_opt_options *o,
@@ -254,6 +257,11 @@ pom_status pom_syn_load(pom_syn_problem *pb, const pom_cfg *cfg, pom_error *err)
     return pom_cfg_error(cfg, "synthesis.scale_max_mm", NULL, err, "must exceed scale_min_mm");
   POM_TRY(pom_cfg_real_opt(cfg, "synthesis.scale_rel_tol", 1.0, 1e-9, 0.1, pb->scale_rel_tol,
                            &pb->scale_rel_tol, err));
+  long stages = pb->refine_stages;
+  POM_TRY(pom_cfg_int_opt(cfg, "synthesis.refine_stages", 0, 5, stages, &stages, err));
+  pb->refine_stages = (int)stages;
+  POM_TRY(pom_cfg_real_opt(cfg, "synthesis.refine_shrink", 1.0, 0.05, 0.95, pb->refine_shrink,
+                           &pb->refine_shrink, err));
   long scan = pb->scale_scan;
   POM_TRY(pom_cfg_int_opt(cfg, "synthesis.scale_scan", 2, 1000, scan, &scan, err));
   pb->scale_scan = (int)scan;
@@ -394,6 +402,8 @@ double pom_syn_desirability(const pom_syn_problem *pb, const double resp[], doub
 /* ---- run: begin and step ------------------------------------------------ */
 void pom_syn_destroy(pom_syn_run *run) {
   if (!run) return;
+  pom_syn_destroy(run->refined);
+  free(run->refined_pb);
   pom_design_destroy(run->design);
   free(run->x);
   free(run->resp);
@@ -476,6 +486,49 @@ static pom_status direct_objective(void *ctx, const double u[], double *f, pom_e
   coded_to_x(c->pb, c->alpha, u, x);
   POM_TRY(pom_syn_evaluate(c->pb, x, resp, NULL, err));
   *f = pom_syn_desirability(c->pb, resp, NULL);
+  return POM_OK;
+}
+
+/* ---- sequential refinement -------------------------------------------------- */
+/* Stage k + 1: the same design kind in a box refine_shrink times as wide,
+ * centred on the confirmed optimum of stage k and moved inside stage k's box
+ * (docs/optimize.md 7.1). The best confirmed stage wins. */
+static pom_status refine(pom_syn_run *run, pom_error *err) {
+  const pom_syn_problem *pb = run->pb;
+  pom_syn_problem *sub = malloc(sizeof *sub);
+  if (!sub) POM_FAIL(err, POM_ERR_NOMEM, "synthesis refinement: out of memory");
+  *sub = *pb;
+  run->refined_pb = sub;
+  sub->refine_stages = pb->refine_stages - 1;
+  sub->direct = 0;
+  sub->scale_optimum = 0;
+  sub->design.seed = pb->design.seed + 1;
+  for (int i = 0; i < pb->n_vars; ++i) {
+    double w = (pb->hi[i] - pb->lo[i]) * pb->refine_shrink;
+    double lo = run->x_opt[i] - 0.5 * w, hi = run->x_opt[i] + 0.5 * w;
+    if (lo < pb->lo[i]) {
+      lo = pb->lo[i];
+      hi = lo + w;
+    }
+    if (hi > pb->hi[i]) {
+      hi = pb->hi[i];
+      lo = hi - w;
+    }
+    sub->lo[i] = lo;
+    sub->hi[i] = hi;
+  }
+  POM_TRY(pom_syn_begin(&run->refined, sub, err));
+  POM_TRY(pom_syn_finish(run->refined, err));
+  const pom_syn_run *r2 = run->refined;
+  run->true_evals += r2->true_evals;
+  if (r2->d_confirmed > run->d_confirmed) {
+    memcpy(run->x_opt, r2->x_opt, sizeof run->x_opt);
+    memcpy(run->predicted, r2->predicted, sizeof run->predicted);
+    memcpy(run->confirmed, r2->confirmed, sizeof run->confirmed);
+    run->d_predicted = r2->d_predicted;
+    run->d_confirmed = r2->d_confirmed;
+    run->best_stage = 1 + r2->best_stage;
+  }
   return POM_OK;
 }
 
@@ -576,6 +629,17 @@ pom_status pom_syn_finish(pom_syn_run *run, pom_error *err) {
     POM_TRY_GOTO(pom_syn_evaluate(pb, run->x_opt, run->confirmed, NULL, err), done);
     run->d_confirmed = pom_syn_desirability(pb, run->confirmed, NULL);
   }
+  run->true_evals = run->n_runs + run->n_holdout + 1;
+  memcpy(run->stage_x_opt, run->x_opt, sizeof run->x_opt);
+  run->stage_d_predicted = run->d_predicted;
+  run->stage_d_confirmed = run->d_confirmed;
+  if (pb->refine_stages > 0) {
+    st = refine(run, err);
+    if (st != POM_OK) {
+      pom_error_prefix(err, "refinement stage");
+      goto done;
+    }
+  }
   run->surrogate_time = run->design_time + (now_s() - t0);
 
   /* The same problem directly on the true kinematics. */
@@ -596,9 +660,11 @@ pom_status pom_syn_finish(pom_syn_run *run, pom_error *err) {
   }
 
   /* Scale the surrogate optimum to the stroke. */
+  if (!pb->scale_optimum) goto done;
   POM_TRY_GOTO(pom_syn_scale(pb, run->x_opt, &run->scale, &run->scale_evals, err), scale_failed);
   POM_TRY_GOTO(pom_syn_arch(pb, run->x_opt, run->scale, &run->scaled, err), done);
   POM_TRY_GOTO(pom_syn_responses(pb, &run->scaled, run->scaled_resp, err), done);
+  run->scaled_done = 1;
   goto done;
 
 surrogate_failed:

@@ -74,6 +74,9 @@ typedef struct {
   double scale_min, scale_max; /* bracket of the platform radius (m) */
   double scale_rel_tol;        /* relative tolerance of the scale bisection */
   int scale_scan;              /* log-spaced radii scanned down from scale_max before bisecting */
+  int refine_stages;    /* sequential designs in a box shrunk about the optimum (default 0) */
+  double refine_shrink; /* each stage's box width / the previous one's (default 0.5) */
+  int scale_optimum;    /* 1: scale the optimum to the stroke in pom_syn_finish (default 1) */
 } pom_syn_problem;
 
 /* Defaults (docs/optimize.md 7); base is left zero. */
@@ -103,7 +106,7 @@ pom_status pom_syn_evaluate(const pom_syn_problem *pb, const double x[], double 
 double pom_syn_desirability(const pom_syn_problem *pb, const double resp[], double d[]);
 
 /* State and results of one synthesis run. */
-typedef struct {
+typedef struct pom_syn_run_ {
   const pom_syn_problem *pb;
   pom_design *design; /* coded design (owned) */
   int n_runs;         /* design runs */
@@ -137,6 +140,17 @@ typedef struct {
   pom_kin_arch scaled;                /* the scaled geometry */
   double scaled_resp[POM_SYN_N_RESP]; /* its responses */
   int scale_evals;                    /* workspace evaluations of the bisection */
+  int scaled_done;                    /* 1 when the scaling ran */
+  /* sequential refinement: stage k + 1 is a new design in a box shrunk about
+     the optimum of stage k; x_opt, predicted, confirmed and the
+     desirabilities above are those of the best confirmed stage */
+  struct pom_syn_run_ *refined;       /* next stage (owned), NULL when none */
+  pom_syn_problem *refined_pb;        /* its problem (owned) */
+  int best_stage;                     /* 0 = this run's own design, k = k-th refinement */
+  double stage_x_opt[POM_SYN_N_VARS]; /* this stage's own optimum on its surfaces (SI) */
+  double stage_d_predicted;           /* and its desirability, predicted and true */
+  double stage_d_confirmed;
+  long true_evals; /* true-kinematics evaluations of the surrogate route, all stages */
 } pom_syn_run;
 
 /* Builds the design and allocates the run. The caller owns *out. */

@@ -91,6 +91,58 @@ static pom_status write_opt(hid_t loc, const pom_opt_result *r, pom_error *err) 
   return POM_OK;
 }
 
+/* One stage: bounds, design, responses, surfaces and the stage's own optimum. */
+static pom_status write_stage(hid_t loc, const pom_syn_run *run, pom_error *err) {
+  const pom_syn_problem *pb = run->pb;
+  size_t k = (size_t)pb->n_vars, nr = POM_SYN_N_RESP;
+  hid_t g = -1;
+  pom_status st = POM_OK;
+  const char *rn[POM_SYN_N_RESP];
+  for (size_t r = 0; r < nr; ++r)
+    rn[r] = pom_syn_resp_name((pom_syn_resp)r);
+  POM_TRY(pom_h5_write_doubles(loc, "lower_bounds", 1, &k, pb->lo, err));
+  POM_TRY(pom_h5_write_doubles(loc, "upper_bounds", 1, &k, pb->hi, err));
+
+  POM_TRY(pom_h5_create_group(&g, loc, "design", err));
+  size_t dx[2] = {(size_t)run->n_runs, k}, dr[2] = {(size_t)run->n_runs, nr};
+  POM_TRY_GOTO(pom_h5_attr_string(g, "kind", pom_design_kind_name(run->design->kind), err), out);
+  POM_TRY_GOTO(pom_h5_attr_double(g, "alpha", run->design->alpha, err), out);
+  POM_TRY_GOTO(pom_h5_attr_int64(g, "degenerate_runs", run->n_degenerate, err), out);
+  POM_TRY_GOTO(pom_h5_attr_double(g, "time_s", run->design_time, err), out);
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "coded", 2, dx, run->design->coded, err), out);
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "natural", 2, dx, run->x, err), out);
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "responses", 2, dr, run->resp, err), out);
+  if (run->n_holdout > 0) {
+    size_t hx[2] = {(size_t)run->n_holdout, k}, hr[2] = {(size_t)run->n_holdout, nr};
+    POM_TRY_GOTO(pom_h5_write_doubles(g, "holdout_natural", 2, hx, run->holdout_x, err), out);
+    POM_TRY_GOTO(pom_h5_write_doubles(g, "holdout_responses", 2, hr, run->holdout_resp, err), out);
+  }
+  H5Gclose(g);
+  g = -1;
+
+  hid_t fits = -1;
+  POM_TRY(pom_h5_create_group(&fits, loc, "fits", err));
+  for (size_t r = 0; r < nr; ++r) {
+    if (!run->fitted[r]) continue;
+    POM_TRY_GOTO(pom_h5_create_group(&g, fits, rn[r], err), out_fits);
+    POM_TRY_GOTO(write_fit(g, &run->fit[r], &run->check[r], run->n_holdout > 0, err), out_fits);
+    H5Gclose(g);
+    g = -1;
+  }
+out_fits:
+  H5Gclose(fits);
+  if (st != POM_OK) goto out;
+
+  POM_TRY_GOTO(pom_h5_create_group(&g, loc, "stage_optimum", err), out);
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "x", 1, &k, run->stage_x_opt, err), out);
+  POM_TRY_GOTO(pom_h5_attr_double(g, "desirability_predicted", run->stage_d_predicted, err), out);
+  POM_TRY_GOTO(pom_h5_attr_double(g, "desirability_confirmed", run->stage_d_confirmed, err), out);
+  POM_TRY_GOTO(write_opt(g, &run->surrogate, err), out);
+out:
+  if (g >= 0) H5Gclose(g);
+  return st;
+}
+
 static pom_status write_body(hid_t file, const pom_syn_run *run, const char *config_text,
                              pom_error *err) {
   const pom_syn_problem *pb = run->pb;
@@ -114,50 +166,18 @@ static pom_status write_body(hid_t file, const pom_syn_run *run, const char *con
   if (config_text) POM_TRY(pom_h5_write_text(file, "config", config_text, err));
   POM_TRY(pom_h5_write_strings(file, "variables", k, vn, 32, err));
   POM_TRY(pom_h5_write_strings(file, "responses", nr, rn, 32, err));
-  POM_TRY(pom_h5_write_doubles(file, "lower_bounds", 1, &k, pb->lo, err));
-  POM_TRY(pom_h5_write_doubles(file, "upper_bounds", 1, &k, pb->hi, err));
+  POM_TRY(write_stage(file, run, err));
 
-  /* design */
-  POM_TRY(pom_h5_create_group(&g, file, "design", err));
-  size_t dx[2] = {(size_t)run->n_runs, k}, dr[2] = {(size_t)run->n_runs, nr};
-  POM_TRY_GOTO(pom_h5_attr_string(g, "kind", pom_design_kind_name(run->design->kind), err), out);
-  POM_TRY_GOTO(pom_h5_attr_double(g, "alpha", run->design->alpha, err), out);
-  POM_TRY_GOTO(pom_h5_attr_int64(g, "degenerate_runs", run->n_degenerate, err), out);
-  POM_TRY_GOTO(pom_h5_attr_double(g, "time_s", run->design_time, err), out);
-  POM_TRY_GOTO(pom_h5_write_doubles(g, "coded", 2, dx, run->design->coded, err), out);
-  POM_TRY_GOTO(pom_h5_write_doubles(g, "natural", 2, dx, run->x, err), out);
-  POM_TRY_GOTO(pom_h5_write_doubles(g, "responses", 2, dr, run->resp, err), out);
-  if (run->n_holdout > 0) {
-    size_t hx[2] = {(size_t)run->n_holdout, k}, hr[2] = {(size_t)run->n_holdout, nr};
-    POM_TRY_GOTO(pom_h5_write_doubles(g, "holdout_natural", 2, hx, run->holdout_x, err), out);
-    POM_TRY_GOTO(pom_h5_write_doubles(g, "holdout_responses", 2, hr, run->holdout_resp, err), out);
-  }
-  H5Gclose(g);
-  g = -1;
-
-  /* fits */
-  hid_t fits = -1;
-  POM_TRY(pom_h5_create_group(&fits, file, "fits", err));
-  for (size_t r = 0; r < nr; ++r) {
-    if (!run->fitted[r]) continue;
-    POM_TRY_GOTO(pom_h5_create_group(&g, fits, rn[r], err), out_fits);
-    POM_TRY_GOTO(write_fit(g, &run->fit[r], &run->check[r], run->n_holdout > 0, err), out_fits);
-    H5Gclose(g);
-    g = -1;
-  }
-out_fits:
-  H5Gclose(fits);
-  if (st != POM_OK) goto out;
-
-  /* optimum and confirmation */
+  /* best optimum over the stages, and its confirmation */
   POM_TRY_GOTO(pom_h5_create_group(&g, file, "optimum", err), out);
   POM_TRY_GOTO(pom_h5_write_doubles(g, "x", 1, &k, run->x_opt, err), out);
   POM_TRY_GOTO(pom_h5_write_doubles(g, "predicted", 1, &nr, run->predicted, err), out);
   POM_TRY_GOTO(pom_h5_write_doubles(g, "confirmed", 1, &nr, run->confirmed, err), out);
   POM_TRY_GOTO(pom_h5_attr_double(g, "desirability_predicted", run->d_predicted, err), out);
   POM_TRY_GOTO(pom_h5_attr_double(g, "desirability_confirmed", run->d_confirmed, err), out);
+  POM_TRY_GOTO(pom_h5_attr_int64(g, "best_stage", run->best_stage, err), out);
+  POM_TRY_GOTO(pom_h5_attr_int64(g, "true_evaluations", run->true_evals, err), out);
   POM_TRY_GOTO(pom_h5_attr_double(g, "time_total_s", run->surrogate_time, err), out);
-  POM_TRY_GOTO(write_opt(g, &run->surrogate, err), out);
   H5Gclose(g);
   g = -1;
 
@@ -171,25 +191,44 @@ out_fits:
     g = -1;
   }
 
-  /* scaled geometry */
-  POM_TRY_GOTO(pom_h5_create_group(&g, file, "scaled", err), out);
-  POM_TRY_GOTO(pom_h5_attr_double(g, "platform_radius_m", run->scale, err), out);
-  POM_TRY_GOTO(pom_h5_attr_double(g, "target_half_width_rad", pb->target_half_width, err), out);
-  POM_TRY_GOTO(pom_h5_attr_int64(g, "bisection_evals", run->scale_evals, err), out);
-  POM_TRY_GOTO(pom_h5_write_doubles(g, "responses", 1, &nr, run->scaled_resp, err), out);
-  size_t d33[2] = {3, 3};
-  POM_TRY_GOTO(
-      pom_h5_write_doubles(g, "platform_points_m", 2, d33, &run->scaled.platform_point[0][0], err),
-      out);
-  if (pb->base.type == POM_ARCH_3PSS) {
-    POM_TRY_GOTO(
-        pom_h5_write_doubles(g, "slider_points_m", 2, d33, &run->scaled.slider_mid[0][0], err),
-        out);
-    POM_TRY_GOTO(
-        pom_h5_write_doubles(g, "slider_axes", 2, d33, &run->scaled.slider_axis[0][0], err), out);
-  } else {
-    POM_TRY_GOTO(
-        pom_h5_write_doubles(g, "base_points_m", 2, d33, &run->scaled.base_point[0][0], err), out);
+  if (run->scaled_done) {
+    POM_TRY_GOTO(pom_h5_create_group(&g, file, "scaled", err), out);
+    POM_TRY_GOTO(pom_h5_attr_double(g, "platform_radius_m", run->scale, err), out);
+    POM_TRY_GOTO(pom_h5_attr_double(g, "target_half_width_rad", pb->target_half_width, err), out);
+    POM_TRY_GOTO(pom_h5_attr_int64(g, "bisection_evals", run->scale_evals, err), out);
+    POM_TRY_GOTO(pom_h5_write_doubles(g, "responses", 1, &nr, run->scaled_resp, err), out);
+    size_t d33[2] = {3, 3};
+    POM_TRY_GOTO(pom_h5_write_doubles(g, "platform_points_m", 2, d33,
+                                      &run->scaled.platform_point[0][0], err),
+                 out);
+    if (pb->base.type == POM_ARCH_3PSS) {
+      POM_TRY_GOTO(
+          pom_h5_write_doubles(g, "slider_points_m", 2, d33, &run->scaled.slider_mid[0][0], err),
+          out);
+      POM_TRY_GOTO(
+          pom_h5_write_doubles(g, "slider_axes", 2, d33, &run->scaled.slider_axis[0][0], err), out);
+    } else {
+      POM_TRY_GOTO(
+          pom_h5_write_doubles(g, "base_points_m", 2, d33, &run->scaled.base_point[0][0], err),
+          out);
+    }
+    H5Gclose(g);
+    g = -1;
+  }
+
+  if (run->refined) {
+    hid_t rg = -1;
+    POM_TRY_GOTO(pom_h5_create_group(&rg, file, "refine", err), out);
+    int s = 1;
+    for (const pom_syn_run *r = run->refined; r && st == POM_OK; r = r->refined, ++s) {
+      char name[32];
+      snprintf(name, sizeof name, "stage_%d", s);
+      st = pom_h5_create_group(&g, rg, name, err);
+      if (st == POM_OK) st = write_stage(g, r, err);
+      if (g >= 0) H5Gclose(g);
+      g = -1;
+    }
+    H5Gclose(rg);
   }
 out:
   if (g >= 0) H5Gclose(g);

@@ -57,7 +57,7 @@ static void test_known_optimum(void) {
       "\"bobyqa\";\n"
       "             local_max_evals = 60; local_xtol_rel = 1e-7; };\n"
       "  target_half_width_deg = 10.0; scale_min_mm = 2.0; scale_max_mm = 100.0;\n"
-      "  scale_rel_tol = 1e-4;\n"
+      "  scale_rel_tol = 1e-4; refine_stages = 1; refine_shrink = 0.4;\n"
       "};\n";
   pom_status st = load(&pb, synth, &err);
   check_true(st == POM_OK);
@@ -96,6 +96,21 @@ static void test_known_optimum(void) {
   check_abs(run->confirmed[POM_SYN_RESP_MIN_DEXTERITY], home_dexterity(run->x_opt[0]), 1e-7);
   check_true(run->d_direct >= run->d_confirmed);
   check_true(run->fitted[POM_SYN_RESP_MIN_DEXTERITY] && run->n_holdout == 6);
+  /* one refinement stage: a box 0.4 times as wide inside the first, about the
+     first optimum; the best confirmed stage is kept */
+  check_true(run->refined != NULL && run->refined->refined == NULL);
+  if (run->refined) {
+    const pom_syn_problem *sub = run->refined->pb;
+    for (int i = 0; i < 2; ++i) {
+      check_rel(sub->hi[i] - sub->lo[i], 0.4 * (pb.hi[i] - pb.lo[i]), 1e-12);
+      check_true(sub->lo[i] >= pb.lo[i] && sub->hi[i] <= pb.hi[i]);
+      check_true(run->stage_x_opt[i] >= sub->lo[i] - 1e-12 &&
+                 run->stage_x_opt[i] <= sub->hi[i] + 1e-12);
+    }
+    check_true(run->d_confirmed >= run->stage_d_confirmed);
+    check_true(run->d_confirmed >= run->refined->stage_d_confirmed);
+    check_true(run->true_evals == 2 * (9 + 6 + 1));
+  }
 
   /* Scaling: the radius found covers the target; 0.2 % larger does not. */
   pom_kin_arch arch;
