@@ -3,6 +3,7 @@
 #include "pom_cli.h"
 #include "pom_math.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -52,8 +53,10 @@ int pom_cmd_fk(int argc, char **argv) {
     return 2;
   }
   double q_mm[3];
-  if (pom_cli_parse_list(qtext, 3, q_mm) != 0) {
-    fprintf(stderr, "pomlab fk: --q '%s': expected three numbers Q1,Q2,Q3 in mm\n", qtext);
+  if (pom_cli_parse_list(qtext, 3, q_mm) != 0 || !isfinite(q_mm[0]) || !isfinite(q_mm[1]) ||
+      !isfinite(q_mm[2])) {
+    fprintf(stderr, "pomlab fk: --q '%s': expected three numbers Q1,Q2,Q3 in mm, all finite\n",
+            qtext);
     return 2;
   }
   pom_cfg *cfg = NULL;
@@ -70,7 +73,7 @@ int pom_cmd_fk(int argc, char **argv) {
     if (json) {
       printf("{\n  \"config\": ");
       pom_json_string(stdout, path);
-      printf(",\n  \"q_mm\": ");
+      printf(",\n  \"q_target_mm\": ");
       pom_json_vec(stdout, q_mm, 3, 1.0);
       printf(",\n  \"solved\": false,\n  \"iterations\": %d,\n  \"message\": ", info.iterations);
       pom_json_string(stdout, err.message);
@@ -93,7 +96,7 @@ int pom_cmd_fk(int argc, char **argv) {
     pom_json_string(stdout, path);
     printf(",\n  \"name\": ");
     pom_json_string(stdout, arch.name);
-    printf(",\n  \"architecture\": \"%s\",\n  \"q_mm\": ", pom_kin_arch_name(arch.type));
+    printf(",\n  \"architecture\": \"%s\",\n  \"q_target_mm\": ", pom_kin_arch_name(arch.type));
     pom_json_vec(stdout, q_mm, 3, 1.0);
     printf(",\n  \"solved\": true,\n  \"rotation\": ");
     pom_json_mat3(stdout, R, 1.0);

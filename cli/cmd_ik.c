@@ -4,6 +4,7 @@
 #include "pom_cli.h"
 #include "pom_math.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -55,9 +56,11 @@ int pom_cmd_ik(int argc, char **argv) {
     return 2;
   }
   double e_deg[3];
-  if (pom_cli_parse_list(angles, 3, e_deg) != 0) {
+  if (pom_cli_parse_list(angles, 3, e_deg) != 0 || !isfinite(e_deg[0]) || !isfinite(e_deg[1]) ||
+      !isfinite(e_deg[2])) {
     fprintf(stderr,
-            "pomlab ik: --euler-zyx '%s': expected three numbers PSI,THETA,PHI in degrees\n",
+            "pomlab ik: --euler-zyx '%s': expected three numbers PSI,THETA,PHI in degrees, all "
+            "finite\n",
             angles);
     return 2;
   }

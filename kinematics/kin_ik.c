@@ -42,7 +42,7 @@ static int limb_3sps(const pom_kin_arch *arch, int i, const double R[9], double 
   pom_m3_apply(b, R, arch->platform_point[i]);
   pom_v3_sub(v, b, arch->base_point[i]);
   double n = pom_v3_norm(v);
-  if (!(n > 0.0)) return 0;
+  if (!(n > 0.0 && n < INFINITY)) return 0; /* zero length, or a non-finite R */
   *q = n - arch->limb_length_mid[i];
   if (row) {
     double s[3];
@@ -60,6 +60,12 @@ static pom_status ik_rows(const pom_kin_arch *arch, const double R[9], double q[
     int ok = arch->type == POM_ARCH_3PSS ? limb_3pss(arch, i, R, &qq[i], J ? JJ + 3 * i : NULL)
                                          : limb_3sps(arch, i, R, &qq[i], J ? JJ + 3 * i : NULL);
     if (!ok) {
+      /* a NaN/Inf rotation also fails the reach tests above: say so, not
+       * "unreachable" (checked here only, off the hot path) */
+      for (int k = 0; k < 9; ++k)
+        if (!isfinite(R[k]))
+          POM_FAIL(err, POM_ERR_NONFINITE, "inverse kinematics: rotation entry R[%d] = %g", k,
+                   R[k]);
       if (bad) *bad = i;
       POM_FAIL(err, POM_ERR_UNREACHABLE,
                arch->type == POM_ARCH_3PSS

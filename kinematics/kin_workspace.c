@@ -48,7 +48,7 @@ static int pose_passes(const pom_kin_arch *arch, const pom_kin_ws_opts *o, const
   double R[9];
   pom_euler_zyx_to_matrix(R, e);
   pom_status st = pom_kin_pose_evaluate(arch, R, p, NULL);
-  if (st == POM_ERR_UNREACHABLE || (st == POM_ERR_LIMIT && o->check_limits)) {
+  if (!p->reachable || (st == POM_ERR_LIMIT && o->check_limits)) {
     *why = st;
     return 0;
   }
@@ -128,7 +128,7 @@ pom_status pom_kin_gci(const pom_kin_arch *arch, double half_width, double resol
         pom_euler_zyx_to_matrix(R, e);
         pom_status st = pom_kin_pose_evaluate(arch, R, &p, NULL);
         total += weight;
-        if (st == POM_ERR_UNREACHABLE || (st == POM_ERR_LIMIT && check_limits)) continue;
+        if (!p.reachable || (st == POM_ERR_LIMIT && check_limits)) continue;
         usable += weight;
         sum += weight * p.dexterity;
       }

@@ -81,7 +81,8 @@ pom_status pom_kin_arch_load(pom_kin_arch *arch, const pom_cfg *cfg, pom_error *
 
 /* Inverse kinematics in closed form on the home assembly branch: q (m) for
  * rotation R. POM_ERR_UNREACHABLE (q untouched, err says which limb) when a
- * limb cannot be assembled. Does not check limits. */
+ * limb cannot be assembled; POM_ERR_NONFINITE when R holds NaN or Inf. Does
+ * not check limits. */
 pom_status pom_kin_inverse(const pom_kin_arch *arch, const double R[9], double q[3],
                            pom_error *err);
 
@@ -158,7 +159,9 @@ typedef struct {
 
 /* Evaluates the pose R: IK, J, dexterity and every limit. Returns POM_OK when
  * reachable and within limits; POM_ERR_UNREACHABLE (pose->reachable = 0,
- * err names the limb); POM_ERR_LIMIT when reachable but some limit is violated
+ * err names the limb); POM_ERR_NONFINITE (pose->reachable = 0,
+ * unreachable_limb = -1) when R holds NaN or Inf; POM_ERR_LIMIT when
+ * reachable but some limit is violated
  * (pose fully filled, err names every violation with its value and bound).
  * err may be NULL (no message formatting: use this in loops). */
 pom_status pom_kin_pose_evaluate(const pom_kin_arch *arch, const double R[9], pom_kin_pose *pose,

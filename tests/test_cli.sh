@@ -39,11 +39,18 @@ expect_in() {
   }
 }
 
-# json_check PYTHON-EXPR : evaluates EXPR with d = the JSON in $TMP/out
+# json_check PYTHON-EXPR : evaluates EXPR with d = the JSON in $TMP/out (a
+# repeated key in any object fails the check: parsers would keep only one)
 json_check() {
   checks=$((checks + 1))
-  "$PY" -c "import json,sys,math; d=json.load(open('$TMP/out')); sys.exit(0 if ($1) else 1)" ||
-    fail "JSON check failed: $1"
+  "$PY" -c "
+import json, sys, math
+def pairs(kv):
+    keys = [k for k, _ in kv]
+    if len(set(keys)) != len(keys): sys.exit('duplicate JSON key in ' + repr(keys))
+    return dict(kv)
+d = json.load(open('$TMP/out'), object_pairs_hook=pairs)
+sys.exit(0 if ($1) else 1)" || fail "JSON check failed: $1"
 }
 
 for arch in 3pss 3sps; do
@@ -64,6 +71,7 @@ for arch in 3pss 3sps; do
   q=$("$PY" -c "import json; d=json.load(open('$TMP/out')); print(','.join('%.17g' % v for v in d['q_mm']))")
   expect_rc 0 "$POMLAB" fk "$cfg" --q "$q" --json
   json_check "max(abs(a - b) for a, b in zip(d['euler_zyx_deg'], [7.5, -4.25, 3.125])) < 1e-8 and d['residual_m'] <= 1e-12"
+  json_check "max(abs(a - b) for a, b in zip(d['q_mm'], d['q_target_mm'])) <= 1e-9"
   expect_rc 0 "$POMLAB" fk "$cfg" --q 1.5,-2,0.7
   expect_in "$TMP/out" "quaternion"
   expect_rc 0 "$POMLAB" workspace "$cfg" --json --map "$TMP/map.csv"
@@ -137,6 +145,11 @@ expect_rc 2 "$POMLAB" ik "$cfg" --euler-zyx 1,2
 expect_in "$TMP/err" "expected three numbers"
 expect_rc 2 "$POMLAB" ik "$cfg" --euler-zyx 0,90,0
 expect_rc 2 "$POMLAB" fk "$cfg" --q a,b,c
+# non-finite numbers are usage errors, not unreachable poses
+expect_rc 2 "$POMLAB" ik "$cfg" --euler-zyx nan,0,0
+expect_in "$TMP/err" "finite"
+expect_rc 2 "$POMLAB" fk "$cfg" --q 1,inf,0
+expect_in "$TMP/err" "finite"
 expect_rc 2 "$POMLAB" fk "$cfg" --q 1,2,3 --frobnicate
 expect_in "$TMP/err" "--frobnicate"
 expect_rc 2 "$POMLAB" model "$TMP/does-not-exist.cfg"

@@ -459,6 +459,23 @@ static void test_unreachable(void) {
   check_true(found);
 }
 
+/* A NaN or Inf rotation is a non-finite input, not an unreachable pose. */
+static void test_nonfinite(const pom_kin_arch *arch) {
+  double R[9], q[3] = {9, 9, 9};
+  pom_m3_identity(R);
+  R[4] = NAN;
+  pom_error err;
+  pom_error_clear(&err);
+  check_true(pom_kin_inverse(arch, R, q, &err) == POM_ERR_NONFINITE);
+  check_true(strstr(err.message, "R[4]") != NULL);
+  check_abs(q[0], 9.0, 0.0); /* untouched */
+  pom_kin_pose p;
+  R[4] = 1.0;
+  R[0] = INFINITY;
+  check_true(pom_kin_pose_evaluate(arch, R, &p, &err) == POM_ERR_NONFINITE);
+  check_true(p.reachable == 0 && p.unreachable_limb == -1);
+}
+
 static void test_segment_distance(void) {
   double a0[3] = {-1, 0, 0}, a1[3] = {1, 0, 0};
   double b0[3] = {0, -1, 0.37}, b1[3] = {0, 1, 0.37};
@@ -706,6 +723,8 @@ int main(void) {
   test_cone_and_distance_limits(&p3);
   test_cone_and_distance_limits(&s3);
   test_unreachable();
+  test_nonfinite(&p3);
+  test_nonfinite(&s3);
   test_segment_distance();
   test_workspace(&p3, 13.0);
   test_workspace(&s3, 13.0);
