@@ -125,9 +125,13 @@ void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_d
   }
 
   fprintf(out, "\n### Ranking (mean over the maneuvers every candidate completed)\n\n");
-  for (int m = 0; m < 2; ++m) {
+  /* the primary metric (study.rank_by) first */
+  const int metrics[2] = {study->rank_by == POM_DOE_RANK_ENERGY,
+                          study->rank_by != POM_DOE_RANK_ENERGY};
+  for (int j = 0; j < 2; ++j) {
+    int m = metrics[j];
     const int *order = m == 0 ? rep->rank_time : rep->rank_energy;
-    fprintf(out, "- %s: ", metric_label((pom_doe_metric)m));
+    fprintf(out, "- %s%s: ", metric_label((pom_doe_metric)m), j == 0 ? " (primary)" : "");
     for (int r = 0; r < nc; ++r)
       fprintf(out, "%s%d. %s", r ? ", " : "", r + 1, study->candidates[order[r]].name);
     fprintf(out, "\n");
@@ -138,7 +142,8 @@ void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_d
     fprintf(out, "One candidate: nothing to compare.\n");
     return;
   }
-  for (int m = 0; m < 2; ++m) {
+  for (int j = 0; j < 2; ++j) {
+    int m = metrics[j];
     const int *order = m == 0 ? rep->rank_time : rep->rank_energy;
     int a = order[0], b = order[1];
     pom_doe_paired t;
