@@ -329,13 +329,14 @@ static void test_continuation(const pom_kin_arch *arch) {
 }
 
 /* FK over the full-stroke joint cube (9^3 grid, +-6 mm): every q is solved
- * on the home branch, and the largest rotation and the smallest dexterity
+ * on the home branch, and the largest rotation, the largest cone angles and
+ * the smallest dexterity
  * agree with the independent computation of PARAMETERS §b (3PSS: 50.5 deg,
  * 0.36; 3SPS: 49.1 deg, 0.40, quoted to 3 and 2 digits; tolerances = half a
  * unit of the last quoted digit, plus the grid effect 4e-4 measured between
  * 5^3 and 33^3 grids). */
 static void test_full_stroke_fk(const pom_kin_arch *arch, double want_rot_deg, double want_dex) {
-  double maxrot = 0.0, mindex = 1.0, worst_res = 0.0;
+  double maxrot = 0.0, mindex = 1.0, worst_res = 0.0, maxcone[2] = {0.0, 0.0};
   int fails = 0;
   for (int i = -4; i <= 4; ++i)
     for (int j = -4; j <= 4; ++j)
@@ -354,11 +355,30 @@ static void test_full_stroke_fk(const pom_kin_arch *arch, double want_rot_deg, d
         pom_kin_pose p;
         pom_kin_pose_evaluate(arch, R, &p, NULL);
         mindex = fmin(mindex, p.dexterity);
+        for (int m = 0; m < 3; ++m) {
+          maxcone[0] = fmax(maxcone[0], p.cone_base[m]);
+          maxcone[1] = fmax(maxcone[1], p.cone_platform[m]);
+        }
       }
   check_true(fails == 0);
   check_abs(worst_res, 0.0, 1e-12);
   check_abs(maxrot / POM_DEG, want_rot_deg, 0.05);
   check_abs(mindex, want_dex, 0.0055);
+  /* Largest joint-cone angles (the corners of the cube dominate: a 25^3 grid
+   * gives the same to 1e-3 deg). PARAMETERS §b: 3PSS 17.3 deg at the slider
+   * joint and 51.6 deg at the platform joint (to 3 digits: 0.05 deg); 3SPS
+   * "<= 7.5 deg" at the U joint (we get 5.85 deg) and 44.5 deg at the
+   * platform (we get 44.32 deg, also with an independent Python computation,
+   * so the reference figure carries a ~0.2 deg error: 0.3 deg allowed). The
+   * base cone is in the fixed frame, the platform cone in the platform frame:
+   * swapping the frames moves each maximum by > 10 deg. */
+  if (arch->type == POM_ARCH_3PSS) {
+    check_abs(maxcone[0] / POM_DEG, 17.3, 0.05);
+    check_abs(maxcone[1] / POM_DEG, 51.6, 0.05);
+  } else {
+    check_true(maxcone[0] / POM_DEG <= 7.5);
+    check_abs(maxcone[1] / POM_DEG, 44.5, 0.3);
+  }
 }
 
 /* ---- reachability and limits ---------------------------------------------- */
@@ -528,6 +548,35 @@ static void test_workspace(const pom_kin_arch *arch, double want_half_width_deg)
   check_abs(g1, 1.0, 1e-12);
 }
 
+/* The GCI's measure cos(theta) dpsi dtheta dphi is dpsi du dphi with
+ * u = sin(theta): an independent quadrature, midpoint rule with equal weights
+ * in (psi, u, phi), must give the same mean. Both rules err by O(h^2); over
+ * the +-25 deg cube (limits off, every pose assemblable) they agree to
+ * 4e-6 at h = 1 deg (measured), while dropping the cos(theta) weight shifts the mean
+ * by 1.7e-3 (3PSS and 3SPS alike): 2e-4 separates the two. */
+static void test_gci_measure(const pom_kin_arch *arch) {
+  const double a = 25.0 * POM_DEG, ua = sin(a);
+  const int n = 50;
+  int unreachable = 0;
+  double gci, frac, sum = 0.0;
+  check_true(pom_kin_gci(arch, a, 1.0 * POM_DEG, 0, &gci, &frac, NULL) == POM_OK);
+  check_abs(frac, 1.0, 0.0);
+  for (int j = 0; j < n; ++j) {
+    double u = -ua + (j + 0.5) * 2.0 * ua / n;
+    for (int i = 0; i < n; ++i)
+      for (int l = 0; l < n; ++l) {
+        double e[3] = {-a + (i + 0.5) * 2.0 * a / n, asin(u), -a + (l + 0.5) * 2.0 * a / n}, R[9];
+        pom_euler_zyx_to_matrix(R, e);
+        pom_kin_pose p;
+        pom_kin_pose_evaluate(arch, R, &p, NULL);
+        unreachable += !p.reachable;
+        sum += p.dexterity;
+      }
+  }
+  check_true(unreachable == 0);
+  check_abs(gci, sum / ((double)n * n * n), 2e-4);
+}
+
 /* ---- mechanism ------------------------------------------------------------- */
 static void test_mechanism(const char *rel, const pom_kin_arch *arch) {
   char path[512];
@@ -614,6 +663,111 @@ static void test_mechanism(const char *rel, const pom_kin_arch *arch) {
     for (int k = 0; k < 3; ++k)
       check_abs(jt->point[k], arch->platform_point[i][k], 0.0);
   }
+}
+
+/* Where the bodies and joints of one limb are, derived from the arch points
+ * (which test_points_equal_parameters ties to the PARAMETERS §b tables) and
+ * the shipped `inertia` offsets (PARAMETERS Appendix: 3SPS cylinder CM 35 mm
+ * from A along the limb, piston CM 25 mm from B toward A; 3PSS piston at B,
+ * link CM half-way). Positions are sums of a few products of numbers <= 0.2 m:
+ * 1e-16 m of rounding, checked to 1e-15 m; unit-vector identities to 1e-15. */
+static double dist3(const double a[3], const double b[3]) {
+  double d[3];
+  pom_v3_sub(d, a, b);
+  return pom_v3_norm(d);
+}
+
+static void test_mechanism_geometry(const char *rel, const pom_kin_arch *arch) {
+  char path[512];
+  snprintf(path, sizeof path, "%s/%s", POM_SOURCE_DIR, rel);
+  pom_cfg *cfg = NULL;
+  pom_error err;
+  pom_error_clear(&err);
+  pom_mechanism m;
+  pom_kin_inertia in;
+  int ok = pom_cfg_load(&cfg, path, &err) == POM_OK &&
+           pom_kin_inertia_load(&in, arch, cfg, &err) == POM_OK &&
+           pom_kin_mechanism_build(&m, arch, cfg, &err) == POM_OK;
+  pom_cfg_destroy(cfg);
+  check_true(ok);
+  if (!ok) {
+    printf("mechanism geometry: %s\n", err.message);
+    return;
+  }
+  const double ez[3] = {0.0, 0.0, 1.0};
+  for (int i = 0; i < 3; ++i) {
+    const int b0 = 2 + 2 * i, b1 = 3 + 2 * i; /* the two bodies of limb i */
+    const pom_mech_joint *j0 = &m.joint[1 + 3 * i], *j1 = &m.joint[2 + 3 * i],
+                         *j2 = &m.joint[3 + 3 * i];
+    const double *P = arch->platform_point[i], *s = arch->limb_dir_home[i];
+    double want[3], v[3];
+    if (arch->type == POM_ARCH_3SPS) {
+      const double *A = arch->base_point[i];
+      check_abs(in.cylinder.cm_offset, 0.035, 1e-15);
+      check_abs(in.piston.cm_offset, 0.025, 1e-15);
+      /* cylinder CM 35 mm from A along A->B; piston CM 25 mm from B toward A */
+      pom_v3_axpy(want, A, 0.035, s);
+      check_abs(dist3(m.body[b0].cm, want), 0.0, 1e-15);
+      pom_v3_axpy(want, P, -0.025, s);
+      check_abs(dist3(m.body[b1].cm, want), 0.0, 1e-15);
+      /* U joint at A, ground-cylinder; axis 1 = unit(e_z x s) (fixed in the
+       * ground, horizontal), axis 2 fixed in the cylinder, perpendicular to
+       * axis 1 and to the limb, so that axis1 x axis2 = s: no spin about s */
+      check_true(j0->type == POM_JOINT_UNIVERSAL && j0->body[0] == 0 && j0->body[1] == b0);
+      check_abs(dist3(j0->point, A), 0.0, 0.0);
+      pom_v3_cross(want, ez, s);
+      pom_v3_normalize(want, want);
+      check_abs(dist3(j0->axis, want), 0.0, 1e-15);
+      check_abs(pom_v3_norm(j0->axis2), 1.0, 1e-15);
+      check_abs(pom_v3_dot(j0->axis2, s), 0.0, 1e-15);
+      pom_v3_cross(v, j0->axis, j0->axis2);
+      check_abs(dist3(v, s), 0.0, 1e-15);
+      /* the cylinder's transverse principal axis x is axis 1 */
+      pom_m3_apply(v, m.body[b0].inertia, j0->axis);
+      for (int k = 0; k < 3; ++k)
+        check_abs(v[k], in.cylinder.moments[0] * j0->axis[k], 1e-18);
+      /* prismatic cylinder -> piston along s (positive = extension), a point
+       * of its line A + t s, actuated, moving the piston */
+      check_true(j1->type == POM_JOINT_PRISMATIC && j1->body[0] == b0 && j1->body[1] == b1);
+      check_abs(dist3(j1->axis, s), 0.0, 1e-15);
+      pom_v3_sub(v, j1->point, A);
+      pom_v3_cross(want, v, s);
+      check_abs(pom_v3_norm(want), 0.0, 1e-15);
+      /* spherical piston-platform at B */
+      check_true(j2->type == POM_JOINT_SPHERICAL && j2->body[0] == b1 && j2->body[1] == 1);
+      check_abs(dist3(j2->point, P), 0.0, 0.0);
+    } else {
+      const double *B = arch->slider_mid[i], *d = arch->slider_axis[i];
+      check_abs(in.piston.cm_offset, 0.0, 0.0);
+      check_abs(in.link.cm_fraction, 0.5, 0.0);
+      check_abs(dist3(m.body[b0].cm, B), 0.0, 1e-15);
+      for (int k = 0; k < 3; ++k)
+        want[k] = 0.5 * (B[k] + P[k]);
+      check_abs(dist3(m.body[b1].cm, want), 0.0, 1e-15);
+      /* prismatic ground -> piston along the (vertical) slider axis at B */
+      check_true(j0->type == POM_JOINT_PRISMATIC && j0->body[0] == 0 && j0->body[1] == b0);
+      check_abs(dist3(j0->axis, d), 0.0, 0.0);
+      check_abs(dist3(j0->axis, ez), 0.0, 0.0);
+      check_abs(dist3(j0->point, B), 0.0, 0.0);
+      /* spherical piston-link at B, link-platform at C */
+      check_true(j1->type == POM_JOINT_SPHERICAL && j1->body[0] == b0 && j1->body[1] == b1);
+      check_abs(dist3(j1->point, B), 0.0, 0.0);
+      check_true(j2->type == POM_JOINT_SPHERICAL && j2->body[0] == b1 && j2->body[1] == 1);
+      check_abs(dist3(j2->point, P), 0.0, 0.0);
+      /* the link's transverse principal axis x is unit(e_z x l) */
+      pom_v3_cross(want, ez, s);
+      pom_v3_normalize(want, want);
+      pom_m3_apply(v, m.body[b1].inertia, want);
+      for (int k = 0; k < 3; ++k)
+        check_abs(v[k], in.link.moments[0] * want[k], 1e-18);
+    }
+    const pom_mech_joint *act = arch->type == POM_ARCH_3SPS ? j1 : j0;
+    check_true(act->actuator == i && m.actuator[i].joint == (int)(act - m.joint) &&
+               m.actuator[i].moving_body == (arch->type == POM_ARCH_3SPS ? b1 : b0));
+    check_abs(m.actuator[i].stroke, 0.012, 0.0);
+  }
+  check_true(m.joint[0].type == POM_JOINT_SPHERICAL && m.joint[0].body[0] == 0 &&
+             m.joint[0].body[1] == 1 && pom_v3_norm(m.joint[0].point) == 0.0);
 }
 
 /* ---- config errors --------------------------------------------------------- */
@@ -728,8 +882,12 @@ int main(void) {
   test_segment_distance();
   test_workspace(&p3, 13.0);
   test_workspace(&s3, 13.0);
+  test_gci_measure(&p3);
+  test_gci_measure(&s3);
   test_mechanism("configs/3pss.cfg", &p3);
   test_mechanism("configs/3sps.cfg", &s3);
+  test_mechanism_geometry("configs/3pss.cfg", &p3);
+  test_mechanism_geometry("configs/3sps.cfg", &s3);
   test_config_errors();
   return check_summary("test_kinematics");
 }
