@@ -1,5 +1,5 @@
 /* pom_doe_mpi.h - how the runner spreads units over MPI ranks (internal).
- * Rank r computes the units u with u % size == r; the root (rank 0) stores
+ * Rank r computes the units of maneuvers k with k % size == r; the root (rank 0) stores
  * every rank's results, so the results file is the one a single process
  * writes. Only the driving thread of each rank calls MPI (thread level
  * MPI_THREAD_FUNNELED). Built without POM_WITH_MPI, create fails with

@@ -267,7 +267,8 @@ pom_status pom_doe_run_begin(pom_doe_run **out, const pom_doe_study *study,
       ++run->start_done;
       continue;
     }
-    if (u % run->size == run->rank) run->todo[run->n_todo++] = u;
+    /* by maneuver: every rank gets the same mix of candidates */
+    if (k % run->size == run->rank) run->todo[run->n_todo++] = u;
   }
   run->done = run->start_done;
 
