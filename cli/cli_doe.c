@@ -359,7 +359,8 @@ int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o) {
   int code = 0;
   if (done < total) {
     fprintf(stderr,
-            "pomlab: study %s: stopped after %ld of %ld maneuvers; every finished one is in %s; "
+            "pomlab: study %s: stopped after %ld of %ld candidate-maneuvers; every finished one is "
+            "in %s; "
             "continue with --resume\n",
             study->name, done, total, output[0] ? output : "(no file)");
     code = cancelled ? 130 : 0;

@@ -35,6 +35,11 @@ SAME="$WORK/t1.h5 $WORK/t2.h5 $WORK/r.h5"
 if [ -n "$MPIRUN" ]; then
   $MPIRUN --allow-run-as-root --oversubscribe -np 2 "$POMLAB" study $CFG --threads 1 \
     --out "$WORK/mpi.h5" --no-plots --no-summary --quiet > "$WORK/mpi.txt"
-  SAME="$SAME $WORK/mpi.h5"
+  # and 2 ranks interrupted, then resumed
+  $MPIRUN --allow-run-as-root --oversubscribe -np 2 "$POMLAB" study $CFG --threads 1 \
+    --out "$WORK/mpir.h5" --stop-after 3 --no-plots --no-summary --quiet > /dev/null 2>&1
+  $MPIRUN --allow-run-as-root --oversubscribe -np 2 "$POMLAB" study $CFG --threads 1 \
+    --out "$WORK/mpir.h5" --resume --no-plots --no-summary --quiet > /dev/null
+  SAME="$SAME $WORK/mpi.h5 $WORK/mpir.h5"
 fi
 /usr/bin/python3 tests/test_doe_h5.py "$WORK/t2.json" $SAME
