@@ -1,4 +1,5 @@
 /* pom_config.c - libconfig access with type, range and unknown-key checks. */
+#define _XOPEN_SOURCE 700 /* realpath */
 #include "pom_config.h"
 
 #include <libconfig.h>
@@ -147,6 +148,64 @@ static pom_status finish_load(pom_cfg *cfg, int ok, pom_error *err) {
   return POM_OK;
 }
 
+/* 1 when a line of text is an @include of an absolute path. */
+static const char *include_target(const char *line) {
+  while (*line == ' ' || *line == '\t')
+    ++line;
+  if (strncmp(line, "@include", 8) != 0) return NULL;
+  line += 8;
+  while (*line == ' ' || *line == '\t')
+    ++line;
+  if (*line != '"') return NULL;
+  return line + 1;
+}
+
+static int has_absolute_include(const char *text) {
+  for (const char *line = text; line; line = strchr(line, '\n')) {
+    if (*line == '\n') ++line;
+    const char *t = include_target(line);
+    if (t && *t == '/') return 1;
+  }
+  return 0;
+}
+
+/* Copy of text with every absolute @include path made relative to dir (an
+ * absolute folder is reached by one "../" per component of dir). */
+static char *rewrite_absolute_includes(const char *text, const char *dir) {
+  char absdir[4096];
+  if (!realpath(dir, absdir)) snprintf(absdir, sizeof absdir, "%s", dir);
+  size_t ups = 0;
+  for (const char *c = absdir; *c; ++c)
+    if (*c == '/' && c[1] != '\0' && c[1] != '/') ++ups;
+  size_t n_inc = 0;
+  for (const char *line = text; line; line = strchr(line + 1, '\n'))
+    ++n_inc;
+  size_t cap = strlen(text) + n_inc * (3 * ups + 1) + 1;
+  char *out = malloc(cap);
+  if (!out) return NULL;
+  size_t w = 0;
+  const char *p = text;
+  while (*p) {
+    const char *t = include_target(p);
+    if (t && *t == '/') {
+      memcpy(out + w, p, (size_t)(t - p));
+      w += (size_t)(t - p);
+      for (size_t k = 0; k < ups; ++k) {
+        memcpy(out + w, "../", 3);
+        w += 3;
+      }
+      p = t + 1; /* drop the leading slash */
+    }
+    const char *nl = strchr(p, '\n');
+    size_t len = nl ? (size_t)(nl - p) + 1 : strlen(p);
+    memcpy(out + w, p, len);
+    w += len;
+    p += len;
+  }
+  out[w] = '\0';
+  return out;
+}
+
 static pom_cfg *cfg_alloc(const char *path) {
   pom_cfg *cfg = calloc(1, sizeof *cfg);
   if (!cfg) return NULL;
@@ -188,7 +247,18 @@ pom_status pom_cfg_load(pom_cfg **out, const char *path, pom_error *err) {
     strcpy(cfg->dir, ".");
   }
   config_set_include_dir(&cfg->lc, cfg->dir);
-  POM_TRY_GOTO(finish_load(cfg, config_read_file(&cfg->lc, path), err), fail);
+  if (!has_absolute_include(cfg->text)) {
+    POM_TRY_GOTO(finish_load(cfg, config_read_file(&cfg->lc, path), err), fail);
+  } else {
+    /* libconfig 1.5 prefixes the include folder even to absolute paths:
+     * parse a copy whose absolute includes are rewritten relative to the
+     * folder (same lines, so messages keep their line numbers). */
+    char *parsed = rewrite_absolute_includes(cfg->text, cfg->dir);
+    if (!parsed) POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "%s: out of memory", path);
+    int ok = config_read_string(&cfg->lc, parsed);
+    free(parsed);
+    POM_TRY_GOTO(finish_load(cfg, ok, err), fail);
+  }
   *out = cfg;
   return POM_OK;
 fail:

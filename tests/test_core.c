@@ -1,4 +1,5 @@
 /* test_core.c - status list, rotations, RNG and config validation. */
+#define _XOPEN_SOURCE 700 /* getpid, mkdir */
 #include "check.h"
 #include "pom_config.h"
 #include "pom_math.h"
@@ -7,6 +8,8 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 /* ---- rotations ------------------------------------------------------------ */
 static void random_euler(pom_rng *rng, double e[3], double max_pitch) {
@@ -219,6 +222,45 @@ static void test_config(void) {
   pom_cfg_destroy(NULL);
 }
 
+/* @include with a path relative to the including file and an absolute one. */
+static void test_include(void) {
+  char dir[256], path[320], inc[320], sub[320];
+  snprintf(dir, sizeof dir, "/tmp/pom_test_core_%ld", (long)getpid());
+  snprintf(sub, sizeof sub, "%s/sub", dir);
+  check_true(mkdir(dir, 0700) == 0 && mkdir(sub, 0700) == 0);
+  snprintf(inc, sizeof inc, "%s/abs.cfg", dir);
+  FILE *f = fopen(inc, "w");
+  check_true(f != NULL);
+  if (!f) return;
+  fputs("b = 2.5;\n", f);
+  fclose(f);
+  snprintf(path, sizeof path, "%s/sub/rel.cfg", dir);
+  f = fopen(path, "w");
+  if (!f) return;
+  fputs("d = 4.25;\n", f);
+  fclose(f);
+  snprintf(path, sizeof path, "%s/main.cfg", dir);
+  f = fopen(path, "w");
+  if (!f) return;
+  fprintf(f, "a = 1.0;\n@include \"%s\"\n@include \"sub/rel.cfg\"\n", inc);
+  fclose(f);
+  pom_error err;
+  pom_cfg *cfg = NULL;
+  check_true(pom_cfg_load(&cfg, path, &err) == POM_OK);
+  double b = 0.0, d = 0.0;
+  if (cfg) {
+    check_true(pom_cfg_real(cfg, "b", 1.0, 0.0, 10.0, &b, &err) == POM_OK && b == 2.5);
+    check_true(pom_cfg_real(cfg, "d", 1.0, 0.0, 10.0, &d, &err) == POM_OK && d == 4.25);
+  }
+  pom_cfg_destroy(cfg);
+  remove(path);
+  remove(inc);
+  snprintf(path, sizeof path, "%s/sub/rel.cfg", dir);
+  remove(path);
+  rmdir(sub);
+  rmdir(dir);
+}
+
 static void test_status(void) {
   check_true(strcmp(pom_strerror(POM_OK), "success") == 0);
   check_true(strcmp(pom_status_name(POM_ERR_CONFIG), "POM_ERR_CONFIG") == 0);
@@ -235,5 +277,6 @@ int main(void) {
   test_rotations();
   test_rng();
   test_config();
+  test_include();
   return check_summary("test_core");
 }
