@@ -289,6 +289,8 @@ static pom_status check_names(const pom_doe_study *study, const pom_cfg *cfg, po
 
 pom_status pom_doe_study_load(pom_doe_study *study, const pom_cfg *cfg,
                               pom_doe_evaluator_factory factory, void *user, pom_error *err) {
+  /* a study file holds these and nothing else (mechanism groups belong in the
+   * candidates' configs or in study.override) */
   static const char *const scopes[] = {"name", "montecarlo", "study", "candidates", NULL};
   pom_status st = POM_OK;
   config_t tree;
@@ -352,7 +354,7 @@ pom_status pom_doe_study_load(pom_doe_study *study, const pom_cfg *cfg,
       snprintf(key, sizeof key, "candidates.[%d].override", c);
       if (pom_cfg_has(cfg, key)) pom_cfg_mark_used(cfg, key);
     }
-    POM_TRY_GOTO(pom_cfg_check_unknown(cfg, scopes, NULL, err), fail);
+    POM_TRY_GOTO(pom_cfg_check_unknown(cfg, scopes, scopes, err), fail);
     for (int c = 0; c < n; ++c) {
       char key[64];
       snprintf(key, sizeof key, "candidates.[%d]", c);
@@ -360,7 +362,7 @@ pom_status pom_doe_study_load(pom_doe_study *study, const pom_cfg *cfg,
     }
   }
   POM_TRY_GOTO(check_names(study, cfg, err), fail);
-  POM_TRY_GOTO(pom_cfg_check_unknown(cfg, scopes, NULL, err), fail);
+  POM_TRY_GOTO(pom_cfg_check_unknown(cfg, scopes, scopes, err), fail);
   for (int c = 0; c < study->n_candidates; ++c)
     if (study->maneuvers.space == POM_DOE_SPACE_ORIENTATION && !study->candidates[c].eval.targets)
       POM_FAIL_GOTO(err, POM_ERR_CONFIG, fail,

@@ -326,6 +326,10 @@ static void test_study_config(void) {
        "candidates = ( { name = \"a\"; config = \"fast.cfg\"; } );\n",
        "montecarlo.maneuvers"},
       {"bad6.cfg", "montecarlo = { maneuvers = 5; };\n", "candidates"},
+      {"bad8.cfg",
+       "solver = { rtol = 1.0e-6; };\n"
+       "candidates = ( { name = \"a\"; config = \"fast.cfg\"; } );\n",
+       "key 'solver'"},
       {"bad7.cfg",
        "candidates = ( { name = \"a\"; config = \"fast.cfg\"; } );\nstudy = { rank_by = \"x\"; "
        "};\n",
