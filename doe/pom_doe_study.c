@@ -141,6 +141,8 @@ typedef struct {
 } sweep_factor;
 
 static double factor_at(const sweep_factor *f, double u) {
+  if (u <= 0) return f->min; /* exact bounds, whatever the rounding of log/pow */
+  if (u >= 1) return f->max;
   if (f->log) return pow(10.0, log10(f->min) + u * (log10(f->max) - log10(f->min)));
   return f->min + u * (f->max - f->min);
 }
