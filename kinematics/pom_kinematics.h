@@ -281,4 +281,48 @@ pom_status pom_kin_mechanism_from(pom_mechanism *mech, const pom_kin_arch *arch,
 /* Name of an architecture ("3PSS", "3SPS"). */
 const char *pom_kin_arch_name(pom_arch_type type);
 
+/* ---- rigid-body motion of every body (added for the exact dynamics) ------ */
+
+/* Pose and velocity maps of one body of the rigid mechanism at one platform
+ * rotation (docs/dynamics-exact.md section 2). A point of the body at home
+ * position p (fixed frame) is now at ref + R (p - ref_home). With omega the
+ * platform angular velocity (fixed frame): velocity of the reference point
+ * = A omega, body angular velocity = B omega; at omega_dot != 0 the
+ * accelerations are A omega_dot + a_bias and B omega_dot + alpha_bias. */
+typedef struct {
+  double R[9];          /* rotation from home, fixed frame */
+  double ref_home[3];   /* reference point at home (m) */
+  double ref[3];        /* reference point now (m) */
+  double A[9];          /* reference-point velocity per platform angular velocity (m/rad) */
+  double B[9];          /* body angular velocity per platform angular velocity (1) */
+  double a_bias[3];     /* reference-point acceleration at omega_dot = 0 (m/s^2) */
+  double alpha_bias[3]; /* angular acceleration at omega_dot = 0 (rad/s^2) */
+  int spin_free;        /* 1: the spin about spin_axis is an idle freedom the platform does not
+                           fix; R and B carry zero spin (a dynamics model must treat the body as
+                           axisymmetric about spin_axis) */
+  double spin_axis[3];  /* unit axis of the idle spin (fixed frame), zero when !spin_free */
+} pom_kin_body_twist;
+
+#define POM_KIN_TWIST_MAX_BODIES 8
+
+/* Every body of the mechanism of pom_kin_mechanism_from, by the same body
+ * index (0 ground, 1 platform, then per limb i: 3PSS piston 2+2i, link 3+2i;
+ * 3SPS cylinder 2+2i, piston 3+2i). */
+typedef struct {
+  int n_bodies;     /* bodies filled, including the ground */
+  double q[3];      /* actuator displacements (m), as pom_kin_inverse */
+  double J[9];      /* q_dot = J omega (m/rad), as pom_kin_jacobian */
+  double q_bias[3]; /* q_ddot at omega_dot = 0 (m/s^2) */
+  pom_kin_body_twist body[POM_KIN_TWIST_MAX_BODIES];
+} pom_kin_twists;
+
+/* Poses, twist maps and velocity-product accelerations of every body at
+ * platform rotation R and angular velocity omega (rad/s, fixed frame; NULL =
+ * 0: then the biases are zero). The 3PSS link spin about B_i C_i is set to
+ * zero (it is not determined by R). Same failures as pom_kin_inverse, plus
+ * POM_ERR_UNREACHABLE for a 3SPS limb along its U-joint axis. err may be
+ * NULL (no message formatting: use this in integrator loops). */
+pom_status pom_kin_body_twists(const pom_kin_arch *arch, const double R[9], const double omega[3],
+                               pom_kin_twists *out, pom_error *err);
+
 #endif

@@ -328,6 +328,31 @@ static void test_continuation(const pom_kin_arch *arch) {
   check_abs(Rb[0], 7.0, 0.0);
 }
 
+/* A solution across a singular surface (det J of the other sign) is another
+ * assembly mode, never returned: FK started right on such a pose (zero
+ * residual) must refuse it. The pose is found by a seeded random search over
+ * all rotations. */
+static void test_other_branch_refused(const pom_kin_arch *arch, pom_rng *rng) {
+  double R[9], q[3], J[9], Rf[9] = {7, 7, 7, 7, 7, 7, 7, 7, 7};
+  int found = 0;
+  for (int n = 0; n < 10000 && !found; ++n) {
+    double e[3] = {pom_rng_range(rng, -POM_PI, POM_PI), pom_rng_range(rng, -1.5, 1.5),
+                   pom_rng_range(rng, -POM_PI, POM_PI)},
+           sv[3];
+    pom_euler_zyx_to_matrix(R, e);
+    if (pom_kin_inverse_jacobian(arch, R, q, J, NULL) != POM_OK) continue;
+    pom_kin_dexterity(J, sv, NULL, NULL);
+    found = pom_m3_det(J) * arch->home_det_sign < 0.0 && sv[2] > 0.05 * sv[0];
+  }
+  check_true(found);
+  if (!found) return;
+  pom_error err;
+  pom_error_clear(&err);
+  check_true(pom_kin_forward(arch, q, R, NULL, Rf, NULL, &err) == POM_ERR_NOCONVERGE);
+  check_true(strstr(err.message, "det J changed sign") != NULL);
+  check_abs(Rf[0], 7.0, 0.0); /* untouched */
+}
+
 /* FK over the full-stroke joint cube (9^3 grid, +-6 mm): every q is solved
  * on the home branch, and the largest rotation, the largest cone angles and
  * the smallest dexterity
@@ -506,6 +531,67 @@ static void test_segment_distance(void) {
   check_abs(pom_kin_segment_distance(a0, a1, d0, d1), 0.25, 1e-15);
 }
 
+/* Distance from p0 + s (p1 - p0) to the segment [q0, q1], exact for one s. */
+static double point_segment_distance(const double p0[3], const double p1[3], double s,
+                                     const double q0[3], const double q1[3]) {
+  double x[3], d[3], r[3], w[3];
+  for (int k = 0; k < 3; ++k)
+    x[k] = p0[k] + s * (p1[k] - p0[k]);
+  pom_v3_sub(d, q1, q0);
+  pom_v3_sub(r, x, q0);
+  double t = pom_v3_dot(d, r) / pom_v3_dot(d, d);
+  t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
+  for (int k = 0; k < 3; ++k)
+    w[k] = r[k] - t * d[k];
+  return pom_v3_norm(w);
+}
+
+/* Random segment pairs (some nearly parallel, many with the closest points
+ * at ends) against an independent minimisation: the distance from a point of
+ * segment 1 to segment 2 is convex in its parameter s, so a golden-section
+ * search (120 steps: bracket 1e-25) finds the minimum; the value is flat
+ * there, so for generic pairs both agree to rounding, ~1e-15 for unit
+ * lengths (1e-12 allowed). For pairs at an angle ~1e-9 rad the closed form's
+ * s comes from a ~1e-18 denominator: still a pair of segment points, so never
+ * below the minimum, but up to ~angle x length = 1e-9 above it (measured
+ * 1.1e-9; 5e-9 allowed; irrelevant for a clearance in mm). */
+static void test_segment_distance_random(pom_rng *rng) {
+  const double g = 0.5 * (sqrt(5.0) - 1.0);
+  double worst = 0.0, worst_parallel = 0.0;
+  for (int n = 0; n < 2000; ++n) {
+    double p0[3], p1[3], q0[3], q1[3];
+    for (int k = 0; k < 3; ++k) {
+      p0[k] = pom_rng_range(rng, -1.0, 1.0);
+      p1[k] = pom_rng_range(rng, -1.0, 1.0);
+      q0[k] = pom_rng_range(rng, -1.0, 1.0);
+      q1[k] = pom_rng_range(rng, -1.0, 1.0);
+    }
+    if (n % 4 == 0) /* nearly parallel: q1 - q0 = 0.7 (p1 - p0) + 1e-9 noise */
+      for (int k = 0; k < 3; ++k)
+        q1[k] = q0[k] + 0.7 * (p1[k] - p0[k]) + 1e-9 * pom_rng_range(rng, -1.0, 1.0);
+    double lo = 0.0, hi = 1.0;
+    for (int it = 0; it < 120; ++it) {
+      double m1 = hi - g * (hi - lo), m2 = lo + g * (hi - lo);
+      if (point_segment_distance(p0, p1, m1, q0, q1) < point_segment_distance(p0, p1, m2, q0, q1))
+        hi = m2;
+      else
+        lo = m1;
+    }
+    double ref = point_segment_distance(p0, p1, 0.5 * (lo + hi), q0, q1);
+    ref = fmin(ref, fmin(point_segment_distance(p0, p1, 0.0, q0, q1),
+                         point_segment_distance(p0, p1, 1.0, q0, q1)));
+    double got = pom_kin_segment_distance(p0, p1, q0, q1);
+    if (n % 4 == 0) {
+      worst_parallel = fmax(worst_parallel, fabs(got - ref));
+      check_true(got >= ref - 1e-15);
+    } else {
+      worst = fmax(worst, fabs(got - ref));
+    }
+  }
+  check_abs(worst, 0.0, 1e-12);
+  check_abs(worst_parallel, 0.0, 5e-9);
+}
+
 /* ---- workspace ------------------------------------------------------------- */
 static void test_workspace(const pom_kin_arch *arch, double want_half_width_deg) {
   pom_kin_ws_opts o;
@@ -543,6 +629,19 @@ static void test_workspace(const pom_kin_arch *arch, double want_half_width_deg)
   check_true(ratio > 3.5 && ratio < 4.5);
   check_abs(f, 1.0, 0.0); /* the 10 deg cube lies inside the 13 deg RDW */
   check_true(g3 < 1.0 && g3 > r.min_dexterity);
+  /* Without limits and with a high dexterity threshold the cube is limited
+   * by dexterity: the first failing pose is below the threshold, the accepted
+   * cube above it, and the cube is smaller than the stroke-limited one. */
+  pom_kin_ws_opts od = o;
+  od.check_limits = 0;
+  od.dexterity_min = 0.9;
+  pom_kin_ws_result rd;
+  check_true(pom_kin_workspace(arch, &od, &rd, NULL) == POM_OK);
+  check_true(rd.fail_status == POM_ERR_SINGULAR && rd.fail_dexterity < 0.9);
+  check_true(rd.min_dexterity >= 0.9 && rd.half_width >= 0.0 && rd.half_width < r.half_width);
+  pom_euler_zyx_to_matrix(R, rd.fail_euler);
+  check_true(pom_kin_pose_evaluate(arch, R, &p, NULL) != POM_ERR_UNREACHABLE);
+  check_abs(p.dexterity, rd.fail_dexterity, 0.0);
   /* a vanishing region is the isotropic home: GCI -> 1 */
   check_true(pom_kin_gci(arch, 0.0, 1.0 * POM_DEG, 1, &g1, NULL, NULL) == POM_OK);
   check_abs(g1, 1.0, 1e-12);
@@ -850,6 +949,198 @@ static void test_config_errors(void) {
                       "inertia.cylinder", "missing");
 }
 
+/* ---- body twists (exact dynamics) ------------------------------------------ */
+/* Position of home point p of body b of a twist set. */
+static void twist_point(double out[3], const pom_kin_body_twist *b, const double p[3]) {
+  double d[3], r[3];
+  pom_v3_sub(d, p, b->ref_home);
+  pom_m3_apply(r, b->R, d);
+  pom_v3_add(out, b->ref, r);
+}
+
+/* exp(t [w]) R: the platform after time t at constant angular velocity w. */
+static void rotate_by(double out[9], const double w[3], double t, const double R[9]) {
+  double n = pom_v3_norm(w), u[3], E[9];
+  pom_v3_scale(u, 1.0 / n, w);
+  pom_m3_axis_angle(E, u, n * t);
+  pom_m3_mul(out, E, R);
+}
+
+/* Poses satisfy every joint of the mechanism; q and J equal the IK; twist maps
+ * and velocity products equal central differences along R(t) = exp(t[w]) R
+ * (constant w, so omega_dot = 0). Tolerances: central differences with
+ * |w| h = 1e-6 rad (first) and 1e-4 rad (second) leave truncation ~1e-12 and
+ * ~1e-8 relative (times the ratio of the fourth derivative to w^2 P, a few)
+ * and rounding ~1e-10 and ~1e-8 relative (positions ~0.05 m): 1e-7 (first)
+ * and 2e-7 (second differences) of the velocity/acceleration scale. */
+static void test_body_twists(const char *rel, const pom_kin_arch *arch, pom_rng *rng) {
+  char path[512];
+  snprintf(path, sizeof path, "%s/%s", POM_SOURCE_DIR, rel);
+  pom_cfg *cfg = NULL;
+  pom_error err;
+  pom_error_clear(&err);
+  pom_mechanism m;
+  if (!check_true(pom_cfg_load(&cfg, path, &err) == POM_OK &&
+                  pom_kin_mechanism_build(&m, arch, cfg, &err) == POM_OK)) {
+    pom_cfg_destroy(cfg);
+    return;
+  }
+  pom_cfg_destroy(cfg);
+  double worst_joint = 0, worst_v = 0, worst_w = 0, worst_a = 0, worst_al = 0, worst_q = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    double R[9], w[3], q[3], J[9];
+    random_pose(rng, R, 0.15);
+    for (int k = 0; k < 3; ++k)
+      w[k] = pom_rng_range(rng, -8.0, 8.0);
+    double wn = pom_v3_norm(w);
+    pom_kin_twists tw, tp, tm;
+    if (!check_true(pom_kin_body_twists(arch, R, w, &tw, &err) == POM_OK)) return;
+    check_true(tw.n_bodies == m.n_bodies);
+    check_true(pom_kin_inverse_jacobian(arch, R, q, J, NULL) == POM_OK);
+    for (int k = 0; k < 3; ++k)
+      check_abs(tw.q[k], q[k], 1e-15);
+    for (int k = 0; k < 9; ++k)
+      check_abs(tw.J[k], J[k], 1e-15);
+    /* joints */
+    for (int j = 0; j < m.n_joints; ++j) {
+      const pom_mech_joint *jt = &m.joint[j];
+      const pom_kin_body_twist *b0 = &tw.body[jt->body[0]], *b1 = &tw.body[jt->body[1]];
+      double p0[3], p1[3], dd[3];
+      twist_point(p0, b0, jt->point);
+      twist_point(p1, b1, jt->point);
+      pom_v3_sub(dd, p1, p0);
+      if (jt->type == POM_JOINT_PRISMATIC) {
+        double a[3], lat[3], Rrel[9];
+        pom_m3_apply(a, b0->R, jt->axis);
+        double qa = pom_v3_dot(a, dd);
+        pom_v3_axpy(lat, dd, -qa, a);
+        worst_joint = fmax(worst_joint, pom_v3_norm(lat));
+        if (jt->actuator >= 0) worst_joint = fmax(worst_joint, fabs(qa - tw.q[jt->actuator]));
+        pom_m3_tmul(Rrel, b0->R, b1->R);
+        Rrel[0] -= 1, Rrel[4] -= 1, Rrel[8] -= 1;
+        for (int k = 0; k < 9; ++k)
+          worst_joint = fmax(worst_joint, 0.05 * fabs(Rrel[k]));
+      } else {
+        worst_joint = fmax(worst_joint, pom_v3_norm(dd));
+      }
+      if (jt->type == POM_JOINT_UNIVERSAL) {
+        double e[3], h[3];
+        pom_m3_apply(e, b0->R, jt->axis);
+        pom_m3_apply(h, b1->R, jt->axis2);
+        worst_joint = fmax(worst_joint, 0.05 * fabs(pom_v3_dot(e, h)));
+      }
+    }
+    /* first derivatives */
+    double h1 = 1e-6 / wn, Rp[9], Rm[9];
+    rotate_by(Rp, w, h1, R);
+    rotate_by(Rm, w, -h1, R);
+    check_true(pom_kin_body_twists(arch, Rp, w, &tp, NULL) == POM_OK);
+    check_true(pom_kin_body_twists(arch, Rm, w, &tm, NULL) == POM_OK);
+    double vscale = wn * 0.05, ascale = wn * wn * 0.05;
+    for (int b = 1; b < m.n_bodies; ++b) {
+      const pom_kin_body_twist *t = &tw.body[b];
+      double pp[3], pm[3], r[3], d[3], v[3], wb[3], fd[3];
+      twist_point(pp, &tp.body[b], m.body[b].cm);
+      twist_point(pm, &tm.body[b], m.body[b].cm);
+      pom_v3_sub(d, m.body[b].cm, t->ref_home);
+      pom_m3_apply(r, t->R, d);
+      pom_m3_apply(v, t->A, w);
+      pom_m3_apply(wb, t->B, w);
+      double wxr[3];
+      pom_v3_cross(wxr, wb, r);
+      pom_v3_add(v, v, wxr);
+      for (int k = 0; k < 3; ++k)
+        worst_v = fmax(worst_v, fabs((pp[k] - pm[k]) / (2 * h1) - v[k]) / vscale);
+      double D[9], rv[3];
+      pom_m3_mult(D, tp.body[b].R, tm.body[b].R);
+      pom_m3_rotvec(rv, D);
+      pom_v3_scale(fd, 1.0 / (2 * h1), rv);
+      if (t->spin_free) { /* only the part across the idle spin axis is defined by R */
+        pom_v3_axpy(fd, fd, -pom_v3_dot(fd, t->spin_axis), t->spin_axis);
+        check_abs(pom_v3_dot(wb, t->spin_axis), 0.0, 1e-12 * wn);
+      }
+      for (int k = 0; k < 3; ++k)
+        worst_w = fmax(worst_w, fabs(fd[k] - wb[k]) / wn);
+      check_true(t->spin_free == (arch->type == POM_ARCH_3PSS && b >= 2 && b % 2 == 1));
+    }
+    /* second derivatives at omega_dot = 0 */
+    double h2 = 1e-4 / wn;
+    rotate_by(Rp, w, h2, R);
+    rotate_by(Rm, w, -h2, R);
+    check_true(pom_kin_body_twists(arch, Rp, w, &tp, NULL) == POM_OK);
+    check_true(pom_kin_body_twists(arch, Rm, w, &tm, NULL) == POM_OK);
+    for (int k = 0; k < 3; ++k)
+      worst_q = fmax(worst_q,
+                     fabs((tp.q[k] - 2 * tw.q[k] + tm.q[k]) / (h2 * h2) - tw.q_bias[k]) / ascale);
+    for (int b = 1; b < m.n_bodies; ++b) {
+      const pom_kin_body_twist *t = &tw.body[b];
+      double pp[3], p0[3], pm[3], r[3], d[3], wb[3], a[3], tmp[3], wp[3], wm[3];
+      twist_point(pp, &tp.body[b], m.body[b].cm);
+      twist_point(p0, t, m.body[b].cm);
+      twist_point(pm, &tm.body[b], m.body[b].cm);
+      pom_v3_sub(d, m.body[b].cm, t->ref_home);
+      pom_m3_apply(r, t->R, d);
+      pom_m3_apply(wb, t->B, w);
+      pom_v3_cross(tmp, t->alpha_bias, r);
+      pom_v3_add(a, t->a_bias, tmp);
+      double wxr[3], wwr[3];
+      pom_v3_cross(wxr, wb, r);
+      pom_v3_cross(wwr, wb, wxr);
+      pom_v3_add(a, a, wwr);
+      for (int k = 0; k < 3; ++k)
+        worst_a = fmax(worst_a, fabs((pp[k] - 2 * p0[k] + pm[k]) / (h2 * h2) - a[k]) / ascale);
+      pom_m3_apply(wp, tp.body[b].B, w);
+      pom_m3_apply(wm, tm.body[b].B, w);
+      for (int k = 0; k < 3; ++k)
+        worst_al = fmax(worst_al, fabs((wp[k] - wm[k]) / (2 * h2) - t->alpha_bias[k]) / (wn * wn));
+    }
+  }
+  check_abs(worst_joint, 0.0, 1e-13); /* m: exact geometry, rounding only */
+  check_abs(worst_v, 0.0, 1e-7);
+  check_abs(worst_w, 0.0, 1e-7);
+  check_abs(worst_q, 0.0, 2e-7); /* second differences: observed ~5e-8 */
+  check_abs(worst_a, 0.0, 2e-7);
+  check_abs(worst_al, 0.0, 1e-7);
+  printf("body twists %s: joints %.2g m, v %.2g, w %.2g, q_bias %.2g, a %.2g, alpha %.2g\n",
+         arch->name, worst_joint, worst_v, worst_w, worst_q, worst_a, worst_al);
+  /* failures: an unreachable pose names the limb; NULL omega gives zero biases */
+  double Rbad[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  pom_kin_twists tw;
+  check_true(pom_kin_body_twists(arch, Rbad, NULL, &tw, &err) == POM_OK);
+  for (int b = 0; b < tw.n_bodies; ++b)
+    check_abs(pom_v3_norm(tw.body[b].a_bias) + pom_v3_norm(tw.body[b].alpha_bias), 0.0, 0.0);
+  Rbad[0] = NAN;
+  check_true(pom_kin_body_twists(arch, Rbad, NULL, &tw, &err) == POM_ERR_NONFINITE);
+  /* large rotations: wherever the IK fails the twists fail the same way */
+  int unreachable = 0;
+  for (int deg = 10; deg <= 360; deg += 10) {
+    double e[3] = {0.0, 0.5 * deg * POM_DEG, deg * POM_DEG}, qq[3];
+    pom_euler_zyx_to_matrix(Rbad, e);
+    pom_status sk = pom_kin_inverse(arch, Rbad, qq, NULL);
+    pom_status st = pom_kin_body_twists(arch, Rbad, NULL, &tw, &err);
+    if (sk != POM_OK) {
+      ++unreachable;
+      check_true(st == sk && strstr(err.message, "limb") != NULL);
+    }
+  }
+  if (arch->type != POM_ARCH_3PSS) return;
+  /* a 3PSS design with short, leaning links does become unreachable */
+  pom_kin_design dz = {0.012, 0.5 * POM_PI, 0.0, 2.0, 80.0 * POM_DEG, 60.0 * POM_DEG, 0.0, 0.0};
+  pom_kin_arch a;
+  check_true(pom_kin_arch_from_design(&a, POM_ARCH_3PSS, &dz, &err) == POM_OK);
+  for (int deg = 1; deg <= 60 && !unreachable; ++deg) {
+    double e[3] = {deg * POM_DEG, 0.0, 0.0}, qq[3];
+    pom_euler_zyx_to_matrix(Rbad, e);
+    pom_status sk = pom_kin_inverse(&a, Rbad, qq, NULL);
+    pom_status st = pom_kin_body_twists(&a, Rbad, NULL, &tw, &err);
+    if (sk != POM_OK) {
+      ++unreachable;
+      check_true(sk == POM_ERR_UNREACHABLE && st == sk && strstr(err.message, "limb") != NULL);
+    }
+  }
+  check_true(unreachable > 0);
+}
+
 int main(void) {
   pom_kin_arch p3, s3;
   pom_rng rng;
@@ -872,6 +1163,8 @@ int main(void) {
   test_full_stroke_fk(&s3, 49.1, 0.40);
   test_continuation(&p3);
   test_continuation(&s3);
+  test_other_branch_refused(&p3, &rng);
+  test_other_branch_refused(&s3, &rng);
   test_out_of_stroke(&p3);
   test_out_of_stroke(&s3);
   test_cone_and_distance_limits(&p3);
@@ -880,6 +1173,7 @@ int main(void) {
   test_nonfinite(&p3);
   test_nonfinite(&s3);
   test_segment_distance();
+  test_segment_distance_random(&rng);
   test_workspace(&p3, 13.0);
   test_workspace(&s3, 13.0);
   test_gci_measure(&p3);
@@ -888,6 +1182,8 @@ int main(void) {
   test_mechanism("configs/3sps.cfg", &s3);
   test_mechanism_geometry("configs/3pss.cfg", &p3);
   test_mechanism_geometry("configs/3sps.cfg", &s3);
+  test_body_twists("configs/3pss.cfg", &p3, &rng);
+  test_body_twists("configs/3sps.cfg", &s3, &rng);
   test_config_errors();
   return check_summary("test_kinematics");
 }
