@@ -36,7 +36,11 @@ typedef struct {
   double mass;         /* kg */
   double principal[3]; /* principal moments (kg m^2) */
   double V[9];         /* principal axes at home (columns, fixed frame), det +1 */
-  double cm_home[3];   /* CM at home (m) */
+  double cm_home[3];   /* CM at home (m); the pivot of a pinned body */
+  /* scene.limb_inertia = lumped (docs/dynamics.md section 13) */
+  int pinned;         /* 1: turns about the fixed point cm_home (u, p frozen at 0), principal
+                         moments about that point */
+  double grav_arm[3]; /* true CM minus cm_home at home, fixed frame (m); weight acts there */
 } dyn_body;
 
 #define DYN_MAX_LIN 3
@@ -54,6 +58,10 @@ typedef struct {
   double ang_h[DYN_MAX_ANG][3];   /* vector fixed in side 1, home, e.h = 0 */
   double axis[3];                 /* prismatic axis at home (unit) */
   int actuator;                   /* model actuator index, -1 passive */
+  /* massless rod of a lumped binary link (docs/dynamics.md section 13): one linear
+   * pseudo-constraint |p1 - p0| - length, no other constraint */
+  int distance;  /* 1 for a rod */
+  double length; /* rest length of the rod (m) */
 } dyn_joint;
 
 typedef struct {

@@ -37,7 +37,7 @@ static pom_status check_axis(const pom_mech_joint *j, const double a[3], const c
 
 /* ---- joints -------------------------------------------------------------- */
 static pom_status joint_setup(dyn_joint *jt, const pom_mech_joint *j, const pom_mechanism *mech,
-                              const int *slot_of_mech, pom_error *err) {
+                              const int *slot_of_mech, int universal_constraint, pom_error *err) {
   memset(jt, 0, sizeof *jt);
   jt->type = j->type;
   jt->actuator = -1;
@@ -75,7 +75,9 @@ static pom_status joint_setup(dyn_joint *jt, const pom_mech_joint *j, const pom_
       if (!(fabs(c) <= DYN_UJOINT_PERP_TOL))
         POM_FAIL(err, POM_ERR_ARG, "universal joint '%s': axis . axis2 = %.3g, must be 0", j->name,
                  c);
-      jt->n_ang = 1; /* no relative spin about axis x axis2 */
+      /* no relative spin about axis x axis2; scene.universal_joint = false
+       * leaves a spherical joint (docs/dynamics.md section 13) */
+      jt->n_ang = universal_constraint ? 1 : 0;
       pom_v3_copy(jt->ang_e[0], j->axis);
       pom_v3_copy(jt->ang_h[0], j->axis2);
     } else if (j->type == POM_JOINT_REVOLUTE) {
@@ -110,6 +112,113 @@ static pom_status joint_setup(dyn_joint *jt, const pom_mech_joint *j, const pom_
   }
   default:
     POM_FAIL(err, POM_ERR_ARG, "joint '%s': unknown joint type %d", j->name, (int)j->type);
+  }
+  return POM_OK;
+}
+
+/* ---- lumped limb inertia (docs/dynamics.md section 13) ------------------- */
+/* What scene.limb_inertia = lumped changed in a copy of the mechanism. */
+typedef struct {
+  int removed[POM_MECH_MAX_BODIES];     /* 1: binary link replaced by a rod */
+  int pinned[POM_MECH_MAX_BODIES];      /* 1: turns about its ground pivot */
+  double arm[POM_MECH_MAX_BODIES][3];   /* true CM minus pivot (m) */
+  int skip_joint[POM_MECH_MAX_JOINTS];  /* 1: joint of a removed link */
+  int pivot_joint[POM_MECH_MAX_JOINTS]; /* 1: ground pivot of a pinned body (no linear part) */
+  int n_rods;
+  int rod_body[POM_MECH_MAX_JOINTS][2];        /* the two neighbours */
+  double rod_point[POM_MECH_MAX_JOINTS][2][3]; /* their joint points at home (m) */
+} dyn_lump;
+
+/* Adds a point mass mu (kg) at P to body b: mass, CM and inertia about the
+ * new CM by the parallel-axis theorem. */
+static void add_point_mass(pom_mech_body *b, double mu, const double P[3]) {
+  double M = b->mass, Mn = M + mu, c[3], dc[3], dp[3];
+  for (int k = 0; k < 3; ++k)
+    c[k] = (M * b->cm[k] + mu * P[k]) / Mn;
+  pom_v3_sub(dc, b->cm, c);
+  pom_v3_sub(dp, P, c);
+  for (int r = 0; r < 3; ++r)
+    for (int k = 0; k < 3; ++k) {
+      double e = (r == k) ? 1.0 : 0.0;
+      b->inertia[3 * r + k] += M * (pom_v3_dot(dc, dc) * e - dc[r] * dc[k]) +
+                               mu * (pom_v3_dot(dp, dp) * e - dp[r] * dp[k]);
+    }
+  b->mass = Mn;
+  pom_v3_copy(b->cm, c);
+}
+
+/* A limb body: moving, not the platform, not carrying an actuator's coil. */
+static int is_limb_body(const pom_mechanism *mech, int b) {
+  if (b <= 0 || b == mech->platform) return 0;
+  for (int a = 0; a < mech->n_actuators; ++a)
+    if (mech->actuator[a].moving_body == b) return 0;
+  return 1;
+}
+
+/* Rewrites lm (a copy of the mechanism) for lumped limb inertia:
+ * - a binary link (a limb body with exactly two joints, both spherical, to
+ *   two other bodies) is removed; its mass goes to the two joint points in
+ *   the ratio that keeps the CM's position along the link, each part added to
+ *   the neighbour there; a massless rod (distance constraint) replaces it;
+ * - a limb body with exactly one joint to the ground, of a point kind
+ *   (spherical, universal, revolute), is pinned at that point: it keeps its
+ *   mass and weight but turns about the pivot with the inertia about it. */
+static pom_status lump_mechanism(pom_mechanism *lm, dyn_lump *lu, pom_error *err) {
+  memset(lu, 0, sizeof *lu);
+  for (int b = 1; b < lm->n_bodies; ++b) {
+    if (!is_limb_body(lm, b)) continue;
+    int js[POM_MECH_MAX_JOINTS], nj = 0, n_sph = 0, n_ground_point = 0, ground_joint = -1;
+    for (int j = 0; j < lm->n_joints; ++j) {
+      const pom_mech_joint *jt = &lm->joint[j];
+      if (lu->skip_joint[j] || (jt->body[0] != b && jt->body[1] != b)) continue;
+      js[nj++] = j;
+      if (jt->type == POM_JOINT_SPHERICAL) ++n_sph;
+      int other = jt->body[0] == b ? jt->body[1] : jt->body[0];
+      if (other == 0 && jt->type != POM_JOINT_PRISMATIC) {
+        ++n_ground_point;
+        ground_joint = j;
+      }
+    }
+    if (nj == 2 && n_sph == 2) {
+      const pom_mech_joint *j0 = &lm->joint[js[0]], *j1 = &lm->joint[js[1]];
+      int n0 = j0->body[0] == b ? j0->body[1] : j0->body[0];
+      int n1 = j1->body[0] == b ? j1->body[1] : j1->body[0];
+      if (n0 == n1 || lu->removed[n0] || lu->removed[n1]) continue; /* not a simple link */
+      double axis[3], rel[3];
+      pom_v3_sub(axis, j1->point, j0->point);
+      double L2 = pom_v3_dot(axis, axis);
+      if (!(L2 > 0))
+        POM_FAIL(err, POM_ERR_ARG, "lumping body '%s': its two joints coincide", lm->body[b].name);
+      pom_v3_sub(rel, lm->body[b].cm, j0->point);
+      double t = pom_v3_dot(rel, axis) / L2;
+      if (!(t >= 0.0 && t <= 1.0))
+        POM_FAIL(err, POM_ERR_ARG,
+                 "lumping body '%s': its CM lies outside the segment between its joints "
+                 "(fraction %g); use scene.limb_inertia = \"full\"",
+                 lm->body[b].name, t);
+      double mu = lm->body[b].mass;
+      if (n0 > 0) add_point_mass(&lm->body[n0], mu * (1.0 - t), j0->point);
+      if (n1 > 0) add_point_mass(&lm->body[n1], mu * t, j1->point);
+      lu->removed[b] = 1;
+      lu->skip_joint[js[0]] = lu->skip_joint[js[1]] = 1;
+      int r = lu->n_rods++;
+      lu->rod_body[r][0] = n0;
+      lu->rod_body[r][1] = n1;
+      pom_v3_copy(lu->rod_point[r][0], j0->point);
+      pom_v3_copy(lu->rod_point[r][1], j1->point);
+    } else if (n_ground_point == 1) {
+      pom_mech_body *bd = &lm->body[b];
+      const double *A = lm->joint[ground_joint].point;
+      pom_v3_sub(lu->arm[b], bd->cm, A);
+      const double *d = lu->arm[b];
+      for (int r = 0; r < 3; ++r)
+        for (int k = 0; k < 3; ++k)
+          bd->inertia[3 * r + k] +=
+              bd->mass * (pom_v3_dot(d, d) * (r == k ? 1.0 : 0.0) - d[r] * d[k]);
+      pom_v3_copy(bd->cm, A);
+      lu->pinned[b] = 1;
+      lu->pivot_joint[ground_joint] = 1;
+    }
   }
   return POM_OK;
 }
@@ -199,6 +308,9 @@ pom_status pom_dyn_model_create(pom_dyn_model **out, const pom_mechanism *mech,
                                 const pom_dyn_params *p, pom_error *err) {
   pom_status st = POM_OK;
   pom_dyn_model *m = NULL;
+  pom_mechanism *lm = NULL; /* the mechanism after the scene's lumping */
+  dyn_lump *lu = NULL;
+  int joint_map[POM_MECH_MAX_JOINTS];
   if (!out || !mech || !p) POM_FAIL(err, POM_ERR_ARG, "pom_dyn_model_create: NULL argument");
   *out = NULL;
   POM_TRY(params_check(p, err));
@@ -210,8 +322,13 @@ pom_status pom_dyn_model_create(pom_dyn_model **out, const pom_mechanism *mech,
              mech->n_bodies, POM_MECH_MAX_BODIES, mech->n_joints, POM_MECH_MAX_JOINTS,
              mech->n_actuators);
   m = calloc(1, sizeof *m);
-  if (!m) POM_FAIL(err, POM_ERR_NOMEM, "allocating the dynamics model");
+  lm = malloc(sizeof *lm);
+  lu = calloc(1, sizeof *lu);
+  if (!m || !lm || !lu) POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "allocating the dynamics model");
   m->par = *p;
+  *lm = *mech;
+  if (p->scene.limb_inertia == POM_INERTIA_LUMPED) POM_TRY_GOTO(lump_mechanism(lm, lu, err), fail);
+  mech = lm;
   if (p->scene.gravity) pom_v3_copy(m->gravity, mech->gravity);
   m->body_states = (p->scene.orientation == POM_ORIENT_QUATERNION) ? 13 : 12;
 
@@ -221,6 +338,7 @@ pom_status pom_dyn_model_create(pom_dyn_model **out, const pom_mechanism *mech,
   m->platform_slot = -1;
   for (int b = 1; b < mech->n_bodies; ++b) {
     const pom_mech_body *mb = &mech->body[b];
+    if (lu->removed[b]) continue;
     dyn_body *bd = &m->body[m->n_bodies];
     if (!(mb->mass > 0) || !isfinite(mb->mass))
       POM_FAIL_GOTO(err, POM_ERR_ARG, fail, "body '%s': mass %g kg must be > 0", mb->name,
@@ -241,6 +359,8 @@ pom_status pom_dyn_model_create(pom_dyn_model **out, const pom_mechanism *mech,
     bd->mech_index = b;
     bd->mass = mb->mass;
     pom_v3_copy(bd->cm_home, mb->cm);
+    bd->pinned = lu->pinned[b];
+    pom_v3_copy(bd->grav_arm, lu->arm[b]);
     bd->offset = m->n_bodies * m->body_states;
     m->slot_of_mech[b] = m->n_bodies;
     if (b == mech->platform) m->platform_slot = m->n_bodies;
@@ -249,14 +369,44 @@ pom_status pom_dyn_model_create(pom_dyn_model **out, const pom_mechanism *mech,
   int next = m->n_bodies * m->body_states;
 
   for (int j = 0; j < mech->n_joints; ++j) {
-    POM_TRY_GOTO(joint_setup(&m->joint[j], &mech->joint[j], mech, m->slot_of_mech, err), fail);
+    joint_map[j] = -1;
+    if (lu->skip_joint[j]) continue;
+    dyn_joint *jt = &m->joint[m->n_joints];
+    POM_TRY_GOTO(
+        joint_setup(jt, &mech->joint[j], mech, m->slot_of_mech, p->scene.universal_joint, err),
+        fail);
+    if (lu->pivot_joint[j]) jt->n_lin = 0; /* the pinned body cannot leave its pivot */
+    joint_map[j] = m->n_joints++;
   }
-  m->n_joints = mech->n_joints;
+  for (int r = 0; r < lu->n_rods; ++r) {
+    /* massless rod of a lumped link: one distance pseudo-constraint */
+    if (m->n_joints >= POM_MECH_MAX_JOINTS)
+      POM_FAIL_GOTO(err, POM_ERR_ARG, fail, "too many joints after lumping");
+    dyn_joint *jt = &m->joint[m->n_joints++];
+    memset(jt, 0, sizeof *jt);
+    jt->type = POM_JOINT_SPHERICAL;
+    jt->actuator = -1;
+    jt->distance = 1;
+    double dd[3];
+    pom_v3_sub(dd, lu->rod_point[r][1], lu->rod_point[r][0]);
+    jt->length = pom_v3_norm(dd);
+    for (int s = 0; s < 2; ++s) {
+      int b = lu->rod_body[r][s];
+      jt->slot[s] = m->slot_of_mech[b];
+      if (jt->slot[s] < 0)
+        pom_v3_copy(jt->rho[s], lu->rod_point[r][s]);
+      else
+        pom_v3_sub(jt->rho[s], lu->rod_point[r][s], mech->body[b].cm);
+    }
+  }
 
   for (int a = 0; a < mech->n_actuators; ++a) {
-    int j = mech->actuator[a].joint;
-    if (j < 0 || j >= mech->n_joints || mech->joint[j].type != POM_JOINT_PRISMATIC)
-      POM_FAIL_GOTO(err, POM_ERR_ARG, fail, "actuator %d: joint %d is not a prismatic joint", a, j);
+    int jm = mech->actuator[a].joint;
+    if (jm < 0 || jm >= mech->n_joints || mech->joint[jm].type != POM_JOINT_PRISMATIC ||
+        joint_map[jm] < 0)
+      POM_FAIL_GOTO(err, POM_ERR_ARG, fail, "actuator %d: joint %d is not a prismatic joint", a,
+                    jm);
+    int j = joint_map[jm];
     if (m->joint[j].actuator >= 0)
       POM_FAIL_GOTO(err, POM_ERR_ARG, fail, "actuators %d and %d drive the same joint",
                     m->joint[j].actuator, a);
@@ -279,9 +429,13 @@ pom_status pom_dyn_model_create(pom_dyn_model **out, const pom_mechanism *mech,
   if (!m->atol || !m->scale) POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "allocating tolerances");
   scales_fill(m);
   POM_TRY_GOTO(pom_dyn_structure_build(m, err), fail);
+  free(lm);
+  free(lu);
   *out = m;
   return POM_OK;
 fail:
+  free(lm);
+  free(lu);
   pom_dyn_model_destroy(m);
   return st;
 }

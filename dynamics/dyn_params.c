@@ -28,6 +28,8 @@ void pom_dyn_params_defaults(pom_dyn_params *p) {
   p->scene.coil_inductance = 1;
   p->scene.orientation = POM_ORIENT_EULER_ZYX;
   p->scene.euler_cos_min = 1.0e-2;
+  p->scene.limb_inertia = POM_INERTIA_FULL;
+  p->scene.universal_joint = 1;
   p->solver.rtol = 1.0e-6;
   p->solver.atol_scale = 1.0e-3;
   p->solver.max_step = 0.0;
@@ -44,6 +46,7 @@ void pom_dyn_params_defaults(pom_dyn_params *p) {
 static const char *const pid_forms[] = {"ideal", "parallel", NULL};
 static const char *const orient_kinds[] = {"euler", "quaternion", NULL};
 static const char *const linsol_kinds[] = {"dense", "klu", NULL};
+static const char *const inertia_kinds[] = {"full", "lumped", NULL};
 
 const char *pom_dyn_pid_form_name(pom_pid_form f) {
   return (f == POM_PID_PARALLEL) ? pid_forms[1] : pid_forms[0];
@@ -53,6 +56,9 @@ const char *pom_dyn_orient_name(pom_orient_kind k) {
 }
 const char *pom_dyn_linsol_name(pom_linsol_kind k) {
   return (k == POM_LINSOL_KLU) ? linsol_kinds[1] : linsol_kinds[0];
+}
+const char *pom_dyn_inertia_name(pom_inertia_kind k) {
+  return (k == POM_INERTIA_LUMPED) ? inertia_kinds[1] : inertia_kinds[0];
 }
 
 /* ---- loading ------------------------------------------------------------- */
@@ -103,6 +109,11 @@ pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error 
   idx = (int)s->orientation;
   POM_TRY(pom_cfg_choice_opt(cfg, "scene.orientation", orient_kinds, idx, &idx, err));
   s->orientation = (idx == 1) ? POM_ORIENT_QUATERNION : POM_ORIENT_EULER_ZYX;
+  idx = (int)s->limb_inertia;
+  POM_TRY(pom_cfg_choice_opt(cfg, "scene.limb_inertia", inertia_kinds, idx, &idx, err));
+  s->limb_inertia = (idx == 1) ? POM_INERTIA_LUMPED : POM_INERTIA_FULL;
+  POM_TRY(
+      pom_cfg_bool_opt(cfg, "scene.universal_joint", s->universal_joint, &s->universal_joint, err));
 
   POM_TRY(pom_cfg_real_opt(cfg, "solver.rtol", 1.0, 1e-13, 1e-1, v->rtol, &v->rtol, err));
   POM_TRY(pom_cfg_real_opt(cfg, "solver.atol_scale", 1.0, 1e-13, 1.0, v->atol_scale, &v->atol_scale,

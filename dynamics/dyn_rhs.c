@@ -54,6 +54,12 @@ static int bodies_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y)
     pom_m3_apply(e->w, e->Rp, e->wp);
     pom_v3_scale(e->F, bd->mass, m->gravity); /* gravity: effort source on each EJS */
     pom_v3_set(e->T, 0.0, 0.0, 0.0);
+    if (bd->pinned) {
+      /* weight at the true CM, off the pivot (docs/dynamics.md section 13) */
+      double arm[3];
+      pom_m3_apply(arm, e->R, bd->grav_arm);
+      pom_v3_cross(e->T, arm, e->F);
+    }
   }
   return singular;
 }
@@ -127,6 +133,22 @@ int pom_dyn_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, doubl
     const double *R1 = jt->slot[1] >= 0 ? d->be[jt->slot[1]].R : identity3;
     const double *w0 = jt->slot[0] >= 0 ? d->be[jt->slot[0]].w : zero3;
     const double *w1 = jt->slot[1] >= 0 ? d->be[jt->slot[1]].w : zero3;
+
+    /* massless rod of a lumped link: C and R on the rate of its length */
+    if (jt->distance) {
+      double len = pom_v3_norm(dd), nv[3];
+      pom_v3_scale(nv, len > 0 ? 1.0 / len : 0.0, dd);
+      double delta = len - jt->length, rate = pom_v3_dot(nv, dv);
+      double f = kl * delta + cl * rate, F[3];
+      o->spring_energy += 0.5 * kl * delta * delta;
+      o->parasitic_power += cl * rate * rate;
+      o->max_lin_deflection = fmax(o->max_lin_deflection, fabs(delta));
+      pom_v3_scale(F, -f, nv);
+      apply_force(d, jt, 1, F, r1);
+      pom_v3_scale(F, f, nv);
+      apply_force(d, jt, 0, F, r0);
+      continue;
+    }
 
     /* linear pseudo-constraints: C (k_p) and R (R_p) on a 1-junction with the
      * forbidden relative velocity; directions fixed in side 0 when they rotate.
@@ -231,8 +253,13 @@ int pom_dyn_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, doubl
     const double *yb = y + bd->offset;
     double *fb = ydot + bd->offset;
     double Tp[3], gyro[3];
-    pom_v3_copy(fb + DYN_BODY_U, e->v);
-    pom_v3_copy(fb + DYN_BODY_P, e->F);
+    if (bd->pinned) {
+      /* the pivot reacts every force: no translation (docs 13) */
+      memset(fb + DYN_BODY_U, 0, 6 * sizeof(double));
+    } else {
+      pom_v3_copy(fb + DYN_BODY_U, e->v);
+      pom_v3_copy(fb + DYN_BODY_P, e->F);
+    }
     pom_m3_tapply(Tp, e->Rp, e->T);
     pom_v3_cross(gyro, e->wp, yb + DYN_BODY_H);
     pom_v3_sub(fb + DYN_BODY_H, Tp, gyro);
@@ -329,6 +356,13 @@ double pom_dyn_stored(const pom_dyn_model *m, pom_dyn_data *d, const double *y) 
     for (int k = 0; k < 3; ++k)
       E += 0.5 * yb[DYN_BODY_H + k] * yb[DYN_BODY_H + k] / bd->principal[k];
     E -= bd->mass * pom_v3_dot(m->gravity, yb + DYN_BODY_U);
+    if (bd->pinned) {
+      /* CM displacement R a - a of the weight's arm a (R from the pass above) */
+      double ra[3];
+      pom_m3_apply(ra, d->be[b].R, bd->grav_arm);
+      pom_v3_sub(ra, ra, bd->grav_arm);
+      E -= bd->mass * pom_v3_dot(m->gravity, ra);
+    }
   }
   for (int a = 0; a < m->n_actuators; ++a)
     if (m->act[a].flux_state >= 0) {

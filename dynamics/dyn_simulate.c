@@ -273,7 +273,7 @@ static void initial_state(const pom_dyn_model *m, double *y, const pom_dyn_initi
     if (!init) continue;
     int k = bd->mech_index;
     double wp[3];
-    pom_v3_scale(yb + DYN_BODY_P, bd->mass, init->v[k]);
+    if (!bd->pinned) pom_v3_scale(yb + DYN_BODY_P, bd->mass, init->v[k]);
     pom_m3_tapply(wp, bd->V, init->omega[k]); /* R = I at home: principal = V^T fixed */
     for (int c = 0; c < 3; ++c)
       yb[DYN_BODY_H + c] = bd->principal[c] * wp[c];
@@ -466,6 +466,9 @@ pom_status pom_dyn_body_pose(const pom_dyn_model *m, const pom_dyn_data *d, int 
   int b = m->slot_of_mech[k];
   slot_rotation(m, d->yfinal, b, R);
   pom_v3_add(x, m->body[b].cm_home, d->yfinal + m->body[b].offset + DYN_BODY_U);
+  double arm[3]; /* a pinned body's CM is off its reference point (docs 13) */
+  pom_m3_apply(arm, R, m->body[b].grav_arm);
+  pom_v3_add(x, x, arm);
   return POM_OK;
 }
 

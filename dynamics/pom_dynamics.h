@@ -18,6 +18,8 @@
 typedef enum { POM_PID_IDEAL = 0, POM_PID_PARALLEL = 1 } pom_pid_form;
 typedef enum { POM_ORIENT_EULER_ZYX = 0, POM_ORIENT_QUATERNION = 1 } pom_orient_kind;
 typedef enum { POM_LINSOL_DENSE = 0, POM_LINSOL_KLU = 1 } pom_linsol_kind;
+/* Limb-body inertia model (scene.limb_inertia, docs/dynamics.md section 13). */
+typedef enum { POM_INERTIA_FULL = 0, POM_INERTIA_LUMPED = 1 } pom_inertia_kind;
 
 /* Voice-coil actuator, identical for the three limbs. */
 typedef struct {
@@ -55,6 +57,12 @@ typedef struct {
   pom_orient_kind orientation;
   double euler_cos_min; /* |cos pitch| of any body below which the Euler path stops with
                            POM_ERR_EULER_SINGULAR (default 1e-2, pitch beyond 89.4 deg) */
+  /* added by the scene options (issue 6, docs/dynamics.md section 13) */
+  pom_inertia_kind limb_inertia; /* full: every body as given; lumped: binary S-S links become
+                                    massless distance constraints with their mass at the two
+                                    ends, bodies pivoting on the ground turn about the pivot */
+  int universal_joint;           /* 1: universal joints keep their anti-spin constraint; 0: they
+                                    act as spherical joints (the limb may spin) */
 } pom_dyn_scene;
 
 /* CVODE settings. */
@@ -207,5 +215,7 @@ double pom_dyn_stored_energy(const pom_dyn_model *m, pom_dyn_data *d);
 const char *pom_dyn_pid_form_name(pom_pid_form f);
 const char *pom_dyn_orient_name(pom_orient_kind k);
 const char *pom_dyn_linsol_name(pom_linsol_kind k);
+/* "full"/"lumped" (scene.limb_inertia). */
+const char *pom_dyn_inertia_name(pom_inertia_kind k);
 
 #endif
