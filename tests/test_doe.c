@@ -5,6 +5,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "check.h"
 #include "pom_doe.h"
+#include "pom_doe_internal.h"
 #include "pom_math.h"
 #include "pom_progress.h"
 
@@ -543,6 +544,61 @@ static void test_runs(void) {
   pom_doe_study_clear(&study);
 }
 
+/* ---- config trees: merge and write ---------------------------------------------------- */
+static void test_cfgtree(void) {
+  const char *base = "a = 1.0e-7; n = 42; big = 9007199254740993L; flag = true;\n"
+                     "s = \"quote \\\" back \\\\ tab\\t\";\n"
+                     "g = { x = 0.1; arr = [1.5, 2.25, 3.0]; lst = (1, \"two\", { k = 3; }); };\n";
+  const char *over = "g = { x = 2.385; y = -4; }; a = 3; t = \"new\";\n";
+  config_t t1, t2, o;
+  config_init(&t1);
+  config_init(&t2);
+  config_init(&o);
+  pom_error err;
+  char *w1 = NULL, *w2 = NULL;
+  check_true(pom_doe_tree_read_string(&t1, base, "<base>", NULL, &err) == POM_OK);
+  check_true(pom_doe_tree_read_string(&o, over, "<over>", NULL, &err) == POM_OK);
+  check_true(pom_doe_tree_merge(config_root_setting(&t1), config_root_setting(&o), "test", &err) ==
+             POM_OK);
+  check_true(pom_doe_tree_set_number(&t1, "g.h.z", 0.1 + 0.2, &err) == POM_OK);
+  check_true(pom_doe_tree_set_number(&t1, "n", 7.5, &err) == POM_ERR_CONFIG); /* integer key */
+  check_true(pom_doe_tree_write(&t1, &w1, &err) == POM_OK);
+  /* written text reads back to the same tree: writing it again gives the same text */
+  check_true(w1 && pom_doe_tree_read_string(&t2, w1, "<w1>", NULL, &err) == POM_OK);
+  check_true(pom_doe_tree_write(&t2, &w2, &err) == POM_OK);
+  check_true(w1 && w2 && strcmp(w1, w2) == 0);
+  pom_cfg *cfg = NULL;
+  check_true(w1 && pom_cfg_load_string(&cfg, w1, "<resolved>", &err) == POM_OK);
+  if (cfg) {
+    double x = 0, z = 0, a = 0, arr[3] = {0};
+    long y = 0, n = 0, big = 0;
+    int flag = 0;
+    char str[64] = "";
+    pom_cfg_real(cfg, "g.x", 1, -10, 10, &x, &err);
+    pom_cfg_real(cfg, "g.h.z", 1, -10, 10, &z, &err);
+    pom_cfg_real(cfg, "a", 1, -10, 10, &a, &err);
+    pom_cfg_reals(cfg, "g.arr", 3, 1, -10, 10, arr, &err);
+    pom_cfg_int(cfg, "g.y", -10, 10, &y, &err);
+    pom_cfg_int(cfg, "n", 0, 100, &n, &err);
+    pom_cfg_int(cfg, "big", 0, 9007199254740993L, &big, &err);
+    pom_cfg_bool(cfg, "flag", &flag, &err);
+    pom_cfg_string(cfg, "s", str, sizeof str, &err);
+    check_abs(x, 2.385, 0);     /* overridden */
+    check_abs(z, 0.1 + 0.2, 0); /* round-trip precision: 0.30000000000000004 */
+    check_abs(a, 3, 0);         /* replaced by an integer */
+    check_abs(arr[1], 2.25, 0);
+    check_true(y == -4 && n == 42 && big == 9007199254740993L && flag == 1);
+    check_true(strcmp(str, "quote \" back \\ tab\t") == 0);
+    check_true(pom_cfg_length(cfg, "g.lst") == 3);
+    pom_cfg_destroy(cfg);
+  }
+  free(w1);
+  free(w2);
+  config_destroy(&t1);
+  config_destroy(&t2);
+  config_destroy(&o);
+}
+
 /* ---- progress bar ------------------------------------------------------------------- */
 static void test_progress(void) {
   char line[256];
@@ -579,6 +635,7 @@ int main(void) {
   write_file("toy.cfg", study_text);
   test_stats();
   test_progress();
+  test_cfgtree();
   test_maneuvers();
   test_study_config();
   test_sweep();
