@@ -98,6 +98,19 @@ static const char *type_name(int t) {
   }
 }
 
+/* The deepest existing group on the path of a (missing) dotted key, NULL
+ * when none is (the root has no line). */
+static const config_setting_t *nearest_parent(const pom_cfg *cfg, const char *key) {
+  char path[512];
+  snprintf(path, sizeof path, "%s", key);
+  for (char *dot = strrchr(path, '.'); dot; dot = strrchr(path, '.')) {
+    *dot = '\0';
+    const config_setting_t *g = config_lookup(&cfg->lc, path);
+    if (g && config_setting_source_line(g) > 0) return g;
+  }
+  return NULL;
+}
+
 static pom_status setting_error(const pom_cfg *cfg, const config_setting_t *s, const char *key,
                                 pom_error *err, const char *fmt, ...)
 #if defined(__GNUC__)
@@ -117,6 +130,11 @@ static pom_status setting_error(const pom_cfg *cfg, const config_setting_t *s, c
     return pom_error_set(err, POM_ERR_CONFIG, __FILE__, __LINE__, "%s:%d: key '%s' = %s: %s",
                          setting_file(cfg, s), (int)config_setting_source_line(s), key, val, what);
   }
+  /* A missing key: point at the group that should hold it, when it exists. */
+  const config_setting_t *g = nearest_parent(cfg, key);
+  if (g)
+    return pom_error_set(err, POM_ERR_CONFIG, __FILE__, __LINE__, "%s:%d: key '%s': %s",
+                         setting_file(cfg, g), (int)config_setting_source_line(g), key, what);
   return pom_error_set(err, POM_ERR_CONFIG, __FILE__, __LINE__, "%s: key '%s': %s", cfg->path, key,
                        what);
 }
@@ -336,9 +354,12 @@ pom_status pom_cfg_error(const pom_cfg *cfg, const char *key, const char *value_
   } else {
     snprintf(val, sizeof val, "(absent)");
   }
+  const config_setting_t *at = s ? s : nearest_parent(cfg, key);
+  if (!at)
+    return pom_error_set(err, POM_ERR_CONFIG, __FILE__, __LINE__, "%s: key '%s' = %s: %s",
+                         cfg->path, key, val, what);
   return pom_error_set(err, POM_ERR_CONFIG, __FILE__, __LINE__, "%s:%d: key '%s' = %s: %s",
-                       setting_file(cfg, s), s ? (int)config_setting_source_line(s) : 0, key, val,
-                       what);
+                       setting_file(cfg, at), (int)config_setting_source_line(at), key, val, what);
 }
 
 /* ---- scalar getters ----------------------------------------------------------- */

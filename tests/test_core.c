@@ -200,6 +200,12 @@ static void test_config(void) {
   /* missing */
   check_true(pom_cfg_real(cfg, "a.y_mm", 1e-3, 0.0, 1.0, &x, &err) == POM_ERR_CONFIG);
   check_true(strstr(err.message, "key 'a.y_mm': missing") != NULL);
+  /* a missing key points at the line of its group */
+  check_true(strstr(err.message, "<test>:1: key 'a.y_mm'") != NULL);
+  check_true(pom_cfg_real(cfg, "zz.y_mm", 1e-3, 0.0, 1.0, &x, &err) == POM_ERR_CONFIG);
+  check_true(strstr(err.message, "<test>: key 'zz.y_mm': missing") != NULL);
+  check_true(pom_cfg_error(cfg, "a.q", NULL, &err, "needed") == POM_ERR_CONFIG);
+  check_true(strstr(err.message, "<test>:1: key 'a.q' = (absent): needed") != NULL);
   check_true(pom_cfg_real_opt(cfg, "a.y_mm", 1e-3, 0.0, 1.0, 0.25, &x, &err) == POM_OK &&
              x == 0.25);
   /* bad choice lists the choices */
