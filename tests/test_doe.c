@@ -369,6 +369,28 @@ static void test_sweep(void) {
   const analytic *a = study.candidates[3].eval.ctx;
   check_rel(a->speed, 0.4, 1e-15);
   check_rel(a->dead_time, 4e-3, 1e-15);
+  /* six candidates: every pair compared on both metrics. Mean execution time
+   * = dead time + x / speed with x the mean largest |q| (between 1.2 and 3.6
+   * mm for these maneuvers), so: (0.6, 1) < (0.4, 1) < (0.6, 4) < (0.4, 4) <
+   * (0.2, 1) < (0.2, 4) in (m/s, ms) */
+  pom_doe_run_options o;
+  pom_doe_run_options_defaults(&o);
+  o.output = "";
+  pom_doe_report *rep = NULL;
+  check_true(pom_doe_run_all(&study, &o, &rep, &err) == POM_OK);
+  if (rep) {
+    check_true(rep->n_comparisons == 30);
+    const int want[6] = {4, 2, 5, 3, 0, 1};
+    for (int r = 0; r < 6; ++r)
+      check_true(rep->rank_time[r] == want[r]);
+    for (int r = 1; r < 6; ++r)
+      check_true(rep->cand[rep->rank_time[r - 1]].execution_time.mean <=
+                 rep->cand[rep->rank_time[r]].execution_time.mean);
+    /* energy does not depend on the factors: equal means, ties keep index order */
+    check_rel(rep->cand[0].energy.mean, rep->cand[5].energy.mean, 1e-15);
+    check_true(rep->rank_energy[0] == 0);
+  }
+  pom_doe_report_destroy(rep);
   pom_doe_study_clear(&study);
 
   write_file("lhs.cfg",
