@@ -6,9 +6,9 @@
 #include <string.h>
 
 const char *const pom_cli_known_top[] = {
-    "name",       "architecture", "geometry",   "limits",    "workspace", "inertia",
-    "actuator",   "controller",   "joints",     "scene",     "solver",    "maneuver",
-    "montecarlo", "study",        "candidates", "synthesis", "tuning",    NULL};
+    "name",       "architecture", "geometry", "limits",   "workspace", "inertia",    "actuator",
+    "controller", "joints",       "scene",    "solver",   "maneuver",  "montecarlo", "study",
+    "candidates", "synthesis",    "tuning",   "tradeoff", NULL};
 
 void pom_cli_report(const char *context, const pom_error *err) {
   if (err && err->message[0]) {

@@ -21,6 +21,7 @@ static const command commands[] = {
     {"montecarlo", pom_cmd_montecarlo, "N random maneuvers of one mechanism: time and energy"},
     {"study", pom_cmd_study, "candidates x maneuvers: results file, tables, verdict, figures"},
     {"synth", pom_cmd_synth, "kinematic synthesis: response surfaces, desirability, scaling"},
+    {"tradeoff", pom_cmd_tradeoff, "speed against accuracy: solver and model fidelity sweep"},
     {NULL, NULL, NULL} /* end */
 };
 

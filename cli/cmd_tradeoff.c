@@ -1,0 +1,203 @@
+/* cmd_tradeoff.c - `pomlab tradeoff CFG`: speed against accuracy of the
+ * dynamics engine across formulation, scene options, rtol, parasitic
+ * stiffness and linear solver; table, CSV for the work-precision plot and a
+ * recommendation (docs/tradeoff.md). */
+#include "pom_cli.h"
+#include "pom_doe.h"
+#include "pom_kinematics.h"
+#include "pom_tradeoff.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void tradeoff_usage(FILE *out) {
+  fprintf(
+      out,
+      "usage: pomlab tradeoff CONFIG [options]\n\n"
+      "Runs the configured mechanism over a fixed set of maneuvers (montecarlo seed,\n"
+      "maneuvers 0..n-1) at many settings - rtol, parasitic stiffness, linear solver,\n"
+      "scene options - and compares each with a tight reference (rtol 1e-10, k_p 1e9):\n"
+      "wall time per maneuver (median of repeats) against the worst relative error in\n"
+      "execution (settling) time, expended energy and trajectory. Recommends the\n"
+      "cheapest setting within the accuracy asked for.\n\n"
+      "  --accuracy X%%    accuracy for the recommendation (default tradeoff.accuracy_percent,\n"
+      "                   1%%); the %% sign is optional\n"
+      "  --maneuvers N    maneuvers (overrides tradeoff.maneuvers, 1..16)\n"
+      "  --repeats N      timing repeats (overrides tradeoff.repeats)\n"
+      "  --csv FILE       write the table as CSV (for scripts/plot_tradeoff.py)\n"
+      "  --quiet          no progress lines on stderr\n"
+      "  --help           this text\n\n"
+      "Plot: /usr/bin/python3 scripts/plot_tradeoff.py OUT.png NAME=FILE.csv [...]\n");
+}
+
+static const char *const tradeoff_scopes[] = {
+    "name",   "architecture", "geometry", "limits",   "inertia",    "actuator", "controller",
+    "joints", "scene",        "solver",   "maneuver", "montecarlo", "tradeoff", NULL};
+
+static void progress(void *user, const pom_tradeoff_row *row, int done, int total) {
+  (void)user;
+  fprintf(stderr, "  [%2d/%2d] %-44s %9.3f ms  err %.2e%s\n", done, total, row->label,
+          row->time * 1e3, row->err_max, row->failures ? "  FAILED" : "");
+}
+
+static void fmt_err(char *buf, size_t cap, double e) {
+  if (isinf(e))
+    snprintf(buf, cap, "%9s", "fail");
+  else
+    snprintf(buf, cap, "%9.2e", e);
+}
+
+static void print_table(const pom_tradeoff_result *res, double accuracy) {
+  printf("%-44s %6s %10s %8s %9s %9s %9s  %s\n", "setting", "states", "ms/man.", "steps", "settle",
+         "energy", "traject.", "");
+  for (int r = 0; r < res->n_rows; ++r) {
+    const pom_tradeoff_row *w = &res->row[r];
+    char a[32], b[32], c[32];
+    fmt_err(a, sizeof a, w->err_settle);
+    fmt_err(b, sizeof b, w->err_energy);
+    fmt_err(c, sizeof c, w->err_traj);
+    const char *mark = r == res->recommended               ? "<= recommended"
+                       : (r > 0 && w->err_max <= accuracy) ? "ok"
+                                                           : "";
+    printf("%-44s %6d %10.3f %8.0f %s %s %s  %s\n", w->label, w->n_states, w->time * 1e3, w->steps,
+           a, b, c, mark);
+    if (w->failures) printf("    failed: %s\n", w->reason);
+  }
+}
+
+static pom_status write_csv(const char *path, const pom_tradeoff_result *res, pom_error *err) {
+  FILE *f = fopen(path, "w");
+  if (!f) POM_FAIL(err, POM_ERR_IO, "cannot write '%s'", path);
+  fprintf(f, "label,family,n_states,time_s,steps,err_settle,err_energy,err_traj,err_max,failures,"
+             "recommended\n");
+  for (int r = 0; r < res->n_rows; ++r) {
+    const pom_tradeoff_row *w = &res->row[r];
+    fprintf(f, "\"%s\",%s,%d,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%d\n", w->label, w->family,
+            w->n_states, w->time, w->steps, w->err_settle, w->err_energy, w->err_traj, w->err_max,
+            w->failures, r == res->recommended);
+  }
+  if (fclose(f) != 0) POM_FAIL(err, POM_ERR_IO, "writing '%s' failed", path);
+  return POM_OK;
+}
+
+int pom_cmd_tradeoff(int argc, char **argv) {
+  const char *cfg_path = NULL, *csv = NULL;
+  double accuracy = -1.0;
+  long maneuvers = -1, repeats = -1;
+  int quiet = 0;
+  for (int k = 1; k < argc; ++k) {
+    const char *a = argv[k];
+    if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+      tradeoff_usage(stdout);
+      return 0;
+    } else if (strcmp(a, "--accuracy") == 0 && k + 1 < argc) {
+      char *end = NULL;
+      accuracy = strtod(argv[++k], &end);
+      if (end == argv[k] || (*end && strcmp(end, "%") != 0) || !(accuracy > 0 && accuracy <= 100)) {
+        fprintf(stderr, "pomlab tradeoff: --accuracy '%s': expected a percentage in (0, 100]\n",
+                argv[k]);
+        return 2;
+      }
+      accuracy *= 1e-2;
+    } else if ((strcmp(a, "--maneuvers") == 0 || strcmp(a, "--repeats") == 0) && k + 1 < argc) {
+      char *end = NULL;
+      long v = strtol(argv[k + 1], &end, 10);
+      if (*end || end == argv[k + 1] || v < 1 || v > 100) {
+        fprintf(stderr, "pomlab tradeoff: %s '%s': expected an integer in 1..100\n", a,
+                argv[k + 1]);
+        return 2;
+      }
+      if (a[2] == 'm')
+        maneuvers = v;
+      else
+        repeats = v;
+      ++k;
+    } else if (strcmp(a, "--csv") == 0 && k + 1 < argc) {
+      csv = argv[++k];
+    } else if (strcmp(a, "--quiet") == 0) {
+      quiet = 1;
+    } else if (a[0] == '-' || cfg_path) {
+      fprintf(stderr, "pomlab tradeoff: unexpected argument '%s'\n\n", a);
+      tradeoff_usage(stderr);
+      return 2;
+    } else {
+      cfg_path = a;
+    }
+  }
+  if (!cfg_path) {
+    tradeoff_usage(stderr);
+    return 2;
+  }
+  pom_cfg *cfg = pom_cli_load_config(cfg_path);
+  if (!cfg) return 2;
+  pom_error err;
+  pom_error_clear(&err);
+  pom_kin_arch arch;
+  pom_mechanism mech;
+  pom_dyn_params params;
+  pom_doe_maneuvers mv;
+  pom_tradeoff_opts opts;
+  pom_tradeoff_result *res = NULL;
+  pom_status st = POM_OK;
+  const char *stage = "config";
+  pom_dyn_params_defaults(&params);
+  pom_tradeoff_defaults(&opts);
+  if ((st = pom_kin_arch_load(&arch, cfg, &err)) != POM_OK ||
+      (st = pom_kin_mechanism_build(&mech, &arch, cfg, &err)) != POM_OK ||
+      (st = pom_dyn_params_load(&params, cfg, &err)) != POM_OK ||
+      (st = pom_doe_maneuvers_load(&mv, cfg, &err)) != POM_OK ||
+      (st = pom_tradeoff_load(&opts, cfg, &err)) != POM_OK ||
+      (st = pom_cfg_check_unknown(cfg, tradeoff_scopes, pom_cli_known_top, &err)) != POM_OK)
+    goto done;
+  if (accuracy > 0) opts.accuracy = accuracy;
+  if (maneuvers > 0) {
+    if (maneuvers > 16) {
+      fprintf(stderr, "pomlab tradeoff: --maneuvers %ld: at most 16\n", maneuvers);
+      st = POM_ERR_ARG;
+      goto done_quiet;
+    }
+    opts.maneuvers = (int)maneuvers;
+  }
+  if (repeats > 0) opts.repeats = (int)repeats;
+  res = calloc(1, sizeof *res);
+  if (!res) {
+    st = pom_error_set(&err, POM_ERR_NOMEM, __FILE__, __LINE__, "allocating the result");
+    goto done;
+  }
+  stage = "tradeoff";
+  if (!quiet)
+    fprintf(stderr, "pomlab tradeoff: %s, %d maneuvers x %d repeats\n", arch.name, opts.maneuvers,
+            opts.repeats);
+  st =
+      pom_tradeoff_run(&arch, &mech, &params, &mv, &opts, res, quiet ? NULL : progress, NULL, &err);
+  if (st != POM_OK) goto done;
+  printf("%s: %d maneuvers (montecarlo seed %llu), times = median of %d repeats; errors = worst "
+         "relative to the reference\n",
+         arch.name, res->n_maneuvers, (unsigned long long)mv.seed, opts.repeats);
+  for (int k = 0; k < res->n_maneuvers; ++k)
+    printf("maneuver %d: targets %.4f, %.4f, %.4f mm\n", k, res->targets[k][0] * 1e3,
+           res->targets[k][1] * 1e3, res->targets[k][2] * 1e3);
+  print_table(res, opts.accuracy);
+  if (res->recommended >= 0) {
+    const pom_tradeoff_row *w = &res->row[res->recommended];
+    printf("recommended for %g %% accuracy: %s (%.3f ms per maneuver, %.2fx the time of the "
+           "config's own setting)\n",
+           opts.accuracy * 100.0, w->label, w->time * 1e3, w->time / res->row[1].time);
+  } else {
+    printf("no setting of the sweep meets %g %% accuracy; tighten the sweep (tradeoff.rtol, "
+           "tradeoff.stiffness_N_per_m)\n",
+           opts.accuracy * 100.0);
+  }
+  if (csv) {
+    stage = "csv";
+    st = write_csv(csv, res, &err);
+  }
+done:
+  if (st != POM_OK) pom_cli_report(stage, &err);
+done_quiet:
+  free(res);
+  pom_cfg_destroy(cfg);
+  return pom_cli_exit_code(st);
+}

@@ -1,0 +1,313 @@
+/* pom_tradeoff.c - the speed/accuracy sweep of the dynamics engine
+ * (docs/tradeoff.md). */
+#include "pom_tradeoff.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- options --------------------------------------------------------------- */
+void pom_tradeoff_defaults(pom_tradeoff_opts *o) {
+  memset(o, 0, sizeof *o);
+  o->maneuvers = 3;
+  o->repeats = 3;
+  const double rt[] = {1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8};
+  o->n_rtol = (int)(sizeof rt / sizeof rt[0]);
+  memcpy(o->rtol, rt, sizeof rt);
+  const double kp[] = {1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
+  o->n_stiffness = (int)(sizeof kp / sizeof kp[0]);
+  memcpy(o->stiffness, kp, sizeof kp);
+  o->linear_solvers = 1;
+  o->scenes = 1;
+  o->reference_rtol = 1e-10;
+  o->reference_stiffness = 1e9;
+  o->accuracy = 0.01;
+  o->max_wall = 20.0;
+}
+
+pom_status pom_tradeoff_load(pom_tradeoff_opts *o, const pom_cfg *cfg, pom_error *err) {
+  long l = 0;
+  POM_TRY(pom_cfg_int_opt(cfg, "tradeoff.maneuvers", 1, 16, o->maneuvers, &l, err));
+  o->maneuvers = (int)l;
+  POM_TRY(pom_cfg_int_opt(cfg, "tradeoff.repeats", 1, 101, o->repeats, &l, err));
+  o->repeats = (int)l;
+  if (pom_cfg_has(cfg, "tradeoff.rtol"))
+    POM_TRY(pom_cfg_reals_var(cfg, "tradeoff.rtol", POM_TRADEOFF_MAX_VALUES, 1.0, 1e-13, 0.1,
+                              o->rtol, &o->n_rtol, err));
+  if (pom_cfg_has(cfg, "tradeoff.stiffness_N_per_m"))
+    POM_TRY(pom_cfg_reals_var(cfg, "tradeoff.stiffness_N_per_m", POM_TRADEOFF_MAX_VALUES, 1.0, 1.0,
+                              1e12, o->stiffness, &o->n_stiffness, err));
+  POM_TRY(
+      pom_cfg_bool_opt(cfg, "tradeoff.linear_solvers", o->linear_solvers, &o->linear_solvers, err));
+  POM_TRY(pom_cfg_bool_opt(cfg, "tradeoff.scenes", o->scenes, &o->scenes, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "tradeoff.reference_rtol", 1.0, 1e-13, 1e-6, o->reference_rtol,
+                           &o->reference_rtol, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "tradeoff.reference_stiffness_N_per_m", 1.0, 1.0, 1e12,
+                           o->reference_stiffness, &o->reference_stiffness, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "tradeoff.accuracy_percent", 1e-2, 1e-6, 100.0, o->accuracy,
+                           &o->accuracy, err));
+  POM_TRY(
+      pom_cfg_real_opt(cfg, "tradeoff.max_wall_s", 1.0, 1e-3, 1e5, o->max_wall, &o->max_wall, err));
+  return POM_OK;
+}
+
+/* ---- settings ---------------------------------------------------------------- */
+/* atol follows rtol below the config's pair (docs/tradeoff.md): atol_scale =
+ * min(config atol_scale, 1e3 rtol) (the shipped pair is rtol 1e-6,
+ * atol_scale 1e-3). */
+static void set_rtol(pom_dyn_params *p, double rtol) {
+  p->solver.rtol = rtol;
+  p->solver.atol_scale = fmin(p->solver.atol_scale, 1e3 * rtol);
+}
+
+static void set_stiffness(pom_dyn_params *p, double k) {
+  p->joints.stiffness = k;
+  p->joints.angular_stiffness = k;
+}
+
+static pom_tradeoff_row *add_row(pom_tradeoff_result *res, const char *family,
+                                 const pom_dyn_params *p, const char *fmt, double v) {
+  if (res->n_rows >= POM_TRADEOFF_MAX_ROWS) return NULL;
+  pom_tradeoff_row *r = &res->row[res->n_rows++];
+  memset(r, 0, sizeof *r);
+  snprintf(r->family, sizeof r->family, "%s", family);
+  snprintf(r->label, sizeof r->label, fmt, v);
+  r->params = *p;
+  return r;
+}
+
+static void build_settings(pom_tradeoff_result *res, const pom_dyn_params *base,
+                           const pom_tradeoff_opts *o) {
+  pom_dyn_params p = *base;
+  /* reference: full fidelity, tight tolerance, stiff joints */
+  set_rtol(&p, o->reference_rtol);
+  set_stiffness(&p, o->reference_stiffness);
+  p.scene.coil_inductance = 1;
+  p.scene.limb_inertia = POM_INERTIA_FULL;
+  p.scene.universal_joint = 1;
+  add_row(res, "reference", &p, "reference: rtol %.0e, k_p 1e9 class", o->reference_rtol);
+  snprintf(res->row[0].label, sizeof res->row[0].label, "reference rtol %.0e k_p %.0e",
+           o->reference_rtol, o->reference_stiffness);
+
+  add_row(res, "config", base, "config as given (rtol %.0e)", base->solver.rtol);
+  for (int k = 0; k < o->n_rtol; ++k) {
+    p = *base;
+    set_rtol(&p, o->rtol[k]);
+    add_row(res, "rtol", &p, "rtol %.0e", o->rtol[k]);
+  }
+  for (int k = 0; k < o->n_stiffness; ++k) {
+    p = *base;
+    set_stiffness(&p, o->stiffness[k]);
+    add_row(res, "stiffness", &p, "k_p %.0e", o->stiffness[k]);
+  }
+  if (o->linear_solvers) {
+    p = *base;
+    p.solver.linear_solver =
+        base->solver.linear_solver == POM_LINSOL_KLU ? POM_LINSOL_DENSE : POM_LINSOL_KLU;
+    pom_tradeoff_row *r = add_row(res, "linsol", &p, "linsol %g", 0);
+    if (r)
+      snprintf(r->label, sizeof r->label, "linear solver %s",
+               pom_dyn_linsol_name(p.solver.linear_solver));
+  }
+  if (o->scenes) {
+    p = *base;
+    p.scene.coil_inductance = 0;
+    add_row(res, "scene", &p, "coil quasi-static%.0s", 0);
+    p = *base;
+    p.scene.limb_inertia = POM_INERTIA_LUMPED;
+    add_row(res, "scene", &p, "limb inertia lumped%.0s", 0);
+    p = *base;
+    p.scene.universal_joint = 0;
+    add_row(res, "scene", &p, "universal joint off%.0s", 0);
+    p = *base;
+    p.scene.orientation =
+        p.scene.orientation == POM_ORIENT_EULER_ZYX ? POM_ORIENT_QUATERNION : POM_ORIENT_EULER_ZYX;
+    add_row(res, "scene", &p, "other orientation%.0s", 0);
+    p = *base;
+    p.scene.bearing_friction = 0;
+    add_row(res, "scene", &p, "bearing friction off%.0s", 0);
+    p = *base;
+    p.scene.gravity = 0;
+    add_row(res, "scene", &p, "gravity off%.0s", 0);
+    /* the cheap scene with stiffer joints at a few tolerances */
+    const double rt[] = {1e-4, 1e-5, 1e-6};
+    const double kp[] = {1e6, 1e8};
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 3; ++b) {
+        p = *base;
+        p.scene.coil_inductance = 0;
+        p.scene.limb_inertia = POM_INERTIA_LUMPED;
+        set_rtol(&p, rt[b]);
+        set_stiffness(&p, kp[a]);
+        pom_tradeoff_row *r = add_row(res, "combined", &p, "%g", 0);
+        if (r)
+          snprintf(r->label, sizeof r->label, "quasi-static+lumped rtol %.0e k_p %.0e", rt[b],
+                   kp[a]);
+      }
+  }
+}
+
+/* ---- measuring ----------------------------------------------------------------- */
+static int cmp_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+static double rel_err(double x, double ref) {
+  if (!isfinite(x) || !isfinite(ref)) return (isnan(x) && isnan(ref)) ? 0.0 : INFINITY;
+  return fabs(x - ref) / fmax(fabs(ref), 1e-300);
+}
+
+/* The reference: metrics and actuator traces of every maneuver. */
+typedef struct {
+  pom_dyn_metrics mt[16];
+  double *q[16]; /* [n[k]][3] (m) */
+  int n[16];
+} ref_data;
+
+static void ref_free(ref_data *r) {
+  for (int k = 0; k < 16; ++k)
+    free(r->q[k]);
+}
+
+/* Runs one setting over the maneuvers: the median wall time of `repeats`
+ * untraced runs, the errors of one traced run against ref (NULL for the
+ * reference itself, whose results go to keep). */
+static pom_status run_setting(const pom_mechanism *mech, pom_tradeoff_row *row,
+                              const pom_tradeoff_opts *o, const pom_tradeoff_result *res,
+                              const ref_data *ref, ref_data *keep, pom_error *err) {
+  pom_status st = POM_OK;
+  pom_dyn_model *m = NULL;
+  pom_dyn_data *d = NULL;
+  pom_dyn_trace *tr = NULL;
+  double times[101];
+  pom_error e2;
+  pom_error_clear(&e2);
+  st = pom_dyn_model_create(&m, mech, &row->params, &e2);
+  if (st == POM_OK) st = pom_dyn_data_create(&d, m, &e2);
+  if (st == POM_OK) st = pom_dyn_trace_create(&tr, m, &e2);
+  if (st != POM_OK) {
+    /* a setting the engine refuses is a recorded failure; for the reference
+     * it is fatal */
+    if (!ref) {
+      if (err) *err = e2;
+      goto done;
+    }
+    row->failures = res->n_maneuvers;
+    snprintf(row->reason, sizeof row->reason, "%s", e2.message);
+    st = POM_OK;
+    goto done;
+  }
+  row->n_states = pom_dyn_model_n_states(m);
+  double time_sum = 0.0, steps_sum = 0.0;
+  for (int k = 0; k < res->n_maneuvers && !row->failures; ++k) {
+    const double *target = res->targets[k];
+    pom_dyn_metrics mt;
+    int n_t = 0;
+    for (int rep = 0; rep <= o->repeats; ++rep) {
+      /* run 0 keeps a trace for the errors; runs 1..repeats are timed */
+      pom_error_clear(&e2);
+      pom_status s = pom_dyn_simulate(m, d, target, &mt, rep == 0 ? tr : NULL, &e2);
+      if (s != POM_OK || mt.wall_time > o->max_wall) {
+        ++row->failures;
+        if (s != POM_OK)
+          snprintf(row->reason, sizeof row->reason, "maneuver %d: %s", k, mt.reason);
+        else
+          snprintf(row->reason, sizeof row->reason,
+                   "maneuver %d took %.3g s > tradeoff.max_wall_s = %.3g s", k, mt.wall_time,
+                   o->max_wall);
+        break;
+      }
+      if (rep > 0) {
+        times[n_t++] = mt.wall_time;
+        continue;
+      }
+      steps_sum += (double)mt.steps;
+      if (keep) {
+        keep->mt[k] = mt;
+        keep->n[k] = tr->n;
+        keep->q[k] = malloc((size_t)tr->n * 3 * sizeof(double));
+        if (!keep->q[k]) POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "allocating reference traces");
+        memcpy(keep->q[k], tr->q, (size_t)tr->n * 3 * sizeof(double));
+      }
+      if (ref) {
+        const pom_dyn_metrics *rm = &ref->mt[k];
+        row->err_settle = fmax(row->err_settle, rel_err(mt.execution_time, rm->execution_time));
+        row->err_energy = fmax(row->err_energy, rel_err(mt.energy_total, rm->energy_total));
+        double step = fmax(fmax(fabs(target[0]), fabs(target[1])), fabs(target[2]));
+        double worst = (tr->n == ref->n[k]) ? 0.0 : INFINITY;
+        for (int i = 0; i < 3 * tr->n && i < 3 * ref->n[k]; ++i)
+          worst = fmax(worst, fabs(tr->q[i] - ref->q[k][i]));
+        row->err_traj = fmax(row->err_traj, step > 0 ? worst / step : worst);
+      }
+    }
+    if (n_t > 0) {
+      qsort(times, (size_t)n_t, sizeof times[0], cmp_double);
+      time_sum += times[n_t / 2];
+    }
+  }
+  row->time = time_sum / res->n_maneuvers;
+  row->steps = steps_sum / res->n_maneuvers;
+  if (row->failures && !ref)
+    POM_FAIL_GOTO(err, POM_ERR_SOLVER, done, "the reference failed: %s", row->reason);
+done:
+  if (row->failures) {
+    row->err_settle = row->err_energy = row->err_traj = INFINITY;
+    row->time = NAN;
+  }
+  row->err_max = fmax(row->err_settle, fmax(row->err_energy, row->err_traj));
+  pom_dyn_trace_destroy(tr);
+  pom_dyn_data_destroy(d);
+  pom_dyn_model_destroy(m);
+  return st;
+}
+
+/* ---- the sweep ------------------------------------------------------------------ */
+pom_status pom_tradeoff_run(const pom_kin_arch *arch, const pom_mechanism *mech,
+                            const pom_dyn_params *base, const pom_doe_maneuvers *mv,
+                            const pom_tradeoff_opts *o, pom_tradeoff_result *res,
+                            pom_tradeoff_progress progress, void *user, pom_error *err) {
+  if (!arch || !mech || !base || !mv || !o || !res)
+    POM_FAIL(err, POM_ERR_ARG, "pom_tradeoff_run: NULL argument");
+  if (o->maneuvers < 1 || o->maneuvers > 16 || o->repeats < 1 || o->repeats > 100)
+    POM_FAIL(err, POM_ERR_ARG, "tradeoff: maneuvers %d must be in 1..16, repeats %d in 1..100",
+             o->maneuvers, o->repeats);
+  if (mv->space != POM_DOE_SPACE_JOINT)
+    POM_FAIL(err, POM_ERR_ARG, "tradeoff: montecarlo.space must be \"joint\"");
+  memset(res, 0, sizeof *res);
+  res->recommended = -1;
+  res->n_maneuvers = o->maneuvers;
+  for (int k = 0; k < o->maneuvers; ++k) {
+    pom_doe_maneuver man;
+    pom_doe_maneuver_draw(&man, mv, k);
+    memcpy(res->targets[k], man.q, sizeof man.q);
+  }
+  build_settings(res, base, o);
+  ref_data *ref = calloc(1, sizeof *ref);
+  if (!ref) POM_FAIL(err, POM_ERR_NOMEM, "allocating the reference");
+  pom_status st = run_setting(mech, &res->row[0], o, res, NULL, ref, err);
+  if (st == POM_OK) {
+    res->row[0].err_settle = res->row[0].err_energy = res->row[0].err_traj = 0.0;
+    res->row[0].err_max = 0.0;
+    if (progress) progress(user, &res->row[0], 1, res->n_rows);
+    for (int r = 1; r < res->n_rows && st == POM_OK; ++r) {
+      st = run_setting(mech, &res->row[r], o, res, ref, NULL, err);
+      if (progress) progress(user, &res->row[r], r + 1, res->n_rows);
+    }
+  }
+  ref_free(ref);
+  free(ref);
+  if (st == POM_OK) res->recommended = pom_tradeoff_recommend(res, o->accuracy);
+  return st;
+}
+
+int pom_tradeoff_recommend(const pom_tradeoff_result *res, double accuracy) {
+  int best = -1;
+  for (int r = 1; r < res->n_rows; ++r) {
+    const pom_tradeoff_row *w = &res->row[r];
+    if (w->failures || !(w->err_max <= accuracy) || !isfinite(w->time)) continue;
+    if (best < 0 || w->time < res->row[best].time) best = r;
+  }
+  return best;
+}

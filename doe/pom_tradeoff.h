@@ -1,0 +1,87 @@
+/* pom_tradeoff.h - speed against accuracy of the dynamics engine
+ * (docs/tradeoff.md): a sweep over formulation, scene options, rtol,
+ * parasitic stiffness and linear solver, each setting run on a fixed set of
+ * maneuvers (drawn from the study seed) and compared with a tight reference.
+ * Library code: never prints; the caller (cli/cmd_tradeoff.c) shows the
+ * table and the recommendation. */
+#ifndef POM_TRADEOFF_H
+#define POM_TRADEOFF_H
+
+#include "pom_config.h"
+#include "pom_doe.h"
+#include "pom_dynamics.h"
+#include "pom_kinematics.h"
+#include "pom_mechanism.h"
+#include "pom_status.h"
+
+#define POM_TRADEOFF_MAX_VALUES 12
+#define POM_TRADEOFF_MAX_ROWS   64
+
+/* The `tradeoff` config group (docs/tradeoff.md, keys). */
+typedef struct {
+  int maneuvers;                             /* maneuvers 0..n-1 of the montecarlo seed */
+  int repeats;                               /* timing repeats per maneuver (median) */
+  double rtol[POM_TRADEOFF_MAX_VALUES];      /* rtol sweep at the configured stiffness */
+  int n_rtol;                                /* entries of rtol */
+  double stiffness[POM_TRADEOFF_MAX_VALUES]; /* k_p sweep (N/m and N m/rad) at solver.rtol */
+  int n_stiffness;                           /* entries of stiffness */
+  int linear_solvers;                        /* 1: also the other linear solver at solver.rtol */
+  int scenes;                                /* 1: one row per reduced scene option */
+  double reference_rtol;      /* rtol of the reference (atol_scale = min(config, 1e3 rtol)) */
+  double reference_stiffness; /* k_p of the reference (N/m and N m/rad) */
+  double accuracy;            /* relative accuracy asked for the recommendation */
+  double max_wall;            /* s: a setting whose maneuver takes longer is
+                                 abandoned (counted as failed) */
+} pom_tradeoff_opts;
+
+/* Defaults: 3 maneuvers, 3 repeats, rtol 1e-2..1e-8, k_p 1e3..1e9, both
+ * linear solvers, scene rows on, reference rtol 1e-10 at k_p 1e9, accuracy
+ * 1 %, 20 s per maneuver at most. */
+void pom_tradeoff_defaults(pom_tradeoff_opts *o);
+
+/* Reads the `tradeoff` group over the defaults (absent = defaults). */
+pom_status pom_tradeoff_load(pom_tradeoff_opts *o, const pom_cfg *cfg, pom_error *err);
+
+/* One setting and what it measured. Errors are the worst over the maneuvers
+ * (and actuators), relative to the reference; a failed maneuver makes them
+ * +Inf. */
+typedef struct {
+  char label[96];  /* e.g. "rtol 1e-04", "scene: coil quasi-static" */
+  char family[16]; /* "reference", "config", "rtol", "stiffness", "linsol", "scene", "combined" */
+  pom_dyn_params params; /* the parameters it ran with */
+  int n_states;          /* ODE states of its model */
+  double time;           /* s per maneuver: median over repeats, mean over maneuvers */
+  double steps;          /* CVODE steps per maneuver (mean) */
+  double err_settle;     /* max |t_exec - t_exec,ref| / t_exec,ref */
+  double err_energy;     /* max |E - E_ref| / |E_ref| (total expended energy) */
+  double err_traj;       /* max_t |q_i(t) - q_i,ref(t)| / max_i |step_i| */
+  double err_max;        /* largest of the three */
+  int failures;          /* maneuvers that failed (status != POM_OK) */
+  char reason[256];      /* first failure reason, "" if none */
+} pom_tradeoff_row;
+
+typedef struct {
+  int n_rows;
+  pom_tradeoff_row row[POM_TRADEOFF_MAX_ROWS]; /* row 0: the reference, row 1: the config */
+  double targets[16][3];                       /* the maneuvers' targets (m) */
+  int n_maneuvers;
+  int recommended; /* row index of the cheapest setting within accuracy, -1 if none */
+} pom_tradeoff_result;
+
+/* Progress callback (may be NULL): called after each setting with its row. */
+typedef void (*pom_tradeoff_progress)(void *user, const pom_tradeoff_row *row, int done, int total);
+
+/* Runs the sweep on mech (built from arch) with base parameters `base` (the config's), the
+ * maneuvers of mv. res is filled (caller-owned, large: allocate it). A
+ * setting that fails is recorded, not fatal; only setup failures return an
+ * error. */
+pom_status pom_tradeoff_run(const pom_kin_arch *arch, const pom_mechanism *mech,
+                            const pom_dyn_params *base, const pom_doe_maneuvers *mv,
+                            const pom_tradeoff_opts *o, pom_tradeoff_result *res,
+                            pom_tradeoff_progress progress, void *user, pom_error *err);
+
+/* Index of the cheapest row (not the reference) whose err_max <= accuracy and
+ * with no failure; -1 when none. */
+int pom_tradeoff_recommend(const pom_tradeoff_result *res, double accuracy);
+
+#endif
