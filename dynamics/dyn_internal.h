@@ -69,6 +69,7 @@ typedef struct {
   int flux_state; /* state index of the coil flux linkage, -1 when quasi-static */
   int int_state;  /* state index of the PID integral */
   int acc_state;  /* first of DYN_ACC_PER_ACT accumulator states */
+  double stroke;  /* total stroke (m), targets within +-stroke/2; 0 = not limited */
 } dyn_actuator;
 
 struct pom_dyn_model {

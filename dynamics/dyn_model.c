@@ -258,6 +258,9 @@ static pom_status params_check(const pom_dyn_params *p, pom_error *err) {
              "maneuver: horizon %g s, output_dt %g s (0 < dt <= horizon, <= 1e7 samples), band "
              "%g must be > 0",
              m->horizon, m->output_dt, m->settle_band);
+  if (!(s->max_wall >= 0) || !(s->max_balance_error >= 0))
+    POM_FAIL(err, POM_ERR_ARG, "solver: max_wall %g s and max_balance_error %g must be >= 0",
+             s->max_wall, s->max_balance_error);
   if (!(p->scene.euler_cos_min > 0 && p->scene.euler_cos_min < 1))
     POM_FAIL(err, POM_ERR_ARG, "scene.euler_cos_min %g outside (0, 1)", p->scene.euler_cos_min);
   return POM_OK;
@@ -413,6 +416,7 @@ pom_status pom_dyn_model_create(pom_dyn_model **out, const pom_mechanism *mech,
     m->joint[j].actuator = a;
     dyn_actuator *ac = &m->act[a];
     ac->joint = j;
+    ac->stroke = mech->actuator[a].stroke;
     ac->flux_state = p->scene.coil_inductance ? next++ : -1;
     ac->int_state = next++;
   }

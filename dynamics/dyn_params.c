@@ -37,6 +37,8 @@ void pom_dyn_params_defaults(pom_dyn_params *p) {
   p->solver.linear_solver = POM_LINSOL_KLU;
   p->solver.max_order = 5;
   p->solver.stability_limit_detection = 1;
+  p->solver.max_wall = 0.0;
+  p->solver.max_balance_error = 0.05;
   p->maneuver.horizon = 0.100;
   p->maneuver.settle_band = 0.02;
   p->maneuver.output_dt = 1.0e-4;
@@ -129,6 +131,10 @@ pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error 
   v->max_order = (int)lval;
   POM_TRY(pom_cfg_bool_opt(cfg, "solver.stability_limit_detection", v->stability_limit_detection,
                            &v->stability_limit_detection, err));
+  POM_TRY(
+      pom_cfg_real_opt(cfg, "solver.max_wall_s", 1.0, 0.0, 1e6, v->max_wall, &v->max_wall, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "solver.max_balance_error", 1.0, 0.0, 1e3, v->max_balance_error,
+                           &v->max_balance_error, err));
 
   POM_TRY(
       pom_cfg_real_opt(cfg, "maneuver.horizon_ms", 1e-3, 1e-3, 1e7, m->horizon, &m->horizon, err));

@@ -341,6 +341,24 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
     mt->target[a] = target[a];
     if (!isfinite(target[a])) POM_FAIL(err, POM_ERR_ARG, "target %d is not finite", a + 1);
   }
+  /* a target outside the actuator's stroke is refused before any work
+   * (docs/dynamics.md section 14); stroke 0 = not limited */
+  for (int a = 0; a < m->n_actuators; ++a) {
+    double half = 0.5 * m->act[a].stroke;
+    if (half > 0 && !(fabs(target[a]) <= half)) {
+      pom_status st = pom_error_set(err, POM_ERR_LIMIT, __FILE__, __LINE__,
+                                    "target of actuator %d = %.6g mm is outside its stroke "
+                                    "+-%.6g mm",
+                                    a + 1, target[a] * 1e3, half * 1e3);
+      mt->status = st;
+      snprintf(mt->reason, sizeof mt->reason, "target of actuator %d = %.6g mm outside the stroke",
+               a + 1, target[a] * 1e3);
+      mt->execution_time = NAN;
+      for (int k = 0; k < 3; ++k)
+        mt->settling_time[k] = mt->settling_time_final[k] = NAN;
+      return st;
+    }
+  }
   for (int a = 0; a < m->n_actuators; ++a)
     d->target[a] = target[a];
   d->rhs_count = d->jac_rhs_count = d->jac_count = 0;
@@ -373,6 +391,18 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
      * solver.max_steps is enforced here over the whole maneuver */
     if (n_steps++ >= p->solver.max_steps) {
       st = fail_status(d, CV_TOO_MUCH_WORK, t, mt, err);
+      goto finish;
+    }
+    if (p->solver.max_wall > 0 && (n_steps & 15) == 0 &&
+        now_seconds() - t0_wall > p->solver.max_wall) {
+      /* wall-clock budget (docs/dynamics.md section 14) */
+      st = pom_error_set(err, POM_ERR_SOLVER, __FILE__, __LINE__,
+                         "wall-clock budget solver.max_wall_s = %g s exhausted at t = %.6g s "
+                         "after %ld steps",
+                         p->solver.max_wall, t, n_steps);
+      mt->status = st;
+      snprintf(mt->reason, sizeof mt->reason, "wall-clock budget %g s exhausted at t = %.6g s",
+               p->solver.max_wall, t);
       goto finish;
     }
     int flag = CVode(d->cvode, p->maneuver.horizon, d->y, &t, CV_ONE_STEP);
@@ -432,6 +462,19 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
     mt->energy_balance_error = scale > 0 ? fabs(imbalance) / scale : 0.0;
   }
   settle_metrics(m, d, mt);
+  if (p->solver.max_balance_error > 0 &&
+      !(mt->energy_balance_error <= p->solver.max_balance_error)) {
+    /* the audit exposes an inaccurate (too loose) or unstable integration
+     * that still looks plausible (docs/dynamics.md section 14) */
+    st = pom_error_set(err, POM_ERR_UNSTABLE, __FILE__, __LINE__,
+                       "energy audit does not close: balance error %.3g > solver.max_balance_error "
+                       "= %.3g (integration too loose or unstable; tighten solver.rtol)",
+                       mt->energy_balance_error, p->solver.max_balance_error);
+    mt->status = st;
+    snprintf(mt->reason, sizeof mt->reason,
+             "energy audit does not close: balance error %.3g > %.3g; tighten solver.rtol",
+             mt->energy_balance_error, p->solver.max_balance_error);
+  }
   for (int a = 0; a < m->n_actuators; ++a)
     if (!isfinite(mt->energy[a]) || !isfinite(mt->final_q[a])) {
       st = pom_error_set(err, POM_ERR_NONFINITE, __FILE__, __LINE__,

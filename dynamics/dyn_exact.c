@@ -1,0 +1,499 @@
+/* dyn_exact.c - the exact-constraint (rigid-joint) path in minimal
+ * coordinates: the state is the platform orientation and angular velocity
+ * (plus the coils, PID integrals and energy accumulators); every body's pose
+ * and twist follow from pom_kin_body_twists; the equations of motion are
+ * Kane's M(R) omega_dot = f(R, omega, i) (docs/dynamics-exact.md). Model
+ * set-up, the right-hand side, the dense finite-difference Jacobian and the
+ * state queries the shared maneuver driver (dyn_simulate.c) dispatches to. */
+#include "dyn_internal.h"
+#include "pom_math.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+/* Characteristic scales of the states (docs/dynamics-exact.md section 5; the
+ * same kinds and values as the parasitic path, docs/dynamics.md section 7). */
+#define EXACT_SCALE_ANGLE   1e-4 /* rad, orientation angles and quaternion components */
+#define EXACT_SCALE_RATE    1e-2 /* rad/s, platform angular velocity */
+#define EXACT_SCALE_LENGTH  1e-6 /* m, for the PID integral (x horizon) */
+#define EXACT_SCALE_CURRENT 1e-2 /* A, coil flux = L x this */
+#define EXACT_SCALE_ENERGY  1e-3 /* J, energy accumulators */
+
+/* Test rotation of the consistency check between mechanism and kinematics:
+ * a generic pose ~2 deg from home (no symmetry can hide a mismatch). */
+static const double exact_check_euler[3] = {0.031, -0.022, 0.017};
+/* Largest mismatch (m) of a joint between the mechanism and the kinematic
+ * body poses: both are exact geometry, so any real mismatch is ~mm while
+ * rounding is ~1e-17 m. */
+#define EXACT_MATCH_TOL 1e-9
+
+/* ---- small linear algebra ------------------------------------------------ */
+/* out += s * A^T B (3x3) */
+static void add_tmul(double out[9], double s, const double A[9], const double B[9]) {
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      out[3 * r + c] += s * (A[r] * B[c] + A[3 + r] * B[3 + c] + A[6 + r] * B[6 + c]);
+}
+
+/* Solves the symmetric positive definite M x = f by Cholesky; returns 0 when
+ * M is not positive definite (or not finite). */
+static int spd_solve(double x[3], const double M[9], const double f[3]) {
+  double l00 = M[0];
+  if (!(l00 > 0)) return 0;
+  l00 = sqrt(l00);
+  double l10 = M[3] / l00, l20 = M[6] / l00;
+  double d1 = M[4] - l10 * l10;
+  if (!(d1 > 0)) return 0;
+  double l11 = sqrt(d1);
+  double l21 = (M[7] - l20 * l10) / l11;
+  double d2 = M[8] - l20 * l20 - l21 * l21;
+  if (!(d2 > 0)) return 0;
+  double l22 = sqrt(d2);
+  double y0 = f[0] / l00, y1 = (f[1] - l10 * y0) / l11, y2 = (f[2] - l20 * y0 - l21 * y1) / l22;
+  x[2] = y2 / l22;
+  x[1] = (y1 - l21 * x[2]) / l11;
+  x[0] = (y0 - l10 * x[1] - l20 * x[2]) / l00;
+  return 1;
+}
+
+/* Platform rotation of state y; Euler path keeps the trig for the rate matrix. */
+static void state_rotation(const pom_dyn_model *m, const double *y, double R[9], double trig[4]) {
+  const dyn_exact *ex = m->ex;
+  const double *o = y + ex->ori;
+  if (ex->n_ori == 4) {
+    double q[4] = {o[0], o[1], o[2], o[3]};
+    pom_quat_normalize(q);
+    pom_quat_to_matrix(R, q);
+    return;
+  }
+  double cps = cos(o[0]), sps = sin(o[0]), cth = cos(o[1]), sth = sin(o[1]);
+  double cph = cos(o[2]), sph = sin(o[2]);
+  R[0] = cps * cth;
+  R[1] = cps * sth * sph - sps * cph;
+  R[2] = cps * sth * cph + sps * sph;
+  R[3] = sps * cth;
+  R[4] = sps * sth * sph + cps * cph;
+  R[5] = sps * sth * cph - cps * sph;
+  R[6] = -sth;
+  R[7] = cth * sph;
+  R[8] = cth * cph;
+  if (trig) {
+    trig[0] = cps;
+    trig[1] = sps;
+    trig[2] = cth;
+    trig[3] = sth;
+  }
+}
+
+void pom_dyn_exact_platform_rotation(const pom_dyn_model *m, const double *y, double R[9]) {
+  state_rotation(m, y, R, NULL);
+}
+
+/* ---- model --------------------------------------------------------------- */
+/* Pose of home point p of a body. */
+static void body_point(double out[3], const pom_kin_body_twist *b, const double p[3]) {
+  double d[3], r[3];
+  pom_v3_sub(d, p, b->ref_home);
+  pom_m3_apply(r, b->R, d);
+  pom_v3_add(out, b->ref, r);
+}
+
+/* Checks that the kinematic body poses realise every joint of the mechanism
+ * at a generic pose and finds the kinematic limb of each actuator. */
+static pom_status consistency_check(dyn_exact *ex, const pom_mechanism *mech, pom_error *err) {
+  double R[9];
+  pom_kin_twists tw;
+  pom_euler_zyx_to_matrix(R, exact_check_euler);
+  POM_TRY(pom_kin_body_twists(&ex->arch, R, NULL, &tw, err));
+  if (tw.n_bodies != mech->n_bodies)
+    POM_FAIL(err, POM_ERR_ARG,
+             "joints.model = \"rigid\": the architecture's kinematics has %d bodies, the "
+             "mechanism %d (build the mechanism with pom_kin_mechanism_from of the same arch)",
+             tw.n_bodies, mech->n_bodies);
+  for (int a = 0; a < POM_MECH_MAX_ACTUATORS; ++a)
+    ex->act_limb[a] = -1;
+  for (int j = 0; j < mech->n_joints; ++j) {
+    const pom_mech_joint *jt = &mech->joint[j];
+    const pom_kin_body_twist *b0 = &tw.body[jt->body[0]], *b1 = &tw.body[jt->body[1]];
+    double p0[3], p1[3], dd[3];
+    body_point(p0, b0, jt->point);
+    body_point(p1, b1, jt->point);
+    pom_v3_sub(dd, p1, p0);
+    double mismatch = 0.0;
+    if (jt->type == POM_JOINT_PRISMATIC) {
+      double ax[3], lat[3], Rrel[9];
+      pom_m3_apply(ax, b0->R, jt->axis);
+      double q = pom_v3_dot(ax, dd);
+      pom_v3_axpy(lat, dd, -q, ax);
+      mismatch = pom_v3_norm(lat);
+      pom_m3_tmul(Rrel, b0->R, b1->R);
+      double rot = fabs(Rrel[1]) + fabs(Rrel[2]) + fabs(Rrel[5]);
+      mismatch = fmax(mismatch, rot * pom_v3_norm(jt->point));
+      int a = jt->actuator;
+      if (a >= 0 && a < mech->n_actuators) {
+        for (int i = 0; i < 3; ++i)
+          if (fabs(tw.q[i] - q) <= EXACT_MATCH_TOL && fabs(q) > 100 * EXACT_MATCH_TOL)
+            ex->act_limb[a] = i;
+        if (ex->act_limb[a] < 0)
+          POM_FAIL(err, POM_ERR_ARG,
+                   "joints.model = \"rigid\": actuator %d (joint '%s', q = %.6g m at the check "
+                   "pose) matches no limb of the kinematics",
+                   a + 1, jt->name, q);
+      }
+    } else {
+      mismatch = pom_v3_norm(dd);
+    }
+    if (!(mismatch <= EXACT_MATCH_TOL))
+      POM_FAIL(err, POM_ERR_ARG,
+               "joints.model = \"rigid\": joint '%s' is violated by %.3g m by the kinematic body "
+               "poses (mechanism and architecture differ)",
+               jt->name, mismatch);
+  }
+  for (int a = 0; a < mech->n_actuators; ++a)
+    if (ex->act_limb[a] < 0)
+      POM_FAIL(err, POM_ERR_ARG, "joints.model = \"rigid\": actuator %d has no joint", a + 1);
+  return POM_OK;
+}
+
+pom_status pom_dyn_exact_model_init(pom_dyn_model *m, const pom_mechanism *mech,
+                                    const pom_kin_arch *arch, pom_error *err) {
+  const pom_dyn_params *p = &m->par;
+  dyn_exact *ex = calloc(1, sizeof *ex);
+  if (!ex) POM_FAIL(err, POM_ERR_NOMEM, "allocating the exact-constraint model");
+  m->ex = ex;
+  ex->arch = *arch;
+  ex->platform_mech = mech->platform;
+  if (mech->platform < 1 || mech->platform >= mech->n_bodies)
+    POM_FAIL(err, POM_ERR_ARG, "joints.model = \"rigid\": the mechanism has no platform body");
+  POM_TRY(consistency_check(ex, mech, err));
+
+  /* bodies: mass, inertia about the CM (fixed axes at home); idle-spin bodies
+   * get the transverse moment of their axisymmetric equivalent */
+  pom_kin_twists tw;
+  double I3[9];
+  pom_m3_identity(I3);
+  POM_TRY(pom_kin_body_twists(arch, I3, NULL, &tw, err));
+  m->n_bodies = 0;
+  for (int k = 1; k < mech->n_bodies; ++k) {
+    const pom_mech_body *mb = &mech->body[k];
+    dyn_body *bd = &m->body[m->n_bodies];
+    if (!(mb->mass > 0) || !isfinite(mb->mass))
+      POM_FAIL(err, POM_ERR_ARG, "body '%s': mass %g kg must be > 0", mb->name, mb->mass);
+    pom_m3_sym_eig(bd->principal, bd->V, mb->inertia);
+    if (!(bd->principal[2] > 0))
+      POM_FAIL(err, POM_ERR_ARG, "body '%s': principal moments (%g, %g, %g) kg m^2 must be > 0",
+               mb->name, bd->principal[0], bd->principal[1], bd->principal[2]);
+    bd->mech_index = k;
+    bd->mass = mb->mass;
+    pom_v3_copy(bd->cm_home, mb->cm);
+    memcpy(ex->inertia[m->n_bodies], mb->inertia, sizeof ex->inertia[0]);
+    const pom_kin_body_twist *t = &tw.body[k];
+    ex->spin_free[m->n_bodies] = t->spin_free;
+    if (t->spin_free) {
+      double Is[3], axial;
+      pom_m3_apply(Is, mb->inertia, t->spin_axis);
+      axial = pom_v3_dot(t->spin_axis, Is);
+      ex->transverse[m->n_bodies] =
+          0.5 * (mb->inertia[0] + mb->inertia[4] + mb->inertia[8] - axial);
+    }
+    m->slot_of_mech[k] = m->n_bodies;
+    if (k == mech->platform) m->platform_slot = m->n_bodies;
+    ++m->n_bodies;
+  }
+
+  /* state layout: orientation, omega, per actuator [flux] integral, accumulators */
+  ex->n_ori = p->scene.orientation == POM_ORIENT_QUATERNION ? 4 : 3;
+  ex->ori = 0;
+  ex->omega = ex->n_ori;
+  int next = ex->n_ori + 3;
+  m->n_actuators = mech->n_actuators;
+  for (int a = 0; a < m->n_actuators; ++a) {
+    dyn_actuator *ac = &m->act[a];
+    ac->joint = mech->actuator[a].joint;
+    ac->flux_state = p->scene.coil_inductance ? next++ : -1;
+    ac->int_state = next++;
+  }
+  ex->n_jac = next;
+  for (int a = 0; a < m->n_actuators; ++a) {
+    m->act[a].acc_state = next;
+    next += DYN_ACC_PER_ACT;
+  }
+  m->acc_parasitic = next++;
+  m->n_states = next;
+  m->n_colors = ex->n_jac;
+  m->nnz = (long)m->n_states * m->n_states; /* dense Jacobian in d->jac, column-major */
+
+  m->atol = calloc((size_t)m->n_states, sizeof *m->atol);
+  m->scale = calloc((size_t)m->n_states, sizeof *m->scale);
+  if (!m->atol || !m->scale) POM_FAIL(err, POM_ERR_NOMEM, "allocating tolerances");
+  for (int i = 0; i < ex->n_ori; ++i)
+    m->scale[ex->ori + i] = EXACT_SCALE_ANGLE;
+  for (int i = 0; i < 3; ++i)
+    m->scale[ex->omega + i] = EXACT_SCALE_RATE;
+  for (int a = 0; a < m->n_actuators; ++a) {
+    const dyn_actuator *ac = &m->act[a];
+    if (ac->flux_state >= 0)
+      m->scale[ac->flux_state] = p->actuator.inductance * EXACT_SCALE_CURRENT;
+    m->scale[ac->int_state] = EXACT_SCALE_LENGTH * p->maneuver.horizon;
+    for (int k = 0; k < DYN_ACC_PER_ACT; ++k)
+      m->scale[ac->acc_state + k] = EXACT_SCALE_ENERGY;
+    m->scale[ac->acc_state + DYN_ACC_SATURATED] = p->maneuver.horizon;
+  }
+  m->scale[m->acc_parasitic] = EXACT_SCALE_ENERGY;
+  for (int i = 0; i < m->n_states; ++i)
+    m->atol[i] = p->solver.atol_scale * m->scale[i];
+  for (int a = 0; a < m->n_actuators; ++a) /* discontinuous indicator: no error test */
+    m->atol[m->act[a].acc_state + DYN_ACC_SATURATED] = 1e30;
+  return POM_OK;
+}
+
+/* ---- right-hand side ------------------------------------------------------ */
+int pom_dyn_exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot) {
+  const dyn_exact *ex = m->ex;
+  dyn_exact_work *xw = d->xw;
+  const pom_dyn_params *par = &m->par;
+  const pom_dyn_actuator *ap = &par->actuator;
+  const pom_dyn_controller *cp = &par->controller;
+  dyn_outputs *o = &d->out;
+  memset(o, 0, sizeof *o);
+  double R[9], trig[4] = {1.0, 0.0, 1.0, 0.0};
+  state_rotation(m, y, R, trig);
+  if (ex->n_ori == 3 && trig[2] < par->scene.euler_cos_min) o->euler_singular = 1;
+  const double *w = y + ex->omega;
+  pom_kin_twists *tw = &xw->tw;
+  if (pom_kin_body_twists(&ex->arch, R, w, tw, NULL) != POM_OK) {
+    o->kin_fail = 1;
+    return 1;
+  }
+
+  /* Kane: M = sum m Acm^T Acm + B^T I B; f = sum Acm^T (F - m a0) - B^T (I al0 + w x I w) */
+  double M[9] = {0}, f[3] = {0}, pe = 0.0;
+  for (int b = 0; b < m->n_bodies; ++b) {
+    const dyn_body *bd = &m->body[b];
+    const pom_kin_body_twist *t = &tw->body[bd->mech_index];
+    double d0[3], rho[3], S[9], Acm[9], wb[3], a0[3], tmp[3], x[3];
+    pom_v3_sub(d0, bd->cm_home, t->ref_home);
+    pom_m3_apply(rho, t->R, d0);
+    pom_m3_skew(S, rho);
+    pom_m3_mul(Acm, S, t->B);
+    for (int k = 0; k < 9; ++k)
+      Acm[k] = t->A[k] - Acm[k];
+    pom_m3_apply(wb, t->B, w);
+    /* CM acceleration at omega_dot = 0 */
+    pom_v3_cross(a0, t->alpha_bias, rho);
+    pom_v3_add(a0, a0, t->a_bias);
+    pom_v3_cross(tmp, wb, rho);
+    pom_v3_cross(x, wb, tmp);
+    pom_v3_add(a0, a0, x);
+    double F[3];
+    for (int k = 0; k < 3; ++k)
+      F[k] = bd->mass * (m->gravity[k] - a0[k]);
+    add_tmul(M, bd->mass, Acm, Acm);
+    pom_m3_tapply(tmp, Acm, F);
+    pom_v3_add(f, f, tmp);
+    /* rotation */
+    double Ib[9], Iw[3], Ia[3], gyro[3], Tq[3];
+    if (ex->spin_free[b]) {
+      /* axisymmetric about the spin axis, w across it: I w = I_t w, w x I w = 0 */
+      add_tmul(M, ex->transverse[b], t->B, t->B);
+      pom_v3_scale(Tq, -ex->transverse[b], t->alpha_bias);
+    } else {
+      double RI[9];
+      pom_m3_mul(RI, t->R, ex->inertia[b]);
+      pom_m3_mult(Ib, RI, t->R);
+      double IB[9];
+      pom_m3_mul(IB, Ib, t->B);
+      add_tmul(M, 1.0, t->B, IB);
+      pom_m3_apply(Iw, Ib, wb);
+      pom_m3_apply(Ia, Ib, t->alpha_bias);
+      pom_v3_cross(gyro, wb, Iw);
+      for (int k = 0; k < 3; ++k)
+        Tq[k] = -Ia[k] - gyro[k];
+    }
+    pom_m3_tapply(tmp, t->B, Tq);
+    pom_v3_add(f, f, tmp);
+    /* gravitational potential relative to home */
+    pom_v3_add(x, t->ref, rho);
+    pom_v3_sub(x, x, bd->cm_home);
+    pe -= bd->mass * pom_v3_dot(m->gravity, x);
+  }
+
+  /* actuators: the same coil and controller laws as the parasitic path
+   * (dyn_rhs.c), the force entering as J^T F */
+  for (int a = 0; a < m->n_actuators; ++a) {
+    const dyn_actuator *ac = &m->act[a];
+    int limb = ex->act_limb[a];
+    const double *Jr = tw->J + 3 * limb;
+    double q = tw->q[limb];
+    double qd = pom_v3_dot(Jr, w);
+    double e = d->target[a] - q;
+    double z = y[ac->int_state];
+    double u_raw;
+    if (cp->form == POM_PID_IDEAL)
+      u_raw = ap->sensor_gain * cp->kp * (e + cp->ki * z - cp->kd * qd);
+    else
+      u_raw = ap->sensor_gain * (cp->kp * e + cp->ki * z - cp->kd * qd);
+    double lim = ap->voltage_limit;
+    double u = u_raw > lim ? lim : (u_raw < -lim ? -lim : u_raw);
+    double i = ac->flux_state >= 0 ? y[ac->flux_state] / ap->inductance
+                                   : (u - ap->force_constant * qd) / ap->resistance;
+    double bf = par->scene.bearing_friction ? ap->bearing_friction : 0.0;
+    double force = ap->force_constant * i - bf * qd;
+    pom_v3_axpy(f, f, force, Jr);
+    o->q[a] = q;
+    o->q_dot[a] = qd;
+    o->current[a] = i;
+    o->voltage[a] = u;
+    if (ydot) {
+      if (ac->flux_state >= 0)
+        ydot[ac->flux_state] = u - ap->resistance * i - ap->force_constant * qd;
+      ydot[ac->int_state] = e;
+      double *acc = ydot + ac->acc_state;
+      double pw = u * i;
+      acc[DYN_ACC_SOURCE] = pw;
+      acc[DYN_ACC_SOURCE_POS] = pw > 0 ? pw : 0.0;
+      acc[DYN_ACC_SATURATED] = fabs(u_raw) >= lim ? 1.0 : 0.0;
+      acc[DYN_ACC_COIL] = ap->resistance * i * i;
+      acc[DYN_ACC_BEARING] = bf * qd * qd;
+    }
+  }
+  double Mw[3];
+  pom_m3_apply(Mw, M, w);
+  xw->kinetic = 0.5 * pom_v3_dot(w, Mw);
+  xw->potential = pe;
+  memcpy(xw->M, M, sizeof M);
+  if (!ydot) return o->euler_singular ? 1 : 0;
+
+  double wd[3];
+  if (!spd_solve(wd, M, f)) {
+    o->nonfinite = 1;
+    return 1;
+  }
+  memcpy(ydot + ex->omega, wd, sizeof wd);
+  ydot[m->acc_parasitic] = 0.0;
+  double *od = ydot + ex->ori;
+  if (ex->n_ori == 4) {
+    pom_quat_rate(od, y + ex->ori, w);
+  } else if (fabs(trig[2]) < par->scene.euler_cos_min) {
+    o->euler_singular = 1;
+    od[0] = od[1] = od[2] = 0.0;
+  } else {
+    double cps = trig[0], sps = trig[1], cth = trig[2], sth = trig[3], tth = sth / cth;
+    od[0] = cps * tth * w[0] + sps * tth * w[1] + w[2];
+    od[1] = -sps * w[0] + cps * w[1];
+    od[2] = cps / cth * w[0] + sps / cth * w[1];
+  }
+  for (int i = 0; i < m->n_states; ++i)
+    if (!isfinite(ydot[i])) {
+      o->nonfinite = 1;
+      break;
+    }
+  return (o->euler_singular || o->nonfinite) ? 1 : 0;
+}
+
+/* ---- Jacobian ------------------------------------------------------------- */
+/* Dense J (column-major into d->jac) by one-sided differences over the
+ * mechanical and electrical columns (the accumulators feed nothing back). */
+static int exact_jacobian(pom_dyn_data *d, const double *yv, const double *f0, double *yp,
+                          double *fp) {
+  const pom_dyn_model *m = d->m;
+  const int n = m->n_states;
+  const double srur = sqrt(2.220446049250313e-16); /* sqrt of the unit roundoff */
+  ++d->jac_count;
+  memcpy(yp, yv, (size_t)n * sizeof(double));
+  memset(d->jac, 0, (size_t)n * (size_t)n * sizeof(double));
+  for (int j = 0; j < m->ex->n_jac; ++j) {
+    double h = srur * fmax(fabs(yv[j]), m->scale[j]);
+    volatile double yh = yv[j] + h; /* make h exactly representable */
+    yp[j] = yh;
+    h = yp[j] - yv[j];
+    ++d->rhs_count;
+    ++d->jac_rhs_count;
+    int r = pom_dyn_exact_eval(m, d, yp, fp);
+    yp[j] = yv[j];
+    if (r != 0) return r;
+    double *col = d->jac + (size_t)j * (size_t)n;
+    for (int i = 0; i < n; ++i)
+      col[i] = (fp[i] - f0[i]) / h;
+  }
+  return 0;
+}
+
+int pom_dyn_exact_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, sunbooleantype jok,
+                         sunbooleantype *jcur, sunrealtype gamma, void *user_data, N_Vector tmp1,
+                         N_Vector tmp2, N_Vector tmp3) {
+  (void)t;
+  (void)tmp3;
+  pom_dyn_data *d = user_data;
+  const int n = d->m->n_states;
+  if (!jok || !d->jac_valid) {
+    int r = exact_jacobian(d, N_VGetArrayPointer(y), N_VGetArrayPointer(fy),
+                           N_VGetArrayPointer(tmp1), N_VGetArrayPointer(tmp2));
+    if (r != 0) return r;
+    d->jac_valid = 1;
+    *jcur = SUNTRUE;
+  } else {
+    *jcur = SUNFALSE;
+  }
+  for (int j = 0; j < n; ++j) {
+    double *col = SUNDenseMatrix_Column(A, j);
+    const double *jc = d->jac + (size_t)j * (size_t)n;
+    for (int i = 0; i < n; ++i)
+      col[i] = -gamma * jc[i];
+    col[j] += 1.0;
+  }
+  return 0;
+}
+
+/* ---- state queries for the shared driver ---------------------------------- */
+void pom_dyn_exact_initial(const pom_dyn_model *m, double *y, const pom_dyn_initial *init) {
+  const dyn_exact *ex = m->ex;
+  memset(y, 0, (size_t)m->n_states * sizeof(double));
+  if (ex->n_ori == 4) y[ex->ori] = 1.0;
+  if (init) memcpy(y + ex->omega, init->omega[ex->platform_mech], 3 * sizeof(double));
+}
+
+int pom_dyn_exact_near_singular(const pom_dyn_model *m, const double *y) {
+  return m->ex->n_ori == 3 && cos(y[m->ex->ori + 1]) < m->par.scene.euler_cos_min;
+}
+
+void pom_dyn_exact_positions(const pom_dyn_model *m, const double *y, double *q) {
+  double R[9], qq[3] = {NAN, NAN, NAN};
+  state_rotation(m, y, R, NULL);
+  (void)pom_kin_inverse(&m->ex->arch, R, qq, NULL); /* NaN when unassemblable */
+  for (int a = 0; a < m->n_actuators; ++a)
+    q[a] = qq[m->ex->act_limb[a]];
+}
+
+double pom_dyn_exact_stored(const pom_dyn_model *m, pom_dyn_data *d, const double *y) {
+  if (pom_dyn_exact_eval(m, d, y, NULL) != 0 && d->out.kin_fail) return NAN;
+  double E = d->xw->kinetic + d->xw->potential;
+  for (int a = 0; a < m->n_actuators; ++a)
+    if (m->act[a].flux_state >= 0) {
+      double lam = y[m->act[a].flux_state];
+      E += 0.5 * lam * lam / m->par.actuator.inductance;
+    }
+  return E;
+}
+
+pom_status pom_dyn_exact_body_pose(const pom_dyn_model *m, const double *y, int k, double R[9],
+                                   double x[3], pom_error *err) {
+  double Rp[9], d0[3], r[3];
+  pom_kin_twists tw;
+  state_rotation(m, y, Rp, NULL);
+  POM_TRY(pom_kin_body_twists(&m->ex->arch, Rp, NULL, &tw, err));
+  const pom_kin_body_twist *t = &tw.body[k];
+  pom_m3_copy(R, t->R);
+  pom_v3_sub(d0, m->body[m->slot_of_mech[k]].cm_home, t->ref_home);
+  pom_m3_apply(r, t->R, d0);
+  pom_v3_add(x, t->ref, r);
+  return POM_OK;
+}
+
+const double *pom_dyn_exact_mass_matrix(const pom_dyn_model *m, pom_dyn_data *d, const double *y) {
+  if (!m->ex || !d->xw) return NULL;
+  (void)pom_dyn_exact_eval(m, d, y, NULL);
+  return d->xw->M;
+}
