@@ -6,6 +6,7 @@
 #define POM_DYN_INTERNAL_H
 
 #include "pom_dynamics.h"
+#include "pom_kinematics.h"
 
 #include <cvode/cvode.h>
 #include <nvector/nvector_serial.h>
@@ -72,6 +73,30 @@ typedef struct {
   double stroke;  /* total stroke (m), targets within +-stroke/2; 0 = not limited */
 } dyn_actuator;
 
+/* Exact-constraint (rigid-joint) path in minimal coordinates, dyn_exact.c
+ * (docs/dynamics-exact.md). Bodies use the model's body[] slots (mass,
+ * principal moments, cm_home, mech_index); offsets are unused. */
+typedef struct {
+  pom_kin_arch arch;                      /* geometry the body poses come from */
+  int platform_mech;                      /* mechanism index of the platform */
+  int n_ori;                              /* orientation states: 3 (ZYX Euler) or 4 (quaternion) */
+  int ori;                                /* first orientation state */
+  int omega;                              /* first state of omega (platform, fixed frame, rad/s) */
+  int n_jac;                              /* leading states with Jacobian columns */
+  int act_limb[POM_MECH_MAX_ACTUATORS];   /* kinematic limb (q index) of each actuator */
+  double inertia[POM_MECH_MAX_BODIES][9]; /* [slot] inertia about the CM, fixed axes at home */
+  int spin_free[POM_MECH_MAX_BODIES];     /* [slot] 1: idle spin, axisymmetric equivalent */
+  double transverse[POM_MECH_MAX_BODIES]; /* [slot] its transverse moment (kg m^2) */
+} dyn_exact;
+
+/* Per-worker scratch of the exact path. */
+typedef struct {
+  pom_kin_twists tw; /* body poses and twists of the last evaluation */
+  double M[9];       /* mass matrix of the last evaluation (kg m^2) */
+  double kinetic;    /* 1/2 omega^T M omega of the last evaluation (J) */
+  double potential;  /* gravitational energy relative to home (J) */
+} dyn_exact_work;
+
 struct pom_dyn_model {
   pom_dyn_params par;
   double gravity[3]; /* m/s^2, zero when the scene has gravity off */
@@ -92,10 +117,11 @@ struct pom_dyn_model {
   unsigned char *dep; /* [n_states][n_states] row i depends on column j */
   int *color;         /* [n_states] colour of each column */
   int n_colors;
-  long nnz;     /* structural non-zeros (including the diagonal) */
-  long *colptr; /* [n_states + 1] CSC column starts of the pattern */
-  int *rowind;  /* [nnz] CSC row indices */
-  long *diag;   /* [n_states] position of the diagonal entry of each column */
+  long nnz;      /* structural non-zeros (including the diagonal) */
+  long *colptr;  /* [n_states + 1] CSC column starts of the pattern */
+  int *rowind;   /* [nnz] CSC row indices */
+  long *diag;    /* [n_states] position of the diagonal entry of each column */
+  dyn_exact *ex; /* exact-constraint path (joints.model = rigid), NULL for the parasitic one */
 };
 
 /* Per-body kinematic quantities at one evaluation. */
@@ -123,6 +149,7 @@ typedef struct {
   double parasitic_power;                 /* W */
   int euler_singular;                     /* 1 when a body was too close to pitch 90 deg */
   int nonfinite;                          /* 1 when a derivative was not finite */
+  int kin_fail;                           /* exact path: the rigid mechanism cannot be assembled */
 } dyn_outputs;
 
 struct pom_dyn_data {
@@ -149,6 +176,8 @@ struct pom_dyn_data {
   double *qs;                /* [n_samples][n_actuators] sampled positions for metrics */
   double *yfinal;            /* [n_states] state at the end of the last run */
   int have_final;
+  dyn_exact_work *xw;  /* exact path scratch, NULL for the parasitic path */
+  long kin_fail_count; /* exact path: RHS calls of this run at an unassemblable pose */
 };
 
 /* dyn_rhs.c: evaluates the state derivative (ydot may be NULL to compute the
@@ -184,5 +213,23 @@ int pom_dyn_cvode_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, su
  * are caller scratch of n_states each. worst_i/j name the entry. */
 double pom_dyn_structure_check(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *f0,
                                double *yp, double *fp, int *worst_i, int *worst_j);
+
+/* dyn_exact.c: the exact-constraint path (docs/dynamics-exact.md). */
+pom_status pom_dyn_exact_model_init(pom_dyn_model *m, const pom_mechanism *mech,
+                                    const pom_kin_arch *arch, pom_error *err);
+int pom_dyn_exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot);
+int pom_dyn_exact_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, sunbooleantype jok,
+                         sunbooleantype *jcur, sunrealtype gamma, void *user_data, N_Vector tmp1,
+                         N_Vector tmp2, N_Vector tmp3);
+void pom_dyn_exact_initial(const pom_dyn_model *m, double *y, const pom_dyn_initial *init);
+int pom_dyn_exact_near_singular(const pom_dyn_model *m, const double *y);
+void pom_dyn_exact_positions(const pom_dyn_model *m, const double *y, double *q);
+double pom_dyn_exact_stored(const pom_dyn_model *m, pom_dyn_data *d, const double *y);
+void pom_dyn_exact_platform_rotation(const pom_dyn_model *m, const double *y, double R[9]);
+pom_status pom_dyn_exact_body_pose(const pom_dyn_model *m, const double *y, int k, double R[9],
+                                   double x[3], pom_error *err);
+/* Mass matrix M(R) (kg m^2, 3x3 row-major) at state y; NULL for a parasitic
+ * model. Points into d's scratch (valid until the next evaluation). */
+const double *pom_dyn_exact_mass_matrix(const pom_dyn_model *m, pom_dyn_data *d, const double *y);
 
 #endif

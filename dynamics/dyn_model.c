@@ -317,6 +317,9 @@ pom_status pom_dyn_model_create(pom_dyn_model **out, const pom_mechanism *mech,
   if (!out || !mech || !p) POM_FAIL(err, POM_ERR_ARG, "pom_dyn_model_create: NULL argument");
   *out = NULL;
   POM_TRY(params_check(p, err));
+  if (p->joints.model == POM_JOINTS_RIGID)
+    POM_FAIL(err, POM_ERR_ARG,
+             "joints.model = \"rigid\" needs the architecture: use pom_dyn_model_create_ex");
   if (mech->n_bodies < 2 || mech->n_bodies > POM_MECH_MAX_BODIES || mech->n_joints < 0 ||
       mech->n_joints > POM_MECH_MAX_JOINTS || mech->n_actuators < 0 || mech->n_actuators > 3)
     POM_FAIL(err, POM_ERR_ARG,
@@ -453,6 +456,7 @@ void pom_dyn_model_destroy(pom_dyn_model *m) {
   free(m->colptr);
   free(m->rowind);
   free(m->diag);
+  free(m->ex);
   free(m);
 }
 
@@ -464,4 +468,39 @@ int pom_dyn_model_n_states(const pom_dyn_model *m) {
 }
 int pom_dyn_model_n_colors(const pom_dyn_model *m) {
   return m->n_colors;
+}
+
+/* ---- exact-constraint path (docs/dynamics-exact.md) ------------------------ */
+pom_status pom_dyn_model_create_ex(pom_dyn_model **out, const pom_mechanism *mech,
+                                   const pom_kin_arch *arch, const pom_dyn_params *p,
+                                   pom_error *err) {
+  pom_status st = POM_OK;
+  if (!p || p->joints.model != POM_JOINTS_RIGID) return pom_dyn_model_create(out, mech, p, err);
+  if (!out || !mech || !arch)
+    POM_FAIL(err, POM_ERR_ARG,
+             "pom_dyn_model_create_ex: NULL argument (the rigid joint model "
+             "needs the architecture)");
+  *out = NULL;
+  POM_TRY(params_check(p, err));
+  if (p->scene.limb_inertia != POM_INERTIA_FULL || !p->scene.universal_joint)
+    POM_FAIL(err, POM_ERR_ARG,
+             "joints.model = \"rigid\" supports scene.limb_inertia = \"full\" and "
+             "scene.universal_joint = true only");
+  if (mech->n_bodies < 2 || mech->n_bodies > POM_MECH_MAX_BODIES || mech->n_actuators < 1 ||
+      mech->n_actuators > 3)
+    POM_FAIL(err, POM_ERR_ARG, "mechanism sizes: %d bodies, %d actuators", mech->n_bodies,
+             mech->n_actuators);
+  pom_dyn_model *m = calloc(1, sizeof *m);
+  if (!m) POM_FAIL(err, POM_ERR_NOMEM, "allocating the dynamics model");
+  m->par = *p;
+  if (p->scene.gravity) pom_v3_copy(m->gravity, mech->gravity);
+  for (int b = 0; b < POM_MECH_MAX_BODIES; ++b)
+    m->slot_of_mech[b] = -1;
+  m->platform_slot = -1;
+  POM_TRY_GOTO(pom_dyn_exact_model_init(m, mech, arch, err), fail);
+  *out = m;
+  return POM_OK;
+fail:
+  pom_dyn_model_destroy(m);
+  return st;
 }

@@ -23,6 +23,7 @@ void pom_dyn_params_defaults(pom_dyn_params *p) {
   p->joints.damping = 200.0;
   p->joints.angular_stiffness = 1.0e6;
   p->joints.angular_damping = 200.0;
+  p->joints.model = POM_JOINTS_PARASITIC;
   p->scene.gravity = 1;
   p->scene.bearing_friction = 1;
   p->scene.coil_inductance = 1;
@@ -48,6 +49,7 @@ void pom_dyn_params_defaults(pom_dyn_params *p) {
 static const char *const pid_forms[] = {"ideal", "parallel", NULL};
 static const char *const orient_kinds[] = {"euler", "quaternion", NULL};
 static const char *const linsol_kinds[] = {"dense", "klu", NULL};
+static const char *const joint_models[] = {"parasitic", "rigid", NULL};
 static const char *const inertia_kinds[] = {"full", "lumped", NULL};
 
 const char *pom_dyn_pid_form_name(pom_pid_form f) {
@@ -58,6 +60,9 @@ const char *pom_dyn_orient_name(pom_orient_kind k) {
 }
 const char *pom_dyn_linsol_name(pom_linsol_kind k) {
   return (k == POM_LINSOL_KLU) ? linsol_kinds[1] : linsol_kinds[0];
+}
+const char *pom_dyn_joint_model_name(pom_joint_model k) {
+  return (k == POM_JOINTS_RIGID) ? joint_models[1] : joint_models[0];
 }
 const char *pom_dyn_inertia_name(pom_inertia_kind k) {
   return (k == POM_INERTIA_LUMPED) ? inertia_kinds[1] : inertia_kinds[0];
@@ -102,6 +107,9 @@ pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error 
                            j->angular_stiffness, &j->angular_stiffness, err));
   POM_TRY(pom_cfg_real_opt(cfg, "joints.angular_damping_Nms_per_rad", 1.0, 0.0, 1e9,
                            j->angular_damping, &j->angular_damping, err));
+  idx = (int)j->model;
+  POM_TRY(pom_cfg_choice_opt(cfg, "joints.model", joint_models, idx, &idx, err));
+  j->model = (idx == 1) ? POM_JOINTS_RIGID : POM_JOINTS_PARASITIC;
 
   POM_TRY(pom_cfg_bool_opt(cfg, "scene.gravity", s->gravity, &s->gravity, err));
   POM_TRY(pom_cfg_bool_opt(cfg, "scene.bearing_friction", s->bearing_friction, &s->bearing_friction,

@@ -109,6 +109,7 @@ static const double zero3[3] = {0, 0, 0};
 
 /* ---- the pass ------------------------------------------------------------ */
 int pom_dyn_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot) {
+  if (m->ex) return pom_dyn_exact_eval(m, d, y, ydot); /* rigid joints: dyn_exact.c */
   const pom_dyn_params *par = &m->par;
   const pom_dyn_actuator *ap = &par->actuator;
   const pom_dyn_controller *cp = &par->controller;
@@ -309,6 +310,10 @@ static void slot_pose(const pom_dyn_model *m, const double *y, int slot, double 
 }
 
 void pom_dyn_actuator_positions(const pom_dyn_model *m, const double *y, double *q) {
+  if (m->ex) {
+    pom_dyn_exact_positions(m, y, q);
+    return;
+  }
   for (int a = 0; a < m->n_actuators; ++a) {
     const dyn_joint *jt = &m->joint[m->act[a].joint];
     double R0[9], R1[9], x0[3], x1[3], p0[3], p1[3], r[3], n[3], dd[3];
@@ -342,11 +347,13 @@ int pom_dyn_cvode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
   d->last_nonfinite = d->out.nonfinite;
   d->euler_singular_count += d->out.euler_singular;
   d->nonfinite_count += d->out.nonfinite;
+  d->kin_fail_count += d->out.kin_fail;
   return r;
 }
 
 /* ---- stored energy ------------------------------------------------------- */
 double pom_dyn_stored(const pom_dyn_model *m, pom_dyn_data *d, const double *y) {
+  if (m->ex) return pom_dyn_exact_stored(m, d, y);
   pom_dyn_eval(m, d, y, NULL);
   double E = d->out.spring_energy;
   for (int b = 0; b < m->n_bodies; ++b) {

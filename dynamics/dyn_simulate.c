@@ -78,7 +78,13 @@ pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_e
       (p->solver.max_step > 0 && CVodeSetMaxStep(d->cvode, p->solver.max_step) != CV_SUCCESS))
     POM_FAIL_GOTO(err, POM_ERR_SOLVER, fail, "configuring CVODE: %s", d->cvode_msg);
 
-  if (p->solver.linear_solver == POM_LINSOL_KLU) {
+  if (m->ex) {
+    /* exact path: a few states, dense matrix and its own Jacobian */
+    d->xw = calloc(1, sizeof *d->xw);
+    if (!d->xw) POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "allocating exact-path scratch");
+    d->A = SUNDenseMatrix(n, n, d->ctx);
+    if (d->A) d->LS = SUNLinSol_Dense(d->y, d->A, d->ctx);
+  } else if (p->solver.linear_solver == POM_LINSOL_KLU) {
     d->A = SUNSparseMatrix(n, n, (sunindextype)m->nnz, CSC_MAT, d->ctx);
     if (d->A) d->LS = SUNLinSol_KLU(d->y, d->A, d->ctx);
     /* AMD ordering: half the fill of SUNDIALS' default COLAMD on these
@@ -93,7 +99,7 @@ pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_e
     POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "creating the %s linear solver",
                   pom_dyn_linsol_name(p->solver.linear_solver));
   if (CVodeSetLinearSolver(d->cvode, d->LS, d->A) != CV_SUCCESS ||
-      CVodeSetLinSysFn(d->cvode, pom_dyn_cvode_linsys) != CV_SUCCESS)
+      CVodeSetLinSysFn(d->cvode, m->ex ? pom_dyn_exact_linsys : pom_dyn_cvode_linsys) != CV_SUCCESS)
     POM_FAIL_GOTO(err, POM_ERR_SOLVER, fail, "attaching the linear solver: %s", d->cvode_msg);
 
   d->n_samples = sample_count(p);
@@ -122,6 +128,7 @@ void pom_dyn_data_destroy(pom_dyn_data *d) {
   free(d->qs);
   free(d->yfinal);
   free(d->jac);
+  free(d->xw);
   free(d);
 }
 
@@ -169,6 +176,10 @@ void pom_dyn_trace_destroy(pom_dyn_trace *tr) {
 
 /* Rotation of model body slot b in state y. */
 static void slot_rotation(const pom_dyn_model *m, const double *y, int b, double R[9]) {
+  if (m->ex && b == m->platform_slot) {
+    pom_dyn_exact_platform_rotation(m, y, R);
+    return;
+  }
   if (b < 0) {
     pom_m3_identity(R);
     return;
@@ -265,6 +276,10 @@ static void track_extremes(const pom_dyn_model *m, const pom_dyn_data *d, pom_dy
 }
 
 static void initial_state(const pom_dyn_model *m, double *y, const pom_dyn_initial *init) {
+  if (m->ex) {
+    pom_dyn_exact_initial(m, y, init);
+    return;
+  }
   memset(y, 0, (size_t)m->n_states * sizeof(double));
   for (int b = 0; b < m->n_bodies; ++b) {
     const dyn_body *bd = &m->body[b];
@@ -283,6 +298,7 @@ static void initial_state(const pom_dyn_model *m, double *y, const pom_dyn_initi
 /* 1 when an Euler-angle body has cos(pitch) below the scene's limit (also
  * catches a step that jumped across pitch = 90 deg). */
 static int euler_near_singular(const pom_dyn_model *m, const double *y) {
+  if (m->ex) return pom_dyn_exact_near_singular(m, y);
   if (m->par.scene.orientation != POM_ORIENT_EULER_ZYX) return 0;
   for (int b = 0; b < m->n_bodies; ++b)
     if (cos(y[m->body[b].offset + DYN_BODY_ORI + 1]) < m->par.scene.euler_cos_min) return 1;
@@ -297,6 +313,11 @@ static pom_status fail_status(pom_dyn_data *d, int flag, double t, pom_dyn_metri
                        "a body reached |cos pitch| < %g at t = %.6g s; use scene.orientation = "
                        "\"quaternion\"",
                        d->m->par.scene.euler_cos_min, t);
+  else if (d->kin_fail_count > 0)
+    st = pom_error_set(err, POM_ERR_UNREACHABLE, __FILE__, __LINE__,
+                       "rigid joints: the mechanism cannot be assembled at the platform "
+                       "orientation reached at t = %.6g s (a limb out of reach or singular)",
+                       t);
   else if (d->last_nonfinite || d->nonfinite_count > 0)
     st = pom_error_set(err, POM_ERR_NONFINITE, __FILE__, __LINE__,
                        "non-finite state derivative at t = %.6g s", t);
@@ -365,6 +386,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
   d->jac_valid = 0;
   d->last_euler_singular = d->last_nonfinite = 0;
   d->euler_singular_count = d->nonfinite_count = 0;
+  d->kin_fail_count = 0;
   d->cvode_msg[0] = '\0';
   d->have_final = 0;
   if (tr) tr->n = 0, tr->n_actuators = m->n_actuators;
@@ -507,6 +529,7 @@ pom_status pom_dyn_body_pose(const pom_dyn_model *m, const pom_dyn_data *d, int 
     POM_FAIL(err, POM_ERR_ARG, "pom_dyn_body_pose: body %d is not a moving body", k);
   if (!d->have_final) POM_FAIL(err, POM_ERR_ARG, "pom_dyn_body_pose: no finished simulation");
   int b = m->slot_of_mech[k];
+  if (m->ex) return pom_dyn_exact_body_pose(m, d->yfinal, k, R, x, err);
   slot_rotation(m, d->yfinal, b, R);
   pom_v3_add(x, m->body[b].cm_home, d->yfinal + m->body[b].offset + DYN_BODY_U);
   double arm[3]; /* a pinned body's CM is off its reference point (docs 13) */

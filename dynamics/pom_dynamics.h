@@ -12,12 +12,16 @@
 #define POM_DYNAMICS_H
 
 #include "pom_config.h"
+#include "pom_kinematics.h"
 #include "pom_mechanism.h"
 #include "pom_status.h"
 
 typedef enum { POM_PID_IDEAL = 0, POM_PID_PARALLEL = 1 } pom_pid_form;
 typedef enum { POM_ORIENT_EULER_ZYX = 0, POM_ORIENT_QUATERNION = 1 } pom_orient_kind;
 typedef enum { POM_LINSOL_DENSE = 0, POM_LINSOL_KLU = 1 } pom_linsol_kind;
+/* Joint model (joints.model): parasitic springs (docs/dynamics.md) or exact
+ * constraints in minimal coordinates (docs/dynamics-exact.md). */
+typedef enum { POM_JOINTS_PARASITIC = 0, POM_JOINTS_RIGID = 1 } pom_joint_model;
 /* Limb-body inertia model (scene.limb_inertia, docs/dynamics.md section 13). */
 typedef enum { POM_INERTIA_FULL = 0, POM_INERTIA_LUMPED = 1 } pom_inertia_kind;
 
@@ -47,6 +51,8 @@ typedef struct {
   double damping;           /* R_p for linear constraints (N s/m) */
   double angular_stiffness; /* k_p for angular constraints (N m/rad) */
   double angular_damping;   /* R_p for angular constraints (N m s/rad) */
+  pom_joint_model model;    /* parasitic (default) or rigid; rigid needs the architecture
+                               (pom_dyn_model_create_ex) and ignores the four values above */
 } pom_dyn_joints;
 
 /* What the scene models. */
@@ -110,6 +116,16 @@ typedef struct pom_dyn_data pom_dyn_data;
 pom_status pom_dyn_model_create(pom_dyn_model **out, const pom_mechanism *mech,
                                 const pom_dyn_params *p, pom_error *err);
 void pom_dyn_model_destroy(pom_dyn_model *m);
+
+/* pom_dyn_model_create with the architecture the mechanism was built from
+ * (pom_kin_mechanism_from); arch is needed (and read) only when
+ * p->joints.model is POM_JOINTS_RIGID, may be NULL otherwise. The rigid model
+ * checks at create that the kinematic body poses realise every joint of mech
+ * (POM_ERR_ARG naming the joint otherwise). pom_dyn_model_create on a rigid
+ * parameter set fails with POM_ERR_ARG. */
+pom_status pom_dyn_model_create_ex(pom_dyn_model **out, const pom_mechanism *mech,
+                                   const pom_kin_arch *arch, const pom_dyn_params *p,
+                                   pom_error *err);
 
 pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_error *err);
 void pom_dyn_data_destroy(pom_dyn_data *d);
@@ -219,6 +235,8 @@ double pom_dyn_stored_energy(const pom_dyn_model *m, pom_dyn_data *d);
 const char *pom_dyn_pid_form_name(pom_pid_form f);
 const char *pom_dyn_orient_name(pom_orient_kind k);
 const char *pom_dyn_linsol_name(pom_linsol_kind k);
+/* "parasitic"/"rigid" (joints.model). */
+const char *pom_dyn_joint_model_name(pom_joint_model k);
 /* "full"/"lumped" (scene.limb_inertia). */
 const char *pom_dyn_inertia_name(pom_inertia_kind k);
 
