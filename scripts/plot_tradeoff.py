@@ -3,10 +3,10 @@
 
 usage: /usr/bin/python3 scripts/plot_tradeoff.py OUT.png NAME=FILE.csv [NAME=FILE.csv ...]
 
-One panel per table (e.g. one per architecture): wall time per maneuver
-against the worst relative error (the largest of the settling-time, energy
-and trajectory errors), one marker per setting family, the reference error
-floor and the recommended setting circled.
+One column per table (e.g. one per architecture): wall time per maneuver
+against the worst relative error (top: the largest of the settling-time,
+energy and trajectory errors; bottom: the settling-time error alone), one
+marker per setting family, the recommended setting circled.
 """
 import csv
 import math
@@ -40,16 +40,25 @@ def main(argv):
         return 2
     out = argv[1]
     tables = [a.split("=", 1) for a in argv[2:]]
-    fig, axes = plt.subplots(1, len(tables), figsize=(6.5 * len(tables), 5.2), squeeze=False)
-    for ax, (name, path) in zip(axes[0], tables):
+    fig, axes = plt.subplots(2, len(tables), figsize=(6.5 * len(tables), 10), squeeze=False)
+    for col, (name, path) in enumerate(tables):
         rows = read(path)
+        for row, key in enumerate(("err_max", "err_settle")):
+            panel(axes[row][col], rows, key, name)
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    return 0
+
+
+def panel(ax, rows, key, name):
+    if True:
         seen = set()
         for r in rows:
             fam = r["family"]
             if fam == "reference":
                 continue
             t = float(r["time_s"]) * 1e3
-            e = float(r["err_max"])
+            e = float(r[key])
             if not math.isfinite(t) or not math.isfinite(e):
                 continue  # failed settings are listed in the table, not plotted
             colour, marker = MARKERS.get(fam, ("k", "x"))
@@ -64,19 +73,18 @@ def main(argv):
                         textcoords="offset points")
         # the rtol and stiffness sweeps as lines
         for fam in ("rtol", "stiffness"):
-            pts = [(max(float(r["err_max"]), FLOOR), float(r["time_s"]) * 1e3) for r in rows
-                   if r["family"] == fam and math.isfinite(float(r["err_max"]))]
+            pts = [(max(float(r[key]), FLOOR), float(r["time_s"]) * 1e3) for r in rows
+                   if r["family"] == fam and math.isfinite(float(r[key]))]
             if pts:
                 colour = MARKERS[fam][0]
                 ax.loglog([p[0] for p in pts], [p[1] for p in pts], color=colour, alpha=0.4)
-        ax.set_xlabel("worst relative error vs reference (settling, energy, trajectory)")
+        ax.set_xlabel("worst relative error vs reference: " +
+                      ("max of settling, energy, trajectory" if key == "err_max"
+                       else "execution (settling) time"))
         ax.set_ylabel("wall time per maneuver (ms, median of repeats)")
         ax.set_title(name)
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7, loc="upper right")
-    fig.tight_layout()
-    fig.savefig(out, dpi=130)
-    return 0
 
 
 if __name__ == "__main__":
