@@ -2,6 +2,7 @@
  * (issue 3 goal: under 5 ms on one core at k_p = 1e6 N/m, rtol = 1e-6).
  *
  * usage: bench_dynamics CONFIG [q1,q2,q3 mm] [repeats] [dense|klu] [euler|quaternion]
+ *                       [parasitic|rigid]
  * Prints the median and minimum wall time of `repeats` runs of the same
  * maneuver (model and data built once, as a Monte-Carlo worker does) and the
  * solver statistics of the last run. */
@@ -32,7 +33,9 @@ static int cmp_double(const void *a, const void *b) {
 
 int main(int argc, char **argv) {
   if (argc < 2) {
-    fprintf(stderr, "usage: %s CONFIG [q1,q2,q3 mm] [repeats] [dense|klu] [euler|quaternion]\n",
+    fprintf(stderr,
+            "usage: %s CONFIG [q1,q2,q3 mm] [repeats] [dense|klu] [euler|quaternion] "
+            "[parasitic|rigid]\n",
             argv[0]);
     return 2;
   }
@@ -67,7 +70,9 @@ int main(int argc, char **argv) {
   if (argc > 5)
     par.scene.orientation =
         strcmp(argv[5], "quaternion") == 0 ? POM_ORIENT_QUATERNION : POM_ORIENT_EULER_ZYX;
-  if (pom_dyn_model_create(&m, mech, &par, &err) != POM_OK ||
+  if (argc > 6)
+    par.joints.model = strcmp(argv[6], "rigid") == 0 ? POM_JOINTS_RIGID : POM_JOINTS_PARASITIC;
+  if (pom_dyn_model_create_ex(&m, mech, &arch, &par, &err) != POM_OK ||
       pom_dyn_data_create(&d, m, &err) != POM_OK)
     goto fail;
   /* one warm-up run (first-touch of pages, KLU symbolic analysis) */
@@ -80,7 +85,8 @@ int main(int argc, char **argv) {
   }
   qsort(times, (size_t)repeats, sizeof *times, cmp_double);
   qsort(cpu, (size_t)repeats, sizeof *cpu, cmp_double);
-  printf("%s: %s, %s, %d states, %d Jacobian colours, k_p %.3g N/m, rtol %.1e\n", arch.name,
+  printf("%s: %s joints, %s, %s, %d states, %d Jacobian colours, k_p %.3g N/m, rtol %.1e\n",
+         arch.name, pom_dyn_joint_model_name(par.joints.model),
          pom_dyn_linsol_name(par.solver.linear_solver), pom_dyn_orient_name(par.scene.orientation),
          pom_dyn_model_n_states(m), pom_dyn_model_n_colors(m), par.joints.stiffness,
          par.solver.rtol);

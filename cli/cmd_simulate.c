@@ -22,6 +22,7 @@ static void simulate_usage(FILE *out) {
           "  --kp X --ki X --kd X  override controller.kp, ki_per_s, kd_s\n"
           "  --orientation euler|quaternion   override scene.orientation\n"
           "  --linsol dense|klu    override solver.linear_solver\n"
+          "  --joints parasitic|rigid   override joints.model\n"
           "  --rtol X              override solver.rtol\n"
           "  --help                this text\n\n"
           "Times are reported in ms, energies in mJ, positions in mm (SI in --json and traces).\n");
@@ -224,7 +225,7 @@ static int parse_real(const char *opt, const char *text, double *out) {
 
 int pom_cmd_simulate(int argc, char **argv) {
   const char *cfg_path = NULL, *out_path = NULL, *target_text = NULL;
-  const char *form = NULL, *orient = NULL, *linsol = NULL;
+  const char *form = NULL, *orient = NULL, *linsol = NULL, *joints = NULL;
   double kp = NAN, ki = NAN, kd = NAN, rtol = NAN;
   int json = 0;
   for (int k = 1; k < argc; ++k) {
@@ -245,6 +246,8 @@ int pom_cmd_simulate(int argc, char **argv) {
       orient = argv[++k];
     } else if (strcmp(a, "--linsol") == 0 && has_val) {
       linsol = argv[++k];
+    } else if (strcmp(a, "--joints") == 0 && has_val) {
+      joints = argv[++k];
     } else if (strcmp(a, "--kp") == 0 && has_val) {
       if (parse_real(a, argv[++k], &kp)) return 2;
     } else if (strcmp(a, "--ki") == 0 && has_val) {
@@ -310,6 +313,17 @@ int pom_cmd_simulate(int argc, char **argv) {
       goto done;
     }
   }
+  if (joints) {
+    if (strcmp(joints, "parasitic") == 0)
+      par.joints.model = POM_JOINTS_PARASITIC;
+    else if (strcmp(joints, "rigid") == 0)
+      par.joints.model = POM_JOINTS_RIGID;
+    else {
+      fprintf(stderr, "pomlab simulate: --joints expects parasitic or rigid, got '%s'\n", joints);
+      rc = 2;
+      goto done;
+    }
+  }
   if (orient) {
     if (strcmp(orient, "euler") == 0)
       par.scene.orientation = POM_ORIENT_EULER_ZYX;
@@ -337,7 +351,7 @@ int pom_cmd_simulate(int argc, char **argv) {
   if (!isnan(kd)) par.controller.kd = kd;
   if (!isnan(rtol)) par.solver.rtol = rtol;
 
-  st = pom_dyn_model_create(&model, mech, &par, &err);
+  st = pom_dyn_model_create_ex(&model, mech, &arch, &par, &err);
   if (st == POM_OK) st = pom_dyn_data_create(&data, model, &err);
   if (st == POM_OK && out_path) st = pom_dyn_trace_create(&trace, model, &err);
   if (st != POM_OK) {

@@ -447,6 +447,134 @@ int pom_dyn_exact_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, su
   return 0;
 }
 
+/* ---- block linear solver --------------------------------------------------- */
+/* The Newton matrix I - gamma J of the exact path is block lower triangular:
+ * the accumulator columns of J are zero (they feed nothing back), so
+ * A = [A11 0; A21 I] with A11 of size n_jac (12-13). Setup factors A11 by LU
+ * with partial pivoting; solve does the small block and then x2 = b2 - A21 x1.
+ * SUNDIALS' dense LU (built without optimization on this system) on the full
+ * n = 28 matrix took a third of the run (bench/README.md). */
+typedef struct {
+  int n;      /* states */
+  int nb;     /* leading block (n_jac) */
+  double *lu; /* [nb * nb] LU factors of A11, column-major */
+  int *piv;   /* [nb] row pivots */
+} exact_ls;
+
+static SUNLinearSolver_Type exact_ls_gettype(SUNLinearSolver S) {
+  (void)S;
+  return SUNLINEARSOLVER_DIRECT;
+}
+
+static SUNLinearSolver_ID exact_ls_getid(SUNLinearSolver S) {
+  (void)S;
+  return SUNLINEARSOLVER_CUSTOM;
+}
+
+static int exact_ls_setup(SUNLinearSolver S, SUNMatrix A) {
+  exact_ls *c = S->content;
+  const int nb = c->nb;
+  double *lu = c->lu;
+  for (int j = 0; j < nb; ++j)
+    memcpy(lu + (size_t)j * (size_t)nb, SUNDenseMatrix_Column(A, j), (size_t)nb * sizeof(double));
+  for (int k = 0; k < nb; ++k) {
+    int p = k;
+    double big = fabs(lu[k * nb + k]);
+    for (int i = k + 1; i < nb; ++i)
+      if (fabs(lu[k * nb + i]) > big) {
+        big = fabs(lu[k * nb + i]);
+        p = i;
+      }
+    c->piv[k] = p;
+    if (!(big > 0)) return SUNLS_LUFACT_FAIL; /* recoverable: CVODE retries smaller */
+    if (p != k)
+      for (int j = 0; j < nb; ++j) {
+        double t = lu[j * nb + k];
+        lu[j * nb + k] = lu[j * nb + p];
+        lu[j * nb + p] = t;
+      }
+    double inv = 1.0 / lu[k * nb + k];
+    for (int i = k + 1; i < nb; ++i)
+      lu[k * nb + i] *= inv;
+    for (int j = k + 1; j < nb; ++j) {
+      double a = lu[j * nb + k];
+      if (a != 0.0)
+        for (int i = k + 1; i < nb; ++i)
+          lu[j * nb + i] -= a * lu[k * nb + i];
+    }
+  }
+  return SUNLS_SUCCESS;
+}
+
+static int exact_ls_solve(SUNLinearSolver S, SUNMatrix A, N_Vector xv, N_Vector bv,
+                          sunrealtype tol) {
+  (void)tol;
+  exact_ls *c = S->content;
+  const int nb = c->nb, n = c->n;
+  const double *lu = c->lu;
+  double *x = N_VGetArrayPointer(xv);
+  const double *b = N_VGetArrayPointer(bv);
+  if (x != b) memcpy(x, b, (size_t)n * sizeof(double));
+  for (int k = 0; k < nb; ++k) { /* all row interchanges first (as LAPACK getrs) */
+    int p = c->piv[k];
+    if (p != k) {
+      double t = x[k];
+      x[k] = x[p];
+      x[p] = t;
+    }
+  }
+  for (int k = 0; k < nb; ++k)
+    for (int i = k + 1; i < nb; ++i)
+      x[i] -= lu[k * nb + i] * x[k];
+  for (int k = nb - 1; k >= 0; --k) {
+    x[k] /= lu[k * nb + k];
+    for (int i = 0; i < k; ++i)
+      x[i] -= lu[k * nb + i] * x[k];
+  }
+  for (int j = 0; j < nb; ++j) {
+    const double *col = SUNDenseMatrix_Column(A, j);
+    for (int i = nb; i < n; ++i)
+      x[i] -= col[i] * x[j];
+  }
+  return SUNLS_SUCCESS;
+}
+
+static int exact_ls_free(SUNLinearSolver S) {
+  if (!S) return 0;
+  exact_ls *c = S->content;
+  if (c) {
+    free(c->lu);
+    free(c->piv);
+    free(c);
+  }
+  S->content = NULL;
+  SUNLinSolFreeEmpty(S);
+  return 0;
+}
+
+SUNLinearSolver pom_dyn_exact_linear_solver(const pom_dyn_model *m, SUNContext ctx) {
+  SUNLinearSolver S = SUNLinSolNewEmpty(ctx);
+  if (!S) return NULL;
+  exact_ls *c = calloc(1, sizeof *c);
+  S->content = c;
+  S->ops->gettype = exact_ls_gettype;
+  S->ops->getid = exact_ls_getid;
+  S->ops->setup = exact_ls_setup;
+  S->ops->solve = exact_ls_solve;
+  S->ops->free = exact_ls_free;
+  if (c) {
+    c->n = m->n_states;
+    c->nb = m->ex->n_jac;
+    c->lu = calloc((size_t)c->nb * (size_t)c->nb, sizeof *c->lu);
+    c->piv = calloc((size_t)c->nb, sizeof *c->piv);
+  }
+  if (!c || !c->lu || !c->piv) {
+    exact_ls_free(S);
+    return NULL;
+  }
+  return S;
+}
+
 /* ---- state queries for the shared driver ---------------------------------- */
 void pom_dyn_exact_initial(const pom_dyn_model *m, double *y, const pom_dyn_initial *init) {
   const dyn_exact *ex = m->ex;

@@ -221,6 +221,9 @@ int pom_dyn_exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y,
 int pom_dyn_exact_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, sunbooleantype jok,
                          sunbooleantype *jcur, sunrealtype gamma, void *user_data, N_Vector tmp1,
                          N_Vector tmp2, N_Vector tmp3);
+/* The block-triangular direct solver of the exact path's Newton systems (the
+ * matrix is a SUNDenseMatrix filled by pom_dyn_exact_linsys). */
+SUNLinearSolver pom_dyn_exact_linear_solver(const pom_dyn_model *m, SUNContext ctx);
 void pom_dyn_exact_initial(const pom_dyn_model *m, double *y, const pom_dyn_initial *init);
 int pom_dyn_exact_near_singular(const pom_dyn_model *m, const double *y);
 void pom_dyn_exact_positions(const pom_dyn_model *m, const double *y, double *q);

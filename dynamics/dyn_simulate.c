@@ -83,7 +83,7 @@ pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_e
     d->xw = calloc(1, sizeof *d->xw);
     if (!d->xw) POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "allocating exact-path scratch");
     d->A = SUNDenseMatrix(n, n, d->ctx);
-    if (d->A) d->LS = SUNLinSol_Dense(d->y, d->A, d->ctx);
+    if (d->A) d->LS = pom_dyn_exact_linear_solver(m, d->ctx);
   } else if (p->solver.linear_solver == POM_LINSOL_KLU) {
     d->A = SUNSparseMatrix(n, n, (sunindextype)m->nnz, CSC_MAT, d->ctx);
     if (d->A) d->LS = SUNLinSol_KLU(d->y, d->A, d->ctx);
