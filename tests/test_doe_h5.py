@@ -143,9 +143,16 @@ def main(argv):
               "JSON mean execution time")
         check(rep["candidates"][c]["failed"] == counts[c, 2], "JSON failures")
 
-    # identical rows in every other file
+    # identical rows, statistics, comparisons and ranking in every other file
     ref_rows = rows_of(ref)
+    tables = ["statistics/execution_time", "statistics/energy", "statistics/energy_positive",
+              "statistics/counts", "comparison/paired", "ranking/execution_time", "ranking/energy"]
+    with h5py.File(ref, "r") as f:
+        ref_tables = [f[t][:] for t in tables]
     for path in others:
+        with h5py.File(path, "r") as f:
+            for t, want in zip(tables, ref_tables):
+                check(f[t][:].tobytes() == want.tobytes(), "%s in %s equals the reference" % (t, path))
         other = rows_of(path)
         for c in range(nc):
             for field in ref_rows[c].dtype.names:  # bit for bit, NaN included
