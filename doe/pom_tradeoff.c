@@ -22,6 +22,8 @@ void pom_tradeoff_defaults(pom_tradeoff_opts *o) {
   o->scenes = 1;
   o->reference_rtol = 1e-10;
   o->reference_stiffness = 1e9;
+  o->reference_rigid = 1;
+  o->rigid = 1;
   o->accuracy = 0.01;
   o->max_wall = 20.0;
 }
@@ -43,6 +45,11 @@ pom_status pom_tradeoff_load(pom_tradeoff_opts *o, const pom_cfg *cfg, pom_error
   POM_TRY(pom_cfg_bool_opt(cfg, "tradeoff.scenes", o->scenes, &o->scenes, err));
   POM_TRY(pom_cfg_real_opt(cfg, "tradeoff.reference_rtol", 1.0, 1e-13, 1e-6, o->reference_rtol,
                            &o->reference_rtol, err));
+  static const char *const refs[] = {"parasitic", "rigid", NULL};
+  int ref = o->reference_rigid;
+  POM_TRY(pom_cfg_choice_opt(cfg, "tradeoff.reference", refs, ref, &ref, err));
+  o->reference_rigid = ref;
+  POM_TRY(pom_cfg_bool_opt(cfg, "tradeoff.rigid", o->rigid, &o->rigid, err));
   POM_TRY(pom_cfg_real_opt(cfg, "tradeoff.reference_stiffness_N_per_m", 1.0, 1.0, 1e12,
                            o->reference_stiffness, &o->reference_stiffness, err));
   POM_TRY(pom_cfg_real_opt(cfg, "tradeoff.accuracy_percent", 1e-2, 1e-6, 100.0, o->accuracy,
@@ -86,9 +93,15 @@ static void build_settings(pom_tradeoff_result *res, const pom_dyn_params *base,
   p.scene.coil_inductance = 1;
   p.scene.limb_inertia = POM_INERTIA_FULL;
   p.scene.universal_joint = 1;
-  add_row(res, "reference", &p, "reference: rtol %.0e, k_p 1e9 class", o->reference_rtol);
-  snprintf(res->row[0].label, sizeof res->row[0].label, "reference rtol %.0e k_p %.0e",
-           o->reference_rtol, o->reference_stiffness);
+  p.joints.model = o->reference_rigid ? POM_JOINTS_RIGID : POM_JOINTS_PARASITIC;
+  add_row(res, "reference", &p, "reference: rtol %.0e", o->reference_rtol);
+  if (o->reference_rigid)
+    snprintf(res->row[0].label, sizeof res->row[0].label, "reference: rigid, rtol %.0e",
+             o->reference_rtol);
+  else
+    snprintf(res->row[0].label, sizeof res->row[0].label,
+             "reference: parasitic, rtol %.0e, k_p %.0e", o->reference_rtol,
+             o->reference_stiffness);
 
   add_row(res, "config", base, "config as given (rtol %.0e)", base->solver.rtol);
   for (int k = 0; k < o->n_rtol; ++k) {
@@ -100,6 +113,27 @@ static void build_settings(pom_tradeoff_result *res, const pom_dyn_params *base,
     p = *base;
     set_stiffness(&p, o->stiffness[k]);
     add_row(res, "stiffness", &p, "k_p %.0e", o->stiffness[k]);
+  }
+  if (o->rigid) {
+    /* the exact-constraint path: no k_p, full scene (docs/dynamics-exact.md) */
+    const double rr[] = {1e-3, 1e-4, 1e-5, 1e-6, 1e-8};
+    for (int k = 0; k < 5; ++k) {
+      p = *base;
+      p.joints.model = POM_JOINTS_RIGID;
+      p.scene.limb_inertia = POM_INERTIA_FULL;
+      p.scene.universal_joint = 1;
+      set_rtol(&p, rr[k]);
+      add_row(res, "rigid", &p, "rigid rtol %.0e", rr[k]);
+    }
+    for (int k = 1; k < 4; k += 2) {
+      p = *base;
+      p.joints.model = POM_JOINTS_RIGID;
+      p.scene.limb_inertia = POM_INERTIA_FULL;
+      p.scene.universal_joint = 1;
+      p.scene.coil_inductance = 0;
+      set_rtol(&p, rr[k]);
+      add_row(res, "rigid", &p, "rigid quasi-static rtol %.0e", rr[k]);
+    }
   }
   if (o->linear_solvers) {
     p = *base;
@@ -174,9 +208,10 @@ static void ref_free(ref_data *r) {
 /* Runs one setting over the maneuvers: the median wall time of `repeats`
  * untraced runs, the errors of one traced run against ref (NULL for the
  * reference itself, whose results go to keep). */
-static pom_status run_setting(const pom_mechanism *mech, pom_tradeoff_row *row,
-                              const pom_tradeoff_opts *o, const pom_tradeoff_result *res,
-                              const ref_data *ref, ref_data *keep, pom_error *err) {
+static pom_status run_setting(const pom_kin_arch *arch, const pom_mechanism *mech,
+                              pom_tradeoff_row *row, const pom_tradeoff_opts *o,
+                              const pom_tradeoff_result *res, const ref_data *ref, ref_data *keep,
+                              pom_error *err) {
   pom_status st = POM_OK;
   pom_dyn_model *m = NULL;
   pom_dyn_data *d = NULL;
@@ -184,7 +219,7 @@ static pom_status run_setting(const pom_mechanism *mech, pom_tradeoff_row *row,
   double times[101];
   pom_error e2;
   pom_error_clear(&e2);
-  st = pom_dyn_model_create(&m, mech, &row->params, &e2);
+  st = pom_dyn_model_create_ex(&m, mech, arch, &row->params, &e2);
   if (st == POM_OK) st = pom_dyn_data_create(&d, m, &e2);
   if (st == POM_OK) st = pom_dyn_trace_create(&tr, m, &e2);
   if (st != POM_OK) {
@@ -286,13 +321,13 @@ pom_status pom_tradeoff_run(const pom_kin_arch *arch, const pom_mechanism *mech,
   build_settings(res, base, o);
   ref_data *ref = calloc(1, sizeof *ref);
   if (!ref) POM_FAIL(err, POM_ERR_NOMEM, "allocating the reference");
-  pom_status st = run_setting(mech, &res->row[0], o, res, NULL, ref, err);
+  pom_status st = run_setting(arch, mech, &res->row[0], o, res, NULL, ref, err);
   if (st == POM_OK) {
     res->row[0].err_settle = res->row[0].err_energy = res->row[0].err_traj = 0.0;
     res->row[0].err_max = 0.0;
     if (progress) progress(user, &res->row[0], 1, res->n_rows);
     for (int r = 1; r < res->n_rows && st == POM_OK; ++r) {
-      st = run_setting(mech, &res->row[r], o, res, ref, NULL, err);
+      st = run_setting(arch, mech, &res->row[r], o, res, ref, NULL, err);
       if (progress) progress(user, &res->row[r], r + 1, res->n_rows);
     }
   }

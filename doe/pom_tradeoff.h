@@ -28,6 +28,8 @@ typedef struct {
   int linear_solvers;                        /* 1: also the other linear solver at solver.rtol */
   int scenes;                                /* 1: one row per reduced scene option */
   double reference_rtol;      /* rtol of the reference (atol_scale = min(config, 1e3 rtol)) */
+  int reference_rigid;        /* 1: the reference is the rigid path (joints.model = rigid) */
+  int rigid;                  /* 1: rows of the rigid path (rtol sweep, quasi-static coil) */
   double reference_stiffness; /* k_p of the reference (N/m and N m/rad) */
   double accuracy;            /* relative accuracy asked for the recommendation */
   double max_wall;            /* s: a setting whose maneuver takes longer is
@@ -35,7 +37,8 @@ typedef struct {
 } pom_tradeoff_opts;
 
 /* Defaults: 3 maneuvers, 3 repeats, rtol 1e-2..1e-8, k_p 1e3..1e9, both
- * linear solvers, scene rows on, reference rtol 1e-10 at k_p 1e9, accuracy
+ * linear solvers, scene rows on, rigid-path rows on, reference = the rigid
+ * path at rtol 1e-10 (the parasitic one at k_p 1e9 if asked), accuracy
  * 1 %, 20 s per maneuver at most. */
 void pom_tradeoff_defaults(pom_tradeoff_opts *o);
 
