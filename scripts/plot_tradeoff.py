@@ -84,7 +84,7 @@ def panel(ax, rows, key, name):
         ax.set_ylabel("wall time per maneuver (ms, median of repeats)")
         ax.set_title(name)
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7, loc="upper right")
+        ax.legend(fontsize=7, loc="best")
 
 
 if __name__ == "__main__":
