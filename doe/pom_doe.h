@@ -182,6 +182,9 @@ typedef struct {
   pom_doe_stats execution_time;  /* s, over ok and settled maneuvers */
   pom_doe_stats energy;          /* J, expended energy over ok maneuvers */
   pom_doe_stats energy_positive; /* J, sum of positive parts, over ok maneuvers */
+  pom_doe_stats
+      execution_time_final; /* s, MATLAB stepinfo definition (largest
+                               settling_time_final), over ok maneuvers where it is finite */
 } pom_doe_candidate_stats;
 
 typedef enum { POM_DOE_METRIC_TIME = 0, POM_DOE_METRIC_ENERGY = 1 } pom_doe_metric;

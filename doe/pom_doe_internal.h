@@ -53,6 +53,7 @@ typedef struct {
   double time;            /* execution time (s) */
   double energy;          /* expended energy (J) */
   double energy_positive; /* J */
+  double time_final;      /* largest settling_time_final (s), NaN when failed or undefined */
 } pom_doe_cell;
 
 void pom_doe_cell_from_row(pom_doe_cell *cell, const pom_doe_row *row);

@@ -15,6 +15,15 @@ void pom_doe_cell_from_row(pom_doe_cell *cell, const pom_doe_row *row) {
   cell->energy = row->energy_total;
   cell->energy_positive =
       row->energy_positive[0] + row->energy_positive[1] + row->energy_positive[2];
+  cell->time_final = NAN;
+  if (cell->ok) {
+    double t = 0;
+    for (int i = 0; i < 3; ++i)
+      t = isfinite(row->settling_time_final[i]) && isfinite(t)
+              ? fmax(t, row->settling_time_final[i])
+              : NAN;
+    cell->time_final = t;
+  }
 }
 
 void pom_doe_report_destroy(pom_doe_report *r) {
@@ -109,7 +118,8 @@ pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *stu
   for (int c = 0; c < nc; ++c) {
     pom_doe_candidate_stats *cs = &rep->cand[c];
     const pom_doe_cell *col = cells + (size_t)c * m;
-    size_t nt = 0, ne = 0;
+    size_t nt = 0, ne = 0, nf = 0;
+    double *tf = scratch + m; /* second third of the scratch */
     for (size_t k = 0; k < m; ++k) {
       if (!col[k].done) continue;
       ++cs->n_done;
@@ -123,7 +133,9 @@ pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *stu
         a[nt++] = col[k].time;
       b[ne] = col[k].energy;
       scratch[ne++] = col[k].energy_positive;
+      if (isfinite(col[k].time_final)) tf[nf++] = col[k].time_final;
     }
+    pom_doe_stats_compute(&cs->execution_time_final, tf, nf, tf);
     pom_doe_stats_compute(&cs->execution_time, a, nt, a);
     pom_doe_stats_compute(&cs->energy_positive, scratch, ne, scratch);
     pom_doe_stats_compute(&cs->energy, b, ne, b);

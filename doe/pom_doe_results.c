@@ -366,13 +366,15 @@ static pom_status write_statistics(hid_t file, const pom_doe_report *rep, pom_er
   int64_t *counts = malloc(nc * 4 * sizeof *counts);
   if (!buf || !counts) POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "results: out of memory");
   POM_TRY_GOTO(replace_group(&g, file, "statistics", err), done);
-  const char *names[3] = {"execution_time", "energy", "energy_positive"};
-  const char *units[3] = {"s", "J", "J"};
-  for (int m = 0; m < 3; ++m) {
+  const char *names[4] = {"execution_time", "energy", "energy_positive", "execution_time_final"};
+  const char *units[4] = {"s", "J", "J", "s"};
+  for (int m = 0; m < 4; ++m) {
     for (size_t c = 0; c < nc; ++c) {
       const pom_doe_candidate_stats *cs = &rep->cand[c];
-      const pom_doe_stats *s =
-          m == 0 ? &cs->execution_time : (m == 1 ? &cs->energy : &cs->energy_positive);
+      const pom_doe_stats *s = m == 0   ? &cs->execution_time
+                               : m == 1 ? &cs->energy
+                               : m == 2 ? &cs->energy_positive
+                                        : &cs->execution_time_final;
       pom_doe_stats_flatten(buf + c * POM_DOE_STATS_FIELDS, s);
     }
     size_t dims[2] = {nc, POM_DOE_STATS_FIELDS};

@@ -71,6 +71,7 @@ def main(argv):
             check(g.attrs["solver_rtol"] == (1e-6 if c == 0 else 1e-5), "solver settings")
         rows = [f["candidates/%d/maneuvers" % c][:] for c in range(nc)]
         stats_t = f["statistics/execution_time"][:]
+        stats_f = f["statistics/execution_time_final"][:]
         stats_e = f["statistics/energy"][:]
         counts = f["statistics/counts"][:]
         paired = f["comparison/paired"][:]
@@ -96,7 +97,9 @@ def main(argv):
         e = r["energy_total"][ok]
         check(counts[c, 0] == m and counts[c, 2] == np.sum(~ok), "counts of %d" % c)
         check(counts[c, 3] == np.sum(ok & ~settled), "unsettled count of %d" % c)
-        for row, v in ((stats_t[c], t), (stats_e[c], e)):
+        tfin = np.max(r["settling_time_final"][ok], axis=1)
+        tfin = tfin[np.isfinite(tfin)]
+        for row, v in ((stats_t[c], t), (stats_e[c], e), (stats_f[c], tfin)):
             check(row[0] == v.size, "n")
             want = [v.max(), v.mean(), v.min(), v.std(ddof=1) if v.size > 1 else np.nan,
                     np.median(v)] + list(np.percentile(v, [5, 25, 75, 95]))
@@ -146,6 +149,7 @@ def main(argv):
     # identical rows, statistics, comparisons and ranking in every other file
     ref_rows = rows_of(ref)
     tables = ["statistics/execution_time", "statistics/energy", "statistics/energy_positive",
+              "statistics/execution_time_final",
               "statistics/counts", "comparison/paired", "ranking/execution_time", "ranking/energy"]
     with h5py.File(ref, "r") as f:
         ref_tables = [f[t][:] for t in tables]
