@@ -1,2 +1,4 @@
 pom_add_bench(bench_dynamics bench_dynamics.c)
 target_link_libraries(bench_dynamics PRIVATE pom_dynamics pom_kinematics pom_core)
+pom_add_bench(bench_dynamics_exact bench_dynamics_exact.c)
+target_link_libraries(bench_dynamics_exact PRIVATE pom_dynamics pom_kinematics pom_core)
