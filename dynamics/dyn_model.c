@@ -498,6 +498,8 @@ pom_status pom_dyn_model_create_ex(pom_dyn_model **out, const pom_mechanism *mec
     m->slot_of_mech[b] = -1;
   m->platform_slot = -1;
   POM_TRY_GOTO(pom_dyn_exact_model_init(m, mech, arch, err), fail);
+  for (int a = 0; a < m->n_actuators; ++a) /* targets checked against it (docs 14) */
+    m->act[a].stroke = mech->actuator[a].stroke;
   *out = m;
   return POM_OK;
 fail:

@@ -62,8 +62,9 @@ static void result_free(result *r) {
 /* Runs one maneuver and checks the contract common to every case: a failed
  * run carries a status, a reason and NaN times; a finished run has finite
  * energies, positions and counters, and settled[i] <=> finite settling time. */
-static result simulate(const pom_mechanism *mech, const pom_dyn_params *p, const double target[3],
-                       const pom_dyn_initial *init) {
+static result simulate_ex(const pom_mechanism *mech, const pom_kin_arch *arch,
+                          const pom_dyn_params *p, const double target[3],
+                          const pom_dyn_initial *init) {
   result r;
   memset(&r, 0, sizeof r);
   pom_dyn_model *m = NULL;
@@ -71,7 +72,7 @@ static result simulate(const pom_mechanism *mech, const pom_dyn_params *p, const
   pom_dyn_trace *tr = NULL;
   pom_error err;
   pom_error_clear(&err);
-  r.st = pom_dyn_model_create(&m, mech, p, &err);
+  r.st = pom_dyn_model_create_ex(&m, mech, arch, p, &err);
   if (r.st == POM_OK) r.st = pom_dyn_data_create(&d, m, &err);
   if (r.st == POM_OK) r.st = pom_dyn_trace_create(&tr, m, &err);
   if (r.st == POM_OK) {
@@ -111,6 +112,11 @@ static result simulate(const pom_mechanism *mech, const pom_dyn_params *p, const
   pom_dyn_data_destroy(d);
   pom_dyn_model_destroy(m);
   return r;
+}
+
+static result simulate(const pom_mechanism *mech, const pom_dyn_params *p, const double target[3],
+                       const pom_dyn_initial *init) {
+  return simulate_ex(mech, NULL, p, target, init);
 }
 
 /* max_t max_i |q_a - q_b| over the common samples (m). */
@@ -479,6 +485,82 @@ static void test_mass_scaling(void) {
   result_free(&nominal);
 }
 
+/* ---- 9. the rigid (exact-constraint) path at the extremes ------------------ */
+/* The same contract on the rigid path (joints.model = rigid), and the
+ * parasitic path's k_p -> infinity limit against it. */
+static void test_rigid(void) {
+  shipped s;
+  if (!check_true(load("3pss.cfg", &s))) return;
+  s.p.maneuver.horizon = 0.03;
+  s.p.solver.rtol = 1e-8;
+  s.p.solver.atol_scale = 1e-5;
+  pom_dyn_params rp = s.p;
+  rp.joints.model = POM_JOINTS_RIGID;
+  result rig = simulate_ex(&s.mech, &s.arch, &rp, target_mid, NULL);
+  check_true(rig.st == POM_OK);
+  /* parasitic at k_p 1e9 against the exact path: the deflection is 13 nm
+   * (test_stiffness) but the two models differ by ~0.3 um (measured 2.6e-4
+   * of the step in pomlab tradeoff; the rigid path's link-spin treatment,
+   * docs/tradeoff.md): bound 1e-6 m, against 7 um at the shipped 1e6 */
+  pom_dyn_params pp = s.p;
+  pp.joints.stiffness = pp.joints.angular_stiffness = 1e9;
+  result par = simulate(&s.mech, &pp, target_mid, NULL);
+  check_true(par.st == POM_OK);
+  double d9 = traj_diff(&par, &rig);
+  if (!check_true(d9 < 1e-6)) printf("  parasitic 1e9 vs rigid: %g m\n", d9);
+  result_free(&par);
+  pp.joints.stiffness = pp.joints.angular_stiffness = 1e6;
+  par = simulate(&s.mech, &pp, target_mid, NULL);
+  double d6 = traj_diff(&par, &rig);
+  check_true(d6 > d9 && d6 < 2e-5); /* the shipped k_p: the deflection level */
+  result_free(&par);
+
+  /* rtol extremes, stroke corner, beyond the stroke, huge gains, tiny step */
+  const double rt[] = {1e-2, 1e-12};
+  for (int k = 0; k < 2; ++k) {
+    pom_dyn_params p = rp;
+    p.solver.rtol = rt[k];
+    p.solver.atol_scale = fmin(1e-3, 1e3 * rt[k]);
+    result r = simulate_ex(&s.mech, &s.arch, &p, target_mid, NULL);
+    if (r.st == POM_OK) {
+      check_true(traj_diff(&r, &rig) < (k == 0 ? 3e-5 : 1e-9));
+    } else {
+      printf("  rigid rtol %g: %s\n", rt[k], r.message);
+      check_true(r.st == POM_ERR_UNSTABLE || r.st == POM_ERR_SOLVER);
+    }
+    result_free(&r);
+  }
+  double half = 0.5 * s.arch.stroke;
+  const double beyond[3] = {-half * 1.01, 0.0, 0.0};
+  result r = simulate_ex(&s.mech, &s.arch, &rp, beyond, NULL);
+  check_true(r.st == POM_ERR_LIMIT && r.mt.steps == 0);
+  result_free(&r);
+  const double corner[3] = {half, -half, half};
+  r = simulate_ex(&s.mech, &s.arch, &rp, corner, NULL);
+  if (r.st == POM_OK) {
+    for (int a = 0; a < 3; ++a)
+      check_abs(r.mt.final_q[a], corner[a], 0.02 * half);
+  } else {
+    printf("  rigid corner: %s\n", r.message);
+    check_true(r.st == POM_ERR_UNREACHABLE || r.st == POM_ERR_SINGULAR || r.st == POM_ERR_SOLVER ||
+               r.st == POM_ERR_LIMIT);
+  }
+  result_free(&r);
+  pom_dyn_params p = rp;
+  p.controller.kp = 1e9;
+  r = simulate_ex(&s.mech, &s.arch, &p, target_mid, NULL);
+  if (r.st == POM_OK)
+    check_abs(r.mt.peak_voltage[0], p.actuator.voltage_limit, 1e-9);
+  else
+    check_true(r.st == POM_ERR_SOLVER);
+  result_free(&r);
+  const double sub[3] = {0.3e-6, -0.3e-6, 0.3e-6};
+  r = simulate_ex(&s.mech, &s.arch, &rp, sub, NULL);
+  check_true(r.st == POM_OK);
+  result_free(&r);
+  result_free(&rig);
+}
+
 int main(int argc, char **argv) {
   /* optional: run one case by name */
   const char *only = argc > 1 ? argv[1] : NULL;
@@ -492,6 +574,7 @@ int main(int argc, char **argv) {
   CASE(tiny_steps);
   CASE(long_horizon);
   CASE(mass_scaling);
+  CASE(rigid);
 #undef CASE
   return check_summary("test_extremes");
 }
