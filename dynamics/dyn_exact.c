@@ -273,14 +273,21 @@ int pom_dyn_exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y,
   for (int b = 0; b < m->n_bodies; ++b) {
     const dyn_body *bd = &m->body[b];
     const pom_kin_body_twist *t = &tw->body[bd->mech_index];
-    double d0[3], rho[3], S[9], Acm[9], wb[3], a0[3], tmp[3], x[3];
+    double d0[3], rho[3], Acm[9], wb[3], a0[3], tmp[3], x[3];
+    const double *Bm = t->B;
+    int moving_rot = 0; /* 0 for bodies that only translate (B = 0) */
+    for (int k = 0; k < 9; ++k)
+      moving_rot |= Bm[k] != 0.0;
     pom_v3_sub(d0, bd->cm_home, t->ref_home);
     pom_m3_apply(rho, t->R, d0);
-    pom_m3_skew(S, rho);
-    pom_m3_mul(Acm, S, t->B);
-    for (int k = 0; k < 9; ++k)
-      Acm[k] = t->A[k] - Acm[k];
-    pom_m3_apply(wb, t->B, w);
+    /* Acm = A - [rho]x B, column by column */
+    for (int c = 0; c < 3; ++c) {
+      const double b0 = Bm[c], b1 = Bm[3 + c], b2 = Bm[6 + c];
+      Acm[c] = t->A[c] - (rho[1] * b2 - rho[2] * b1);
+      Acm[3 + c] = t->A[3 + c] - (rho[2] * b0 - rho[0] * b2);
+      Acm[6 + c] = t->A[6 + c] - (rho[0] * b1 - rho[1] * b0);
+    }
+    pom_m3_apply(wb, Bm, w);
     /* CM acceleration at omega_dot = 0 */
     pom_v3_cross(a0, t->alpha_bias, rho);
     pom_v3_add(a0, a0, t->a_bias);
@@ -294,26 +301,31 @@ int pom_dyn_exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y,
     pom_m3_tapply(tmp, Acm, F);
     pom_v3_add(f, f, tmp);
     /* rotation */
-    double Ib[9], Iw[3], Ia[3], gyro[3], Tq[3];
-    if (ex->spin_free[b]) {
-      /* axisymmetric about the spin axis, w across it: I w = I_t w, w x I w = 0 */
-      add_tmul(M, ex->transverse[b], t->B, t->B);
-      pom_v3_scale(Tq, -ex->transverse[b], t->alpha_bias);
-    } else {
-      double RI[9];
-      pom_m3_mul(RI, t->R, ex->inertia[b]);
-      pom_m3_mult(Ib, RI, t->R);
-      double IB[9];
-      pom_m3_mul(IB, Ib, t->B);
-      add_tmul(M, 1.0, t->B, IB);
-      pom_m3_apply(Iw, Ib, wb);
-      pom_m3_apply(Ia, Ib, t->alpha_bias);
-      pom_v3_cross(gyro, wb, Iw);
-      for (int k = 0; k < 3; ++k)
-        Tq[k] = -Ia[k] - gyro[k];
+    if (moving_rot) {
+      double Iw[3], Ia[3], gyro[3], Tq[3];
+      if (ex->spin_free[b]) {
+        /* axisymmetric about the spin axis, w across it: I w = I_t w, w x I w = 0 */
+        add_tmul(M, ex->transverse[b], Bm, Bm);
+        pom_v3_scale(Tq, -ex->transverse[b], t->alpha_bias);
+      } else {
+        /* in home axes: B_h = R^T B, M += B_h^T I_home B_h, torques likewise */
+        double Bh[9], IBh[9], wh[3], ah[3];
+        pom_m3_tmul(Bh, t->R, Bm);
+        pom_m3_mul(IBh, ex->inertia[b], Bh);
+        add_tmul(M, 1.0, Bh, IBh);
+        pom_m3_tapply(wh, t->R, wb);
+        pom_m3_tapply(ah, t->R, t->alpha_bias);
+        pom_m3_apply(Iw, ex->inertia[b], wh);
+        pom_m3_apply(Ia, ex->inertia[b], ah);
+        pom_v3_cross(gyro, wh, Iw);
+        for (int k = 0; k < 3; ++k)
+          Tq[k] = -Ia[k] - gyro[k];
+        pom_m3_apply(tmp, t->R, Tq); /* back to the fixed frame */
+        pom_v3_copy(Tq, tmp);
+      }
+      pom_m3_tapply(tmp, Bm, Tq);
+      pom_v3_add(f, f, tmp);
     }
-    pom_m3_tapply(tmp, t->B, Tq);
-    pom_v3_add(f, f, tmp);
     /* gravitational potential relative to home */
     pom_v3_add(x, t->ref, rho);
     pom_v3_sub(x, x, bd->cm_home);

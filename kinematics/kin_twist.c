@@ -81,16 +81,13 @@ static int limb_3pss(const pom_kin_arch *arch, int i, const double R[9], const d
   pom_v3_scale(s, 1.0 / L, l);
   min_rotation(lnk->R, arch->limb_dir_home[i], s);
   /* link angular velocity with zero spin: w_l = l x l_dot / L^2,
-   * l_dot = (-[C]x - u J) omega */
-  double Lm[9], SC[9], Sl[9];
-  pom_m3_skew(SC, C);
-  outer(Lm, u, Jr);
-  for (int k = 0; k < 9; ++k)
-    Lm[k] = -SC[k] - Lm[k];
-  pom_m3_skew(Sl, l);
-  pom_m3_mul(lnk->B, Sl, Lm);
-  for (int k = 0; k < 9; ++k)
-    lnk->B[k] /= L * L;
+   * l_dot = (-[C]x - u J) omega, so B = ([l]x[C]x^T - (l x u) J^T) / L^2
+   * with [l]x[C]x = C l^T - (l . C) I */
+  double lxu[3], lC = pom_v3_dot(l, C), iL2 = 1.0 / (L * L);
+  pom_v3_cross(lxu, l, u);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      lnk->B[3 * r + c] = ((r == c ? lC : 0.0) - C[r] * l[c] - lxu[r] * Jr[c]) * iL2;
   double lb[3];
   pom_v3_axpy(lb, wwC, -qb, u); /* l_ddot at omega_dot = 0 */
   pom_v3_cross(lnk->alpha_bias, l, lb);
@@ -137,7 +134,8 @@ static int limb_3sps(const pom_kin_arch *arch, int i, const double R[9], const d
   double x = pom_v3_dot(s, s0), y = -pom_v3_dot(s, a2), z = pom_v3_dot(s, a1);
   double rho2 = x * x + y * y, rho = sqrt(rho2);
   if (!(rho > 0.0)) return 0;
-  double al = atan2(y, x), be = atan2(z, rho);
+  /* cos/sin of the U-joint angles without trigonometry */
+  double ca = x / rho, sa = y / rho, cb = rho, sb = z;
   double xd = pom_v3_dot(s0, sdot), yd = -pom_v3_dot(a2, sdot), zd = pom_v3_dot(a1, sdot);
   double xdd = pom_v3_dot(s0, sddot), ydd = -pom_v3_dot(a2, sddot), zdd = pom_v3_dot(a1, sddot);
   double ald = (x * yd - y * xd) / rho2, bed = zd / rho;
@@ -148,11 +146,19 @@ static int limb_3sps(const pom_kin_arch *arch, int i, const double R[9], const d
 
   pom_kin_body_twist *cyl = &out->body[2 + 2 * i], *pis = &out->body[3 + 2 * i];
   body_rest(cyl);
-  double Ra[9], Rb[9], a2p[3], a1xa2p[3];
-  pom_m3_axis_angle(Ra, a1, al);
-  pom_m3_axis_angle(Rb, a2, be);
-  pom_m3_mul(cyl->R, Ra, Rb);
-  pom_m3_apply(a2p, Ra, a2);
+  /* R_cyl = E Rx(al) Ry(be) E^T with E = [a1 a2 s0] (right-handed: a1 x a2 = s0) */
+  double E[9], Rl[9], ERl[9], a2p[3], a1xa2p[3];
+  for (int k = 0; k < 3; ++k) {
+    E[3 * k + 0] = a1[k];
+    E[3 * k + 1] = a2[k];
+    E[3 * k + 2] = s0[k];
+  }
+  const double RxRy[9] = {cb, 0.0, sb, sa * sb, ca, -sa * cb, -ca * sb, sa, ca * cb};
+  pom_m3_copy(Rl, RxRy);
+  pom_m3_mul(ERl, E, Rl);
+  pom_m3_mult(cyl->R, ERl, E);
+  for (int k = 0; k < 3; ++k)
+    a2p[k] = ca * a2[k] + sa * s0[k];
   pom_v3_copy(cyl->ref_home, A);
   pom_v3_copy(cyl->ref, A);
   /* s_dot = S1 omega, S1 = (I - s s^T)(-[B]x) / n; al_dot and be_dot rows */
