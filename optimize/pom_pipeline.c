@@ -188,7 +188,8 @@ pom_status pom_pipeline_evaluator_create(pom_doe_evaluator *eval, const pom_cfg 
     scopes[n] = NULL;
     POM_TRY_GOTO(pom_cfg_check_unknown(cfg, scopes, NULL, err), fail);
   }
-  POM_TRY_GOTO(pom_dyn_model_create(&ctx->model, &ctx->mech, &ctx->params, err), fail);
+  POM_TRY_GOTO(pom_dyn_model_create_ex(&ctx->model, &ctx->mech, &ctx->arch, &ctx->params, err),
+               fail);
   eval->ctx = ctx;
   eval->ctx_destroy = ctx_destroy;
   eval->worker_create = worker_create;
