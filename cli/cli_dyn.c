@@ -38,9 +38,10 @@ void pom_cli_dyn_params_json(FILE *out, const pom_dyn_params *p) {
   member(out, "angular_damping_Nms_per_rad", j->angular_damping, 1);
   fprintf(out,
           ",\n  \"scene\": {\"gravity\": %s, \"bearing_friction\": %s, \"coil_inductance\": %s, "
-          "\"orientation\": \"%s\", ",
+          "\"orientation\": \"%s\", \"limb_inertia\": \"%s\", \"universal_joint\": %s, ",
           s->gravity ? "true" : "false", s->bearing_friction ? "true" : "false",
-          s->coil_inductance ? "true" : "false", pom_dyn_orient_name(s->orientation));
+          s->coil_inductance ? "true" : "false", pom_dyn_orient_name(s->orientation),
+          pom_dyn_inertia_name(s->limb_inertia), s->universal_joint ? "true" : "false");
   member(out, "euler_cos_min", s->euler_cos_min, 1);
   fprintf(out,
           ",\n  \"solver\": {\"linear_solver\": \"%s\", \"max_steps\": %ld, \"max_order\": %d, "
@@ -80,9 +81,12 @@ void pom_cli_dyn_params_text(FILE *out, const pom_dyn_params *p) {
             c->kp, c->ki, c->kd);
   fprintf(out, "joints: k_p %g N/m, R_p %g N s/m; angular k_p %g N m/rad, R_p %g N m s/rad\n",
           j->stiffness, j->damping, j->angular_stiffness, j->angular_damping);
-  fprintf(out, "scene: gravity %s, bearing friction %s, coil inductance %s, orientation %s\n",
+  fprintf(out,
+          "scene: gravity %s, bearing friction %s, coil inductance %s, orientation %s, limb "
+          "inertia %s, universal joint constraint %s\n",
           s->gravity ? "on" : "off", s->bearing_friction ? "on" : "off",
-          s->coil_inductance ? "on" : "off", pom_dyn_orient_name(s->orientation));
+          s->coil_inductance ? "on" : "off", pom_dyn_orient_name(s->orientation),
+          pom_dyn_inertia_name(s->limb_inertia), s->universal_joint ? "on" : "off");
   fprintf(out,
           "solver: CVODE BDF, rtol %g, atol_scale %g, max step %g ms%s, max %ld steps, %s, "
           "order <= %d%s\n",
