@@ -31,7 +31,7 @@ void pom_cli_dyn_params_json(FILE *out, const pom_dyn_params *p) {
   member(out, "kp", c->kp, 0);
   member(out, "ki_per_s", c->ki, 0);
   member(out, "kd_s", c->kd, 1);
-  fprintf(out, ",\n  \"joints\": {");
+  fprintf(out, ",\n  \"joints\": {\"model\": \"%s\", ", pom_dyn_joint_model_name(j->model));
   member(out, "stiffness_N_per_m", j->stiffness, 0);
   member(out, "damping_Ns_per_m", j->damping, 0);
   member(out, "angular_stiffness_Nm_per_rad", j->angular_stiffness, 0);
@@ -79,8 +79,9 @@ void pom_cli_dyn_params_text(FILE *out, const pom_dyn_params *p) {
             "controller: parallel PID u = sat(K_S (K_P e + K_I int e - K_D q_dot)), K_P %g, K_I "
             "%g 1/s, K_D %g s\n",
             c->kp, c->ki, c->kd);
-  fprintf(out, "joints: k_p %g N/m, R_p %g N s/m; angular k_p %g N m/rad, R_p %g N m s/rad\n",
-          j->stiffness, j->damping, j->angular_stiffness, j->angular_damping);
+  fprintf(out, "joints: %s; k_p %g N/m, R_p %g N s/m; angular k_p %g N m/rad, R_p %g N m s/rad\n",
+          pom_dyn_joint_model_name(j->model), j->stiffness, j->damping, j->angular_stiffness,
+          j->angular_damping);
   fprintf(out,
           "scene: gravity %s, bearing friction %s, coil inductance %s, orientation %s, limb "
           "inertia %s, universal joint constraint %s\n",

@@ -60,9 +60,9 @@ static void print_json(const char *name, const pom_dyn_params *p, const pom_dyn_
           pom_status_name(mt->status), mt->reason);
   fprintf(f,
           "  \"controller_form\": \"%s\",\n  \"orientation\": \"%s\",\n"
-          "  \"linear_solver\": \"%s\",\n",
+          "  \"linear_solver\": \"%s\",\n  \"joints_model\": \"%s\",\n",
           pom_dyn_pid_form_name(p->controller.form), pom_dyn_orient_name(p->scene.orientation),
-          pom_dyn_linsol_name(p->solver.linear_solver));
+          pom_dyn_linsol_name(p->solver.linear_solver), pom_dyn_joint_model_name(p->joints.model));
   json_num(f, "horizon_s", p->maneuver.horizon, ",");
   json_array(f, "target_m", mt->target, 3, 1.0, ",");
   json_array(f, "final_q_m", mt->final_q, 3, 1.0, ",");
@@ -95,10 +95,11 @@ static void print_json(const char *name, const pom_dyn_params *p, const pom_dyn_
 
 static void print_human(const char *name, const pom_dyn_params *p, const pom_dyn_metrics *mt) {
   printf("%s: maneuver to (%.4g, %.4g, %.4g) mm, horizon %.4g ms, PID %s, orientation %s, "
-         "linear solver %s\n",
+         "linear solver %s, %s joints\n",
          name, mt->target[0] * 1e3, mt->target[1] * 1e3, mt->target[2] * 1e3,
          p->maneuver.horizon * 1e3, pom_dyn_pid_form_name(p->controller.form),
-         pom_dyn_orient_name(p->scene.orientation), pom_dyn_linsol_name(p->solver.linear_solver));
+         pom_dyn_orient_name(p->scene.orientation), pom_dyn_linsol_name(p->solver.linear_solver),
+         pom_dyn_joint_model_name(p->joints.model));
   if (mt->status != POM_OK) printf("status: %s (%s)\n", pom_status_name(mt->status), mt->reason);
   printf("actuator  target(mm)  final(mm)  settle(ms)  settle_final(ms)  energy(mJ)  "
          "E+(mJ)  peak(V)  saturated(ms)\n");

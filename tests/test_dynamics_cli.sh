@@ -20,7 +20,8 @@ PY=/usr/bin/python3
 
 for cfg in 3pss 3sps; do
   for opt in "--form ideal --orientation euler" "--form ideal --orientation quaternion --linsol dense" \
-             "--form parallel --kp 2e4 --ki 20 --kd 100 --orientation euler"; do
+             "--form parallel --kp 2e4 --ki 20 --kd 100 --orientation euler" \
+             "--joints rigid --orientation quaternion"; do
     expect_rc 0 "$POMLAB" simulate "$SRC/configs/$cfg.cfg" --target 3,-3,3 $opt --json
     # every actuator settles within the horizon and the energy audit closes
     if ! $PY -c "
@@ -31,6 +32,7 @@ assert all(r['settled']), r['settled']
 assert r['execution_time_s'] < 0.05, r['execution_time_s']
 assert r['energy_balance_error'] < 1e-3, r['energy_balance_error']
 assert all(abs(q - t) < 1e-5 for q, t in zip(r['final_q_m'], r['target_m']))
+assert '--joints rigid' not in '$opt' or r['max_deflection_m'] == 0.0, r['max_deflection_m']
 "; then echo "FAIL: $cfg $opt metrics"; cat "$TMP/out"; fail=1; fi
   done
 done
