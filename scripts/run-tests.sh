@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Sets up pomlab on a fresh Debian machine and runs every check CI runs:
-# the formatting check, the ctest suite, and the suite again under
-# AddressSanitizer + UndefinedBehaviorSanitizer.
+# the formatting check, the ctest suite, the suite again under
+# AddressSanitizer + UndefinedBehaviorSanitizer, and the MPI build's
+# 2-rank study compared with the threaded one.
 # Usage: bash scripts/run-tests.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -21,3 +22,8 @@ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPOM_SANITIZE=ON -DP
 cmake --build build-asan -j"$(nproc)"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build-asan --output-on-failure -j2
+
+echo "== MPI build: 2-rank study against the threaded run =="
+cmake -S . -B build-mpi -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPOM_WITH_MPI=ON -DPOM_WERROR=ON >/dev/null
+cmake --build build-mpi -j"$(nproc)"
+ctest --test-dir build-mpi --output-on-failure -R 'test_doe_study'
