@@ -607,6 +607,14 @@ void pom_dyn_exact_positions(const pom_dyn_model *m, const double *y, double *q)
     q[a] = qq[m->ex->act_limb[a]];
 }
 
+double pom_dyn_exact_dexterity(const pom_dyn_model *m, const double *y) {
+  double R[9], q[3], J[9], dex = NAN;
+  state_rotation(m, y, R, NULL);
+  if (pom_kin_inverse_jacobian(&m->ex->arch, R, q, J, NULL) == POM_OK)
+    pom_kin_dexterity(J, NULL, NULL, &dex);
+  return dex;
+}
+
 double pom_dyn_exact_stored(const pom_dyn_model *m, pom_dyn_data *d, const double *y) {
   if (pom_dyn_exact_eval(m, d, y, NULL) != 0 && d->out.kin_fail) return NAN;
   double E = d->xw->kinetic + d->xw->potential;

@@ -224,6 +224,9 @@ int pom_dyn_exact_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, su
 /* The block-triangular direct solver of the exact path's Newton systems (the
  * matrix is a SUNDenseMatrix filled by pom_dyn_exact_linsys). */
 SUNLinearSolver pom_dyn_exact_linear_solver(const pom_dyn_model *m, SUNContext ctx);
+/* Dexterity 1/kappa(J) of the kinematic Jacobian at the platform pose of
+ * state y (NaN when the pose cannot be assembled): failure diagnostics. */
+double pom_dyn_exact_dexterity(const pom_dyn_model *m, const double *y);
 void pom_dyn_exact_initial(const pom_dyn_model *m, double *y, const pom_dyn_initial *init);
 int pom_dyn_exact_near_singular(const pom_dyn_model *m, const double *y);
 void pom_dyn_exact_positions(const pom_dyn_model *m, const double *y, double *q);

@@ -325,7 +325,15 @@ static pom_status fail_status(pom_dyn_data *d, int flag, double t, pom_dyn_metri
     st = pom_error_set(err, POM_ERR_SOLVER, __FILE__, __LINE__,
                        "CVODE reached solver.max_steps = %ld before t = %.6g s",
                        d->m->par.solver.max_steps, t);
-  else
+  else if (d->m->ex) {
+    /* rigid joints: say how close the pose is to a singularity, where a limb
+     * locks and the integrator stalls (docs/dynamics-exact.md section 3) */
+    double dex = pom_dyn_exact_dexterity(d->m, N_VGetArrayPointer(d->y));
+    st = pom_error_set(err, isnan(dex) ? POM_ERR_UNREACHABLE : POM_ERR_SOLVER, __FILE__, __LINE__,
+                       "rigid joints: CVODE failed at t = %.6g s with the mechanism at 1/kappa(J) "
+                       "= %.3g (1 isotropic, 0 singular%s): %s",
+                       t, dex, isnan(dex) ? ", NaN: not assemblable" : "", d->cvode_msg);
+  } else
     st = pom_error_set(err, POM_ERR_SOLVER, __FILE__, __LINE__, "CVODE failed at t = %.6g s: %s", t,
                        d->cvode_msg);
   mt->status = st;

@@ -449,6 +449,28 @@ static void test_errors(const setup_t *s3, const setup_t *u3) {
              strstr(err.message, "joints.model") != NULL);
   pom_cfg_destroy(cfg);
   check_true(strcmp(pom_dyn_joint_model_name(POM_JOINTS_RIGID), "rigid") == 0);
+  /* a design with short, leaning links (tests/test_kinematics.c): the
+   * maneuver to the stroke ends drives the rigid mechanism into a singular
+   * pose; it must stop with a status that says so, in bounded time */
+  for (int cz = 0; cz < 2; ++cz) { /* link length 1.8 r: out of reach; 2.0 r: locks singular */
+    pom_kin_design dz = {0.012,          0.5 * POM_PI,   0.0, cz ? 2.0 : 1.8,
+                         80.0 * POM_DEG, 60.0 * POM_DEG, 0.0, 0.0};
+    setup_t z = *s3;
+    check_true(pom_kin_arch_from_design(&z.arch, POM_ARCH_3PSS, &dz, &err) == POM_OK);
+    check_true(pom_kin_mechanism_from(&z.mech, &z.arch, &z.in, &err) == POM_OK);
+    pom_dyn_params pz = p;
+    pz.maneuver.horizon = 0.03;
+    double ends[3] = {6e-3, -6e-3, 6e-3};
+    run_t rz;
+    if (run_build(&rz, &z, &pz) == POM_OK) {
+      pom_status st = pom_dyn_simulate(rz.m, rz.d, ends, &rz.mt, NULL, &rz.err);
+      check_true(st != POM_OK && rz.mt.status == st && isnan(rz.mt.execution_time));
+      check_true(strstr(rz.mt.reason, "rigid joints") != NULL);
+      check_true(rz.mt.wall_time < 10.0);
+      printf("singular pose: %s\n", rz.mt.reason);
+    }
+    run_free(&rz);
+  }
   /* a target far beyond the stroke: the rigid mechanism runs out of reach (3PSS
    * links cannot follow) or the run ends otherwise with a clear status, never NaN */
   run_t r;
