@@ -30,6 +30,28 @@ static const double exact_check_euler[3] = {0.031, -0.022, 0.017};
 #define EXACT_MATCH_TOL 1e-9
 
 /* ---- small linear algebra ------------------------------------------------ */
+/* out = A v and out = A^T v (row-major 3x3), inlined in the RHS */
+static inline void mv(double out[3], const double A[9], const double v[3]) {
+  out[0] = A[0] * v[0] + A[1] * v[1] + A[2] * v[2];
+  out[1] = A[3] * v[0] + A[4] * v[1] + A[5] * v[2];
+  out[2] = A[6] * v[0] + A[7] * v[1] + A[8] * v[2];
+}
+static inline void mtv(double out[3], const double A[9], const double v[3]) {
+  out[0] = A[0] * v[0] + A[3] * v[1] + A[6] * v[2];
+  out[1] = A[1] * v[0] + A[4] * v[1] + A[7] * v[2];
+  out[2] = A[2] * v[0] + A[5] * v[1] + A[8] * v[2];
+}
+/* out = A^T B and out = A B (3x3) */
+static inline void mtm(double out[9], const double A[9], const double B[9]) {
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      out[3 * r + c] = A[r] * B[c] + A[3 + r] * B[3 + c] + A[6 + r] * B[6 + c];
+}
+static inline void mm(double out[9], const double A[9], const double B[9]) {
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      out[3 * r + c] = A[3 * r] * B[c] + A[3 * r + 1] * B[3 + c] + A[3 * r + 2] * B[6 + c];
+}
 /* out += s * A^T B (3x3) */
 static void add_tmul(double out[9], double s, const double A[9], const double B[9]) {
   for (int r = 0; r < 3; ++r)
@@ -250,7 +272,11 @@ pom_status pom_dyn_exact_model_init(pom_dyn_model *m, const pom_mechanism *mech,
 }
 
 /* ---- right-hand side ------------------------------------------------------ */
-int pom_dyn_exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot) {
+/* One evaluation. ydot NULL and !energy: the outputs (q, q_dot, current,
+ * voltage) only, from the IK and J (the driver's per-step extremes); energy:
+ * also M, the kinetic and the potential energy. */
+static int exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot,
+                      int energy) {
   const dyn_exact *ex = m->ex;
   dyn_exact_work *xw = d->xw;
   const pom_dyn_params *par = &m->par;
@@ -263,14 +289,16 @@ int pom_dyn_exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y,
   if (ex->n_ori == 3 && trig[2] < par->scene.euler_cos_min) o->euler_singular = 1;
   const double *w = y + ex->omega;
   pom_kin_twists *tw = &xw->tw;
-  if (pom_kin_body_twists(&ex->arch, R, w, tw, NULL) != POM_OK) {
+  const int outputs_only = !ydot && !energy;
+  if (outputs_only ? pom_kin_inverse_jacobian(&ex->arch, R, tw->q, tw->J, NULL) != POM_OK
+                   : pom_kin_body_twists(&ex->arch, R, w, tw, NULL) != POM_OK) {
     o->kin_fail = 1;
     return 1;
   }
 
   /* Kane: M = sum m Acm^T Acm + B^T I B; f = sum Acm^T (F - m a0) - B^T (I al0 + w x I w) */
   double M[9] = {0}, f[3] = {0}, pe = 0.0;
-  for (int b = 0; b < m->n_bodies; ++b) {
+  for (int b = 0; b < (outputs_only ? 0 : m->n_bodies); ++b) {
     const dyn_body *bd = &m->body[b];
     const pom_kin_body_twist *t = &tw->body[bd->mech_index];
     double d0[3], rho[3], Acm[9], wb[3], a0[3], tmp[3], x[3];
@@ -279,7 +307,7 @@ int pom_dyn_exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y,
     for (int k = 0; k < 9; ++k)
       moving_rot |= Bm[k] != 0.0;
     pom_v3_sub(d0, bd->cm_home, t->ref_home);
-    pom_m3_apply(rho, t->R, d0);
+    mv(rho, t->R, d0);
     /* Acm = A - [rho]x B, column by column */
     for (int c = 0; c < 3; ++c) {
       const double b0 = Bm[c], b1 = Bm[3 + c], b2 = Bm[6 + c];
@@ -287,7 +315,7 @@ int pom_dyn_exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y,
       Acm[3 + c] = t->A[3 + c] - (rho[2] * b0 - rho[0] * b2);
       Acm[6 + c] = t->A[6 + c] - (rho[0] * b1 - rho[1] * b0);
     }
-    pom_m3_apply(wb, Bm, w);
+    mv(wb, Bm, w);
     /* CM acceleration at omega_dot = 0 */
     pom_v3_cross(a0, t->alpha_bias, rho);
     pom_v3_add(a0, a0, t->a_bias);
@@ -298,7 +326,7 @@ int pom_dyn_exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y,
     for (int k = 0; k < 3; ++k)
       F[k] = bd->mass * (m->gravity[k] - a0[k]);
     add_tmul(M, bd->mass, Acm, Acm);
-    pom_m3_tapply(tmp, Acm, F);
+    mtv(tmp, Acm, F);
     pom_v3_add(f, f, tmp);
     /* rotation */
     if (moving_rot) {
@@ -310,20 +338,20 @@ int pom_dyn_exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y,
       } else {
         /* in home axes: B_h = R^T B, M += B_h^T I_home B_h, torques likewise */
         double Bh[9], IBh[9], wh[3], ah[3];
-        pom_m3_tmul(Bh, t->R, Bm);
-        pom_m3_mul(IBh, ex->inertia[b], Bh);
+        mtm(Bh, t->R, Bm);
+        mm(IBh, ex->inertia[b], Bh);
         add_tmul(M, 1.0, Bh, IBh);
-        pom_m3_tapply(wh, t->R, wb);
-        pom_m3_tapply(ah, t->R, t->alpha_bias);
-        pom_m3_apply(Iw, ex->inertia[b], wh);
-        pom_m3_apply(Ia, ex->inertia[b], ah);
+        mtv(wh, t->R, wb);
+        mtv(ah, t->R, t->alpha_bias);
+        mv(Iw, ex->inertia[b], wh);
+        mv(Ia, ex->inertia[b], ah);
         pom_v3_cross(gyro, wh, Iw);
         for (int k = 0; k < 3; ++k)
           Tq[k] = -Ia[k] - gyro[k];
-        pom_m3_apply(tmp, t->R, Tq); /* back to the fixed frame */
+        mv(tmp, t->R, Tq); /* back to the fixed frame */
         pom_v3_copy(Tq, tmp);
       }
-      pom_m3_tapply(tmp, Bm, Tq);
+      mtv(tmp, Bm, Tq);
       pom_v3_add(f, f, tmp);
     }
     /* gravitational potential relative to home */
@@ -371,8 +399,9 @@ int pom_dyn_exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y,
       acc[DYN_ACC_BEARING] = bf * qd * qd;
     }
   }
+  if (outputs_only) return o->euler_singular ? 1 : 0;
   double Mw[3];
-  pom_m3_apply(Mw, M, w);
+  mv(Mw, M, w);
   xw->kinetic = 0.5 * pom_v3_dot(w, Mw);
   xw->potential = pe;
   memcpy(xw->M, M, sizeof M);
@@ -403,6 +432,10 @@ int pom_dyn_exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y,
       break;
     }
   return (o->euler_singular || o->nonfinite) ? 1 : 0;
+}
+
+int pom_dyn_exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot) {
+  return exact_eval(m, d, y, ydot, 0);
 }
 
 /* ---- Jacobian ------------------------------------------------------------- */
@@ -467,10 +500,11 @@ int pom_dyn_exact_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, su
  * SUNDIALS' dense LU (built without optimization on this system) on the full
  * n = 28 matrix took a third of the run (bench/README.md). */
 typedef struct {
-  int n;      /* states */
-  int nb;     /* leading block (n_jac) */
-  double *lu; /* [nb * nb] LU factors of A11, column-major */
-  int *piv;   /* [nb] row pivots */
+  int n;       /* states */
+  int nb;      /* leading block (n_jac) */
+  double *lu;  /* [nb * nb] LU factors of A11, column-major */
+  double *a21; /* [(n - nb) * nb] A21, column-major (copied at setup) */
+  int *piv;    /* [nb] row pivots */
 } exact_ls;
 
 static SUNLinearSolver_Type exact_ls_gettype(SUNLinearSolver S) {
@@ -487,8 +521,12 @@ static int exact_ls_setup(SUNLinearSolver S, SUNMatrix A) {
   exact_ls *c = S->content;
   const int nb = c->nb;
   double *lu = c->lu;
-  for (int j = 0; j < nb; ++j)
-    memcpy(lu + (size_t)j * (size_t)nb, SUNDenseMatrix_Column(A, j), (size_t)nb * sizeof(double));
+  const int nr = c->n - nb;
+  for (int j = 0; j < nb; ++j) {
+    const double *col = SUNDenseMatrix_Column(A, j);
+    memcpy(lu + (size_t)j * (size_t)nb, col, (size_t)nb * sizeof(double));
+    memcpy(c->a21 + (size_t)j * (size_t)nr, col + nb, (size_t)nr * sizeof(double));
+  }
   for (int k = 0; k < nb; ++k) {
     int p = k;
     double big = fabs(lu[k * nb + k]);
@@ -543,8 +581,9 @@ static int exact_ls_solve(SUNLinearSolver S, SUNMatrix A, N_Vector xv, N_Vector 
     for (int i = 0; i < k; ++i)
       x[i] -= lu[k * nb + i] * x[k];
   }
+  (void)A;
   for (int j = 0; j < nb; ++j) {
-    const double *col = SUNDenseMatrix_Column(A, j);
+    const double *col = c->a21 + j * (n - nb) - nb;
     for (int i = nb; i < n; ++i)
       x[i] -= col[i] * x[j];
   }
@@ -556,6 +595,7 @@ static int exact_ls_free(SUNLinearSolver S) {
   exact_ls *c = S->content;
   if (c) {
     free(c->lu);
+    free(c->a21);
     free(c->piv);
     free(c);
   }
@@ -579,8 +619,9 @@ SUNLinearSolver pom_dyn_exact_linear_solver(const pom_dyn_model *m, SUNContext c
     c->nb = m->ex->n_jac;
     c->lu = calloc((size_t)c->nb * (size_t)c->nb, sizeof *c->lu);
     c->piv = calloc((size_t)c->nb, sizeof *c->piv);
+    c->a21 = calloc((size_t)(c->n - c->nb) * (size_t)c->nb, sizeof *c->a21);
   }
-  if (!c || !c->lu || !c->piv) {
+  if (!c || !c->lu || !c->piv || !c->a21) {
     exact_ls_free(S);
     return NULL;
   }
@@ -616,7 +657,7 @@ double pom_dyn_exact_dexterity(const pom_dyn_model *m, const double *y) {
 }
 
 double pom_dyn_exact_stored(const pom_dyn_model *m, pom_dyn_data *d, const double *y) {
-  if (pom_dyn_exact_eval(m, d, y, NULL) != 0 && d->out.kin_fail) return NAN;
+  if (exact_eval(m, d, y, NULL, 1) != 0 && d->out.kin_fail) return NAN;
   double E = d->xw->kinetic + d->xw->potential;
   for (int a = 0; a < m->n_actuators; ++a)
     if (m->act[a].flux_state >= 0) {
@@ -642,6 +683,6 @@ pom_status pom_dyn_exact_body_pose(const pom_dyn_model *m, const double *y, int 
 
 const double *pom_dyn_exact_mass_matrix(const pom_dyn_model *m, pom_dyn_data *d, const double *y) {
   if (!m->ex || !d->xw) return NULL;
-  (void)pom_dyn_exact_eval(m, d, y, NULL);
+  (void)exact_eval(m, d, y, NULL, 1);
   return d->xw->M;
 }

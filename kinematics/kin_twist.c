@@ -17,16 +17,22 @@ static void outer(double out[9], const double u[3], const double v[3]) {
       out[3 * r + c] = u[r] * v[c];
 }
 
-/* Rotation taking unit a to unit b by the smallest angle (a . b > -1). */
+/* Rotation taking unit a to unit b by the smallest angle (a . b > -1):
+ * R = I + [k]x + [k]x^2 / (1 + c), k = a x b, c = a . b, with
+ * [k]x^2 = k k^T - |k|^2 I. */
 static void min_rotation(double R[9], const double a[3], const double b[3]) {
-  double k[3], K[9], K2[9];
+  double k[3];
   pom_v3_cross(k, a, b);
-  double c = pom_v3_dot(a, b);
-  pom_m3_skew(K, k);
-  pom_m3_mul(K2, K, K);
-  double f = 1.0 / (1.0 + c);
-  for (int i = 0; i < 9; ++i)
-    R[i] = (i % 4 == 0 ? 1.0 : 0.0) + K[i] + f * K2[i];
+  double f = 1.0 / (1.0 + pom_v3_dot(a, b)), d = 1.0 - f * pom_v3_dot(k, k);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      R[3 * r + c] = (r == c ? d : 0.0) + f * k[r] * k[c];
+  R[1] -= k[2];
+  R[2] += k[1];
+  R[3] += k[2];
+  R[5] -= k[0];
+  R[6] -= k[1];
+  R[7] += k[0];
 }
 
 static void body_rest(pom_kin_body_twist *b) {
