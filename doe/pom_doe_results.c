@@ -4,6 +4,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "pom_doe_internal.h"
 #include "pom_h5.h"
+#include "pom_math.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -211,6 +212,57 @@ fail:
 }
 
 /* ---- open for resume -------------------------------------------------------------- */
+/* The rest of the maneuver protocol (space, distribution, sigma, tilt and
+ * torsion limits) and the drawn table itself must match too: otherwise a
+ * resumed file would mix maneuvers of two protocols. */
+static pom_status check_protocol(hid_t file, const pom_doe_study *study, const char *path,
+                                 pom_error *err) {
+  static const char *const spaces[] = {"joint", "orientation"};
+  static const char *const dists[] = {"uniform", "normal"};
+  const pom_doe_maneuvers *mv = &study->maneuvers;
+  pom_status st = POM_OK;
+  hid_t mc = -1;
+  double *have = NULL;
+  char space[32] = "", dist[32] = "";
+  double sigma = NAN, tilt = NAN, torsion = NAN;
+  POM_TRY(pom_h5_open_group(&mc, file, "montecarlo", err));
+  POM_TRY_GOTO(pom_h5_read_attr_string(mc, "space", space, sizeof space, err), done);
+  POM_TRY_GOTO(pom_h5_read_attr_string(mc, "distribution", dist, sizeof dist, err), done);
+  POM_TRY_GOTO(pom_h5_read_attr_double(mc, "sigma_m", &sigma, err), done);
+  POM_TRY_GOTO(pom_h5_read_attr_double(mc, "tilt_max_rad", &tilt, err), done);
+  POM_TRY_GOTO(pom_h5_read_attr_double(mc, "torsion_max_rad", &torsion, err), done);
+  if (strcmp(space, spaces[mv->space]) != 0 || strcmp(dist, dists[mv->distribution]) != 0 ||
+      sigma != mv->sigma || tilt != mv->tilt_max || torsion != mv->torsion_max)
+    POM_FAIL_GOTO(err, POM_ERR_ARG, done,
+                  "'%s' holds another study (maneuvers drawn in %s space, %s, sigma %.6g mm, "
+                  "tilt %.6g deg, torsion %.6g deg; this one: %s, %s, %.6g mm, %.6g deg, %.6g "
+                  "deg): remove it or choose another output",
+                  path, space, dist, sigma * 1e3, tilt / POM_DEG, torsion / POM_DEG,
+                  spaces[mv->space], dists[mv->distribution], mv->sigma * 1e3,
+                  mv->tilt_max / POM_DEG, mv->torsion_max / POM_DEG);
+  /* the stored maneuvers are the ones this program draws (same generator) */
+  size_t n = (size_t)mv->count * 3;
+  have = malloc(n * sizeof *have);
+  if (!have) POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "results: out of memory");
+  POM_TRY_GOTO(pom_h5_read_doubles(mc, mv->space == POM_DOE_SPACE_JOINT ? "target" : "tilt_torsion",
+                                   n, have, err),
+               done);
+  for (long k = 0; k < mv->count; ++k) {
+    pom_doe_maneuver m;
+    pom_doe_maneuver_draw(&m, mv, k);
+    const double *want = mv->space == POM_DOE_SPACE_JOINT ? m.q : m.orient;
+    if (memcmp(have + 3 * k, want, 3 * sizeof *want) != 0)
+      POM_FAIL_GOTO(err, POM_ERR_ARG, done,
+                    "'%s': maneuver %ld stored in the file differs from the one drawn now (seed "
+                    "%llu): remove the file or choose another output",
+                    path, k, (unsigned long long)mv->seed);
+  }
+done:
+  free(have);
+  H5Gclose(mc);
+  return st;
+}
+
 /* The study identity: maneuvers and resolved candidate configs. */
 static pom_status check_identity(pom_doe_results *res, const pom_doe_study *study, const char *path,
                                  pom_error *err) {
@@ -237,6 +289,7 @@ static pom_status check_identity(pom_doe_results *res, const pom_doe_study *stud
              "%d x %ld, seed %llu): remove it or choose another output",
              path, (long long)nc, (long long)nm, (long long)seed, study->n_candidates,
              study->maneuvers.count, (unsigned long long)study->maneuvers.seed);
+  POM_TRY(check_protocol(res->file, study, path, err));
   for (int c = 0; c < study->n_candidates; ++c) {
     char name[48];
     snprintf(name, sizeof name, "candidates/%d", c);
@@ -479,6 +532,9 @@ done:
 pom_status pom_doe_results_write_report(pom_doe_results *res, const pom_doe_study *study,
                                         const pom_doe_report *rep, pom_error *err) {
   pom_h5_quiet();
+  /* a resumed study may use other levels than the run that created the file */
+  POM_TRY(pom_h5_attr_double(res->file, "alpha", study->alpha, err));
+  POM_TRY(pom_h5_attr_double(res->file, "confidence", study->confidence, err));
   POM_TRY(write_statistics(res->file, rep, err));
   POM_TRY(write_comparisons(res->file, rep, err));
   hid_t g = -1;

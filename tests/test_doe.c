@@ -554,6 +554,16 @@ static void test_runs(void) {
   check_true(pom_doe_run_all(&study, &o, NULL, &err) == POM_ERR_ARG);
   check_true(strstr(err.message, "another study") != NULL);
   study.maneuvers.seed = 4242;
+  /* so is one drawn by another distribution with the same seed and range (a
+   * resumed file would mix the maneuvers of two protocols) */
+  study.maneuvers.distribution = POM_DOE_DIST_NORMAL;
+  pom_error_clear(&err);
+  check_true(pom_doe_run_all(&study, &o, NULL, &err) == POM_ERR_ARG);
+  check_true(strstr(err.message, "another study") != NULL);
+  study.maneuvers.distribution = POM_DOE_DIST_UNIFORM;
+  /* and the same protocol resumes (nothing left to do) */
+  pom_error_clear(&err);
+  check_true(pom_doe_run_all(&study, &o, NULL, &err) == POM_OK);
 
   /* orientation space: targets from the evaluator's mapping */
   study.maneuvers.space = POM_DOE_SPACE_ORIENTATION;
