@@ -91,6 +91,18 @@ void pom_doe_evaluator_clear(pom_doe_evaluator *eval);
 typedef pom_status (*pom_doe_evaluator_factory)(pom_doe_evaluator *eval, const pom_cfg *cfg,
                                                 void *user, pom_error *err);
 
+/* Shared by the dynamics evaluators (the one below and the study pipeline's):
+ * a maneuver that ends with an actuator outside +-stroke/2 (stroke in m) is
+ * physically impossible (the model has no end stops) and becomes a failure:
+ * out->status = POM_ERR_LIMIT with the reason set (docs/results.md, section
+ * 1). Returns POM_ERR_LIMIT (err set) when it made the maneuver a failure,
+ * POM_OK otherwise (also when out->status already records a failure). */
+pom_status pom_doe_check_final_stroke(pom_dyn_metrics *out, double stroke, pom_error *err);
+
+/* Writes a candidate's dynamics settings (controller, scene, joints, solver,
+ * maneuver) as attributes of group g (docs/results.md, section 5). */
+pom_status pom_doe_describe_dyn_params(hid_t g, const pom_dyn_params *par, pom_error *err);
+
 /* The real evaluator: architecture, mechanism and dynamics model from cfg
  * (kinematics and dynamics groups; unknown keys in them rejected). */
 pom_status pom_doe_dyn_evaluator_create(pom_doe_evaluator *eval, const pom_cfg *cfg, void *user,

@@ -97,6 +97,29 @@ static pom_status results_alloc(pom_doe_results **out, const pom_doe_study *stud
   return row_types(&res->row_mem, &res->row_file, err);
 }
 
+/* ---- candidate provenance ------------------------------------------------------ */
+pom_status pom_doe_describe_dyn_params(hid_t g, const pom_dyn_params *par, pom_error *err) {
+  POM_TRY(
+      pom_h5_attr_string(g, "controller_form", pom_dyn_pid_form_name(par->controller.form), err));
+  POM_TRY(pom_h5_attr_double(g, "controller_kp", par->controller.kp, err));
+  POM_TRY(pom_h5_attr_double(g, "controller_ki", par->controller.ki, err));
+  POM_TRY(pom_h5_attr_double(g, "controller_kd", par->controller.kd, err));
+  POM_TRY(pom_h5_attr_string(g, "orientation", pom_dyn_orient_name(par->scene.orientation), err));
+  POM_TRY(pom_h5_attr_string(g, "joints_model", pom_dyn_joint_model_name(par->joints.model), err));
+  POM_TRY(pom_h5_attr_int64(g, "scene_gravity", par->scene.gravity, err));
+  POM_TRY(pom_h5_attr_int64(g, "scene_bearing_friction", par->scene.bearing_friction, err));
+  POM_TRY(pom_h5_attr_int64(g, "scene_coil_inductance", par->scene.coil_inductance, err));
+  POM_TRY(pom_h5_attr_double(g, "solver_rtol", par->solver.rtol, err));
+  POM_TRY(pom_h5_attr_double(g, "solver_atol_scale", par->solver.atol_scale, err));
+  POM_TRY(pom_h5_attr_double(g, "solver_max_step_s", par->solver.max_step, err));
+  POM_TRY(pom_h5_attr_int64(g, "solver_max_steps", par->solver.max_steps, err));
+  POM_TRY(pom_h5_attr_string(g, "solver_linear_solver",
+                             pom_dyn_linsol_name(par->solver.linear_solver), err));
+  POM_TRY(pom_h5_attr_double(g, "maneuver_horizon_s", par->maneuver.horizon, err));
+  POM_TRY(pom_h5_attr_double(g, "maneuver_settle_band", par->maneuver.settle_band, err));
+  return POM_OK;
+}
+
 /* ---- create -------------------------------------------------------------------- */
 static pom_status write_montecarlo(hid_t file, const pom_doe_study *study, pom_error *err) {
   static const char *const spaces[] = {"joint", "orientation"};

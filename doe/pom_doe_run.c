@@ -100,6 +100,22 @@ void pom_doe_row_from_metrics(pom_doe_row *row, const pom_dyn_metrics *m) {
   row->wall_time = m->wall_time;
 }
 
+pom_status pom_doe_check_final_stroke(pom_dyn_metrics *out, double stroke, pom_error *err) {
+  if (out->status != POM_OK) return POM_OK; /* already a recorded failure */
+  double half = 0.5 * stroke;
+  for (int i = 0; i < 3; ++i)
+    if (!(fabs(out->final_q[i]) <= half)) {
+      out->status = POM_ERR_LIMIT;
+      snprintf(
+          out->reason, sizeof out->reason,
+          "actuator %d ended outside its stroke: q = %.4g mm at the horizon (stroke +-%.4g mm; "
+          "the model has no end stops)",
+          i + 1, out->final_q[i] * 1e3, half * 1e3);
+      return pom_error_set(err, POM_ERR_LIMIT, __FILE__, __LINE__, "%s", out->reason);
+    }
+  return POM_OK;
+}
+
 /* Runs one unit into row: draw the maneuver, map it to targets, evaluate. A
  * failure of any kind becomes the row's status and reason. */
 static void run_unit(const pom_doe_study *study, void **states, long unit, pom_doe_row *row) {

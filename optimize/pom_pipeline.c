@@ -70,7 +70,9 @@ static pom_status run(const void *p, void *worker, const double target[3], pom_d
     snprintf(out->reason, sizeof out->reason, "%s", err ? err->message : "outside the stroke");
     return st;
   }
-  return pom_dyn_simulate(ctx->model, worker, target, out, NULL, err);
+  st = pom_dyn_simulate(ctx->model, worker, target, out, NULL, err);
+  if (st != POM_OK) return st;
+  return pom_doe_check_final_stroke(out, ctx->arch.stroke, err);
 }
 
 static pom_status describe(const void *p, hid_t g, pom_error *err) {
@@ -85,13 +87,7 @@ static pom_status describe(const void *p, hid_t g, pom_error *err) {
   if (ctx->synthesized)
     POM_TRY(pom_h5_attr_double(g, "synthesis_desirability", ctx->d_confirmed, err));
   if (ctx->tuned) POM_TRY(pom_h5_attr_double(g, "tuning_criterion_s", ctx->tune_criterion, err));
-  POM_TRY(
-      pom_h5_attr_string(g, "controller_form", pom_dyn_pid_form_name(par->controller.form), err));
-  POM_TRY(pom_h5_attr_double(g, "controller_kp", par->controller.kp, err));
-  POM_TRY(pom_h5_attr_double(g, "controller_ki", par->controller.ki, err));
-  POM_TRY(pom_h5_attr_double(g, "controller_kd", par->controller.kd, err));
-  POM_TRY(pom_h5_attr_double(g, "solver_rtol", par->solver.rtol, err));
-  POM_TRY(pom_h5_attr_double(g, "maneuver_horizon_s", par->maneuver.horizon, err));
+  POM_TRY(pom_doe_describe_dyn_params(g, par, err));
   POM_TRY(pom_h5_attr_int64(g, "model_states", pom_dyn_model_n_states(ctx->model), err));
   return POM_OK;
 }

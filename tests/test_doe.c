@@ -657,6 +657,32 @@ static void test_progress(void) {
   fclose(f);
 }
 
+/* ---- the final-stroke rule of the dynamics evaluators ----------------------------------- */
+static void test_final_stroke(void) {
+  pom_dyn_metrics m;
+  pom_error err;
+  memset(&m, 0, sizeof m);
+  pom_error_clear(&err);
+  /* stroke 12 mm: +-6 mm allowed, the bound itself included */
+  m.final_q[0] = 6e-3;
+  m.final_q[1] = -6e-3;
+  check_true(pom_doe_check_final_stroke(&m, 12e-3, &err) == POM_OK && m.status == POM_OK);
+  m.final_q[2] = -6.5e-3;
+  check_true(pom_doe_check_final_stroke(&m, 12e-3, &err) == POM_ERR_LIMIT);
+  check_true(m.status == POM_ERR_LIMIT && strstr(m.reason, "actuator 3 ended outside") != NULL);
+  /* NaN is outside too */
+  memset(&m, 0, sizeof m);
+  m.final_q[1] = NAN;
+  check_true(pom_doe_check_final_stroke(&m, 12e-3, &err) == POM_ERR_LIMIT);
+  /* an earlier failure is kept as it is */
+  memset(&m, 0, sizeof m);
+  m.status = POM_ERR_SOLVER;
+  snprintf(m.reason, sizeof m.reason, "solver");
+  m.final_q[0] = 1.0;
+  check_true(pom_doe_check_final_stroke(&m, 12e-3, &err) == POM_OK);
+  check_true(m.status == POM_ERR_SOLVER && strcmp(m.reason, "solver") == 0);
+}
+
 int main(void) {
   snprintf(tmpdir, sizeof tmpdir, "/tmp/pom_test_doe_XXXXXX");
   if (!mkdtemp(tmpdir)) {
@@ -672,5 +698,6 @@ int main(void) {
   test_study_config();
   test_sweep();
   test_runs();
+  test_final_stroke();
   return check_summary("test_doe");
 }

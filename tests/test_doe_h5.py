@@ -69,6 +69,14 @@ def main(argv):
             g = f["candidates/%d" % c]
             check("architecture" in text(g["config"][()]), "resolved config of %d" % c)
             check(g.attrs["solver_rtol"] == (1e-6 if c == 0 else 1e-5), "solver settings")
+            # the documented provenance attributes (docs/results.md section 5)
+            for key in ("architecture", "stroke_m", "controller_form", "controller_kp",
+                        "controller_ki", "controller_kd", "orientation", "scene_gravity",
+                        "solver_atol_scale", "solver_max_step_s", "solver_max_steps",
+                        "solver_linear_solver", "maneuver_horizon_s", "maneuver_settle_band",
+                        "model_states"):
+                check(key in g.attrs, "candidate %d attribute %s" % (c, key))
+            check(g.attrs["maneuver_horizon_s"] == 0.025, "study override in the settings")
         rows = [f["candidates/%d/maneuvers" % c][:] for c in range(nc)]
         stats_t = f["statistics/execution_time"][:]
         stats_f = f["statistics/execution_time_final"][:]

@@ -31,6 +31,18 @@ rm -f tests/.doe_bad_tmp.cfg
 [ "$code" -eq 2 ] || { echo "bad config: exit $code, want 2"; exit 1; }
 grep -q "candidates.\[0\].colour" "$WORK/bad.err"
 [ ! -e "$WORK/bad.h5" ]
+# a loop that runs past the stroke is a recorded failure in a study too
+"$POMLAB" study tests/doe_study_runaway.cfg --out "$WORK/run.h5" --no-plots --no-summary --quiet \
+  > /dev/null
+/usr/bin/python3 - "$WORK/run.h5" <<'PY'
+import sys, h5py, numpy as np
+r = h5py.File(sys.argv[1], "r")["candidates/0/maneuvers"][:]
+out = np.any(np.abs(r["final_q"]) > 6e-3, axis=1)
+assert out.any() and (~out).any(), "runaway study: want maneuvers on both sides of the stroke"
+assert np.all(r["status"][out] == -6), "runaway maneuvers not failed: %s" % r["status"]
+assert all(b"ended outside its stroke" in x for x in r["reason"][out]), r["reason"]
+assert np.all(r["status"][~out] == 0)
+PY
 SAME="$WORK/t1.h5 $WORK/t2.h5 $WORK/r.h5"
 if [ -n "$MPIRUN" ]; then
   $MPIRUN --allow-run-as-root --oversubscribe -np 2 "$POMLAB" study $CFG --threads 1 \
