@@ -85,6 +85,7 @@ def main(argv):
         paired = f["comparison/paired"][:]
         conf = float(f["comparison"].attrs["confidence"])
         rank_t = list(f["ranking/execution_time"][:])
+        rank_e = list(f["ranking/energy"][:])
 
     half_stroke = 6e-3
     n_fail = 0
@@ -142,9 +143,20 @@ def main(argv):
             mode = "exact" if nz.size <= 50 and not ties else "approx"
             res = sps.wilcoxon(nz, zero_method="wilcox", correction=False, mode=mode)
             check(rel_close(p[8], res.pvalue, 1e-9), "Wilcoxon p %r vs scipy %r" % (p[8], res.pvalue))
-    means = [stats_t[c][2] for c in range(nc)]
-    check(rank_t == sorted(range(nc), key=lambda c: means[c]) or np.isnan(means).any(),
-          "ranking by mean execution time")
+    # ranking: mean over the maneuvers every candidate completed (settled, for
+    # time), ties broken by fewer failed + unsettled, then by index
+    bad = [int(counts[c, 2] + counts[c, 3]) for c in range(nc)]
+    for key, want in (("execution_time", rank_t), ("energy", rank_e)):
+        if key == "execution_time":
+            use = np.all([(r["status"] == 0) & np.all(r["settled"] == 1, axis=1) for r in rows],
+                         axis=0)
+            col = "execution_time"
+        else:
+            use = np.all([r["status"] == 0 for r in rows], axis=0)
+            col = "energy_total"
+        means = [rows[c][col][use].mean() if use.any() else np.nan for c in range(nc)]
+        order = sorted(range(nc), key=lambda c: (np.isnan(means[c]), means[c], bad[c], c))
+        check(want == order, "ranking by %s: %s, want %s" % (key, want, order))
 
     # the JSON report agrees with the file
     with open(report) as fj:
