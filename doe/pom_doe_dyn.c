@@ -100,6 +100,7 @@ static pom_status describe(const void *p, hid_t g, pom_error *err) {
   POM_TRY(pom_h5_attr_double(g, "controller_ki", par->controller.ki, err));
   POM_TRY(pom_h5_attr_double(g, "controller_kd", par->controller.kd, err));
   POM_TRY(pom_h5_attr_string(g, "orientation", pom_dyn_orient_name(par->scene.orientation), err));
+  POM_TRY(pom_h5_attr_string(g, "joints_model", pom_dyn_joint_model_name(par->joints.model), err));
   POM_TRY(pom_h5_attr_int64(g, "scene_gravity", par->scene.gravity, err));
   POM_TRY(pom_h5_attr_int64(g, "scene_bearing_friction", par->scene.bearing_friction, err));
   POM_TRY(pom_h5_attr_int64(g, "scene_coil_inductance", par->scene.coil_inductance, err));
