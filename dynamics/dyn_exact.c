@@ -155,8 +155,9 @@ static pom_status consistency_check(dyn_exact *ex, const pom_mechanism *mech, po
       mismatch = fmax(mismatch, rot * pom_v3_norm(jt->point));
       int a = jt->actuator;
       if (a >= 0 && a < mech->n_actuators) {
+        /* the limb whose q matches; limb a itself when several do */
         for (int i = 0; i < 3; ++i)
-          if (fabs(tw.q[i] - q) <= EXACT_MATCH_TOL && fabs(q) > 100 * EXACT_MATCH_TOL)
+          if (fabs(tw.q[i] - q) <= EXACT_MATCH_TOL && (ex->act_limb[a] < 0 || i == a))
             ex->act_limb[a] = i;
         if (ex->act_limb[a] < 0)
           POM_FAIL(err, POM_ERR_ARG,
