@@ -20,17 +20,21 @@ grep -q "continue with --resume" "$WORK/r1.err"
 "$POMLAB" study $CFG --threads 2 --out "$WORK/r.h5" --resume --no-plots --no-summary --quiet \
   > "$WORK/r2.txt"
 # a config error stops before any work (exit 2, no file)
-printf 'candidates = ( { name = "x"; config = "../configs/3pss.cfg"; colour = 2; } );\n' \
-  > tests/.doe_bad_tmp.cfg
-if "$POMLAB" study tests/.doe_bad_tmp.cfg --out "$WORK/bad.h5" --quiet 2> "$WORK/bad.err"; then
-  echo "bad config accepted"; rm -f tests/.doe_bad_tmp.cfg; exit 1
+# (written in WORK, not in the source tree, so concurrent test runs do not race)
+printf 'candidates = ( { name = "x"; config = "%s/configs/3pss.cfg"; colour = 2; } );\n' \
+  "$(pwd)" > "$WORK/bad.cfg"
+if "$POMLAB" study "$WORK/bad.cfg" --out "$WORK/bad.h5" --quiet 2> "$WORK/bad.err"; then
+  echo "bad config accepted"; exit 1
 else
   code=$?
 fi
-rm -f tests/.doe_bad_tmp.cfg
 [ "$code" -eq 2 ] || { echo "bad config: exit $code, want 2"; exit 1; }
 grep -q "candidates.\[0\].colour" "$WORK/bad.err"
 [ ! -e "$WORK/bad.h5" ]
+# nor does it touch an existing results file
+cp "$WORK/t1.h5" "$WORK/keep.h5"
+if "$POMLAB" study "$WORK/bad.cfg" --out "$WORK/keep.h5" --quiet 2> /dev/null; then exit 1; fi
+cmp -s "$WORK/t1.h5" "$WORK/keep.h5" || { echo "config error changed the results file"; exit 1; }
 # a loop that runs past the stroke is a recorded failure in a study too
 "$POMLAB" study tests/doe_study_runaway.cfg --out "$WORK/run.h5" --no-plots --no-summary --quiet \
   > /dev/null
