@@ -1,6 +1,7 @@
 /* cmd_simulate.c - `pomlab simulate CFG --target q1,q2,q3`: one maneuver of
  * the configured mechanism; metrics on stdout, traces to HDF5 or CSV on
  * request (docs/dynamics.md section 10). */
+#include "cli_kin.h"
 #include "pom_cli.h"
 #include "pom_dynamics.h"
 #include "pom_h5.h"
@@ -56,8 +57,13 @@ static void json_num(FILE *f, const char *key, double v, const char *sep) {
 static void print_json(const char *name, const pom_dyn_params *p, const pom_dyn_metrics *mt) {
   FILE *f = stdout;
   double settled[3] = {mt->settled[0], mt->settled[1], mt->settled[2]};
-  fprintf(f, "{\n  \"name\": \"%s\",\n  \"status\": \"%s\",\n  \"reason\": \"%s\",\n", name,
-          pom_status_name(mt->status), mt->reason);
+  /* the name comes from the config and the reason may quote option values:
+   * both escaped */
+  fputs("{\n  \"name\": ", f);
+  pom_json_string(f, name);
+  fprintf(f, ",\n  \"status\": \"%s\",\n  \"reason\": ", pom_status_name(mt->status));
+  pom_json_string(f, mt->reason);
+  fputs(",\n", f);
   fprintf(f,
           "  \"controller_form\": \"%s\",\n  \"orientation\": \"%s\",\n"
           "  \"linear_solver\": \"%s\",\n  \"joints_model\": \"%s\",\n",

@@ -37,6 +37,15 @@ assert '--joints rigid' not in '$opt' or r['max_deflection_m'] == 0.0, r['max_de
   done
 done
 
+# --json stays valid JSON when the config name holds quotes and backslashes
+sed 's/^name = .*/name = "a \\"quoted\\" name \\\\ here";/' "$SRC/configs/3pss.cfg" > "$TMP/q.cfg"
+expect_rc 0 "$POMLAB" simulate "$TMP/q.cfg" --target 0.5,0,0 --json
+if ! $PY -c "
+import json
+r = json.load(open('$TMP/out'))
+assert r['name'] == 'a \"quoted\" name \\\\ here', r['name']
+"; then echo "FAIL: --json with a quoted name"; cat "$TMP/out"; fail=1; fi
+
 # traces: HDF5 and CSV, then the figure
 expect_rc 0 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target 1,-2,0.5 --out "$TMP/a.h5"
 expect_rc 0 "$POMLAB" simulate "$SRC/configs/3sps.cfg" --target 1,-2,0.5 --out "$TMP/b.csv"
