@@ -1,8 +1,13 @@
 #!/usr/bin/env bash
 # Sets up pomlab on a fresh Debian machine and runs the main job: the paper's
-# architecture selection (configs/paper.cfg: 3P-S-S/S against 3S-P-S/S, 1000
-# Monte-Carlo maneuvers each), after a kinematics report of both shipped
-# architectures. Results: results/paper.h5, results/paper/summary.md + PNGs.
+# architecture selection, 3P-S-S/S against 3S-P-S/S on 1000 common Monte-Carlo
+# maneuvers each, after a kinematics report of both shipped architectures.
+#   1. configs/paper-exact.cfg: the fast exact model (rigid joints, quasi-static
+#      coil), seconds;
+#   2. configs/paper.cfg: the paper's own model (parasitic joints k_p = 1e6,
+#      inductive coil), about a minute on 2 cores.
+# Results: results/paper-exact.h5, results/paper.h5 and results/<study>/summary.md
+# with PNG figures.
 # Usage: bash scripts/run-main.sh [extra `pomlab study` options, e.g. --threads 2]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,5 +21,8 @@ for cfg in configs/3pss.cfg configs/3sps.cfg; do
   echo
 done
 
-echo "== the paper's study: configs/paper.cfg =="
+echo "== the paper's study on the fast exact model: configs/paper-exact.cfg =="
+"$pomlab" study configs/paper-exact.cfg "$@"
+echo
+echo "== the paper's study on the paper's model (parasitic joints): configs/paper.cfg =="
 "$pomlab" study configs/paper.cfg "$@"
