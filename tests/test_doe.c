@@ -209,6 +209,16 @@ static void test_stats(void) {
   check_rel(pr.ci_high - pr.mean_diff, 2.2621571627409915 * se, 1e-9);
   check_rel(pr.mean_diff - pr.ci_low, 2.2621571627409915 * se, 1e-9);
   check_abs(pr.win_fraction, 0.0, 0); /* a > b everywhere */
+  {
+    /* ties count one half: a < b once, a == b twice, a > b once -> (1 + 2/2) / 4;
+     * the two zero differences are left out of the Wilcoxon test */
+    const double ta[4] = {1, 2, 3, 4}, tb[4] = {2, 2, 1, 4};
+    double tscr[12];
+    pom_doe_paired tp;
+    pom_doe_paired_compute(&tp, ta, tb, 4, 0.95, tscr);
+    check_abs(tp.win_fraction, 0.5, 0);
+    check_true(tp.n == 4 && tp.n_nonzero == 2);
+  }
   /* 10 positive differences, two tied at 0.5 (ranks 5.5): normal
    * approximation, W+ = 55, mean 27.5, var = 10 11 21 / 24 - (8 - 2) / 48 */
   check_abs(pr.wilcoxon_w, 55, 0);
