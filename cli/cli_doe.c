@@ -263,12 +263,17 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
 }
 
 /* ---- summary.md and figures ------------------------------------------------------------- */
-/* results/paper.h5 -> results/paper (the folder of the summary and figures). */
+/* results/paper.h5 -> results/paper (the folder of the summary and figures);
+ * a file name without extension gets "_summary" appended instead, so that the
+ * folder never has the results file's own name. */
 static void summary_dir(char *dir, size_t cap, const char *output) {
   snprintf(dir, cap, "%s", output);
   char *dot = strrchr(dir, '.');
   char *slash = strrchr(dir, '/');
-  if (dot && (!slash || dot > slash)) *dot = '\0';
+  if (dot && (!slash || dot > slash + 1) && dot > dir)
+    *dot = '\0';
+  else
+    snprintf(dir, cap, "%s_summary", output);
 }
 
 static int run_plot_script(const char *h5, const char *dir) {

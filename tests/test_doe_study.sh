@@ -36,9 +36,10 @@ cp "$WORK/t1.h5" "$WORK/keep.h5"
 if "$POMLAB" study "$WORK/bad.cfg" --out "$WORK/keep.h5" --quiet 2> /dev/null; then exit 1; fi
 cmp -s "$WORK/t1.h5" "$WORK/keep.h5" || { echo "config error changed the results file"; exit 1; }
 # a loop that runs past the stroke is a recorded failure in a study too
-"$POMLAB" study tests/doe_study_runaway.cfg --out "$WORK/run.h5" --no-plots --no-summary --quiet \
-  > /dev/null
-/usr/bin/python3 - "$WORK/run.h5" <<'PY'
+# (and a results file name without extension gets its summary in <name>_summary/)
+"$POMLAB" study tests/doe_study_runaway.cfg --out "$WORK/run" --no-plots --quiet > /dev/null
+[ -s "$WORK/run_summary/summary.md" ] || { echo "no summary for an output without extension"; exit 1; }
+/usr/bin/python3 - "$WORK/run" <<'PY'
 import sys, h5py, numpy as np
 r = h5py.File(sys.argv[1], "r")["candidates/0/maneuvers"][:]
 out = np.any(np.abs(r["final_q"]) > 6e-3, axis=1)
