@@ -70,22 +70,10 @@ static pom_status run(const void *p, void *worker, const double target[3], pom_d
     return st;
   }
   st = pom_dyn_simulate(ctx->model, worker, target, out, NULL, err);
-  if (st != POM_OK || out->status != POM_OK) return st;
-  /* The model has no end stops: a loop that runs away can carry a piston
-   * past its stroke. Such a maneuver is physically invalid; record it as a
-   * failure (only the final position is known, docs/results.md section 1). */
-  double half = 0.5 * ctx->arch.stroke;
-  for (int i = 0; i < 3; ++i)
-    if (!(fabs(out->final_q[i]) <= half)) {
-      out->status = POM_ERR_LIMIT;
-      snprintf(
-          out->reason, sizeof out->reason,
-          "actuator %d ended outside its stroke: q = %.4g mm at the horizon (stroke +-%.4g mm; "
-          "the model has no end stops)",
-          i + 1, out->final_q[i] * 1e3, half * 1e3);
-      return pom_error_set(err, POM_ERR_LIMIT, __FILE__, __LINE__, "%s", out->reason);
-    }
-  return POM_OK;
+  if (st != POM_OK) return st;
+  /* the model has no end stops: a loop that runs away past the stroke is a
+   * recorded failure (docs/results.md section 1) */
+  return pom_doe_check_final_stroke(out, ctx->arch.stroke, err);
 }
 
 static pom_status describe(const void *p, hid_t g, pom_error *err) {
@@ -94,24 +82,7 @@ static pom_status describe(const void *p, hid_t g, pom_error *err) {
   POM_TRY(pom_h5_attr_string(g, "architecture", ctx->arch.type == POM_ARCH_3PSS ? "3PSS" : "3SPS",
                              err));
   POM_TRY(pom_h5_attr_double(g, "stroke_m", ctx->arch.stroke, err));
-  POM_TRY(
-      pom_h5_attr_string(g, "controller_form", pom_dyn_pid_form_name(par->controller.form), err));
-  POM_TRY(pom_h5_attr_double(g, "controller_kp", par->controller.kp, err));
-  POM_TRY(pom_h5_attr_double(g, "controller_ki", par->controller.ki, err));
-  POM_TRY(pom_h5_attr_double(g, "controller_kd", par->controller.kd, err));
-  POM_TRY(pom_h5_attr_string(g, "orientation", pom_dyn_orient_name(par->scene.orientation), err));
-  POM_TRY(pom_h5_attr_string(g, "joints_model", pom_dyn_joint_model_name(par->joints.model), err));
-  POM_TRY(pom_h5_attr_int64(g, "scene_gravity", par->scene.gravity, err));
-  POM_TRY(pom_h5_attr_int64(g, "scene_bearing_friction", par->scene.bearing_friction, err));
-  POM_TRY(pom_h5_attr_int64(g, "scene_coil_inductance", par->scene.coil_inductance, err));
-  POM_TRY(pom_h5_attr_double(g, "solver_rtol", par->solver.rtol, err));
-  POM_TRY(pom_h5_attr_double(g, "solver_atol_scale", par->solver.atol_scale, err));
-  POM_TRY(pom_h5_attr_double(g, "solver_max_step_s", par->solver.max_step, err));
-  POM_TRY(pom_h5_attr_int64(g, "solver_max_steps", par->solver.max_steps, err));
-  POM_TRY(pom_h5_attr_string(g, "solver_linear_solver",
-                             pom_dyn_linsol_name(par->solver.linear_solver), err));
-  POM_TRY(pom_h5_attr_double(g, "maneuver_horizon_s", par->maneuver.horizon, err));
-  POM_TRY(pom_h5_attr_double(g, "maneuver_settle_band", par->maneuver.settle_band, err));
+  POM_TRY(pom_doe_describe_dyn_params(g, par, err));
   POM_TRY(pom_h5_attr_int64(g, "model_states", pom_dyn_model_n_states(ctx->model), err));
   return POM_OK;
 }
