@@ -147,13 +147,40 @@ static pom_status write_montecarlo(hid_t file, const pom_doe_study *study, pom_e
       buf[3 * k + i] = mv->space == POM_DOE_SPACE_JOINT ? m.q[i] : m.orient[i];
   }
   size_t dims[2] = {(size_t)mv->count, 3};
-  POM_TRY_GOTO(pom_h5_write_doubles(g, mv->space == POM_DOE_SPACE_JOINT ? "target" : "tilt_torsion",
-                                    2, dims, buf, err),
-               done);
+  const char *table = mv->space == POM_DOE_SPACE_JOINT ? "target" : "tilt_torsion";
+  POM_TRY_GOTO(pom_h5_write_doubles(g, table, 2, dims, buf, err), done);
+  hid_t ds = H5Dopen2(g, table, H5P_DEFAULT);
+  if (ds < 0) {
+    st = pom_h5_fail(err, __FILE__, __LINE__, "annotating the maneuver table");
+    goto done;
+  }
+  st = pom_h5_attr_string(ds, "unit",
+                          mv->space == POM_DOE_SPACE_JOINT
+                              ? "m from mid-stroke, per actuator"
+                              : "rad: azimuth, tilt, torsion (R = Rz(a) Ry(t) Rz(s - a))",
+                          err);
+  H5Dclose(ds);
 done:
   free(buf);
   H5Gclose(g);
   return st;
+}
+
+/* Units of the row fields and the meaning of the status codes, as attributes
+ * of a maneuvers dataset (docs/results.md, section 5). */
+static pom_status describe_rows(hid_t ds, pom_error *err) {
+  static const char *const units =
+      "done 1 once computed; status pom_status code (0 ok); target m; settling_time s (NaN when "
+      "unsettled); settling_time_final s; execution_time s (NaN when failed or unsettled); "
+      "energy J; energy_positive J; energy_total J; peak_voltage V; saturation_time s; final_q m; "
+      "max_deflection m; energy_balance_error relative; wall_time s; target, final_q: from "
+      "mid-stroke";
+  /* every code of pom_status.h, from its list */
+#define LEGEND_ITEM(name, value, msg) #value " " msg "; "
+  static const char legend[] = POM_STATUS_LIST(LEGEND_ITEM);
+#undef LEGEND_ITEM
+  POM_TRY(pom_h5_attr_string(ds, "units", units, err));
+  return pom_h5_attr_string(ds, "status_codes", legend, err);
 }
 
 static pom_status write_candidate(pom_doe_results *res, hid_t parent, const pom_doe_study *study,
@@ -183,7 +210,11 @@ static pom_status write_candidate(pom_doe_results *res, hid_t parent, const pom_
     goto done;
   }
   res->rows[c] = H5Dcreate2(g, "maneuvers", res->row_file, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
-  if (res->rows[c] < 0) st = pom_h5_fail(err, __FILE__, __LINE__, "creating the maneuvers dataset");
+  if (res->rows[c] < 0) {
+    st = pom_h5_fail(err, __FILE__, __LINE__, "creating the maneuvers dataset");
+    goto done;
+  }
+  POM_TRY_GOTO(describe_rows(res->rows[c], err), done);
 done:
   if (dcpl >= 0) H5Pclose(dcpl);
   if (space >= 0) H5Sclose(space);

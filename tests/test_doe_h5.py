@@ -77,6 +77,9 @@ def main(argv):
                         "model_states"):
                 check(key in g.attrs, "candidate %d attribute %s" % (c, key))
             check(g.attrs["maneuver_horizon_s"] == 0.025, "study override in the settings")
+            ds = g["maneuvers"]
+            check("energy_total J" in text(ds.attrs["units"]), "row units of %d" % c)
+            check("-6 joint, stroke" in text(ds.attrs["status_codes"]), "status legend of %d" % c)
         rows = [f["candidates/%d/maneuvers" % c][:] for c in range(nc)]
         stats_t = f["statistics/execution_time"][:]
         stats_f = f["statistics/execution_time_final"][:]
