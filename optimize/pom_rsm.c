@@ -93,7 +93,7 @@ static void set_row(pom_rsm_anova_row *r, double ss, double df) {
      a group of terms explains nothing. */
   r->ss = ss < 0.0 ? 0.0 : ss;
   r->df = df;
-  r->ms = df > 0 ? ss / df : NAN;
+  r->ms = df > 0 ? r->ss / df : NAN; /* of the clamped sum: never negative */
   r->f = NAN;
   r->p = NAN;
 }
