@@ -175,6 +175,32 @@ static void test_designs(void) {
   check_true(d200 >= d1);
   pom_design_destroy(l200);
   pom_design_destroy(l1);
+  /* Maximin: candidates come from one stream, so the design of c candidates
+     is the best of the first c; its smallest distance never decreases with
+     c and, once it has changed, strictly grew (keeping the last or the first
+     candidate instead would fail this). */
+  o.lhs_candidates = 1;
+  double prev = -1.0;
+  int grew = 0, monotone = 1;
+  for (int c = 1; c <= 40; ++c) {
+    pom_design *lc = NULL;
+    o.lhs_candidates = c;
+    check_true(pom_design_create(&lc, 4, &o, &err) == POM_OK);
+    double dc = 1e300;
+    for (int a = 0; a < 23; ++a)
+      for (int b = a + 1; b < 23; ++b) {
+        double s = 0.0;
+        for (int j = 0; j < 4; ++j)
+          s += pow(lc->coded[a * 4 + j] - lc->coded[b * 4 + j], 2);
+        dc = fmin(dc, s);
+      }
+    monotone &= dc >= prev;
+    if (c > 1 && dc > prev) ++grew;
+    prev = dc;
+    pom_design_destroy(lc);
+  }
+  check_true(monotone);
+  check_true(grew >= 2); /* 40 random hypercubes: the best is found more than once */
 
   /* Decoding: the extreme coded value lands on the bounds. */
   pom_design *r = make(POM_DESIGN_CCD_ROTATABLE, 2, 1, 1);
@@ -515,6 +541,23 @@ static pom_status failing(void *ctx, const double x[], double *f, pom_error *err
   return POM_OK;
 }
 
+/* Rastrigin that records the best value and point it returned. */
+typedef struct {
+  double best_f, best_x[2];
+  long calls;
+} recording_ctx;
+
+static pom_status recording(void *ctx, const double x[], double *f, pom_error *err) {
+  recording_ctx *c = ctx;
+  POM_TRY(rastrigin(NULL, x, f, err));
+  if (c->calls++ == 0 || *f > c->best_f) {
+    c->best_f = *f;
+    c->best_x[0] = x[0];
+    c->best_x[1] = x[1];
+  }
+  return POM_OK;
+}
+
 static void test_nlopt(void) {
   const double lo[2] = {-5.12, -5.12}, hi[2] = {5.12, 5.12};
   pom_opt_options o;
@@ -542,6 +585,17 @@ static void test_nlopt(void) {
   check_true(pom_opt_maximize(2, lo, hi, x0, rastrigin, NULL, &o, &res, &err) == POM_OK);
   check_abs(res.x[0], 0.3, 1e-6);
   check_true(res.result_global == 0 && res.evals_global == 0);
+
+  /* The result is the best point evaluated, not the last one: a short
+     search (30 + 15 evaluations) ends far from converged. */
+  pom_opt_defaults(&o);
+  o.global_max_evals = 30;
+  o.local = POM_OPT_LOCAL_NELDERMEAD;
+  o.local_max_evals = 15;
+  recording_ctx rc = {0.0, {0.0, 0.0}, 0};
+  check_true(pom_opt_maximize(2, lo, hi, NULL, recording, &rc, &o, &res, &err) == POM_OK);
+  check_true(rc.calls == res.evals_global + res.evals_local);
+  check_true(res.f == rc.best_f && res.x[0] == rc.best_x[0] && res.x[1] == rc.best_x[1]);
 
   /* A failing objective stops NLopt and returns its own status. */
   pom_opt_defaults(&o);
