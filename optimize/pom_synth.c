@@ -694,9 +694,10 @@ static pom_status rdw_at(const pom_syn_problem *pb, const double x[], double sca
 
 pom_status pom_syn_scale(const pom_syn_problem *pb, const double x[], double *scale, int *evals,
                          pom_error *err) {
-  /* The workspace grid is a multiple of the resolution: compare with half a
-     step of slack so a target on the grid counts as covered. */
-  const double need = pb->target_half_width - 0.5 * pb->ws.resolution;
+  /* The workspace is a multiple of the grid step: a target on the grid needs
+     only round-off slack, and a target between two steps needs the upper one
+     (half a step of slack accepted a workspace below the target). */
+  const double need = pb->target_half_width - 1e-9 * pb->ws.resolution;
   const double ratio = pb->scale_max / pb->scale_min;
   double hw = 0.0, best_hw = -INFINITY, best_scale = pb->scale_max;
   int n = 0;

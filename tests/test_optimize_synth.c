@@ -117,11 +117,23 @@ static void test_known_optimum(void) {
   pom_kin_ws_result ws;
   check_true(pom_syn_arch(&pb, run->x_opt, run->scale, &arch, &err) == POM_OK);
   check_true(pom_kin_workspace(&arch, &pb.ws, &ws, &err) == POM_OK);
-  check_true(ws.half_width >= pb.target_half_width - 0.5 * pb.ws.resolution);
+  /* (1e-9 of a grid step: the workspace is k * step, the target 10 steps) */
+  const double slack = 1e-9 * pb.ws.resolution;
+  check_true(ws.half_width >= pb.target_half_width - slack);
   check_true(pom_syn_arch(&pb, run->x_opt, run->scale * 1.002, &arch, &err) == POM_OK);
   check_true(pom_kin_workspace(&arch, &pb.ws, &ws, &err) == POM_OK);
-  check_true(ws.half_width < pb.target_half_width - 0.5 * pb.ws.resolution);
-  check_abs(run->scaled_resp[POM_SYN_RESP_RDW], pb.target_half_width, 0.5 * pb.ws.resolution);
+  check_true(ws.half_width < pb.target_half_width - slack);
+  check_abs(run->scaled_resp[POM_SYN_RESP_RDW], pb.target_half_width, slack);
+  /* A target between grid steps (9.3 deg, step 1 deg) is covered only by the
+     10 deg cube: the scaled geometry never has less than the target. */
+  pom_syn_problem pb93 = pb;
+  pb93.target_half_width = 9.3 * POM_DEG;
+  double scale93 = 0.0;
+  int evals93 = 0;
+  check_true(pom_syn_scale(&pb93, run->x_opt, &scale93, &evals93, &err) == POM_OK);
+  check_true(pom_syn_arch(&pb, run->x_opt, scale93, &arch, &err) == POM_OK);
+  check_true(pom_kin_workspace(&arch, &pb.ws, &ws, &err) == POM_OK);
+  check_true(ws.half_width >= pb93.target_half_width);
 
   /* Output files: the fragment loads back as the same geometry. */
   /* names unique per process: several build trees may run the suite at once */
