@@ -37,8 +37,21 @@ static void test_criterion(void) {
   pom_dyn_metrics mt;
   check_true(pom_dyn_model_create(&m, &pb.mech, &pb.params, &err) == POM_OK);
   check_true(pom_dyn_data_create(&d, m, &err) == POM_OK);
-  check_true(pom_dyn_simulate(m, d, pb.target[0], &mt, NULL, &err) == POM_OK);
+  pom_dyn_trace *tr = NULL;
+  check_true(pom_dyn_trace_create(&tr, m, &err) == POM_OK);
+  check_true(pom_dyn_simulate(m, d, pb.target[0], &mt, tr, &err) == POM_OK);
   check_true(isfinite(mt.execution_time) && ev.unsettled == 0);
+  /* overshoot: the largest excursion of an actuator beyond its setpoint, as
+     a fraction of its step, from the sampled trace (docs/optimize.md 9) */
+  double os = 0.0;
+  for (int a = 0; a < 3; ++a)
+    for (int k = 0; k < tr->n; ++k) {
+      double s = pb.target[0][a] > 0.0 ? 1.0 : -1.0;
+      os = fmax(os, s * (tr->q[3 * k + a] - pb.target[0][a]) / fabs(pb.target[0][a]));
+    }
+  check_true(os > 0.0); /* the reference gains overshoot a little: the check can fail */
+  check_rel(ev.max_overshoot, os, 1e-12);
+  pom_dyn_trace_destroy(tr);
   check_rel(ev.mean_execution, mt.execution_time, 1e-12);
   double sat = fmax(mt.saturation_time[0], fmax(mt.saturation_time[1], mt.saturation_time[2]));
   check_rel(ev.max_saturation, sat, 1e-12);
@@ -60,6 +73,18 @@ static void test_criterion(void) {
            fmax(tight.saturation_time_max, 1e-3 * pb.params.maneuver.horizon);
   check_true(pen > 0.0);
   check_rel(ev2.criterion, ev2.mean_execution + tight.penalty_weight * pen, 1e-12);
+
+  /* A loop too soft to reach the 2 % band (proportional only, kp = 1: the
+     steady-state error against gravity and friction stays): the maneuver is
+     unsettled and censored at the horizon. */
+  pom_dyn_controller soft = pb.params.controller;
+  soft.kp = 1.0;
+  soft.ki = 0.0;
+  soft.kd = 0.0;
+  pom_tune_eval ev3;
+  check_true(pom_tune_evaluate(&pb, &soft, &ev3, &err) == POM_OK);
+  check_true(ev3.unsettled == 1);
+  check_rel(ev3.mean_execution, pb.params.maneuver.horizon, 1e-15);
 }
 
 /* A short search from a deliberately slow derivative time improves it. */
