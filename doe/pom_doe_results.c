@@ -328,6 +328,13 @@ static pom_status check_identity(pom_doe_results *res, const pom_doe_study *stud
   POM_TRY(pom_h5_read_attr_string(res->file, "format", fmt, sizeof fmt, err));
   if (strcmp(fmt, FORMAT_NAME) != 0)
     POM_FAIL(err, POM_ERR_ARG, "'%s' is not a pomlab study results file", path);
+  int64_t version = 0;
+  POM_TRY(pom_h5_read_attr_int64(res->file, "format_version", &version, err));
+  if (version != FORMAT_VERSION)
+    POM_FAIL(err, POM_ERR_ARG,
+             "'%s' has results format version %lld, this program writes version %d: it cannot "
+             "resume it",
+             path, (long long)version, FORMAT_VERSION);
   POM_TRY(pom_h5_read_attr_int64(res->file, "n_candidates", &nc, err));
   POM_TRY(pom_h5_read_attr_int64(res->file, "n_maneuvers", &nm, err));
   POM_TRY(pom_h5_open_group(&mc, res->file, "montecarlo", err));

@@ -19,6 +19,15 @@ mkdir -p "$WORK"
 grep -q "continue with --resume" "$WORK/r1.err"
 "$POMLAB" study $CFG --threads 2 --out "$WORK/r.h5" --resume --no-plots --no-summary --quiet \
   > "$WORK/r2.txt"
+# a file of another results format version is not resumed
+cp "$WORK/r.h5" "$WORK/ver.h5"
+/usr/bin/python3 -c "import h5py, sys; h5py.File(sys.argv[1], 'a').attrs['format_version'] = 99" \
+  "$WORK/ver.h5"
+if "$POMLAB" study $CFG --out "$WORK/ver.h5" --resume --no-plots --no-summary --quiet \
+  > /dev/null 2> "$WORK/ver.err"; then
+  echo "resumed a file of another format version"; exit 1
+fi
+grep -q "format version 99" "$WORK/ver.err"
 # a config error stops before any work (exit 2, no file)
 # (written in WORK, not in the source tree, so concurrent test runs do not race)
 printf 'candidates = ( { name = "x"; config = "%s/configs/3pss.cfg"; colour = 2; } );\n' \
