@@ -222,6 +222,14 @@ done:
   return st;
 }
 
+/* The current time as ISO 8601 UTC. */
+static void utc_now(char *buf, size_t cap) {
+  time_t now = time(NULL);
+  struct tm tmv;
+  gmtime_r(&now, &tmv);
+  strftime(buf, cap, "%Y-%m-%dT%H:%M:%SZ", &tmv);
+}
+
 pom_status pom_doe_results_create(pom_doe_results **out, const char *path,
                                   const pom_doe_study *study, pom_error *err) {
   pom_status st = POM_OK;
@@ -231,10 +239,7 @@ pom_status pom_doe_results_create(pom_doe_results **out, const char *path,
   POM_TRY_GOTO(results_alloc(&res, study, err), fail);
   POM_TRY_GOTO(pom_h5_create_file(&res->file, path, err), fail);
   char created[64];
-  time_t now = time(NULL);
-  struct tm tmv;
-  gmtime_r(&now, &tmv);
-  strftime(created, sizeof created, "%Y-%m-%dT%H:%M:%SZ", &tmv);
+  utc_now(created, sizeof created);
   hid_t f = res->file;
   POM_TRY_GOTO(pom_h5_attr_string(f, "format", FORMAT_NAME, err), fail);
   POM_TRY_GOTO(pom_h5_attr_int64(f, "format_version", FORMAT_VERSION, err), fail);
@@ -386,6 +391,13 @@ pom_status pom_doe_results_open(pom_doe_results **out, const char *path, const p
   POM_TRY_GOTO(results_alloc(&res, study, err), fail);
   POM_TRY_GOTO(pom_h5_open_file(&res->file, path, 1, err), fail);
   POM_TRY_GOTO(check_identity(res, study, path, err), fail);
+  /* rows from here on come from this program: say so next to the creator's
+   * version and commit */
+  char when[64];
+  utc_now(when, sizeof when);
+  POM_TRY_GOTO(pom_h5_attr_string(res->file, "last_resumed_utc", when, err), fail);
+  POM_TRY_GOTO(pom_h5_attr_string(res->file, "last_resumed_version", POM_VERSION, err), fail);
+  POM_TRY_GOTO(pom_h5_attr_string(res->file, "last_resumed_git_commit", POM_GIT_COMMIT, err), fail);
   *out = res;
   return POM_OK;
 fail:
