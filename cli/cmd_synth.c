@@ -1,5 +1,6 @@
 /* cmd_synth.c - `pomlab synth CFG [CFG ...]`: kinematic synthesis of one or
  * more architectures (docs/optimize.md), side by side when several. */
+#include "cli_kin.h"
 #include "pom_cli.h"
 #include "pom_math.h"
 #include "pom_progress.h"
@@ -182,9 +183,11 @@ static void print_json(pom_syn_run *const runs[], int n, char paths[][2][512]) {
   for (int c = 0; c < n; ++c) {
     const pom_syn_run *run = runs[c];
     const pom_syn_problem *pb = run->pb;
-    printf("%s{\"name\": \"%s\", \"architecture\": \"%s\", \"runs\": %d, \"degenerate\": %d,",
-           c ? ", " : "", pb->base.name, pom_kin_arch_name(pb->base.type), run->n_runs,
-           run->n_degenerate);
+    /* the name comes from the config: escaped (a quote made invalid JSON) */
+    printf("%s{\"name\": ", c ? ", " : "");
+    pom_json_string(stdout, pb->base.name);
+    printf(", \"architecture\": \"%s\", \"runs\": %d, \"degenerate\": %d,",
+           pom_kin_arch_name(pb->base.type), run->n_runs, run->n_degenerate);
     printf(" \"variables\": {");
     for (int i = 0; i < pb->n_vars; ++i)
       printf("%s\"%s\": {\"optimum\": %s, \"direct\": %s}", i ? ", " : "",
@@ -211,8 +214,11 @@ static void print_json(pom_syn_run *const runs[], int n, char paths[][2][512]) {
       printf(" \"direct\": {\"desirability\": %s, \"true_evals\": %ld, \"time_s\": %s},",
              jn(b1, run->d_direct), run->direct.evals_global + run->direct.evals_local,
              jn(b2, run->direct.wall_time));
-    printf(" \"platform_radius_mm\": %s, \"geometry_file\": \"%s\", \"h5_file\": \"%s\"}",
-           jn(b1, run->scale * 1e3), paths[c][0], paths[c][1]);
+    printf(" \"platform_radius_mm\": %s, \"geometry_file\": ", jn(b1, run->scale * 1e3));
+    pom_json_string(stdout, paths[c][0]);
+    printf(", \"h5_file\": ");
+    pom_json_string(stdout, paths[c][1]);
+    printf("}");
   }
   printf("]}\n");
 }

@@ -1,5 +1,6 @@
 /* cmd_tune.c - `pomlab tune CFG [CFG ...]`: PID gains by one criterion for
  * every architecture (docs/optimize.md section 9). */
+#include "cli_kin.h"
 #include "pom_cli.h"
 #include "pom_tune.h"
 
@@ -134,15 +135,20 @@ int pom_cmd_tune(int argc, char **argv) {
     printf("{\"tune\": [");
     for (int c = 0; c < ncfg; ++c) {
       const pom_tune_eval *e = &res[c].best_eval;
-      printf("%s{\"name\": \"%s\", \"architecture\": \"%s\", \"kp\": %s, \"ki_per_s\": %s, "
+      /* name (from the config) and file escaped: a quote made invalid JSON */
+      printf("%s{\"name\": ", c ? ", " : "");
+      pom_json_string(stdout, pbs[c].arch.name);
+      printf(", \"architecture\": \"%s\", \"kp\": %s, \"ki_per_s\": %s, "
              "\"kd_s\": %s, \"criterion_s\": %s, \"mean_execution_s\": %s, \"max_overshoot\": %s, "
              "\"max_saturation_s\": %s, \"unsettled\": %d, \"initial_criterion_s\": %s, "
-             "\"evaluations\": %ld, \"simulations\": %ld, \"file\": \"%s\"}",
-             c ? ", " : "", pbs[c].arch.name, pom_kin_arch_name(pbs[c].arch.type),
-             jn(b[0], res[c].best.kp), jn(b[1], res[c].best.ki), jn(b[2], res[c].best.kd),
-             jn(b[3], e->criterion), jn(b[4], e->mean_execution), jn(b[5], e->max_overshoot),
-             jn(b[6], e->max_saturation), e->unsettled, jn(b[7], res[c].initial_eval.criterion),
-             res[c].opt.evals_global + res[c].opt.evals_local, res[c].simulations, paths[c]);
+             "\"evaluations\": %ld, \"simulations\": %ld, \"file\": ",
+             pom_kin_arch_name(pbs[c].arch.type), jn(b[0], res[c].best.kp),
+             jn(b[1], res[c].best.ki), jn(b[2], res[c].best.kd), jn(b[3], e->criterion),
+             jn(b[4], e->mean_execution), jn(b[5], e->max_overshoot), jn(b[6], e->max_saturation),
+             e->unsettled, jn(b[7], res[c].initial_eval.criterion),
+             res[c].opt.evals_global + res[c].opt.evals_local, res[c].simulations);
+      pom_json_string(stdout, paths[c]);
+      printf("}");
     }
     printf("]}\n");
   }

@@ -6,3 +6,8 @@ pom_add_test(test_optimize_tune test_optimize_tune.c)
 target_link_libraries(test_optimize_tune PRIVATE pom_optimize)
 pom_add_test(test_optimize_pipeline test_optimize_pipeline.c)
 target_link_libraries(test_optimize_pipeline PRIVATE pom_optimize)
+# pomlab synth / tune on small problems: the fragment read back by pomlab
+# workspace covers the target; --json with a quoted name.
+add_test(NAME test_optimize_cli
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_optimize_cli.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})

@@ -1,0 +1,89 @@
+#!/bin/bash
+# test_optimize_cli.sh POMLAB SOURCE_DIR - `pomlab synth` and `pomlab tune` on
+# small problems: the written geometry fragment, read back by `pomlab
+# workspace`, really covers the target workspace within the 12 mm stroke; the
+# --json output stays valid with a quoted config name.
+set -u
+POMLAB=$1
+SRC=$2
+TMP=$(mktemp -d)
+trap 'rm -rf "$TMP"' EXIT
+fail=0
+PY=/usr/bin/python3
+expect_rc() {
+  local want=$1; shift
+  "$@" > "$TMP/out" 2> "$TMP/err"
+  local rc=$?
+  if [ $rc -ne "$want" ]; then
+    echo "FAIL (rc $rc, want $want): $*"; cat "$TMP/err"; fail=1
+  fi
+}
+
+# The 3PSS reference with a quoted name, and a small synthesis: two variables,
+# a face-centred CCD (9 runs), coarse region, a target between two workspace
+# grid steps (9.3 deg, step 1 deg: only a 10 deg cube covers it).
+sed 's/^name = .*/name = "a \\"quoted\\" name \\\\ here";/' "$SRC/configs/3pss.cfg" > "$TMP/base.cfg"
+cat "$TMP/base.cfg" - > "$TMP/syn.cfg" <<'EOF'
+synthesis = {
+  variables = ( { name = "limb_lean_deg"; min = 30.0; max = 45.0; },
+                { name = "limb_azimuth_deg"; min = 50.0; max = 75.0; } );
+  design = { kind = "ccd_face"; center_points = 1; };
+  holdout_points = 3;
+  region_half_width_deg = 6.0; region_resolution_deg = 4.0;
+  goals = ( { response = "gci"; goal = "maximize"; low = 0.5; high = 1.0; } );
+  optimizer = { global = "direct_l"; global_max_evals = 200; local = "bobyqa"; };
+  target_half_width_deg = 9.3; scale_min_mm = 2.0; scale_max_mm = 100.0;
+};
+EOF
+expect_rc 0 "$POMLAB" synth "$TMP/syn.cfg" --no-direct --json --out "$TMP/s_"
+cp "$TMP/out" "$TMP/synth.json"
+if ! $PY -c "
+import json
+r = json.load(open('$TMP/synth.json'))['synth'][0]
+assert r['name'] == 'a \"quoted\" name \\\\ here', r['name']
+assert r['architecture'] == '3PSS'
+assert r['responses']['rdw_deg']['scaled'] >= 9.3 - 1e-9, r['responses']['rdw_deg']
+open('$TMP/geo', 'w').write(r['geometry_file'])
+"; then echo "FAIL: synth --json"; cat "$TMP/synth.json"; fail=1; fi
+
+# The fragment in place of the base geometry: pomlab workspace finds the
+# target cube (10 deg on the 1 deg grid) with the stroke, cones and clearance.
+if [ -s "$TMP/geo" ]; then
+  $PY - "$TMP/base.cfg" "$(cat "$TMP/geo")" "$TMP/ws.cfg" <<'EOF'
+import sys
+text = open(sys.argv[1]).read()
+i = text.index('geometry = {')
+j = text.index('};', i) + 2
+open(sys.argv[3], 'w').write(text[:i] + '@include "%s"\n' % sys.argv[2] + text[j:])
+EOF
+  expect_rc 0 "$POMLAB" workspace "$TMP/ws.cfg" --json
+  if ! $PY -c "
+import json
+r = json.load(open('$TMP/out'))
+hw = r['half_width_deg']
+assert hw >= 9.3 and r['check_limits'] and not r['capped'], r
+"; then echo "FAIL: workspace of the synthesized fragment"; cat "$TMP/out"; fail=1; fi
+fi
+
+# Tuning: a tiny budget, one maneuver; valid JSON with the quoted name.
+cat "$TMP/base.cfg" - > "$TMP/tune.cfg" <<'EOF'
+tuning = {
+  variables = ( { name = "kd_s"; min = 1.0e-3; max = 2.0e-2; log = true; } );
+  maneuvers_mm = ( [1.0, -0.5, 0.5] );
+  optimizer = { global = "direct_l"; global_max_evals = 3; local = "bobyqa"; local_max_evals = 3; };
+};
+EOF
+expect_rc 0 "$POMLAB" tune "$TMP/tune.cfg" --json --out "$TMP/t_"
+if ! $PY -c "
+import json
+r = json.load(open('$TMP/out'))['tune'][0]
+assert r['name'] == 'a \"quoted\" name \\\\ here', r['name']
+assert r['criterion_s'] <= r['initial_criterion_s'], r
+"; then echo "FAIL: tune --json"; cat "$TMP/out"; fail=1; fi
+
+# usage errors
+expect_rc 2 "$POMLAB" synth
+expect_rc 2 "$POMLAB" tune --bogus
+
+[ $fail -eq 0 ] && echo "test_optimize_cli: ok"
+exit $fail
