@@ -7,3 +7,8 @@ add_test(NAME test_dynamics_cli
 pom_add_test(test_dynamics_exact test_dynamics_exact.c)
 target_include_directories(test_dynamics_exact PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
 target_link_libraries(test_dynamics_exact PRIVATE pom_dynamics pom_kinematics pom_core)
+pom_add_test(test_dyn_power test_dyn_power.c)
+target_include_directories(test_dyn_power PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
+target_link_libraries(test_dyn_power PRIVATE pom_dynamics pom_kinematics pom_core)
+pom_add_test(test_dyn_saturated test_dyn_saturated.c)
+target_link_libraries(test_dyn_saturated PRIVATE pom_dynamics pom_kinematics pom_core)
