@@ -96,6 +96,22 @@ static void test_known_optimum(void) {
   check_abs(run->confirmed[POM_SYN_RESP_MIN_DEXTERITY], home_dexterity(run->x_opt[0]), 1e-7);
   check_true(run->d_direct >= run->d_confirmed);
   check_true(run->fitted[POM_SYN_RESP_MIN_DEXTERITY] && run->n_holdout == 6);
+  /* The held-out check compares each held-out run with the surface at the
+     same natural point: coded through the design's own alpha (sqrt 2 for
+     this rotatable CCD), not the unit cube. */
+  {
+    const pom_rsm_fit *fm = &run->fit[POM_SYN_RESP_MIN_DEXTERITY];
+    double ss = 0.0;
+    for (int i = 0; i < run->n_holdout; ++i) {
+      double uc[2];
+      for (int j = 0; j < 2; ++j)
+        uc[j] = pom_design_to_coded(run->holdout_x[2 * i + j], sqrt(2.0), pb.lo[j], pb.hi[j]);
+      double e = run->holdout_resp[i * POM_SYN_N_RESP + POM_SYN_RESP_MIN_DEXTERITY] -
+                 pom_rsm_predict(fm, uc, NULL);
+      ss += e * e;
+    }
+    check_rel(run->check[POM_SYN_RESP_MIN_DEXTERITY].rmse, sqrt(ss / run->n_holdout), 1e-12);
+  }
   /* one refinement stage: a box 0.4 times as wide inside the first, about the
      first optimum; the best confirmed stage is kept */
   check_true(run->refined != NULL && run->refined->refined == NULL);
@@ -179,6 +195,21 @@ static void test_responses(void) {
   for (int i = 0; i < 3; ++i)
     r = fmax(r, hypot(arch.base_point[i][0], arch.base_point[i][1]));
   check_rel(resp[POM_SYN_RESP_FOOTPRINT], r / arch.design.scale, 1e-14);
+  /* A region of +-20 deg reaches beyond the stroke on about 9 % of its
+     measure: the GCI is the mean over the usable poses only, and the
+     violation fractions are the rest (same midpoint rule, 1e-12 for the
+     summation order). */
+  static pom_syn_problem wide;
+  wide = pb;
+  wide.region_half_width = 20.0 * POM_DEG;
+  check_true(pom_syn_responses(&wide, &arch, resp, &err) == POM_OK);
+  check_true(pom_kin_gci(&arch, wide.region_half_width, wide.region_resolution, 1, &gci, &usable,
+                         &err) == POM_OK);
+  check_true(usable > 0.5 && usable < 0.99);
+  check_rel(resp[POM_SYN_RESP_GCI], gci, 1e-12);
+  check_abs(resp[POM_SYN_RESP_STROKE] + resp[POM_SYN_RESP_CONE] + resp[POM_SYN_RESP_INTERFERENCE] +
+                resp[POM_SYN_RESP_UNREACHABLE],
+            1.0 - usable, 1e-12);
   /* a vertical limb (lean 0) cannot turn the platform about z: degenerate */
   double x0[1] = {0.0};
   int deg = 0;
