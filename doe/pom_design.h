@@ -28,7 +28,8 @@ typedef enum {
 typedef struct {
   pom_design_kind kind;
   int levels;         /* full factorial: levels per factor, >= 2 (default 3) */
-  int center_points;  /* runs at the centre added once (default 3; LHS: 0) */
+  int center_points;  /* runs at the centre added once (default 3 for every kind, LHS too:
+                         set 0 for a pure Latin hypercube) */
   int replicates;     /* the whole design (without the centre runs) repeated, >= 1 (default 1) */
   int lhs_points;     /* LHS: number of runs (default 20) */
   int lhs_candidates; /* LHS: random hypercubes drawn; the one with the largest
