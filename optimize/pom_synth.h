@@ -176,7 +176,7 @@ pom_status pom_syn_scale(const pom_syn_problem *pb, const double x[], double *sc
 
 /* Writes the scaled geometry as a libconfig `geometry` group (mode
  * "parameters", the form pom_kin_arch_load reads) to path, with a header
- * comment. */
+ * comment. POM_ERR_ARG when the run has not been scaled (scaled_done = 0). */
 pom_status pom_syn_write_geometry(const pom_syn_run *run, const char *path, pom_error *err);
 
 /* Writes the HDF5 record of the run (design, responses, fits, optimum,

@@ -1,6 +1,7 @@
 /* pom_synth_io.c - output of a synthesis run: the scaled geometry as a
  * config fragment and the HDF5 record (docs/optimize.md, section 7). */
 #include "pom_synth.h"
+#include "pom_version.h"
 
 #include "pom_h5.h"
 #include "pom_math.h"
@@ -12,6 +13,8 @@
 
 pom_status pom_syn_write_geometry(const pom_syn_run *run, const char *path, pom_error *err) {
   const pom_kin_design *d = &run->scaled.design;
+  if (!run->scaled_done)
+    POM_FAIL(err, POM_ERR_ARG, "%s: this synthesis run has no scaled geometry to write", path);
   FILE *f = fopen(path, "w");
   if (!f) POM_FAIL(err, POM_ERR_IO, "cannot write %s: %s", path, strerror(errno));
   fprintf(f,

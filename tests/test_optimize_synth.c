@@ -157,6 +157,9 @@ static void test_known_optimum(void) {
   unsigned long tag = (unsigned long)time(NULL) ^ (unsigned long)(uintptr_t)&tag;
   snprintf(geo, sizeof geo, "/tmp/pomlab_test_synth_%lx.geometry.cfg", tag);
   snprintf(h5, sizeof h5, "/tmp/pomlab_test_synth_%lx.h5", tag);
+  /* a refinement stage is not scaled: nothing to write (was all zeros) */
+  check_true(run->refined && !run->refined->scaled_done &&
+             pom_syn_write_geometry(run->refined, geo, &err) == POM_ERR_ARG);
   check_true(pom_syn_write_geometry(run, geo, &err) == POM_OK);
   check_true(pom_syn_write_h5(run, h5, "text", &err) == POM_OK);
   char text[2048];
