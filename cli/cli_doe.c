@@ -2,6 +2,7 @@
  * verdict, summary.md and figures (docs/results.md, "What you see"). */
 #define _POSIX_C_SOURCE 200809L
 #include "cli_doe.h"
+#include "pom_version.h"
 #include "pom_cli.h"
 #include "pom_progress.h"
 

@@ -2,6 +2,7 @@
  * the configured mechanism; metrics on stdout, traces to HDF5 or CSV on
  * request (docs/dynamics.md section 10). */
 #include "cli_kin.h"
+#include "pom_version.h"
 #include "pom_cli.h"
 #include "pom_dynamics.h"
 #include "pom_h5.h"

@@ -1,5 +1,6 @@
 /* main.c - pomlab: dispatch to the subcommands. */
 #include "pom_cli.h"
+#include "pom_version.h"
 
 #include <stdio.h>
 #include <string.h>

@@ -3,6 +3,7 @@
  * touches it. */
 #define _POSIX_C_SOURCE 200809L
 #include "pom_doe_internal.h"
+#include "pom_version.h"
 #include "pom_h5.h"
 #include "pom_math.h"
 
