@@ -4,6 +4,10 @@
 
 #include "pom_version_gen.h"
 
-const char *pom_version(void) { return POM_VERSION; }
+const char *pom_version(void) {
+  return POM_VERSION;
+}
 
-const char *pom_git_commit(void) { return POM_GIT_COMMIT_STRING; }
+const char *pom_git_commit(void) {
+  return POM_GIT_COMMIT_STRING;
+}
