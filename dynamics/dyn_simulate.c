@@ -366,10 +366,19 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
   const pom_dyn_params *p = &m->par;
   double t0_wall = now_seconds();
   memset(mt, 0, sizeof *mt);
-  for (int a = 0; a < 3; ++a) {
+  for (int a = 0; a < 3; ++a)
     mt->target[a] = target[a];
-    if (!isfinite(target[a])) POM_FAIL(err, POM_ERR_ARG, "target %d is not finite", a + 1);
-  }
+  for (int a = 0; a < 3; ++a)
+    if (!isfinite(target[a])) {
+      /* reported in the metrics too, as every refusal (docs/dynamics.md 8) */
+      mt->status =
+          pom_error_set(err, POM_ERR_ARG, __FILE__, __LINE__, "target %d is not finite", a + 1);
+      snprintf(mt->reason, sizeof mt->reason, "target %d is not finite", a + 1);
+      mt->execution_time = NAN;
+      for (int k = 0; k < 3; ++k)
+        mt->settling_time[k] = mt->settling_time_final[k] = NAN;
+      return mt->status;
+    }
   /* a target outside the actuator's stroke is refused before any work
    * (docs/dynamics.md section 14); stroke 0 = not limited */
   for (int a = 0; a < m->n_actuators; ++a) {

@@ -228,6 +228,11 @@ static void test_saturated_steps(void) {
       check_abs(mt.settling_time_final[k], ref[k].settle_final, 2e-7);
     }
     check_abs(mt.execution_time, exec, 2e-7);
+    /* a refused target is reported in the metrics, not only returned */
+    const double bad[3] = {1e-3, NAN, 0.0};
+    check_true(pom_dyn_simulate(m, d, bad, &mt, NULL, &err) == POM_ERR_ARG);
+    check_true(mt.status == POM_ERR_ARG && strstr(mt.reason, "target 2") != NULL);
+    check_true(isnan(mt.execution_time) && mt.settled[0] == 0 && isnan(mt.settling_time[0]));
   } else {
     printf("  %s\n", err.message);
   }
