@@ -2,6 +2,7 @@
 #include "pom_cli.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -31,7 +32,7 @@ int pom_cli_parse_list(const char *text, int n, double *out) {
     char *end = NULL;
     errno = 0;
     double v = strtod(p, &end);
-    if (end == p || errno != 0) return -1;
+    if (end == p || errno != 0 || !isfinite(v)) return -1; /* nan/inf are usage errors */
     out[k] = v;
     p = end;
     if (k < n - 1) {

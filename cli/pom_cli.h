@@ -18,7 +18,8 @@ void pom_cli_report(const char *context, const pom_error *err);
 /* Exit code for a status: 2 for config/argument errors, 1 otherwise, 0 ok. */
 int pom_cli_exit_code(pom_status st);
 
-/* Parses "a,b,c" into n doubles; returns 0 on success. */
+/* Parses "a,b,c" into n finite doubles; returns 0 on success, -1 on a
+ * malformed list or a nan/inf value. */
 int pom_cli_parse_list(const char *text, int n, double *out);
 
 /* Every top-level config name any command understands (NULL-terminated). */

@@ -65,6 +65,8 @@ expect_rc 0 $PY "$SRC/scripts/plot_traces.py" "$TMP/fig.png" "3P-S-S/S=$TMP/a.h5
 # usage and config errors
 expect_rc 2 "$POMLAB" simulate "$SRC/configs/3pss.cfg"
 expect_rc 2 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target 1,2
+expect_rc 2 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target nan,1,1
+expect_rc 2 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target 1,inf,1
 expect_rc 2 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target 1,2,3 --out x.txt
 expect_rc 2 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target 1,2,3 --form pid
 expect_rc 2 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target 1,2,3 --bogus
