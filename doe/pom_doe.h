@@ -103,6 +103,31 @@ pom_status pom_doe_check_final_stroke(pom_dyn_metrics *out, double stroke, pom_e
  * maneuver) as attributes of group g (docs/results.md, section 5). */
 pom_status pom_doe_describe_dyn_params(hid_t g, const pom_dyn_params *par, pom_error *err);
 
+/* The dynamics part of a candidate evaluator, shared by the evaluator below
+ * and by wrappers that build the candidate differently (the optimize
+ * pipeline): a wrapper puts it FIRST in its context struct, so the
+ * pom_doe_dyn_* callbacks below accept that context as their ctx. */
+typedef struct {
+  pom_kin_arch arch;     /* geometry and limits (orientation-space targets, stroke) */
+  pom_mechanism mech;    /* bodies, joints, actuators */
+  pom_dyn_params params; /* as simulated */
+  pom_dyn_model *model;  /* shared read-only by the workers */
+} pom_doe_dyn_base;
+
+/* Evaluator callbacks on a context that starts with a pom_doe_dyn_base: one
+ * pom_dyn_data per worker; joint targets from IK and refused outside the
+ * stroke; pom_dyn_simulate, then pom_doe_check_final_stroke. */
+pom_status pom_doe_dyn_worker_create(void **worker, const void *ctx, pom_error *err);
+void pom_doe_dyn_worker_destroy(void *worker);
+pom_status pom_doe_dyn_targets(const void *ctx, const pom_doe_maneuver *mv, double q[3],
+                               pom_error *err);
+pom_status pom_doe_dyn_run(const void *ctx, void *worker, const double target[3],
+                           pom_dyn_metrics *out, pom_error *err);
+
+/* Writes the base's architecture, stroke, dynamics settings and state count
+ * as attributes of group g. */
+pom_status pom_doe_dyn_describe_base(const pom_doe_dyn_base *base, hid_t g, pom_error *err);
+
 /* The real evaluator: architecture, mechanism and dynamics model from cfg
  * (kinematics and dynamics groups; unknown keys in them rejected). */
 pom_status pom_doe_dyn_evaluator_create(pom_doe_evaluator *eval, const pom_cfg *cfg, void *user,

@@ -14,12 +14,7 @@ static const char *const dyn_scopes[] = {"name",    "architecture", "geometry", 
                                          "inertia", "actuator",     "controller", "joints",
                                          "scene",   "solver",       "maneuver",   NULL};
 
-typedef struct {
-  pom_kin_arch arch;     /* geometry and limits (orientation-space targets) */
-  pom_mechanism mech;    /* bodies, joints, actuators */
-  pom_dyn_params params; /* as loaded */
-  pom_dyn_model *model;  /* shared read-only by the workers */
-} dyn_ctx;
+typedef pom_doe_dyn_base dyn_ctx;
 
 static void ctx_destroy(void *p) {
   dyn_ctx *ctx = p;
@@ -28,20 +23,20 @@ static void ctx_destroy(void *p) {
   free(ctx);
 }
 
-static pom_status worker_create(void **worker, const void *p, pom_error *err) {
-  const dyn_ctx *ctx = p;
+pom_status pom_doe_dyn_worker_create(void **worker, const void *p, pom_error *err) {
+  const pom_doe_dyn_base *ctx = p;
   pom_dyn_data *d = NULL;
   POM_TRY(pom_dyn_data_create(&d, ctx->model, err));
   *worker = d;
   return POM_OK;
 }
 
-static void worker_destroy(void *worker) {
+void pom_doe_dyn_worker_destroy(void *worker) {
   pom_dyn_data_destroy(worker);
 }
 
 /* Joint targets must lie inside the stroke: the maneuver fails otherwise. */
-static pom_status check_stroke(const dyn_ctx *ctx, const double q[3], pom_error *err) {
+static pom_status check_stroke(const pom_doe_dyn_base *ctx, const double q[3], pom_error *err) {
   double half = 0.5 * ctx->arch.stroke;
   for (int i = 0; i < 3; ++i)
     if (!(fabs(q[i]) <= half))
@@ -51,15 +46,16 @@ static pom_status check_stroke(const dyn_ctx *ctx, const double q[3], pom_error 
   return POM_OK;
 }
 
-static pom_status targets(const void *p, const pom_doe_maneuver *mv, double q[3], pom_error *err) {
-  const dyn_ctx *ctx = p;
+pom_status pom_doe_dyn_targets(const void *p, const pom_doe_maneuver *mv, double q[3],
+                               pom_error *err) {
+  const pom_doe_dyn_base *ctx = p;
   POM_TRY(pom_kin_inverse(&ctx->arch, mv->R, q, err));
   return check_stroke(ctx, q, err);
 }
 
-static pom_status run(const void *p, void *worker, const double target[3], pom_dyn_metrics *out,
-                      pom_error *err) {
-  const dyn_ctx *ctx = p;
+pom_status pom_doe_dyn_run(const void *p, void *worker, const double target[3],
+                           pom_dyn_metrics *out, pom_error *err) {
+  const pom_doe_dyn_base *ctx = p;
   pom_status st = check_stroke(ctx, target, err);
   if (st != POM_OK) {
     memset(out, 0, sizeof *out);
@@ -76,15 +72,16 @@ static pom_status run(const void *p, void *worker, const double target[3], pom_d
   return pom_doe_check_final_stroke(out, ctx->arch.stroke, err);
 }
 
-static pom_status describe(const void *p, hid_t g, pom_error *err) {
-  const dyn_ctx *ctx = p;
-  const pom_dyn_params *par = &ctx->params;
-  POM_TRY(pom_h5_attr_string(g, "architecture", ctx->arch.type == POM_ARCH_3PSS ? "3PSS" : "3SPS",
-                             err));
+pom_status pom_doe_dyn_describe_base(const pom_doe_dyn_base *ctx, hid_t g, pom_error *err) {
+  POM_TRY(pom_h5_attr_string(g, "architecture", pom_kin_arch_name(ctx->arch.type), err));
   POM_TRY(pom_h5_attr_double(g, "stroke_m", ctx->arch.stroke, err));
-  POM_TRY(pom_doe_describe_dyn_params(g, par, err));
+  POM_TRY(pom_doe_describe_dyn_params(g, &ctx->params, err));
   POM_TRY(pom_h5_attr_int64(g, "model_states", pom_dyn_model_n_states(ctx->model), err));
   return POM_OK;
+}
+
+static pom_status describe(const void *p, hid_t g, pom_error *err) {
+  return pom_doe_dyn_describe_base(p, g, err);
 }
 
 pom_status pom_doe_dyn_evaluator_create(pom_doe_evaluator *eval, const pom_cfg *cfg, void *user,
@@ -103,10 +100,10 @@ pom_status pom_doe_dyn_evaluator_create(pom_doe_evaluator *eval, const pom_cfg *
                fail);
   eval->ctx = ctx;
   eval->ctx_destroy = ctx_destroy;
-  eval->worker_create = worker_create;
-  eval->worker_destroy = worker_destroy;
-  eval->targets = targets;
-  eval->run = run;
+  eval->worker_create = pom_doe_dyn_worker_create;
+  eval->worker_destroy = pom_doe_dyn_worker_destroy;
+  eval->targets = pom_doe_dyn_targets;
+  eval->run = pom_doe_dyn_run;
   eval->describe = describe;
   return POM_OK;
 fail:

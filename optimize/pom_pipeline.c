@@ -13,10 +13,7 @@
 #include <string.h>
 
 typedef struct {
-  pom_kin_arch arch;     /* geometry and limits (synthesized when asked) */
-  pom_mechanism mech;    /* bodies, joints, actuators */
-  pom_dyn_params params; /* with the tuned gains when asked */
-  pom_dyn_model *model;  /* shared read-only by the workers */
+  pom_doe_dyn_base base; /* first: the doe dynamics callbacks take this context */
   int synthesized;       /* 1 when the geometry came from the synthesis */
   int tuned;             /* 1 when the gains came from the tuning */
   double d_confirmed;    /* desirability of the synthesized optimum (true kinematics) */
@@ -26,69 +23,20 @@ typedef struct {
 static void ctx_destroy(void *p) {
   pipe_ctx *ctx = p;
   if (!ctx) return;
-  pom_dyn_model_destroy(ctx->model);
+  pom_dyn_model_destroy(ctx->base.model);
   free(ctx);
-}
-
-static pom_status worker_create(void **worker, const void *p, pom_error *err) {
-  const pipe_ctx *ctx = p;
-  pom_dyn_data *d = NULL;
-  POM_TRY(pom_dyn_data_create(&d, ctx->model, err));
-  *worker = d;
-  return POM_OK;
-}
-
-static void worker_destroy(void *worker) {
-  pom_dyn_data_destroy(worker);
-}
-
-static pom_status check_stroke(const pipe_ctx *ctx, const double q[3], pom_error *err) {
-  double half = 0.5 * ctx->arch.stroke;
-  for (int i = 0; i < 3; ++i)
-    if (!(fabs(q[i]) <= half))
-      POM_FAIL(err, POM_ERR_LIMIT,
-               "target of actuator %d = %.4g mm is outside the stroke +-%.4g mm", i + 1, q[i] * 1e3,
-               half * 1e3);
-  return POM_OK;
-}
-
-static pom_status targets(const void *p, const pom_doe_maneuver *mv, double q[3], pom_error *err) {
-  const pipe_ctx *ctx = p;
-  POM_TRY(pom_kin_inverse(&ctx->arch, mv->R, q, err));
-  return check_stroke(ctx, q, err);
-}
-
-static pom_status run(const void *p, void *worker, const double target[3], pom_dyn_metrics *out,
-                      pom_error *err) {
-  const pipe_ctx *ctx = p;
-  pom_status st = check_stroke(ctx, target, err);
-  if (st != POM_OK) {
-    memset(out, 0, sizeof *out);
-    for (int i = 0; i < 3; ++i)
-      out->target[i] = target[i];
-    out->status = st;
-    snprintf(out->reason, sizeof out->reason, "%s", err ? err->message : "outside the stroke");
-    return st;
-  }
-  st = pom_dyn_simulate(ctx->model, worker, target, out, NULL, err);
-  if (st != POM_OK) return st;
-  return pom_doe_check_final_stroke(out, ctx->arch.stroke, err);
 }
 
 static pom_status describe(const void *p, hid_t g, pom_error *err) {
   const pipe_ctx *ctx = p;
-  const pom_dyn_params *par = &ctx->params;
-  POM_TRY(pom_h5_attr_string(g, "architecture", pom_kin_arch_name(ctx->arch.type), err));
-  POM_TRY(pom_h5_attr_double(g, "stroke_m", ctx->arch.stroke, err));
+  POM_TRY(pom_doe_dyn_describe_base(&ctx->base, g, err));
   POM_TRY(pom_h5_attr_int64(g, "pipeline_synthesized", ctx->synthesized, err));
   POM_TRY(pom_h5_attr_int64(g, "pipeline_tuned", ctx->tuned, err));
-  if (ctx->arch.has_design)
-    POM_TRY(pom_h5_attr_double(g, "platform_radius_m", ctx->arch.design.scale, err));
+  if (ctx->base.arch.has_design)
+    POM_TRY(pom_h5_attr_double(g, "platform_radius_m", ctx->base.arch.design.scale, err));
   if (ctx->synthesized)
     POM_TRY(pom_h5_attr_double(g, "synthesis_desirability", ctx->d_confirmed, err));
   if (ctx->tuned) POM_TRY(pom_h5_attr_double(g, "tuning_criterion_s", ctx->tune_criterion, err));
-  POM_TRY(pom_doe_describe_dyn_params(g, par, err));
-  POM_TRY(pom_h5_attr_int64(g, "model_states", pom_dyn_model_n_states(ctx->model), err));
   return POM_OK;
 }
 
@@ -113,7 +61,7 @@ static pom_status synthesize(pipe_ctx *ctx, const pom_cfg *cfg, const char *pref
   POM_TRY_GOTO(pom_syn_write_geometry(run, path, err), done);
   snprintf(path, sizeof path, "%s%s.h5", prefix, name);
   POM_TRY_GOTO(pom_syn_write_h5(run, path, pom_cfg_text(cfg), err), done);
-  ctx->arch = run->scaled;
+  ctx->base.arch = run->scaled;
   ctx->synthesized = 1;
   ctx->d_confirmed = pom_syn_desirability(pb, run->scaled_resp, NULL);
 done:
@@ -130,9 +78,9 @@ static pom_status tune(pipe_ctx *ctx, const pom_cfg *cfg, const char *prefix, po
   if (!pb) POM_FAIL(err, POM_ERR_NOMEM, "pipeline: out of memory");
   POM_TRY_GOTO(pom_tune_load(pb, cfg, err), done);
   /* tune the mechanism the study will run (possibly just synthesized) */
-  pb->arch = ctx->arch;
-  pb->mech = ctx->mech;
-  pb->params = ctx->params;
+  pb->arch = ctx->base.arch;
+  pb->mech = ctx->base.mech;
+  pb->params = ctx->base.params;
   POM_TRY_GOTO(pom_tune_run(pb, &res, err), done);
   char path[1024], name[40];
   size_t j = 0;
@@ -143,7 +91,7 @@ static pom_status tune(pipe_ctx *ctx, const pom_cfg *cfg, const char *prefix, po
   name[j] = '\0';
   snprintf(path, sizeof path, "%s%s.controller.cfg", prefix, name);
   POM_TRY_GOTO(pom_tune_write_controller(pb, &res, path, err), done);
-  ctx->params.controller = res.best;
+  ctx->base.params.controller = res.best;
   ctx->tuned = 1;
   ctx->tune_criterion = res.best_eval.criterion;
 done:
@@ -166,13 +114,13 @@ pom_status pom_pipeline_evaluator_create(pom_doe_evaluator *eval, const pom_cfg 
   POM_TRY(pom_cfg_bool_opt(cfg, "tuning.run_in_study", 0, &do_tune, err));
   pipe_ctx *ctx = calloc(1, sizeof *ctx);
   if (!ctx) POM_FAIL(err, POM_ERR_NOMEM, "evaluator: out of memory");
-  POM_TRY_GOTO(pom_kin_arch_load(&ctx->arch, cfg, err), fail);
+  POM_TRY_GOTO(pom_kin_arch_load(&ctx->base.arch, cfg, err), fail);
   if (do_synth) POM_TRY_GOTO(synthesize(ctx, cfg, prefix, err), fail);
   pom_kin_inertia in;
-  POM_TRY_GOTO(pom_kin_inertia_load(&in, &ctx->arch, cfg, err), fail);
-  POM_TRY_GOTO(pom_kin_mechanism_from(&ctx->mech, &ctx->arch, &in, err), fail);
-  pom_dyn_params_defaults(&ctx->params);
-  POM_TRY_GOTO(pom_dyn_params_load(&ctx->params, cfg, err), fail);
+  POM_TRY_GOTO(pom_kin_inertia_load(&in, &ctx->base.arch, cfg, err), fail);
+  POM_TRY_GOTO(pom_kin_mechanism_from(&ctx->base.mech, &ctx->base.arch, &in, err), fail);
+  pom_dyn_params_defaults(&ctx->base.params);
+  POM_TRY_GOTO(pom_dyn_params_load(&ctx->base.params, cfg, err), fail);
   if (do_tune) POM_TRY_GOTO(tune(ctx, cfg, prefix, err), fail);
   {
     const char *scopes[16];
@@ -184,14 +132,15 @@ pom_status pom_pipeline_evaluator_create(pom_doe_evaluator *eval, const pom_cfg 
     scopes[n] = NULL;
     POM_TRY_GOTO(pom_cfg_check_unknown(cfg, scopes, NULL, err), fail);
   }
-  POM_TRY_GOTO(pom_dyn_model_create_ex(&ctx->model, &ctx->mech, &ctx->arch, &ctx->params, err),
+  POM_TRY_GOTO(pom_dyn_model_create_ex(&ctx->base.model, &ctx->base.mech, &ctx->base.arch,
+                                       &ctx->base.params, err),
                fail);
   eval->ctx = ctx;
   eval->ctx_destroy = ctx_destroy;
-  eval->worker_create = worker_create;
-  eval->worker_destroy = worker_destroy;
-  eval->targets = targets;
-  eval->run = run;
+  eval->worker_create = pom_doe_dyn_worker_create;
+  eval->worker_destroy = pom_doe_dyn_worker_destroy;
+  eval->targets = pom_doe_dyn_targets;
+  eval->run = pom_doe_dyn_run;
   eval->describe = describe;
   return POM_OK;
 fail:
