@@ -281,8 +281,6 @@ static int exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, 
   const dyn_exact *ex = m->ex;
   dyn_exact_work *xw = d->xw;
   const pom_dyn_params *par = &m->par;
-  const pom_dyn_actuator *ap = &par->actuator;
-  const pom_dyn_controller *cp = &par->controller;
   dyn_outputs *o = &d->out;
   memset(o, 0, sizeof *o);
   double R[9], trig[4] = {1.0, 0.0, 1.0, 0.0};
@@ -364,41 +362,12 @@ static int exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, 
   /* actuators: the same coil and controller laws as the parasitic path
    * (dyn_rhs.c), the force entering as J^T F */
   for (int a = 0; a < m->n_actuators; ++a) {
-    const dyn_actuator *ac = &m->act[a];
     int limb = ex->act_limb[a];
     const double *Jr = tw->J + 3 * limb;
     double q = tw->q[limb];
     double qd = pom_v3_dot(Jr, w);
-    double e = d->target[a] - q;
-    double z = y[ac->int_state];
-    double u_raw;
-    if (cp->form == POM_PID_IDEAL)
-      u_raw = ap->sensor_gain * cp->kp * (e + cp->ki * z - cp->kd * qd);
-    else
-      u_raw = ap->sensor_gain * (cp->kp * e + cp->ki * z - cp->kd * qd);
-    double lim = ap->voltage_limit;
-    double u = u_raw > lim ? lim : (u_raw < -lim ? -lim : u_raw);
-    double i = ac->flux_state >= 0 ? y[ac->flux_state] / ap->inductance
-                                   : (u - ap->force_constant * qd) / ap->resistance;
-    double bf = par->scene.bearing_friction ? ap->bearing_friction : 0.0;
-    double force = ap->force_constant * i - bf * qd;
+    double force = pom_dyn_actuator_law(m, d, a, q, qd, y, ydot);
     pom_v3_axpy(f, f, force, Jr);
-    o->q[a] = q;
-    o->q_dot[a] = qd;
-    o->current[a] = i;
-    o->voltage[a] = u;
-    if (ydot) {
-      if (ac->flux_state >= 0)
-        ydot[ac->flux_state] = u - ap->resistance * i - ap->force_constant * qd;
-      ydot[ac->int_state] = e;
-      double *acc = ydot + ac->acc_state;
-      double pw = u * i;
-      acc[DYN_ACC_SOURCE] = pw;
-      acc[DYN_ACC_SOURCE_POS] = pw > 0 ? pw : 0.0;
-      acc[DYN_ACC_SATURATED] = fabs(u_raw) >= lim ? 1.0 : 0.0;
-      acc[DYN_ACC_COIL] = ap->resistance * i * i;
-      acc[DYN_ACC_BEARING] = bf * qd * qd;
-    }
   }
   if (outputs_only) return o->euler_singular ? 1 : 0;
   double Mw[3];

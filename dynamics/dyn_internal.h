@@ -185,6 +185,14 @@ struct pom_dyn_data {
  * Euler singularity; never allocates. */
 int pom_dyn_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot);
 
+/* dyn_rhs.c: coil and controller of actuator a at displacement q (m) and
+ * rate qd (m/s), shared by both formulations: sets d->out's q, q_dot,
+ * current and voltage, and (ydot non-NULL) the coil flux, PID integral and
+ * energy-accumulator derivatives; returns the force along the actuator axis
+ * on its moving side (N). */
+double pom_dyn_actuator_law(const pom_dyn_model *m, pom_dyn_data *d, int a, double q, double qd,
+                            const double *y, double *ydot);
+
 /* dyn_rhs.c: actuator displacements q[n_actuators] (m) of a state, without
  * the full pass (for the output grid of the metrics). */
 void pom_dyn_actuator_positions(const pom_dyn_model *m, const double *y, double *q);

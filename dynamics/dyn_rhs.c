@@ -108,11 +108,54 @@ static const double identity3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
 static const double zero3[3] = {0, 0, 0};
 
 /* ---- the pass ------------------------------------------------------------ */
+/* The voice coil and its controller (docs/dynamics.md section 4), shared by
+ * the parasitic and the rigid paths: PID on e = target - q with the
+ * derivative on the measured rate, saturation, coil (flux state or
+ * quasi-static), bearing friction; outputs and (with ydot) the coil, integral
+ * and energy-accumulator derivatives of actuator a. */
+double pom_dyn_actuator_law(const pom_dyn_model *m, pom_dyn_data *d, int a, double q, double qd,
+                            const double *y, double *ydot) {
+  const pom_dyn_actuator *ap = &m->par.actuator;
+  const pom_dyn_controller *cp = &m->par.controller;
+  const dyn_actuator *ac = &m->act[a];
+  dyn_outputs *o = &d->out;
+  double e = d->target[a] - q;
+  double z = y[ac->int_state];
+  double u_raw;
+  if (cp->form == POM_PID_IDEAL)
+    u_raw = ap->sensor_gain * cp->kp * (e + cp->ki * z - cp->kd * qd);
+  else
+    u_raw = ap->sensor_gain * (cp->kp * e + cp->ki * z - cp->kd * qd);
+  double lim = ap->voltage_limit;
+  double u = u_raw > lim ? lim : (u_raw < -lim ? -lim : u_raw);
+  double i;
+  if (ac->flux_state >= 0)
+    i = y[ac->flux_state] / ap->inductance;
+  else
+    i = (u - ap->force_constant * qd) / ap->resistance;
+  double b = m->par.scene.bearing_friction ? ap->bearing_friction : 0.0;
+  o->q[a] = q;
+  o->q_dot[a] = qd;
+  o->current[a] = i;
+  o->voltage[a] = u;
+  if (ydot) {
+    if (ac->flux_state >= 0)
+      ydot[ac->flux_state] = u - ap->resistance * i - ap->force_constant * qd;
+    ydot[ac->int_state] = e;
+    double *acc = ydot + ac->acc_state;
+    double pw = u * i;
+    acc[DYN_ACC_SOURCE] = pw;
+    acc[DYN_ACC_SOURCE_POS] = pw > 0 ? pw : 0.0;
+    acc[DYN_ACC_SATURATED] = fabs(u_raw) >= lim ? 1.0 : 0.0;
+    acc[DYN_ACC_COIL] = ap->resistance * i * i;
+    acc[DYN_ACC_BEARING] = b * qd * qd;
+  }
+  return ap->force_constant * i - b * qd;
+}
+
 int pom_dyn_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot) {
   if (m->ex) return pom_dyn_exact_eval(m, d, y, ydot); /* rigid joints: dyn_exact.c */
   const pom_dyn_params *par = &m->par;
-  const pom_dyn_actuator *ap = &par->actuator;
-  const pom_dyn_controller *cp = &par->controller;
   const double kl = par->joints.stiffness, cl = par->joints.damping;
   const double ka = par->joints.angular_stiffness, ca = par->joints.angular_damping;
   dyn_outputs *o = &d->out;
@@ -199,47 +242,15 @@ int pom_dyn_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, doubl
      * prismatic joint's relative motion, with bearing friction */
     int a = jt->actuator;
     if (a >= 0) {
-      const dyn_actuator *ac = &m->act[a];
       double n[3], nxd[3];
       pom_m3_apply(n, R0, jt->axis);
       pom_v3_cross(nxd, n, dd);
       double q = pom_v3_dot(n, dd);
       double qd = pom_v3_dot(n, dv) + pom_v3_dot(w0, nxd);
-      double e = d->target[a] - q;
-      double z = y[ac->int_state];
-      double u_raw;
-      if (cp->form == POM_PID_IDEAL)
-        u_raw = ap->sensor_gain * cp->kp * (e + cp->ki * z - cp->kd * qd);
-      else
-        u_raw = ap->sensor_gain * (cp->kp * e + cp->ki * z - cp->kd * qd);
-      double lim = ap->voltage_limit;
-      double u = u_raw > lim ? lim : (u_raw < -lim ? -lim : u_raw);
-      double i;
-      if (ac->flux_state >= 0)
-        i = y[ac->flux_state] / ap->inductance;
-      else
-        i = (u - ap->force_constant * qd) / ap->resistance;
-      double b = par->scene.bearing_friction ? ap->bearing_friction : 0.0;
-      double force = ap->force_constant * i - b * qd;
+      double force = pom_dyn_actuator_law(m, d, a, q, qd, y, ydot);
       pom_v3_axpy(F1, F1, force, n);
       pom_v3_axpy(F0, F0, -force, n);
       apply_torque(d, jt, 0, force, nxd);
-      o->q[a] = q;
-      o->q_dot[a] = qd;
-      o->current[a] = i;
-      o->voltage[a] = u;
-      if (ydot) {
-        if (ac->flux_state >= 0)
-          ydot[ac->flux_state] = u - ap->resistance * i - ap->force_constant * qd;
-        ydot[ac->int_state] = e;
-        double *acc = ydot + ac->acc_state;
-        double pw = u * i;
-        acc[DYN_ACC_SOURCE] = pw;
-        acc[DYN_ACC_SOURCE_POS] = pw > 0 ? pw : 0.0;
-        acc[DYN_ACC_SATURATED] = fabs(u_raw) >= lim ? 1.0 : 0.0;
-        acc[DYN_ACC_COIL] = ap->resistance * i * i;
-        acc[DYN_ACC_BEARING] = b * qd * qd;
-      }
     }
     apply_force(d, jt, 0, F0, r0);
     apply_force(d, jt, 1, F1, r1);
