@@ -92,8 +92,9 @@ typedef pom_status (*pom_doe_evaluator_factory)(pom_doe_evaluator *eval, const p
                                                 void *user, pom_error *err);
 
 /* Shared by the dynamics evaluators (the one below and the study pipeline's):
- * a maneuver that ends with an actuator outside +-stroke/2 (stroke in m) is
- * physically impossible (the model has no end stops) and becomes a failure:
+ * a maneuver that ends with an actuator outside +-stroke/2 (stroke in m), or
+ * whose |q| exceeded it on the output grid (max_abs_q), is physically
+ * impossible (the model has no end stops) and becomes a failure:
  * out->status = POM_ERR_LIMIT with the reason set (docs/results.md, section
  * 1). Returns POM_ERR_LIMIT (err set) when it made the maneuver a failure,
  * POM_OK otherwise (also when out->status already records a failure). */

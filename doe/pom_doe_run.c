@@ -103,7 +103,7 @@ void pom_doe_row_from_metrics(pom_doe_row *row, const pom_dyn_metrics *m) {
 pom_status pom_doe_check_final_stroke(pom_dyn_metrics *out, double stroke, pom_error *err) {
   if (out->status != POM_OK) return POM_OK; /* already a recorded failure */
   double half = 0.5 * stroke;
-  for (int i = 0; i < 3; ++i)
+  for (int i = 0; i < 3; ++i) {
     if (!(fabs(out->final_q[i]) <= half)) {
       out->status = POM_ERR_LIMIT;
       snprintf(
@@ -113,6 +113,16 @@ pom_status pom_doe_check_final_stroke(pom_dyn_metrics *out, double stroke, pom_e
           i + 1, out->final_q[i] * 1e3, half * 1e3);
       return pom_error_set(err, POM_ERR_LIMIT, __FILE__, __LINE__, "%s", out->reason);
     }
+    /* an excursion past the stroke that came back is just as impossible */
+    if (!(out->max_abs_q[i] <= half)) {
+      out->status = POM_ERR_LIMIT;
+      snprintf(out->reason, sizeof out->reason,
+               "actuator %d left its stroke during the maneuver: |q| reached %.4g mm (stroke "
+               "+-%.4g mm; the model has no end stops)",
+               i + 1, out->max_abs_q[i] * 1e3, half * 1e3);
+      return pom_error_set(err, POM_ERR_LIMIT, __FILE__, __LINE__, "%s", out->reason);
+    }
+  }
   return POM_OK;
 }
 

@@ -230,9 +230,12 @@ static void settle_metrics(const pom_dyn_model *m, const pom_dyn_data *d, pom_dy
     mt->settled[a] = ts >= 0.0;
     mt->settling_time[a] = ts >= 0.0 ? ts : NAN;
     /* stepinfo variant: band = settle_band * max |q - q_final| */
-    double yf = qa[(n - 1) * 3], peak = 0.0;
-    for (int k = 0; k < n; ++k)
+    double yf = qa[(n - 1) * 3], peak = 0.0, qmax = 0.0;
+    for (int k = 0; k < n; ++k) {
       peak = fmax(peak, fabs(qa[k * 3] - yf));
+      qmax = fmax(qmax, fabs(qa[k * 3]));
+    }
+    mt->max_abs_q[a] = qmax;
     double tf = peak > 0 ? last_exit_time(p, qa, n, 3, yf, p->maneuver.settle_band * peak) : 0.0;
     mt->settling_time_final[a] = tf >= 0 ? tf : NAN;
     mt->final_q[a] = yf;

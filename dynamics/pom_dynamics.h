@@ -146,6 +146,7 @@ typedef struct {
   double peak_voltage[3];        /* max |u| (V) */
   double saturation_time[3];     /* time with |u| at the limit (s) */
   double final_q[3];             /* q at the horizon (m) */
+  double max_abs_q[3];           /* largest |q| over the output grid, every output_dt (m) */
   double max_deflection;         /* largest parasitic deflection (m) */
   double energy_balance_error; /* |supplied - dissipated - stored change| / energy_balance_scale */
   long steps, rhs_evals, jac_evals, newton_iters, error_test_fails;

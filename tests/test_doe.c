@@ -680,6 +680,12 @@ static void test_final_stroke(void) {
   m.final_q[2] = -6.5e-3;
   check_true(pom_doe_check_final_stroke(&m, 12e-3, &err) == POM_ERR_LIMIT);
   check_true(m.status == POM_ERR_LIMIT && strstr(m.reason, "actuator 3 ended outside") != NULL);
+  /* an excursion past the stroke that came back inside is caught too */
+  memset(&m, 0, sizeof m);
+  m.final_q[0] = 2e-3;
+  m.max_abs_q[0] = 6.2e-3;
+  check_true(pom_doe_check_final_stroke(&m, 12e-3, &err) == POM_ERR_LIMIT);
+  check_true(m.status == POM_ERR_LIMIT && strstr(m.reason, "actuator 1 left its stroke") != NULL);
   /* NaN is outside too */
   memset(&m, 0, sizeof m);
   m.final_q[1] = NAN;

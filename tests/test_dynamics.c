@@ -603,6 +603,14 @@ static void test_shipped(const char *file) {
       for (int a = 0; a < 3; ++a)
         worst_q = fmax(worst_q, fabs(re.tr->q[3 * k + a] - rq.tr->q[3 * k + a]));
     check_abs(worst_q, 0.0, 1e-7);
+    /* the largest |q| is the largest of the recorded trace, at least |final q| */
+    for (int a = 0; a < 3; ++a) {
+      double qmax = 0.0;
+      for (int k = 0; k < re.tr->n; ++k)
+        qmax = fmax(qmax, fabs(re.tr->q[3 * k + a]));
+      check_abs(re.mt.max_abs_q[a], qmax, 0.0);
+      check_true(re.mt.max_abs_q[a] >= fabs(re.mt.final_q[a]));
+    }
     /* the maneuver settles and the audit closes (measured < 4e-7) */
     check_true(re.mt.settled[0] && re.mt.settled[1] && re.mt.settled[2]);
     check_abs(re.mt.energy_balance_error, 0.0, 1e-5);
