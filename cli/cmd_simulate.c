@@ -21,13 +21,15 @@ static void simulate_usage(FILE *out) {
           "  --json                machine-readable metrics on stdout\n"
           "  --out FILE            write traces: FILE.h5 (HDF5) or FILE.csv (SI units)\n"
           "  --form ideal|parallel override controller.form\n"
-          "  --kp X --ki X --kd X  override controller.kp, ki_per_s, kd_s\n"
+          "  --kp X --ki X --kd X  override controller.kp (V/V), ki_per_s (1/s), kd_s (s)\n"
           "  --orientation euler|quaternion   override scene.orientation\n"
           "  --linsol dense|klu    override solver.linear_solver\n"
           "  --joints parasitic|rigid   override joints.model\n"
-          "  --rtol X              override solver.rtol\n"
+          "  --rtol X              override solver.rtol, in [1e-13, 0.1]\n"
           "  --help                this text\n\n"
-          "Times are reported in ms, energies in mJ, positions in mm (SI in --json and traces).\n");
+          "Times are reported in ms, energies in mJ, positions in mm (SI in --json and traces).\n"
+          "Exit status: 0 ok; 1 the maneuver failed or the traces cannot be written;\n"
+          "2 usage or config error (also a target outside the stroke).\n");
 }
 
 /* Every group simulate reads; unknown keys there are errors. */
@@ -357,7 +359,28 @@ int pom_cmd_simulate(int argc, char **argv) {
   if (!isnan(kp)) par.controller.kp = kp;
   if (!isnan(ki)) par.controller.ki = ki;
   if (!isnan(kd)) par.controller.kd = kd;
-  if (!isnan(rtol)) par.solver.rtol = rtol;
+  if (!isnan(rtol)) {
+    /* the same range as solver.rtol in the config (docs/dynamics.md section 9) */
+    if (!(rtol >= 1e-13 && rtol <= 1e-1)) {
+      fprintf(stderr,
+              "pomlab simulate: --rtol %g: out of range: expected a value in [1e-13, 0.1]\n", rtol);
+      rc = 2;
+      goto done;
+    }
+    par.solver.rtol = rtol;
+  }
+  /* a target outside the stroke is a usage error, refused before any work */
+  for (int a = 0; a < 3; ++a) {
+    double half = 0.5 * arch.stroke;
+    if (half > 0 && !(fabs(target[a]) <= half)) {
+      fprintf(stderr,
+              "pomlab simulate: --target q%d = %g mm is outside the stroke +-%g mm "
+              "(limits.stroke_mm = %g)\n",
+              a + 1, target[a] * 1e3, half * 1e3, arch.stroke * 1e3);
+      rc = 2;
+      goto done;
+    }
+  }
 
   st = pom_dyn_model_create_ex(&model, mech, &arch, &par, &err);
   if (st == POM_OK) st = pom_dyn_data_create(&data, model, &err);

@@ -70,6 +70,10 @@ expect_rc 2 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target 1,inf,1
 expect_rc 2 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target 1,2,3 --out x.txt
 expect_rc 2 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target 1,2,3 --form pid
 expect_rc 2 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target 1,2,3 --bogus
+expect_rc 2 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target 1,2,3 --rtol 5
+expect_rc 2 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target 0,6.5,0 --out "$TMP/stroke.h5"
+grep -q "q2 = 6.5 mm is outside the stroke" "$TMP/err" || { echo "FAIL: stroke message"; fail=1; }
+[ ! -e "$TMP/stroke.h5" ] || { echo "FAIL: traces written for a refused target"; fail=1; }
 sed 's/resistance_ohm = 10.0;/resistance_ohm = -10.0;/' "$SRC/configs/3pss.cfg" > "$TMP/bad.cfg"
 expect_rc 2 "$POMLAB" simulate "$TMP/bad.cfg" --target 1,2,3
 grep -q "actuator.resistance_ohm" "$TMP/err" || { echo "FAIL: message does not name the key"; fail=1; }
