@@ -14,6 +14,7 @@ needs every actuator to have settled (the same sets as the tables).
 """
 import os
 import sys
+import textwrap
 
 import h5py
 import matplotlib
@@ -21,6 +22,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.ticker import MaxNLocator  # noqa: E402
 
 
 def load(path):
@@ -59,10 +61,13 @@ def distribution(ax_hist, ax_box, names, values, scale, unit, label):
                                                        np.nan, unit))
     ax_hist.set_xlabel("%s (%s)" % (label, unit))
     ax_hist.set_ylabel("maneuvers")
-    ax_hist.legend(fontsize=8)
-    ax_box.boxplot([v if v.size else [np.nan] for v in finite], vert=False, labels=names,
+    ax_hist.yaxis.set_major_locator(MaxNLocator(integer=True))  # counts
+    ax_hist.legend(fontsize=8, loc="best")
+    # long config names (montecarlo uses the config's `name`) would squeeze the axes
+    labels = [textwrap.fill(name, 24) for name in names]
+    ax_box.boxplot([v if v.size else [np.nan] for v in finite], vert=False, labels=labels,
                    whis=(5, 95), showmeans=True)
-    ax_box.set_xlabel("%s (%s); box: quartiles, whiskers: 5-95 %%, triangle: mean" % (label, unit))
+    ax_box.set_xlabel("%s (%s)\nbox: quartiles, whiskers: 5-95 %%, triangle: mean" % (label, unit))
 
 
 def main(argv):
@@ -88,7 +93,9 @@ def main(argv):
     for ax, values, scale, unit, label in ((axes[0], times, 1e3, "ms", "execution time"),
                                            (axes[1], energies, 1.0, "J", "expended energy")):
         if len(names) < 2:
-            ax.text(0.5, 0.5, "one candidate", ha="center", transform=ax.transAxes)
+            ax.text(0.5, 0.5, "one candidate: no pairs to compare", ha="center",
+                    transform=ax.transAxes)
+            ax.set_axis_off()
             continue
         lo, hi = np.inf, -np.inf
         for c in range(1, len(names)):
