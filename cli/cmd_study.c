@@ -101,10 +101,12 @@ static int study_main(int argc, char **argv, int rank, int size) {
   /* candidates whose config asks for it are synthesized and tuned first
      (synthesis/tuning.run_in_study, docs/optimize.md 10) */
   if (st == POM_OK) st = pom_doe_study_load(&study, cfg, pom_pipeline_evaluator_create, NULL, &err);
+  int loaded = cfg != NULL;
   pom_cfg_destroy(cfg);
   if (st != POM_OK) {
     if (rank == 0) pom_cli_report("config", &err);
-    return pom_cli_exit_code(st);
+    /* a study file that cannot be read is a config error, as for every command */
+    return loaded ? pom_cli_exit_code(st) : 2;
   }
   int code = pom_cli_doe_execute(&study, &o);
   pom_doe_study_clear(&study);

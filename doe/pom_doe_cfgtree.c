@@ -26,7 +26,8 @@ pom_status pom_doe_tree_read_file(config_t *tree, const char *path, pom_error *e
   config_set_include_dir(tree, dir);
   config_set_auto_convert(tree, 0);
   FILE *fp = fopen(path, "rb");
-  if (!fp) POM_FAIL(err, POM_ERR_IO, "%s: cannot open config file", path);
+  /* the path comes from a config (a candidate's `config`): a config error */
+  if (!fp) POM_FAIL(err, POM_ERR_CONFIG, "%s: cannot open config file", path);
   fclose(fp);
   if (!config_read_file(tree, path)) return tree_error(tree, path, err);
   return POM_OK;

@@ -40,6 +40,13 @@ fi
 [ "$code" -eq 2 ] || { echo "bad config: exit $code, want 2"; exit 1; }
 grep -q "candidates.\[0\].colour" "$WORK/bad.err"
 [ ! -e "$WORK/bad.h5" ]
+# a study file or a candidate config that cannot be opened is a config error too
+code=0; "$POMLAB" study "$WORK/none.cfg" --quiet 2> /dev/null || code=$?
+[ "$code" -eq 2 ] || { echo "missing study file: exit $code, want 2"; exit 1; }
+printf 'candidates = ( { name = "x"; config = "%s/none.cfg"; } );\n' "$WORK" > "$WORK/nocand.cfg"
+code=0; "$POMLAB" study "$WORK/nocand.cfg" --out "$WORK/nocand.h5" --quiet 2> /dev/null || code=$?
+[ "$code" -eq 2 ] || { echo "missing candidate config: exit $code, want 2"; exit 1; }
+[ ! -e "$WORK/nocand.h5" ]
 # nor does it touch an existing results file
 cp "$WORK/t1.h5" "$WORK/keep.h5"
 if "$POMLAB" study "$WORK/bad.cfg" --out "$WORK/keep.h5" --quiet 2> /dev/null; then exit 1; fi
