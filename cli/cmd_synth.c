@@ -74,20 +74,24 @@ static void print_human(const pom_syn_run *run, const char *geo_path, const char
   pom_syn_resp g0 = pb->goal_resp[0];
   if (run->fitted[g0]) {
     const pom_rsm_fit *f = &run->fit[g0];
-    printf("\nANOVA of %s:\n  %-12s %12s %5s %12s %10s %10s\n", pom_syn_resp_name(g0), "source",
-           "SS", "df", "MS", "F", "p");
+    /* the fit is in internal units (rad for rdw_deg): shown in the response's
+       printed unit, like the table above (F and p do not depend on it) */
+    double u0 = pom_syn_resp_unit(g0);
+    printf("\nANOVA of %s (sums of squares in its unit squared, coefficients per coded unit):\n"
+           "  %-12s %12s %5s %12s %10s %10s\n",
+           pom_syn_resp_name(g0), "source", "SS", "df", "MS", "F", "p");
     for (int r = 0; r < POM_RSM_N_ROWS; ++r) {
       const pom_rsm_anova_row *a = &f->anova[r];
       if ((r == POM_RSM_ROW_LACK_OF_FIT || r == POM_RSM_ROW_PURE_ERROR) && !f->has_lack_of_fit)
         continue;
-      printf("  %-12s %12.5g %5.0f %12.5g %10.4g %10.3g\n", anova_names[r], a->ss, a->df, a->ms,
-             a->f, a->p);
+      printf("  %-12s %12.5g %5.0f %12.5g %10.4g %10.3g\n", anova_names[r], a->ss * u0 * u0, a->df,
+             a->ms * u0 * u0, a->f, a->p);
     }
     printf("  coefficients: ");
     for (int j = 0; j < f->p; ++j) {
       char nm[16];
       pom_rsm_term_name(f->k, j, nm, sizeof nm);
-      printf("%s%s %.4g (se %.2g)", j ? ", " : "", nm, f->beta[j], f->se[j]);
+      printf("%s%s %.4g (se %.2g)", j ? ", " : "", nm, f->beta[j] * u0, f->se[j] * u0);
     }
     printf("\n");
   }
