@@ -18,8 +18,9 @@ static const char *const model_scopes[] = {
 
 static void model_usage(FILE *out) {
   fprintf(out, "usage: pomlab model CONFIG [--json]\n\n"
-               "The resolved mechanism at the home pose (R = I, actuators at mid-stroke), in SI\n"
-               "units (m, kg, kg m^2, rad) and the fixed frame: geometry and limits, every body\n"
+               "The resolved mechanism at the home pose (R = I, actuators at mid-stroke), in\n"
+               "the fixed frame (text: lengths in mm, angles in deg, masses in kg, inertias in\n"
+               "kg m^2; --json: SI, m and rad): geometry and limits, every body\n"
                "with mass, centre of mass and inertia tensor about the CM, every joint with\n"
                "type, bodies, location and axes, every actuator with axis and stroke. Complete\n"
                "enough for another program to rebuild the mechanism.\n\n"
@@ -192,7 +193,7 @@ static void model_mechanism_text(const pom_kin_arch *a, const pom_mechanism *m) 
          a->stroke * 1e3, a->cone_base_max / POM_DEG, a->cone_platform_max / POM_DEG,
          a->min_limb_distance * 1e3);
   printf("gravity (m/s^2): %g %g %g\n", m->gravity[0], m->gravity[1], m->gravity[2]);
-  printf("bodies (CM in mm, inertia about the CM in kg m^2, fixed axes):\n");
+  printf("bodies (mass in kg, CM in mm, inertia about the CM in kg m^2, fixed axes):\n");
   for (int b = 0; b < m->n_bodies; ++b) {
     const pom_mech_body *body = &m->body[b];
     const double *I = body->inertia;

@@ -18,7 +18,8 @@ static void tradeoff_usage(FILE *out) {
       "usage: pomlab tradeoff CONFIG [options]\n\n"
       "Runs the configured mechanism over a fixed set of maneuvers (montecarlo seed,\n"
       "maneuvers 0..n-1) at many settings - rtol, parasitic stiffness, linear solver,\n"
-      "scene options - and compares each with a tight reference (rtol 1e-10, k_p 1e9):\n"
+      "scene options - and compares each with a tight reference (tradeoff.reference:\n"
+      "rigid joints at rtol 1e-10 by default, or parasitic joints at k_p 1e9 N/m):\n"
       "wall time per maneuver (median of repeats) against the worst relative error in\n"
       "execution (settling) time, expended energy and trajectory. Recommends the\n"
       "cheapest setting within the accuracy asked for.\n\n"
@@ -29,7 +30,11 @@ static void tradeoff_usage(FILE *out) {
       "  --csv FILE       write the table as CSV (for scripts/plot_tradeoff.py)\n"
       "  --quiet          no progress lines on stderr\n"
       "  --help           this text\n\n"
-      "Plot: /usr/bin/python3 scripts/plot_tradeoff.py OUT.png NAME=FILE.csv [...]\n");
+      "Wall times in ms per maneuver; errors are relative (1 = 100 %%). There is no\n"
+      "--json: the CSV is the machine-readable output (docs/tradeoff.md).\n"
+      "Plot: /usr/bin/python3 scripts/plot_tradeoff.py OUT.png NAME=FILE.csv [...]\n"
+      "Exit status: 0 ok; 1 a run failed or the CSV cannot be written; 2 usage or\n"
+      "config error.\n");
 }
 
 static const char *const tradeoff_scopes[] = {
