@@ -406,6 +406,11 @@ int pom_cmd_simulate(int argc, char **argv) {
     if (wst != POM_OK) {
       pom_cli_report("simulate: writing traces", &werr);
       rc = 1;
+    } else if (st != POM_OK) {
+      /* kept for diagnosis, but never mistaken for a finished maneuver */
+      fprintf(stderr,
+              "pomlab simulate: '%s' holds the traces of the FAILED maneuver, up to t = %g ms\n",
+              out_path, trace->t[trace->n - 1] * 1e3);
     }
   }
 done:
