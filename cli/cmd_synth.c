@@ -19,7 +19,15 @@ static void usage(FILE *out) {
           "Each CFG needs architecture, geometry (mode = \"parameters\"), limits, workspace\n"
           "and synthesis groups. Writes PREFIX<name>.geometry.cfg (the scaled geometry, a\n"
           "`geometry` group for simulate/montecarlo/study) and PREFIX<name>.h5 (design,\n"
-          "fits, optimum, confirmation). PREFIX defaults to results/synth_.\n");
+          "fits, optimum, confirmation). PREFIX defaults to results/synth_.\n\n"
+          "  --out PREFIX  output path prefix (its folder must exist)\n"
+          "  --no-direct   skip the direct NLopt search on the true kinematics\n"
+          "                (synthesis.direct.enabled = false)\n"
+          "  --json        JSON on stdout (variables and responses in their config units)\n"
+          "  --quiet       no progress bar\n"
+          "  --help        this text\n\n"
+          "Exit status: 0 ok; 1 a run failed or a file cannot be written; 2 usage or\n"
+          "config error.\n");
 }
 
 static const char *const anova_names[POM_RSM_N_ROWS] = {

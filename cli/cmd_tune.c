@@ -15,7 +15,14 @@ static void usage(FILE *out) {
                "Tunes the PID gains of each config by the same criterion: mean execution time\n"
                "over a fixed maneuver set, with penalties beyond the overshoot and saturation\n"
                "limits (docs/optimize.md). Writes PREFIX<name>.controller.cfg, a `controller`\n"
-               "group for simulate/montecarlo/study. PREFIX defaults to results/tune_.\n");
+               "group for simulate/montecarlo/study. PREFIX defaults to results/tune_.\n\n"
+               "  --out PREFIX  output path prefix (its folder must exist)\n"
+               "  --json        JSON on stdout (SI: gains kp V/V, ki_per_s 1/s, kd_s s;\n"
+               "                times s)\n"
+               "  --help        this text\n\n"
+               "Config keys: the `tuning` group (docs/optimize.md section 9). Exit status:\n"
+               "0 ok; 1 a simulation failed or the file cannot be written; 2 usage or\n"
+               "config error.\n");
 }
 
 static void safe_name(char *out, size_t cap, const char *name) {
