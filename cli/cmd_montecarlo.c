@@ -17,10 +17,14 @@ static void montecarlo_usage(FILE *out) {
           "  --n N           number of maneuvers (overrides montecarlo.maneuvers)\n"
           "  --seed S        study seed (overrides montecarlo.seed)\n"
           "  --threads N     worker threads (default: all cores)\n"
-          "  --out FILE      also write an HDF5 results file (and FILE's summary.md)\n"
+          "  --out FILE      also write an HDF5 results file, and summary.md with figures\n"
+          "                  in FILE's path without .h5 (as pomlab study)\n"
           "  --json          JSON on stdout (SI units)\n"
           "  --quiet         no progress bar\n"
-          "  --help          this text\n");
+          "  --help          this text\n\n"
+          "Times in ms and energies in J in the tables. Exit status: 0 done (failed\n"
+          "maneuvers are counted, not an error); 1 runtime failure; 2 usage or config\n"
+          "error.\n");
 }
 
 int pom_cmd_montecarlo(int argc, char **argv) {

@@ -17,7 +17,8 @@ static void study_usage(FILE *out) {
   fprintf(out, "usage: pomlab study CONFIG [options]\n\n"
                "Runs every candidate of the study file on the same Monte-Carlo maneuvers, writes\n"
                "the HDF5 results file, prints the execution-time and energy tables, the paired\n"
-               "comparison and the ranking, and writes <output>/summary.md with PNG figures.\n\n"
+               "comparison and the ranking, and writes DIR/summary.md with PNG figures, where\n"
+               "DIR is the results file's path without .h5 (e.g. results/paper/).\n\n"
                "  --threads N      worker threads (default: study.threads, else all cores)\n"
                "  --resume         continue an interrupted results file (same study only)\n"
                "  --out FILE       results file (default: study.output, else results/<name>.h5)\n"
@@ -28,7 +29,10 @@ static void study_usage(FILE *out) {
                "  --quiet          no progress bar\n"
                "  --help           this text\n\n"
                "Ctrl-C stops after the running maneuvers; everything finished is kept.\n"
-               "Config keys: docs/results.md. Times in ms and energies in J in the tables.\n");
+               "Config keys: docs/results.md. Times in ms and energies in J in the tables.\n"
+               "Exit status: 0 done or stopped by --stop-after (failed maneuvers are counted\n"
+               "in the tables, not an error); 130 stopped by Ctrl-C; 1 runtime failure (e.g.\n"
+               "the results file cannot be written); 2 usage or config error.\n");
 }
 
 /* Parses a non-negative integer option value. */
