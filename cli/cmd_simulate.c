@@ -122,7 +122,8 @@ static void print_human(const char *name, const pom_dyn_params *p, const pom_dyn
   printf("expended energy: %.4f mJ (positive part %.4f mJ)\n", mt->energy_total * 1e3,
          (mt->energy_positive[0] + mt->energy_positive[1] + mt->energy_positive[2]) * 1e3);
   printf("energy audit: supplied %.6g J = dissipated %.6g J (coil %.4g, bearing %.4g, parasitic "
-         "%.4g) + stored change %.6g J; balance error %.2e\n",
+         "%.4g) + stored change %.6g J; balance error %.2e (relative, docs/dynamics.md "
+         "section 6)\n",
          mt->energy_supplied, mt->energy_dissipated,
          mt->energy_coil[0] + mt->energy_coil[1] + mt->energy_coil[2],
          mt->energy_bearing[0] + mt->energy_bearing[1] + mt->energy_bearing[2],
