@@ -331,6 +331,8 @@ static pom_status check_identity(pom_doe_results *res, const pom_doe_study *stud
   pom_status st = POM_OK;
   hid_t mc = -1, g = -1;
   char *text = NULL;
+  if (H5Aexists(res->file, "format") <= 0) /* another program's HDF5 file */
+    POM_FAIL(err, POM_ERR_ARG, "'%s' is not a pomlab study results file", path);
   POM_TRY(pom_h5_read_attr_string(res->file, "format", fmt, sizeof fmt, err));
   if (strcmp(fmt, FORMAT_NAME) != 0)
     POM_FAIL(err, POM_ERR_ARG, "'%s' is not a pomlab study results file", path);

@@ -28,6 +28,13 @@ if "$POMLAB" study $CFG --out "$WORK/ver.h5" --resume --no-plots --no-summary --
   echo "resumed a file of another format version"; exit 1
 fi
 grep -q "format version 99" "$WORK/ver.err"
+# nor one of another program (a plain HDF5 file without the format attribute)
+/usr/bin/python3 -c "import h5py, sys; h5py.File(sys.argv[1], 'w').create_dataset('x', data=[1.0])" \
+  "$WORK/foreign.h5"
+code=0; "$POMLAB" study $CFG --out "$WORK/foreign.h5" --resume --no-plots --no-summary --quiet \
+  > /dev/null 2> "$WORK/foreign.err" || code=$?
+[ "$code" -eq 2 ] || { echo "foreign results file: exit $code, want 2"; exit 1; }
+grep -q "is not a pomlab study results file" "$WORK/foreign.err"
 # a config error stops before any work (exit 2, no file)
 # (written in WORK, not in the source tree, so concurrent test runs do not race)
 printf 'candidates = ( { name = "x"; config = "%s/configs/3pss.cfg"; colour = 2; } );\n' \
