@@ -10,6 +10,7 @@ usage: /usr/bin/python3 scripts/plot_traces.py OUT.png LABEL=TRACE [LABEL=TRACE 
   e.g. /usr/bin/python3 scripts/plot_traces.py fig7.png 3P-S-S/S=a.h5 3S-P-S/S=b.h5
 """
 import csv
+import os
 import sys
 
 import matplotlib
@@ -40,11 +41,18 @@ def load(path):
 
 
 def main(argv):
+    if len(argv) >= 2 and argv[1] in ("-h", "--help"):
+        sys.stdout.write(__doc__)
+        return 0
     if len(argv) < 3 or any("=" not in a for a in argv[2:]):
         sys.stderr.write(__doc__)
         return 2
     out = argv[1]
     runs = [a.split("=", 1) for a in argv[2:]]
+    for label, path in runs:
+        if not os.path.isfile(path):
+            sys.stderr.write("plot_traces.py: %s=%s: no such trace file\n" % (label, path))
+            return 2
     fig, axes = plt.subplots(2, len(runs), figsize=(5.2 * len(runs), 7.0), squeeze=False)
     colors = ["tab:blue", "tab:orange", "tab:green"]
     for col, (label, path) in enumerate(runs):
