@@ -288,6 +288,28 @@ static int run_plot_script(const char *h5, const char *dir) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+/* The model fidelity of a candidate as resolved (joints, coil), so that a
+ * summary tells apart studies that differ only by their overrides. */
+static void model_text(const pom_doe_candidate *cand, char *buf, size_t cap) {
+  snprintf(buf, cap, "-");
+  if (!cand->resolved) return;
+  pom_cfg *cfg = NULL;
+  pom_error e;
+  pom_error_clear(&e);
+  pom_dyn_params par;
+  pom_dyn_params_defaults(&par);
+  if (pom_cfg_load_string(&cfg, cand->resolved, cand->name, &e) == POM_OK &&
+      pom_dyn_params_load(&par, cfg, &e) == POM_OK) {
+    if (par.joints.model == POM_JOINTS_PARASITIC)
+      snprintf(buf, cap, "parasitic joints (k_p %g N/m), %s coil", par.joints.stiffness,
+               par.scene.coil_inductance ? "inductive" : "quasi-static");
+    else
+      snprintf(buf, cap, "%s joints, %s coil", pom_dyn_joint_model_name(par.joints.model),
+               par.scene.coil_inductance ? "inductive" : "quasi-static");
+  }
+  pom_cfg_destroy(cfg);
+}
+
 static int write_summary(const pom_doe_study *study, const pom_doe_report *rep, const char *output,
                          double wall, int threads, int ranks, int plots_ok, const char *dir) {
   char path[1200];
@@ -313,9 +335,13 @@ static int write_summary(const pom_doe_study *study, const pom_doe_report *rep, 
           study->maneuvers.range * 1e3);
   fprintf(f, "- this run: %.2f s wall, %d worker thread(s) x %d MPI rank(s)\n\n", wall, threads,
           ranks);
-  fprintf(f, "| candidate | config |\n|---|---|\n");
-  for (int c = 0; c < study->n_candidates; ++c)
-    fprintf(f, "| %s | `%s` |\n", study->candidates[c].name, study->candidates[c].source);
+  fprintf(f, "| candidate | config | model (after the study's overrides) |\n|---|---|---|\n");
+  for (int c = 0; c < study->n_candidates; ++c) {
+    char model[160];
+    model_text(&study->candidates[c], model, sizeof model);
+    fprintf(f, "| %s | `%s` | %s |\n", study->candidates[c].name, study->candidates[c].source,
+            model);
+  }
   fprintf(f, "\n");
   pom_cli_doe_print_report(f, study, rep);
   if (plots_ok)

@@ -62,6 +62,8 @@ cmp -s "$WORK/t1.h5" "$WORK/keep.h5" || { echo "config error changed the results
 # (and a results file name without extension gets its summary in <name>_summary/)
 "$POMLAB" study tests/doe_study_runaway.cfg --out "$WORK/run" --no-plots --quiet > /dev/null
 [ -s "$WORK/run_summary/summary.md" ] || { echo "no summary for an output without extension"; exit 1; }
+grep -q "^| .* | \(parasitic\|rigid\) joints.*, \(inductive\|quasi-static\) coil |$" \
+  "$WORK/run_summary/summary.md" || { echo "summary lacks the candidate's model"; exit 1; }
 /usr/bin/python3 - "$WORK/run" <<'PY'
 import sys, h5py, numpy as np
 r = h5py.File(sys.argv[1], "r")["candidates/0/maneuvers"][:]
