@@ -1,5 +1,6 @@
 /* pom_pipeline.c - synthesize -> scale -> tune inside a study's candidate
  * evaluator (docs/optimize.md, section 10). */
+#define _XOPEN_SOURCE 700 /* mkdir */
 #include "pom_pipeline.h"
 
 #include "pom_h5.h"
@@ -11,6 +12,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <errno.h>
+#include <sys/stat.h>
 
 typedef struct {
   pom_doe_dyn_base base; /* first: the doe dynamics callbacks take this context */
@@ -37,6 +40,27 @@ static pom_status describe(const void *p, hid_t g, pom_error *err) {
   if (ctx->synthesized)
     POM_TRY(pom_h5_attr_double(g, "synthesis_desirability", ctx->d_confirmed, err));
   if (ctx->tuned) POM_TRY(pom_h5_attr_double(g, "tuning_criterion_s", ctx->tune_criterion, err));
+  return POM_OK;
+}
+
+/* Creates the folders of an output prefix ("results/pipeline_" -> results/)
+ * before any work, so a study run from another folder fails at once, not
+ * after the synthesis. */
+static pom_status make_prefix_dirs(const char *prefix, pom_error *err) {
+  char path[1024];
+  snprintf(path, sizeof path, "%s", prefix);
+  char *slash = strrchr(path, '/');
+  if (!slash) return POM_OK;
+  *slash = '\0';
+  for (char *c = path + 1; *c; ++c) {
+    if (*c != '/') continue;
+    *c = '\0';
+    if (mkdir(path, 0777) != 0 && errno != EEXIST)
+      POM_FAIL(err, POM_ERR_IO, "pipeline: cannot create folder '%s' for its outputs", path);
+    *c = '/';
+  }
+  if (path[0] && mkdir(path, 0777) != 0 && errno != EEXIST)
+    POM_FAIL(err, POM_ERR_IO, "pipeline: cannot create folder '%s' for its outputs", path);
   return POM_OK;
 }
 
@@ -115,6 +139,7 @@ pom_status pom_pipeline_evaluator_create(pom_doe_evaluator *eval, const pom_cfg 
   pipe_ctx *ctx = calloc(1, sizeof *ctx);
   if (!ctx) POM_FAIL(err, POM_ERR_NOMEM, "evaluator: out of memory");
   POM_TRY_GOTO(pom_kin_arch_load(&ctx->base.arch, cfg, err), fail);
+  if (do_synth || do_tune) POM_TRY_GOTO(make_prefix_dirs(prefix, err), fail);
   if (do_synth) POM_TRY_GOTO(synthesize(ctx, cfg, prefix, err), fail);
   pom_kin_inertia in;
   POM_TRY_GOTO(pom_kin_inertia_load(&in, &ctx->base.arch, cfg, err), fail);
