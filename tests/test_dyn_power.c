@@ -16,6 +16,7 @@
  * here the states are random and far from equilibrium (deflections of 50 um,
  * body speeds of 0.3 m/s and 10 rad/s), which makes every term count. */
 #include "check.h"
+#include "dyn_test_util.h"
 #include "dyn_internal.h"
 #include "pom_kinematics.h"
 #include "pom_math.h"
@@ -24,23 +25,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-static int load_shipped(const char *file, pom_mechanism *mech, pom_dyn_params *p) {
-  char path[512];
-  snprintf(path, sizeof path, "%s/configs/%s", POM_SOURCE_DIR, file);
-  pom_cfg *cfg = NULL;
-  pom_kin_arch arch;
-  pom_error err;
-  pom_error_clear(&err);
-  int ok = pom_cfg_load(&cfg, path, &err) == POM_OK &&
-           pom_kin_arch_load(&arch, cfg, &err) == POM_OK &&
-           pom_kin_mechanism_build(mech, &arch, cfg, &err) == POM_OK;
-  pom_dyn_params_defaults(p);
-  ok = ok && pom_dyn_params_load(p, cfg, &err) == POM_OK;
-  if (!ok) printf("  loading %s: %s\n", file, err.message);
-  pom_cfg_destroy(cfg);
-  return ok;
-}
 
 /* A random state far from equilibrium: CM displacements 50 um, speeds
  * 0.3 m/s, angular speeds 10 rad/s, rotations 0.1 rad, coil currents 2 A,
@@ -123,9 +107,10 @@ typedef struct {
 } scene_case;
 
 static void test_power(const char *file) {
+  pom_kin_arch arch;
   pom_mechanism mech;
   pom_dyn_params p0;
-  if (!check_true(load_shipped(file, &mech, &p0))) return;
+  if (!check_true(load_shipped(file, &arch, &mech, &p0))) return;
   const scene_case cases[] = {
       {"euler", POM_ORIENT_EULER_ZYX, POM_INERTIA_FULL, 1, 1, 1},
       {"quaternion", POM_ORIENT_QUATERNION, POM_INERTIA_FULL, 1, 1, 1},

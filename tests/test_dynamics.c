@@ -4,6 +4,7 @@
  * in k_p and rtol, Euler/quaternion agreement, IK consistency of the shipped
  * mechanisms, and every error path (docs/dynamics.md section 11). */
 #include "check.h"
+#include "dyn_test_util.h"
 #include "dyn_internal.h"
 #include "pom_kinematics.h"
 #include "pom_math.h"
@@ -74,37 +75,6 @@ static void params_tight(pom_dyn_params *p, double horizon) {
 }
 
 static const double zero3[3] = {0.0, 0.0, 0.0};
-
-/* Runs one simulation; returns the status. The model, data and trace stay alive for the
- * caller (freed by run_free). */
-typedef struct {
-  pom_dyn_model *m;
-  pom_dyn_data *d;
-  pom_dyn_trace *tr;
-  pom_dyn_metrics mt;
-  pom_status st;
-  pom_error err;
-} run_t;
-
-static void run_free(run_t *r) {
-  pom_dyn_trace_destroy(r->tr);
-  pom_dyn_data_destroy(r->d);
-  pom_dyn_model_destroy(r->m);
-  memset(r, 0, sizeof *r);
-}
-
-static pom_status run(run_t *r, const pom_mechanism *mech, const pom_dyn_params *p,
-                      const double target[3], const pom_dyn_initial *init) {
-  memset(r, 0, sizeof *r);
-  pom_error_clear(&r->err);
-  r->st = pom_dyn_model_create(&r->m, mech, p, &r->err);
-  if (r->st == POM_OK) r->st = pom_dyn_data_create(&r->d, r->m, &r->err);
-  if (r->st == POM_OK) r->st = pom_dyn_trace_create(&r->tr, r->m, &r->err);
-  if (r->st == POM_OK)
-    r->st = pom_dyn_simulate_ex(r->m, r->d, target, init, &r->mt, r->tr, &r->err);
-  if (r->st != POM_OK) printf("  run: %s\n", r->err.message);
-  return r->st;
-}
 
 /* Rotation angle of A B^T (rad). */
 static double rot_distance(const double A[9], const double B[9]) {
@@ -556,22 +526,6 @@ static void test_euler_singularity(void) {
 }
 
 /* ---- 7. shipped mechanisms ----------------------------------------------- */
-static int load_shipped(const char *file, pom_kin_arch *arch, pom_mechanism *mech,
-                        pom_dyn_params *p) {
-  char path[512];
-  snprintf(path, sizeof path, "%s/configs/%s", POM_SOURCE_DIR, file);
-  pom_cfg *cfg = NULL;
-  pom_error err;
-  pom_error_clear(&err);
-  int ok = pom_cfg_load(&cfg, path, &err) == POM_OK &&
-           pom_kin_arch_load(arch, cfg, &err) == POM_OK &&
-           pom_kin_mechanism_build(mech, arch, cfg, &err) == POM_OK;
-  pom_dyn_params_defaults(p);
-  ok = ok && pom_dyn_params_load(p, cfg, &err) == POM_OK;
-  if (!ok) printf("  loading %s: %s\n", file, err.message);
-  pom_cfg_destroy(cfg);
-  return ok;
-}
 
 static void test_shipped(const char *file) {
   pom_kin_arch arch;

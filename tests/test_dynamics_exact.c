@@ -5,6 +5,7 @@
  * matrix, energy conservation and the audit, Euler/quaternion agreement,
  * convergence of the parasitic path to it as k_p grows, and the error paths. */
 #include "check.h"
+#include "dyn_test_util.h"
 #include "dyn_internal.h"
 #include "pom_kinematics.h"
 #include "pom_math.h"
@@ -40,22 +41,6 @@ static int setup_load(setup_t *s, const char *rel) {
   return ok;
 }
 
-typedef struct {
-  pom_dyn_model *m;
-  pom_dyn_data *d;
-  pom_dyn_trace *tr;
-  pom_dyn_metrics mt;
-  pom_status st;
-  pom_error err;
-} run_t;
-
-static void run_free(run_t *r) {
-  pom_dyn_trace_destroy(r->tr);
-  pom_dyn_data_destroy(r->d);
-  pom_dyn_model_destroy(r->m);
-  memset(r, 0, sizeof *r);
-}
-
 static pom_status run_build(run_t *r, const setup_t *s, const pom_dyn_params *p) {
   memset(r, 0, sizeof *r);
   pom_error_clear(&r->err);
@@ -66,8 +51,8 @@ static pom_status run_build(run_t *r, const setup_t *s, const pom_dyn_params *p)
   return r->st;
 }
 
-static pom_status run(run_t *r, const setup_t *s, const pom_dyn_params *p, const double target[3],
-                      const pom_dyn_initial *init) {
+static pom_status run_setup(run_t *r, const setup_t *s, const pom_dyn_params *p,
+                            const double target[3], const pom_dyn_initial *init) {
   if (run_build(r, s, p) != POM_OK) return r->st;
   r->st = pom_dyn_simulate_ex(r->m, r->d, target, init, &r->mt, r->tr, &r->err);
   if (r->st != POM_OK) printf("  run: %s\n", r->err.message);
@@ -279,7 +264,7 @@ static void test_energy(const setup_t *s, pom_orient_kind orient, double rtol) {
   pom_v3_set(init.omega[s->mech.platform], 4.1, -2.7, 6.3);
   double target[3] = {0, 0, 0};
   run_t r;
-  if (run(&r, s, &p, target, &init) != POM_OK) {
+  if (run_setup(&r, s, &p, target, &init) != POM_OK) {
     check_true(0);
     run_free(&r);
     return;
@@ -312,9 +297,9 @@ static void test_maneuver(const setup_t *s) {
   p.solver.atol_scale = 1e-4;
   run_t re, rq;
   p.scene.orientation = POM_ORIENT_EULER_ZYX;
-  pom_status st1 = run(&re, s, &p, target, NULL);
+  pom_status st1 = run_setup(&re, s, &p, target, NULL);
   p.scene.orientation = POM_ORIENT_QUATERNION;
-  pom_status st2 = run(&rq, s, &p, target, NULL);
+  pom_status st2 = run_setup(&rq, s, &p, target, NULL);
   if (!check_true(st1 == POM_OK && st2 == POM_OK)) {
     run_free(&re);
     run_free(&rq);
@@ -374,7 +359,7 @@ static void test_kp_convergence(const setup_t *s0) {
   p.solver.atol_scale = 1e-4;
   run_t rr;
   p.joints.model = POM_JOINTS_RIGID;
-  if (run(&rr, &s, &p, target, NULL) != POM_OK) {
+  if (run_setup(&rr, &s, &p, target, NULL) != POM_OK) {
     check_true(0);
     run_free(&rr);
     return;
@@ -386,7 +371,7 @@ static void test_kp_convergence(const setup_t *s0) {
     run_t rp;
     p.joints.stiffness = p.joints.angular_stiffness = kps[c];
     p.joints.damping = p.joints.angular_damping = 200.0 * sqrt(kps[c] / 1e6);
-    if (run(&rp, &s, &p, target, NULL) != POM_OK) {
+    if (run_setup(&rp, &s, &p, target, NULL) != POM_OK) {
       check_true(0);
       run_free(&rp);
       break;
@@ -443,7 +428,7 @@ static void test_kp_first_order(const setup_t *s0) {
   p.solver.atol_scale = 1e-6;
   run_t rr;
   p.joints.model = POM_JOINTS_RIGID;
-  if (run(&rr, &s, &p, target, NULL) != POM_OK) {
+  if (run_setup(&rr, &s, &p, target, NULL) != POM_OK) {
     check_true(0);
     run_free(&rr);
     return;
@@ -455,7 +440,7 @@ static void test_kp_first_order(const setup_t *s0) {
     run_t rp;
     p.joints.stiffness = p.joints.angular_stiffness = kps[c];
     p.joints.damping = p.joints.angular_damping = 200.0 * sqrt(kps[c] / 1e6);
-    if (run(&rp, &s, &p, target, NULL) != POM_OK) {
+    if (run_setup(&rp, &s, &p, target, NULL) != POM_OK) {
       check_true(0);
       run_free(&rp);
       break;

@@ -3,6 +3,7 @@
  * constraints, energy terms) and stays close to full fidelity where the docs
  * say it is safe, with the measured differences as bounds. */
 #include "check.h"
+#include "dyn_test_util.h"
 #include "pom_dynamics.h"
 #include "pom_kinematics.h"
 #include "pom_math.h"
@@ -51,52 +52,6 @@ static void diag_inertia(double I[9], double a, double b, double c) {
   I[0] = a;
   I[4] = b;
   I[8] = c;
-}
-
-typedef struct {
-  pom_dyn_model *m;
-  pom_dyn_data *d;
-  pom_dyn_trace *tr;
-  pom_dyn_metrics mt;
-  pom_status st;
-  pom_error err;
-} run_t;
-
-static void run_free(run_t *r) {
-  pom_dyn_trace_destroy(r->tr);
-  pom_dyn_data_destroy(r->d);
-  pom_dyn_model_destroy(r->m);
-  memset(r, 0, sizeof *r);
-}
-
-static pom_status run(run_t *r, const pom_mechanism *mech, const pom_dyn_params *p,
-                      const double target[3], const pom_dyn_initial *init) {
-  memset(r, 0, sizeof *r);
-  pom_error_clear(&r->err);
-  r->st = pom_dyn_model_create(&r->m, mech, p, &r->err);
-  if (r->st == POM_OK) r->st = pom_dyn_data_create(&r->d, r->m, &r->err);
-  if (r->st == POM_OK) r->st = pom_dyn_trace_create(&r->tr, r->m, &r->err);
-  if (r->st == POM_OK)
-    r->st = pom_dyn_simulate_ex(r->m, r->d, target, init, &r->mt, r->tr, &r->err);
-  if (r->st != POM_OK) printf("  run: %s\n", r->err.message);
-  return r->st;
-}
-
-static int load_shipped(const char *file, pom_mechanism *mech, pom_dyn_params *p) {
-  char path[512];
-  snprintf(path, sizeof path, "%s/configs/%s", POM_SOURCE_DIR, file);
-  pom_cfg *cfg = NULL;
-  pom_kin_arch arch;
-  pom_error err;
-  pom_error_clear(&err);
-  int ok = pom_cfg_load(&cfg, path, &err) == POM_OK &&
-           pom_kin_arch_load(&arch, cfg, &err) == POM_OK &&
-           pom_kin_mechanism_build(mech, &arch, cfg, &err) == POM_OK;
-  pom_dyn_params_defaults(p);
-  ok = ok && pom_dyn_params_load(p, cfg, &err) == POM_OK;
-  if (!ok) printf("  loading %s: %s\n", file, err.message);
-  pom_cfg_destroy(cfg);
-  return ok;
 }
 
 /* ---- 1. a body pinned at its ground pivot -------------------------------- */
@@ -182,9 +137,10 @@ static outcome simulate_shipped(const pom_mechanism *mech, const pom_dyn_params 
 }
 
 static void test_shipped_options(const char *file, int links) {
+  pom_kin_arch arch;
   pom_mechanism mech;
   pom_dyn_params p;
-  if (!check_true(load_shipped(file, &mech, &p))) return;
+  if (!check_true(load_shipped(file, &arch, &mech, &p))) return;
   p.solver.rtol = 1e-7;
   outcome full = simulate_shipped(&mech, &p);
   check_true(full.st == POM_OK);
