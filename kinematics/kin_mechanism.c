@@ -10,6 +10,14 @@
 #include <stdio.h>
 #include <string.h>
 
+/* ---- actuator units -------------------------------------------------------- */
+const pom_act_units *pom_act_units_of(pom_actuator_kind k) {
+  static const pom_act_units units[2] = {
+      {"m", "mm", 1e3, "N", "m/s", "prismatic", "displacement"},
+      {"rad", "deg", 180.0 / POM_PI, "N m", "rad/s", "revolute", "angle"}};
+  return k == POM_ACT_REVOLUTE ? &units[1] : &units[0];
+}
+
 /* ---- config ---------------------------------------------------------------- */
 static pom_status load_body(pom_kin_body_inertia *b, const char *group, int kind,
                             const pom_cfg *cfg, pom_error *err) {
@@ -139,6 +147,8 @@ static void add_actuator(pom_mechanism *m, int joint, int moving_body, double st
   m->actuator[k].joint = joint;
   m->actuator[k].moving_body = moving_body;
   m->actuator[k].stroke = stroke;
+  m->actuator[k].kind =
+      m->joint[joint].type == POM_JOINT_REVOLUTE ? POM_ACT_REVOLUTE : POM_ACT_PRISMATIC;
   m->joint[joint].actuator = k;
 }
 

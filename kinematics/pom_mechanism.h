@@ -39,13 +39,38 @@ typedef struct {
                      axis fixed in body[0]; unused for spherical */
   /* universal: second axis, fixed in body[1], perpendicular to axis; else unused */
   double axis2[3];
-  int actuator; /* index into actuator[] driving this (prismatic) joint, -1 if passive */
+  int actuator; /* index into actuator[] driving this joint (prismatic or revolute), -1 if
+                   passive */
 } pom_mech_joint;
 
+/* Kind of an actuated joint: it fixes the unit of the actuator coordinate q
+ * and of everything derived from it (stroke, targets, settling bands,
+ * Monte-Carlo ranges, sensor gain, force/torque constant). */
+typedef enum {
+  POM_ACT_PRISMATIC = 0, /* linear voice coil on a prismatic joint: q in m, force in N */
+  POM_ACT_REVOLUTE = 1   /* rotary voice coil on a revolute joint: q in rad, torque in N m */
+} pom_actuator_kind;
+
+/* Units of one actuator kind, for printing and file attributes. */
 typedef struct {
-  int joint;       /* the prismatic joint it drives */
-  double stroke;   /* total stroke (m); travel is [-stroke/2, +stroke/2] about home */
-  int moving_body; /* body carrying the coil/piston (mass moved by the force) */
+  const char *si;         /* SI unit of q: "m" or "rad" (JSON, HDF5) */
+  const char *display;    /* unit of q in text output and config keys: "mm" or "deg" */
+  double to_display;      /* q_display = q_si * to_display (1e3 or 180/pi) */
+  const char *effort;     /* SI unit of the actuator effort: "N" or "N m" */
+  const char *rate;       /* SI unit of q_dot: "m/s" or "rad/s" */
+  const char *kind_name;  /* "prismatic" or "revolute" */
+  const char *coordinate; /* "displacement" or "angle" */
+} pom_act_units;
+
+/* Units of kind k (static storage; the prismatic units for an unknown k). */
+const pom_act_units *pom_act_units_of(pom_actuator_kind k);
+
+typedef struct {
+  int joint;              /* the joint it drives: prismatic (kind PRISMATIC) or revolute */
+  pom_actuator_kind kind; /* fixes the unit of q (m or rad) */
+  double stroke;          /* total range in the unit of q (m or rad); travel is
+                             [-stroke/2, +stroke/2] about home */
+  int moving_body;        /* body carrying the coil/rotor (moved by the force or torque) */
 } pom_mech_actuator;
 
 typedef struct {
