@@ -125,7 +125,7 @@ static void bench_arch(const char *src, const char *rel) {
   }
   double t_gci = median(t, REPEATS);
 
-  printf("%s (%s)\n", rel, pom_kin_arch_name(arch.type));
+  printf("%s (%s)\n", rel, pom_kin_arch_name(&arch));
   printf("  IK + J + kappa, one pose:        %8.1f ns\n", t_ikj * 1e9);
   printf("  pose evaluation with limits:     %8.1f ns\n", t_pose * 1e9);
   printf("  FK from home (Newton):           %8.1f ns  (%.2f iterations on average)\n", t_fk * 1e9,

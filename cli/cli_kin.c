@@ -1,6 +1,7 @@
 /* cli_kin.c - helpers shared by the kinematics subcommands. */
 #include "cli_kin.h"
 
+#include "pom_arch.h"
 #include "pom_cli.h"
 #include "pom_math.h"
 
@@ -87,25 +88,29 @@ void pom_json_mat3(FILE *out, const double M[9], double scale) {
 
 /* ---- pose reports ------------------------------------------------------------ */
 void pom_cli_kin_print_limits(FILE *out, const pom_kin_arch *arch, const pom_kin_pose *p) {
+  const pom_act_units *u = pom_act_units_of(pom_kin_type_actuator(arch->type));
   fprintf(out, "limits:\n");
-  fprintf(out, "  stroke            +-%.4g mm        q = %9.4f %9.4f %9.4f mm\n",
-          0.5 * arch->stroke * 1e3, p->q[0] * 1e3, p->q[1] * 1e3, p->q[2] * 1e3);
-  fprintf(out, "  base cone         %8.4g deg      angle = %7.3f %7.3f %7.3f deg\n",
-          arch->cone_base_max / POM_DEG, p->cone_base[0] / POM_DEG, p->cone_base[1] / POM_DEG,
-          p->cone_base[2] / POM_DEG);
-  fprintf(out, "  platform cone     %8.4g deg      angle = %7.3f %7.3f %7.3f deg\n",
-          arch->cone_platform_max / POM_DEG, p->cone_platform[0] / POM_DEG,
-          p->cone_platform[1] / POM_DEG, p->cone_platform[2] / POM_DEG);
-  fprintf(out, "  limb distance  >= %8.4g mm       1-2, 2-3, 3-1 = %.3f %.3f %.3f mm\n",
-          arch->min_limb_distance * 1e3, p->limb_distance[0] * 1e3, p->limb_distance[1] * 1e3,
-          p->limb_distance[2] * 1e3);
+  fprintf(out, "  %-17s +-%-8.4g %-4s q = %9.4f %9.4f %9.4f %s\n",
+          u->kind_name[0] == 'r' ? "actuator range" : "stroke", 0.5 * arch->stroke * u->to_display,
+          u->display, p->q[0] * u->to_display, p->q[1] * u->to_display, p->q[2] * u->to_display,
+          u->display);
+  for (int kind = 1; kind < POM_KIN_LIM_KINDS; ++kind) {
+    const pom_kin_limit_desc *ld = &arch->type->limits[kind];
+    if (!ld->name) continue;
+    const double *v = p->limit + 3 * kind, f = ld->to_display;
+    fprintf(out, "  %-14s %s %8.4g %-4s %s = %.3f %.3f %.3f %s\n", ld->name, ld->lower ? ">=" : "<=",
+            arch->limit_bound[kind] * f, ld->unit, ld->per_pair ? "1-2, 2-3, 3-1" : "limbs 1, 2, 3",
+            v[0] * f, v[1] * f, v[2] * f, ld->unit);
+  }
   char buf[512];
-  pom_kin_violations_text(p->violations, buf, sizeof buf);
+  pom_kin_violations_text(arch, p->violations, buf, sizeof buf);
   fprintf(out, "  violated: %s\n", buf);
 }
 
 void pom_cli_kin_pose_json(FILE *out, const pom_kin_arch *arch, const pom_kin_pose *p) {
-  (void)arch;
+  const pom_act_units *u = pom_act_units_of(pom_kin_type_actuator(arch->type));
+  fprintf(out, "\"actuator_kind\": \"%s\",\n  \"actuator_unit\": \"%s\",\n  \"display_unit\": \"%s\",\n  ",
+          u->kind_name, u->si, u->display);
   fprintf(out, "\"reachable\": %s,\n  \"unreachable_limb\": ", p->reachable ? "true" : "false");
   if (p->unreachable_limb >= 0) {
     fprintf(out, "%d", p->unreachable_limb + 1);
@@ -114,38 +119,40 @@ void pom_cli_kin_pose_json(FILE *out, const pom_kin_arch *arch, const pom_kin_po
   }
   if (!p->reachable) {
     /* nothing about the pose is defined beyond which limb failed */
-    fputs(",\n  \"q_m\": null,\n  \"q_mm\": null,\n  \"jacobian_m_per_rad\": null,\n  "
-          "\"singular_values_m_per_rad\": null,\n  \"kappa\": null,\n  \"dexterity\": null,\n  "
-          "\"cone_base_deg\": null,\n  \"cone_platform_deg\": null,\n  \"limb_distance_mm\": "
-          "null,\n  \"within_limits\": false,\n  \"violations\": []",
+    fputs(",\n  \"q\": null,\n  \"q_display\": null,\n  \"jacobian\": null,\n  "
+          "\"singular_values\": null,\n  \"kappa\": null,\n  \"dexterity\": null",
           out);
+    for (int kind = 1; kind < POM_KIN_LIM_KINDS; ++kind)
+      if (arch->type->limits[kind].name) fprintf(out, ",\n  \"%s\": null", arch->type->limits[kind].json);
+    fputs(",\n  \"within_limits\": false,\n  \"violations\": []", out);
     return;
   }
-  fputs(",\n  \"q_m\": ", out);
+  fputs(",\n  \"q\": ", out);
   pom_json_vec(out, p->q, 3, 1.0);
-  fputs(",\n  \"q_mm\": ", out);
-  pom_json_vec(out, p->q, 3, 1e3);
-  fputs(",\n  \"jacobian_m_per_rad\": ", out);
+  fputs(",\n  \"q_display\": ", out);
+  pom_json_vec(out, p->q, 3, u->to_display);
+  fputs(",\n  \"jacobian\": ", out);
   pom_json_mat3(out, p->J, 1.0);
-  fputs(",\n  \"singular_values_m_per_rad\": ", out);
+  fputs(",\n  \"singular_values\": ", out);
   pom_json_vec(out, p->sv, 3, 1.0);
   fputs(",\n  \"kappa\": ", out);
   pom_json_number(out, p->kappa);
   fputs(",\n  \"dexterity\": ", out);
   pom_json_number(out, p->dexterity);
-  fputs(",\n  \"cone_base_deg\": ", out);
-  pom_json_vec(out, p->cone_base, 3, 1.0 / POM_DEG);
-  fputs(",\n  \"cone_platform_deg\": ", out);
-  pom_json_vec(out, p->cone_platform, 3, 1.0 / POM_DEG);
-  fputs(",\n  \"limb_distance_mm\": ", out);
-  pom_json_vec(out, p->limb_distance, 3, 1e3);
+  for (int kind = 1; kind < POM_KIN_LIM_KINDS; ++kind) {
+    const pom_kin_limit_desc *ld = &arch->type->limits[kind];
+    if (!ld->name) continue;
+    fprintf(out, ",\n  \"%s\": ", ld->json);
+    pom_json_vec(out, p->limit + 3 * kind, 3, ld->to_display);
+  }
   fprintf(out, ",\n  \"within_limits\": %s,\n  \"violations\": [",
           p->reachable && p->violations == 0 ? "true" : "false");
   int first = 1;
+  char name[64];
   for (int k = 0; k < POM_KIN_LIM_COUNT; ++k) {
     if (!(p->violations & (1u << k))) continue;
     if (!first) fputs(", ", out);
-    pom_json_string(out, pom_kin_limit_name(k));
+    pom_json_string(out, pom_kin_limit_name(arch, k, name, sizeof name));
     first = 0;
   }
   fputc(']', out);

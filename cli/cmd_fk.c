@@ -1,5 +1,6 @@
 /* cmd_fk.c - pomlab fk: forward kinematics of three actuator displacements. */
 #include "cli_kin.h"
+#include "pom_arch.h"
 #include "pom_cli.h"
 #include "pom_math.h"
 
@@ -14,8 +15,8 @@ static void fk_usage(FILE *out) {
                "extension). Newton with the analytic Jacobian from home, continued along\n"
                "q(t) = t q when direct Newton fails. Prints the rotation matrix, the ZYX Euler\n"
                "angles (degrees) and the unit quaternion (w, x, y, z), the iterations, the\n"
-               "residual max|q(R) - q| (m), the dexterity and the limits at that pose.\n\n"
-               "  --q Q1,Q2,Q3  actuator displacements in mm (required)\n"
+               "residual max|q(R) - q| (m or rad), the dexterity and the limits at that pose.\n\n"
+               "  --q Q1,Q2,Q3  actuator coordinates: mm (linear actuators) or deg (rotary) (required)\n"
                "  --json        machine-readable output on stdout\n"
                "  --help        this text\n\n"
                "Reads the config groups name, architecture, geometry, limits.\n"
@@ -52,10 +53,12 @@ int pom_cmd_fk(int argc, char **argv) {
     fk_usage(stderr);
     return 2;
   }
-  double q_mm[3];
-  if (pom_cli_parse_list(qtext, 3, q_mm) != 0 || !isfinite(q_mm[0]) || !isfinite(q_mm[1]) ||
-      !isfinite(q_mm[2])) {
-    fprintf(stderr, "pomlab fk: --q '%s': expected three numbers Q1,Q2,Q3 in mm, all finite\n",
+  double q_disp[3];
+  if (pom_cli_parse_list(qtext, 3, q_disp) != 0 || !isfinite(q_disp[0]) || !isfinite(q_disp[1]) ||
+      !isfinite(q_disp[2])) {
+    fprintf(stderr,
+            "pomlab fk: --q '%s': expected three numbers Q1,Q2,Q3 (mm, or deg for rotary "
+            "actuators), all finite\n",
             qtext);
     return 2;
   }
@@ -64,7 +67,9 @@ int pom_cmd_fk(int argc, char **argv) {
   int rc = pom_cli_kin_load(path, &cfg, &arch, NULL, pom_cli_kin_scopes);
   if (rc) return rc;
 
-  double q[3] = {q_mm[0] * 1e-3, q_mm[1] * 1e-3, q_mm[2] * 1e-3}, R[9];
+  const pom_act_units *u = pom_act_units_of(pom_kin_type_actuator(arch.type));
+  double q[3] = {q_disp[0] / u->to_display, q_disp[1] / u->to_display, q_disp[2] / u->to_display};
+  double R[9];
   pom_kin_fk_info info = {0, 0, 0.0};
   pom_error err;
   pom_error_clear(&err);
@@ -73,8 +78,8 @@ int pom_cmd_fk(int argc, char **argv) {
     if (json) {
       printf("{\n  \"config\": ");
       pom_json_string(stdout, path);
-      printf(",\n  \"q_target_mm\": ");
-      pom_json_vec(stdout, q_mm, 3, 1.0);
+      printf(",\n  \"actuator_unit\": \"%s\",\n  \"q_target\": ", u->si);
+      pom_json_vec(stdout, q, 3, 1.0);
       printf(",\n  \"solved\": false,\n  \"iterations\": %d,\n  \"message\": ", info.iterations);
       pom_json_string(stdout, err.message);
       printf("\n}\n");
@@ -96,8 +101,8 @@ int pom_cmd_fk(int argc, char **argv) {
     pom_json_string(stdout, path);
     printf(",\n  \"name\": ");
     pom_json_string(stdout, arch.name);
-    printf(",\n  \"architecture\": \"%s\",\n  \"q_target_mm\": ", pom_kin_arch_name(arch.type));
-    pom_json_vec(stdout, q_mm, 3, 1.0);
+    printf(",\n  \"architecture\": \"%s\",\n  \"q_target\": ", pom_kin_arch_name(&arch));
+    pom_json_vec(stdout, q, 3, 1.0);
     printf(",\n  \"solved\": true,\n  \"rotation\": ");
     pom_json_mat3(stdout, R, 1.0);
     printf(",\n  \"euler_zyx_deg\": ");
@@ -105,15 +110,15 @@ int pom_cmd_fk(int argc, char **argv) {
     printf(",\n  \"euler_singular\": %s,\n  \"quaternion_wxyz\": ",
            est == POM_OK ? "false" : "true");
     pom_json_vec(stdout, quat, 4, 1.0);
-    printf(",\n  \"iterations\": %d,\n  \"continuation_steps\": %d,\n  \"residual_m\": ",
+    printf(",\n  \"iterations\": %d,\n  \"continuation_steps\": %d,\n  \"residual\": ",
            info.iterations, info.continuation_steps);
     pom_json_number(stdout, info.residual);
     printf(",\n  ");
     pom_cli_kin_pose_json(stdout, &arch, &p);
     printf("\n}\n");
   } else {
-    printf("%s (%s), config %s\n", arch.name, pom_kin_arch_name(arch.type), path);
-    printf("q (mm): %g %g %g\n", q_mm[0], q_mm[1], q_mm[2]);
+    printf("%s (%s), config %s\n", arch.name, pom_kin_arch_name(&arch), path);
+    printf("q (%s): %g %g %g\n", u->display, q_disp[0], q_disp[1], q_disp[2]);
     printf("rotation R (platform -> fixed frame):\n");
     for (int i = 0; i < 3; ++i)
       printf("  [%12.9f %12.9f %12.9f]\n", R[3 * i], R[3 * i + 1], R[3 * i + 2]);
@@ -122,8 +127,9 @@ int pom_cmd_fk(int argc, char **argv) {
            est == POM_OK ? "" : "  (gimbal lock: only psi -+ phi is defined)");
     printf("quaternion (w, x, y, z): %.12f %.12f %.12f %.12f\n", quat[0], quat[1], quat[2],
            quat[3]);
-    printf("Newton: %d iterations, %d continuation steps%s, residual %.3e m\n", info.iterations,
-           info.continuation_steps, info.continuation_steps ? "" : " (direct)", info.residual);
+    printf("Newton: %d iterations, %d continuation steps%s, residual %.3e %s\n", info.iterations,
+           info.continuation_steps, info.continuation_steps ? "" : " (direct)",
+           info.residual * u->to_display, u->display);
     printf("dexterity 1/kappa: %.6f (kappa %.6f)\n", p.dexterity, p.kappa);
     pom_cli_kin_print_limits(stdout, &arch, &p);
     printf("limit check: %s%s\n", lst == POM_OK ? "ok" : "FAILED - ",

@@ -1,6 +1,7 @@
 /* cmd_ik.c - pomlab ik: inverse kinematics, Jacobian, dexterity and limits of
  * one orientation. */
 #include "cli_kin.h"
+#include "pom_arch.h"
 #include "pom_cli.h"
 #include "pom_math.h"
 
@@ -12,8 +13,9 @@ static void ik_usage(FILE *out) {
   fprintf(out, "usage: pomlab ik CONFIG --euler-zyx PSI,THETA,PHI [--json]\n\n"
                "Inverse kinematics of the platform orientation R = Rz(PSI) Ry(THETA) Rx(PHI),\n"
                "ZYX Euler angles in DEGREES (yaw, pitch, roll), on the home assembly branch.\n"
-               "Prints the actuator displacements q from mid-stroke (mm and m), the Jacobian J\n"
-               "(q_dot = J omega, omega in the fixed frame, m/rad), its singular values, the\n"
+               "Prints the actuator coordinates q from mid-stroke (mm for linear actuators, deg\n"
+               "for rotary ones; JSON in SI), the Jacobian J (q_dot = J omega, omega in the\n"
+               "fixed frame; mm/rad or deg/rad, JSON m/rad or rad/rad), its singular values, the\n"
                "condition number kappa, the dexterity 1/kappa, reachability and every limit\n"
                "(stroke, joint cones, limb distance) with the ones that fail.\n\n"
                "  --euler-zyx P,T,R  orientation in degrees (required)\n"
@@ -86,7 +88,7 @@ int pom_cmd_ik(int argc, char **argv) {
     pom_json_string(stdout, path);
     printf(",\n  \"name\": ");
     pom_json_string(stdout, arch.name);
-    printf(",\n  \"architecture\": \"%s\",\n  \"euler_zyx_deg\": ", pom_kin_arch_name(arch.type));
+    printf(",\n  \"architecture\": \"%s\",\n  \"euler_zyx_deg\": ", pom_kin_arch_name(&arch));
     pom_json_vec(stdout, e_deg, 3, 1.0);
     printf(",\n  ");
     pom_cli_kin_pose_json(stdout, &arch, &p);
@@ -94,20 +96,22 @@ int pom_cmd_ik(int argc, char **argv) {
     pom_json_string(stdout, st == POM_OK ? "" : err.message);
     printf("\n}\n");
   } else {
-    printf("%s (%s), config %s\n", arch.name, pom_kin_arch_name(arch.type), path);
+    printf("%s (%s), config %s\n", arch.name, pom_kin_arch_name(&arch), path);
     printf("orientation: ZYX Euler psi = %g deg, theta = %g deg, phi = %g deg\n", e_deg[0],
            e_deg[1], e_deg[2]);
     if (!p.reachable) {
       printf("reachable: NO - %s\n", err.message);
     } else {
       printf("reachable: yes\n");
-      printf("q (mm):  %12.6f %12.6f %12.6f\n", p.q[0] * 1e3, p.q[1] * 1e3, p.q[2] * 1e3);
-      printf("q (m):   %12.6e %12.6e %12.6e\n", p.q[0], p.q[1], p.q[2]);
-      printf("J (m/rad), q_dot = J omega (omega in the fixed frame):\n");
+      const pom_act_units *u = pom_act_units_of(pom_kin_type_actuator(arch.type));
+      const double f = u->to_display;
+      printf("q (%s):  %12.6f %12.6f %12.6f\n", u->display, p.q[0] * f, p.q[1] * f, p.q[2] * f);
+      printf("J (%s/rad), q_dot = J omega (omega in the fixed frame):\n", u->display);
       for (int i = 0; i < 3; ++i)
-        printf("  [%12.6e %12.6e %12.6e]\n", p.J[3 * i], p.J[3 * i + 1], p.J[3 * i + 2]);
-      printf("singular values (mm/rad): %.6f %.6f %.6f\n", p.sv[0] * 1e3, p.sv[1] * 1e3,
-             p.sv[2] * 1e3);
+        printf("  [%12.6f %12.6f %12.6f]\n", p.J[3 * i] * f, p.J[3 * i + 1] * f,
+               p.J[3 * i + 2] * f);
+      printf("singular values (%s/rad): %.6f %.6f %.6f\n", u->display, p.sv[0] * f, p.sv[1] * f,
+             p.sv[2] * f);
       printf("condition number kappa: %.6f   dexterity 1/kappa: %.6f\n", p.kappa, p.dexterity);
       pom_cli_kin_print_limits(stdout, &arch, &p);
       if (st == POM_ERR_LIMIT) printf("limit check: FAILED - %s\n", err.message);

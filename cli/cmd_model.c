@@ -5,6 +5,7 @@
  * dynamics module in the marked places. */
 #include "cli_dyn.h"
 #include "cli_kin.h"
+#include "pom_arch.h"
 #include "pom_cli.h"
 #include "pom_math.h"
 
@@ -17,7 +18,8 @@ static const char *const model_scopes[] = {
     "controller", "joints",       "scene",    "solver", "maneuver",  NULL};
 
 static void model_usage(FILE *out) {
-  fprintf(out, "usage: pomlab model CONFIG [--json]\n\n"
+  fprintf(out, "usage: pomlab model CONFIG [--json]\n"
+               "       pomlab model --list-architectures [--json]\n\n"
                "The resolved mechanism at the home pose (R = I, actuators at mid-stroke), in\n"
                "the fixed frame (text: lengths in mm, angles in deg, masses in kg, inertias in\n"
                "kg m^2; --json: SI, m and rad): geometry and limits, every body\n"
@@ -25,6 +27,8 @@ static void model_usage(FILE *out) {
                "type, bodies, location and axes, every actuator with axis and stroke. Complete\n"
                "enough for another program to rebuild the mechanism.\n\n"
                "  --json   machine-readable output on stdout\n"
+               "  --list-architectures  the registered architectures: name, actuator kind,\n"
+               "           scale, design parameters and limits (docs/extending.md)\n"
                "  --help   this text\n\n"
                "Validates the config groups name, architecture, geometry, limits, workspace,\n"
                "inertia, and the dynamics groups actuator, controller, joints, scene, solver,\n"
@@ -57,52 +61,37 @@ static void points_json(const char *key, const double p[3][3], int last) {
 }
 
 /* Prints the members "geometry", "limits" and "mechanism" of the top-level
- * object (no surrounding braces, no trailing comma). */
+ * object (no surrounding braces, no trailing comma). Generic over the
+ * architecture: its type's tables name every value (pom_arch.h). */
 static void model_mechanism_json(const pom_kin_arch *a, const pom_mechanism *m) {
+  const pom_kin_arch_type *t = a->type;
+  const pom_act_units *u = pom_act_units_of(t->actuator);
   printf("  \"geometry\": {\n    \"mode\": \"%s\",\n", a->has_design ? "parameters" : "points");
+  printf("    \"scale_m\": ");
+  pom_json_number(stdout, a->design.scale);
+  printf(", \"scale_key\": \"%s\",\n", t->scale_key);
   if (a->has_design) {
-    const pom_kin_design *d = &a->design;
-    printf("    \"design\": {\"platform_radius_m\": ");
-    pom_json_number(stdout, d->scale);
-    printf(", \"first_azimuth_rad\": ");
-    pom_json_number(stdout, d->first_azimuth);
-    printf(", \"platform_height\": ");
-    pom_json_number(stdout, d->platform_height);
-    printf(", \"limb_length\": ");
-    pom_json_number(stdout, d->limb_length);
-    printf(", \"limb_lean_rad\": ");
-    pom_json_number(stdout, d->limb_lean);
-    printf(", \"limb_azimuth_rad\": ");
-    pom_json_number(stdout, d->limb_azimuth);
-    if (a->type == POM_ARCH_3PSS) {
-      printf(", \"actuator_tilt_rad\": ");
-      pom_json_number(stdout, d->actuator_tilt);
-      printf(", \"actuator_azimuth_rad\": ");
-      pom_json_number(stdout, d->actuator_azimuth);
+    printf("    \"design\": {");
+    for (int k = 0; k < t->n_params; ++k) {
+      printf("%s\"%s\": ", k ? ", " : "", t->params[k].key);
+      pom_json_number(stdout, a->design.x[k] / t->params[k].to_si);
     }
     printf("},\n");
   }
-  points_json("platform_points_m", a->platform_point, 0);
-  points_json("limb_directions_home", a->limb_dir_home, 0);
-  if (a->type == POM_ARCH_3PSS) {
-    points_json("slider_points_mid_m", a->slider_mid, 0);
-    points_json("slider_axes", a->slider_axis, 0);
-    printf("    \"link_lengths_m\": ");
-    pom_json_vec(stdout, a->link_length, 3, 1.0);
-  } else {
-    points_json("base_points_m", a->base_point, 0);
-    points_json("ujoint_axes", a->ujoint_axis, 0);
-    printf("    \"limb_lengths_mid_m\": ");
-    pom_json_vec(stdout, a->limb_length_mid, 3, 1.0);
+  for (int k = 0; k < t->n_points; ++k) {
+    const double(*p)[3] =
+        (const double(*)[3])(const void *)((const char *)a->data + t->points[k].offset);
+    points_json(t->points[k].key, p, k + 1 == t->n_points);
   }
-  printf("\n  },\n  \"limits\": {\"stroke_m\": ");
+  printf("  },\n  \"limits\": {\"stroke\": ");
   pom_json_number(stdout, a->stroke);
-  printf(", \"cone_base_max_rad\": ");
-  pom_json_number(stdout, a->cone_base_max);
-  printf(", \"cone_platform_max_rad\": ");
-  pom_json_number(stdout, a->cone_platform_max);
-  printf(", \"min_limb_distance_m\": ");
-  pom_json_number(stdout, a->min_limb_distance);
+  printf(", \"stroke_unit\": \"%s\"", u->si);
+  for (int kind = 1; kind < POM_KIN_LIM_KINDS; ++kind) {
+    const pom_kin_limit_desc *ld = &t->limits[kind];
+    if (!ld->name) continue;
+    printf(", \"%s\": ", ld->key);
+    pom_json_number(stdout, a->limit_bound[kind] * ld->to_display);
+  }
   printf("},\n  \"mechanism\": {\n    \"gravity_mps2\": ");
   pom_json_vec(stdout, m->gravity, 3, 1.0);
   printf(",\n    \"platform\": %d,\n    \"bodies\": [\n", m->platform);
@@ -155,10 +144,12 @@ static void model_mechanism_json(const pom_kin_arch *a, const pom_mechanism *m) 
     const pom_mech_actuator *ac = &m->actuator[k];
     printf("      {\"index\": %d, \"joint\": %d, \"joint_name\": ", k, ac->joint);
     pom_json_string(stdout, m->joint[ac->joint].name);
-    printf(", \"moving_body\": %d, \"axis\": ", ac->moving_body);
+    const pom_act_units *au = pom_act_units_of(ac->kind);
+    printf(", \"kind\": \"%s\", \"moving_body\": %d, \"axis\": ", au->kind_name, ac->moving_body);
     pom_json_vec(stdout, m->joint[ac->joint].axis, 3, 1.0);
-    printf(", \"stroke_m\": ");
+    printf(", \"stroke\": ");
     pom_json_number(stdout, ac->stroke);
+    printf(", \"unit\": \"%s\", \"effort_unit\": \"%s\"", au->si, au->effort);
     printf("}%s\n", k + 1 < m->n_actuators ? "," : "");
   }
   printf("    ]\n  }");
@@ -166,32 +157,34 @@ static void model_mechanism_json(const pom_kin_arch *a, const pom_mechanism *m) 
 
 /* ---- kinematic part: human text ------------------------------------------------ */
 static void model_mechanism_text(const pom_kin_arch *a, const pom_mechanism *m) {
-  printf("geometry (%s form), fixed frame at home, mm:\n",
+  const pom_kin_arch_type *t = a->type;
+  const pom_act_units *u = pom_act_units_of(t->actuator);
+  printf("geometry (%s form), fixed frame at home:\n",
          a->has_design ? "design parameters" : "explicit points");
+  printf("  scale: %s = %.6g mm (%s)\n", t->scale_key, a->design.scale * 1e3, t->scale_meaning);
   if (a->has_design)
-    printf("  platform radius %.6g mm, limb length %.6g r, lean %.6g deg, azimuth %.6g deg\n",
-           a->design.scale * 1e3, a->design.limb_length, a->design.limb_lean / POM_DEG,
-           a->design.limb_azimuth / POM_DEG);
-  for (int i = 0; i < 3; ++i) {
-    const double *P = a->platform_point[i];
-    if (a->type == POM_ARCH_3PSS) {
-      const double *B = a->slider_mid[i], *d = a->slider_axis[i];
-      printf("  limb %d: C = (%8.3f %8.3f %8.3f)  B_mid = (%8.3f %8.3f %8.3f)  d = (%6.3f %6.3f "
-             "%6.3f)  L = %.3f\n",
-             i + 1, P[0] * 1e3, P[1] * 1e3, P[2] * 1e3, B[0] * 1e3, B[1] * 1e3, B[2] * 1e3, d[0],
-             d[1], d[2], a->link_length[i] * 1e3);
-    } else {
-      const double *A = a->base_point[i], *u = a->ujoint_axis[i];
-      printf("  limb %d: B = (%8.3f %8.3f %8.3f)  A = (%8.3f %8.3f %8.3f)  U axis = (%6.3f %6.3f "
-             "%6.3f)  L0 = %.3f\n",
-             i + 1, P[0] * 1e3, P[1] * 1e3, P[2] * 1e3, A[0] * 1e3, A[1] * 1e3, A[2] * 1e3, u[0],
-             u[1], u[2], a->limb_length_mid[i] * 1e3);
-    }
+    for (int k = 0; k < t->n_params; ++k)
+      printf("  %-22s = %.6g\n", t->params[k].key, a->design.x[k] / t->params[k].to_si);
+  for (int k = 0; k < t->n_points; ++k) {
+    const double(*p)[3] =
+        (const double(*)[3])(const void *)((const char *)a->data + t->points[k].offset);
+    /* metre-valued point sets are printed in mm, unit axes as they are */
+    int metres = strstr(t->points[k].key, "_m") != NULL;
+    double f = metres ? 1e3 : 1.0;
+    printf("  %-18s%s", t->points[k].key, metres ? " (mm)" : "     ");
+    for (int i = 0; i < 3; ++i)
+      printf("  (%8.3f %8.3f %8.3f)", p[i][0] * f, p[i][1] * f, p[i][2] * f);
+    printf("\n");
   }
-  printf("limits: stroke %.4g mm, base cone %.4g deg, platform cone %.4g deg, limb distance >= "
-         "%.4g mm\n",
-         a->stroke * 1e3, a->cone_base_max / POM_DEG, a->cone_platform_max / POM_DEG,
-         a->min_limb_distance * 1e3);
+  printf("limits: %s +-%.6g %s", t->actuator == POM_ACT_REVOLUTE ? "range" : "stroke",
+         0.5 * a->stroke * u->to_display, u->display);
+  for (int kind = 1; kind < POM_KIN_LIM_KINDS; ++kind) {
+    const pom_kin_limit_desc *ld = &t->limits[kind];
+    if (!ld->name) continue;
+    printf(", %s %s %.4g %s", ld->name, ld->lower ? ">=" : "<=",
+           a->limit_bound[kind] * ld->to_display, ld->unit);
+  }
+  printf("\n");
   printf("gravity (m/s^2): %g %g %g\n", m->gravity[0], m->gravity[1], m->gravity[2]);
   printf("bodies (mass in kg, CM in mm, inertia about the CM in kg m^2, fixed axes):\n");
   for (int b = 0; b < m->n_bodies; ++b) {
@@ -219,13 +212,63 @@ static void model_mechanism_text(const pom_kin_arch *a, const pom_mechanism *m) 
   for (int k = 0; k < m->n_actuators; ++k) {
     const pom_mech_actuator *ac = &m->actuator[k];
     const double *ax = m->joint[ac->joint].axis;
-    printf("  %d joint %s, moves %s, axis (%6.3f %6.3f %6.3f), stroke %.4g mm\n", k,
-           m->joint[ac->joint].name, m->body[ac->moving_body].name, ax[0], ax[1], ax[2],
-           ac->stroke * 1e3);
+    const pom_act_units *au = pom_act_units_of(ac->kind);
+    printf("  %d %s joint %s, moves %s, axis (%6.3f %6.3f %6.3f), range +-%.4g %s\n", k,
+           au->kind_name, m->joint[ac->joint].name, m->body[ac->moving_body].name, ax[0], ax[1],
+           ax[2], 0.5 * ac->stroke * au->to_display, au->display);
   }
 }
 
+/* ---- the registry ---------------------------------------------------------------- */
+static int list_architectures(int json) {
+  int n = pom_kin_arch_type_count();
+  if (json) printf("{\n  \"architectures\": [\n");
+  for (int k = 0; k < n; ++k) {
+    const pom_kin_arch_type *t = pom_kin_arch_type_at(k);
+    const pom_act_units *u = pom_act_units_of(t->actuator);
+    if (json) {
+      printf("    {\"name\": ");
+      pom_json_string(stdout, t->name);
+      printf(", \"label\": ");
+      pom_json_string(stdout, t->label);
+      printf(", \"description\": ");
+      pom_json_string(stdout, t->description);
+      printf(", \"actuator_kind\": \"%s\", \"actuator_unit\": \"%s\", \"scale_key\": ",
+             u->kind_name, u->si);
+      pom_json_string(stdout, t->scale_key);
+      printf(", \"parameters\": [");
+      for (int i = 0; i < t->n_params; ++i) {
+        printf("%s", i ? ", " : "");
+        pom_json_string(stdout, t->params[i].key);
+      }
+      printf("], \"synthesis_variables\": [");
+      int first = 1;
+      for (int i = 0; i < t->n_params; ++i) {
+        if (!t->params[i].synth) continue;
+        printf("%s", first ? "" : ", ");
+        pom_json_string(stdout, t->params[i].key);
+        first = 0;
+      }
+      printf("]}%s\n", k + 1 < n ? "," : "");
+    } else {
+      printf("%-6s %-9s %s actuators (q in %s); %s\n", t->name, t->label, u->kind_name, u->display,
+             t->description);
+      printf("       scale %s: %s\n", t->scale_key, t->scale_meaning);
+      for (int i = 0; i < t->n_params; ++i)
+        printf("       geometry.%-22s %s%s\n", t->params[i].key, t->params[i].meaning,
+               t->params[i].synth ? " [synthesis variable]" : "");
+      for (int kind = 1; kind < POM_KIN_LIM_KINDS; ++kind)
+        if (t->limits[kind].name)
+          printf("       limits.%-24s %s (%s)\n", t->limits[kind].key, t->limits[kind].name,
+                 t->limits[kind].lower ? "a lower bound" : "an upper bound");
+    }
+  }
+  if (json) printf("  ]\n}\n");
+  return 0;
+}
+
 int pom_cmd_model(int argc, char **argv) {
+  int list = 0;
   const char *path = NULL;
   int json = 0;
   for (int k = 1; k < argc; ++k) {
@@ -234,6 +277,8 @@ int pom_cmd_model(int argc, char **argv) {
       return 0;
     } else if (strcmp(argv[k], "--json") == 0) {
       json = 1;
+    } else if (strcmp(argv[k], "--list-architectures") == 0) {
+      list = 1;
     } else if (argv[k][0] == '-' && argv[k][1] != '\0') {
       fprintf(stderr, "pomlab model: unknown option '%s'\n", argv[k]);
       model_usage(stderr);
@@ -245,6 +290,7 @@ int pom_cmd_model(int argc, char **argv) {
       return 2;
     }
   }
+  if (list) return list_architectures(json);
   if (!path) {
     fprintf(stderr, "pomlab model: missing CONFIG\n");
     model_usage(stderr);
@@ -282,13 +328,13 @@ int pom_cmd_model(int argc, char **argv) {
     pom_json_string(stdout, path);
     printf(",\n  \"name\": ");
     pom_json_string(stdout, arch.name);
-    printf(",\n  \"architecture\": \"%s\",\n", pom_kin_arch_name(arch.type));
+    printf(",\n  \"architecture\": \"%s\",\n", pom_kin_arch_name(&arch));
     printf("  \"units\": \"SI (m, kg, kg m^2, rad, m/s^2); fixed frame at the home pose\",\n");
     model_mechanism_json(&arch, &mech);
     pom_cli_dyn_params_json(stdout, &dyn);
     printf("\n}\n");
   } else {
-    printf("%s (%s), config %s\n", arch.name, pom_kin_arch_name(arch.type), path);
+    printf("%s (%s), config %s\n", arch.name, pom_kin_arch_name(&arch), path);
     model_mechanism_text(&arch, &mech);
     pom_cli_dyn_params_text(stdout, &dyn);
   }

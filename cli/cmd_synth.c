@@ -53,14 +53,14 @@ static void safe_name(char *out, size_t cap, const char *name) {
 static void print_human(const pom_syn_run *run, const char *geo_path, const char *h5_path) {
   const pom_syn_problem *pb = run->pb;
   int k = pb->n_vars;
-  printf("== %s (%s)\n", pb->base.name, pom_kin_arch_name(pb->base.type));
+  printf("== %s (%s)\n", pb->base.name, pom_kin_arch_name(&pb->base));
   printf("design: %s, %d runs (alpha %.4g), %d degenerate, %.3f s\n",
          pom_design_kind_name(run->design->kind), run->n_runs, run->design->alpha,
          run->n_degenerate, run->design_time);
   printf("variables:");
   for (int i = 0; i < k; ++i)
-    printf("  %s in [%.4g, %.4g]", pom_syn_var_name(pb->var[i]),
-           pb->lo[i] * pom_syn_var_unit(pb->var[i]), pb->hi[i] * pom_syn_var_unit(pb->var[i]));
+    printf("  %s in [%.4g, %.4g]", pom_syn_var_name(pb, i),
+           pb->lo[i] * pom_syn_var_unit(pb, i), pb->hi[i] * pom_syn_var_unit(pb, i));
   printf("\n\nfits (full quadratic, coded units):\n");
   printf("  %-14s %8s %8s %8s %9s %10s %10s %9s\n", "response", "R2", "R2adj", "R2pred", "LOF p",
          "hold rmse", "hold maxab", "in PI");
@@ -106,8 +106,8 @@ static void print_human(const pom_syn_run *run, const char *geo_path, const char
   printf("\noptimum on the surfaces (D = %.4f predicted, %.4f confirmed):\n ", run->d_predicted,
          run->d_confirmed);
   for (int i = 0; i < k; ++i)
-    printf(" %s = %.5g", pom_syn_var_name(pb->var[i]),
-           run->x_opt[i] * pom_syn_var_unit(pb->var[i]));
+    printf(" %s = %.5g", pom_syn_var_name(pb, i),
+           run->x_opt[i] * pom_syn_var_unit(pb, i));
   printf("\n  %-14s %12s %12s %12s\n", "response", "predicted", "confirmed", "error");
   for (int r = 0; r < POM_SYN_N_RESP; ++r) {
     double u = pom_syn_resp_unit((pom_syn_resp)r);
@@ -119,13 +119,13 @@ static void print_human(const pom_syn_run *run, const char *geo_path, const char
     printf("\nsequential refinement (best: stage %d):\n  %-6s %5s", run->best_stage, "stage",
            "runs");
     for (int i = 0; i < k; ++i)
-      printf(" %24s", pom_syn_var_name(pb->var[i]));
+      printf(" %24s", pom_syn_var_name(pb, i));
     printf(" %9s %9s %9s\n", "R2pred", "D pred", "D true");
     int s = 0;
     for (const pom_syn_run *r = run; r; r = r->refined, ++s) {
       printf("  %-6d %5d", s, r->n_runs);
       for (int i = 0; i < k; ++i) {
-        double u = pom_syn_var_unit(pb->var[i]);
+        double u = pom_syn_var_unit(pb, i);
         char box[64];
         snprintf(box, sizeof box, "%.4g [%.4g, %.4g]", r->stage_x_opt[i] * u, r->pb->lo[i] * u,
                  r->pb->hi[i] * u);
@@ -144,8 +144,8 @@ static void print_human(const pom_syn_run *run, const char *geo_path, const char
   if (run->direct_done) {
     printf("\ndirect optimization on the true kinematics (D = %.4f):\n ", run->d_direct);
     for (int i = 0; i < k; ++i)
-      printf(" %s = %.5g", pom_syn_var_name(pb->var[i]),
-             run->x_direct[i] * pom_syn_var_unit(pb->var[i]));
+      printf(" %s = %.5g", pom_syn_var_name(pb, i),
+             run->x_direct[i] * pom_syn_var_unit(pb, i));
     printf("\n  %ld true evaluations (%ld global %s, %ld local %s), %.3f s\n",
            run->direct.evals_global + run->direct.evals_local, run->direct.evals_global,
            pom_opt_result_name(run->direct.result_global), run->direct.evals_local,
@@ -161,7 +161,7 @@ static void print_human(const pom_syn_run *run, const char *geo_path, const char
 static void print_side_by_side(pom_syn_run *const runs[], int n) {
   printf("== side by side (scaled geometries)\n  %-26s", "");
   for (int c = 0; c < n; ++c)
-    printf(" %16s", pom_kin_arch_name(runs[c]->pb->base.type));
+    printf(" %16s", pom_kin_arch_name(&runs[c]->pb->base));
   printf("\n  %-26s", "platform radius (mm)");
   for (int c = 0; c < n; ++c)
     printf(" %16.4f", runs[c]->scale * 1e3);
@@ -199,12 +199,12 @@ static void print_json(pom_syn_run *const runs[], int n, char paths[][2][512]) {
     printf("%s{\"name\": ", c ? ", " : "");
     pom_json_string(stdout, pb->base.name);
     printf(", \"architecture\": \"%s\", \"runs\": %d, \"degenerate\": %d,",
-           pom_kin_arch_name(pb->base.type), run->n_runs, run->n_degenerate);
+           pom_kin_arch_name(&pb->base), run->n_runs, run->n_degenerate);
     printf(" \"variables\": {");
     for (int i = 0; i < pb->n_vars; ++i)
       printf("%s\"%s\": {\"optimum\": %s, \"direct\": %s}", i ? ", " : "",
-             pom_syn_var_name(pb->var[i]), jn(b1, run->x_opt[i] * pom_syn_var_unit(pb->var[i])),
-             jn(b2, run->direct_done ? run->x_direct[i] * pom_syn_var_unit(pb->var[i]) : NAN));
+             pom_syn_var_name(pb, i), jn(b1, run->x_opt[i] * pom_syn_var_unit(pb, i)),
+             jn(b2, run->direct_done ? run->x_direct[i] * pom_syn_var_unit(pb, i) : NAN));
     printf("}, \"responses\": {");
     for (int r = 0; r < POM_SYN_N_RESP; ++r) {
       double u = pom_syn_resp_unit((pom_syn_resp)r);
@@ -303,7 +303,7 @@ int pom_cmd_synth(int argc, char **argv) {
     if (st == POM_OK) {
       pom_progress bar;
       char label[48];
-      snprintf(label, sizeof label, "design %s", pom_kin_arch_name(pbs[c].base.type));
+      snprintf(label, sizeof label, "design %s", pom_kin_arch_name(&pbs[c].base));
       pom_progress_init(&bar, quiet ? NULL : stderr, label, runs[c]->n_runs, 0, 0);
       int remaining = 1;
       while (st == POM_OK && remaining > 0) {

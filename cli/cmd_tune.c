@@ -125,7 +125,7 @@ int pom_cmd_tune(int argc, char **argv) {
     }
     if (!json) {
       printf("== %s (%s): %d maneuvers, overshoot limit %.3g %%, saturation limit %.4g ms\n",
-             pbs[c].arch.name, pom_kin_arch_name(pbs[c].arch.type), pbs[c].n_maneuvers,
+             pbs[c].arch.name, pom_kin_arch_name(&pbs[c].arch), pbs[c].n_maneuvers,
              pbs[c].overshoot_max * 100.0, pbs[c].saturation_time_max * 1e3);
       print_eval("config", &res[c].initial, &res[c].initial_eval);
       print_eval("tuned", &res[c].best, &res[c].best_eval);
@@ -149,7 +149,7 @@ int pom_cmd_tune(int argc, char **argv) {
              "\"kd_s\": %s, \"criterion_s\": %s, \"mean_execution_s\": %s, \"max_overshoot\": %s, "
              "\"max_saturation_s\": %s, \"unsettled\": %d, \"initial_criterion_s\": %s, "
              "\"evaluations\": %ld, \"simulations\": %ld, \"file\": ",
-             pom_kin_arch_name(pbs[c].arch.type), jn(b[0], res[c].best.kp),
+             pom_kin_arch_name(&pbs[c].arch), jn(b[0], res[c].best.kp),
              jn(b[1], res[c].best.ki), jn(b[2], res[c].best.kd), jn(b[3], e->criterion),
              jn(b[4], e->mean_execution), jn(b[5], e->max_overshoot), jn(b[6], e->max_saturation),
              e->unsettled, jn(b[7], res[c].initial_eval.criterion),

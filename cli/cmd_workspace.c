@@ -25,7 +25,7 @@ static void ws_usage(FILE *out) {
           "  --map FILE.csv  write the dexterity map over the cube of half-width\n"
           "                  workspace.map_half_width_deg, step workspace.map_resolution_deg:\n"
           "                  psi_deg,theta_deg,phi_deg,reachable,within_limits,dexterity,\n"
-          "                  q1_mm,q2_mm,q3_mm,violations\n"
+          "                  q1_mm,q2_mm,q3_mm (or _deg for rotary actuators),violations\n"
           "  --json          machine-readable output on stdout\n"
           "  --help          this text\n\n"
           "Reads the config groups name, architecture, geometry, limits, workspace.\n"
@@ -33,8 +33,8 @@ static void ws_usage(FILE *out) {
           "config error.\n");
 }
 
-static const char *reason_text(const pom_kin_ws_result *r, const pom_kin_ws_opts *o, char *buf,
-                               size_t cap) {
+static const char *reason_text(const pom_kin_arch *arch, const pom_kin_ws_result *r,
+                               const pom_kin_ws_opts *o, char *buf, size_t cap) {
   if (r->capped) {
     snprintf(buf, cap, "none: the search stopped at max_half_width_deg = %g",
              o->max_half_width / POM_DEG);
@@ -42,7 +42,7 @@ static const char *reason_text(const pom_kin_ws_result *r, const pom_kin_ws_opts
     snprintf(buf, cap, "not assemblable");
   } else if (r->fail_status == POM_ERR_LIMIT) {
     char v[400];
-    pom_kin_violations_text(r->fail_violations, v, sizeof v);
+    pom_kin_violations_text(arch, r->fail_violations, v, sizeof v);
     snprintf(buf, cap, "limit: %s", v);
   } else {
     snprintf(buf, cap, "dexterity %.4f < %.4g", r->fail_dexterity, o->dexterity_min);
@@ -57,8 +57,11 @@ static int write_map(const char *file, const pom_kin_arch *arch, const pom_kin_w
             strerror(errno));
     return 1;
   }
-  fprintf(fp, "psi_deg,theta_deg,phi_deg,reachable,within_limits,dexterity,q1_mm,q2_mm,q3_mm,"
-              "violations\n");
+  const pom_act_units *u = pom_act_units_of(pom_kin_type_actuator(arch->type));
+  fprintf(fp,
+          "psi_deg,theta_deg,phi_deg,reachable,within_limits,dexterity,q1_%s,q2_%s,q3_%s,"
+          "violations\n",
+          u->display, u->display, u->display);
   const double h = o->map_resolution;
   const int n = (int)floor(o->map_half_width / h + 1e-9); /* + 1e-9: whole steps survive rounding */
   for (int i = -n; i <= n; ++i)
@@ -69,12 +72,13 @@ static int write_map(const char *file, const pom_kin_arch *arch, const pom_kin_w
         pom_kin_pose p;
         pom_kin_pose_evaluate(arch, R, &p, NULL);
         char v[400];
-        pom_kin_violations_text(p.violations, v, sizeof v);
+        pom_kin_violations_text(arch, p.violations, v, sizeof v);
         for (char *c = v; *c; ++c)
           if (*c == ',') *c = ';';
         fprintf(fp, "%.6g,%.6g,%.6g,%d,%d,%.6f,%.6f,%.6f,%.6f,%s\n", e[0] / POM_DEG, e[1] / POM_DEG,
                 e[2] / POM_DEG, p.reachable, p.reachable && !p.violations, p.dexterity,
-                p.q[0] * 1e3, p.q[1] * 1e3, p.q[2] * 1e3, p.reachable ? v : "unreachable");
+                p.q[0] * u->to_display, p.q[1] * u->to_display, p.q[2] * u->to_display,
+                p.reachable ? v : "unreachable");
       }
   if (fclose(fp) != 0) {
     fprintf(stderr, "pomlab workspace: --map %s: write failed (%s)\n", file, strerror(errno));
@@ -128,7 +132,7 @@ int pom_cmd_workspace(int argc, char **argv) {
     return pom_cli_exit_code(st);
   }
   char why[512];
-  reason_text(&r, &o, why, sizeof why);
+  reason_text(&arch, &r, &o, why, sizeof why);
   if (r.half_width < 0.0) {
     fprintf(stderr, "pomlab workspace: the home pose itself fails (%s)\n", why);
     return 1;
@@ -148,7 +152,7 @@ int pom_cmd_workspace(int argc, char **argv) {
     printf(",\n  \"name\": ");
     pom_json_string(stdout, arch.name);
     printf(",\n  \"architecture\": \"%s\",\n  \"shape\": \"euler_zyx_cube\",\n",
-           pom_kin_arch_name(arch.type));
+           pom_kin_arch_name(&arch));
     printf("  \"dexterity_min\": ");
     pom_json_number(stdout, o.dexterity_min);
     printf(",\n  \"resolution_deg\": ");
@@ -181,7 +185,7 @@ int pom_cmd_workspace(int argc, char **argv) {
     }
     printf("\n}\n");
   } else {
-    printf("%s (%s), config %s\n", arch.name, pom_kin_arch_name(arch.type), path);
+    printf("%s (%s), config %s\n", arch.name, pom_kin_arch_name(&arch), path);
     printf("regular dexterous workspace (ZYX Euler cube about home, step %g deg,\n"
            "  1/kappa >= %g, limits %s):\n",
            o.resolution / POM_DEG, o.dexterity_min, o.check_limits ? "checked" : "ignored");

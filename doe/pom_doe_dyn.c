@@ -73,7 +73,7 @@ pom_status pom_doe_dyn_run(const void *p, void *worker, const double target[3],
 }
 
 pom_status pom_doe_dyn_describe_base(const pom_doe_dyn_base *ctx, hid_t g, pom_error *err) {
-  POM_TRY(pom_h5_attr_string(g, "architecture", pom_kin_arch_name(ctx->arch.type), err));
+  POM_TRY(pom_h5_attr_string(g, "architecture", pom_kin_arch_name(&ctx->arch), err));
   POM_TRY(pom_h5_attr_double(g, "stroke_m", ctx->arch.stroke, err));
   POM_TRY(pom_doe_describe_dyn_params(g, &ctx->params, err));
   POM_TRY(pom_h5_attr_int64(g, "model_states", pom_dyn_model_n_states(ctx->model), err));

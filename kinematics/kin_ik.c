@@ -10,55 +10,12 @@
 #include <string.h>
 
 /* ---- inverse kinematics and Jacobian --------------------------------------- */
-/* One limb of the 3PSS: q and Jacobian row (docs/kinematics.md 3.1).
- * Returns 0 when the link cannot reach the slider axis. */
-static int limb_3pss(const pom_kin_arch *arch, int i, const double R[9], double *q, double row[3]) {
-  double c[3], d[3];
-  pom_m3_apply(c, R, arch->platform_point[i]);
-  pom_v3_sub(d, c, arch->slider_mid[i]);
-  const double *u = arch->slider_axis[i];
-  double L = arch->link_length[i];
-  double du = pom_v3_dot(d, u);
-  double disc = du * du - pom_v3_dot(d, d) + L * L;
-  if (!(disc >= 0.0)) return 0;
-  double root = sqrt(disc);
-  double qi = du - arch->branch_sign[i] * root;
-  *q = qi;
-  if (row) {
-    /* l = R c - B(q); l.u = branch_sign * root */
-    double l[3], cl[3];
-    pom_v3_axpy(l, d, -qi, u);
-    pom_v3_cross(cl, c, l);
-    double lu = arch->branch_sign[i] * root;
-    if (lu == 0.0) return 0;
-    pom_v3_scale(row, 1.0 / lu, cl);
-  }
-  return 1;
-}
-
-/* One limb of the 3SPS (docs/kinematics.md 3.2). */
-static int limb_3sps(const pom_kin_arch *arch, int i, const double R[9], double *q, double row[3]) {
-  double b[3], v[3];
-  pom_m3_apply(b, R, arch->platform_point[i]);
-  pom_v3_sub(v, b, arch->base_point[i]);
-  double n = pom_v3_norm(v);
-  if (!(n > 0.0 && n < INFINITY)) return 0; /* zero length, or a non-finite R */
-  *q = n - arch->limb_length_mid[i];
-  if (row) {
-    double s[3];
-    pom_v3_scale(s, 1.0 / n, v);
-    pom_v3_cross(row, b, s);
-  }
-  return 1;
-}
-
 /* q and J of all limbs; outputs untouched on failure, *bad = failing limb. */
 static pom_status ik_rows(const pom_kin_arch *arch, const double R[9], double q[3], double J[9],
                           int *bad, pom_error *err) {
   double qq[3], JJ[9];
   for (int i = 0; i < 3; ++i) {
-    int ok = arch->type == POM_ARCH_3PSS ? limb_3pss(arch, i, R, &qq[i], J ? JJ + 3 * i : NULL)
-                                         : limb_3sps(arch, i, R, &qq[i], J ? JJ + 3 * i : NULL);
+    int ok = arch->type->limb(arch, i, R, &qq[i], J ? JJ + 3 * i : NULL);
     if (!ok) {
       /* a NaN/Inf rotation also fails the reach tests above: say so, not
        * "unreachable" (checked here only, off the hot path) */
@@ -67,11 +24,7 @@ static pom_status ik_rows(const pom_kin_arch *arch, const double R[9], double q[
           POM_FAIL(err, POM_ERR_NONFINITE, "inverse kinematics: rotation entry R[%d] = %g", k,
                    R[k]);
       if (bad) *bad = i;
-      POM_FAIL(err, POM_ERR_UNREACHABLE,
-               arch->type == POM_ARCH_3PSS
-                   ? "limb %d: the link cannot reach the slider axis (no real IK root)"
-                   : "limb %d: the limb has zero length",
-               i + 1);
+      POM_FAIL(err, POM_ERR_UNREACHABLE, "limb %d: %s", i + 1, arch->type->unreachable);
     }
   }
   if (q) memcpy(q, qq, sizeof qq);
@@ -131,18 +84,6 @@ void pom_kin_dexterity(const double J[9], double sv[3], double *kappa, double *d
 }
 
 /* ---- geometry helpers ------------------------------------------------------ */
-void pom_kin_limb_segments(const pom_kin_arch *arch, const double R[9], const double q[3],
-                           double from[3][3], double to[3][3]) {
-  for (int i = 0; i < 3; ++i) {
-    pom_m3_apply(to[i], R, arch->platform_point[i]);
-    if (arch->type == POM_ARCH_3PSS) {
-      pom_v3_axpy(from[i], arch->slider_mid[i], q[i], arch->slider_axis[i]);
-    } else {
-      pom_v3_copy(from[i], arch->base_point[i]);
-    }
-  }
-}
-
 static double clamp01(double x) {
   return x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x;
 }
@@ -185,23 +126,54 @@ double pom_kin_segment_distance(const double p0[3], const double p1[3], const do
   return pom_v3_norm(w);
 }
 
-static double angle_between(const double a[3], const double b[3]) {
+double pom_kin_angle_between(const double a[3], const double b[3]) {
   double c[3];
   pom_v3_cross(c, a, b);
   return atan2(pom_v3_norm(c), pom_v3_dot(a, b));
 }
 
-/* ---- limits ---------------------------------------------------------------- */
-const char *pom_kin_limit_name(int k) {
-  static const char *const names[POM_KIN_LIM_COUNT] = {
-      "stroke limb 1",        "stroke limb 2",      "stroke limb 3",        "base cone limb 1",
-      "base cone limb 2",     "base cone limb 3",   "platform cone limb 1", "platform cone limb 2",
-      "platform cone limb 3", "distance limbs 1-2", "distance limbs 2-3",   "distance limbs 3-1"};
-  return k >= 0 && k < POM_KIN_LIM_COUNT ? names[k] : "?";
+/* Segment-limb limits shared by the 3PSS and 3SPS (docs/kinematics.md 5). */
+void pom_kin_segment_limits(const double R[9], const double *from, const double *to,
+                            const double *dir_home, double value[9]) {
+  for (int i = 0; i < 3; ++i) {
+    double l[3], lp[3];
+    pom_v3_sub(l, to + 3 * i, from + 3 * i);
+    pom_m3_tapply(lp, R, l); /* limb direction in the platform frame */
+    value[i] = pom_kin_angle_between(l, dir_home + 3 * i);
+    value[3 + i] = pom_kin_angle_between(lp, dir_home + 3 * i);
+  }
+  for (int k = 0; k < 3; ++k) {
+    int i = k, j = (k + 1) % 3;
+    value[6 + k] =
+        pom_kin_segment_distance(from + 3 * i, to + 3 * i, from + 3 * j, to + 3 * j);
+  }
 }
 
-void pom_kin_violations_text(unsigned violations, char *buf, size_t cap) {
+/* ---- limits ---------------------------------------------------------------- */
+const char *pom_kin_limit_name(const pom_kin_arch *arch, int k, char *buf, size_t cap) {
+  static const char *const pairs[3] = {"1-2", "2-3", "3-1"};
+  if (cap == 0) return buf;
+  snprintf(buf, cap, "?");
+  if (!arch || !arch->type || k < 0 || k >= POM_KIN_LIM_COUNT) return buf;
+  int kind = k / 3, member = k % 3;
+  if (kind == 0) {
+    snprintf(buf, cap, "%s limb %d", arch->type->actuator == POM_ACT_REVOLUTE ? "range" : "stroke",
+             member + 1);
+    return buf;
+  }
+  const pom_kin_limit_desc *ld = &arch->type->limits[kind];
+  if (!ld->name) return buf;
+  if (ld->per_pair)
+    snprintf(buf, cap, "%s limbs %s", ld->name, pairs[member]);
+  else
+    snprintf(buf, cap, "%s limb %d", ld->name, member + 1);
+  return buf;
+}
+
+void pom_kin_violations_text(const pom_kin_arch *arch, unsigned violations, char *buf,
+                             size_t cap) {
   size_t used = 0;
+  char name[64];
   if (cap == 0) return;
   buf[0] = '\0';
   if (violations == 0) {
@@ -210,54 +182,52 @@ void pom_kin_violations_text(unsigned violations, char *buf, size_t cap) {
   }
   for (int k = 0; k < POM_KIN_LIM_COUNT; ++k) {
     if (!(violations & (1u << k))) continue;
-    int w = snprintf(buf + used, cap - used, "%s%s", used ? ", " : "", pom_kin_limit_name(k));
+    int w = snprintf(buf + used, cap - used, "%s%s", used ? ", " : "",
+                     pom_kin_limit_name(arch, k, name, sizeof name));
     if (w < 0 || (size_t)w >= cap - used) return;
     used += (size_t)w;
   }
 }
 
-/* Fills cones, distances and the violation bits of a reachable pose. */
+/* Fills the limit values and the violation bits of a reachable pose. */
 static void check_limits(const pom_kin_arch *arch, const double R[9], pom_kin_pose *p) {
-  double from[3][3], to[3][3];
+  const pom_kin_arch_type *t = arch->type;
   unsigned v = 0;
-  pom_kin_limb_segments(arch, R, p->q, from, to);
   for (int i = 0; i < 3; ++i) {
-    double l[3], lp[3];
-    pom_v3_sub(l, to[i], from[i]);
-    pom_m3_tapply(lp, R, l); /* limb direction in the platform frame */
-    p->cone_base[i] = angle_between(l, arch->limb_dir_home[i]);
-    p->cone_platform[i] = angle_between(lp, arch->limb_dir_home[i]);
+    p->limit[POM_KIN_LIM_STROKE + i] = fabs(p->q[i]);
     if (fabs(p->q[i]) > 0.5 * arch->stroke) v |= 1u << (POM_KIN_LIM_STROKE + i);
-    if (p->cone_base[i] > arch->cone_base_max) v |= 1u << (POM_KIN_LIM_CONE_BASE + i);
-    if (p->cone_platform[i] > arch->cone_platform_max) v |= 1u << (POM_KIN_LIM_CONE_PLATFORM + i);
   }
-  for (int k = 0; k < 3; ++k) {
-    int i = k, j = (k + 1) % 3;
-    p->limb_distance[k] = pom_kin_segment_distance(from[i], to[i], from[j], to[j]);
-    if (p->limb_distance[k] < arch->min_limb_distance) v |= 1u << (POM_KIN_LIM_DISTANCE + k);
+  t->limit_values(arch, R, p->q, p->limit + 3);
+  for (int kind = 1; kind < POM_KIN_LIM_KINDS; ++kind) {
+    const pom_kin_limit_desc *ld = &t->limits[kind];
+    if (!ld->name) continue;
+    for (int m = 0; m < 3; ++m) {
+      double val = p->limit[3 * kind + m], b = arch->limit_bound[kind];
+      if (ld->lower ? val < b : val > b) v |= 1u << (3 * kind + m);
+    }
   }
   p->violations = v;
 }
 
 static void limit_message(const pom_kin_arch *arch, const pom_kin_pose *p, char *buf, size_t cap) {
+  const pom_act_units *u = pom_act_units_of(arch->type->actuator);
   size_t used = 0;
+  char name[64];
   buf[0] = '\0';
   for (int k = 0; k < POM_KIN_LIM_COUNT; ++k) {
     if (!(p->violations & (1u << k))) continue;
-    int i = k % 3, w;
+    int i = k % 3, kind = k / 3, w;
     const char *sep = used ? "; " : "";
-    if (k < POM_KIN_LIM_CONE_BASE) {
-      w = snprintf(buf + used, cap - used, "%s%s: q = %.4g mm, allowed +-%.4g mm", sep,
-                   pom_kin_limit_name(k), p->q[i] * 1e3, 0.5 * arch->stroke * 1e3);
-    } else if (k < POM_KIN_LIM_CONE_PLATFORM) {
-      w = snprintf(buf + used, cap - used, "%s%s: %.4g deg > %.4g deg", sep, pom_kin_limit_name(k),
-                   p->cone_base[i] / POM_DEG, arch->cone_base_max / POM_DEG);
-    } else if (k < POM_KIN_LIM_DISTANCE) {
-      w = snprintf(buf + used, cap - used, "%s%s: %.4g deg > %.4g deg", sep, pom_kin_limit_name(k),
-                   p->cone_platform[i] / POM_DEG, arch->cone_platform_max / POM_DEG);
+    pom_kin_limit_name(arch, k, name, sizeof name);
+    if (kind == 0) {
+      w = snprintf(buf + used, cap - used, "%s%s: q = %.6g %s, allowed +-%.6g %s", sep, name,
+                   p->q[i] * u->to_display, u->display, 0.5 * arch->stroke * u->to_display,
+                   u->display);
     } else {
-      w = snprintf(buf + used, cap - used, "%s%s: %.4g mm < %.4g mm", sep, pom_kin_limit_name(k),
-                   p->limb_distance[i] * 1e3, arch->min_limb_distance * 1e3);
+      const pom_kin_limit_desc *ld = &arch->type->limits[kind];
+      w = snprintf(buf + used, cap - used, "%s%s: %.4g %s %s %.4g %s", sep, name,
+                   p->limit[k] * ld->to_display, ld->unit, ld->lower ? "<" : ">",
+                   arch->limit_bound[kind] * ld->to_display, ld->unit);
     }
     if (w < 0 || (size_t)w >= cap - used) return;
     used += (size_t)w;

@@ -3,6 +3,7 @@
 #ifndef POM_KIN_INTERNAL_H
 #define POM_KIN_INTERNAL_H
 
+#include "pom_arch.h"
 #include "pom_kinematics.h"
 
 /* Degeneracy guard used only when a geometry or mechanism is built: a home
@@ -13,14 +14,18 @@
  * workspace result. */
 #define POM_KIN_HOME_MIN_COS 1e-6
 
-/* Limb segment endpoints at rotation R with displacements q: 3PSS link
- * B_i(q) -> C_i(R), 3SPS limb A_i -> B_i(R). */
-void pom_kin_limb_segments(const pom_kin_arch *arch, const double R[9], const double q[3],
-                           double from[3][3], double to[3][3]);
+/* The built-in architectures (arch_3pss.c, arch_3sps.c, arch_3rrr.c). */
+extern const pom_kin_arch_type pom_kin_arch_3pss;
+extern const pom_kin_arch_type pom_kin_arch_3sps;
+extern const pom_kin_arch_type pom_kin_arch_3rrr;
 
-/* Smallest distance between segments [p0, p1] and [q0, q1] (m). */
-double pom_kin_segment_distance(const double p0[3], const double p1[3], const double q0[3],
-                                const double q1[3]);
+/* Limits of the two architectures whose limbs are segments (3PSS: link
+ * B_i -> C_i; 3SPS: limb A_i -> B_i): value[0..2] the base cone angle of limb
+ * i (the segment from its home direction), [3..5] the platform cone angle
+ * (the segment in the platform frame from home), [6..8] the distances of
+ * the limb pairs 1-2, 2-3, 3-1 (docs/kinematics.md section 5). */
+void pom_kin_segment_limits(const double R[9], const double *from, const double *to,
+                            const double *dir_home, double value[9]);
 
 /* For a group whose keys are all optional: when the group is present but
  * holds none of `known` (NULL-terminated key names), fails with a message

@@ -1,12 +1,16 @@
 /* pom_kinematics.h - geometry, inverse/forward kinematics, Jacobian and
- * dexterity of the 3P-S-S/S and 3S-P-S/S orientation manipulators
- * (derivations: docs/kinematics.md).
+ * dexterity of orientation manipulators: the 3P-S-S/S, the 3S-P-S/S, the
+ * 3-RRR spherical wrist and any architecture registered through pom_arch.h
+ * (derivations: docs/kinematics.md, docs/kinematics-3rrr.md; adding one:
+ * docs/extending.md).
  *
  * The platform turns about the fixed spherical joint O (the origin). R is the
  * platform rotation (platform frame -> fixed frame), R = I at home, where every
- * actuator is at mid-stroke. q[i] is actuator i's displacement from mid-stroke
- * (m), positive = extension. q_dot = J omega, omega the platform angular
- * velocity in the fixed frame (rad/s), J in m/rad (row-major, row i = limb i).
+ * actuator is at mid-stroke. q[i] is actuator i's coordinate from mid-stroke
+ * in its own unit: a displacement (m, positive = extension) for a prismatic
+ * actuator, an angle (rad) for a revolute one. q_dot = J omega, omega the
+ * platform angular velocity in the fixed frame (rad/s), J in m/rad or rad/rad
+ * (row-major, row i = limb i).
  *
  * This header is a contract used by dynamics/, doe/ and optimize/: extend it,
  * do not rename or remove fields. */
@@ -17,62 +21,40 @@
 #include "pom_mechanism.h"
 #include "pom_status.h"
 
-typedef enum {
-  POM_ARCH_3PSS = 0, /* 3P-S-S/S: fixed prismatic actuators, S-S links */
-  POM_ARCH_3SPS = 1  /* 3S-P-S/S (3-UPS/S): extensible limbs, U joint at the ground */
-} pom_arch_type;
+typedef struct pom_kin_arch_type pom_kin_arch_type; /* an architecture's op table (pom_arch.h) */
 
-/* Dimensionless design parameters of both architectures plus one scale
- * (docs/kinematics.md section 2). Limb i = 1, 2, 3 sits at azimuth
- * phi_i = first_azimuth + (i - 1) 2 pi / 3, with the local unit vectors
- * e_r = (cos phi, sin phi, 0), e_t = (-sin phi, cos phi, 0), e_z. A direction
- * given by (lean, azimuth) is sin(lean) (cos(azimuth) e_r + sin(azimuth) e_t)
- * + cos(lean) e_z. */
+#define POM_KIN_MAX_PARAMS 12 /* design parameters of one architecture */
+#define POM_KIN_ARCH_DATA  96 /* doubles of private geometry data of one architecture */
+
+/* Design parameters of an architecture: its dimensionless parameters (ratios
+ * and angles, SI: rad) in the order of its type's parameter table, plus one
+ * scale (m) that turns them into metres (docs/kinematics.md section 2,
+ * docs/extending.md). What the scale is depends on the type: the platform
+ * radius of the 3P-S-S/S and 3S-P-S/S, the link radius of the 3-RRR. */
 typedef struct {
-  double scale;         /* platform radius r: distance of the platform points from the z axis (m) */
-  double first_azimuth; /* phi_1 (rad) */
-  double platform_height; /* height of the platform points above O, divided by r */
-  double
-      limb_length; /* 3PSS: link length |B_i C_i| / r; 3SPS: mid-stroke limb length |A_i B_i| / r */
-  double limb_lean;        /* angle of the home limb direction from +z (rad) */
-  double limb_azimuth;     /* azimuth of the home limb direction, from e_r toward e_t (rad) */
-  double actuator_tilt;    /* 3PSS: angle of the slider axis d_i from +z (rad); 3SPS: unused */
-  double actuator_azimuth; /* 3PSS: azimuth of the slider axis, from e_r toward e_t (rad) */
+  double scale;                 /* m */
+  double x[POM_KIN_MAX_PARAMS]; /* [type->n_params] SI values (rad or ratio) */
 } pom_kin_design;
 
-/* Geometry and limits of one architecture instance (everything in metres,
- * radians, fixed frame at home). Filled by pom_kin_arch_load(). */
+/* Limit kinds of an architecture: kind 0 is the actuator range (stroke) of
+ * every architecture; kinds 1..3 are the type's own (pom_arch.h). */
+#define POM_KIN_LIM_KINDS 4
+
+/* One architecture instance: its type, name, limits and its type's private
+ * geometry (everything in SI: m, rad; fixed frame at home). Plain data:
+ * copying it by value copies the whole geometry. Filled by
+ * pom_kin_arch_load() or pom_kin_arch_from_design(). */
 typedef struct {
-  pom_arch_type type;
-  char name[64]; /* config `name` */
-  /* 3P-S-S/S */
-  double slider_mid[3][3];  /* B_i at mid-stroke (m) */
-  double slider_axis[3][3]; /* unit actuator axis d_i (positive = extension) */
-  double link_length[3];    /* |B_i C_i| (m) */
-  /* 3S-P-S/S */
-  double base_point[3][3];   /* A_i, U-joint centre on the ground (m) */
-  double limb_length_mid[3]; /* |B_i - A_i| at mid-stroke (m) */
-  double ujoint_axis[3][3];  /* U-joint axis fixed in the ground, unit */
-  /* both */
-  double platform_point[3]
-                       [3]; /* C_i (3PSS) or B_i (3SPS) in the platform frame = fixed at home (m) */
-  /* limits */
-  double stroke;            /* total actuator stroke (m): |q_i| <= stroke / 2 */
-  double cone_base_max;     /* largest angle of a limb at its ground/slider joint from its home
-                               direction (rad) */
-  double cone_platform_max; /* largest angle of a limb at its platform joint, platform frame, from
-                               home (rad) */
-  double min_limb_distance; /* smallest allowed distance between limb segments (m) */
-  /* derived at load (added after the first contract) */
-  double limb_dir_home[3]
-                      [3]; /* unit limb direction at home: 3PSS link B_i -> C_i, 3SPS A_i -> B_i */
-  double radial_dir[3]
-                   [3];  /* unit horizontal direction e_r,i from O toward limb i's platform point */
-  double branch_sign[3]; /* 3PSS: sign of (l_i . d_i) at home, selects the IK root (+1 or -1) */
+  const pom_kin_arch_type *type; /* the architecture (never NULL once loaded) */
+  char name[64];                 /* config `name` */
+  double stroke; /* total actuator range in the unit of q (m or rad): |q_i| <= stroke / 2 */
+  double limit_bound[POM_KIN_LIM_KINDS]; /* [1..3] bound of the type's limit kind k (SI);
+                                            [0] unused (stroke) */
   double home_det_sign;  /* sign of det J at home (+1 or -1): FK rejects solutions across a
                             singularity */
   int has_design;        /* 1 when loaded from design parameters (mode = "parameters") */
   pom_kin_design design; /* the design parameters when has_design (else zero) */
+  double data[POM_KIN_ARCH_DATA]; /* private geometry of the type (its data_size bytes) */
 } pom_kin_arch;
 
 /* Loads geometry and limits from the `architecture`, `geometry` and `limits`
@@ -97,20 +79,48 @@ pom_status pom_kin_mechanism_build(pom_mechanism *mech, const pom_kin_arch *arch
 
 /* ---- additions: design parameters, limits, pose evaluation -------------- */
 
-/* Default limits: 12 mm stroke, cones of 90 deg (not binding), no limb
- * clearance requirement. */
+/* Default limits of arch->type: its default actuator range (12 mm for the
+ * linear voice coils) and the default bounds of its limit kinds (not
+ * binding). arch->type must be set. */
 void pom_kin_limits_defaults(pom_kin_arch *arch);
 
-/* Builds the geometry of an architecture from design parameters (limits set to
- * pom_kin_limits_defaults, name set to "3PSS"/"3SPS"). POM_ERR_ARG with a
- * message when the design is degenerate (e.g. a limb perpendicular to its
- * slider axis at home). */
-pom_status pom_kin_arch_from_design(pom_kin_arch *arch, pom_arch_type type,
+/* Builds the geometry of an architecture of `type` from design parameters
+ * (limits set to pom_kin_limits_defaults, name set to type->name).
+ * POM_ERR_ARG with a message when the design is degenerate (e.g. a limb
+ * perpendicular to its slider axis at home). */
+pom_status pom_kin_arch_from_design(pom_kin_arch *arch, const pom_kin_arch_type *type,
                                     const pom_kin_design *design, pom_error *err);
 
-/* Completes an arch whose points were filled by the caller (explicit-points
- * form): checks it and computes the derived fields. */
+/* Completes an arch whose type and private points were filled by the caller
+ * (explicit-points form): checks it and computes the derived fields. */
 pom_status pom_kin_arch_finish(pom_kin_arch *arch, pom_error *err);
+
+/* The private point set `key` of arch's type (pom_arch.h points table, e.g.
+ * "platform_points_m", "slider_axes", "base_axes"): 3 rows of 3 doubles, SI,
+ * fixed frame at home; NULL when the type has no such set. */
+const double *pom_kin_arch_points(const pom_kin_arch *arch, const char *key);
+
+/* ---- the registry of architectures (docs/extending.md) ------------------- */
+
+/* The architecture registered under `name` (config `architecture` value,
+ * e.g. "3PSS", "3RRR"); NULL when none. */
+const pom_kin_arch_type *pom_kin_arch_type_find(const char *name);
+
+/* Number of registered architectures, and the k-th (0-based, built-ins
+ * first, in registration order); NULL out of range. */
+int pom_kin_arch_type_count(void);
+const pom_kin_arch_type *pom_kin_arch_type_at(int k);
+
+/* Registers an architecture defined outside the library (pom_arch.h).
+ * POM_ERR_ARG when its name is taken, its table is incomplete or its private
+ * data exceeds POM_KIN_ARCH_DATA doubles. Register before any thread reads
+ * the registry (lookups are not locked). The table must outlive every use. */
+pom_status pom_kin_arch_register(const pom_kin_arch_type *type, pom_error *err);
+
+/* Short name ("3PSS"), label ("3P-S-S/S") and actuator kind of a type. */
+const char *pom_kin_type_name(const pom_kin_arch_type *type);
+const char *pom_kin_type_label(const pom_kin_arch_type *type);
+pom_actuator_kind pom_kin_type_actuator(const pom_kin_arch_type *type);
 
 /* IK and Jacobian together (cheaper than the two calls): q (m) and J (m/rad).
  * Same failures as pom_kin_inverse. */
@@ -125,9 +135,11 @@ pom_status pom_kin_inverse_jacobian(const pom_kin_arch *arch, const double R[9],
  * be NULL. */
 void pom_kin_dexterity(const double J[9], double sv[3], double *kappa, double *dexterity);
 
-/* Limit bits of pom_kin_pose.violations: bit (kind + limb) for the stroke and
- * the two cones, bit (POM_KIN_LIM_DISTANCE + pair) for the limb pairs
- * (0: limbs 1-2, 1: limbs 2-3, 2: limbs 3-1). */
+/* Limit bits of pom_kin_pose.violations: bit 3 kind + member, kind 0 the
+ * actuator range of limb member, kinds 1..3 the architecture's own limits
+ * (pom_arch.h), each per limb or per limb pair (member 0: limbs 1-2, 1: 2-3,
+ * 2: 3-1). For the 3P-S-S/S and 3S-P-S/S kind 1 is the base cone, 2 the
+ * platform cone and 3 the limb distance (the names below). */
 enum {
   POM_KIN_LIM_STROKE = 0,
   POM_KIN_LIM_CONE_BASE = 3,
@@ -136,9 +148,10 @@ enum {
   POM_KIN_LIM_COUNT = 12
 };
 
-/* Name of limit bit k ("stroke limb 2", "platform cone limb 1",
- * "distance limbs 3-1"); "?" when out of range. Static string. */
-const char *pom_kin_limit_name(int k);
+/* Name of limit bit k of arch's type ("stroke limb 2", "platform cone limb
+ * 1", "distance limbs 3-1", "elbow angle limbs 1-2") into buf; "?" when out
+ * of range or unused by the type. Returns buf. */
+const char *pom_kin_limit_name(const pom_kin_arch *arch, int k, char *buf, size_t cap);
 
 /* Everything known about one pose. */
 typedef struct {
@@ -149,12 +162,10 @@ typedef struct {
   double sv[3];         /* singular values of J, descending (m/rad) */
   double kappa;         /* condition number sv0/sv2 (INFINITY when singular) */
   double dexterity;     /* 1/kappa in [0, 1] */
-  double
-      cone_base[3]; /* angle of limb i at its ground/slider joint from its home direction (rad) */
-  double
-      cone_platform[3]; /* angle of limb i at its platform joint, platform frame, from home (rad) */
-  double limb_distance[3]; /* distance between limb segments, pairs 1-2, 2-3, 3-1 (m) */
-  unsigned violations;     /* bit k set when limit k is violated (pom_kin_limit_name) */
+  double limit[POM_KIN_LIM_COUNT]; /* value of limit bit k (SI: m or rad): [0..2] |q_i| (the
+                                      actuator range), [3..11] the type's limit kinds 1..3 (3PSS,
+                                      3SPS: base cone angle, platform cone angle, limb distance) */
+  unsigned violations;              /* bit k set when limit k is violated (pom_kin_limit_name) */
 } pom_kin_pose;
 
 /* Evaluates the pose R: IK, J, dexterity and every limit. Returns POM_OK when
@@ -169,7 +180,7 @@ pom_status pom_kin_pose_evaluate(const pom_kin_arch *arch, const double R[9], po
 
 /* Writes the names of the violated limits of `violations` into buf as
  * "stroke limb 1, platform cone limb 2" ("none" when 0). */
-void pom_kin_violations_text(unsigned violations, char *buf, size_t cap);
+void pom_kin_violations_text(const pom_kin_arch *arch, unsigned violations, char *buf, size_t cap);
 
 /* ---- forward kinematics -------------------------------------------------- */
 
@@ -262,12 +273,18 @@ typedef struct {
   double cm_fraction; /* 3PSS link: CM at B_i + cm_fraction (C_i - B_i) */
 } pom_kin_body_inertia;
 
+#define POM_KIN_MAX_INERTIA_BODIES 4
+#define POM_KIN_MAX_INERTIA_VALUES 8
+
+/* Mass properties of a mechanism: the platform, then the type's limb body
+ * groups in the order of its inertia table (pom_arch.h; 3PSS: piston, link;
+ * 3SPS: cylinder, piston), plus the type's own scalar values (3-RRR: the link
+ * model's density and section, the rotor inertia). */
 typedef struct {
   pom_kin_body_inertia platform;
-  pom_kin_body_inertia piston;   /* both */
-  pom_kin_body_inertia link;     /* 3PSS */
-  pom_kin_body_inertia cylinder; /* 3SPS */
-  double gravity[3];             /* gravitational acceleration, fixed frame (m/s^2) */
+  pom_kin_body_inertia body[POM_KIN_MAX_INERTIA_BODIES]; /* [type's n_bodies] */
+  double value[POM_KIN_MAX_INERTIA_VALUES];             /* [type's n_values] SI */
+  double gravity[3]; /* gravitational acceleration, fixed frame (m/s^2) */
 } pom_kin_inertia;
 
 /* Reads the `inertia` group for arch->type. */
@@ -278,8 +295,8 @@ pom_status pom_kin_inertia_load(pom_kin_inertia *in, const pom_kin_arch *arch, c
 pom_status pom_kin_mechanism_from(pom_mechanism *mech, const pom_kin_arch *arch,
                                   const pom_kin_inertia *in, pom_error *err);
 
-/* Name of an architecture ("3PSS", "3SPS"). */
-const char *pom_kin_arch_name(pom_arch_type type);
+/* Short name of an instance's architecture ("3PSS", "3SPS", "3RRR"). */
+const char *pom_kin_arch_name(const pom_kin_arch *arch);
 
 /* ---- rigid-body motion of every body (added for the exact dynamics) ------ */
 
@@ -306,8 +323,9 @@ typedef struct {
 #define POM_KIN_TWIST_MAX_BODIES 8
 
 /* Every body of the mechanism of pom_kin_mechanism_from, by the same body
- * index (0 ground, 1 platform, then per limb i: 3PSS piston 2+2i, link 3+2i;
- * 3SPS cylinder 2+2i, piston 3+2i). */
+ * index (0 ground, 1 platform, then per limb i the type's limb bodies: 3PSS
+ * piston 2+2i, link 3+2i; 3SPS cylinder 2+2i, piston 3+2i; 3RRR proximal
+ * 2+2i, distal 3+2i). */
 typedef struct {
   int n_bodies;     /* bodies filled, including the ground */
   double q[3];      /* actuator displacements (m), as pom_kin_inverse */

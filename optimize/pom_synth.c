@@ -12,21 +12,20 @@
 #include <time.h>
 
 /* ---- names and units ---------------------------------------------------- */
-static const char *const var_names[POM_SYN_N_VARS] = {"platform_height",   "limb_length",
-                                                      "limb_lean_deg",     "limb_azimuth_deg",
-                                                      "actuator_tilt_deg", "actuator_azimuth_deg"};
 static const char *const resp_names[POM_SYN_N_RESP + 1] = {
     "rdw_deg",      "gci",    "min_dexterity", "footprint", "cone",
     "interference", "stroke", "unreachable",   NULL};
 
-const char *pom_syn_var_name(pom_syn_var v) {
-  return (v >= 0 && v < POM_SYN_N_VARS) ? var_names[v] : "?";
+const char *pom_syn_var_name(const pom_syn_problem *pb, int i) {
+  if (i < 0 || i >= pb->n_vars || !pb->base.type) return "?";
+  return pb->base.type->params[pb->var[i]].key;
 }
 const char *pom_syn_resp_name(pom_syn_resp r) {
   return (r >= 0 && r < POM_SYN_N_RESP) ? resp_names[r] : "?";
 }
-double pom_syn_var_unit(pom_syn_var v) {
-  return v >= POM_SYN_VAR_LIMB_LEAN ? 1.0 / POM_DEG : 1.0;
+double pom_syn_var_unit(const pom_syn_problem *pb, int i) {
+  if (i < 0 || i >= pb->n_vars || !pb->base.type) return 1.0;
+  return 1.0 / pb->base.type->params[pb->var[i]].to_si;
 }
 double pom_syn_resp_unit(pom_syn_resp r) {
   return r == POM_SYN_RESP_RDW ? 1.0 / POM_DEG : 1.0;
@@ -116,31 +115,6 @@ static pom_status load_design_opts(const pom_cfg *cfg, pom_design_options *d, po
   return POM_OK;
 }
 
-static void set_design_field(pom_kin_design *d, pom_syn_var v, double x) {
-  switch (v) {
-  case POM_SYN_VAR_PLATFORM_HEIGHT:
-    d->platform_height = x;
-    break;
-  case POM_SYN_VAR_LIMB_LENGTH:
-    d->limb_length = x;
-    break;
-  case POM_SYN_VAR_LIMB_LEAN:
-    d->limb_lean = x;
-    break;
-  case POM_SYN_VAR_LIMB_AZIMUTH:
-    d->limb_azimuth = x;
-    break;
-  case POM_SYN_VAR_ACTUATOR_TILT:
-    d->actuator_tilt = x;
-    break;
-  case POM_SYN_VAR_ACTUATOR_AZIMUTH:
-    d->actuator_azimuth = x;
-    break;
-  default:
-    break;
-  }
-}
-
 pom_status pom_syn_load(pom_syn_problem *pb, const pom_cfg *cfg, pom_error *err) {
   static const char *const goals[] = {"maximize", "minimize", "target", NULL};
   char key[160];
@@ -161,30 +135,34 @@ pom_status pom_syn_load(pom_syn_problem *pb, const pom_cfg *cfg, pom_error *err)
                          "expected a list of 1..%d groups { name = ...; min = ...; max = ...; }",
                          POM_SYN_N_VARS);
   pb->n_vars = nv;
+  const pom_kin_arch_type *type = pb->base.type;
   for (int i = 0; i < nv; ++i) {
-    int id = 0;
+    char name[64];
+    int id = -1;
     snprintf(key, sizeof key, "synthesis.variables.[%d].name", i);
-    static const char *const names[] = {"platform_height",
-                                        "limb_length",
-                                        "limb_lean_deg",
-                                        "limb_azimuth_deg",
-                                        "actuator_tilt_deg",
-                                        "actuator_azimuth_deg",
-                                        NULL};
-    POM_TRY(pom_cfg_choice(cfg, key, names, &id, err));
+    POM_TRY(pom_cfg_string(cfg, key, name, sizeof name, err));
+    for (int k = 0; k < type->n_params; ++k)
+      if (type->params[k].synth && strcmp(type->params[k].key, name) == 0) id = k;
+    if (id < 0) {
+      char list[512] = "";
+      size_t used = 0;
+      for (int k = 0; k < type->n_params; ++k) {
+        if (!type->params[k].synth) continue;
+        int w = snprintf(list + used, sizeof list - used, "%s%s", used ? ", " : "",
+                         type->params[k].key);
+        if (w > 0 && (size_t)w < sizeof list - used) used += (size_t)w;
+      }
+      return pom_cfg_error(cfg, key, name, err, "not a design variable of the %s; expected one of: %s",
+                           type->name, list);
+    }
     for (int j = 0; j < i; ++j)
-      if ((int)pb->var[j] == id)
-        return pom_cfg_error(cfg, key, names[id], err, "variable listed twice");
-    if (pb->base.type == POM_ARCH_3SPS &&
-        (id == POM_SYN_VAR_ACTUATOR_TILT || id == POM_SYN_VAR_ACTUATOR_AZIMUTH))
-      return pom_cfg_error(cfg, key, names[id], err, "not a design parameter of the 3SPS");
-    pb->var[i] = (pom_syn_var)id;
-    double to_si = 1.0 / pom_syn_var_unit((pom_syn_var)id);
-    double lim = id >= POM_SYN_VAR_LIMB_LEAN ? 360.0 : 100.0;
+      if (pb->var[j] == id) return pom_cfg_error(cfg, key, name, err, "variable listed twice");
+    pb->var[i] = id;
+    const pom_kin_param_desc *pd = &type->params[id];
     snprintf(key, sizeof key, "synthesis.variables.[%d].min", i);
-    POM_TRY(pom_cfg_real(cfg, key, to_si, -lim, lim, &pb->lo[i], err));
+    POM_TRY(pom_cfg_real(cfg, key, pd->to_si, pd->lo, pd->hi, &pb->lo[i], err));
     snprintf(key, sizeof key, "synthesis.variables.[%d].max", i);
-    POM_TRY(pom_cfg_real(cfg, key, to_si, -lim, lim, &pb->hi[i], err));
+    POM_TRY(pom_cfg_real(cfg, key, pd->to_si, pd->lo, pd->hi, &pb->hi[i], err));
     if (!(pb->lo[i] < pb->hi[i])) return pom_cfg_error(cfg, key, NULL, err, "max must exceed min");
   }
 
@@ -274,31 +252,12 @@ pom_status pom_syn_arch(const pom_syn_problem *pb, const double x[], double scal
   pom_kin_design d = pb->base.design;
   d.scale = scale;
   for (int i = 0; i < pb->n_vars; ++i)
-    set_design_field(&d, pb->var[i], x[i]);
+    d.x[pb->var[i]] = x[i];
   POM_TRY(pom_kin_arch_from_design(arch, pb->base.type, &d, err));
   snprintf(arch->name, sizeof arch->name, "%s", pb->base.name);
   arch->stroke = pb->base.stroke;
-  arch->cone_base_max = pb->base.cone_base_max;
-  arch->cone_platform_max = pb->base.cone_platform_max;
-  arch->min_limb_distance = pb->base.min_limb_distance;
+  memcpy(arch->limit_bound, pb->base.limit_bound, sizeof arch->limit_bound);
   return POM_OK;
-}
-
-/* Radius of the ground-side joints over the whole stroke (m). */
-static double footprint_radius(const pom_kin_arch *a) {
-  double r = 0.0;
-  for (int i = 0; i < 3; ++i) {
-    if (a->type == POM_ARCH_3PSS) {
-      for (int s = -1; s <= 1; s += 2) {
-        double p[3];
-        pom_v3_axpy(p, a->slider_mid[i], 0.5 * s * a->stroke, a->slider_axis[i]);
-        r = fmax(r, hypot(p[0], p[1]));
-      }
-    } else {
-      r = fmax(r, hypot(a->base_point[i][0], a->base_point[i][1]));
-    }
-  }
-  return r;
 }
 
 pom_status pom_syn_responses(const pom_syn_problem *pb, const pom_kin_arch *arch, double resp[],
@@ -306,7 +265,7 @@ pom_status pom_syn_responses(const pom_syn_problem *pb, const pom_kin_arch *arch
   pom_kin_ws_result ws;
   POM_TRY(pom_kin_workspace(arch, &pb->ws, &ws, err));
   resp[POM_SYN_RESP_RDW] = fmax(ws.half_width, 0.0);
-  resp[POM_SYN_RESP_FOOTPRINT] = footprint_radius(arch) / arch->design.scale;
+  resp[POM_SYN_RESP_FOOTPRINT] = arch->type->footprint(arch) / arch->design.scale;
 
   /* Region cube, midpoint rule with the invariant measure cos(theta)
      (docs/optimize.md 5.2). */
@@ -319,9 +278,11 @@ pom_status pom_syn_responses(const pom_syn_problem *pb, const pom_kin_arch *arch
   unsigned cone_bits = 0, dist_bits = 0, stroke_bits = 0;
   for (int k = 0; k < 3; ++k) {
     stroke_bits |= 1u << (POM_KIN_LIM_STROKE + k);
-    cone_bits |= 1u << (POM_KIN_LIM_CONE_BASE + k);
-    cone_bits |= 1u << (POM_KIN_LIM_CONE_PLATFORM + k);
-    dist_bits |= 1u << (POM_KIN_LIM_DISTANCE + k);
+    for (int kind = 1; kind < POM_KIN_LIM_KINDS; ++kind) {
+      pom_kin_limit_class cls = arch->type->limits[kind].cls;
+      if (cls == POM_KIN_LIMCLASS_CONE) cone_bits |= 1u << (3 * kind + k);
+      if (cls == POM_KIN_LIMCLASS_INTERFERENCE) dist_bits |= 1u << (3 * kind + k);
+    }
   }
   for (int i = 0; i < m; ++i)
     for (int j = 0; j < m; ++j)
@@ -699,6 +660,22 @@ pom_status pom_syn_scale(const pom_syn_problem *pb, const double x[], double *sc
      (half a step of slack accepted a workspace below the target). */
   const double need = pb->target_half_width - 1e-9 * pb->ws.resolution;
   const double ratio = pb->scale_max / pb->scale_min;
+  if (!pb->base.type->scale_sets_kinematics) {
+    /* Angles alone fix this architecture's kinematics: the scale (e.g. the
+     * 3-RRR link radius) changes no workspace, so the base scale is kept and
+     * the target is only checked (docs/extending.md, docs/optimize.md 6). */
+    double hw0 = 0.0;
+    POM_TRY(rdw_at(pb, x, pb->base.design.scale, &hw0, err));
+    if (evals) *evals = 1;
+    if (hw0 < need)
+      POM_FAIL(err, POM_ERR_LIMIT,
+               "the %s's workspace is +-%.3g deg, short of the target +-%.3g deg; its scale (%s) "
+               "does not change the kinematics, so no scaling can reach it",
+               pb->base.type->label, hw0 / POM_DEG, pb->target_half_width / POM_DEG,
+               pb->base.type->scale_key);
+    *scale = pb->base.design.scale;
+    return POM_OK;
+  }
   double hw = 0.0, best_hw = -INFINITY, best_scale = pb->scale_max;
   int n = 0;
   /* Scan down from the largest radius on a log grid: the workspace grows as

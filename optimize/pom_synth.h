@@ -17,19 +17,14 @@
 #include "pom_desirability.h"
 #include "pom_kinematics.h"
 #include "pom_nlopt.h"
+#include "pom_arch.h"
 #include "pom_rsm.h"
 #include "pom_status.h"
 
-/* Design parameters the synthesis may vary (fields of pom_kin_design). */
-typedef enum {
-  POM_SYN_VAR_PLATFORM_HEIGHT = 0,  /* platform_height (ratio) */
-  POM_SYN_VAR_LIMB_LENGTH = 1,      /* limb_length (ratio) */
-  POM_SYN_VAR_LIMB_LEAN = 2,        /* limb_lean (rad) */
-  POM_SYN_VAR_LIMB_AZIMUTH = 3,     /* limb_azimuth (rad) */
-  POM_SYN_VAR_ACTUATOR_TILT = 4,    /* actuator_tilt (rad), 3PSS */
-  POM_SYN_VAR_ACTUATOR_AZIMUTH = 5, /* actuator_azimuth (rad), 3PSS */
-  POM_SYN_N_VARS = 6
-} pom_syn_var;
+/* Design variables are the architecture's design parameters marked `synth`
+ * in its type table (pom_arch.h): pb->var[i] is the index of variable i in
+ * type->params and in pom_kin_design.x. */
+#define POM_SYN_N_VARS POM_KIN_MAX_PARAMS
 
 /* Kinematic responses of one geometry. */
 typedef enum {
@@ -45,18 +40,15 @@ typedef enum {
   POM_SYN_N_RESP = 8
 } pom_syn_resp;
 
-/* Config name of a variable ("limb_lean_deg") / response ("rdw_deg"). */
-const char *pom_syn_var_name(pom_syn_var v);
 const char *pom_syn_resp_name(pom_syn_resp r);
-/* Factor from SI to the config unit of a variable / response (1/POM_DEG for angles, else 1). */
-double pom_syn_var_unit(pom_syn_var v);
 double pom_syn_resp_unit(pom_syn_resp r);
 
 /* The synthesis problem of one architecture (const during a run). */
-typedef struct {
+typedef struct pom_syn_problem pom_syn_problem;
+struct pom_syn_problem {
   pom_kin_arch base; /* architecture, limits and the base design (has_design = 1) */
   int n_vars;        /* design variables, 1..POM_RSM_MAX_K */
-  pom_syn_var var[POM_SYN_N_VARS];
+  int var[POM_SYN_N_VARS]; /* index of variable i in base.type->params */
   double lo[POM_SYN_N_VARS], hi[POM_SYN_N_VARS]; /* bounds (SI: rad or ratio) */
   pom_kin_ws_opts ws;                            /* regular dexterous workspace settings */
   double region_half_width; /* Euler cube of the GCI, min dexterity and violation fractions (rad) */
@@ -77,7 +69,13 @@ typedef struct {
   int refine_stages;    /* sequential designs in a box shrunk about the optimum (default 0) */
   double refine_shrink; /* each stage's box width / the previous one's (default 0.5) */
   int scale_optimum;    /* 1: scale the optimum to the stroke in pom_syn_finish (default 1) */
-} pom_syn_problem;
+};
+
+/* Config name of variable i of pb ("limb_lean_deg") and the factor from SI
+ * to its config unit (1/POM_DEG for angles, else 1). */
+const char *pom_syn_var_name(const pom_syn_problem *pb, int i);
+double pom_syn_var_unit(const pom_syn_problem *pb, int i);
+/* Config name of a response ("rdw_deg") and the factor from SI to its unit. */
 
 /* Defaults (docs/optimize.md 7); base is left zero. */
 void pom_syn_defaults(pom_syn_problem *pb);

@@ -23,19 +23,13 @@ pom_status pom_syn_write_geometry(const pom_syn_run *run, const char *path, pom_
           "# regular dexterous workspace of +-%.4g deg. Overall desirability %.4f\n"
           "# (surfaces) / %.4f (true kinematics). Limits, workspace and inertia stay\n"
           "# in the including config; this file holds only the `geometry` group.\n",
-          run->pb->base.name, pom_kin_arch_name(run->pb->base.type), run->pb->base.stroke * 1e3,
+          run->pb->base.name, pom_kin_arch_name(&run->pb->base), run->pb->base.stroke * 1e3,
           run->pb->target_half_width / POM_DEG, run->d_predicted, run->d_confirmed);
+  const pom_kin_arch_type *t = run->pb->base.type;
   fprintf(f, "geometry = {\n  mode = \"parameters\";\n");
-  fprintf(f, "  platform_radius_mm = %.9g;\n", d->scale * 1e3);
-  fprintf(f, "  first_azimuth_deg = %.9g;\n", d->first_azimuth / POM_DEG);
-  fprintf(f, "  platform_height = %.9g;\n", d->platform_height);
-  fprintf(f, "  limb_length = %.9g;\n", d->limb_length);
-  fprintf(f, "  limb_lean_deg = %.9g;\n", d->limb_lean / POM_DEG);
-  fprintf(f, "  limb_azimuth_deg = %.9g;\n", d->limb_azimuth / POM_DEG);
-  if (run->pb->base.type == POM_ARCH_3PSS) {
-    fprintf(f, "  actuator_tilt_deg = %.9g;\n", d->actuator_tilt / POM_DEG);
-    fprintf(f, "  actuator_azimuth_deg = %.9g;\n", d->actuator_azimuth / POM_DEG);
-  }
+  fprintf(f, "  %s = %.9g;\n", t->scale_key, d->scale * 1e3);
+  for (int k = 0; k < t->n_params; ++k)
+    fprintf(f, "  %s = %.9g;\n", t->params[k].key, d->x[k] / t->params[k].to_si);
   fprintf(f, "};\n");
   if (fclose(f) != 0) POM_FAIL(err, POM_ERR_IO, "writing %s: %s", path, strerror(errno));
   return POM_OK;
@@ -154,13 +148,13 @@ static pom_status write_body(hid_t file, const pom_syn_run *run, const char *con
   pom_status st = POM_OK;
   const char *vn[POM_SYN_N_VARS], *rn[POM_SYN_N_RESP];
   for (size_t i = 0; i < k; ++i)
-    vn[i] = pom_syn_var_name(pb->var[i]);
+    vn[i] = pom_syn_var_name(pb, (int)i);
   for (size_t r = 0; r < nr; ++r)
     rn[r] = pom_syn_resp_name((pom_syn_resp)r);
 
   POM_TRY(pom_h5_attr_string(file, "program", "pomlab synth " POM_VERSION, err));
   POM_TRY(pom_h5_attr_string(file, "git_commit", POM_GIT_COMMIT, err));
-  POM_TRY(pom_h5_attr_string(file, "architecture", pom_kin_arch_name(pb->base.type), err));
+  POM_TRY(pom_h5_attr_string(file, "architecture", pom_kin_arch_name(&pb->base), err));
   POM_TRY(pom_h5_attr_string(file, "name", pb->base.name, err));
   POM_TRY(pom_h5_attr_string(file, "units",
                              "variables and responses in SI (angles in rad, ratios to the "
@@ -201,19 +195,11 @@ static pom_status write_body(hid_t file, const pom_syn_run *run, const char *con
     POM_TRY_GOTO(pom_h5_attr_int64(g, "bisection_evals", run->scale_evals, err), out);
     POM_TRY_GOTO(pom_h5_write_doubles(g, "responses", 1, &nr, run->scaled_resp, err), out);
     size_t d33[2] = {3, 3};
-    POM_TRY_GOTO(pom_h5_write_doubles(g, "platform_points_m", 2, d33,
-                                      &run->scaled.platform_point[0][0], err),
-                 out);
-    if (pb->base.type == POM_ARCH_3PSS) {
-      POM_TRY_GOTO(
-          pom_h5_write_doubles(g, "slider_points_m", 2, d33, &run->scaled.slider_mid[0][0], err),
-          out);
-      POM_TRY_GOTO(
-          pom_h5_write_doubles(g, "slider_axes", 2, d33, &run->scaled.slider_axis[0][0], err), out);
-    } else {
-      POM_TRY_GOTO(
-          pom_h5_write_doubles(g, "base_points_m", 2, d33, &run->scaled.base_point[0][0], err),
-          out);
+    const pom_kin_arch_type *t = pb->base.type;
+    for (int ps = 0; ps < t->n_points; ++ps) {
+      const double *pts =
+          (const double *)(const void *)((const char *)run->scaled.data + t->points[ps].offset);
+      POM_TRY_GOTO(pom_h5_write_doubles(g, t->points[ps].key, 2, d33, pts, err), out);
     }
     H5Gclose(g);
     g = -1;

@@ -275,7 +275,7 @@ pom_status pom_tune_write_controller(const pom_tune_problem *pb, const pom_tune_
           "# mean execution time %.4g ms over %d fixed maneuvers (largest overshoot\n"
           "# %.3g %%, largest saturation time %.4g ms, %d unsettled); criterion\n"
           "# %.6g ms (config gains: %.6g ms).\n",
-          pb->arch.name, pom_kin_arch_name(pb->arch.type), res->best_eval.mean_execution * 1e3,
+          pb->arch.name, pom_kin_arch_name(&pb->arch), res->best_eval.mean_execution * 1e3,
           pb->n_maneuvers, res->best_eval.max_overshoot * 100.0,
           res->best_eval.max_saturation * 1e3, res->best_eval.unsettled,
           res->best_eval.criterion * 1e3, res->initial_eval.criterion * 1e3);

@@ -63,15 +63,15 @@ for arch in 3pss 3sps; do
   json_check "abs(d['mechanism']['bodies'][1]['mass_kg'] - (0.0293 if '$arch' == '3pss' else 0.0299)) < 1e-12"
   expect_rc 0 "$POMLAB" ik "$cfg" --euler-zyx 0,0,0 --json
   # isotropic home: kappa = 1, singular values 15 mm, q = 0
-  json_check "abs(d['kappa'] - 1) < 1e-9 and all(abs(s - 0.015) < 1e-12 for s in d['singular_values_m_per_rad']) and max(map(abs, d['q_m'])) < 1e-15"
+  json_check "abs(d['kappa'] - 1) < 1e-9 and all(abs(s - 0.015) < 1e-12 for s in d['singular_values']) and max(map(abs, d['q'])) < 1e-15 and d['actuator_unit'] == 'm'"
   expect_rc 0 "$POMLAB" ik "$cfg" --euler-zyx 7.5,-4.25,3.125
   expect_in "$TMP/out" "limit check: ok"
   # IK -> FK through the command line (JSON carries 17 digits)
   expect_rc 0 "$POMLAB" ik "$cfg" --euler-zyx 7.5,-4.25,3.125 --json
-  q=$("$PY" -c "import json; d=json.load(open('$TMP/out')); print(','.join('%.17g' % v for v in d['q_mm']))")
+  q=$("$PY" -c "import json; d=json.load(open('$TMP/out')); print(','.join('%.17g' % v for v in d['q_display']))")
   expect_rc 0 "$POMLAB" fk "$cfg" --q "$q" --json
-  json_check "max(abs(a - b) for a, b in zip(d['euler_zyx_deg'], [7.5, -4.25, 3.125])) < 1e-8 and d['residual_m'] <= 1e-12"
-  json_check "max(abs(a - b) for a, b in zip(d['q_mm'], d['q_target_mm'])) <= 1e-9"
+  json_check "max(abs(a - b) for a, b in zip(d['euler_zyx_deg'], [7.5, -4.25, 3.125])) < 1e-8 and d['residual'] <= 1e-12"
+  json_check "max(abs(a - b) for a, b in zip(d['q'], d['q_target'])) <= 1e-12"
   expect_rc 0 "$POMLAB" fk "$cfg" --q 1.5,-2,0.7
   expect_in "$TMP/out" "quaternion"
   expect_rc 0 "$POMLAB" workspace "$cfg" --json --map "$TMP/map.csv"
@@ -111,9 +111,9 @@ for arch in 3pss 3sps; do
   sed 's/mode = "parameters";/mode = "parameters" ]/' "$cfg" >"$TMP/syntax.cfg"
   expect_rc 2 "$POMLAB" ik "$TMP/syntax.cfg" --euler-zyx 0,0,0
   expect_in "$TMP/err" "syntax.cfg:"
-  sed 's/architecture = "3[PS][SP]S";/architecture = "3RRR";/' "$cfg" >"$TMP/arch.cfg"
+  sed 's/architecture = "3[PS][SP]S";/architecture = "3QQQ";/' "$cfg" >"$TMP/arch.cfg"
   expect_rc 2 "$POMLAB" ik "$TMP/arch.cfg" --euler-zyx 0,0,0
-  expect_in "$TMP/err" "key 'architecture' = \"3RRR\""
+  expect_in "$TMP/err" "key 'architecture' = \"3QQQ\""
   sed 's/resolution_deg = 1.0;/resolution_deg = 0.0;/' "$cfg" >"$TMP/ws.cfg"
   expect_rc 2 "$POMLAB" workspace "$TMP/ws.cfg"
   expect_in "$TMP/err" "workspace.resolution_deg"
@@ -129,7 +129,7 @@ expect_rc 0 "$POMLAB" ik "$TMP/reach.cfg" --euler-zyx 0,10,0
 expect_rc 1 "$POMLAB" ik "$TMP/reach.cfg" --euler-zyx 10,0,0
 expect_in "$TMP/out" "reachable: NO - limb 1: the link cannot reach the slider axis"
 expect_rc 1 "$POMLAB" ik "$TMP/reach.cfg" --euler-zyx 10,0,0 --json
-json_check "d['reachable'] is False and d['unreachable_limb'] == 1 and d['q_m'] is None"
+json_check "d['reachable'] is False and d['unreachable_limb'] == 1 and d['q'] is None"
 
 # --- usage errors and help -----------------------------------------------------
 cfg="$SRC/configs/3pss.cfg"

@@ -108,8 +108,8 @@ static double fd_kinetic(const setup_t *s, const double R[9], const double w[3])
     if (tp.body[b].spin_free) {
       const double *ax = tp.body[b].spin_axis;
       pom_v3_axpy(wb, wb, -pom_v3_dot(wb, ax), ax);
-      double It = s->arch.type == POM_ARCH_3PSS
-                      ? 0.5 * (s->in.link.moments[0] + s->in.link.moments[1])
+      double It = s->arch.type == pom_kin_arch_type_find("3PSS")
+                      ? 0.5 * (s->in.body[1].moments[0] + s->in.body[1].moments[1])
                       : NAN;
       E += 0.5 * It * pom_v3_dot(wb, wb);
     } else {
@@ -347,9 +347,9 @@ static void test_maneuver(const setup_t *s) {
  * path fixes the idle link spin; docs/dynamics-exact.md section 3). */
 static void test_kp_convergence(const setup_t *s0) {
   setup_t s = *s0;
-  if (s.arch.type == POM_ARCH_3PSS) {
-    double t = 0.5 * (s.in.link.moments[0] + s.in.link.moments[1]);
-    s.in.link.moments[0] = s.in.link.moments[1] = t;
+  if (s.arch.type == pom_kin_arch_type_find("3PSS")) {
+    double t = 0.5 * (s.in.body[1].moments[0] + s.in.body[1].moments[1]);
+    s.in.body[1].moments[0] = s.in.body[1].moments[1] = t;
     pom_error err;
     check_true(pom_kin_mechanism_from(&s.mech, &s.arch, &s.in, &err) == POM_OK);
   }
@@ -415,9 +415,9 @@ static void test_kp_convergence(const setup_t *s0) {
  * for the switching sequence) and < 3e-8 m at 1e10. */
 static void test_kp_first_order(const setup_t *s0) {
   setup_t s = *s0;
-  if (s.arch.type == POM_ARCH_3PSS) {
-    double t = 0.5 * (s.in.link.moments[0] + s.in.link.moments[1]);
-    s.in.link.moments[0] = s.in.link.moments[1] = t;
+  if (s.arch.type == pom_kin_arch_type_find("3PSS")) {
+    double t = 0.5 * (s.in.body[1].moments[0] + s.in.body[1].moments[1]);
+    s.in.body[1].moments[0] = s.in.body[1].moments[1] = t;
     pom_error err;
     check_true(pom_kin_mechanism_from(&s.mech, &s.arch, &s.in, &err) == POM_OK);
   }
@@ -498,10 +498,10 @@ static void test_errors(const setup_t *s3, const setup_t *u3) {
    * maneuver to the stroke ends drives the rigid mechanism into a singular
    * pose; it must stop with a status that says so, in bounded time */
   for (int cz = 0; cz < 2; ++cz) { /* link length 1.8 r: out of reach; 2.0 r: locks singular */
-    pom_kin_design dz = {0.012,          0.5 * POM_PI,   0.0, cz ? 2.0 : 1.8,
-                         80.0 * POM_DEG, 60.0 * POM_DEG, 0.0, 0.0};
+    pom_kin_design dz = {
+        0.012, {0.5 * POM_PI, 0.0, cz ? 2.0 : 1.8, 80.0 * POM_DEG, 60.0 * POM_DEG, 0.0, 0.0}};
     setup_t z = *s3;
-    check_true(pom_kin_arch_from_design(&z.arch, POM_ARCH_3PSS, &dz, &err) == POM_OK);
+    check_true(pom_kin_arch_from_design(&z.arch, pom_kin_arch_type_find("3PSS"), &dz, &err) == POM_OK);
     check_true(pom_kin_mechanism_from(&z.mech, &z.arch, &z.in, &err) == POM_OK);
     pom_dyn_params pz = p;
     pz.maneuver.horizon = 0.03;

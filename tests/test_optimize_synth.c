@@ -170,7 +170,8 @@ static void test_known_optimum(void) {
   check_true(pom_kin_arch_load(&back, cfg, &err) == POM_OK);
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
-      check_abs(back.base_point[i][j], run->scaled.base_point[i][j], 1e-9);
+      check_abs(pom_kin_arch_points(&back, "base_points_m")[3 * i + j],
+                pom_kin_arch_points(&run->scaled, "base_points_m")[3 * i + j], 1e-9);
   pom_cfg_destroy(cfg);
   remove(geo);
   remove(h5);
@@ -196,7 +197,8 @@ static void test_responses(void) {
   check_rel(resp[POM_SYN_RESP_GCI], gci, 1e-12);
   double r = 0.0;
   for (int i = 0; i < 3; ++i)
-    r = fmax(r, hypot(arch.base_point[i][0], arch.base_point[i][1]));
+    r = fmax(r, hypot(pom_kin_arch_points(&arch, "base_points_m")[3 * i],
+                         pom_kin_arch_points(&arch, "base_points_m")[3 * i + 1]));
   check_rel(resp[POM_SYN_RESP_FOOTPRINT], r / arch.design.scale, 1e-14);
   /* A region of +-20 deg reaches beyond the stroke on about 9 % of its
      measure: the GCI is the mean over the usable poses only, and the

@@ -1,0 +1,404 @@
+/* arch_3rrr.c - the 3-RRR spherical parallel wrist (Gosselin's Agile Eye
+ * family) driven by three rotary voice coils: every one of the nine revolute
+ * axes passes through O. Leg i: base (actuated) axis u_i fixed in the
+ * ground, intermediate (elbow) axis w_i, platform axis v_i fixed in the
+ * platform; the proximal link keeps the angle alpha1 between u_i and w_i,
+ * the distal link alpha2 between w_i and v_i (derivation:
+ * docs/kinematics-3rrr.md). One implementation of pom_kin_arch_type. */
+#include "pom_arch.h"
+
+#include "kin_internal.h"
+#include "pom_math.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <string.h>
+
+/* Private geometry: unit axes at home (fixed frame = platform frame). */
+typedef struct {
+  double base_axis[3][3];     /* u_i, actuated, fixed in the ground */
+  double elbow_axis[3][3];    /* w_i at home (theta_i = 0) */
+  double platform_axis[3][3]; /* v_i in the platform frame */
+  double cos_distal[3];       /* cos alpha2 = w_i . v_i */
+  double branch[3];           /* +1 or -1: the IK root (working mode) that is 0 at home */
+} rrr;
+
+enum { P_FIRST_AZ, P_ALPHA1, P_ALPHA2, P_BETA, P_GAMMA, P_TWIST, P_ELBOW, P_COUNT };
+
+static const pom_kin_param_desc params[P_COUNT] = {
+    {"first_azimuth_deg", "azimuth of base axis u_1 (leg i at + (i - 1) 120 deg)", POM_DEG, -360.0,
+     360.0, 1, 90.0, 0},
+    {"proximal_angle_deg", "alpha1: angle of the proximal link, u_i to w_i", POM_DEG, 1.0, 179.0,
+     0, 0.0, 1},
+    {"distal_angle_deg", "alpha2: angle of the distal link, w_i to v_i", POM_DEG, 1.0, 179.0, 0,
+     0.0, 1},
+    {"base_cone_deg", "beta: angle of the base axes u_i from -z", POM_DEG, 0.0, 180.0, 0, 0.0, 1},
+    {"platform_cone_deg", "gamma: angle of the platform axes v_i from +z", POM_DEG, 0.0, 180.0, 0,
+     0.0, 1},
+    {"platform_twist_deg", "azimuth of v_i minus that of u_i at home", POM_DEG, -360.0, 360.0, 1,
+     60.0, 1},
+    {"elbow", "+1 or -1: elbow w_i on the side of u_i x v_i (+1) or the other", 1.0, -1.0, 1.0, 1,
+     1.0, 0},
+};
+
+static const pom_kin_points_desc points[] = {
+    {"base_axes", "u_i, actuated base axes (unit, through O)", offsetof(rrr, base_axis), 0},
+    {"elbow_axes", "w_i, intermediate axes at home (unit, through O)", offsetof(rrr, elbow_axis),
+     0},
+    {"platform_axes", "v_i, platform axes at home (unit, through O)", offsetof(rrr, platform_axis),
+     0},
+};
+
+/* Link model (docs/kinematics-3rrr.md section 6), SI after loading. */
+enum { V_DENSITY, V_SECTION, V_ELBOW_MASS, V_ROTOR_MASS, V_ROTOR_INERTIA, V_COUNT };
+static const pom_kin_value_desc values[V_COUNT] = {
+    {"link_density_kg_m3", "density of the arc links", 1.0, 1.0, 1e5, 0, 0.0},
+    {"link_section_mm2", "cross-section area of the arc links", 1e-6, 1e-3, 1e4, 0, 0.0},
+    {"elbow_mass_kg", "point mass of each elbow joint housing, on the distal link at r w_i", 1.0,
+     0.0, 10.0, 1, 0.0},
+    {"rotor_mass_kg", "mass of each rotary voice coil rotor, on u_i at r", 1.0, 0.0, 10.0, 1, 0.0},
+    {"rotor_inertia_kgm2", "rotor moment about its axis u_i", 1.0, 0.0, 1.0, 1, 0.0},
+};
+
+/* ---- geometry --------------------------------------------------------------- */
+static void axis_at(double out[3], double azimuth, double polar_from_z, double zsign) {
+  out[0] = sin(polar_from_z) * cos(azimuth);
+  out[1] = sin(polar_from_z) * sin(azimuth);
+  out[2] = zsign * cos(polar_from_z);
+}
+
+static pom_status from_design(pom_kin_arch *arch, const pom_kin_design *d, pom_error *err) {
+  rrr *g = POM_KIN_DATA(rrr, arch);
+  const double *x = d->x;
+  double c1 = cos(x[P_ALPHA1]), c2 = cos(x[P_ALPHA2]);
+  double elbow = x[P_ELBOW] >= 0.0 ? 1.0 : -1.0;
+  if (x[P_ELBOW] == 0.0) POM_FAIL(err, POM_ERR_ARG, "design: elbow must be +1 or -1, not 0");
+  for (int i = 0; i < 3; ++i) {
+    double phi = x[P_FIRST_AZ] + 2.0 * POM_PI * i / 3.0;
+    double *u = g->base_axis[i], *v = g->platform_axis[i], *w = g->elbow_axis[i], uxv[3];
+    axis_at(u, phi, x[P_BETA], -1.0);
+    axis_at(v, phi + x[P_TWIST], x[P_GAMMA], 1.0);
+    /* w = a u + b v + c (u x v) with u.w = cos alpha1, v.w = cos alpha2, |w| = 1 */
+    double cuv = pom_v3_dot(u, v), s2 = 1.0 - cuv * cuv;
+    if (!(s2 > POM_KIN_HOME_MIN_COS))
+      POM_FAIL(err, POM_ERR_ARG, "leg %d: base and platform axes are parallel at home", i + 1);
+    double a = (c1 - c2 * cuv) / s2, b = (c2 - c1 * cuv) / s2;
+    double rest = 1.0 - (a * a + b * b + 2.0 * a * b * cuv);
+    if (!(rest >= 0.0))
+      POM_FAIL(err, POM_ERR_ARG,
+               "leg %d: the links cannot join u and v at home (angle u-v %.4g deg, alpha1 + "
+               "alpha2 = %.4g deg)",
+               i + 1, acos(cuv) / POM_DEG, (x[P_ALPHA1] + x[P_ALPHA2]) / POM_DEG);
+    double c = elbow * sqrt(rest / s2);
+    pom_v3_cross(uxv, u, v);
+    for (int k = 0; k < 3; ++k)
+      w[k] = a * u[k] + b * v[k] + c * uxv[k];
+  }
+  return POM_OK;
+}
+
+/* theta = atan2(B, A) + branch acos(-C / rho) solves A cos + B sin + C = 0
+ * (docs/kinematics-3rrr.md section 2); coefficients at platform axis v. */
+static void leg_coefficients(const rrr *g, int i, const double v[3], double *A, double *B,
+                             double *C) {
+  const double *u = g->base_axis[i], *w0 = g->elbow_axis[i];
+  double uw = pom_v3_dot(u, w0), uv = pom_v3_dot(u, v), uxw[3];
+  pom_v3_cross(uxw, u, w0);
+  *A = pom_v3_dot(w0, v) - uw * uv;
+  *B = pom_v3_dot(uxw, v);
+  *C = uw * uv - g->cos_distal[i];
+}
+
+static pom_status finish(pom_kin_arch *arch, pom_error *err) {
+  rrr *g = POM_KIN_DATA(rrr, arch);
+  if (!(arch->design.scale > 0.0))
+    POM_FAIL(err, POM_ERR_ARG,
+             "the link radius (geometry.link_radius_mm) is needed: it sizes the links");
+  for (int i = 0; i < 3; ++i) {
+    double *u = g->base_axis[i], *w = g->elbow_axis[i], *v = g->platform_axis[i];
+    if (!(pom_v3_normalize(u, u) > 0.0) || !(pom_v3_normalize(w, w) > 0.0) ||
+        !(pom_v3_normalize(v, v) > 0.0))
+      POM_FAIL(err, POM_ERR_ARG, "leg %d: an axis has zero length", i + 1);
+    g->cos_distal[i] = pom_v3_dot(w, v);
+    double A, B, C;
+    leg_coefficients(g, i, v, &A, &B, &C);
+    /* theta = 0 is a root at home: the branch whose root it is */
+    double phi = atan2(B, A);
+    if (fabs(phi) < POM_KIN_HOME_MIN_COS)
+      POM_FAIL(err, POM_ERR_ARG,
+               "leg %d: u, w and v are coplanar at home (a leg singularity: the two working "
+               "modes meet)",
+               i + 1);
+    g->branch[i] = phi > 0.0 ? -1.0 : 1.0;
+  }
+  return POM_OK;
+}
+
+/* ---- inverse kinematics ------------------------------------------------------ */
+/* theta_i at platform axis v (unit, fixed frame) and w(theta_i); 0 when the
+ * leg cannot be assembled. */
+static int leg_angle(const rrr *g, int i, const double v[3], double *theta, double w[3]) {
+  double A, B, C;
+  leg_coefficients(g, i, v, &A, &B, &C);
+  double rho = hypot(A, B);
+  if (!(rho > 0.0)) return 0;
+  double c = -C / rho;
+  if (!(c >= -1.0 && c <= 1.0)) return 0; /* also false for NaN */
+  double t = atan2(B, A) + g->branch[i] * acos(c);
+  t = remainder(t, 2.0 * POM_PI); /* in [-pi, pi] */
+  *theta = t;
+  const double *u = g->base_axis[i], *w0 = g->elbow_axis[i];
+  double uxw[3], ct = cos(t), st = sin(t), uw = pom_v3_dot(u, w0);
+  pom_v3_cross(uxw, u, w0);
+  for (int k = 0; k < 3; ++k)
+    w[k] = ct * w0[k] + st * uxw[k] + (1.0 - ct) * uw * u[k];
+  return 1;
+}
+
+static int limb(const pom_kin_arch *arch, int i, const double R[9], double *q, double row[3]) {
+  const rrr *g = POM_KIN_CDATA(rrr, arch);
+  double v[3], w[3];
+  pom_m3_apply(v, R, g->platform_axis[i]);
+  if (!leg_angle(g, i, v, q, w)) return 0;
+  if (row) {
+    /* theta_dot = (w x v) . omega / ((u x w) . v) */
+    double uxw[3], wxv[3];
+    pom_v3_cross(uxw, g->base_axis[i], w);
+    double den = pom_v3_dot(uxw, v);
+    if (den == 0.0) return 0; /* leg (type-1) singularity */
+    pom_v3_cross(wxv, w, v);
+    pom_v3_scale(row, 1.0 / den, wxv);
+  }
+  return 1;
+}
+
+/* ---- body twists (docs/kinematics-3rrr.md section 4) ---------------------------- */
+/* Rotation about unit axis u by angle t (Rodrigues). */
+static void axis_rotation(double R[9], const double u[3], double t) {
+  double c = cos(t), s = sin(t), C = 1.0 - c;
+  R[0] = c + C * u[0] * u[0];
+  R[1] = C * u[0] * u[1] - s * u[2];
+  R[2] = C * u[0] * u[2] + s * u[1];
+  R[3] = C * u[1] * u[0] + s * u[2];
+  R[4] = c + C * u[1] * u[1];
+  R[5] = C * u[1] * u[2] - s * u[0];
+  R[6] = C * u[2] * u[0] - s * u[1];
+  R[7] = C * u[2] * u[1] + s * u[0];
+  R[8] = c + C * u[2] * u[2];
+}
+
+/* Orthonormal frame (columns) of the pair (a, b): a, unit(b - (a.b) a), and
+ * their cross product. */
+static void pair_frame(double F[9], const double a[3], const double b[3]) {
+  double e2[3], e3[3];
+  pom_v3_axpy(e2, b, -pom_v3_dot(a, b), a);
+  pom_v3_normalize(e2, e2);
+  pom_v3_cross(e3, a, e2);
+  for (int r = 0; r < 3; ++r) {
+    F[3 * r + 0] = a[r];
+    F[3 * r + 1] = e2[r];
+    F[3 * r + 2] = e3[r];
+  }
+}
+
+static int limb_twist(const pom_kin_arch *arch, int i, const double R[9], const double om[3],
+                      pom_kin_twists *out) {
+  const rrr *g = POM_KIN_CDATA(rrr, arch);
+  const double *u = g->base_axis[i];
+  double v[3], w[3], theta;
+  pom_m3_apply(v, R, g->platform_axis[i]);
+  if (!leg_angle(g, i, v, &theta, w)) return 0;
+  double n[3], wxv[3];
+  pom_v3_cross(n, u, w); /* n = u x w */
+  double nv = pom_v3_dot(n, v);
+  if (nv == 0.0) return 0;
+  pom_v3_cross(wxv, w, v);
+  double Jr[3];
+  pom_v3_scale(Jr, 1.0 / nv, wxv);
+  double td = pom_v3_dot(Jr, om);
+  /* theta_ddot at omega_dot = 0: from d2/dt2 (w . v) = 0 with
+   * w_dot = theta_dot n, n_dot = theta_dot u x n, v_dot = om x v */
+  double uxn[3], omv[3], omomv[3];
+  pom_v3_cross(uxn, u, n);
+  pom_v3_cross(omv, om, v);
+  pom_v3_cross(omomv, om, omv);
+  double tb =
+      -(td * td * pom_v3_dot(uxn, v) + 2.0 * td * pom_v3_dot(n, omv) + pom_v3_dot(w, omomv)) / nv;
+  out->q[i] = theta;
+  pom_v3_copy(out->J + 3 * i, Jr);
+  out->q_bias[i] = tb;
+
+  /* proximal: turns about u by theta; reference point O */
+  pom_kin_body_twist *px = &out->body[2 + 2 * i], *ds = &out->body[3 + 2 * i];
+  pom_kin_twist_rest(px);
+  axis_rotation(px->R, u, theta);
+  pom_kin_outer(px->B, u, Jr);
+  pom_v3_scale(px->alpha_bias, tb, u);
+
+  /* distal: keeps w and v; omega_d = omega + beta v, beta = -(omega . n) / (v . n) */
+  pom_kin_twist_rest(ds);
+  double F0[9], F[9];
+  pair_frame(F0, g->elbow_axis[i], g->platform_axis[i]);
+  pair_frame(F, w, v);
+  pom_m3_mult(ds->R, F, F0);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      ds->B[3 * r + c] = (r == c ? 1.0 : 0.0) - v[r] * n[c] / nv;
+  double beta = -pom_v3_dot(om, n) / nv, ndot[3];
+  pom_v3_scale(ndot, td, uxn);
+  double betad =
+      -(pom_v3_dot(om, ndot) * nv - pom_v3_dot(om, n) * (pom_v3_dot(omv, n) + pom_v3_dot(v, ndot))) /
+      (nv * nv);
+  for (int k = 0; k < 3; ++k)
+    ds->alpha_bias[k] = betad * v[k] + beta * omv[k];
+  return 1;
+}
+
+/* ---- limits, footprint ----------------------------------------------------------- */
+/* Kind 1: the angle between the elbow axes of each leg pair (the elbow
+ * housings are the bulkiest parts; docs/kinematics-3rrr.md section 5). */
+static void limit_values(const pom_kin_arch *arch, const double R[9], const double q[3],
+                         double value[9]) {
+  const rrr *g = POM_KIN_CDATA(rrr, arch);
+  double w[3][3];
+  for (int i = 0; i < 3; ++i) {
+    double v[3], t;
+    pom_m3_apply(v, R, g->platform_axis[i]);
+    if (!leg_angle(g, i, v, &t, w[i])) pom_v3_set(w[i], NAN, NAN, NAN);
+  }
+  (void)q;
+  for (int k = 0; k < 3; ++k) {
+    value[k] = pom_kin_angle_between(w[k], w[(k + 1) % 3]);
+    value[3 + k] = value[6 + k] = 0.0;
+  }
+}
+
+/* The motors sit on u_i at the link radius. */
+static double footprint(const pom_kin_arch *arch) {
+  const rrr *g = POM_KIN_CDATA(rrr, arch);
+  double r = 0.0;
+  for (int i = 0; i < 3; ++i)
+    r = fmax(r, hypot(g->base_axis[i][0], g->base_axis[i][1]));
+  return r * arch->design.scale;
+}
+
+/* ---- mechanism (link model: docs/kinematics-3rrr.md section 6) ------------------- */
+/* Mass, CM and inertia about O of a thin circular arc of radius r from unit a
+ * to unit b (angle acos(a . b)), linear density lam (kg/m). */
+static void arc_inertia(double *mass, double cm[3], double IO[9], const double a[3],
+                        const double b[3], double r, double lam) {
+  double F[9];
+  pair_frame(F, a, b);
+  double e1[3] = {F[0], F[3], F[6]}, e2[3] = {F[1], F[4], F[7]};
+  double al = pom_kin_angle_between(a, b), m = lam * r * al;
+  double c11 = 0.5 * al + 0.25 * sin(2.0 * al), c22 = 0.5 * al - 0.25 * sin(2.0 * al);
+  double c12 = 0.5 * sin(al) * sin(al), k = lam * r * r * r;
+  *mass = m;
+  for (int i = 0; i < 3; ++i) {
+    cm[i] = r / al * (sin(al) * e1[i] + (1.0 - cos(al)) * e2[i]);
+    for (int j = 0; j < 3; ++j) {
+      double S = k * (c11 * e1[i] * e1[j] + c22 * e2[i] * e2[j] + c12 * (e1[i] * e2[j] + e2[i] * e1[j]));
+      IO[3 * i + j] = (i == j ? m * r * r : 0.0) - S;
+    }
+  }
+}
+
+/* Adds a point mass m at p to (mass, first moment s = sum m x, IO). */
+static void add_point(double *mass, double s[3], double IO[9], double m, const double p[3]) {
+  double pp = pom_v3_dot(p, p);
+  *mass += m;
+  for (int i = 0; i < 3; ++i) {
+    s[i] += m * p[i];
+    for (int j = 0; j < 3; ++j)
+      IO[3 * i + j] += m * ((i == j ? pp : 0.0) - p[i] * p[j]);
+  }
+}
+
+/* Writes a body given its mass, first moment about O and inertia about O. */
+static int body_from_O(pom_mechanism *mech, const char *name, int limb_no, double mass,
+                       const double s[3], const double IO[9]) {
+  double I3[9], cm[3];
+  pom_m3_identity(I3);
+  pom_v3_scale(cm, 1.0 / mass, s);
+  int k = pom_kin_build_body(mech, name, limb_no, NULL, I3, cm);
+  pom_mech_body *b = &mech->body[k];
+  double cc = pom_v3_dot(cm, cm);
+  b->mass = mass;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      b->inertia[3 * i + j] = IO[3 * i + j] - mass * ((i == j ? cc : 0.0) - cm[i] * cm[j]);
+  for (int i = 0; i < 3; ++i) /* exactly symmetric */
+    for (int j = 0; j < i; ++j)
+      b->inertia[3 * i + j] = b->inertia[3 * j + i];
+  return k;
+}
+
+static pom_status mechanism(pom_mechanism *mech, const pom_kin_arch *arch,
+                            const pom_kin_inertia *in, pom_error *err) {
+  const rrr *g = POM_KIN_CDATA(rrr, arch);
+  const double r = arch->design.scale, lam = in->value[V_DENSITY] * in->value[V_SECTION];
+  const double O[3] = {0.0, 0.0, 0.0};
+  for (int i = 0; i < 3; ++i) {
+    const double *u = g->base_axis[i], *w = g->elbow_axis[i], *v = g->platform_axis[i];
+    double m, c[3], IO[9], s[3], p[3];
+    /* proximal: arc u -> w plus the rotor (mass on u at r, axisymmetric
+     * about u: J_r axial, J_r / 2 transverse) */
+    arc_inertia(&m, c, IO, u, w, r, lam);
+    pom_v3_scale(s, m, c);
+    pom_v3_scale(p, r, u);
+    add_point(&m, s, IO, in->value[V_ROTOR_MASS], p);
+    double Jr = in->value[V_ROTOR_INERTIA];
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b)
+        IO[3 * a + b] += 0.5 * Jr * ((a == b ? 1.0 : 0.0) + u[a] * u[b]);
+    if (!(m > 0.0)) POM_FAIL(err, POM_ERR_ARG, "leg %d: the proximal link has no mass", i + 1);
+    int prox = body_from_O(mech, "proximal", i + 1, m, s, IO);
+    /* distal: arc w -> v plus the elbow housing at r w */
+    arc_inertia(&m, c, IO, w, v, r, lam);
+    pom_v3_scale(s, m, c);
+    pom_v3_scale(p, r, w);
+    add_point(&m, s, IO, in->value[V_ELBOW_MASS], p);
+    int dist = body_from_O(mech, "distal", i + 1, m, s, IO);
+    int ju = pom_kin_build_joint(mech, "U", i + 1, POM_JOINT_REVOLUTE, 0, prox, O, u, NULL);
+    pom_kin_build_actuator(mech, ju, prox, arch->stroke);
+    pom_kin_build_joint(mech, "W", i + 1, POM_JOINT_REVOLUTE, prox, dist, O, w, NULL);
+    pom_kin_build_joint(mech, "V", i + 1, POM_JOINT_REVOLUTE, dist, mech->platform, O, v, NULL);
+  }
+  return POM_OK;
+}
+
+const pom_kin_arch_type pom_kin_arch_3rrr = {
+    .name = "3RRR",
+    .label = "3-RRR",
+    .description = "spherical wrist (Agile Eye family): three rotary voice coils on base axes "
+                   "through O, arc links, all nine revolute axes through O",
+    .actuator = POM_ACT_REVOLUTE,
+    .data_size = sizeof(rrr),
+    .scale_key = "link_radius_mm",
+    .scale_meaning = "link radius: distance of the arc links from O (angles alone fix the "
+                     "kinematics; the radius sets masses, inertias and the torque needed)",
+    .scale_sets_kinematics = 0,
+    .n_params = P_COUNT,
+    .params = params,
+    .n_points = 3,
+    .points = points,
+    .limits = {{0},
+               {"elbow angle", 1, 1, "min_elbow_angle_deg", "elbow_angle_deg", "deg",
+                1.0 / POM_DEG, 0.0, 180.0, 0.0, POM_KIN_LIMCLASS_INTERFERENCE},
+               {0},
+               {0}},
+    .default_stroke = 60.0 * POM_DEG,
+    .n_inertia_bodies = 0,
+    .inertia_bodies = NULL,
+    .n_inertia_values = V_COUNT,
+    .inertia_values = values,
+    .unreachable = "the distal link cannot reach the platform axis (no real IK root), or the leg "
+                   "is at a leg singularity",
+    .from_design = from_design,
+    .finish = finish,
+    .limb = limb,
+    .limb_twist = limb_twist,
+    .limit_values = limit_values,
+    .footprint = footprint,
+    .mechanism = mechanism,
+};
