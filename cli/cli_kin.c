@@ -98,9 +98,10 @@ void pom_cli_kin_print_limits(FILE *out, const pom_kin_arch *arch, const pom_kin
     const pom_kin_limit_desc *ld = &arch->type->limits[kind];
     if (!ld->name) continue;
     const double *v = p->limit + 3 * kind, f = ld->to_display;
-    fprintf(out, "  %-14s %s %8.4g %-4s %s = %.3f %.3f %.3f %s\n", ld->name, ld->lower ? ">=" : "<=",
-            arch->limit_bound[kind] * f, ld->unit, ld->per_pair ? "1-2, 2-3, 3-1" : "limbs 1, 2, 3",
-            v[0] * f, v[1] * f, v[2] * f, ld->unit);
+    fprintf(out, "  %-14s %s %8.4g %-4s %s = %.3f %.3f %.3f %s\n", ld->name,
+            ld->lower ? ">=" : "<=", arch->limit_bound[kind] * f, ld->unit,
+            ld->per_pair ? "1-2, 2-3, 3-1" : "limbs 1, 2, 3", v[0] * f, v[1] * f, v[2] * f,
+            ld->unit);
   }
   char buf[512];
   pom_kin_violations_text(arch, p->violations, buf, sizeof buf);
@@ -109,8 +110,10 @@ void pom_cli_kin_print_limits(FILE *out, const pom_kin_arch *arch, const pom_kin
 
 void pom_cli_kin_pose_json(FILE *out, const pom_kin_arch *arch, const pom_kin_pose *p) {
   const pom_act_units *u = pom_act_units_of(pom_kin_type_actuator(arch->type));
-  fprintf(out, "\"actuator_kind\": \"%s\",\n  \"actuator_unit\": \"%s\",\n  \"display_unit\": \"%s\",\n  ",
-          u->kind_name, u->si, u->display);
+  fprintf(
+      out,
+      "\"actuator_kind\": \"%s\",\n  \"actuator_unit\": \"%s\",\n  \"display_unit\": \"%s\",\n  ",
+      u->kind_name, u->si, u->display);
   fprintf(out, "\"reachable\": %s,\n  \"unreachable_limb\": ", p->reachable ? "true" : "false");
   if (p->unreachable_limb >= 0) {
     fprintf(out, "%d", p->unreachable_limb + 1);
@@ -123,7 +126,8 @@ void pom_cli_kin_pose_json(FILE *out, const pom_kin_arch *arch, const pom_kin_po
           "\"singular_values\": null,\n  \"kappa\": null,\n  \"dexterity\": null",
           out);
     for (int kind = 1; kind < POM_KIN_LIM_KINDS; ++kind)
-      if (arch->type->limits[kind].name) fprintf(out, ",\n  \"%s\": null", arch->type->limits[kind].json);
+      if (arch->type->limits[kind].name)
+        fprintf(out, ",\n  \"%s\": null", arch->type->limits[kind].json);
     fputs(",\n  \"within_limits\": false,\n  \"violations\": []", out);
     return;
   }

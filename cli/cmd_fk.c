@@ -9,19 +9,20 @@
 #include <string.h>
 
 static void fk_usage(FILE *out) {
-  fprintf(out, "usage: pomlab fk CONFIG --q Q1,Q2,Q3 [--json]\n\n"
-               "Forward kinematics: the platform orientation on the home assembly branch for\n"
-               "actuator displacements Q1,Q2,Q3 in MILLIMETRES from mid-stroke (positive =\n"
-               "extension). Newton with the analytic Jacobian from home, continued along\n"
-               "q(t) = t q when direct Newton fails. Prints the rotation matrix, the ZYX Euler\n"
-               "angles (degrees) and the unit quaternion (w, x, y, z), the iterations, the\n"
-               "residual max|q(R) - q| (m or rad), the dexterity and the limits at that pose.\n\n"
-               "  --q Q1,Q2,Q3  actuator coordinates: mm (linear actuators) or deg (rotary) (required)\n"
-               "  --json        machine-readable output on stdout\n"
-               "  --help        this text\n\n"
-               "Reads the config groups name, architecture, geometry, limits.\n"
-               "Exit status: 0 solved and within limits; 1 no solution, or a limit violated at\n"
-               "the solution (the report is still printed); 2 usage or config error.\n");
+  fprintf(out,
+          "usage: pomlab fk CONFIG --q Q1,Q2,Q3 [--json]\n\n"
+          "Forward kinematics: the platform orientation on the home assembly branch for\n"
+          "actuator displacements Q1,Q2,Q3 in MILLIMETRES from mid-stroke (positive =\n"
+          "extension). Newton with the analytic Jacobian from home, continued along\n"
+          "q(t) = t q when direct Newton fails. Prints the rotation matrix, the ZYX Euler\n"
+          "angles (degrees) and the unit quaternion (w, x, y, z), the iterations, the\n"
+          "residual max|q(R) - q| (m or rad), the dexterity and the limits at that pose.\n\n"
+          "  --q Q1,Q2,Q3  actuator coordinates: mm (linear actuators) or deg (rotary) (required)\n"
+          "  --json        machine-readable output on stdout\n"
+          "  --help        this text\n\n"
+          "Reads the config groups name, architecture, geometry, limits.\n"
+          "Exit status: 0 solved and within limits; 1 no solution, or a limit violated at\n"
+          "the solution (the report is still printed); 2 usage or config error.\n");
 }
 
 int pom_cmd_fk(int argc, char **argv) {

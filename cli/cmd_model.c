@@ -181,8 +181,8 @@ static void model_mechanism_text(const pom_kin_arch *a, const pom_mechanism *m) 
   for (int kind = 1; kind < POM_KIN_LIM_KINDS; ++kind) {
     const pom_kin_limit_desc *ld = &t->limits[kind];
     if (!ld->name) continue;
-    printf(", %s %s %.4g %s", ld->name, ld->lower ? ">=" : "<=",
-           a->limit_bound[kind] * ld->to_display, ld->unit);
+    printf(", %s %s %.4g %s", ld->name,
+           ld->lower ? ">=" : "<=", a->limit_bound[kind] * ld->to_display, ld->unit);
   }
   printf("\n");
   printf("gravity (m/s^2): %g %g %g\n", m->gravity[0], m->gravity[1], m->gravity[2]);

@@ -59,8 +59,8 @@ static void print_human(const pom_syn_run *run, const char *geo_path, const char
          run->n_degenerate, run->design_time);
   printf("variables:");
   for (int i = 0; i < k; ++i)
-    printf("  %s in [%.4g, %.4g]", pom_syn_var_name(pb, i),
-           pb->lo[i] * pom_syn_var_unit(pb, i), pb->hi[i] * pom_syn_var_unit(pb, i));
+    printf("  %s in [%.4g, %.4g]", pom_syn_var_name(pb, i), pb->lo[i] * pom_syn_var_unit(pb, i),
+           pb->hi[i] * pom_syn_var_unit(pb, i));
   printf("\n\nfits (full quadratic, coded units):\n");
   printf("  %-14s %8s %8s %8s %9s %10s %10s %9s\n", "response", "R2", "R2adj", "R2pred", "LOF p",
          "hold rmse", "hold maxab", "in PI");
@@ -106,8 +106,7 @@ static void print_human(const pom_syn_run *run, const char *geo_path, const char
   printf("\noptimum on the surfaces (D = %.4f predicted, %.4f confirmed):\n ", run->d_predicted,
          run->d_confirmed);
   for (int i = 0; i < k; ++i)
-    printf(" %s = %.5g", pom_syn_var_name(pb, i),
-           run->x_opt[i] * pom_syn_var_unit(pb, i));
+    printf(" %s = %.5g", pom_syn_var_name(pb, i), run->x_opt[i] * pom_syn_var_unit(pb, i));
   printf("\n  %-14s %12s %12s %12s\n", "response", "predicted", "confirmed", "error");
   for (int r = 0; r < POM_SYN_N_RESP; ++r) {
     double u = pom_syn_resp_unit((pom_syn_resp)r);
@@ -144,8 +143,7 @@ static void print_human(const pom_syn_run *run, const char *geo_path, const char
   if (run->direct_done) {
     printf("\ndirect optimization on the true kinematics (D = %.4f):\n ", run->d_direct);
     for (int i = 0; i < k; ++i)
-      printf(" %s = %.5g", pom_syn_var_name(pb, i),
-             run->x_direct[i] * pom_syn_var_unit(pb, i));
+      printf(" %s = %.5g", pom_syn_var_name(pb, i), run->x_direct[i] * pom_syn_var_unit(pb, i));
     printf("\n  %ld true evaluations (%ld global %s, %ld local %s), %.3f s\n",
            run->direct.evals_global + run->direct.evals_local, run->direct.evals_global,
            pom_opt_result_name(run->direct.result_global), run->direct.evals_local,
@@ -202,8 +200,8 @@ static void print_json(pom_syn_run *const runs[], int n, char paths[][2][512]) {
            pom_kin_arch_name(&pb->base), run->n_runs, run->n_degenerate);
     printf(" \"variables\": {");
     for (int i = 0; i < pb->n_vars; ++i)
-      printf("%s\"%s\": {\"optimum\": %s, \"direct\": %s}", i ? ", " : "",
-             pom_syn_var_name(pb, i), jn(b1, run->x_opt[i] * pom_syn_var_unit(pb, i)),
+      printf("%s\"%s\": {\"optimum\": %s, \"direct\": %s}", i ? ", " : "", pom_syn_var_name(pb, i),
+             jn(b1, run->x_opt[i] * pom_syn_var_unit(pb, i)),
              jn(b2, run->direct_done ? run->x_direct[i] * pom_syn_var_unit(pb, i) : NAN));
     printf("}, \"responses\": {");
     for (int r = 0; r < POM_SYN_N_RESP; ++r) {

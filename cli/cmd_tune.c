@@ -149,10 +149,10 @@ int pom_cmd_tune(int argc, char **argv) {
              "\"kd_s\": %s, \"criterion_s\": %s, \"mean_execution_s\": %s, \"max_overshoot\": %s, "
              "\"max_saturation_s\": %s, \"unsettled\": %d, \"initial_criterion_s\": %s, "
              "\"evaluations\": %ld, \"simulations\": %ld, \"file\": ",
-             pom_kin_arch_name(&pbs[c].arch), jn(b[0], res[c].best.kp),
-             jn(b[1], res[c].best.ki), jn(b[2], res[c].best.kd), jn(b[3], e->criterion),
-             jn(b[4], e->mean_execution), jn(b[5], e->max_overshoot), jn(b[6], e->max_saturation),
-             e->unsettled, jn(b[7], res[c].initial_eval.criterion),
+             pom_kin_arch_name(&pbs[c].arch), jn(b[0], res[c].best.kp), jn(b[1], res[c].best.ki),
+             jn(b[2], res[c].best.kd), jn(b[3], e->criterion), jn(b[4], e->mean_execution),
+             jn(b[5], e->max_overshoot), jn(b[6], e->max_saturation), e->unsettled,
+             jn(b[7], res[c].initial_eval.criterion),
              res[c].opt.evals_global + res[c].opt.evals_local, res[c].simulations);
       pom_json_string(stdout, paths[c]);
       printf("}");

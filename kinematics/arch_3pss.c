@@ -28,12 +28,12 @@ enum { P_FIRST_AZ, P_HEIGHT, P_LENGTH, P_LEAN, P_AZ, P_TILT, P_TILT_AZ, P_COUNT 
 static const pom_kin_param_desc params[P_COUNT] = {
     {"first_azimuth_deg", "azimuth phi_1 of limb 1 (limb i at phi_1 + (i - 1) 120 deg)", POM_DEG,
      -360.0, 360.0, 1, 90.0, 0},
-    {"platform_height", "height of the platform points above O / platform radius", 1.0, -10.0,
-     10.0, 1, 0.0, 1},
+    {"platform_height", "height of the platform points above O / platform radius", 1.0, -10.0, 10.0,
+     1, 0.0, 1},
     {"limb_length", "link length |B_i C_i| / platform radius", 1.0, 0.1, 100.0, 0, 0.0, 1},
     {"limb_lean_deg", "angle of the home link direction from +z", POM_DEG, 0.0, 180.0, 0, 0.0, 1},
-    {"limb_azimuth_deg", "azimuth of the home link direction, from e_r toward e_t", POM_DEG,
-     -360.0, 360.0, 0, 0.0, 1},
+    {"limb_azimuth_deg", "azimuth of the home link direction, from e_r toward e_t", POM_DEG, -360.0,
+     360.0, 0, 0.0, 1},
     {"actuator_tilt_deg", "angle of the slider axis d_i from +z", POM_DEG, 0.0, 180.0, 1, 0.0, 1},
     {"actuator_azimuth_deg", "azimuth of the slider axis, from e_r toward e_t", POM_DEG, -360.0,
      360.0, 1, 0.0, 1},
@@ -231,8 +231,7 @@ static pom_status mechanism(pom_mechanism *mech, const pom_kin_arch *arch,
     int jp = pom_kin_build_joint(mech, "P", i + 1, POM_JOINT_PRISMATIC, 0, piston, B, d, NULL);
     pom_kin_build_actuator(mech, jp, piston, arch->stroke);
     pom_kin_build_joint(mech, "B", i + 1, POM_JOINT_SPHERICAL, piston, link, B, NULL, NULL);
-    pom_kin_build_joint(mech, "C", i + 1, POM_JOINT_SPHERICAL, link, mech->platform, P, NULL,
-                        NULL);
+    pom_kin_build_joint(mech, "C", i + 1, POM_JOINT_SPHERICAL, link, mech->platform, P, NULL, NULL);
   }
   return POM_OK;
 }

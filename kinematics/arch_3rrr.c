@@ -28,8 +28,8 @@ enum { P_FIRST_AZ, P_ALPHA1, P_ALPHA2, P_BETA, P_GAMMA, P_TWIST, P_ELBOW, P_COUN
 static const pom_kin_param_desc params[P_COUNT] = {
     {"first_azimuth_deg", "azimuth of base axis u_1 (leg i at + (i - 1) 120 deg)", POM_DEG, -360.0,
      360.0, 1, 90.0, 0},
-    {"proximal_angle_deg", "alpha1: angle of the proximal link, u_i to w_i", POM_DEG, 1.0, 179.0,
-     0, 0.0, 1},
+    {"proximal_angle_deg", "alpha1: angle of the proximal link, u_i to w_i", POM_DEG, 1.0, 179.0, 0,
+     0.0, 1},
     {"distal_angle_deg", "alpha2: angle of the distal link, w_i to v_i", POM_DEG, 1.0, 179.0, 0,
      0.0, 1},
     {"base_cone_deg", "beta: angle of the base axes u_i from -z", POM_DEG, 0.0, 180.0, 0, 0.0, 1},
@@ -246,9 +246,9 @@ static int limb_twist(const pom_kin_arch *arch, int i, const double R[9], const 
       ds->B[3 * r + c] = (r == c ? 1.0 : 0.0) - v[r] * n[c] / nv;
   double beta = -pom_v3_dot(om, n) / nv, ndot[3];
   pom_v3_scale(ndot, td, uxn);
-  double betad =
-      -(pom_v3_dot(om, ndot) * nv - pom_v3_dot(om, n) * (pom_v3_dot(omv, n) + pom_v3_dot(v, ndot))) /
-      (nv * nv);
+  double betad = -(pom_v3_dot(om, ndot) * nv -
+                   pom_v3_dot(om, n) * (pom_v3_dot(omv, n) + pom_v3_dot(v, ndot))) /
+                 (nv * nv);
   for (int k = 0; k < 3; ++k)
     ds->alpha_bias[k] = betad * v[k] + beta * omv[k];
   return 1;
@@ -297,7 +297,8 @@ static void arc_inertia(double *mass, double cm[3], double IO[9], const double a
   for (int i = 0; i < 3; ++i) {
     cm[i] = r / al * (sin(al) * e1[i] + (1.0 - cos(al)) * e2[i]);
     for (int j = 0; j < 3; ++j) {
-      double S = k * (c11 * e1[i] * e1[j] + c22 * e2[i] * e2[j] + c12 * (e1[i] * e2[j] + e2[i] * e1[j]));
+      double S =
+          k * (c11 * e1[i] * e1[j] + c22 * e2[i] * e2[j] + c12 * (e1[i] * e2[j] + e2[i] * e1[j]));
       IO[3 * i + j] = (i == j ? m * r * r : 0.0) - S;
     }
   }
@@ -383,8 +384,8 @@ const pom_kin_arch_type pom_kin_arch_3rrr = {
     .n_points = 3,
     .points = points,
     .limits = {{0},
-               {"elbow angle", 1, 1, "min_elbow_angle_deg", "elbow_angle_deg", "deg",
-                1.0 / POM_DEG, 0.0, 180.0, 0.0, POM_KIN_LIMCLASS_INTERFERENCE},
+               {"elbow angle", 1, 1, "min_elbow_angle_deg", "elbow_angle_deg", "deg", 1.0 / POM_DEG,
+                0.0, 180.0, 0.0, POM_KIN_LIMCLASS_INTERFERENCE},
                {0},
                {0}},
     .default_stroke = 60.0 * POM_DEG,

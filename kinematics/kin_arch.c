@@ -120,8 +120,7 @@ static void type_list(char *buf, size_t cap) {
   size_t used = 0;
   buf[0] = '\0';
   for (int k = 0; k < pom_kin_arch_type_count(); ++k) {
-    int w = snprintf(buf + used, cap - used, "%s%s", k ? ", " : "",
-                     pom_kin_arch_type_at(k)->name);
+    int w = snprintf(buf + used, cap - used, "%s%s", k ? ", " : "", pom_kin_arch_type_at(k)->name);
     if (w < 0 || (size_t)w >= cap - used) return;
     used += (size_t)w;
   }
@@ -135,9 +134,10 @@ pom_status pom_kin_arch_load(pom_kin_arch *arch, const pom_cfg *cfg, pom_error *
   POM_TRY(pom_cfg_string(cfg, "architecture", tname, sizeof tname, err));
   const pom_kin_arch_type *type = pom_kin_arch_type_find(tname);
   if (!type) {
-    char list[256];
+    char list[256], quoted[80];
     type_list(list, sizeof list);
-    return pom_cfg_error(cfg, "architecture", tname, err,
+    snprintf(quoted, sizeof quoted, "\"%s\"", tname);
+    return pom_cfg_error(cfg, "architecture", quoted, err,
                          "unknown architecture; registered: %s (pomlab model "
                          "--list-architectures)",
                          list);
@@ -209,6 +209,7 @@ const double *pom_kin_arch_points(const pom_kin_arch *arch, const char *key) {
   if (!arch || !arch->type || !key) return NULL;
   for (int k = 0; k < arch->type->n_points; ++k)
     if (strcmp(arch->type->points[k].key, key) == 0)
-      return (const double *)(const void *)((const char *)arch->data + arch->type->points[k].offset);
+      return (const double *)(const void *)((const char *)arch->data +
+                                            arch->type->points[k].offset);
   return NULL;
 }

@@ -144,8 +144,7 @@ void pom_kin_segment_limits(const double R[9], const double *from, const double 
   }
   for (int k = 0; k < 3; ++k) {
     int i = k, j = (k + 1) % 3;
-    value[6 + k] =
-        pom_kin_segment_distance(from + 3 * i, to + 3 * i, from + 3 * j, to + 3 * j);
+    value[6 + k] = pom_kin_segment_distance(from + 3 * i, to + 3 * i, from + 3 * j, to + 3 * j);
   }
 }
 
@@ -170,8 +169,7 @@ const char *pom_kin_limit_name(const pom_kin_arch *arch, int k, char *buf, size_
   return buf;
 }
 
-void pom_kin_violations_text(const pom_kin_arch *arch, unsigned violations, char *buf,
-                             size_t cap) {
+void pom_kin_violations_text(const pom_kin_arch *arch, unsigned violations, char *buf, size_t cap) {
   size_t used = 0;
   char name[64];
   if (cap == 0) return;

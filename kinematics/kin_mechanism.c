@@ -68,8 +68,8 @@ pom_status pom_kin_inertia_load(pom_kin_inertia *in, const pom_kin_arch *arch, c
   }
   POM_TRY(load_body(&in->platform, "platform", 0, cfg, err));
   for (int k = 0; k < t->n_inertia_bodies; ++k)
-    POM_TRY(load_body(&in->body[k], t->inertia_bodies[k].group, t->inertia_bodies[k].place, cfg,
-                      err));
+    POM_TRY(
+        load_body(&in->body[k], t->inertia_bodies[k].group, t->inertia_bodies[k].place, cfg, err));
   for (int k = 0; k < t->n_inertia_values; ++k) {
     const pom_kin_value_desc *v = &t->inertia_values[k];
     snprintf(key, sizeof key, "inertia.%s", v->key);
@@ -133,7 +133,8 @@ int pom_kin_build_body(pom_mechanism *m, const char *name, int limb, const pom_k
 }
 
 int pom_kin_build_joint(pom_mechanism *m, const char *name, int limb, pom_joint_type type, int b0,
-                        int b1, const double point[3], const double axis[3], const double axis2[3]) {
+                        int b1, const double point[3], const double axis[3],
+                        const double axis2[3]) {
   int k = m->n_joints++;
   pom_mech_joint *j = &m->joint[k];
   if (limb > 0) {

@@ -51,16 +51,16 @@ typedef enum {
 /* One limit kind of the type (kinds 1..3; kind 0, the actuator range, is
  * common to every type). */
 typedef struct {
-  const char *name;    /* "base cone", "limb distance": bit name is "<name> limb i" or, per pair,
-                          "<name> limbs i-j"; NULL = kind unused */
-  int per_pair;        /* 0: one value per limb; 1: per limb pair (1-2, 2-3, 3-1) */
-  int lower;           /* 0: violated when value > bound; 1: when value < bound (a clearance) */
-  const char *key;     /* config key under `limits` ("cone_base_max_deg") */
-  const char *json;    /* JSON key of the values in `pomlab ik --json` ("cone_base_deg") */
-  const char *unit;    /* display unit ("deg", "mm") */
-  double to_display;   /* display = SI * to_display */
-  double lo, hi;       /* allowed config range (display unit) */
-  double def;          /* default bound (SI), not binding */
+  const char *name;  /* "base cone", "limb distance": bit name is "<name> limb i" or, per pair,
+                        "<name> limbs i-j"; NULL = kind unused */
+  int per_pair;      /* 0: one value per limb; 1: per limb pair (1-2, 2-3, 3-1) */
+  int lower;         /* 0: violated when value > bound; 1: when value < bound (a clearance) */
+  const char *key;   /* config key under `limits` ("cone_base_max_deg") */
+  const char *json;  /* JSON key of the values in `pomlab ik --json` ("cone_base_deg") */
+  const char *unit;  /* display unit ("deg", "mm") */
+  double to_display; /* display = SI * to_display */
+  double lo, hi;     /* allowed config range (display unit) */
+  double def;        /* default bound (SI), not binding */
   pom_kin_limit_class cls;
 } pom_kin_limit_desc;
 
@@ -75,15 +75,15 @@ typedef struct {
   const char *key; /* key under `inertia`, unit in the name */
   const char *meaning;
   double to_si;
-  double lo, hi;   /* config unit */
+  double lo, hi; /* config unit */
   int optional;
-  double def;      /* config unit */
+  double def; /* config unit */
 } pom_kin_value_desc;
 
 struct pom_kin_arch_type {
-  const char *name;        /* registry key and config `architecture` value: "3PSS" */
-  const char *label;       /* "3P-S-S/S" */
-  const char *description; /* one line */
+  const char *name;           /* registry key and config `architecture` value: "3PSS" */
+  const char *label;          /* "3P-S-S/S" */
+  const char *description;    /* one line */
   pom_actuator_kind actuator; /* kind of its three actuators: fixes the unit of q */
   size_t data_size;           /* bytes of private geometry (<= sizeof pom_kin_arch.data) */
 
@@ -131,14 +131,14 @@ struct pom_kin_arch_type {
   double (*footprint)(const pom_kin_arch *arch);
   /* Bodies, joints and actuators at home (pom_kin_build_* helpers) from the
    * mass properties `in` (loaded by the inertia tables). */
-  pom_status (*mechanism)(pom_mechanism *mech, const pom_kin_arch *arch,
-                          const pom_kin_inertia *in, pom_error *err);
+  pom_status (*mechanism)(pom_mechanism *mech, const pom_kin_arch *arch, const pom_kin_inertia *in,
+                          pom_error *err);
 };
 
 /* Private geometry of arch as the implementation's struct (data_size bytes,
  * aligned for doubles). */
-#define POM_KIN_DATA(type_, arch_)       ((type_ *)(void *)(arch_)->data)
-#define POM_KIN_CDATA(type_, arch_)      ((const type_ *)(const void *)(arch_)->data)
+#define POM_KIN_DATA(type_, arch_)  ((type_ *)(void *)(arch_)->data)
+#define POM_KIN_CDATA(type_, arch_) ((const type_ *)(const void *)(arch_)->data)
 
 /* ---- helpers for implementations ---------------------------------------- */
 

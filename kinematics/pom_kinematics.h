@@ -50,10 +50,10 @@ typedef struct {
   double stroke; /* total actuator range in the unit of q (m or rad): |q_i| <= stroke / 2 */
   double limit_bound[POM_KIN_LIM_KINDS]; /* [1..3] bound of the type's limit kind k (SI);
                                             [0] unused (stroke) */
-  double home_det_sign;  /* sign of det J at home (+1 or -1): FK rejects solutions across a
-                            singularity */
-  int has_design;        /* 1 when loaded from design parameters (mode = "parameters") */
-  pom_kin_design design; /* the design parameters when has_design (else zero) */
+  double home_det_sign;           /* sign of det J at home (+1 or -1): FK rejects solutions across a
+                                     singularity */
+  int has_design;                 /* 1 when loaded from design parameters (mode = "parameters") */
+  pom_kin_design design;          /* the design parameters when has_design (else zero) */
   double data[POM_KIN_ARCH_DATA]; /* private geometry of the type (its data_size bytes) */
 } pom_kin_arch;
 
@@ -155,17 +155,17 @@ const char *pom_kin_limit_name(const pom_kin_arch *arch, int k, char *buf, size_
 
 /* Everything known about one pose. */
 typedef struct {
-  int reachable;        /* 1 when every limb was assembled on the home branch */
-  int unreachable_limb; /* 0-based limb that failed, -1 when reachable */
-  double q[3];          /* actuator displacements from mid-stroke (m) */
-  double J[9];          /* Jacobian, q_dot = J omega (m/rad), row-major */
-  double sv[3];         /* singular values of J, descending (m/rad) */
-  double kappa;         /* condition number sv0/sv2 (INFINITY when singular) */
-  double dexterity;     /* 1/kappa in [0, 1] */
+  int reachable;                   /* 1 when every limb was assembled on the home branch */
+  int unreachable_limb;            /* 0-based limb that failed, -1 when reachable */
+  double q[3];                     /* actuator displacements from mid-stroke (m) */
+  double J[9];                     /* Jacobian, q_dot = J omega (m/rad), row-major */
+  double sv[3];                    /* singular values of J, descending (m/rad) */
+  double kappa;                    /* condition number sv0/sv2 (INFINITY when singular) */
+  double dexterity;                /* 1/kappa in [0, 1] */
   double limit[POM_KIN_LIM_COUNT]; /* value of limit bit k (SI: m or rad): [0..2] |q_i| (the
                                       actuator range), [3..11] the type's limit kinds 1..3 (3PSS,
                                       3SPS: base cone angle, platform cone angle, limb distance) */
-  unsigned violations;              /* bit k set when limit k is violated (pom_kin_limit_name) */
+  unsigned violations;             /* bit k set when limit k is violated (pom_kin_limit_name) */
 } pom_kin_pose;
 
 /* Evaluates the pose R: IK, J, dexterity and every limit. Returns POM_OK when
@@ -283,7 +283,7 @@ typedef struct {
 typedef struct {
   pom_kin_body_inertia platform;
   pom_kin_body_inertia body[POM_KIN_MAX_INERTIA_BODIES]; /* [type's n_bodies] */
-  double value[POM_KIN_MAX_INERTIA_VALUES];             /* [type's n_values] SI */
+  double value[POM_KIN_MAX_INERTIA_VALUES];              /* [type's n_values] SI */
   double gravity[3]; /* gravitational acceleration, fixed frame (m/s^2) */
 } pom_kin_inertia;
 

@@ -152,8 +152,9 @@ pom_status pom_syn_load(pom_syn_problem *pb, const pom_cfg *cfg, pom_error *err)
                          type->params[k].key);
         if (w > 0 && (size_t)w < sizeof list - used) used += (size_t)w;
       }
-      return pom_cfg_error(cfg, key, name, err, "not a design variable of the %s; expected one of: %s",
-                           type->name, list);
+      return pom_cfg_error(cfg, key, name, err,
+                           "not a design variable of the %s; expected one of: %s", type->name,
+                           list);
     }
     for (int j = 0; j < i; ++j)
       if (pb->var[j] == id) return pom_cfg_error(cfg, key, name, err, "variable listed twice");

@@ -46,8 +46,8 @@ double pom_syn_resp_unit(pom_syn_resp r);
 /* The synthesis problem of one architecture (const during a run). */
 typedef struct pom_syn_problem pom_syn_problem;
 struct pom_syn_problem {
-  pom_kin_arch base; /* architecture, limits and the base design (has_design = 1) */
-  int n_vars;        /* design variables, 1..POM_RSM_MAX_K */
+  pom_kin_arch base;       /* architecture, limits and the base design (has_design = 1) */
+  int n_vars;              /* design variables, 1..POM_RSM_MAX_K */
   int var[POM_SYN_N_VARS]; /* index of variable i in base.type->params */
   double lo[POM_SYN_N_VARS], hi[POM_SYN_N_VARS]; /* bounds (SI: rad or ratio) */
   pom_kin_ws_opts ws;                            /* regular dexterous workspace settings */

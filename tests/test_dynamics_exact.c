@@ -501,7 +501,8 @@ static void test_errors(const setup_t *s3, const setup_t *u3) {
     pom_kin_design dz = {
         0.012, {0.5 * POM_PI, 0.0, cz ? 2.0 : 1.8, 80.0 * POM_DEG, 60.0 * POM_DEG, 0.0, 0.0}};
     setup_t z = *s3;
-    check_true(pom_kin_arch_from_design(&z.arch, pom_kin_arch_type_find("3PSS"), &dz, &err) == POM_OK);
+    check_true(pom_kin_arch_from_design(&z.arch, pom_kin_arch_type_find("3PSS"), &dz, &err) ==
+               POM_OK);
     check_true(pom_kin_mechanism_from(&z.mech, &z.arch, &z.in, &err) == POM_OK);
     pom_dyn_params pz = p;
     pz.maneuver.horizon = 0.03;

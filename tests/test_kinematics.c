@@ -11,7 +11,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-
 /* ---- access to the classic types' geometry through the public tables ------- */
 #define PT(a, key) ((const double(*)[3])pom_kin_arch_points((a), (key)))
 static int is_3pss(const pom_kin_arch *a) {
@@ -449,7 +448,9 @@ static void test_out_of_stroke(const pom_kin_arch *arch) {
     int truth = fabs(p.q[i]) > 0.006;
     check_true(bit == truth);
     over += truth;
-    if (truth) check_true(strstr(err.message, pom_kin_limit_name(arch, POM_KIN_LIM_STROKE + i, nm, sizeof nm)) != NULL);
+    if (truth)
+      check_true(strstr(err.message,
+                        pom_kin_limit_name(arch, POM_KIN_LIM_STROKE + i, nm, sizeof nm)) != NULL);
   }
   check_true(over > 0);
   /* home is inside every limit */
@@ -468,7 +469,8 @@ static void test_cone_and_distance_limits(const pom_kin_arch *ref) {
   /* Tighten the platform cone just below the largest angle: only that limb trips. */
   int imax = 0;
   for (int i = 1; i < 3; ++i)
-    if (p.limit[POM_KIN_LIM_CONE_PLATFORM + i] > p.limit[POM_KIN_LIM_CONE_PLATFORM + imax]) imax = i;
+    if (p.limit[POM_KIN_LIM_CONE_PLATFORM + i] > p.limit[POM_KIN_LIM_CONE_PLATFORM + imax])
+      imax = i;
   a.limit_bound[2] = 0.999 * p.limit[POM_KIN_LIM_CONE_PLATFORM + imax];
   check_true(pom_kin_pose_evaluate(&a, R, &p, NULL) == POM_ERR_LIMIT);
   check_true((p.violations & (1u << (POM_KIN_LIM_CONE_PLATFORM + imax))) != 0);
@@ -515,7 +517,8 @@ static void test_unreachable(void) {
       if (i < 0 || i > 2) break;
       double c[3];
       pom_m3_apply(c, R, PT(&a, "platform_points_m")[i]);
-      double h = hypot(c[0] - PT(&a, "slider_points_m")[i][0], c[1] - PT(&a, "slider_points_m")[i][1]);
+      double h =
+          hypot(c[0] - PT(&a, "slider_points_m")[i][0], c[1] - PT(&a, "slider_points_m")[i][1]);
       check_true(h > limb_len(&a, i));
       char want[32];
       snprintf(want, sizeof want, "limb %d", i + 1);
@@ -722,8 +725,7 @@ static void test_mechanism(const char *rel, const pom_kin_arch *arch) {
   check_true(m.n_bodies == 8 && m.n_joints == 10 && m.n_actuators == 3);
   check_true(m.platform == 1);
   check_abs(m.gravity[2], -9.81, 0.0);
-  double total = 0.0,
-         want_total = in.platform.mass + 3.0 * in.body[0].mass + 3.0 * in.body[1].mass;
+  double total = 0.0, want_total = in.platform.mass + 3.0 * in.body[0].mass + 3.0 * in.body[1].mass;
   for (int b = 0; b < m.n_bodies; ++b)
     total += m.body[b].mass;
   check_rel(total, want_total, 1e-15);
@@ -731,8 +733,8 @@ static void test_mechanism(const char *rel, const pom_kin_arch *arch) {
     /* Q diag Q^T: symmetric, eigenvalues = the principal moments of that body
      * (bodies: 1 platform, then per limb i: 2 + 2i piston (3PSS) / cylinder
      * (3SPS), 3 + 2i link (3PSS) / piston (3SPS)) */
-    const pom_kin_body_inertia *bi = b == 1 ? &in.platform
-                                     : (b % 2 == 0 ? &in.body[0] : &in.body[1]);
+    const pom_kin_body_inertia *bi =
+        b == 1 ? &in.platform : (b % 2 == 0 ? &in.body[0] : &in.body[1]);
     const double *I = m.body[b].inertia;
     check_abs(I[1] - I[3], 0.0, 0.0); /* symmetric by construction */
     check_abs(I[2] - I[6], 0.0, 0.0);

@@ -198,7 +198,7 @@ static void test_responses(void) {
   double r = 0.0;
   for (int i = 0; i < 3; ++i)
     r = fmax(r, hypot(pom_kin_arch_points(&arch, "base_points_m")[3 * i],
-                         pom_kin_arch_points(&arch, "base_points_m")[3 * i + 1]));
+                      pom_kin_arch_points(&arch, "base_points_m")[3 * i + 1]));
   check_rel(resp[POM_SYN_RESP_FOOTPRINT], r / arch.design.scale, 1e-14);
   /* A region of +-20 deg reaches beyond the stroke on about 9 % of its
      measure: the GCI is the mean over the usable poses only, and the
