@@ -38,7 +38,7 @@
 #define POM_DYN_METRICS_LIST(M, R)                                                                 \
   M(target, DOUBLE, 3, ACTUATOR, "setpoint of each actuator from mid-stroke")                      \
   M(settling_time, DOUBLE, 3, TIME,                                                                \
-    "last time outside the band of settle_band |step| about the setpoint (NaN when unsettled)")   \
+    "last time outside the band of settle_band times the step about the setpoint (NaN when unsettled)")   \
   M(settled, INT, 3, FLAG, "1 when inside its band at the horizon")                                \
   R(settling_time_final, DOUBLE, 3, TIME,                                                          \
     "settling time by MATLAB stepinfo (band about the final value)", OK, MAX,                      \
