@@ -434,14 +434,14 @@ static int write_summary(const pom_doe_study *study, const pom_doe_report *rep, 
             mixed ? ", which mix actuator kinds" : "");
   fprintf(f, "- this run: %.2f s wall, %d worker thread(s) x %d MPI rank(s)\n\n", wall, threads,
           ranks);
-  fprintf(f, "| candidate | config | model (after the study's overrides) | actuators |\n"
+  fprintf(f, "| candidate | config | actuators | model (after the study's overrides) |\n"
              "|---|---|---|---|\n");
   for (int c = 0; c < study->n_candidates; ++c) {
     char model[160];
     model_text(&study->candidates[c], model, sizeof model);
     const pom_act_units *cu = pom_act_units_of(study->candidates[c].eval.actuator_kind);
-    fprintf(f, "| %s | `%s` | %s | %s (q in %s) |\n", study->candidates[c].name,
-            study->candidates[c].source, model, cu->kind_name, cu->display);
+    fprintf(f, "| %s | `%s` | %s (q in %s) | %s |\n", study->candidates[c].name,
+            study->candidates[c].source, cu->kind_name, cu->display, model);
   }
   fprintf(f, "\n");
   pom_cli_doe_print_report(f, study, rep);
