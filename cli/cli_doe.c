@@ -5,6 +5,7 @@
 #include "pom_version.h"
 #include "pom_cli.h"
 #include "pom_progress.h"
+#include "pom_math.h"
 
 #include <errno.h>
 #include <math.h>
@@ -85,9 +86,31 @@ static const char *metric_label(pom_doe_metric m) {
   return m == POM_DOE_METRIC_TIME ? "execution time" : "expended energy";
 }
 
+/* ---- actuator kinds ------------------------------------------------------------------ */
+pom_actuator_kind pom_cli_doe_study_kind(const pom_doe_study *study, int *mixed) {
+  pom_actuator_kind k =
+      study->n_candidates > 0 ? study->candidates[0].eval.actuator_kind : POM_ACT_PRISMATIC;
+  *mixed = 0;
+  for (int c = 1; c < study->n_candidates; ++c)
+    if (study->candidates[c].eval.actuator_kind != k) *mixed = 1;
+  return k;
+}
+
+/* When the candidates mix actuator kinds, the study runs in orientation
+ * space (joint space is refused) and the reader is told why. */
+static void mixed_kinds_note(FILE *out, const pom_doe_study *study) {
+  int mixed = 0;
+  pom_cli_doe_study_kind(study, &mixed);
+  if (mixed)
+    fprintf(out, "The candidates mix actuator kinds (prismatic: q in mm; revolute: q in deg), so "
+                 "the comparison is in orientation space: every candidate is driven to the same "
+                 "platform orientations (its own actuator targets by inverse kinematics).\n\n");
+}
+
 /* ---- the report ---------------------------------------------------------------------- */
 void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
   int nc = rep->n_candidates;
+  mixed_kinds_note(out, study);
   fprintf(out, "### Table 1: execution time (ms)\n\n");
   fprintf(out, "| candidate | max | mean | min | sigma | median | p95 | n | unsettled | failed |\n"
                "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
@@ -213,24 +236,69 @@ static void json_stats(FILE *out, const char *key, const pom_doe_stats *s) {
   fprintf(out, "}");
 }
 
+/* The maneuver protocol; joint-space ranges in the actuators' SI unit. */
+static void json_montecarlo(FILE *out, const pom_doe_study *study) {
+  const pom_doe_maneuvers *mv = &study->maneuvers;
+  int mixed = 0;
+  pom_actuator_kind kind = pom_cli_doe_study_kind(study, &mixed);
+  fprintf(out, "  \"montecarlo\": {\"space\": \"%s\", ",
+          mv->space == POM_DOE_SPACE_JOINT ? "joint" : "orientation");
+  if (mv->space == POM_DOE_SPACE_JOINT) {
+    fprintf(out, "\"distribution\": \"%s\", \"actuator_unit\": \"%s\", \"range\": ",
+            mv->distribution == POM_DOE_DIST_UNIFORM ? "uniform" : "normal",
+            pom_act_units_of(kind)->si);
+    json_double(out, mv->range);
+    fprintf(out, ", \"sigma\": ");
+    json_double(out, mv->sigma);
+  } else {
+    fprintf(out, "\"mixed_actuator_kinds\": %s, \"tilt_max_rad\": ", mixed ? "true" : "false");
+    json_double(out, mv->tilt_max);
+    fprintf(out, ", \"torsion_max_rad\": ");
+    json_double(out, mv->torsion_max);
+  }
+  fprintf(out, "},\n");
+}
+
+/* The metric schema: every metric stored per maneuver in the results file. */
+static void json_metrics(FILE *out) {
+  fprintf(out, "  \"metrics\": [\n");
+  const pom_dyn_metric_info *schema = pom_dyn_metric_schema();
+  for (int j = 0; j < POM_DYN_N_METRICS; ++j) {
+    const pom_dyn_metric_info *mi = &schema[j];
+    fprintf(out, "    {\"name\": \"%s\", \"unit\": \"%s\", \"per_actuator\": %s, ", mi->name,
+            mi->unit == POM_DYN_UNIT_ACTUATOR ? "actuator_unit"
+                                              : pom_dyn_metric_unit(mi, POM_ACT_PRISMATIC),
+            mi->count == 3 ? "true" : "false");
+    fprintf(out, "\"reduced\": %s, \"description\": ", mi->stat_key ? "true" : "false");
+    json_string(out, mi->description);
+    if (mi->stat_key) fprintf(out, ", \"statistics\": \"%s\"", mi->stat_key);
+    fprintf(out, "}%s\n", j + 1 < POM_DYN_N_METRICS ? "," : "");
+  }
+  fprintf(out, "  ],\n");
+}
+
 void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
   fprintf(out, "{\n  \"study\": ");
   json_string(out, study->name);
-  fprintf(out, ",\n  \"maneuvers\": %ld,\n  \"seed\": %llu,\n  \"candidates\": [\n",
-          rep->n_maneuvers, (unsigned long long)study->maneuvers.seed);
+  fprintf(out, ",\n  \"maneuvers\": %ld,\n  \"seed\": %llu,\n", rep->n_maneuvers,
+          (unsigned long long)study->maneuvers.seed);
+  json_montecarlo(out, study);
+  json_metrics(out);
+  fprintf(out, "  \"candidates\": [\n");
   for (int c = 0; c < rep->n_candidates; ++c) {
     const pom_doe_candidate_stats *cs = &rep->cand[c];
     fprintf(out, "    {\"name\": ");
     json_string(out, study->candidates[c].name);
-    fprintf(out, ", \"done\": %ld, \"failed\": %ld, \"unsettled\": %ld,\n     ", cs->n_done,
-            cs->n_failed, cs->n_unsettled);
-    json_stats(out, "execution_time_s", &cs->execution_time);
-    fprintf(out, ",\n     ");
-    json_stats(out, "energy_J", &cs->energy);
-    fprintf(out, ",\n     ");
-    json_stats(out, "energy_positive_J", &cs->energy_positive);
-    fprintf(out, ",\n     ");
-    json_stats(out, "execution_time_stepinfo_s", &cs->execution_time_final);
+    const pom_act_units *u = pom_act_units_of(study->candidates[c].eval.actuator_kind);
+    fprintf(out,
+            ", \"actuator_kind\": \"%s\", \"actuator_unit\": \"%s\", \"done\": %ld, "
+            "\"failed\": %ld, \"unsettled\": %ld",
+            u->kind_name, u->si, cs->n_done, cs->n_failed, cs->n_unsettled);
+    /* the statistics of every reduced metric of the schema */
+    for (int s = 0; s < POM_DYN_N_STATS; ++s) {
+      fprintf(out, ",\n     ");
+      json_stats(out, pom_dyn_stat_metric(s)->stat_key, &cs->stat[s]);
+    }
     fprintf(out, "}%s\n", c + 1 < rep->n_candidates ? "," : "");
   }
   fprintf(out, "  ],\n  \"comparisons\": [\n");
@@ -310,6 +378,28 @@ static void model_text(const pom_doe_candidate *cand, char *buf, size_t cap) {
   pom_cfg_destroy(cfg);
 }
 
+/* The metrics stored per maneuver (the schema), for the reader of the
+ * results file. */
+static void write_metric_listing(FILE *f) {
+  fprintf(f, "\n### Metrics per maneuver (`/candidates/<c>/maneuvers`)\n\n"
+             "| metric | unit (SI) | shape | statistics | description |\n"
+             "|---|---|---|---|---|\n");
+  const pom_dyn_metric_info *schema = pom_dyn_metric_schema();
+  for (int j = 0; j < POM_DYN_N_METRICS; ++j) {
+    const pom_dyn_metric_info *mi = &schema[j];
+    char stat[160] = "-";
+    if (mi->stat_name)
+      snprintf(stat, sizeof stat, "`%s` (%s%s%s)", mi->stat_name,
+               mi->combine == POM_DYN_COMBINE_NONE ? "" : pom_dyn_combine_name(mi->combine),
+               mi->combine == POM_DYN_COMBINE_NONE ? "" : " over actuators, ",
+               mi->reduce == POM_DYN_REDUCE_SETTLED ? "settled maneuvers" : "ok maneuvers");
+    fprintf(f, "| `%s` | %s | %s | %s | %s |\n", mi->name,
+            mi->unit == POM_DYN_UNIT_ACTUATOR ? "actuator (m or rad)"
+                                              : pom_dyn_metric_unit(mi, POM_ACT_PRISMATIC),
+            mi->count == 3 ? "per actuator" : "scalar", stat, mi->description);
+  }
+}
+
 static int write_summary(const pom_doe_study *study, const pom_doe_report *rep, const char *output,
                          double wall, int threads, int ranks, int plots_ok, const char *dir) {
   char path[1200];
@@ -324,26 +414,38 @@ static int write_summary(const pom_doe_study *study, const pom_doe_report *rep, 
   fprintf(f, "# Study `%s`\n\n", study->name);
   fprintf(f, "- config: `%s`; results file: `%s`\n", study->source, output);
   fprintf(f, "- pomlab %s (commit %s), %s\n", POM_VERSION, POM_GIT_COMMIT, when);
-  fprintf(f,
-          "- %d candidates x %ld maneuvers, seed %llu, targets %s within +-%.3g mm of "
-          "mid-stroke (common to every candidate)\n",
-          study->n_candidates, study->maneuvers.count, (unsigned long long)study->maneuvers.seed,
-          study->maneuvers.space == POM_DOE_SPACE_JOINT
-              ? (study->maneuvers.distribution == POM_DOE_DIST_UNIFORM ? "uniform per actuator"
-                                                                       : "truncated normal")
-              : "from tilt/torsion via IK",
-          study->maneuvers.range * 1e3);
+  int mixed = 0;
+  const pom_act_units *u = pom_act_units_of(pom_cli_doe_study_kind(study, &mixed));
+  if (study->maneuvers.space == POM_DOE_SPACE_JOINT)
+    fprintf(f,
+            "- %d candidates x %ld maneuvers, seed %llu, targets %s within +-%.3g %s of "
+            "mid-stroke (common to every candidate)\n",
+            study->n_candidates, study->maneuvers.count, (unsigned long long)study->maneuvers.seed,
+            study->maneuvers.distribution == POM_DOE_DIST_UNIFORM ? "uniform per actuator"
+                                                                  : "truncated normal",
+            study->maneuvers.range * u->to_display, u->display);
+  else
+    fprintf(f,
+            "- %d candidates x %ld maneuvers, seed %llu, targets from tilt/torsion via IK (tilt "
+            "up to %.3g deg, torsion up to +-%.3g deg; the orientations are common to every "
+            "candidate%s)\n",
+            study->n_candidates, study->maneuvers.count, (unsigned long long)study->maneuvers.seed,
+            study->maneuvers.tilt_max / POM_DEG, study->maneuvers.torsion_max / POM_DEG,
+            mixed ? ", which mix actuator kinds" : "");
   fprintf(f, "- this run: %.2f s wall, %d worker thread(s) x %d MPI rank(s)\n\n", wall, threads,
           ranks);
-  fprintf(f, "| candidate | config | model (after the study's overrides) |\n|---|---|---|\n");
+  fprintf(f, "| candidate | config | actuators | model (after the study's overrides) |\n"
+             "|---|---|---|---|\n");
   for (int c = 0; c < study->n_candidates; ++c) {
     char model[160];
     model_text(&study->candidates[c], model, sizeof model);
-    fprintf(f, "| %s | `%s` | %s |\n", study->candidates[c].name, study->candidates[c].source,
-            model);
+    const pom_act_units *cu = pom_act_units_of(study->candidates[c].eval.actuator_kind);
+    fprintf(f, "| %s | `%s` | %s (q in %s) | %s |\n", study->candidates[c].name,
+            study->candidates[c].source, cu->kind_name, cu->display, model);
   }
   fprintf(f, "\n");
   pom_cli_doe_print_report(f, study, rep);
+  write_metric_listing(f);
   if (plots_ok)
     fprintf(f, "\n### Figures\n\n![execution time](execution_time.png)\n\n"
                "![expended energy](energy.png)\n\n![paired differences](paired.png)\n");

@@ -26,4 +26,8 @@ void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_d
 /* Prints the report as JSON (SI units). */
 void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe_report *rep);
 
+/* The actuator kind of the study's candidates (the first one's) and
+ * *mixed = 1 when they do not all share it. */
+pom_actuator_kind pom_cli_doe_study_kind(const pom_doe_study *study, int *mixed);
+
 #endif

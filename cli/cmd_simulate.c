@@ -4,6 +4,8 @@
 #include "cli_kin.h"
 #include "pom_version.h"
 #include "pom_cli.h"
+#include "pom_doe.h"
+#include "pom_dyn_metrics_schema.h"
 #include "pom_dynamics.h"
 #include "pom_h5.h"
 #include "pom_kinematics.h"
@@ -17,7 +19,9 @@ static void simulate_usage(FILE *out) {
   fprintf(out,
           "usage: pomlab simulate CONFIG --target q1,q2,q3 [options]\n\n"
           "One maneuver from rest at home (mid-stroke) to the three actuator setpoints.\n\n"
-          "  --target q1,q2,q3     setpoints in MILLIMETRES from mid-stroke (required)\n"
+          "  --target q1,q2,q3     setpoints from mid-stroke in the display unit of the\n"
+          "                        mechanism's actuators (required): MILLIMETRES for\n"
+          "                        prismatic actuators, DEGREES for revolute ones\n"
           "  --json                machine-readable metrics on stdout\n"
           "  --out FILE            write traces: FILE.h5 (HDF5) or FILE.csv (SI units)\n"
           "  --form ideal|parallel override controller.form\n"
@@ -27,7 +31,8 @@ static void simulate_usage(FILE *out) {
           "  --joints parasitic|rigid   override joints.model\n"
           "  --rtol X              override solver.rtol, in [1e-13, 0.1]\n"
           "  --help                this text\n\n"
-          "Times are reported in ms, energies in mJ, positions in mm (SI in --json and traces).\n"
+          "Times are reported in ms, energies in mJ, actuator coordinates in mm or deg (SI in\n"
+          "--json and traces: m or rad, named by actuator_unit).\n"
           "Exit status: 0 ok; 1 the maneuver failed or the traces cannot be written;\n"
           "2 usage or config error (also a target outside the stroke).\n");
 }
@@ -38,18 +43,6 @@ static const char *const simulate_scopes[] = {"name",    "architecture", "geomet
                                               "scene",   "solver",       "maneuver",   NULL};
 
 /* ---- output -------------------------------------------------------------- */
-static void json_array(FILE *f, const char *key, const double *v, int n, double scale,
-                       const char *sep) {
-  fprintf(f, "  \"%s\": [", key);
-  for (int k = 0; k < n; ++k) {
-    if (isfinite(v[k]))
-      fprintf(f, "%s%.9g", k ? ", " : "", v[k] * scale);
-    else
-      fprintf(f, "%snull", k ? ", " : "");
-  }
-  fprintf(f, "]%s\n", sep);
-}
-
 static void json_num(FILE *f, const char *key, double v, const char *sep) {
   if (isfinite(v))
     fprintf(f, "  \"%s\": %.9g%s\n", key, v, sep);
@@ -57,9 +50,29 @@ static void json_num(FILE *f, const char *key, double v, const char *sep) {
     fprintf(f, "  \"%s\": null%s\n", key, sep);
 }
 
-static void print_json(const char *name, const pom_dyn_params *p, const pom_dyn_metrics *mt) {
+/* One metric's values (SI) under key: a number or an array of three. */
+static void json_metric(FILE *f, const char *key, const pom_dyn_metrics *mt,
+                        const pom_dyn_metric_info *mi, const char *sep) {
+  fprintf(f, "  \"%s\": %s", key, mi->count > 1 ? "[" : "");
+  for (int k = 0; k < mi->count; ++k) {
+    double v = pom_dyn_metric_value(mt, mi, k);
+    if (k) fputs(", ", f);
+    if (!isfinite(v))
+      fputs("null", f);
+    else if (mi->type != POM_DYN_TYPE_DOUBLE)
+      fprintf(f, "%.0f", v);
+    else
+      fprintf(f, "%.9g", v);
+  }
+  fprintf(f, "%s%s\n", mi->count > 1 ? "]" : "", sep);
+}
+
+/* Every metric of the schema (pom_dyn_metrics_schema.h) under its key, in SI
+ * units; actuator coordinates in actuator_unit (m or rad). */
+static void print_json(const char *name, const pom_dyn_params *p, const pom_dyn_metrics *mt,
+                       pom_actuator_kind kind) {
   FILE *f = stdout;
-  double settled[3] = {mt->settled[0], mt->settled[1], mt->settled[2]};
+  const pom_act_units *u = pom_act_units_of(kind);
   /* the name comes from the config and the reason may quote option values:
    * both escaped */
   fputs("{\n  \"name\": ", f);
@@ -69,56 +82,61 @@ static void print_json(const char *name, const pom_dyn_params *p, const pom_dyn_
   fputs(",\n", f);
   fprintf(f,
           "  \"controller_form\": \"%s\",\n  \"orientation\": \"%s\",\n"
-          "  \"linear_solver\": \"%s\",\n  \"joints_model\": \"%s\",\n",
+          "  \"linear_solver\": \"%s\",\n  \"joints_model\": \"%s\",\n"
+          "  \"actuator_kind\": \"%s\",\n  \"actuator_unit\": \"%s\",\n",
           pom_dyn_pid_form_name(p->controller.form), pom_dyn_orient_name(p->scene.orientation),
-          pom_dyn_linsol_name(p->solver.linear_solver), pom_dyn_joint_model_name(p->joints.model));
+          pom_dyn_linsol_name(p->solver.linear_solver), pom_dyn_joint_model_name(p->joints.model),
+          u->kind_name, u->si);
   json_num(f, "horizon_s", p->maneuver.horizon, ",");
-  json_array(f, "target_m", mt->target, 3, 1.0, ",");
-  json_array(f, "final_q_m", mt->final_q, 3, 1.0, ",");
-  json_array(f, "settling_time_s", mt->settling_time, 3, 1.0, ",");
-  json_array(f, "settled", settled, 3, 1.0, ",");
-  json_array(f, "settling_time_final_s", mt->settling_time_final, 3, 1.0, ",");
-  json_num(f, "execution_time_s", mt->execution_time, ",");
-  json_array(f, "energy_J", mt->energy, 3, 1.0, ",");
-  json_array(f, "energy_positive_J", mt->energy_positive, 3, 1.0, ",");
-  json_num(f, "energy_total_J", mt->energy_total, ",");
-  json_array(f, "energy_coil_J", mt->energy_coil, 3, 1.0, ",");
-  json_array(f, "energy_bearing_J", mt->energy_bearing, 3, 1.0, ",");
-  json_num(f, "energy_parasitic_J", mt->energy_parasitic, ",");
-  json_num(f, "energy_dissipated_J", mt->energy_dissipated, ",");
-  json_num(f, "energy_stored_change_J", mt->energy_stored_change, ",");
-  json_num(f, "energy_balance_error", mt->energy_balance_error, ",");
-  json_array(f, "peak_voltage_V", mt->peak_voltage, 3, 1.0, ",");
-  json_array(f, "saturation_time_s", mt->saturation_time, 3, 1.0, ",");
-  json_num(f, "max_deflection_m", mt->max_deflection, ",");
-  json_num(f, "max_angular_deflection_rad", mt->max_angular_deflection, ",");
-  fprintf(f,
-          "  \"steps\": %ld,\n  \"rhs_evals\": %ld,\n  \"jac_evals\": %ld,\n"
-          "  \"jac_rhs_evals\": %ld,\n  \"newton_iters\": %ld,\n  \"linsol_setups\": %ld,\n"
-          "  \"error_test_fails\": %ld,\n  \"nonlin_conv_fails\": %ld,\n",
-          mt->steps, mt->rhs_evals, mt->jac_evals, mt->jac_rhs_evals, mt->newton_iters,
-          mt->linsol_setups, mt->error_test_fails, mt->nonlin_conv_fails);
-  json_num(f, "wall_time_s", mt->wall_time, "");
+  /* the keys of prismatic mechanisms before actuator units existed */
+  if (kind == POM_ACT_PRISMATIC) {
+    json_metric(f, "target_m", mt, pom_dyn_metric(POM_DYN_METRIC_target), ",");
+    json_metric(f, "final_q_m", mt, pom_dyn_metric(POM_DYN_METRIC_final_q), ",");
+  }
+  const pom_dyn_metric_info *schema = pom_dyn_metric_schema();
+  for (int j = 0; j < POM_DYN_N_METRICS; ++j) {
+    char key[96];
+    json_metric(f, pom_dyn_metric_json_key(&schema[j], key, sizeof key), mt, &schema[j],
+                j + 1 < POM_DYN_N_METRICS ? "," : "");
+  }
   fprintf(f, "}\n");
 }
 
-static void print_human(const char *name, const pom_dyn_params *p, const pom_dyn_metrics *mt) {
-  printf("%s: maneuver to (%.4g, %.4g, %.4g) mm, horizon %.4g ms, PID %s, orientation %s, "
+/* The per-actuator metrics of the schema, one row each, in display units. */
+static void print_actuator_table(const pom_dyn_metrics *mt, pom_actuator_kind kind) {
+  printf("%-22s %-5s %12s %12s %12s\n", "metric", "unit", "actuator 1", "actuator 2", "actuator 3");
+  const pom_dyn_metric_info *schema = pom_dyn_metric_schema();
+  for (int j = 0; j < POM_DYN_N_METRICS; ++j) {
+    const pom_dyn_metric_info *mi = &schema[j];
+    if (mi->count != 3) continue;
+    double f = 1.0;
+    const char *unit = pom_dyn_metric_display_unit(mi, kind, &f);
+    printf("%-22s %-5s", mi->name, unit);
+    for (int k = 0; k < 3; ++k) {
+      double v = pom_dyn_metric_value(mt, mi, k);
+      if (mi->type != POM_DYN_TYPE_DOUBLE)
+        printf(" %12.0f", v);
+      else
+        printf(" %12.6g", v * f);
+    }
+    printf("\n");
+  }
+}
+
+static void print_human(const char *name, const pom_dyn_params *p, const pom_dyn_metrics *mt,
+                        pom_actuator_kind kind) {
+  const pom_act_units *u = pom_act_units_of(kind);
+  double f = u->to_display;
+  printf("%s: maneuver to (%.4g, %.4g, %.4g) %s, horizon %.4g ms, PID %s, orientation %s, "
          "linear solver %s, %s joints\n",
-         name, mt->target[0] * 1e3, mt->target[1] * 1e3, mt->target[2] * 1e3,
+         name, mt->target[0] * f, mt->target[1] * f, mt->target[2] * f, u->display,
          p->maneuver.horizon * 1e3, pom_dyn_pid_form_name(p->controller.form),
          pom_dyn_orient_name(p->scene.orientation), pom_dyn_linsol_name(p->solver.linear_solver),
          pom_dyn_joint_model_name(p->joints.model));
   if (mt->status != POM_OK) printf("status: %s (%s)\n", pom_status_name(mt->status), mt->reason);
-  printf("actuator  target(mm)  final(mm)  settle(ms)  settle_final(ms)  energy(mJ)  "
-         "E+(mJ)  peak(V)  saturated(ms)\n");
-  for (int a = 0; a < 3; ++a)
-    printf("%8d  %10.4f  %9.4f  %10.3f%s  %16.3f  %10.3f  %6.3f  %7.2f  %13.3f\n", a + 1,
-           mt->target[a] * 1e3, mt->final_q[a] * 1e3, mt->settling_time[a] * 1e3,
-           mt->settled[a] ? " " : "*", mt->settling_time_final[a] * 1e3, mt->energy[a] * 1e3,
-           mt->energy_positive[a] * 1e3, mt->peak_voltage[a], mt->saturation_time[a] * 1e3);
+  print_actuator_table(mt, kind);
   printf("execution time: %.3f ms%s\n", mt->execution_time * 1e3,
-         isnan(mt->execution_time) ? " (an actuator did not settle, marked *)" : "");
+         isnan(mt->execution_time) ? " (an actuator did not settle: settled = 0)" : "");
   printf("expended energy: %.4f mJ (positive part %.4f mJ)\n", mt->energy_total * 1e3,
          (mt->energy_positive[0] + mt->energy_positive[1] + mt->energy_positive[2]) * 1e3);
   printf("energy audit: supplied %.6g J = dissipated %.6g J (coil %.4g, bearing %.4g, parasitic "
@@ -142,11 +160,16 @@ static int ends_with(const char *s, const char *suffix) {
   return n >= k && strcmp(s + n - k, suffix) == 0;
 }
 
-static pom_status write_csv(const char *path, const pom_dyn_trace *tr, pom_error *err) {
+static pom_status write_csv(const char *path, const pom_dyn_trace *tr, pom_actuator_kind kind,
+                            pom_error *err) {
   FILE *f = fopen(path, "w");
   if (!f) POM_FAIL(err, POM_ERR_IO, "cannot write '%s'", path);
-  fprintf(f, "t_s,q1_m,q2_m,q3_m,qdot1_mps,qdot2_mps,qdot3_mps,i1_A,i2_A,i3_A,u1_V,u2_V,u3_V,"
-             "E1_J,E2_J,E3_J,psi_rad,theta_rad,phi_rad,qw,qx,qy,qz,deflection_m\n");
+  /* actuator coordinates in their SI unit: m and m/s, or rad and rad/s */
+  const char *q = pom_act_units_of(kind)->si, *qd = kind == POM_ACT_REVOLUTE ? "radps" : "mps";
+  fprintf(f,
+          "t_s,q1_%s,q2_%s,q3_%s,qdot1_%s,qdot2_%s,qdot3_%s,i1_A,i2_A,i3_A,u1_V,u2_V,u3_V,"
+          "E1_J,E2_J,E3_J,psi_rad,theta_rad,phi_rad,qw,qx,qy,qz,deflection_m\n",
+          q, q, q, qd, qd, qd);
   for (int k = 0; k < tr->n; ++k) {
     fprintf(f, "%.9g", tr->t[k]);
     const double *cols[5] = {tr->q, tr->q_dot, tr->current, tr->voltage, tr->energy};
@@ -165,7 +188,7 @@ static pom_status write_csv(const char *path, const pom_dyn_trace *tr, pom_error
 
 static pom_status write_h5(const char *path, const pom_cfg *cfg, const char *name,
                            const pom_dyn_params *p, const pom_dyn_trace *tr,
-                           const pom_dyn_metrics *mt, pom_error *err) {
+                           const pom_dyn_metrics *mt, pom_actuator_kind kind, pom_error *err) {
   pom_status st = POM_OK;
   hid_t file = -1, g = -1;
   size_t n = (size_t)tr->n;
@@ -176,12 +199,13 @@ static pom_status write_h5(const char *path, const pom_cfg *cfg, const char *nam
   POM_TRY_GOTO(pom_h5_attr_string(file, "name", name, err), done);
   POM_TRY_GOTO(pom_h5_write_text(file, "config", pom_cfg_text(cfg), err), done);
   POM_TRY_GOTO(pom_h5_create_group(&g, file, "trace", err), done);
-  POM_TRY_GOTO(pom_h5_attr_string(g, "units",
-                                  "t s; q m; q_dot m/s; current A; voltage V; "
-                                  "energy J (cumulative int u i dt); euler_zyx rad "
-                                  "(psi, theta, phi); quat (w, x, y, z); deflection m",
-                                  err),
-               done);
+  char units[256];
+  snprintf(units, sizeof units,
+           "t s; q %s; q_dot %s; current A; voltage V; energy J (cumulative int u i dt); "
+           "euler_zyx rad (psi, theta, phi); quat (w, x, y, z); deflection m",
+           pom_act_units_of(kind)->si, pom_act_units_of(kind)->rate);
+  POM_TRY_GOTO(pom_h5_attr_string(g, "units", units, err), done);
+  POM_TRY_GOTO(pom_h5_attr_string(g, "actuator_unit", pom_act_units_of(kind)->si, err), done);
   POM_TRY_GOTO(pom_h5_write_doubles(g, "t", 1, d1, tr->t, err), done);
   POM_TRY_GOTO(pom_h5_write_doubles(g, "q", 2, d3, tr->q, err), done);
   POM_TRY_GOTO(pom_h5_write_doubles(g, "q_dot", 2, d3, tr->q_dot, err), done);
@@ -200,7 +224,9 @@ static pom_status write_h5(const char *path, const pom_cfg *cfg, const char *nam
       done);
   POM_TRY_GOTO(pom_h5_attr_string(g, "orientation", pom_dyn_orient_name(p->scene.orientation), err),
                done);
-  POM_TRY_GOTO(pom_h5_attr_doubles(g, "target_m", mt->target, 3, err), done);
+  POM_TRY_GOTO(pom_h5_attr_doubles(g, "target", mt->target, 3, err), done);
+  if (kind == POM_ACT_PRISMATIC) /* the name before actuator units existed */
+    POM_TRY_GOTO(pom_h5_attr_doubles(g, "target_m", mt->target, 3, err), done);
   POM_TRY_GOTO(pom_h5_attr_doubles(g, "settling_time_s", mt->settling_time, 3, err), done);
   POM_TRY_GOTO(pom_h5_attr_doubles(g, "settling_time_final_s", mt->settling_time_final, 3, err),
                done);
@@ -281,11 +307,10 @@ int pom_cmd_simulate(int argc, char **argv) {
     return 2;
   }
   if (pom_cli_parse_list(target_text, 3, target) != 0) {
-    fprintf(stderr, "pomlab simulate: --target expects three numbers in mm, 'q1,q2,q3'\n");
+    fprintf(stderr, "pomlab simulate: --target expects three numbers (mm or deg, the actuators' "
+                    "display unit), 'q1,q2,q3'\n");
     return 2;
   }
-  for (int a = 0; a < 3; ++a)
-    target[a] *= 1e-3; /* mm -> m, once, at the edge */
   if (out_path && !ends_with(out_path, ".h5") && !ends_with(out_path, ".csv")) {
     fprintf(stderr, "pomlab simulate: --out must end in .h5 or .csv, got '%s'\n", out_path);
     return 2;
@@ -308,6 +333,8 @@ int pom_cmd_simulate(int argc, char **argv) {
   pom_dyn_params_defaults(&par);
   if (st == POM_OK) st = pom_dyn_params_load(&par, cfg, &err);
   if (st == POM_OK) st = pom_cfg_check_unknown(cfg, simulate_scopes, pom_cli_known_top, &err);
+  pom_actuator_kind kind = POM_ACT_PRISMATIC;
+  if (st == POM_OK) st = pom_doe_mech_actuator_kind(mech, &kind, &err);
   if (st != POM_OK) {
     pom_cli_report("simulate", &err);
     rc = pom_cli_exit_code(st);
@@ -370,14 +397,19 @@ int pom_cmd_simulate(int argc, char **argv) {
     }
     par.solver.rtol = rtol;
   }
+  /* display unit (mm or deg) -> SI (m or rad), once, at the edge */
+  const pom_act_units *u = pom_act_units_of(kind);
+  for (int a = 0; a < 3; ++a)
+    target[a] /= u->to_display;
   /* a target outside the stroke is a usage error, refused before any work */
   for (int a = 0; a < 3; ++a) {
     double half = 0.5 * arch.stroke;
     if (half > 0 && !(fabs(target[a]) <= half)) {
       fprintf(stderr,
-              "pomlab simulate: --target q%d = %g mm is outside the stroke +-%g mm "
-              "(limits.stroke_mm = %g)\n",
-              a + 1, target[a] * 1e3, half * 1e3, arch.stroke * 1e3);
+              "pomlab simulate: --target q%d = %g %s is outside the stroke +-%g %s "
+              "(limits.stroke_%s = %g)\n",
+              a + 1, target[a] * u->to_display, u->display, half * u->to_display, u->display,
+              u->display, arch.stroke * u->to_display);
       rc = 2;
       goto done;
     }
@@ -393,17 +425,17 @@ int pom_cmd_simulate(int argc, char **argv) {
   }
   st = pom_dyn_simulate(model, data, target, &mt, trace, &err);
   if (json)
-    print_json(arch.name, &par, &mt);
+    print_json(arch.name, &par, &mt, kind);
   else
-    print_human(arch.name, &par, &mt);
+    print_human(arch.name, &par, &mt, kind);
   rc = st == POM_OK ? 0 : 1;
   if (st != POM_OK) pom_cli_report("simulate", &err);
   if (trace && trace->n > 0) {
     pom_error werr;
     pom_error_clear(&werr);
     pom_status wst = ends_with(out_path, ".csv")
-                         ? write_csv(out_path, trace, &werr)
-                         : write_h5(out_path, cfg, arch.name, &par, trace, &mt, &werr);
+                         ? write_csv(out_path, trace, kind, &werr)
+                         : write_h5(out_path, cfg, arch.name, &par, trace, &mt, kind, &werr);
     if (wst != POM_OK) {
       pom_cli_report("simulate: writing traces", &werr);
       rc = 1;

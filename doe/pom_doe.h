@@ -14,6 +14,7 @@
 
 #include "pom_config.h"
 #include "pom_doe_stats.h"
+#include "pom_dyn_metrics_schema.h"
 #include "pom_dynamics.h"
 #include "pom_status.h"
 
@@ -31,14 +32,24 @@ typedef enum {
   POM_DOE_DIST_NORMAL = 1   /* normal(0, sigma) truncated to [-range, +range] */
 } pom_doe_dist;
 
+/* Which keys set the joint-space range and sigma: none (the paper's +-3 mm,
+ * prismatic only), range_mm/sigma_mm (prismatic) or range_deg/sigma_deg
+ * (revolute). */
+typedef enum {
+  POM_DOE_RANGE_DEFAULT = 0,
+  POM_DOE_RANGE_MM = 1,
+  POM_DOE_RANGE_DEG = 2
+} pom_doe_range_keys;
+
 /* How maneuvers are drawn: the `montecarlo` config group. */
 typedef struct {
   long count;                /* maneuvers per candidate */
   uint64_t seed;             /* study seed */
   pom_doe_space space;       /* joint or orientation space */
   pom_doe_dist distribution; /* of each joint target (joint space) */
-  double range;              /* joint: targets within +-range of mid-stroke (m) */
-  double sigma;              /* joint, normal: standard deviation (m) */
+  double range;              /* joint: targets within +-range of mid-stroke (m or rad) */
+  double sigma;              /* joint, normal: standard deviation (m or rad) */
+  pom_doe_range_keys keys;   /* which keys gave range and sigma (their unit) */
   double tilt_max;           /* orientation: largest tilt angle (rad) */
   double torsion_max;        /* orientation: largest |torsion| angle (rad) */
 } pom_doe_maneuvers;
@@ -47,8 +58,23 @@ typedef struct {
  * seed 20120708. */
 void pom_doe_maneuvers_defaults(pom_doe_maneuvers *mv);
 
-/* Reads the `montecarlo` group of cfg over the defaults (absent = defaults). */
+/* Reads the `montecarlo` group of cfg over the defaults (absent = defaults).
+ * range_mm/sigma_mm are stored in m, range_deg/sigma_deg in rad; mixing the
+ * two sets is an error. */
 pom_status pom_doe_maneuvers_load(pom_doe_maneuvers *mv, const pom_cfg *cfg, pom_error *err);
+
+/* Checks the maneuvers against the actuator kinds of a study's candidates
+ * (kinds[n]); cfg is the file that holds the `montecarlo` group (named in
+ * messages). Joint space needs one kind for every candidate (the
+ * orientation space is the fair comparison across kinds) and range keys in
+ * that kind's unit (_mm prismatic, _deg revolute, and no default for
+ * revolute). POM_ERR_CONFIG with the file, key and the right key. */
+pom_status pom_doe_maneuvers_check_kinds(const pom_doe_maneuvers *mv,
+                                         const pom_actuator_kind *kinds, int n, const pom_cfg *cfg,
+                                         pom_error *err);
+
+/* 1 when the kinds[n] are not all the same. */
+int pom_doe_kinds_mixed(const pom_actuator_kind *kinds, int n);
 
 /* One drawn maneuver. */
 typedef struct {
@@ -81,6 +107,9 @@ typedef struct {
    * may be NULL. */
   pom_status (*describe)(const void *ctx, hid_t group, pom_error *err);
   void (*ctx_destroy)(void *ctx);
+  /* Kind of the candidate's actuators (unit of targets, strokes, ranges and
+   * of the ACTUATOR metrics); zero-initialised = prismatic. */
+  pom_actuator_kind actuator_kind;
 } pom_doe_evaluator;
 
 /* Frees an evaluator's context (eval may be NULL or empty). */
@@ -92,12 +121,16 @@ typedef pom_status (*pom_doe_evaluator_factory)(pom_doe_evaluator *eval, const p
                                                 void *user, pom_error *err);
 
 /* Shared by the dynamics evaluators (the one below and the study pipeline's):
- * a maneuver that ends with an actuator outside +-stroke/2 (stroke in m), or
+ * a maneuver that ends with an actuator outside +-stroke/2 (stroke in the
+ * unit of kind: m or rad), or
  * whose |q| exceeded it on the output grid (max_abs_q), is physically
  * impossible (the model has no end stops) and becomes a failure:
  * out->status = POM_ERR_LIMIT with the reason set (docs/results.md, section
  * 1). Returns POM_ERR_LIMIT (err set) when it made the maneuver a failure,
  * POM_OK otherwise (also when out->status already records a failure). */
+pom_status pom_doe_check_final_stroke_kind(pom_dyn_metrics *out, double stroke,
+                                           pom_actuator_kind kind, pom_error *err);
+/* pom_doe_check_final_stroke_kind for prismatic actuators (stroke in m). */
 pom_status pom_doe_check_final_stroke(pom_dyn_metrics *out, double stroke, pom_error *err);
 
 /* Writes a candidate's dynamics settings (controller, scene, joints, solver,
@@ -124,6 +157,11 @@ pom_status pom_doe_dyn_targets(const void *ctx, const pom_doe_maneuver *mv, doub
                                pom_error *err);
 pom_status pom_doe_dyn_run(const void *ctx, void *worker, const double target[3],
                            pom_dyn_metrics *out, pom_error *err);
+
+/* The kind shared by every actuator of mech (POM_ERR_ARG when they differ
+ * or there is none). */
+pom_status pom_doe_mech_actuator_kind(const pom_mechanism *mech, pom_actuator_kind *kind,
+                                      pom_error *err);
 
 /* Writes the base's architecture, stroke, dynamics settings and state count
  * as attributes of group g. */
@@ -183,27 +221,31 @@ void pom_doe_study_clear(pom_doe_study *study);
 /* ---- results rows ------------------------------------------------------------ */
 #define POM_DOE_REASON_LEN 160
 
-/* One maneuver of one candidate, as stored in the results file. */
+/* Row field types of the metric types (ints are stored as int32, longs as
+ * int64) and the shape of scalar (1) and per-actuator (3) metrics. */
+#define POM_DOE_ROWTYPE_DOUBLE double
+#define POM_DOE_ROWTYPE_INT    int32_t
+#define POM_DOE_ROWTYPE_LONG   int64_t
+#define POM_DOE_ROWDIM_1
+#define POM_DOE_ROWDIM_3                       [3]
+#define POM_DOE_ROW_FIELD_(name, type, n, ...) POM_DOE_ROWTYPE_##type name POM_DOE_ROWDIM_##n;
+
+/* One maneuver of one candidate, as stored in the results file: done,
+ * status, reason, then every metric of POM_DYN_METRICS_LIST
+ * (pom_dyn_metrics_schema.h) in list order and SI units (actuator
+ * coordinates in m or rad: the candidate's actuator_unit). */
 typedef struct {
   int32_t done;                    /* 1 once computed (0 rows are not yet run) */
   int32_t status;                  /* pom_status of the maneuver (0 ok) */
   char reason[POM_DOE_REASON_LEN]; /* failure reason, "" when ok */
-  double target[3];                /* actuator setpoints (m) */
-  double settling_time[3];         /* s, NaN when unsettled (see settled) */
-  int32_t settled[3];              /* 1 when inside the band at the horizon */
-  double settling_time_final[3];   /* stepinfo variant (s) */
-  double execution_time;           /* max settling time (s), NaN when any unsettled or failed */
-  double energy[3];                /* signed int u i dt per actuator (J) */
-  double energy_positive[3];       /* int max(u i, 0) dt (J) */
-  double energy_total;             /* expended energy = sum of energy[] (J) */
-  double peak_voltage[3];          /* V */
-  double saturation_time[3];       /* s */
-  double final_q[3];               /* m */
-  double max_deflection;           /* largest parasitic deflection (m) */
-  double energy_balance_error;     /* relative */
-  int64_t steps, rhs_evals, jac_evals, newton_iters, error_test_fails; /* solver statistics */
-  double wall_time; /* s; the only field that differs between identical runs */
+  POM_DYN_METRICS_LIST(POM_DOE_ROW_FIELD_, POM_DOE_ROW_FIELD_)
 } pom_doe_row;
+
+/* offsetof(pom_doe_row, <metric>) of metric j (pom_dyn_metric_id). */
+size_t pom_doe_row_offset(int j);
+
+/* Value k of metric j in a row, as a double. */
+double pom_doe_row_value(const pom_doe_row *row, int j, int k);
 
 /* Converts evaluator metrics to a row (done = 1). */
 void pom_doe_row_from_metrics(pom_doe_row *row, const pom_dyn_metrics *m);
@@ -213,16 +255,22 @@ pom_status pom_doe_results_read_rows(const char *path, int c, long first, long n
                                      pom_error *err);
 
 /* ---- report -------------------------------------------------------------------- */
+#define POM_DOE_STAT_IGNORE_(...)
+#define POM_DOE_STAT_FIELD_(name, type, n, unit, descr, over, combine, stat, key)                  \
+  pom_doe_stats stat;
+/* Statistics of one candidate: one pom_doe_stats per reduced metric of
+ * POM_DYN_METRICS_LIST, by name (execution_time, energy, energy_positive,
+ * execution_time_final, ...) or as stat[pom_dyn_stat_id]. */
 typedef struct {
-  long n_done;                   /* maneuvers finished */
-  long n_failed;                 /* status != ok */
-  long n_unsettled;              /* ok but some actuator never settled */
-  pom_doe_stats execution_time;  /* s, over ok and settled maneuvers */
-  pom_doe_stats energy;          /* J, expended energy over ok maneuvers */
-  pom_doe_stats energy_positive; /* J, sum of positive parts, over ok maneuvers */
-  pom_doe_stats
-      execution_time_final; /* s, MATLAB stepinfo definition (largest
-                               settling_time_final), over ok maneuvers where it is finite */
+  long n_done;      /* maneuvers finished */
+  long n_failed;    /* status != ok */
+  long n_unsettled; /* ok but some actuator never settled */
+  union {
+    pom_doe_stats stat[POM_DYN_N_STATS];
+    struct {
+      POM_DYN_METRICS_LIST(POM_DOE_STAT_IGNORE_, POM_DOE_STAT_FIELD_)
+    };
+  };
 } pom_doe_candidate_stats;
 
 typedef enum { POM_DOE_METRIC_TIME = 0, POM_DOE_METRIC_ENERGY = 1 } pom_doe_metric;

@@ -35,14 +35,33 @@ void pom_doe_dyn_worker_destroy(void *worker) {
   pom_dyn_data_destroy(worker);
 }
 
+pom_status pom_doe_mech_actuator_kind(const pom_mechanism *mech, pom_actuator_kind *kind,
+                                      pom_error *err) {
+  if (mech->n_actuators < 1) POM_FAIL(err, POM_ERR_ARG, "the mechanism has no actuator");
+  *kind = mech->actuator[0].kind;
+  for (int a = 1; a < mech->n_actuators; ++a)
+    if (mech->actuator[a].kind != *kind)
+      POM_FAIL(err, POM_ERR_ARG,
+               "actuator %d is %s but actuator 1 is %s: the actuators of one mechanism must share "
+               "a kind (one unit for targets, strokes and ranges)",
+               a + 1, pom_act_units_of(mech->actuator[a].kind)->kind_name,
+               pom_act_units_of(*kind)->kind_name);
+  return POM_OK;
+}
+
+static pom_actuator_kind kind_of(const pom_doe_dyn_base *ctx) {
+  return ctx->mech.n_actuators > 0 ? ctx->mech.actuator[0].kind : POM_ACT_PRISMATIC;
+}
+
 /* Joint targets must lie inside the stroke: the maneuver fails otherwise. */
 static pom_status check_stroke(const pom_doe_dyn_base *ctx, const double q[3], pom_error *err) {
-  double half = 0.5 * ctx->arch.stroke;
+  const pom_act_units *u = pom_act_units_of(kind_of(ctx));
+  double half = 0.5 * ctx->arch.stroke, f = u->to_display;
   for (int i = 0; i < 3; ++i)
     if (!(fabs(q[i]) <= half))
       POM_FAIL(err, POM_ERR_LIMIT,
-               "target of actuator %d = %.4g mm is outside the stroke +-%.4g mm", i + 1, q[i] * 1e3,
-               half * 1e3);
+               "target of actuator %d = %.4g %s is outside the stroke +-%.4g %s", i + 1, q[i] * f,
+               u->display, half * f, u->display);
   return POM_OK;
 }
 
@@ -69,12 +88,17 @@ pom_status pom_doe_dyn_run(const void *p, void *worker, const double target[3],
   if (st != POM_OK) return st;
   /* the model has no end stops: a loop that runs away past the stroke is a
    * recorded failure (docs/results.md section 1) */
-  return pom_doe_check_final_stroke(out, ctx->arch.stroke, err);
+  return pom_doe_check_final_stroke_kind(out, ctx->arch.stroke, kind_of(ctx), err);
 }
 
 pom_status pom_doe_dyn_describe_base(const pom_doe_dyn_base *ctx, hid_t g, pom_error *err) {
   POM_TRY(pom_h5_attr_string(g, "architecture", pom_kin_arch_name(&ctx->arch), err));
-  POM_TRY(pom_h5_attr_double(g, "stroke_m", ctx->arch.stroke, err));
+  const pom_act_units *u = pom_act_units_of(kind_of(ctx));
+  /* stroke in the actuator's SI unit; stroke_m kept for prismatic files */
+  POM_TRY(pom_h5_attr_double(g, "stroke", ctx->arch.stroke, err));
+  if (kind_of(ctx) == POM_ACT_PRISMATIC)
+    POM_TRY(pom_h5_attr_double(g, "stroke_m", ctx->arch.stroke, err));
+  POM_TRY(pom_h5_attr_string(g, "actuator_kind", u->kind_name, err));
   POM_TRY(pom_doe_describe_dyn_params(g, &ctx->params, err));
   POM_TRY(pom_h5_attr_int64(g, "model_states", pom_dyn_model_n_states(ctx->model), err));
   return POM_OK;
@@ -96,6 +120,7 @@ pom_status pom_doe_dyn_evaluator_create(pom_doe_evaluator *eval, const pom_cfg *
   pom_dyn_params_defaults(&ctx->params);
   POM_TRY_GOTO(pom_dyn_params_load(&ctx->params, cfg, err), fail);
   POM_TRY_GOTO(pom_cfg_check_unknown(cfg, dyn_scopes, NULL, err), fail);
+  POM_TRY_GOTO(pom_doe_mech_actuator_kind(&ctx->mech, &eval->actuator_kind, err), fail);
   POM_TRY_GOTO(pom_dyn_model_create_ex(&ctx->model, &ctx->mech, &ctx->arch, &ctx->params, err),
                fail);
   eval->ctx = ctx;

@@ -47,13 +47,11 @@ pom_status pom_doe_results_close(pom_doe_results *res, pom_error *err);
 /* ---- report (pom_doe_report.c) ---- */
 /* Compact per-row values kept in memory for the statistics. */
 typedef struct {
-  int8_t done;            /* 1 when finished */
-  int8_t ok;              /* status == POM_OK */
-  int8_t settled;         /* every actuator settled */
-  double time;            /* execution time (s) */
-  double energy;          /* expended energy (J) */
-  double energy_positive; /* J */
-  double time_final;      /* largest settling_time_final (s), NaN when failed or undefined */
+  int8_t done;                  /* 1 when finished */
+  int8_t ok;                    /* status == POM_OK */
+  int8_t settled;               /* every actuator settled */
+  double stat[POM_DYN_N_STATS]; /* per reduced metric (pom_dyn_stat_id): the value its statistics
+                                   use (combined over actuators), NaN when it does not count */
 } pom_doe_cell;
 
 void pom_doe_cell_from_row(pom_doe_cell *cell, const pom_doe_row *row);

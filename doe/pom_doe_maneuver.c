@@ -39,10 +39,33 @@ pom_status pom_doe_maneuvers_load(pom_doe_maneuvers *mv, const pom_cfg *cfg, pom
   POM_TRY(pom_cfg_choice_opt(cfg, "montecarlo.distribution", dists, 0, &dist, err));
   mv->space = (pom_doe_space)space;
   mv->distribution = (pom_doe_dist)dist;
-  POM_TRY(
-      pom_cfg_real_opt(cfg, "montecarlo.range_mm", 1e-3, 1e-6, 100.0, mv->range, &mv->range, err));
-  POM_TRY(
-      pom_cfg_real_opt(cfg, "montecarlo.sigma_mm", 1e-3, 1e-6, 100.0, mv->sigma, &mv->sigma, err));
+  /* joint-space ranges in the actuator's display unit: mm (prismatic) or deg
+   * (revolute); which set was given is checked against the candidates'
+   * actuator kind once they are known (pom_doe_maneuvers_check_kinds) */
+  int mm = pom_cfg_has(cfg, "montecarlo.range_mm") || pom_cfg_has(cfg, "montecarlo.sigma_mm");
+  int deg = pom_cfg_has(cfg, "montecarlo.range_deg") || pom_cfg_has(cfg, "montecarlo.sigma_deg");
+  if (mm && deg)
+    return pom_cfg_error(cfg,
+                         pom_cfg_has(cfg, "montecarlo.range_deg") ? "montecarlo.range_deg"
+                                                                  : "montecarlo.sigma_deg",
+                         NULL, err,
+                         "mixes units with montecarlo.range_mm/sigma_mm: give the range in the "
+                         "candidates' actuator unit only (_mm prismatic, _deg revolute)");
+  if (deg) {
+    mv->keys = POM_DOE_RANGE_DEG;
+    mv->range = 3.0 * POM_DEG;
+    mv->sigma = 0.5 * mv->range;
+    POM_TRY(pom_cfg_real_opt(cfg, "montecarlo.range_deg", POM_DEG, 1e-6, 180.0, mv->range,
+                             &mv->range, err));
+    POM_TRY(pom_cfg_real_opt(cfg, "montecarlo.sigma_deg", POM_DEG, 1e-6, 180.0, mv->sigma,
+                             &mv->sigma, err));
+  } else {
+    if (mm) mv->keys = POM_DOE_RANGE_MM;
+    POM_TRY(pom_cfg_real_opt(cfg, "montecarlo.range_mm", 1e-3, 1e-6, 100.0, mv->range, &mv->range,
+                             err));
+    POM_TRY(pom_cfg_real_opt(cfg, "montecarlo.sigma_mm", 1e-3, 1e-6, 100.0, mv->sigma, &mv->sigma,
+                             err));
+  }
   POM_TRY(pom_cfg_real_opt(cfg, "montecarlo.tilt_max_deg", POM_DEG, 1e-6, 89.0, mv->tilt_max,
                            &mv->tilt_max, err));
   POM_TRY(pom_cfg_real_opt(cfg, "montecarlo.torsion_max_deg", POM_DEG, 0.0, 179.0, mv->torsion_max,
@@ -51,6 +74,51 @@ pom_status pom_doe_maneuvers_load(pom_doe_maneuvers *mv, const pom_cfg *cfg, pom
     return pom_cfg_error(cfg, "montecarlo.distribution", NULL, err,
                          "only applies to space = \"joint\" (orientation targets are uniform in "
                          "tilt cap and torsion)");
+  return POM_OK;
+}
+
+int pom_doe_kinds_mixed(const pom_actuator_kind *kinds, int n) {
+  for (int c = 1; c < n; ++c)
+    if (kinds[c] != kinds[0]) return 1;
+  return 0;
+}
+
+pom_status pom_doe_maneuvers_check_kinds(const pom_doe_maneuvers *mv,
+                                         const pom_actuator_kind *kinds, int n, const pom_cfg *cfg,
+                                         pom_error *err) {
+  if (mv->space != POM_DOE_SPACE_JOINT || n < 1) return POM_OK;
+  if (pom_doe_kinds_mixed(kinds, n)) {
+    int np = 0;
+    for (int c = 0; c < n; ++c)
+      np += kinds[c] == POM_ACT_PRISMATIC;
+    POM_FAIL(err, POM_ERR_CONFIG,
+             "%s: key 'montecarlo.space': the candidates mix actuator kinds (%d prismatic in m, %d "
+             "revolute in rad), so joint-space targets would not mean the same motion for all: "
+             "set montecarlo.space = \"orientation\" (targets drawn as platform orientations, "
+             "mapped to each candidate's actuators by its inverse kinematics; docs/results.md "
+             "section 1)",
+             pom_cfg_path(cfg), np, n - np);
+  }
+  const char *range_key =
+      mv->keys == POM_DOE_RANGE_DEG ? "montecarlo.range_deg" : "montecarlo.range_mm";
+  const char *sigma_key =
+      mv->keys == POM_DOE_RANGE_DEG ? "montecarlo.sigma_deg" : "montecarlo.sigma_mm";
+  const char *key = pom_cfg_has(cfg, range_key) ? range_key : sigma_key;
+  if (kinds[0] == POM_ACT_REVOLUTE && mv->keys == POM_DOE_RANGE_MM)
+    return pom_cfg_error(cfg, key, NULL, err,
+                         "the candidates' actuators are revolute (q in rad): give the range in "
+                         "degrees with montecarlo.%s_deg",
+                         key == range_key ? "range" : "sigma");
+  if (kinds[0] == POM_ACT_PRISMATIC && mv->keys == POM_DOE_RANGE_DEG)
+    return pom_cfg_error(cfg, key, NULL, err,
+                         "the candidates' actuators are prismatic (q in m): give the range in "
+                         "millimetres with montecarlo.%s_mm",
+                         key == range_key ? "range" : "sigma");
+  if (kinds[0] == POM_ACT_REVOLUTE && mv->keys == POM_DOE_RANGE_DEFAULT)
+    POM_FAIL(err, POM_ERR_CONFIG,
+             "%s: key 'montecarlo.range_deg': missing: the candidates' actuators are revolute and "
+             "the default range (+-3 mm, the paper's) is for prismatic ones",
+             pom_cfg_path(cfg));
   return POM_OK;
 }
 

@@ -6,23 +6,23 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The per-maneuver value of each statistic: its metric combined over the
+ * actuators, kept when the maneuver counts for it (ok, or settled) and the
+ * value is finite; NaN otherwise. */
 void pom_doe_cell_from_row(pom_doe_cell *cell, const pom_doe_row *row) {
   cell->done = (int8_t)(row->done != 0);
   cell->ok = (int8_t)(row->done && row->status == POM_OK);
   cell->settled = (int8_t)(cell->ok && row->settled[0] && row->settled[1] && row->settled[2] &&
                            isfinite(row->execution_time));
-  cell->time = row->execution_time;
-  cell->energy = row->energy_total;
-  cell->energy_positive =
-      row->energy_positive[0] + row->energy_positive[1] + row->energy_positive[2];
-  cell->time_final = NAN;
-  if (cell->ok) {
-    double t = 0;
-    for (int i = 0; i < 3; ++i)
-      t = isfinite(row->settling_time_final[i]) && isfinite(t)
-              ? fmax(t, row->settling_time_final[i])
-              : NAN;
-    cell->time_final = t;
+  for (int s = 0; s < POM_DYN_N_STATS; ++s) {
+    const pom_dyn_metric_info *mi = pom_dyn_stat_metric(s);
+    int j = (int)(mi - pom_dyn_metric_schema());
+    double v[3];
+    for (int k = 0; k < mi->count; ++k)
+      v[k] = pom_doe_row_value(row, j, k);
+    double x = pom_dyn_combine_values(mi->combine, v, mi->count);
+    int counts = mi->reduce == POM_DYN_REDUCE_SETTLED ? cell->settled : cell->ok && isfinite(x);
+    cell->stat[s] = counts ? x : NAN;
   }
 }
 
@@ -40,8 +40,11 @@ static int usable(const pom_doe_cell *cell, pom_doe_metric metric) {
   return metric == POM_DOE_METRIC_TIME ? cell->settled : cell->ok;
 }
 
+/* The chosen metrics of the paired comparison and the ranking, read through
+ * the schema's statistics. */
 static double value_of(const pom_doe_cell *cell, pom_doe_metric metric) {
-  return metric == POM_DOE_METRIC_TIME ? cell->time : cell->energy;
+  return cell
+      ->stat[metric == POM_DOE_METRIC_TIME ? POM_DYN_STAT_execution_time : POM_DYN_STAT_energy];
 }
 
 /* Ranking by the mean over the maneuvers usable for every candidate (the
@@ -118,27 +121,21 @@ pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *stu
   for (int c = 0; c < nc; ++c) {
     pom_doe_candidate_stats *cs = &rep->cand[c];
     const pom_doe_cell *col = cells + (size_t)c * m;
-    size_t nt = 0, ne = 0, nf = 0;
-    double *tf = scratch + m; /* second third of the scratch */
     for (size_t k = 0; k < m; ++k) {
       if (!col[k].done) continue;
       ++cs->n_done;
-      if (!col[k].ok) {
+      if (!col[k].ok)
         ++cs->n_failed;
-        continue;
-      }
-      if (!col[k].settled)
+      else if (!col[k].settled)
         ++cs->n_unsettled;
-      else
-        a[nt++] = col[k].time;
-      b[ne] = col[k].energy;
-      scratch[ne++] = col[k].energy_positive;
-      if (isfinite(col[k].time_final)) tf[nf++] = col[k].time_final;
     }
-    pom_doe_stats_compute(&cs->execution_time_final, tf, nf, tf);
-    pom_doe_stats_compute(&cs->execution_time, a, nt, a);
-    pom_doe_stats_compute(&cs->energy_positive, scratch, ne, scratch);
-    pom_doe_stats_compute(&cs->energy, b, ne, b);
+    /* every reduced metric of the schema over the maneuvers that count */
+    for (int s = 0; s < POM_DYN_N_STATS; ++s) {
+      size_t n = 0;
+      for (size_t k = 0; k < m; ++k)
+        if (col[k].done && !isnan(col[k].stat[s])) a[n++] = col[k].stat[s];
+      pom_doe_stats_compute(&cs->stat[s], a, n, a);
+    }
   }
 
   int j = 0;

@@ -31,43 +31,33 @@ static pom_status row_types(hid_t *mem, hid_t *file, pom_error *err) {
   hsize_t three = 3;
   hid_t d3 = H5Tarray_create2(H5T_NATIVE_DOUBLE, 1, &three);
   hid_t i3 = H5Tarray_create2(H5T_NATIVE_INT32, 1, &three);
+  hid_t l3 = H5Tarray_create2(H5T_NATIVE_INT64, 1, &three);
   hid_t str = H5Tcopy(H5T_C_S1);
   *mem = *file = -1;
-  if (d3 < 0 || i3 < 0 || str < 0 || H5Tset_size(str, POM_DOE_REASON_LEN) < 0 ||
+  if (d3 < 0 || i3 < 0 || l3 < 0 || str < 0 || H5Tset_size(str, POM_DOE_REASON_LEN) < 0 ||
       H5Tset_strpad(str, H5T_STR_NULLTERM) < 0)
     goto fail;
   *mem = H5Tcreate(H5T_COMPOUND, sizeof(pom_doe_row));
   if (*mem < 0) goto fail;
-#define INS(name, type)                                                                            \
-  if (H5Tinsert(*mem, #name, HOFFSET(pom_doe_row, name), type) < 0) goto fail
-  INS(done, H5T_NATIVE_INT32);
-  INS(status, H5T_NATIVE_INT32);
-  INS(reason, str);
-  INS(target, d3);
-  INS(settling_time, d3);
-  INS(settled, i3);
-  INS(settling_time_final, d3);
-  INS(execution_time, H5T_NATIVE_DOUBLE);
-  INS(energy, d3);
-  INS(energy_positive, d3);
-  INS(energy_total, H5T_NATIVE_DOUBLE);
-  INS(peak_voltage, d3);
-  INS(saturation_time, d3);
-  INS(final_q, d3);
-  INS(max_deflection, H5T_NATIVE_DOUBLE);
-  INS(energy_balance_error, H5T_NATIVE_DOUBLE);
-  INS(steps, H5T_NATIVE_INT64);
-  INS(rhs_evals, H5T_NATIVE_INT64);
-  INS(jac_evals, H5T_NATIVE_INT64);
-  INS(newton_iters, H5T_NATIVE_INT64);
-  INS(error_test_fails, H5T_NATIVE_INT64);
-  INS(wall_time, H5T_NATIVE_DOUBLE);
-#undef INS
+  if (H5Tinsert(*mem, "done", HOFFSET(pom_doe_row, done), H5T_NATIVE_INT32) < 0 ||
+      H5Tinsert(*mem, "status", HOFFSET(pom_doe_row, status), H5T_NATIVE_INT32) < 0 ||
+      H5Tinsert(*mem, "reason", HOFFSET(pom_doe_row, reason), str) < 0)
+    goto fail;
+  /* every metric of the schema, in list order */
+  const pom_dyn_metric_info *schema = pom_dyn_metric_schema();
+  for (int j = 0; j < POM_DYN_N_METRICS; ++j) {
+    const pom_dyn_metric_info *mi = &schema[j];
+    hid_t type = mi->type == POM_DYN_TYPE_INT    ? (mi->count == 3 ? i3 : H5T_NATIVE_INT32)
+                 : mi->type == POM_DYN_TYPE_LONG ? (mi->count == 3 ? l3 : H5T_NATIVE_INT64)
+                                                 : (mi->count == 3 ? d3 : H5T_NATIVE_DOUBLE);
+    if (H5Tinsert(*mem, mi->name, pom_doe_row_offset(j), type) < 0) goto fail;
+  }
   *file = H5Tcopy(*mem);
   /* packed in the file: no padding bytes (whose contents are undefined) */
   if (*file < 0 || H5Tpack(*file) < 0) goto fail;
   H5Tclose(d3);
   H5Tclose(i3);
+  H5Tclose(l3);
   H5Tclose(str);
   return POM_OK;
 fail:;
@@ -77,6 +67,7 @@ fail:;
   *mem = *file = -1;
   if (d3 >= 0) H5Tclose(d3);
   if (i3 >= 0) H5Tclose(i3);
+  if (l3 >= 0) H5Tclose(l3);
   if (str >= 0) H5Tclose(str);
   return st;
 }
@@ -122,6 +113,17 @@ pom_status pom_doe_describe_dyn_params(hid_t g, const pom_dyn_params *par, pom_e
 }
 
 /* ---- create -------------------------------------------------------------------- */
+/* The candidates' actuator kind (the first one's; joint-space studies have
+ * one kind, pom_doe_maneuvers_check_kinds). */
+static pom_actuator_kind study_kind(const pom_doe_study *study) {
+  return study->n_candidates > 0 ? study->candidates[0].eval.actuator_kind : POM_ACT_PRISMATIC;
+}
+
+static int pom_doe_kinds_mixed_study(const pom_doe_study *study) {
+  for (int c = 1; c < study->n_candidates; ++c)
+    if (study->candidates[c].eval.actuator_kind != study_kind(study)) return 1;
+  return 0;
+}
 static pom_status write_montecarlo(hid_t file, const pom_doe_study *study, pom_error *err) {
   static const char *const spaces[] = {"joint", "orientation"};
   static const char *const dists[] = {"uniform", "normal"};
@@ -134,8 +136,19 @@ static pom_status write_montecarlo(hid_t file, const pom_doe_study *study, pom_e
   POM_TRY_GOTO(pom_h5_attr_int64(g, "seed", (int64_t)mv->seed, err), done);
   POM_TRY_GOTO(pom_h5_attr_string(g, "space", spaces[mv->space], err), done);
   POM_TRY_GOTO(pom_h5_attr_string(g, "distribution", dists[mv->distribution], err), done);
-  POM_TRY_GOTO(pom_h5_attr_double(g, "range_m", mv->range, err), done);
-  POM_TRY_GOTO(pom_h5_attr_double(g, "sigma_m", mv->sigma, err), done);
+  /* range and sigma in the actuators' SI unit (joint space has one kind);
+   * range_m and sigma_m kept for prismatic studies */
+  pom_actuator_kind kind = study_kind(study);
+  POM_TRY_GOTO(pom_h5_attr_double(g, "range", mv->range, err), done);
+  POM_TRY_GOTO(pom_h5_attr_double(g, "sigma", mv->sigma, err), done);
+  POM_TRY_GOTO(pom_h5_attr_string(
+                   g, "actuator_unit",
+                   pom_doe_kinds_mixed_study(study) ? "mixed" : pom_act_units_of(kind)->si, err),
+               done);
+  if (kind == POM_ACT_PRISMATIC) {
+    POM_TRY_GOTO(pom_h5_attr_double(g, "range_m", mv->range, err), done);
+    POM_TRY_GOTO(pom_h5_attr_double(g, "sigma_m", mv->sigma, err), done);
+  }
   POM_TRY_GOTO(pom_h5_attr_double(g, "tilt_max_rad", mv->tilt_max, err), done);
   POM_TRY_GOTO(pom_h5_attr_double(g, "torsion_max_rad", mv->torsion_max, err), done);
   /* the drawn maneuvers, common to every candidate */
@@ -156,9 +169,10 @@ static pom_status write_montecarlo(hid_t file, const pom_doe_study *study, pom_e
     goto done;
   }
   st = pom_h5_attr_string(ds, "unit",
-                          mv->space == POM_DOE_SPACE_JOINT
-                              ? "m from mid-stroke, per actuator"
-                              : "rad: azimuth, tilt, torsion (R = Rz(a) Ry(t) Rz(s - a))",
+                          mv->space != POM_DOE_SPACE_JOINT
+                              ? "rad: azimuth, tilt, torsion (R = Rz(a) Ry(t) Rz(s - a))"
+                          : kind == POM_ACT_REVOLUTE ? "rad from mid-stroke, per actuator"
+                                                     : "m from mid-stroke, per actuator",
                           err);
   H5Dclose(ds);
 done:
@@ -167,20 +181,35 @@ done:
   return st;
 }
 
-/* Units of the row fields and the meaning of the status codes, as attributes
- * of a maneuvers dataset (docs/results.md, section 5). */
-static pom_status describe_rows(hid_t ds, pom_error *err) {
-  static const char *const units =
-      "done 1 once computed; status pom_status code (0 ok); target m; settling_time s (NaN when "
-      "unsettled); settling_time_final s; execution_time s (NaN when failed or unsettled); "
-      "energy J; energy_positive J; energy_total J; peak_voltage V; saturation_time s; final_q m; "
-      "max_deflection m; energy_balance_error relative; wall_time s; target, final_q: from "
-      "mid-stroke";
-  /* every code of pom_status.h, from its list */
+/* Units and descriptions of the row fields (from the metric schema, the
+ * actuator coordinate resolved for the candidate's kind) and the meaning of
+ * the status codes, as attributes of a maneuvers dataset (docs/results.md,
+ * section 5). */
+static pom_status describe_rows(hid_t ds, pom_actuator_kind kind, pom_error *err) {
+  char units[4096], descr[8192];
+  size_t nu = 0, nd = 0;
+  nu += (size_t)snprintf(units, sizeof units,
+                         "done 1 once computed; status pom_status code (0 ok); reason text");
+  nd += (size_t)snprintf(descr, sizeof descr,
+                         "done: 1 once computed; status: pom_status of the maneuver; reason: "
+                         "failure reason");
+  const pom_dyn_metric_info *schema = pom_dyn_metric_schema();
+  for (int j = 0; j < POM_DYN_N_METRICS && nu < sizeof units && nd < sizeof descr; ++j) {
+    const pom_dyn_metric_info *mi = &schema[j];
+    nu += (size_t)snprintf(units + nu, sizeof units - nu, "; %s %s", mi->name,
+                           pom_dyn_metric_unit(mi, kind));
+    nd += (size_t)snprintf(descr + nd, sizeof descr - nd, "; %s%s: %s", mi->name,
+                           mi->count == 3 ? "[3]" : "", mi->description);
+  }
+  if (nu < sizeof units)
+    snprintf(units + nu, sizeof units - nu, "; target, final_q, max_abs_q: from mid-stroke");
+    /* every code of pom_status.h, from its list */
 #define LEGEND_ITEM(name, value, msg) #value " " msg "; "
   static const char legend[] = POM_STATUS_LIST(LEGEND_ITEM);
 #undef LEGEND_ITEM
   POM_TRY(pom_h5_attr_string(ds, "units", units, err));
+  POM_TRY(pom_h5_attr_string(ds, "descriptions", descr, err));
+  POM_TRY(pom_h5_attr_string(ds, "actuator_unit", pom_act_units_of(kind)->si, err));
   return pom_h5_attr_string(ds, "status_codes", legend, err);
 }
 
@@ -195,6 +224,9 @@ static pom_status write_candidate(pom_doe_results *res, hid_t parent, const pom_
   POM_TRY_GOTO(pom_h5_attr_string(g, "name", cand->name, err), done);
   POM_TRY_GOTO(pom_h5_attr_string(g, "source", cand->source, err), done);
   POM_TRY_GOTO(pom_h5_attr_int64(g, "index", c, err), done);
+  POM_TRY_GOTO(
+      pom_h5_attr_string(g, "actuator_unit", pom_act_units_of(cand->eval.actuator_kind)->si, err),
+      done);
   for (int f = 0; f < cand->n_factors; ++f) {
     char an[POM_DOE_NAME_LEN + 16];
     snprintf(an, sizeof an, "factor:%s", cand->factor_key[f]);
@@ -215,7 +247,7 @@ static pom_status write_candidate(pom_doe_results *res, hid_t parent, const pom_
     st = pom_h5_fail(err, __FILE__, __LINE__, "creating the maneuvers dataset");
     goto done;
   }
-  POM_TRY_GOTO(describe_rows(res->rows[c], err), done);
+  POM_TRY_GOTO(describe_rows(res->rows[c], cand->eval.actuator_kind, err), done);
 done:
   if (dcpl >= 0) H5Pclose(dcpl);
   if (space >= 0) H5Sclose(space);
@@ -323,6 +355,23 @@ done:
   return st;
 }
 
+/* Every metric of the schema is a field of the stored rows (a file written
+ * by a pomlab with fewer metrics cannot be completed). */
+static pom_status check_fields(hid_t ds, const char *path, pom_error *err) {
+  hid_t type = H5Dget_type(ds);
+  if (type < 0) POM_H5_FAIL(err, "reading the maneuvers row type");
+  pom_status st = POM_OK;
+  const pom_dyn_metric_info *schema = pom_dyn_metric_schema();
+  for (int j = 0; j < POM_DYN_N_METRICS && st == POM_OK; ++j)
+    if (H5Tget_member_index(type, schema[j].name) < 0)
+      st = pom_error_set(err, POM_ERR_ARG, __FILE__, __LINE__,
+                         "'%s' was written by a pomlab without the metric '%s': it cannot be "
+                         "resumed; remove it or choose another output",
+                         path, schema[j].name);
+  H5Tclose(type);
+  return st;
+}
+
 /* The study identity: maneuvers and resolved candidate configs. */
 static pom_status check_identity(pom_doe_results *res, const pom_doe_study *study, const char *path,
                                  pom_error *err) {
@@ -348,7 +397,9 @@ static pom_status check_identity(pom_doe_results *res, const pom_doe_study *stud
   POM_TRY(pom_h5_open_group(&mc, res->file, "montecarlo", err));
   st = pom_h5_read_attr_int64(mc, "seed", &seed, err);
   double range = NAN;
-  if (st == POM_OK) st = pom_h5_read_attr_double(mc, "range_m", &range, err);
+  /* "range" (any actuator kind); files written before it have only range_m */
+  if (st == POM_OK)
+    st = pom_h5_read_attr_double(mc, H5Aexists(mc, "range") > 0 ? "range" : "range_m", &range, err);
   H5Gclose(mc);
   POM_TRY(st);
   if (nc != study->n_candidates || nm != study->maneuvers.count ||
@@ -375,6 +426,7 @@ static pom_status check_identity(pom_doe_results *res, const pom_doe_study *stud
       st = pom_h5_fail(err, __FILE__, __LINE__, "opening the maneuvers dataset");
       goto done;
     }
+    POM_TRY_GOTO(check_fields(res->rows[c], path, err), done);
     free(text);
     text = NULL;
     H5Gclose(g);
@@ -495,26 +547,33 @@ static pom_status write_statistics(hid_t file, const pom_doe_report *rep, pom_er
   int64_t *counts = malloc(nc * 4 * sizeof *counts);
   if (!buf || !counts) POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "results: out of memory");
   POM_TRY_GOTO(replace_group(&g, file, "statistics", err), done);
-  const char *names[4] = {"execution_time", "energy", "energy_positive", "execution_time_final"};
-  const char *units[4] = {"s", "J", "J", "s"};
-  for (int m = 0; m < 4; ++m) {
-    for (size_t c = 0; c < nc; ++c) {
-      const pom_doe_candidate_stats *cs = &rep->cand[c];
-      const pom_doe_stats *s = m == 0   ? &cs->execution_time
-                               : m == 1 ? &cs->energy
-                               : m == 2 ? &cs->energy_positive
-                                        : &cs->execution_time_final;
-      pom_doe_stats_flatten(buf + c * POM_DOE_STATS_FIELDS, s);
-    }
+  /* one table per reduced metric of the schema */
+  for (int m = 0; m < POM_DYN_N_STATS; ++m) {
+    const pom_dyn_metric_info *mi = pom_dyn_stat_metric(m);
+    for (size_t c = 0; c < nc; ++c)
+      pom_doe_stats_flatten(buf + c * POM_DOE_STATS_FIELDS, &rep->cand[c].stat[m]);
     size_t dims[2] = {nc, POM_DOE_STATS_FIELDS};
-    POM_TRY_GOTO(pom_h5_write_doubles(g, names[m], 2, dims, buf, err), done);
-    hid_t ds = H5Dopen2(g, names[m], H5P_DEFAULT);
+    POM_TRY_GOTO(pom_h5_write_doubles(g, mi->stat_name, 2, dims, buf, err), done);
+    hid_t ds = H5Dopen2(g, mi->stat_name, H5P_DEFAULT);
     if (ds < 0) {
       st = pom_h5_fail(err, __FILE__, __LINE__, "annotating statistics");
       goto done;
     }
     st = pom_h5_attr_string(ds, "columns", stats_columns, err);
-    if (st == POM_OK) st = pom_h5_attr_string(ds, "unit", units[m], err);
+    if (st == POM_OK)
+      st = pom_h5_attr_string(ds, "unit",
+                              mi->unit == POM_DYN_UNIT_ACTUATOR
+                                  ? "actuator unit of each candidate (its actuator_unit)"
+                                  : pom_dyn_metric_unit(mi, POM_ACT_PRISMATIC),
+                              err);
+    if (st == POM_OK) st = pom_h5_attr_string(ds, "metric", mi->name, err);
+    if (st == POM_OK)
+      st = pom_h5_attr_string(
+          ds, "reduction",
+          mi->combine == POM_DYN_COMBINE_NONE
+              ? pom_dyn_reduce_name(mi->reduce)
+              : (mi->combine == POM_DYN_COMBINE_SUM ? "sum over actuators" : "max over actuators"),
+          err);
     H5Dclose(ds);
     if (st != POM_OK) goto done;
   }

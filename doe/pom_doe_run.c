@@ -7,6 +7,7 @@
 #include "pom_doe_mpi.h"
 
 #include <errno.h>
+#include <stddef.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -72,54 +73,79 @@ void pom_doe_run_options_defaults(pom_doe_run_options *o) {
 }
 
 /* ---- rows ------------------------------------------------------------------ */
+#define ROW_OFFSET(name, ...) offsetof(pom_doe_row, name),
+static const size_t row_offsets[POM_DYN_N_METRICS] = {POM_DYN_METRICS_LIST(ROW_OFFSET, ROW_OFFSET)};
+#undef ROW_OFFSET
+
+size_t pom_doe_row_offset(int j) {
+  return row_offsets[j];
+}
+
+double pom_doe_row_value(const pom_doe_row *row, int j, int k) {
+  const pom_dyn_metric_info *mi = pom_dyn_metric(j);
+  const char *base = (const char *)row + row_offsets[j];
+  switch (mi->type) {
+  case POM_DYN_TYPE_INT:
+    return (double)((const int32_t *)(const void *)base)[k];
+  case POM_DYN_TYPE_LONG:
+    return (double)((const int64_t *)(const void *)base)[k];
+  default:
+    return ((const double *)(const void *)base)[k];
+  }
+}
+
+/* Every metric of the schema, copied field by field from its offset in
+ * pom_dyn_metrics to its offset in the row. */
 void pom_doe_row_from_metrics(pom_doe_row *row, const pom_dyn_metrics *m) {
   memset(row, 0, sizeof *row);
   row->done = 1;
   row->status = (int32_t)m->status;
   snprintf(row->reason, sizeof row->reason, "%s", m->reason);
-  for (int i = 0; i < 3; ++i) {
-    row->target[i] = m->target[i];
-    row->settling_time[i] = m->settling_time[i];
-    row->settled[i] = m->settled[i];
-    row->settling_time_final[i] = m->settling_time_final[i];
-    row->energy[i] = m->energy[i];
-    row->energy_positive[i] = m->energy_positive[i];
-    row->peak_voltage[i] = m->peak_voltage[i];
-    row->saturation_time[i] = m->saturation_time[i];
-    row->final_q[i] = m->final_q[i];
+  const pom_dyn_metric_info *schema = pom_dyn_metric_schema();
+  for (int j = 0; j < POM_DYN_N_METRICS; ++j) {
+    const pom_dyn_metric_info *mi = &schema[j];
+    const char *src = (const char *)m + mi->offset;
+    char *dst = (char *)row + row_offsets[j];
+    for (int k = 0; k < mi->count; ++k) {
+      switch (mi->type) {
+      case POM_DYN_TYPE_INT:
+        ((int32_t *)(void *)dst)[k] = (int32_t)((const int *)(const void *)src)[k];
+        break;
+      case POM_DYN_TYPE_LONG:
+        ((int64_t *)(void *)dst)[k] = (int64_t)((const long *)(const void *)src)[k];
+        break;
+      default:
+        ((double *)(void *)dst)[k] = ((const double *)(const void *)src)[k];
+      }
+    }
   }
-  row->execution_time = m->execution_time;
-  row->energy_total = m->energy_total;
-  row->max_deflection = m->max_deflection;
-  row->energy_balance_error = m->energy_balance_error;
-  row->steps = m->steps;
-  row->rhs_evals = m->rhs_evals;
-  row->jac_evals = m->jac_evals;
-  row->newton_iters = m->newton_iters;
-  row->error_test_fails = m->error_test_fails;
-  row->wall_time = m->wall_time;
 }
 
 pom_status pom_doe_check_final_stroke(pom_dyn_metrics *out, double stroke, pom_error *err) {
+  return pom_doe_check_final_stroke_kind(out, stroke, POM_ACT_PRISMATIC, err);
+}
+
+pom_status pom_doe_check_final_stroke_kind(pom_dyn_metrics *out, double stroke,
+                                           pom_actuator_kind kind, pom_error *err) {
   if (out->status != POM_OK) return POM_OK; /* already a recorded failure */
-  double half = 0.5 * stroke;
+  const pom_act_units *u = pom_act_units_of(kind);
+  double half = 0.5 * stroke, f = u->to_display;
   for (int i = 0; i < 3; ++i) {
     if (!(fabs(out->final_q[i]) <= half)) {
       out->status = POM_ERR_LIMIT;
-      snprintf(
-          out->reason, sizeof out->reason,
-          "actuator %d ended outside its stroke: q = %.4g mm at the horizon (stroke +-%.4g mm; "
-          "the model has no end stops)",
-          i + 1, out->final_q[i] * 1e3, half * 1e3);
+      snprintf(out->reason, sizeof out->reason,
+               "actuator %d ended outside its stroke: q = %.4g %s at the horizon (stroke +-%.4g "
+               "%s; the model has no end stops)",
+               i + 1, out->final_q[i] * f, u->display, half * f, u->display);
       return pom_error_set(err, POM_ERR_LIMIT, __FILE__, __LINE__, "%s", out->reason);
     }
     /* an excursion past the stroke that came back is just as impossible */
     if (!(out->max_abs_q[i] <= half)) {
       out->status = POM_ERR_LIMIT;
       snprintf(out->reason, sizeof out->reason,
-               "actuator %d left its stroke during the maneuver: |q| reached %.4g mm (stroke "
-               "+-%.4g mm; the model has no end stops)",
-               i + 1, out->max_abs_q[i] * 1e3, half * 1e3);
+               "actuator %d left its stroke during the maneuver: |q| reached %.4g %s (stroke "
+               "+-%.4g %s; the model has no end stops)",
+               i + 1, out->max_abs_q[i] * f, u->display, half * f, u->display);
       return pom_error_set(err, POM_ERR_LIMIT, __FILE__, __LINE__, "%s", out->reason);
     }
   }

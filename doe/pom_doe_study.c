@@ -289,6 +289,19 @@ static pom_status check_names(const pom_doe_study *study, const pom_cfg *cfg, po
   return POM_OK;
 }
 
+/* The maneuvers against the candidates' actuator kinds (joint space: one
+ * kind, range keys in its unit). */
+static pom_status check_kinds(const pom_doe_study *study, const pom_cfg *cfg, pom_error *err) {
+  pom_actuator_kind *kinds = malloc((size_t)study->n_candidates * sizeof *kinds);
+  if (!kinds) POM_FAIL(err, POM_ERR_NOMEM, "study: out of memory");
+  for (int c = 0; c < study->n_candidates; ++c)
+    kinds[c] = study->candidates[c].eval.actuator_kind;
+  pom_status st =
+      pom_doe_maneuvers_check_kinds(&study->maneuvers, kinds, study->n_candidates, cfg, err);
+  free(kinds);
+  return st;
+}
+
 pom_status pom_doe_study_load(pom_doe_study *study, const pom_cfg *cfg,
                               pom_doe_evaluator_factory factory, void *user, pom_error *err) {
   /* a study file holds these and nothing else (mechanism groups belong in the
@@ -371,6 +384,7 @@ pom_status pom_doe_study_load(pom_doe_study *study, const pom_cfg *cfg,
                     "%s: montecarlo.space = \"orientation\" but candidate '%s' cannot map "
                     "orientations to actuator targets",
                     pom_cfg_path(cfg), study->candidates[c].name);
+  POM_TRY_GOTO(check_kinds(study, cfg, err), fail);
   config_destroy(&tree);
   return POM_OK;
 fail:
@@ -415,6 +429,7 @@ pom_status pom_doe_study_single(pom_doe_study *study, const pom_cfg *cfg,
                   "%s: montecarlo.space = \"orientation\" needs an evaluator with inverse "
                   "kinematics",
                   pom_cfg_path(cfg));
+  POM_TRY_GOTO(check_kinds(study, cfg, err), fail);
   config_destroy(&tree);
   return POM_OK;
 fail:

@@ -10,3 +10,14 @@ add_test(NAME test_doe_study
   COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/test_doe_study.sh $<TARGET_FILE:pomlab>
           ${CMAKE_CURRENT_BINARY_DIR}/doe_study ${_pom_doe_mpirun}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# The metric schema and actuator units through doe/ (unit level).
+pom_add_test(test_metrics_schema test_metrics_schema.c)
+target_link_libraries(test_metrics_schema PRIVATE pom_doe)
+# Every declared metric in every output: HDF5 rows and statistics, simulate
+# and study JSON, summary.md (the schema dumped by a helper program).
+add_executable(metric_schema_dump metric_schema_dump.c)
+target_link_libraries(metric_schema_dump PRIVATE pom_dynamics pom_options)
+add_test(NAME test_metric_outputs
+  COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/test_metric_outputs.sh $<TARGET_FILE:pomlab>
+          $<TARGET_FILE:metric_schema_dump> ${CMAKE_CURRENT_BINARY_DIR}/metric_outputs
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})

@@ -1,0 +1,140 @@
+/* pom_dyn_metrics_schema.c - the table generated from POM_DYN_METRICS_LIST
+ * and the units of its unit classes (docs/results.md, section 9). */
+#include "pom_dyn_metrics_schema.h"
+
+#include <math.h>
+#include <stdio.h>
+
+/* ---- the table ----------------------------------------------------------------- */
+#define CTYPE_DOUBLE double
+#define CTYPE_INT    int
+#define CTYPE_LONG   long
+
+/* each declared field exists in pom_dyn_metrics with the declared type and count */
+#define CHECK_FIELD(name, type, n, ...)                                                            \
+  _Static_assert(sizeof(((pom_dyn_metrics *)0)->name) == (n) * sizeof(CTYPE_##type),               \
+                 "metric " #name ": type or count differs from pom_dyn_metrics");
+POM_DYN_METRICS_LIST(CHECK_FIELD, CHECK_FIELD)
+#undef CHECK_FIELD
+
+#define ENTRY_M(name, type, n, unit, descr)                                                        \
+  {#name,                                                                                          \
+   POM_DYN_TYPE_##type,                                                                            \
+   n,                                                                                              \
+   POM_DYN_UNIT_##unit,                                                                            \
+   descr,                                                                                          \
+   offsetof(pom_dyn_metrics, name),                                                                \
+   POM_DYN_REDUCE_NONE,                                                                            \
+   POM_DYN_COMBINE_NONE,                                                                           \
+   -1,                                                                                             \
+   NULL,                                                                                           \
+   NULL},
+#define ENTRY_R(name, type, n, unit, descr, over, combine, stat, key)                              \
+  {#name,                                                                                          \
+   POM_DYN_TYPE_##type,                                                                            \
+   n,                                                                                              \
+   POM_DYN_UNIT_##unit,                                                                            \
+   descr,                                                                                          \
+   offsetof(pom_dyn_metrics, name),                                                                \
+   POM_DYN_REDUCE_##over,                                                                          \
+   POM_DYN_COMBINE_##combine,                                                                      \
+   POM_DYN_STAT_##stat,                                                                            \
+   #stat,                                                                                          \
+   key},
+static const pom_dyn_metric_info schema[POM_DYN_N_METRICS] = {
+    POM_DYN_METRICS_LIST(ENTRY_M, ENTRY_R)};
+#undef ENTRY_M
+#undef ENTRY_R
+
+/* metric index of each statistic */
+#define STAT_IGNORE(...)
+#define STAT_METRIC(name, ...) POM_DYN_METRIC_##name,
+static const int stat_metric[POM_DYN_N_STATS] = {POM_DYN_METRICS_LIST(STAT_IGNORE, STAT_METRIC)};
+#undef STAT_IGNORE
+#undef STAT_METRIC
+
+const pom_dyn_metric_info *pom_dyn_metric_schema(void) {
+  return schema;
+}
+
+const pom_dyn_metric_info *pom_dyn_metric(int j) {
+  return j >= 0 && j < POM_DYN_N_METRICS ? &schema[j] : NULL;
+}
+
+const pom_dyn_metric_info *pom_dyn_stat_metric(int s) {
+  return s >= 0 && s < POM_DYN_N_STATS ? &schema[stat_metric[s]] : NULL;
+}
+
+/* ---- units ------------------------------------------------------------------------ */
+typedef struct {
+  const char *si;      /* SI unit */
+  const char *suffix;  /* JSON key suffix ("" = none) */
+  const char *display; /* text output unit */
+  double factor;       /* SI -> display */
+} unit_info;
+
+/* by pom_dyn_unit; the actuator entry is resolved from the kind */
+static const unit_info units[] = {
+    {"", "", "", 1.0},    {"s", "s", "ms", 1e3}, {"J", "J", "mJ", 1e3},
+    {"V", "V", "V", 1.0}, {"m", "m", "um", 1e6}, {"rad", "rad", "mrad", 1e3},
+    {"1", "", "", 1.0},   {"1", "", "", 1.0},    {"1", "", "", 1.0}};
+_Static_assert(sizeof units / sizeof units[0] == POM_DYN_UNIT_FLAG + 1, "one entry per unit class");
+
+const char *pom_dyn_metric_unit(const pom_dyn_metric_info *mi, pom_actuator_kind kind) {
+  if (mi->unit == POM_DYN_UNIT_ACTUATOR) return pom_act_units_of(kind)->si;
+  return units[mi->unit].si;
+}
+
+const char *pom_dyn_metric_display_unit(const pom_dyn_metric_info *mi, pom_actuator_kind kind,
+                                        double *factor) {
+  if (mi->unit == POM_DYN_UNIT_ACTUATOR) {
+    const pom_act_units *u = pom_act_units_of(kind);
+    if (factor) *factor = u->to_display;
+    return u->display;
+  }
+  if (factor) *factor = units[mi->unit].factor;
+  return units[mi->unit].display;
+}
+
+const char *pom_dyn_metric_json_key(const pom_dyn_metric_info *mi, char *buf, size_t cap) {
+  const char *suffix = mi->unit == POM_DYN_UNIT_ACTUATOR ? "" : units[mi->unit].suffix;
+  snprintf(buf, cap, "%s%s%s", mi->name, suffix[0] ? "_" : "", suffix);
+  return buf;
+}
+
+/* ---- values ------------------------------------------------------------------------ */
+double pom_dyn_metric_value(const pom_dyn_metrics *m, const pom_dyn_metric_info *mi, int k) {
+  const char *base = (const char *)m + mi->offset;
+  switch (mi->type) {
+  case POM_DYN_TYPE_INT:
+    return (double)((const int *)(const void *)base)[k];
+  case POM_DYN_TYPE_LONG:
+    return (double)((const long *)(const void *)base)[k];
+  default:
+    return ((const double *)(const void *)base)[k];
+  }
+}
+
+double pom_dyn_combine_values(pom_dyn_combine c, const double *v, int n) {
+  if (c == POM_DYN_COMBINE_SUM) {
+    double s = 0;
+    for (int k = 0; k < n; ++k)
+      s = k ? s + v[k] : v[k];
+    return s;
+  }
+  if (c == POM_DYN_COMBINE_MAX) {
+    double t = 0;
+    for (int k = 0; k < n; ++k)
+      t = isfinite(v[k]) && isfinite(t) ? fmax(t, v[k]) : NAN;
+    return t;
+  }
+  return n > 0 ? v[0] : NAN;
+}
+
+const char *pom_dyn_reduce_name(pom_dyn_reduce r) {
+  return r == POM_DYN_REDUCE_OK ? "ok" : r == POM_DYN_REDUCE_SETTLED ? "settled" : "none";
+}
+
+const char *pom_dyn_combine_name(pom_dyn_combine c) {
+  return c == POM_DYN_COMBINE_SUM ? "sum" : c == POM_DYN_COMBINE_MAX ? "max" : "none";
+}
