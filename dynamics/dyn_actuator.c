@@ -3,6 +3,7 @@
  * section 4): linear (q in m, force K_m i along the axis) or rotary (q in rad,
  * torque K_t i about the axis). Allocates nothing. */
 #include "dyn_internal.h"
+#include "pom_math.h"
 
 #include <math.h>
 
@@ -58,4 +59,20 @@ double pom_dyn_add_coil_energy(const pom_dyn_model *m, const double *y, double E
       E += 0.5 * lam * lam / m->par.actuator.inductance;
     }
   return E;
+}
+
+/* ---- the rotary coordinate ------------------------------------------------ */
+void pom_dyn_perp_basis(double e1[3], double e2[3], const double n[3]) {
+  double t[3] = {1.0, 0.0, 0.0};
+  if (fabs(n[0]) > 0.6) pom_v3_set(t, 0.0, 1.0, 0.0);
+  double c[3];
+  pom_v3_cross(c, n, t);
+  pom_v3_normalize(e1, c);
+  pom_v3_cross(e2, n, e1);
+}
+
+double pom_dyn_revolute_angle(const double n[3], const double r0[3], const double r1[3]) {
+  double c[3];
+  pom_v3_cross(c, r0, r1);
+  return atan2(pom_v3_dot(n, c), pom_v3_dot(r0, r1));
 }

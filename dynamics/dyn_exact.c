@@ -154,17 +154,6 @@ static void body_point(double out[3], const pom_kin_body_twist *b, const double 
   pom_v3_add(out, b->ref, r);
 }
 
-/* Two unit vectors completing n to a right-handed orthonormal basis (the
- * same construction as the parasitic model's, so that q has one zero). */
-static void exact_perp(double e1[3], double e2[3], const double n[3]) {
-  double t[3] = {1.0, 0.0, 0.0};
-  if (fabs(n[0]) > 0.6) pom_v3_set(t, 0.0, 1.0, 0.0);
-  double c[3];
-  pom_v3_cross(c, n, t);
-  pom_v3_normalize(e1, c);
-  pom_v3_cross(e2, n, e1);
-}
-
 /* Checks that the kinematic body poses realise every joint of the mechanism
  * at a generic pose and finds the kinematic limb of each actuator. */
 static pom_status consistency_check(dyn_exact *ex, const pom_mechanism *mech, pom_error *err) {
@@ -202,14 +191,13 @@ static pom_status consistency_check(dyn_exact *ex, const pom_mechanism *mech, po
       if (jt->type == POM_JOINT_REVOLUTE) {
         /* turns about the axis only: the relative rotation leaves it fixed;
          * q is the angle about it (the parasitic path's definition) */
-        double ax_rel[3], e1[3], e2[3], r1[3], c[3];
+        double ax_rel[3], e1[3], e2[3], r1[3];
         pom_m3_apply(ax_rel, Rrel, jt->axis);
         pom_v3_sub(ax_rel, ax_rel, jt->axis);
         mismatch = fmax(mismatch, pom_v3_norm(ax_rel) * pom_v3_norm(jt->point));
-        exact_perp(e1, e2, jt->axis);
+        pom_dyn_perp_basis(e1, e2, jt->axis);
         pom_m3_apply(r1, Rrel, e1);
-        pom_v3_cross(c, e1, r1);
-        q = atan2(pom_v3_dot(jt->axis, c), pom_v3_dot(e1, r1));
+        q = pom_dyn_revolute_angle(jt->axis, e1, r1);
       }
     }
     int a = jt->actuator;

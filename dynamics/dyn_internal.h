@@ -236,6 +236,15 @@ double pom_dyn_actuator_law(const pom_dyn_model *m, pom_dyn_data *d, int a, doub
  * actuator at a time (J; nothing for a quasi-static coil). */
 double pom_dyn_add_coil_energy(const pom_dyn_model *m, const double *y, double E);
 
+/* dyn_actuator.c: two unit vectors completing the unit n to a right-handed
+ * orthonormal basis; e1 is the zero of a revolute joint's angle in both
+ * formulations. */
+void pom_dyn_perp_basis(double e1[3], double e2[3], const double n[3]);
+
+/* dyn_actuator.c: the rotary actuator coordinate (rad), the signed angle
+ * from r0 to r1 about the unit n (both perpendicular to n), by atan2. */
+double pom_dyn_revolute_angle(const double n[3], const double r0[3], const double r1[3]);
+
 /* dyn_nvec.c: replaces the arithmetic operations of a serial N_Vector (and
  * of every clone CVODE makes of it) by optimized kernels. */
 void pom_dyn_nvec_fast_ops(N_Vector v);

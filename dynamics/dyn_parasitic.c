@@ -203,12 +203,11 @@ static int parasitic_eval(const pom_dyn_model *m, pom_dyn_data *d, const double 
      * -> torque on the revolute joint's relative rotation (docs 4) */
     int a = jt->actuator;
     if (a >= 0 && jt->type == POM_JOINT_REVOLUTE) {
-      double n[3], ref0[3], ref1[3], c[3];
+      double n[3], ref0[3], ref1[3];
       pom_m3_apply(n, R0, jt->axis);
       pom_m3_apply(ref0, R0, jt->ref);
       pom_m3_apply(ref1, R1, jt->ref);
-      pom_v3_cross(c, ref0, ref1);
-      double q = atan2(pom_v3_dot(n, c), pom_v3_dot(ref0, ref1));
+      double q = pom_dyn_revolute_angle(n, ref0, ref1);
       double qd = pom_v3_dot(w1, n) - pom_v3_dot(w0, n);
       double torque = pom_dyn_actuator_law(m, d, a, q, qd, y, ydot);
       apply_torque(d, jt, 1, torque, n);
@@ -300,12 +299,11 @@ static void parasitic_positions(const pom_dyn_model *m, const double *y, double 
     slot_pose(m, y, jt->slot[1], R1, x1);
     if (jt->type == POM_JOINT_REVOLUTE) {
       /* the signed angle of the reference vector about the axis (as the pass) */
-      double r0[3], r1[3], c[3];
+      double r0[3], r1[3];
       pom_m3_apply(n, R0, jt->axis);
       pom_m3_apply(r0, R0, jt->ref);
       pom_m3_apply(r1, R1, jt->ref);
-      pom_v3_cross(c, r0, r1);
-      q[a] = atan2(pom_v3_dot(n, c), pom_v3_dot(r0, r1));
+      q[a] = pom_dyn_revolute_angle(n, r0, r1);
       continue;
     }
     if (jt->slot[0] < 0) {

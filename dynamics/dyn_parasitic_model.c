@@ -17,16 +17,6 @@
 #define DYN_AXIS_UNIT_TOL 1e-6
 
 /* ---- helpers ------------------------------------------------------------- */
-/* Two unit vectors completing n to a right-handed orthonormal basis. */
-static void perp_basis(double e1[3], double e2[3], const double n[3]) {
-  double t[3] = {1.0, 0.0, 0.0};
-  if (fabs(n[0]) > 0.6) pom_v3_set(t, 0.0, 1.0, 0.0);
-  double c[3];
-  pom_v3_cross(c, n, t);
-  pom_v3_normalize(e1, c);
-  pom_v3_cross(e2, n, e1);
-}
-
 static pom_status check_axis(const pom_mech_joint *j, const double a[3], const char *which,
                              pom_error *err) {
   double n = pom_v3_norm(a);
@@ -84,7 +74,7 @@ static pom_status joint_setup(dyn_joint *jt, const pom_mech_joint *j, const pom_
     } else if (j->type == POM_JOINT_REVOLUTE) {
       POM_TRY(check_axis(j, j->axis, "axis", err));
       double e1[3], e2[3];
-      perp_basis(e1, e2, j->axis);
+      pom_dyn_perp_basis(e1, e2, j->axis);
       jt->n_ang = 2; /* hinge axis of side 1 stays perpendicular to e1, e2 of side 0 */
       pom_v3_copy(jt->ang_e[0], e1);
       pom_v3_copy(jt->ang_e[1], e2);
@@ -97,7 +87,7 @@ static pom_status joint_setup(dyn_joint *jt, const pom_mech_joint *j, const pom_
   case POM_JOINT_PRISMATIC: {
     POM_TRY(check_axis(j, j->axis, "axis", err));
     double e1[3], e2[3];
-    perp_basis(e1, e2, j->axis);
+    pom_dyn_perp_basis(e1, e2, j->axis);
     pom_v3_copy(jt->axis, j->axis);
     jt->n_lin = 2; /* no relative motion across the axis, measured in side 0 */
     jt->lin_rotates = 1;
