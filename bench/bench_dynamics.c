@@ -72,7 +72,7 @@ int main(int argc, char **argv) {
         strcmp(argv[5], "quaternion") == 0 ? POM_ORIENT_QUATERNION : POM_ORIENT_EULER_ZYX;
   if (argc > 6)
     par.joints.model = strcmp(argv[6], "rigid") == 0 ? POM_JOINTS_RIGID : POM_JOINTS_PARASITIC;
-  if (pom_dyn_model_create_ex(&m, mech, &arch, &par, &err) != POM_OK ||
+  if (pom_dyn_model_create(&m, mech, &arch, &par, &err) != POM_OK ||
       pom_dyn_data_create(&d, m, &err) != POM_OK)
     goto fail;
   /* one warm-up run (first-touch of pages, KLU symbolic analysis) */

@@ -52,7 +52,7 @@ static double run_set(problem *pb, const pom_dyn_params *p, int repeats, double 
   pom_dyn_data *d = NULL;
   double times[16], res = NAN;
   if (repeats > 16) repeats = 16;
-  if (pom_dyn_model_create_ex(&m, pb->mech, pb->arch, p, &err) != POM_OK ||
+  if (pom_dyn_model_create(&m, pb->mech, pb->arch, p, &err) != POM_OK ||
       pom_dyn_data_create(&d, m, &err) != POM_OK) {
     fprintf(stderr, "bench_dynamics_exact: %s\n", err.message);
     goto done;

@@ -415,7 +415,7 @@ int pom_cmd_simulate(int argc, char **argv) {
     }
   }
 
-  st = pom_dyn_model_create_ex(&model, mech, &arch, &par, &err);
+  st = pom_dyn_model_create(&model, mech, &arch, &par, &err);
   if (st == POM_OK) st = pom_dyn_data_create(&data, model, &err);
   if (st == POM_OK && out_path) st = pom_dyn_trace_create(&trace, model, &err);
   if (st != POM_OK) {

@@ -121,8 +121,7 @@ pom_status pom_doe_dyn_evaluator_create(pom_doe_evaluator *eval, const pom_cfg *
   POM_TRY_GOTO(pom_dyn_params_load(&ctx->params, cfg, err), fail);
   POM_TRY_GOTO(pom_cfg_check_unknown(cfg, dyn_scopes, NULL, err), fail);
   POM_TRY_GOTO(pom_doe_mech_actuator_kind(&ctx->mech, &eval->actuator_kind, err), fail);
-  POM_TRY_GOTO(pom_dyn_model_create_ex(&ctx->model, &ctx->mech, &ctx->arch, &ctx->params, err),
-               fail);
+  POM_TRY_GOTO(pom_dyn_model_create(&ctx->model, &ctx->mech, &ctx->arch, &ctx->params, err), fail);
   eval->ctx = ctx;
   eval->ctx_destroy = ctx_destroy;
   eval->worker_create = pom_doe_dyn_worker_create;

@@ -219,7 +219,7 @@ static pom_status run_setting(const pom_kin_arch *arch, const pom_mechanism *mec
   double times[101];
   pom_error e2;
   pom_error_clear(&e2);
-  st = pom_dyn_model_create_ex(&m, mech, arch, &row->params, &e2);
+  st = pom_dyn_model_create(&m, mech, arch, &row->params, &e2);
   if (st == POM_OK) st = pom_dyn_data_create(&d, m, &e2);
   if (st == POM_OK) st = pom_dyn_trace_create(&tr, m, &e2);
   if (st != POM_OK) {

@@ -1,10 +1,10 @@
-/* dyn_exact.c - the exact-constraint (rigid-joint) path in minimal
- * coordinates: the state is the platform orientation and angular velocity
- * (plus the coils, PID integrals and energy accumulators); every body's pose
- * and twist follow from pom_kin_body_twists; the equations of motion are
- * Kane's M(R) omega_dot = f(R, omega, i) (docs/dynamics-exact.md). Model
- * set-up, the right-hand side, the dense finite-difference Jacobian and the
- * state queries the shared maneuver driver (dyn_simulate.c) dispatches to. */
+/* dyn_exact.c - the exact-constraint (rigid-joint) formulation
+ * (pom_dyn_form_exact) in minimal coordinates: the state is the platform orientation and angular
+ * velocity (plus the coils, PID integrals and energy accumulators); every body's pose and twist
+ * follow from pom_kin_body_twists; the equations of motion are Kane's M(R) omega_dot = f(R, omega,
+ * i) (docs/dynamics-exact.md). Model set-up, the right-hand side, the Jacobian pattern (dense
+ * mechanical and electrical columns, differenced by dyn_fdjac.c), the block linear solver and the
+ * state queries of the shared driver (dyn_simulate.c). */
 #include "dyn_internal.h"
 #include "pom_math.h"
 
@@ -28,6 +28,38 @@ static const double exact_check_euler[3] = {0.031, -0.022, 0.017};
  * body poses: both are exact geometry, so any real mismatch is ~mm while
  * rounding is ~1e-17 m. */
 #define EXACT_MATCH_TOL 1e-9
+
+/* ---- private model and scratch ------------------------------------------ */
+/* The exact formulation's model (m->form_model). Bodies use the shared
+ * model's body[] slots (mass, principal moments, cm_home, mech_index);
+ * offsets are unused. */
+typedef struct {
+  pom_kin_arch arch;                      /* geometry the body poses come from */
+  int platform_mech;                      /* mechanism index of the platform */
+  int n_ori;                              /* orientation states: 3 (ZYX Euler) or 4 (quaternion) */
+  int ori;                                /* first orientation state */
+  int omega;                              /* first state of omega (platform, fixed frame, rad/s) */
+  int n_jac;                              /* leading states with Jacobian columns */
+  int act_limb[POM_MECH_MAX_ACTUATORS];   /* kinematic limb (q index) of each actuator */
+  double inertia[POM_MECH_MAX_BODIES][9]; /* [slot] inertia about the CM, fixed axes at home */
+  int spin_free[POM_MECH_MAX_BODIES];     /* [slot] 1: idle spin, axisymmetric equivalent */
+  double transverse[POM_MECH_MAX_BODIES]; /* [slot] its transverse moment (kg m^2) */
+} dyn_exact;
+
+/* Per-worker scratch of the exact formulation (d->form_data). */
+typedef struct {
+  pom_kin_twists tw; /* body poses and twists of the last evaluation */
+  double M[9];       /* mass matrix of the last evaluation (kg m^2) */
+  double kinetic;    /* 1/2 omega^T M omega of the last evaluation (J) */
+  double potential;  /* gravitational energy relative to home (J) */
+} dyn_exact_work;
+
+static inline const dyn_exact *exact_of(const pom_dyn_model *m) {
+  return (const dyn_exact *)m->form_model;
+}
+static inline dyn_exact_work *work_of(pom_dyn_data *d) {
+  return (dyn_exact_work *)d->form_data;
+}
 
 /* ---- small linear algebra ------------------------------------------------ */
 /* out = A v and out = A^T v (row-major 3x3), inlined in the RHS */
@@ -82,7 +114,7 @@ static int spd_solve(double x[3], const double M[9], const double f[3]) {
 
 /* Platform rotation of state y; Euler path keeps the trig for the rate matrix. */
 static void state_rotation(const pom_dyn_model *m, const double *y, double R[9], double trig[4]) {
-  const dyn_exact *ex = m->ex;
+  const dyn_exact *ex = exact_of(m);
   const double *o = y + ex->ori;
   if (ex->n_ori == 4) {
     double q[4] = {o[0], o[1], o[2], o[3]};
@@ -109,7 +141,7 @@ static void state_rotation(const pom_dyn_model *m, const double *y, double R[9],
   }
 }
 
-void pom_dyn_exact_platform_rotation(const pom_dyn_model *m, const double *y, double R[9]) {
+static void exact_platform_rotation(const pom_dyn_model *m, const double *y, double R[9]) {
   state_rotation(m, y, R, NULL);
 }
 
@@ -139,34 +171,48 @@ static pom_status consistency_check(dyn_exact *ex, const pom_mechanism *mech, po
   for (int j = 0; j < mech->n_joints; ++j) {
     const pom_mech_joint *jt = &mech->joint[j];
     const pom_kin_body_twist *b0 = &tw.body[jt->body[0]], *b1 = &tw.body[jt->body[1]];
-    double p0[3], p1[3], dd[3];
+    double p0[3], p1[3], dd[3], Rrel[9];
     body_point(p0, b0, jt->point);
     body_point(p1, b1, jt->point);
     pom_v3_sub(dd, p1, p0);
-    double mismatch = 0.0;
+    pom_m3_tmul(Rrel, b0->R, b1->R);
+    double mismatch = 0.0, q = NAN;
     if (jt->type == POM_JOINT_PRISMATIC) {
-      double ax[3], lat[3], Rrel[9];
+      /* slides along the axis carried by side 0, no relative rotation */
+      double ax[3], lat[3];
       pom_m3_apply(ax, b0->R, jt->axis);
-      double q = pom_v3_dot(ax, dd);
+      q = pom_v3_dot(ax, dd);
       pom_v3_axpy(lat, dd, -q, ax);
       mismatch = pom_v3_norm(lat);
-      pom_m3_tmul(Rrel, b0->R, b1->R);
       double rot = fabs(Rrel[1]) + fabs(Rrel[2]) + fabs(Rrel[5]);
       mismatch = fmax(mismatch, rot * pom_v3_norm(jt->point));
-      int a = jt->actuator;
-      if (a >= 0 && a < mech->n_actuators) {
-        /* the limb whose q matches; limb a itself when several do */
-        for (int i = 0; i < 3; ++i)
-          if (fabs(tw.q[i] - q) <= EXACT_MATCH_TOL && (ex->act_limb[a] < 0 || i == a))
-            ex->act_limb[a] = i;
-        if (ex->act_limb[a] < 0)
-          POM_FAIL(err, POM_ERR_ARG,
-                   "joints.model = \"rigid\": actuator %d (joint '%s', q = %.6g m at the check "
-                   "pose) matches no limb of the kinematics",
-                   a + 1, jt->name, q);
-      }
     } else {
       mismatch = pom_v3_norm(dd);
+      if (jt->type == POM_JOINT_REVOLUTE) {
+        /* turns about the axis only: the relative rotation leaves it fixed;
+         * q is the angle about it (the parasitic path's definition) */
+        double ax_rel[3], e1[3], e2[3], r1[3];
+        pom_m3_apply(ax_rel, Rrel, jt->axis);
+        pom_v3_sub(ax_rel, ax_rel, jt->axis);
+        mismatch = fmax(mismatch, pom_v3_norm(ax_rel) * pom_v3_norm(jt->point));
+        pom_dyn_perp_basis(e1, e2, jt->axis);
+        pom_m3_apply(r1, Rrel, e1);
+        q = pom_dyn_revolute_angle(jt->axis, e1, r1);
+      }
+    }
+    int a = jt->actuator;
+    if (a >= 0 && a < mech->n_actuators) {
+      /* the limb whose q (m or rad, by the actuator's kind) matches; limb a
+       * itself when several do */
+      const pom_act_units *u = pom_act_units_of(mech->actuator[a].kind);
+      for (int i = 0; i < 3; ++i)
+        if (fabs(tw.q[i] - q) <= EXACT_MATCH_TOL && (ex->act_limb[a] < 0 || i == a))
+          ex->act_limb[a] = i;
+      if (ex->act_limb[a] < 0)
+        POM_FAIL(err, POM_ERR_ARG,
+                 "joints.model = \"rigid\": actuator %d (%s joint '%s', q = %.6g %s at the check "
+                 "pose) matches no limb of the kinematics",
+                 a + 1, u->kind_name, jt->name, q, u->si);
     }
     if (!(mismatch <= EXACT_MATCH_TOL))
       POM_FAIL(err, POM_ERR_ARG,
@@ -180,12 +226,23 @@ static pom_status consistency_check(dyn_exact *ex, const pom_mechanism *mech, po
   return POM_OK;
 }
 
-pom_status pom_dyn_exact_model_init(pom_dyn_model *m, const pom_mechanism *mech,
-                                    const pom_kin_arch *arch, pom_error *err) {
+static pom_status exact_init(pom_dyn_model *m, const pom_mechanism *mech, const pom_kin_arch *arch,
+                             pom_error *err) {
   const pom_dyn_params *p = &m->par;
+  if (!arch)
+    POM_FAIL(err, POM_ERR_ARG,
+             "joints.model = \"rigid\" needs the architecture the mechanism was built from "
+             "(pom_dyn_model_create with arch NULL)");
+  if (p->scene.limb_inertia != POM_INERTIA_FULL || !p->scene.universal_joint)
+    POM_FAIL(err, POM_ERR_ARG,
+             "joints.model = \"rigid\" supports scene.limb_inertia = \"full\" and "
+             "scene.universal_joint = true only");
+  if (mech->n_actuators < 1)
+    POM_FAIL(err, POM_ERR_ARG, "mechanism sizes: %d bodies, %d actuators", mech->n_bodies,
+             mech->n_actuators);
   dyn_exact *ex = calloc(1, sizeof *ex);
   if (!ex) POM_FAIL(err, POM_ERR_NOMEM, "allocating the exact-constraint model");
-  m->ex = ex;
+  m->form_model = ex;
   ex->arch = *arch;
   ex->platform_mech = mech->platform;
   if (mech->platform < 1 || mech->platform >= mech->n_bodies)
@@ -245,12 +302,25 @@ pom_status pom_dyn_exact_model_init(pom_dyn_model *m, const pom_mechanism *mech,
   }
   m->acc_parasitic = next++;
   m->n_states = next;
-  m->n_colors = ex->n_jac;
-  m->nnz = (long)m->n_states * m->n_states; /* dense Jacobian in d->jac, column-major */
 
-  m->atol = calloc((size_t)m->n_states, sizeof *m->atol);
-  m->scale = calloc((size_t)m->n_states, sizeof *m->scale);
-  if (!m->atol || !m->scale) POM_FAIL(err, POM_ERR_NOMEM, "allocating tolerances");
+  /* Jacobian pattern: the mechanical and electrical columns are dense and
+   * each its own colour (every state feeds M(R) omega_dot = f); the
+   * accumulator columns are zero (colour -1: never differenced) */
+  const size_t n = (size_t)m->n_states;
+  m->atol = calloc(n, sizeof *m->atol);
+  m->scale = calloc(n, sizeof *m->scale);
+  m->dep = calloc(n * n, 1);
+  m->color = calloc(n, sizeof *m->color);
+  if (!m->atol || !m->scale || !m->dep || !m->color)
+    POM_FAIL(err, POM_ERR_NOMEM, "allocating tolerances and the Jacobian pattern");
+  for (size_t j = 0; j < n; ++j) {
+    int in = (int)j < ex->n_jac;
+    m->color[j] = in ? (int)j : -1;
+    for (size_t i = 0; i < n; ++i)
+      m->dep[i * n + j] = (unsigned char)in;
+  }
+  m->n_colors = ex->n_jac;
+  POM_TRY(pom_dyn_pattern_build(m, err));
   for (int i = 0; i < ex->n_ori; ++i)
     m->scale[ex->ori + i] = EXACT_SCALE_ANGLE;
   for (int i = 0; i < 3; ++i)
@@ -259,7 +329,10 @@ pom_status pom_dyn_exact_model_init(pom_dyn_model *m, const pom_mechanism *mech,
     const dyn_actuator *ac = &m->act[a];
     if (ac->flux_state >= 0)
       m->scale[ac->flux_state] = p->actuator.inductance * EXACT_SCALE_CURRENT;
-    m->scale[ac->int_state] = EXACT_SCALE_LENGTH * p->maneuver.horizon;
+    /* integral of the error: m s (linear) or rad s (rotary) */
+    m->scale[ac->int_state] =
+        (p->actuator.kind == POM_ACT_REVOLUTE ? EXACT_SCALE_ANGLE : EXACT_SCALE_LENGTH) *
+        p->maneuver.horizon;
     for (int k = 0; k < DYN_ACC_PER_ACT; ++k)
       m->scale[ac->acc_state + k] = EXACT_SCALE_ENERGY;
     m->scale[ac->acc_state + DYN_ACC_SATURATED] = p->maneuver.horizon;
@@ -278,8 +351,8 @@ pom_status pom_dyn_exact_model_init(pom_dyn_model *m, const pom_mechanism *mech,
  * also M, the kinetic and the potential energy. */
 static int exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot,
                       int energy) {
-  const dyn_exact *ex = m->ex;
-  dyn_exact_work *xw = d->xw;
+  const dyn_exact *ex = exact_of(m);
+  dyn_exact_work *xw = work_of(d);
   const pom_dyn_params *par = &m->par;
   dyn_outputs *o = &d->out;
   memset(o, 0, sizeof *o);
@@ -404,68 +477,15 @@ static int exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, 
   return (o->euler_singular || o->nonfinite) ? 1 : 0;
 }
 
-int pom_dyn_exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot) {
+static int exact_rhs(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot) {
   return exact_eval(m, d, y, ydot, 0);
-}
-
-/* ---- Jacobian ------------------------------------------------------------- */
-/* Dense J (column-major into d->jac) by one-sided differences over the
- * mechanical and electrical columns (the accumulators feed nothing back). */
-static int exact_jacobian(pom_dyn_data *d, const double *yv, const double *f0, double *yp,
-                          double *fp) {
-  const pom_dyn_model *m = d->m;
-  const int n = m->n_states;
-  const double srur = sqrt(2.220446049250313e-16); /* sqrt of the unit roundoff */
-  ++d->jac_count;
-  memcpy(yp, yv, (size_t)n * sizeof(double));
-  memset(d->jac, 0, (size_t)n * (size_t)n * sizeof(double));
-  for (int j = 0; j < m->ex->n_jac; ++j) {
-    double h = srur * fmax(fabs(yv[j]), m->scale[j]);
-    volatile double yh = yv[j] + h; /* make h exactly representable */
-    yp[j] = yh;
-    h = yp[j] - yv[j];
-    ++d->rhs_count;
-    ++d->jac_rhs_count;
-    int r = pom_dyn_exact_eval(m, d, yp, fp);
-    yp[j] = yv[j];
-    if (r != 0) return r;
-    double *col = d->jac + (size_t)j * (size_t)n;
-    for (int i = 0; i < n; ++i)
-      col[i] = (fp[i] - f0[i]) / h;
-  }
-  return 0;
-}
-
-int pom_dyn_exact_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, sunbooleantype jok,
-                         sunbooleantype *jcur, sunrealtype gamma, void *user_data, N_Vector tmp1,
-                         N_Vector tmp2, N_Vector tmp3) {
-  (void)t;
-  (void)tmp3;
-  pom_dyn_data *d = user_data;
-  const int n = d->m->n_states;
-  if (!jok || !d->jac_valid) {
-    int r = exact_jacobian(d, N_VGetArrayPointer(y), N_VGetArrayPointer(fy),
-                           N_VGetArrayPointer(tmp1), N_VGetArrayPointer(tmp2));
-    if (r != 0) return r;
-    d->jac_valid = 1;
-    *jcur = SUNTRUE;
-  } else {
-    *jcur = SUNFALSE;
-  }
-  for (int j = 0; j < n; ++j) {
-    double *col = SUNDenseMatrix_Column(A, j);
-    const double *jc = d->jac + (size_t)j * (size_t)n;
-    for (int i = 0; i < n; ++i)
-      col[i] = -gamma * jc[i];
-    col[j] += 1.0;
-  }
-  return 0;
 }
 
 /* ---- block linear solver --------------------------------------------------- */
 /* The Newton matrix I - gamma J of the exact path is block lower triangular:
  * the accumulator columns of J are zero (they feed nothing back), so
- * A = [A11 0; A21 I] with A11 of size n_jac (12-13). Setup factors A11 by LU
+ * A = [A11 0; A21 I] with A11 of size n_jac (12-13); the shared linear-system
+ * callback (dyn_fdjac.c) writes A into a dense matrix. Setup factors A11 by LU
  * with partial pivoting; solve does the small block and then x2 = b2 - A21 x1.
  * SUNDIALS' dense LU (built without optimization on this system) on the full
  * n = 28 matrix took a third of the run (bench/README.md). */
@@ -574,7 +594,7 @@ static int exact_ls_free(SUNLinearSolver S) {
   return 0;
 }
 
-SUNLinearSolver pom_dyn_exact_linear_solver(const pom_dyn_model *m, SUNContext ctx) {
+static SUNLinearSolver exact_linear_solver(const pom_dyn_model *m, SUNContext ctx) {
   SUNLinearSolver S = SUNLinSolNewEmpty(ctx);
   if (!S) return NULL;
   exact_ls *c = calloc(1, sizeof *c);
@@ -586,7 +606,7 @@ SUNLinearSolver pom_dyn_exact_linear_solver(const pom_dyn_model *m, SUNContext c
   S->ops->free = exact_ls_free;
   if (c) {
     c->n = m->n_states;
-    c->nb = m->ex->n_jac;
+    c->nb = exact_of(m)->n_jac;
     c->lu = calloc((size_t)c->nb * (size_t)c->nb, sizeof *c->lu);
     c->piv = calloc((size_t)c->nb, sizeof *c->piv);
     c->a21 = calloc((size_t)(c->n - c->nb) * (size_t)c->nb, sizeof *c->a21);
@@ -599,50 +619,60 @@ SUNLinearSolver pom_dyn_exact_linear_solver(const pom_dyn_model *m, SUNContext c
 }
 
 /* ---- state queries for the shared driver ---------------------------------- */
-void pom_dyn_exact_initial(const pom_dyn_model *m, double *y, const pom_dyn_initial *init) {
-  const dyn_exact *ex = m->ex;
+static void exact_initial(const pom_dyn_model *m, double *y, const pom_dyn_initial *init) {
+  const dyn_exact *ex = exact_of(m);
   memset(y, 0, (size_t)m->n_states * sizeof(double));
   if (ex->n_ori == 4) y[ex->ori] = 1.0;
   if (init) memcpy(y + ex->omega, init->omega[ex->platform_mech], 3 * sizeof(double));
 }
 
-int pom_dyn_exact_near_singular(const pom_dyn_model *m, const double *y) {
-  return m->ex->n_ori == 3 && cos(y[m->ex->ori + 1]) < m->par.scene.euler_cos_min;
+static int exact_near_singular(const pom_dyn_model *m, const double *y) {
+  const dyn_exact *ex = exact_of(m);
+  return ex->n_ori == 3 && cos(y[ex->ori + 1]) < m->par.scene.euler_cos_min;
 }
 
-void pom_dyn_exact_positions(const pom_dyn_model *m, const double *y, double *q) {
+static void exact_positions(const pom_dyn_model *m, const double *y, double *q) {
+  const dyn_exact *ex = exact_of(m);
   double R[9], qq[3] = {NAN, NAN, NAN};
   state_rotation(m, y, R, NULL);
-  (void)pom_kin_inverse(&m->ex->arch, R, qq, NULL); /* NaN when unassemblable */
+  (void)pom_kin_inverse(&ex->arch, R, qq, NULL); /* NaN when unassemblable */
   for (int a = 0; a < m->n_actuators; ++a)
-    q[a] = qq[m->ex->act_limb[a]];
+    q[a] = qq[ex->act_limb[a]];
 }
 
-double pom_dyn_exact_dexterity(const pom_dyn_model *m, const double *y) {
+/* Dexterity 1/kappa(J) of the kinematic Jacobian at the platform pose of
+ * state y (NaN when the pose cannot be assembled): failure diagnostics. */
+static double exact_dexterity(const pom_dyn_model *m, const double *y) {
   double R[9], q[3], J[9], dex = NAN;
   state_rotation(m, y, R, NULL);
-  if (pom_kin_inverse_jacobian(&m->ex->arch, R, q, J, NULL) == POM_OK)
+  if (pom_kin_inverse_jacobian(&exact_of(m)->arch, R, q, J, NULL) == POM_OK)
     pom_kin_dexterity(J, NULL, NULL, &dex);
   return dex;
 }
 
-double pom_dyn_exact_stored(const pom_dyn_model *m, pom_dyn_data *d, const double *y) {
-  if (exact_eval(m, d, y, NULL, 1) != 0 && d->out.kin_fail) return NAN;
-  double E = d->xw->kinetic + d->xw->potential;
-  for (int a = 0; a < m->n_actuators; ++a)
-    if (m->act[a].flux_state >= 0) {
-      double lam = y[m->act[a].flux_state];
-      E += 0.5 * lam * lam / m->par.actuator.inductance;
-    }
-  return E;
+/* Rigid joints: say how close the pose is to a singularity, where a limb
+ * locks and the integrator stalls (docs/dynamics-exact.md section 3). */
+static pom_status exact_solver_failure(const pom_dyn_model *m, pom_dyn_data *d, double t,
+                                       pom_error *err) {
+  double dex = exact_dexterity(m, N_VGetArrayPointer(d->y));
+  return pom_error_set(err, isnan(dex) ? POM_ERR_UNREACHABLE : POM_ERR_SOLVER, __FILE__, __LINE__,
+                       "rigid joints: CVODE failed at t = %.6g s with the mechanism at 1/kappa(J) "
+                       "= %.3g (1 isotropic, 0 singular%s): %s",
+                       t, dex, isnan(dex) ? ", NaN: not assemblable" : "", d->cvode_msg);
 }
 
-pom_status pom_dyn_exact_body_pose(const pom_dyn_model *m, const double *y, int k, double R[9],
-                                   double x[3], pom_error *err) {
+static double exact_stored(const pom_dyn_model *m, pom_dyn_data *d, const double *y) {
+  if (exact_eval(m, d, y, NULL, 1) != 0 && d->out.kin_fail) return NAN;
+  const dyn_exact_work *xw = work_of(d);
+  return pom_dyn_add_coil_energy(m, y, xw->kinetic + xw->potential);
+}
+
+static pom_status exact_body_pose(const pom_dyn_model *m, const double *y, int k, double R[9],
+                                  double x[3], pom_error *err) {
   double Rp[9], d0[3], r[3];
   pom_kin_twists tw;
   state_rotation(m, y, Rp, NULL);
-  POM_TRY(pom_kin_body_twists(&m->ex->arch, Rp, NULL, &tw, err));
+  POM_TRY(pom_kin_body_twists(&exact_of(m)->arch, Rp, NULL, &tw, err));
   const pom_kin_body_twist *t = &tw.body[k];
   pom_m3_copy(R, t->R);
   pom_v3_sub(d0, m->body[m->slot_of_mech[k]].cm_home, t->ref_home);
@@ -651,8 +681,57 @@ pom_status pom_dyn_exact_body_pose(const pom_dyn_model *m, const double *y, int 
   return POM_OK;
 }
 
-const double *pom_dyn_exact_mass_matrix(const pom_dyn_model *m, pom_dyn_data *d, const double *y) {
-  if (!m->ex || !d->xw) return NULL;
-  (void)exact_eval(m, d, y, NULL, 1);
-  return d->xw->M;
+/* ---- model and data ------------------------------------------------------- */
+static void exact_model_free(pom_dyn_model *m) {
+  free(m->form_model);
+  m->form_model = NULL;
 }
+
+/* A few states: a dense Newton matrix and the block solver above. */
+static pom_status exact_data_init(const pom_dyn_model *m, pom_dyn_data *d, pom_error *err) {
+  const sunindextype n = m->n_states;
+  d->form_data = calloc(1, sizeof(dyn_exact_work));
+  if (!d->form_data) POM_FAIL(err, POM_ERR_NOMEM, "allocating exact-path scratch");
+  d->A = SUNDenseMatrix(n, n, d->ctx);
+  if (d->A) d->LS = exact_linear_solver(m, d->ctx);
+  return POM_OK;
+}
+
+static void exact_data_free(pom_dyn_data *d) {
+  free(d->form_data);
+  d->form_data = NULL;
+}
+
+/* ---- queries for tests ---------------------------------------------------- */
+int pom_dyn_exact_layout(const pom_dyn_model *m, int *ori, int *n_ori, int *omega) {
+  if (m->form != &pom_dyn_form_exact) return 0;
+  const dyn_exact *ex = exact_of(m);
+  *ori = ex->ori;
+  *n_ori = ex->n_ori;
+  *omega = ex->omega;
+  return 1;
+}
+
+const double *pom_dyn_exact_mass_matrix(const pom_dyn_model *m, pom_dyn_data *d, const double *y) {
+  if (m->form != &pom_dyn_form_exact || !d->form_data) return NULL;
+  (void)exact_eval(m, d, y, NULL, 1);
+  return work_of(d)->M;
+}
+
+/* ---- the table ------------------------------------------------------------ */
+const dyn_formulation pom_dyn_form_exact = {
+    .name = "rigid",
+    .init = exact_init,
+    .model_free = exact_model_free,
+    .data_init = exact_data_init,
+    .data_free = exact_data_free,
+    .eval = exact_rhs,
+    .linsys = pom_dyn_cvode_linsys,
+    .initial = exact_initial,
+    .positions = exact_positions,
+    .stored = exact_stored,
+    .near_singular = exact_near_singular,
+    .platform_rotation = exact_platform_rotation,
+    .body_pose = exact_body_pose,
+    .solver_failure = exact_solver_failure,
+};

@@ -9,6 +9,7 @@
 #include "pom_kinematics.h"
 
 #include <cvode/cvode.h>
+#include <cvode/cvode_ls.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sundials/sundials_linearsolver.h>
@@ -57,8 +58,10 @@ typedef struct {
   int n_ang;                      /* angular pseudo-constraints g = (R0 e).(R1 h) */
   double ang_e[DYN_MAX_ANG][3];   /* vector fixed in side 0, home */
   double ang_h[DYN_MAX_ANG][3];   /* vector fixed in side 1, home, e.h = 0 */
-  double axis[3];                 /* prismatic axis at home (unit) */
-  int actuator;                   /* model actuator index, -1 passive */
+  double axis[3];                 /* prismatic or revolute axis at home (unit) */
+  double ref[3]; /* revolute: reference vector fixed in both sides, perpendicular to axis at
+                    home; the joint angle is measured from its side-0 to its side-1 image */
+  int actuator;  /* model actuator index, -1 passive */
   /* massless rod of a lumped binary link (docs/dynamics.md section 13): one linear
    * pseudo-constraint |p1 - p0| - length, no other constraint */
   int distance;  /* 1 for a rod */
@@ -66,38 +69,18 @@ typedef struct {
 } dyn_joint;
 
 typedef struct {
-  int joint;      /* model joint index (prismatic) */
+  int joint;      /* model joint index (prismatic or revolute) */
   int flux_state; /* state index of the coil flux linkage, -1 when quasi-static */
   int int_state;  /* state index of the PID integral */
   int acc_state;  /* first of DYN_ACC_PER_ACT accumulator states */
-  double stroke;  /* total stroke (m), targets within +-stroke/2; 0 = not limited */
+  double stroke;  /* total stroke (m or rad), targets within +-stroke/2; 0 = not limited */
 } dyn_actuator;
 
-/* Exact-constraint (rigid-joint) path in minimal coordinates, dyn_exact.c
- * (docs/dynamics-exact.md). Bodies use the model's body[] slots (mass,
- * principal moments, cm_home, mech_index); offsets are unused. */
-typedef struct {
-  pom_kin_arch arch;                      /* geometry the body poses come from */
-  int platform_mech;                      /* mechanism index of the platform */
-  int n_ori;                              /* orientation states: 3 (ZYX Euler) or 4 (quaternion) */
-  int ori;                                /* first orientation state */
-  int omega;                              /* first state of omega (platform, fixed frame, rad/s) */
-  int n_jac;                              /* leading states with Jacobian columns */
-  int act_limb[POM_MECH_MAX_ACTUATORS];   /* kinematic limb (q index) of each actuator */
-  double inertia[POM_MECH_MAX_BODIES][9]; /* [slot] inertia about the CM, fixed axes at home */
-  int spin_free[POM_MECH_MAX_BODIES];     /* [slot] 1: idle spin, axisymmetric equivalent */
-  double transverse[POM_MECH_MAX_BODIES]; /* [slot] its transverse moment (kg m^2) */
-} dyn_exact;
-
-/* Per-worker scratch of the exact path. */
-typedef struct {
-  pom_kin_twists tw; /* body poses and twists of the last evaluation */
-  double M[9];       /* mass matrix of the last evaluation (kg m^2) */
-  double kinetic;    /* 1/2 omega^T M omega of the last evaluation (J) */
-  double potential;  /* gravitational energy relative to home (J) */
-} dyn_exact_work;
+typedef struct dyn_formulation dyn_formulation;
 
 struct pom_dyn_model {
+  const dyn_formulation *form; /* the formulation's operations (never NULL once created) */
+  void *form_model;            /* the formulation's private model, owned (NULL if none) */
   pom_dyn_params par;
   double gravity[3]; /* m/s^2, zero when the scene has gravity off */
   int n_bodies;      /* moving bodies (the ground is not a model body) */
@@ -115,13 +98,12 @@ struct pom_dyn_model {
   double *scale; /* [n_states] characteristic scale (finite-difference increments) */
   /* Jacobian structure (docs/dynamics.md section 7) */
   unsigned char *dep; /* [n_states][n_states] row i depends on column j */
-  int *color;         /* [n_states] colour of each column */
+  int *color;         /* [n_states] colour of each column, -1: never perturbed (zero column) */
   int n_colors;
-  long nnz;      /* structural non-zeros (including the diagonal) */
-  long *colptr;  /* [n_states + 1] CSC column starts of the pattern */
-  int *rowind;   /* [nnz] CSC row indices */
-  long *diag;    /* [n_states] position of the diagonal entry of each column */
-  dyn_exact *ex; /* exact-constraint path (joints.model = rigid), NULL for the parasitic one */
+  long nnz;     /* structural non-zeros (including the diagonal) */
+  long *colptr; /* [n_states + 1] CSC column starts of the pattern */
+  int *rowind;  /* [nnz] CSC row indices */
+  long *diag;   /* [n_states] position of the diagonal entry of each column */
 };
 
 /* Per-body kinematic quantities at one evaluation. */
@@ -139,8 +121,8 @@ typedef struct {
 
 /* Outputs of one evaluation that metrics and traces use. */
 typedef struct {
-  double q[POM_MECH_MAX_ACTUATORS];       /* actuator displacement (m) */
-  double q_dot[POM_MECH_MAX_ACTUATORS];   /* m/s */
+  double q[POM_MECH_MAX_ACTUATORS];       /* actuator coordinate (m or rad) */
+  double q_dot[POM_MECH_MAX_ACTUATORS];   /* m/s or rad/s */
   double current[POM_MECH_MAX_ACTUATORS]; /* A */
   double voltage[POM_MECH_MAX_ACTUATORS]; /* saturated u (V) */
   double max_lin_deflection;              /* m */
@@ -176,74 +158,129 @@ struct pom_dyn_data {
   double *qs;                /* [n_samples][n_actuators] sampled positions for metrics */
   double *yfinal;            /* [n_states] state at the end of the last run */
   int have_final;
-  dyn_exact_work *xw;  /* exact path scratch, NULL for the parasitic path */
+  void *form_data;     /* the formulation's per-worker scratch, owned (NULL if none) */
   long kin_fail_count; /* exact path: RHS calls of this run at an unassemblable pose */
 };
 
-/* dyn_rhs.c: evaluates the state derivative (ydot may be NULL to compute the
- * outputs only). Returns 0, or 1 (recoverable) for a non-finite value or the
- * Euler singularity; never allocates. */
+/* ---- formulations --------------------------------------------------------
+ * One table of operations per formulation of the equations of motion
+ * (docs/dynamics.md section 15): the parasitic bond graph (dyn_parasitic*.c)
+ * and the exact minimal-coordinate rigid path (dyn_exact.c). The shared
+ * driver (dyn_model.c, dyn_simulate.c, dyn_fdjac.c) calls only these. */
+struct dyn_formulation {
+  const char *name; /* "parasitic" or "rigid" (joints.model) */
+  /* Fills bodies, actuators, the state layout (n_states, offsets), scale,
+   * atol and the Jacobian pattern (dep, color, CSC) of m; m->par, gravity,
+   * slot_of_mech (all -1) and platform_slot (-1) are set by the caller. arch
+   * may be NULL when the formulation does not need it. */
+  pom_status (*init)(pom_dyn_model *m, const pom_mechanism *mech, const pom_kin_arch *arch,
+                     pom_error *err);
+  void (*model_free)(pom_dyn_model *m); /* frees m->form_model */
+  /* Per-worker part of the data: d->form_data, the Newton matrix d->A and
+   * its linear solver d->LS (d->ctx and d->y exist). */
+  pom_status (*data_init)(const pom_dyn_model *m, pom_dyn_data *d, pom_error *err);
+  void (*data_free)(pom_dyn_data *d); /* frees d->form_data */
+  /* State derivative (ydot may be NULL: outputs only); 0, or 1 (recoverable)
+   * for a non-finite value, the Euler singularity or an unassemblable pose.
+   * Never allocates. */
+  int (*eval)(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot);
+  CVLsLinSysFn linsys; /* CVODE's linear-system callback A = I - gamma J */
+  /* State at home with the body velocities of init (NULL = rest). */
+  void (*initial)(const pom_dyn_model *m, double *y, const pom_dyn_initial *init);
+  /* Actuator coordinates q[n_actuators] (m or rad) of a state, cheaply. */
+  void (*positions)(const pom_dyn_model *m, const double *y, double *q);
+  /* Stored energy of a state (J): kinetic, gravity, springs, coils. */
+  double (*stored)(const pom_dyn_model *m, pom_dyn_data *d, const double *y);
+  /* 1 when an Euler-angle orientation is beyond scene.euler_cos_min. */
+  int (*near_singular)(const pom_dyn_model *m, const double *y);
+  /* Rotation from home of the platform (identity when there is none). */
+  void (*platform_rotation)(const pom_dyn_model *m, const double *y, double R[9]);
+  /* Pose of mechanism body k (a moving body) in state y. */
+  pom_status (*body_pose)(const pom_dyn_model *m, const double *y, int k, double R[9], double x[3],
+                          pom_error *err);
+  /* Records why CVODE failed at t (after the generic causes were ruled out). */
+  pom_status (*solver_failure)(const pom_dyn_model *m, pom_dyn_data *d, double t, pom_error *err);
+};
+
+/* dyn_parasitic.c: the parasitic bond-graph formulation (docs/dynamics.md). */
+extern const dyn_formulation pom_dyn_form_parasitic;
+/* dyn_exact.c: the exact-constraint formulation (docs/dynamics-exact.md). */
+extern const dyn_formulation pom_dyn_form_exact;
+
+/* dyn_parasitic_model.c: assembly of the parasitic model (the init op). */
+pom_status pom_dyn_parasitic_init(pom_dyn_model *m, const pom_mechanism *mech,
+                                  const pom_kin_arch *arch, pom_error *err);
+/* dyn_parasitic_jac.c: dep/color of the parasitic model, then its CSC
+ * pattern (called by pom_dyn_parasitic_init). */
+pom_status pom_dyn_structure_build(pom_dyn_model *m, pom_error *err);
+
+/* ---- shared pieces -------------------------------------------------------- */
+/* dyn_simulate.c: m->form->eval (tests and the shared Jacobian use it). */
 int pom_dyn_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot);
 
-/* dyn_rhs.c: coil and controller of actuator a at displacement q (m) and
- * rate qd (m/s), shared by both formulations: sets d->out's q, q_dot,
- * current and voltage, and (ydot non-NULL) the coil flux, PID integral and
- * energy-accumulator derivatives; returns the force along the actuator axis
- * on its moving side (N). */
+/* dyn_simulate.c: m->form->stored, the stored energy of a state (J). */
+double pom_dyn_stored(const pom_dyn_model *m, pom_dyn_data *d, const double *y);
+
+/* dyn_simulate.c: the CVODE RHS callback (counts and flags, then eval). */
+int pom_dyn_cvode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data);
+
+/* dyn_actuator.c: coil and controller of actuator a at coordinate q (m or
+ * rad) and rate qd (m/s or rad/s), shared by both formulations: sets d->out's
+ * q, q_dot, current and voltage, and (ydot non-NULL) the coil flux, PID
+ * integral and energy-accumulator derivatives; returns the effort on its
+ * moving side, a force along the axis (N) or a torque about it (N m). */
 double pom_dyn_actuator_law(const pom_dyn_model *m, pom_dyn_data *d, int a, double q, double qd,
                             const double *y, double *ydot);
 
-/* dyn_rhs.c: actuator displacements q[n_actuators] (m) of a state, without
- * the full pass (for the output grid of the metrics). */
-void pom_dyn_actuator_positions(const pom_dyn_model *m, const double *y, double *q);
+/* dyn_actuator.c: E plus the coil energies 1/2 L i^2 of a state, added one
+ * actuator at a time (J; nothing for a quasi-static coil). */
+double pom_dyn_add_coil_energy(const pom_dyn_model *m, const double *y, double E);
 
-/* dyn_rhs.c: stored energy of a state (J). */
-double pom_dyn_stored(const pom_dyn_model *m, pom_dyn_data *d, const double *y);
+/* dyn_actuator.c: two unit vectors completing the unit n to a right-handed
+ * orthonormal basis; e1 is the zero of a revolute joint's angle in both
+ * formulations. */
+void pom_dyn_perp_basis(double e1[3], double e2[3], const double n[3]);
 
-/* dyn_rhs.c: the CVODE RHS callback. */
-int pom_dyn_cvode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data);
+/* dyn_actuator.c: the rotary actuator coordinate (rad), the signed angle
+ * from r0 to r1 about the unit n (both perpendicular to n), by atan2. */
+double pom_dyn_revolute_angle(const double n[3], const double r0[3], const double r1[3]);
 
 /* dyn_nvec.c: replaces the arithmetic operations of a serial N_Vector (and
  * of every clone CVODE makes of it) by optimized kernels. */
 void pom_dyn_nvec_fast_ops(N_Vector v);
 
-/* dyn_jac.c: builds dep/color/nnz of the model (called by model create). */
-pom_status pom_dyn_structure_build(pom_dyn_model *m, pom_error *err);
+/* dyn_fdjac.c: the CSC pattern (colptr, rowind, diag, nnz) of m->dep plus
+ * the diagonal. */
+pom_status pom_dyn_pattern_build(pom_dyn_model *m, pom_error *err);
 
-/* dyn_jac.c: the CVODE linear-system callback A = I - gamma J (dense or CSC
- * by the matrix id), with the coloured finite-difference Jacobian. */
+/* dyn_fdjac.c: the finite-difference Jacobian shared by both formulations:
+ * one RHS evaluation per colour of m->color (columns of colour -1 are left
+ * zero), CSC values over the model's pattern into d->jac; f0 = f(yv), yp, fp
+ * scratch of n_states. Returns the RHS status (0 ok). */
+int pom_dyn_fd_jacobian(pom_dyn_data *d, const double *yv, const double *f0, double *yp,
+                        double *fp);
+
+/* dyn_fdjac.c: the CVODE linear-system callback A = I - gamma J (dense or CSC
+ * by the matrix id), J from pom_dyn_fd_jacobian unless CVODE says the stored
+ * one is still good. */
 int pom_dyn_cvode_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, sunbooleantype jok,
                          sunbooleantype *jcur, sunrealtype gamma, void *user_data, N_Vector tmp1,
                          N_Vector tmp2, N_Vector tmp3);
 
-/* dyn_jac.c: largest scaled derivative that the structure leaves out (0 when
+/* dyn_fdjac.c: largest scaled derivative that the structure leaves out (0 when
  * the pattern is complete), by one-column finite differences at y; f0, yp, fp
  * are caller scratch of n_states each. worst_i/j name the entry. */
 double pom_dyn_structure_check(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *f0,
                                double *yp, double *fp, int *worst_i, int *worst_j);
 
-/* dyn_exact.c: the exact-constraint path (docs/dynamics-exact.md). */
-pom_status pom_dyn_exact_model_init(pom_dyn_model *m, const pom_mechanism *mech,
-                                    const pom_kin_arch *arch, pom_error *err);
-int pom_dyn_exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot);
-int pom_dyn_exact_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, sunbooleantype jok,
-                         sunbooleantype *jcur, sunrealtype gamma, void *user_data, N_Vector tmp1,
-                         N_Vector tmp2, N_Vector tmp3);
-/* The block-triangular direct solver of the exact path's Newton systems (the
- * matrix is a SUNDenseMatrix filled by pom_dyn_exact_linsys). */
-SUNLinearSolver pom_dyn_exact_linear_solver(const pom_dyn_model *m, SUNContext ctx);
-/* Dexterity 1/kappa(J) of the kinematic Jacobian at the platform pose of
- * state y (NaN when the pose cannot be assembled): failure diagnostics. */
-double pom_dyn_exact_dexterity(const pom_dyn_model *m, const double *y);
-void pom_dyn_exact_initial(const pom_dyn_model *m, double *y, const pom_dyn_initial *init);
-int pom_dyn_exact_near_singular(const pom_dyn_model *m, const double *y);
-void pom_dyn_exact_positions(const pom_dyn_model *m, const double *y, double *q);
-double pom_dyn_exact_stored(const pom_dyn_model *m, pom_dyn_data *d, const double *y);
-void pom_dyn_exact_platform_rotation(const pom_dyn_model *m, const double *y, double R[9]);
-pom_status pom_dyn_exact_body_pose(const pom_dyn_model *m, const double *y, int k, double R[9],
-                                   double x[3], pom_error *err);
-/* Mass matrix M(R) (kg m^2, 3x3 row-major) at state y; NULL for a parasitic
- * model. Points into d's scratch (valid until the next evaluation). */
+/* ---- exact formulation queries (dyn_exact.c; tests and diagnostics) ------- */
+/* State layout of an exact model: first orientation state, their number (3
+ * or 4) and first state of omega; returns 0 (and leaves them) for a model of
+ * another formulation. */
+int pom_dyn_exact_layout(const pom_dyn_model *m, int *ori, int *n_ori, int *omega);
+/* Mass matrix M(R) (kg m^2, 3x3 row-major) at state y; NULL for a model of
+ * another formulation. Points into d's scratch (valid until the next
+ * evaluation). */
 const double *pom_dyn_exact_mass_matrix(const pom_dyn_model *m, pom_dyn_data *d, const double *y);
 
 #endif

@@ -14,6 +14,7 @@ void pom_dyn_params_defaults(pom_dyn_params *p) {
   p->actuator.bearing_friction = 9.8e-2;
   p->actuator.voltage_limit = 24.0;
   p->actuator.sensor_gain = 833.33;
+  p->actuator.kind = POM_ACT_PRISMATIC; /* "linear"; a rotary actuator needs its own values */
   /* 3P-S-S/S reference gains, ideal form (PARAMETERS.md controller-form note) */
   p->controller.form = POM_PID_IDEAL;
   p->controller.kp = 1.2e4;
@@ -51,6 +52,13 @@ static const char *const orient_kinds[] = {"euler", "quaternion", NULL};
 static const char *const linsol_kinds[] = {"dense", "klu", NULL};
 static const char *const joint_models[] = {"parasitic", "rigid", NULL};
 static const char *const inertia_kinds[] = {"full", "lumped", NULL};
+static const char *const actuator_kinds[] = {"linear", "rotary", NULL};
+/* constant, bearing friction and sensor gain keys of each actuator kind */
+static const char *const actuator_keys[2][3] = {
+    {"actuator.force_constant_N_per_A", "actuator.bearing_friction_Ns_per_m",
+     "actuator.sensor_gain_V_per_m"},
+    {"actuator.torque_constant_Nm_per_A", "actuator.bearing_friction_Nms_per_rad",
+     "actuator.sensor_gain_V_per_rad"}};
 
 const char *pom_dyn_pid_form_name(pom_pid_form f) {
   return (f == POM_PID_PARALLEL) ? pid_forms[1] : pid_forms[0];
@@ -79,18 +87,28 @@ pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error 
   int idx = 0;
   long lval = 0;
 
-  POM_TRY(pom_cfg_real_opt(cfg, "actuator.force_constant_N_per_A", 1.0, 1e-6, 1e4,
-                           a->force_constant, &a->force_constant, err));
+  /* actuator.kind chooses the units of the constant, friction and gain keys;
+   * the other kind's keys are refused by name (docs/config.md) */
+  idx = (int)a->kind;
+  POM_TRY(pom_cfg_choice_opt(cfg, "actuator.kind", actuator_kinds, idx, &idx, err));
+  a->kind = (idx == 1) ? POM_ACT_REVOLUTE : POM_ACT_PRISMATIC;
+  const char *const *keys = actuator_keys[idx], *const *other = actuator_keys[1 - idx];
+  for (int k = 0; k < 3; ++k)
+    if (pom_cfg_has(cfg, other[k]))
+      return pom_cfg_error(cfg, other[k], NULL, err,
+                           "is a key of a %s actuator but actuator.kind = \"%s\": use %s",
+                           actuator_kinds[1 - idx], actuator_kinds[idx], keys[k]);
+  POM_TRY(
+      pom_cfg_real_opt(cfg, keys[0], 1.0, 1e-6, 1e4, a->force_constant, &a->force_constant, err));
   POM_TRY(pom_cfg_real_opt(cfg, "actuator.resistance_ohm", 1.0, 1e-6, 1e6, a->resistance,
                            &a->resistance, err));
   POM_TRY(pom_cfg_real_opt(cfg, "actuator.inductance_H", 1.0, 1e-12, 10.0, a->inductance,
                            &a->inductance, err));
-  POM_TRY(pom_cfg_real_opt(cfg, "actuator.bearing_friction_Ns_per_m", 1.0, 0.0, 1e6,
-                           a->bearing_friction, &a->bearing_friction, err));
+  POM_TRY(pom_cfg_real_opt(cfg, keys[1], 1.0, 0.0, 1e6, a->bearing_friction, &a->bearing_friction,
+                           err));
   POM_TRY(pom_cfg_real_opt(cfg, "actuator.voltage_limit_V", 1.0, 1e-3, 1e5, a->voltage_limit,
                            &a->voltage_limit, err));
-  POM_TRY(pom_cfg_real_opt(cfg, "actuator.sensor_gain_V_per_m", 1.0, 1e-6, 1e9, a->sensor_gain,
-                           &a->sensor_gain, err));
+  POM_TRY(pom_cfg_real_opt(cfg, keys[2], 1.0, 1e-6, 1e9, a->sensor_gain, &a->sensor_gain, err));
 
   idx = (int)c->form;
   POM_TRY(pom_cfg_choice_opt(cfg, "controller.form", pid_forms, idx, &idx, err));

@@ -1,6 +1,7 @@
 /* dyn_simulate.c - per-worker CVODE data, one maneuver (BDF + Newton with the
- * coloured finite-difference Jacobian), traces and maneuver metrics
- * (docs/dynamics.md sections 7-8). */
+ * formulation's finite-difference Jacobian and linear solver), traces and
+ * maneuver metrics (docs/dynamics.md sections 7-8), the same driver for
+ * every formulation (section 15). */
 #include "dyn_internal.h"
 #include "pom_math.h"
 
@@ -9,10 +10,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sunlinsol/sunlinsol_dense.h>
-#include <sunlinsol/sunlinsol_klu.h>
-#include <sunmatrix/sunmatrix_dense.h>
-#include <sunmatrix/sunmatrix_sparse.h>
 #include <time.h>
 
 /* ---- helpers ------------------------------------------------------------- */
@@ -39,6 +36,28 @@ static int sample_count(const pom_dyn_params *p) {
 
 static double sample_time(const pom_dyn_params *p, int k) {
   return fmin((double)k * p->maneuver.output_dt, p->maneuver.horizon);
+}
+
+/* ---- the formulation's RHS ---------------------------------------------- */
+int pom_dyn_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot) {
+  return m->form->eval(m, d, y, ydot);
+}
+
+double pom_dyn_stored(const pom_dyn_model *m, pom_dyn_data *d, const double *y) {
+  return m->form->stored(m, d, y);
+}
+
+int pom_dyn_cvode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data) {
+  (void)t;
+  pom_dyn_data *d = user_data;
+  ++d->rhs_count;
+  int r = d->m->form->eval(d->m, d, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
+  d->last_euler_singular = d->out.euler_singular;
+  d->last_nonfinite = d->out.nonfinite;
+  d->euler_singular_count += d->out.euler_singular;
+  d->nonfinite_count += d->out.nonfinite;
+  d->kin_fail_count += d->out.kin_fail;
+  return r;
 }
 
 /* ---- data create / destroy ----------------------------------------------- */
@@ -78,28 +97,13 @@ pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_e
       (p->solver.max_step > 0 && CVodeSetMaxStep(d->cvode, p->solver.max_step) != CV_SUCCESS))
     POM_FAIL_GOTO(err, POM_ERR_SOLVER, fail, "configuring CVODE: %s", d->cvode_msg);
 
-  if (m->ex) {
-    /* exact path: a few states, dense matrix and its own Jacobian */
-    d->xw = calloc(1, sizeof *d->xw);
-    if (!d->xw) POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "allocating exact-path scratch");
-    d->A = SUNDenseMatrix(n, n, d->ctx);
-    if (d->A) d->LS = pom_dyn_exact_linear_solver(m, d->ctx);
-  } else if (p->solver.linear_solver == POM_LINSOL_KLU) {
-    d->A = SUNSparseMatrix(n, n, (sunindextype)m->nnz, CSC_MAT, d->ctx);
-    if (d->A) d->LS = SUNLinSol_KLU(d->y, d->A, d->ctx);
-    /* AMD ordering: half the fill of SUNDIALS' default COLAMD on these
-     * matrices (3PSS: nnz(L+U) 1823 against 3535), 25 % faster maneuvers */
-    if (d->LS && SUNLinSol_KLUSetOrdering(d->LS, 0) != 0)
-      POM_FAIL_GOTO(err, POM_ERR_SOLVER, fail, "setting the KLU ordering");
-  } else {
-    d->A = SUNDenseMatrix(n, n, d->ctx);
-    if (d->A) d->LS = SUNLinSol_Dense(d->y, d->A, d->ctx);
-  }
+  /* the formulation's scratch, Newton matrix and linear solver */
+  POM_TRY_GOTO(m->form->data_init(m, d, err), fail);
   if (!d->A || !d->LS)
     POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "creating the %s linear solver",
                   pom_dyn_linsol_name(p->solver.linear_solver));
   if (CVodeSetLinearSolver(d->cvode, d->LS, d->A) != CV_SUCCESS ||
-      CVodeSetLinSysFn(d->cvode, m->ex ? pom_dyn_exact_linsys : pom_dyn_cvode_linsys) != CV_SUCCESS)
+      CVodeSetLinSysFn(d->cvode, m->form->linsys) != CV_SUCCESS)
     POM_FAIL_GOTO(err, POM_ERR_SOLVER, fail, "attaching the linear solver: %s", d->cvode_msg);
 
   d->n_samples = sample_count(p);
@@ -128,7 +132,7 @@ void pom_dyn_data_destroy(pom_dyn_data *d) {
   free(d->qs);
   free(d->yfinal);
   free(d->jac);
-  free(d->xw);
+  if (d->m) d->m->form->data_free(d);
   free(d);
 }
 
@@ -172,26 +176,6 @@ void pom_dyn_trace_destroy(pom_dyn_trace *tr) {
   free(tr->quat);
   free(tr->deflection);
   free(tr);
-}
-
-/* Rotation of model body slot b in state y. */
-static void slot_rotation(const pom_dyn_model *m, const double *y, int b, double R[9]) {
-  if (m->ex && b == m->platform_slot) {
-    pom_dyn_exact_platform_rotation(m, y, R);
-    return;
-  }
-  if (b < 0) {
-    pom_m3_identity(R);
-    return;
-  }
-  const double *o = y + m->body[b].offset + DYN_BODY_ORI;
-  if (m->par.scene.orientation == POM_ORIENT_QUATERNION) {
-    double q[4] = {o[0], o[1], o[2], o[3]};
-    pom_quat_normalize(q);
-    pom_quat_to_matrix(R, q);
-  } else {
-    pom_euler_zyx_to_matrix(R, o);
-  }
 }
 
 /* ---- metrics ------------------------------------------------------------- */
@@ -264,7 +248,7 @@ static void record_sample(const pom_dyn_model *m, pom_dyn_data *d, int k, double
     tr->energy[3 * k + a] = on ? y[m->act[a].acc_state + DYN_ACC_SOURCE] : 0.0;
   }
   double R[9];
-  slot_rotation(m, y, m->platform_slot, R);
+  m->form->platform_rotation(m, y, R);
   (void)pom_euler_zyx_from_matrix(tr->euler_zyx + 3 * k, R); /* angles valid even if singular */
   pom_quat_from_matrix(tr->quat + 4 * k, R);
   tr->deflection[k] = o->max_lin_deflection;
@@ -276,36 +260,6 @@ static void track_extremes(const pom_dyn_model *m, const pom_dyn_data *d, pom_dy
     mt->peak_voltage[a] = fmax(mt->peak_voltage[a], fabs(d->out.voltage[a]));
   mt->max_deflection = fmax(mt->max_deflection, d->out.max_lin_deflection);
   mt->max_angular_deflection = fmax(mt->max_angular_deflection, d->out.max_ang_deflection);
-}
-
-static void initial_state(const pom_dyn_model *m, double *y, const pom_dyn_initial *init) {
-  if (m->ex) {
-    pom_dyn_exact_initial(m, y, init);
-    return;
-  }
-  memset(y, 0, (size_t)m->n_states * sizeof(double));
-  for (int b = 0; b < m->n_bodies; ++b) {
-    const dyn_body *bd = &m->body[b];
-    double *yb = y + bd->offset;
-    if (m->par.scene.orientation == POM_ORIENT_QUATERNION) yb[DYN_BODY_ORI] = 1.0;
-    if (!init) continue;
-    int k = bd->mech_index;
-    double wp[3];
-    if (!bd->pinned) pom_v3_scale(yb + DYN_BODY_P, bd->mass, init->v[k]);
-    pom_m3_tapply(wp, bd->V, init->omega[k]); /* R = I at home: principal = V^T fixed */
-    for (int c = 0; c < 3; ++c)
-      yb[DYN_BODY_H + c] = bd->principal[c] * wp[c];
-  }
-}
-
-/* 1 when an Euler-angle body has cos(pitch) below the scene's limit (also
- * catches a step that jumped across pitch = 90 deg). */
-static int euler_near_singular(const pom_dyn_model *m, const double *y) {
-  if (m->ex) return pom_dyn_exact_near_singular(m, y);
-  if (m->par.scene.orientation != POM_ORIENT_EULER_ZYX) return 0;
-  for (int b = 0; b < m->n_bodies; ++b)
-    if (cos(y[m->body[b].offset + DYN_BODY_ORI + 1]) < m->par.scene.euler_cos_min) return 1;
-  return 0;
 }
 
 static pom_status fail_status(pom_dyn_data *d, int flag, double t, pom_dyn_metrics *mt,
@@ -328,17 +282,8 @@ static pom_status fail_status(pom_dyn_data *d, int flag, double t, pom_dyn_metri
     st = pom_error_set(err, POM_ERR_SOLVER, __FILE__, __LINE__,
                        "CVODE reached solver.max_steps = %ld before t = %.6g s",
                        d->m->par.solver.max_steps, t);
-  else if (d->m->ex) {
-    /* rigid joints: say how close the pose is to a singularity, where a limb
-     * locks and the integrator stalls (docs/dynamics-exact.md section 3) */
-    double dex = pom_dyn_exact_dexterity(d->m, N_VGetArrayPointer(d->y));
-    st = pom_error_set(err, isnan(dex) ? POM_ERR_UNREACHABLE : POM_ERR_SOLVER, __FILE__, __LINE__,
-                       "rigid joints: CVODE failed at t = %.6g s with the mechanism at 1/kappa(J) "
-                       "= %.3g (1 isotropic, 0 singular%s): %s",
-                       t, dex, isnan(dex) ? ", NaN: not assemblable" : "", d->cvode_msg);
-  } else
-    st = pom_error_set(err, POM_ERR_SOLVER, __FILE__, __LINE__, "CVODE failed at t = %.6g s: %s", t,
-                       d->cvode_msg);
+  else
+    st = d->m->form->solver_failure(d->m, d, t, err); /* the formulation says more */
   mt->status = st;
   if (err)
     snprintf(mt->reason, sizeof mt->reason, "%s", err->message);
@@ -413,8 +358,8 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
 
   double *y = N_VGetArrayPointer(d->y);
   double *ys = N_VGetArrayPointer(d->ytmp);
-  initial_state(m, y, init);
-  double E0 = pom_dyn_stored(m, d, y);
+  m->form->initial(m, y, init);
+  double E0 = m->form->stored(m, d, y);
   pom_status st = POM_OK;
   if (CVodeReInit(d->cvode, 0.0, d->y) != CV_SUCCESS ||
       CVodeSetStopTime(d->cvode, p->maneuver.horizon) != CV_SUCCESS) {
@@ -452,7 +397,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
       st = fail_status(d, flag, t, mt, err);
       goto finish;
     }
-    if (euler_near_singular(m, y)) {
+    if (m->form->near_singular(m, y)) {
       d->last_euler_singular = 1;
       st = fail_status(d, CV_RHSFUNC_FAIL, t, mt, err);
       goto finish;
@@ -471,7 +416,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
         record_sample(m, d, k, tk, ys, tr);
       } else {
         /* metrics need only q on the grid; extremes come from the steps */
-        pom_dyn_actuator_positions(m, ys, d->qs + 3 * k);
+        m->form->positions(m, ys, d->qs + 3 * k);
       }
       ++k;
     }
@@ -496,7 +441,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
     mt->energy_parasitic = y[m->acc_parasitic];
     mt->energy_dissipated += mt->energy_parasitic;
     mt->energy_supplied = mt->energy_total;
-    double E1 = pom_dyn_stored(m, d, y);
+    double E1 = m->form->stored(m, d, y);
     mt->energy_stored_change = E1 - E0;
     double scale = fmax(fmax(pos, mt->energy_dissipated), fmax(fabs(E0), fabs(E1)));
     mt->energy_balance_scale = scale;
@@ -548,17 +493,10 @@ pom_status pom_dyn_body_pose(const pom_dyn_model *m, const pom_dyn_data *d, int 
   if (!m || !d || k < 1 || k >= POM_MECH_MAX_BODIES || m->slot_of_mech[k] < 0)
     POM_FAIL(err, POM_ERR_ARG, "pom_dyn_body_pose: body %d is not a moving body", k);
   if (!d->have_final) POM_FAIL(err, POM_ERR_ARG, "pom_dyn_body_pose: no finished simulation");
-  int b = m->slot_of_mech[k];
-  if (m->ex) return pom_dyn_exact_body_pose(m, d->yfinal, k, R, x, err);
-  slot_rotation(m, d->yfinal, b, R);
-  pom_v3_add(x, m->body[b].cm_home, d->yfinal + m->body[b].offset + DYN_BODY_U);
-  double arm[3]; /* a pinned body's CM is off its reference point (docs 13) */
-  pom_m3_apply(arm, R, m->body[b].grav_arm);
-  pom_v3_add(x, x, arm);
-  return POM_OK;
+  return m->form->body_pose(m, d->yfinal, k, R, x, err);
 }
 
 double pom_dyn_stored_energy(const pom_dyn_model *m, pom_dyn_data *d) {
   if (!d->have_final) return NAN;
-  return pom_dyn_stored(m, d, d->yfinal);
+  return m->form->stored(m, d, d->yfinal);
 }

@@ -25,17 +25,25 @@ typedef enum { POM_JOINTS_PARASITIC = 0, POM_JOINTS_RIGID = 1 } pom_joint_model;
 /* Limb-body inertia model (scene.limb_inertia, docs/dynamics.md section 13). */
 typedef enum { POM_INERTIA_FULL = 0, POM_INERTIA_LUMPED = 1 } pom_inertia_kind;
 
-/* Voice-coil actuator, identical for the three limbs. */
+/* Voice-coil actuator, identical for the three limbs: linear (kind
+ * POM_ACT_PRISMATIC, q in m) or rotary (POM_ACT_REVOLUTE, q in rad; the law
+ * of docs/dynamics.md section 4 with a torque). The kind must be the
+ * mechanism's actuator kind (pom_dyn_model_create checks it). */
 typedef struct {
-  double force_constant;   /* K_m: force per current = back-EMF per velocity (N/A = V s/m) */
+  double force_constant;   /* linear: K_m, force per current = back-EMF per velocity (N/A =
+                              V s/m); rotary: K_t, torque per current = back-EMF per angular
+                              velocity (N m/A = V s/rad) */
   double resistance;       /* coil resistance R_c (ohm) */
   double inductance;       /* coil inductance L (H) */
-  double bearing_friction; /* viscous bearing friction b (N s/m) */
+  double bearing_friction; /* viscous bearing friction b: linear (N s/m), rotary (N m s/rad) */
   double voltage_limit;    /* saturation of the drive voltage, +- (V) */
-  double sensor_gain;      /* K_S (V/m) */
+  double sensor_gain;      /* K_S: linear (V/m), rotary (V/rad) */
+  /* added by issue 9 (rotary actuators) */
+  pom_actuator_kind kind; /* POM_ACT_PRISMATIC (default, "linear") or POM_ACT_REVOLUTE
+                             ("rotary") */
 } pom_dyn_actuator;
 
-/* PID on e = q_set - q (m); derivative on the measured velocity.
+/* PID on e = q_set - q (m or rad); derivative on the measured velocity.
  * ideal:    u = sat(K_S K_P (e + K_I int e - tau_D q_dot))
  * parallel: u = sat(K_S (K_P e + K_I int e - K_D q_dot)) */
 typedef struct {
@@ -52,7 +60,8 @@ typedef struct {
   double angular_stiffness; /* k_p for angular constraints (N m/rad) */
   double angular_damping;   /* R_p for angular constraints (N m s/rad) */
   pom_joint_model model;    /* parasitic (default) or rigid; rigid needs the architecture
-                               (pom_dyn_model_create_ex) and ignores the four values above */
+                               (the arch argument of pom_dyn_model_create) and ignores the
+                               four values above */
 } pom_dyn_joints;
 
 /* What the scene models. */
@@ -113,19 +122,20 @@ pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error 
 typedef struct pom_dyn_model pom_dyn_model;
 typedef struct pom_dyn_data pom_dyn_data;
 
+/* Builds the const model of mech with parameters p (copied) in the
+ * formulation p->joints.model names: the parasitic bond graph
+ * (docs/dynamics.md) or the exact rigid joints in minimal coordinates
+ * (docs/dynamics-exact.md). arch is the architecture mech was built from
+ * (pom_kin_mechanism_from); only the rigid formulation reads it, and it fails
+ * with POM_ERR_ARG when arch is NULL; it may be NULL for the parasitic one.
+ * The rigid model checks that the kinematic body poses realise every joint
+ * of mech (POM_ERR_ARG naming the joint otherwise). p->actuator.kind must
+ * match every actuator of mech (POM_ERR_ARG otherwise). The caller owns *out
+ * (pom_dyn_model_destroy). */
 pom_status pom_dyn_model_create(pom_dyn_model **out, const pom_mechanism *mech,
-                                const pom_dyn_params *p, pom_error *err);
+                                const pom_kin_arch *arch, const pom_dyn_params *p, pom_error *err);
+/* Frees a model; NULL is a no-op. */
 void pom_dyn_model_destroy(pom_dyn_model *m);
-
-/* pom_dyn_model_create with the architecture the mechanism was built from
- * (pom_kin_mechanism_from); arch is needed (and read) only when
- * p->joints.model is POM_JOINTS_RIGID, may be NULL otherwise. The rigid model
- * checks at create that the kinematic body poses realise every joint of mech
- * (POM_ERR_ARG naming the joint otherwise). pom_dyn_model_create on a rigid
- * parameter set fails with POM_ERR_ARG. */
-pom_status pom_dyn_model_create_ex(pom_dyn_model **out, const pom_mechanism *mech,
-                                   const pom_kin_arch *arch, const pom_dyn_params *p,
-                                   pom_error *err);
 
 pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_error *err);
 void pom_dyn_data_destroy(pom_dyn_data *d);
@@ -134,7 +144,7 @@ void pom_dyn_data_destroy(pom_dyn_data *d);
 typedef struct {
   pom_status status;       /* POM_OK or why it failed */
   char reason[256];        /* failure reason, "" when ok */
-  double target[3];        /* setpoints (m) */
+  double target[3];        /* setpoints (m, or rad for rotary actuators) */
   double settling_time[3]; /* last time outside the band of settle_band |step| about the setpoint
                               (s); NaN if unsettled */
   int settled[3];          /* 1 when inside the band at the horizon */
@@ -145,8 +155,8 @@ typedef struct {
   double energy_total;           /* sum of energy[] (J) */
   double peak_voltage[3];        /* max |u| (V) */
   double saturation_time[3];     /* time with |u| at the limit (s) */
-  double final_q[3];             /* q at the horizon (m) */
-  double max_abs_q[3];           /* largest |q| over the output grid, every output_dt (m) */
+  double final_q[3];             /* q at the horizon (m or rad) */
+  double max_abs_q[3];           /* largest |q| over the output grid, every output_dt (m or rad) */
   double max_deflection;         /* largest parasitic deflection (m) */
   double energy_balance_error; /* |supplied - dissipated - stored change| / energy_balance_scale */
   long steps, rhs_evals, jac_evals, newton_iters, error_test_fails;
@@ -174,8 +184,8 @@ struct pom_dyn_trace {
   int n;              /* samples filled by the last pom_dyn_simulate */
   int n_actuators;    /* actuator columns in use (<= 3 stored) */
   double *t;          /* [capacity] time (s) */
-  double *q;          /* [capacity][3] actuator displacement from mid-stroke (m) */
-  double *q_dot;      /* [capacity][3] actuator velocity (m/s) */
+  double *q;          /* [capacity][3] actuator coordinate from mid-stroke (m or rad) */
+  double *q_dot;      /* [capacity][3] actuator rate (m/s or rad/s) */
   double *current;    /* [capacity][3] coil current (A) */
   double *voltage;    /* [capacity][3] saturated drive voltage u (V) */
   double *energy;     /* [capacity][3] cumulative source energy int u i dt (J) */

@@ -158,8 +158,8 @@ pom_status pom_pipeline_evaluator_create(pom_doe_evaluator *eval, const pom_cfg 
     POM_TRY_GOTO(pom_cfg_check_unknown(cfg, scopes, NULL, err), fail);
   }
   POM_TRY_GOTO(pom_doe_mech_actuator_kind(&ctx->base.mech, &eval->actuator_kind, err), fail);
-  POM_TRY_GOTO(pom_dyn_model_create_ex(&ctx->base.model, &ctx->base.mech, &ctx->base.arch,
-                                       &ctx->base.params, err),
+  POM_TRY_GOTO(pom_dyn_model_create(&ctx->base.model, &ctx->base.mech, &ctx->base.arch,
+                                    &ctx->base.params, err),
                fail);
   eval->ctx = ctx;
   eval->ctx_destroy = ctx_destroy;

@@ -159,7 +159,7 @@ pom_status pom_tune_evaluate(const pom_tune_problem *pb, const pom_dyn_controlle
   p.controller = *ctl;
   memset(out, 0, sizeof *out);
   double t0 = now_s();
-  POM_TRY_GOTO(pom_dyn_model_create_ex(&model, &pb->mech, &pb->arch, &p, err), done);
+  POM_TRY_GOTO(pom_dyn_model_create(&model, &pb->mech, &pb->arch, &p, err), done);
   POM_TRY_GOTO(pom_dyn_data_create(&data, model, err), done);
   POM_TRY_GOTO(pom_dyn_trace_create(&trace, model, err), done);
   double horizon = p.maneuver.horizon, penalty = 0.0;

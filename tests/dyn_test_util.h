@@ -34,7 +34,7 @@ static inline pom_status run(run_t *r, const pom_mechanism *mech, const pom_dyn_
                              const double target[3], const pom_dyn_initial *init) {
   memset(r, 0, sizeof *r);
   pom_error_clear(&r->err);
-  r->st = pom_dyn_model_create(&r->m, mech, p, &r->err);
+  r->st = pom_dyn_model_create(&r->m, mech, NULL, p, &r->err);
   if (r->st == POM_OK) r->st = pom_dyn_data_create(&r->d, r->m, &r->err);
   if (r->st == POM_OK) r->st = pom_dyn_trace_create(&r->tr, r->m, &r->err);
   if (r->st == POM_OK)

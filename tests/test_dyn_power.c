@@ -131,7 +131,7 @@ static void test_power(const char *file) {
     pom_dyn_data *d = NULL;
     pom_error err;
     pom_error_clear(&err);
-    if (!check_true(pom_dyn_model_create(&m, &mech, &p, &err) == POM_OK &&
+    if (!check_true(pom_dyn_model_create(&m, &mech, NULL, &p, &err) == POM_OK &&
                     pom_dyn_data_create(&d, m, &err) == POM_OK)) {
       printf("  %s %s: %s\n", file, cases[c].what, err.message);
     } else {

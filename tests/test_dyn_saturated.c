@@ -198,7 +198,7 @@ static void test_saturated_steps(void) {
   pom_dyn_metrics mt;
   pom_error err;
   pom_error_clear(&err);
-  if (check_true(pom_dyn_model_create(&m, &mech, &p, &err) == POM_OK &&
+  if (check_true(pom_dyn_model_create(&m, &mech, NULL, &p, &err) == POM_OK &&
                  pom_dyn_data_create(&d, m, &err) == POM_OK &&
                  pom_dyn_simulate(m, d, target, &mt, NULL, &err) == POM_OK)) {
     for (int k = 0; k < 3; ++k) {

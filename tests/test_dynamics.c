@@ -708,32 +708,32 @@ static void test_model_errors(void) {
 
   mech_init(&mech); /* a massless moving body */
   mech_body(&mech, 0.0, I, zero3);
-  check_true(pom_dyn_model_create(&m, &mech, &p, &err) == POM_ERR_ARG && m == NULL);
+  check_true(pom_dyn_model_create(&m, &mech, NULL, &p, &err) == POM_ERR_ARG && m == NULL);
 
   mech_init(&mech); /* a zero principal moment */
   double I0[9];
   diag_inertia(I0, 1e-6, 1e-6, 0.0);
   mech_body(&mech, 0.01, I0, zero3);
-  check_true(pom_dyn_model_create(&m, &mech, &p, &err) == POM_ERR_ARG);
+  check_true(pom_dyn_model_create(&m, &mech, NULL, &p, &err) == POM_ERR_ARG);
 
   mech_init(&mech); /* universal joint with non-perpendicular axes */
   mech_body(&mech, 0.01, I, zero3);
   mech_joint(&mech, POM_JOINT_UNIVERSAL, 0, 1, zero3, axis, tilted);
-  check_true(pom_dyn_model_create(&m, &mech, &p, &err) == POM_ERR_ARG);
+  check_true(pom_dyn_model_create(&m, &mech, NULL, &p, &err) == POM_ERR_ARG);
   check_true(strstr(err.message, "universal") != NULL);
 
   mech_init(&mech); /* actuator on a spherical joint */
   mech_body(&mech, 0.01, I, zero3);
   int j = mech_joint(&mech, POM_JOINT_SPHERICAL, 0, 1, zero3, NULL, NULL);
   mech_actuator(&mech, j, 1);
-  check_true(pom_dyn_model_create(&m, &mech, &p, &err) == POM_ERR_ARG);
+  check_true(pom_dyn_model_create(&m, &mech, NULL, &p, &err) == POM_ERR_ARG);
 
   mech_init(&mech); /* coil inductance on with L = 0 */
   mech_body(&mech, 0.01, I, zero3);
   p.actuator.inductance = 0.0;
-  check_true(pom_dyn_model_create(&m, &mech, &p, &err) == POM_ERR_ARG);
+  check_true(pom_dyn_model_create(&m, &mech, NULL, &p, &err) == POM_ERR_ARG);
   p.scene.coil_inductance = 0; /* quasi-static coil: accepted */
-  check_true(pom_dyn_model_create(&m, &mech, &p, &err) == POM_OK);
+  check_true(pom_dyn_model_create(&m, &mech, NULL, &p, &err) == POM_OK);
   pom_dyn_model_destroy(m);
   pom_dyn_model_destroy(NULL);
   pom_dyn_data_destroy(NULL);

@@ -44,7 +44,7 @@ static int setup_load(setup_t *s, const char *rel) {
 static pom_status run_build(run_t *r, const setup_t *s, const pom_dyn_params *p) {
   memset(r, 0, sizeof *r);
   pom_error_clear(&r->err);
-  r->st = pom_dyn_model_create_ex(&r->m, &s->mech, &s->arch, p, &r->err);
+  r->st = pom_dyn_model_create(&r->m, &s->mech, &s->arch, p, &r->err);
   if (r->st == POM_OK) r->st = pom_dyn_data_create(&r->d, r->m, &r->err);
   if (r->st == POM_OK) r->st = pom_dyn_trace_create(&r->tr, r->m, &r->err);
   if (r->st != POM_OK) printf("  build: %s\n", r->err.message);
@@ -68,12 +68,14 @@ static void rotate_by(double out[9], const double w[3], double t, const double R
 
 /* State of the exact model with platform rotation R and angular velocity w. */
 static void exact_state(const pom_dyn_model *m, double *y, const double R[9], const double w[3]) {
+  int ori = 0, n_ori = 3, omega = 3;
   memset(y, 0, (size_t)m->n_states * sizeof(double));
-  if (m->ex->n_ori == 4)
-    pom_quat_from_matrix(y + m->ex->ori, R);
+  check_true(pom_dyn_exact_layout(m, &ori, &n_ori, &omega) == 1);
+  if (n_ori == 4)
+    pom_quat_from_matrix(y + ori, R);
   else
-    (void)pom_euler_zyx_from_matrix(y + m->ex->ori, R);
-  memcpy(y + m->ex->omega, w, 3 * sizeof(double));
+    (void)pom_euler_zyx_from_matrix(y + ori, R);
+  memcpy(y + omega, w, 3 * sizeof(double));
 }
 
 /* Kinetic energy of the mechanism moving as R(t) = exp(t [w]) R, from central
@@ -216,9 +218,11 @@ static void test_velocity_products(const setup_t *s) {
     exact_state(r.m, y, R, w);
     r.d->target[0] = r.d->target[1] = r.d->target[2] = 0.0;
     check_true(pom_dyn_eval(r.m, r.d, y, yd) == 0);
-    memcpy(M, r.d->xw->M, sizeof M);
+    memcpy(M, pom_dyn_exact_mass_matrix(r.m, r.d, y), sizeof M); /* M of the same state */
+    int ori = 0, n_ori = 3, omega = 3;
+    (void)pom_dyn_exact_layout(r.m, &ori, &n_ori, &omega);
     double fv[3];
-    pom_m3_apply(fv, M, yd + r.m->ex->omega);
+    pom_m3_apply(fv, M, yd + omega);
     const double h = 1e-5 / pom_v3_norm(w);
     rotate_by(Rp, w, h, R);
     rotate_by(Rm, w, -h, R);
@@ -463,21 +467,21 @@ static void test_errors(const setup_t *s3, const setup_t *u3) {
   pom_error_clear(&err);
   pom_dyn_params p = s3->par;
   p.joints.model = POM_JOINTS_RIGID;
-  check_true(pom_dyn_model_create(&m, &s3->mech, &p, &err) == POM_ERR_ARG && m == NULL);
-  check_true(strstr(err.message, "pom_dyn_model_create_ex") != NULL);
-  check_true(pom_dyn_model_create_ex(&m, &s3->mech, NULL, &p, &err) == POM_ERR_ARG);
+  check_true(pom_dyn_model_create(&m, &s3->mech, NULL, &p, &err) == POM_ERR_ARG && m == NULL);
+  check_true(strstr(err.message, "needs the architecture") != NULL);
+  check_true(pom_dyn_model_create(&m, &s3->mech, NULL, &p, &err) == POM_ERR_ARG);
   /* the architecture of another mechanism: a joint is violated */
-  check_true(pom_dyn_model_create_ex(&m, &s3->mech, &u3->arch, &p, &err) == POM_ERR_ARG);
+  check_true(pom_dyn_model_create(&m, &s3->mech, &u3->arch, &p, &err) == POM_ERR_ARG);
   check_true(strstr(err.message, "joint") != NULL || strstr(err.message, "bodies") != NULL);
   pom_dyn_params q = p;
   q.scene.limb_inertia = POM_INERTIA_LUMPED;
-  check_true(pom_dyn_model_create_ex(&m, &s3->mech, &s3->arch, &q, &err) == POM_ERR_ARG);
+  check_true(pom_dyn_model_create(&m, &s3->mech, &s3->arch, &q, &err) == POM_ERR_ARG);
   q = p;
   q.solver.rtol = -1.0;
-  check_true(pom_dyn_model_create_ex(&m, &s3->mech, &s3->arch, &q, &err) == POM_ERR_ARG);
-  /* parasitic parameters through _ex without an arch: fine */
+  check_true(pom_dyn_model_create(&m, &s3->mech, &s3->arch, &q, &err) == POM_ERR_ARG);
+  /* parasitic parameters without an arch: fine */
   q = s3->par;
-  check_true(pom_dyn_model_create_ex(&m, &s3->mech, NULL, &q, &err) == POM_OK);
+  check_true(pom_dyn_model_create(&m, &s3->mech, NULL, &q, &err) == POM_OK);
   pom_dyn_model_destroy(m);
   m = NULL;
   /* config key */

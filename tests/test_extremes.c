@@ -72,7 +72,7 @@ static result simulate_ex(const pom_mechanism *mech, const pom_kin_arch *arch,
   pom_dyn_trace *tr = NULL;
   pom_error err;
   pom_error_clear(&err);
-  r.st = pom_dyn_model_create_ex(&m, mech, arch, p, &err);
+  r.st = pom_dyn_model_create(&m, mech, arch, p, &err);
   if (r.st == POM_OK) r.st = pom_dyn_data_create(&d, m, &err);
   if (r.st == POM_OK) r.st = pom_dyn_trace_create(&tr, m, &err);
   if (r.st == POM_OK) {

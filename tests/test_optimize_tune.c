@@ -35,7 +35,7 @@ static void test_criterion(void) {
   pom_dyn_model *m = NULL;
   pom_dyn_data *d = NULL;
   pom_dyn_metrics mt;
-  check_true(pom_dyn_model_create(&m, &pb.mech, &pb.params, &err) == POM_OK);
+  check_true(pom_dyn_model_create(&m, &pb.mech, NULL, &pb.params, &err) == POM_OK);
   check_true(pom_dyn_data_create(&d, m, &err) == POM_OK);
   pom_dyn_trace *tr = NULL;
   check_true(pom_dyn_trace_create(&tr, m, &err) == POM_OK);

@@ -241,11 +241,11 @@ static void test_errors(void) {
   pom_dyn_model *m = NULL;
   pom_error err;
   pom_error_clear(&err);
-  check_true(pom_dyn_model_create(&m, &mech, &p, &err) == POM_ERR_ARG);
+  check_true(pom_dyn_model_create(&m, &mech, NULL, &p, &err) == POM_ERR_ARG);
   check_true(strstr(err.message, "outside the segment") != NULL);
   check_true(m == NULL);
   mech.body[1].cm[2] = -0.05; /* on the segment: a rod from the ground to body 2 */
-  check_true(pom_dyn_model_create(&m, &mech, &p, &err) == POM_OK);
+  check_true(pom_dyn_model_create(&m, &mech, NULL, &p, &err) == POM_OK);
   if (m) check_true(pom_dyn_model_n_states(m) < 2 * 12 + 1); /* one body left */
   pom_dyn_model_destroy(m);
 }
