@@ -2,6 +2,8 @@
  * (docs/optimize.md, section 9). */
 #include "pom_tune.h"
 
+#include "pom_math.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -113,17 +115,59 @@ pom_status pom_tune_load(pom_tune_problem *pb, const pom_cfg *cfg, pom_error *er
       }
     }
   }
-  if (pom_cfg_has(cfg, "tuning.maneuvers_mm")) {
-    int nm = pom_cfg_length(cfg, "tuning.maneuvers_mm");
+  /* Tuning maneuvers: actuator setpoints in the actuator's display unit
+   * (maneuvers_mm for linear, maneuvers_deg for rotary actuators) or platform
+   * orientations (maneuvers_euler_deg, ZYX, deg) turned into setpoints by the
+   * candidate's IK: the same platform motions for every architecture, the
+   * fair criterion when candidates mix actuator kinds (docs/optimize.md 9). */
+  const int rotary = pom_kin_type_actuator(pb->arch.type) == POM_ACT_REVOLUTE;
+  const pom_act_units *u = pom_act_units_of(rotary ? POM_ACT_REVOLUTE : POM_ACT_PRISMATIC);
+  const char *own = rotary ? "tuning.maneuvers_deg" : "tuning.maneuvers_mm";
+  const char *other = rotary ? "tuning.maneuvers_mm" : "tuning.maneuvers_deg";
+  const char *euler = "tuning.maneuvers_euler_deg";
+  if (pom_cfg_has(cfg, other))
+    return pom_cfg_error(cfg, other, NULL, err,
+                         "the %s's actuators are %s (q in %s): use %s, or %s for platform "
+                         "orientations",
+                         pom_kin_type_label(pb->arch.type), u->kind_name, u->display, own + 7,
+                         euler + 7);
+  if (pom_cfg_has(cfg, own) && pom_cfg_has(cfg, euler))
+    return pom_cfg_error(cfg, euler, NULL, err, "give either %s or %s, not both", own + 7,
+                         euler + 7);
+  const char *mkey = pom_cfg_has(cfg, euler) ? euler : pom_cfg_has(cfg, own) ? own : NULL;
+  if (!mkey && rotary) {
+    /* the linear defaults through the 15 mm/rad lever of the isotropic
+     * linear designs: 3 mm -> 0.2 rad */
+    for (int m = 0; m < pb->n_maneuvers; ++m)
+      for (int i = 0; i < 3; ++i)
+        pb->target[m][i] = default_targets_mm[m][i] * 1e-3 / 0.015;
+  }
+  if (mkey) {
+    int nm = pom_cfg_length(cfg, mkey);
     if (nm < 1 || nm > POM_TUNE_MAX_MANEUVERS)
-      return pom_cfg_error(cfg, "tuning.maneuvers_mm", NULL, err,
-                           "expected a list of 1..%d setpoint triples ( [q1, q2, q3], ... )",
+      return pom_cfg_error(cfg, mkey, NULL, err,
+                           "expected a list of 1..%d triples ( [a, b, c], ... )",
                            POM_TUNE_MAX_MANEUVERS);
     pb->n_maneuvers = nm;
-    double half_mm = 0.5 * pb->arch.stroke * 1e3;
+    double half = 0.5 * pb->arch.stroke * u->to_display;
     for (int m = 0; m < nm; ++m) {
-      snprintf(key, sizeof key, "tuning.maneuvers_mm.[%d]", m);
-      POM_TRY(pom_cfg_reals(cfg, key, 3, 1e-3, -half_mm, half_mm, pb->target[m], err));
+      snprintf(key, sizeof key, "%s.[%d]", mkey, m);
+      if (mkey == euler) {
+        double e[3], R[9];
+        POM_TRY(pom_cfg_reals(cfg, key, 3, POM_DEG, -89.0, 89.0, e, err));
+        pom_euler_zyx_to_matrix(R, e);
+        pom_error sub;
+        pom_error_clear(&sub);
+        if (pom_kin_inverse(&pb->arch, R, pb->target[m], &sub) != POM_OK)
+          return pom_cfg_error(cfg, key, NULL, err, "orientation not reachable: %s", sub.message);
+        for (int i = 0; i < 3; ++i)
+          if (fabs(pb->target[m][i]) > 0.5 * pb->arch.stroke)
+            return pom_cfg_error(cfg, key, NULL, err,
+                                 "actuator %d would go to %.6g %s, outside +-%.6g %s", i + 1,
+                                 pb->target[m][i] * u->to_display, u->display, half, u->display);
+      } else {
+        POM_TRY(pom_cfg_reals(cfg, key, 3, 1.0 / u->to_display, -half, half, pb->target[m], err));
+      }
     }
   }
   POM_TRY(pom_cfg_real_opt(cfg, "tuning.overshoot_max_percent", 1e-2, 0.0, 1000.0,
@@ -163,14 +207,15 @@ pom_status pom_tune_evaluate(const pom_tune_problem *pb, const pom_dyn_controlle
   POM_TRY_GOTO(pom_dyn_data_create(&data, model, err), done);
   POM_TRY_GOTO(pom_dyn_trace_create(&trace, model, err), done);
   double horizon = p.maneuver.horizon, penalty = 0.0;
+  const pom_act_units *tu = pom_act_units_of(pom_kin_type_actuator(pb->arch.type));
   for (int m = 0; m < pb->n_maneuvers; ++m) {
     pom_dyn_metrics mt;
     st = pom_dyn_simulate(model, data, pb->target[m], &mt, trace, err);
     if (st != POM_OK) {
       pom_error_prefix(err,
-                       "maneuver %d to (%.4g, %.4g, %.4g) mm with kp %.6g, ki %.6g 1/s, kd %.6g s",
-                       m + 1, pb->target[m][0] * 1e3, pb->target[m][1] * 1e3,
-                       pb->target[m][2] * 1e3, ctl->kp, ctl->ki, ctl->kd);
+                       "maneuver %d to (%.4g, %.4g, %.4g) %s with kp %.6g, ki %.6g 1/s, kd %.6g s",
+                       m + 1, pb->target[m][0] * tu->to_display, pb->target[m][1] * tu->to_display,
+                       pb->target[m][2] * tu->to_display, tu->display, ctl->kp, ctl->ki, ctl->kd);
       goto done;
     }
     /* An unsettled maneuver is censored at the horizon (docs/optimize.md 9). */
