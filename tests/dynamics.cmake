@@ -15,3 +15,6 @@ target_link_libraries(test_dyn_saturated PRIVATE pom_dynamics pom_kinematics pom
 pom_add_test(test_dyn_rotary test_dyn_rotary.c)
 target_include_directories(test_dyn_rotary PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
 target_link_libraries(test_dyn_rotary PRIVATE pom_dynamics pom_kinematics pom_core)
+# a program's own architecture through the public API (docs/extending.md)
+pom_add_test(test_arch_registry test_arch_registry.c)
+target_link_libraries(test_arch_registry PRIVATE pom_dynamics pom_kinematics pom_core)
