@@ -323,6 +323,7 @@ static int body_from_O(pom_mechanism *mech, const char *name, int limb_no, doubl
   pom_v3_scale(cm, 1.0 / mass, s);
   int k = pom_kin_build_body(mech, name, limb_no, NULL, I3, cm);
   pom_mech_body *b = &mech->body[k];
+  pom_v3_copy(b->cm, cm); /* pom_kin_build_body keeps cm only with mass properties */
   double cc = pom_v3_dot(cm, cm);
   b->mass = mass;
   pom_v3_copy(b->cm, cm);

@@ -1,2 +1,4 @@
 pom_add_test(test_kinematics test_kinematics.c)
 target_link_libraries(test_kinematics PRIVATE pom_kinematics pom_core)
+pom_add_test(test_kin_3rrr test_kin_3rrr.c)
+target_link_libraries(test_kin_3rrr PRIVATE pom_kinematics pom_core)
