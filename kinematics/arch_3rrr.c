@@ -124,7 +124,9 @@ static pom_status finish(pom_kin_arch *arch, pom_error *err) {
     leg_coefficients(g, i, v, &A, &B, &C);
     /* theta = 0 is a root at home: the branch whose root it is */
     double phi = atan2(B, A);
-    if (fabs(phi) < POM_KIN_HOME_MIN_COS)
+    /* the two roots meet (a leg singularity) where sin(phi) = 0: phi near 0
+     * or near +-pi (a folded leg) */
+    if (fabs(B) < POM_KIN_HOME_MIN_COS * hypot(A, B))
       POM_FAIL(err, POM_ERR_ARG,
                "leg %d: u, w and v are coplanar at home (a leg singularity: the two working "
                "modes meet)",
