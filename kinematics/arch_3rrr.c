@@ -328,7 +328,6 @@ static int body_from_O(pom_mechanism *mech, const char *name, int limb_no, doubl
   pom_v3_copy(b->cm, cm); /* pom_kin_build_body keeps cm only with mass properties */
   double cc = pom_v3_dot(cm, cm);
   b->mass = mass;
-  pom_v3_copy(b->cm, cm);
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       b->inertia[3 * i + j] = IO[3 * i + j] - mass * ((i == j ? cc : 0.0) - cm[i] * cm[j]);

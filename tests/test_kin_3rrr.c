@@ -137,13 +137,12 @@ static void test_agile_eye(const pom_kin_arch *a) {
     }
   check_true(min_dex > 0.1);
   printf("agile eye: min dexterity over tilt <= 60 deg: %.3f\n", min_dex);
-  double z[3] = {0, 0, 1}, R[9], q[3], J[9], row_free[3];
+  double z[3] = {0, 0, 1}, R[9], q[3], J[9];
   pom_error err;
   pom_m3_axis_angle(R, z, 120.0 * POM_DEG);
   pom_error_clear(&err);
   check_true(pom_kin_inverse_jacobian(a, R, q, J, &err) != POM_OK);
   check_true(strstr(err.message, "limb") != NULL);
-  (void)row_free;
   /* dexterity on the way to the leg self-motion: minimum by ternary search */
   double ax[3] = {cos(30 * POM_DEG), sin(30 * POM_DEG), 0.0}, lo = 95 * POM_DEG, hi = 105 * POM_DEG;
   for (int k = 0; k < 100; ++k) {
