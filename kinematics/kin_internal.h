@@ -24,6 +24,30 @@ extern const pom_kin_arch_type pom_kin_arch_3rrr;
  * i (the segment from its home direction), [3..5] the platform cone angle
  * (the segment in the platform frame from home), [6..8] the distances of
  * the limb pairs 1-2, 2-3, 3-1 (docs/kinematics.md section 5). */
+/* The limit kinds of pom_kin_segment_limits as a pom_kin_arch_type.limits
+ * initializer: 1 base cone, 2 platform cone (upper bounds, default 90 deg,
+ * not binding), 3 limb distance per pair (a lower bound, default 0). */
+#define POM_KIN_SEGMENT_LIMIT_KINDS                                                                \
+  {                                                                                                \
+    {0}, {"base cone",   0,   0,     "cone_base_max_deg", "cone_base_deg",      "deg",             \
+          1.0 / POM_DEG, 0.0, 180.0, 0.5 * POM_PI,        POM_KIN_LIMCLASS_CONE},                  \
+        {"platform cone",                                                                          \
+         0,                                                                                        \
+         0,                                                                                        \
+         "cone_platform_max_deg",                                                                  \
+         "cone_platform_deg",                                                                      \
+         "deg",                                                                                    \
+         1.0 / POM_DEG,                                                                            \
+         0.0,                                                                                      \
+         180.0,                                                                                    \
+         0.5 * POM_PI,                                                                             \
+         POM_KIN_LIMCLASS_CONE},                                                                   \
+    {                                                                                              \
+      "distance", 1, 1, "min_limb_distance_mm", "limb_distance_mm", "mm", 1e3, 0.0, 1e4, 0.0,      \
+          POM_KIN_LIMCLASS_INTERFERENCE                                                            \
+    }                                                                                              \
+  }
+
 void pom_kin_segment_limits(const double R[9], const double *from, const double *to,
                             const double *dir_home, double value[9]);
 
