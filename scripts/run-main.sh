@@ -5,7 +5,10 @@
 #   1. configs/paper-exact.cfg: the fast exact model (rigid joints, quasi-static
 #      coil), seconds;
 #   2. configs/paper.cfg: the paper's own model (parasitic joints k_p = 1e6,
-#      inductive coil), about a minute on 2 cores.
+#      inductive coil), about 40 s on 2 cores;
+#   3. configs/architectures.cfg: the two against the 3-RRR spherical wrist
+#      (rotary voice coils) in orientation space, gains tuned by one
+#      criterion, seconds.
 # Results: results/paper-exact.h5, results/paper.h5 and results/<study>/summary.md
 # with PNG figures.
 # Usage: bash scripts/run-main.sh [extra `pomlab study` options, e.g. --threads 2]
@@ -15,7 +18,7 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 pomlab=./build/cli/pomlab
 
-for cfg in configs/3pss.cfg configs/3sps.cfg; do
+for cfg in configs/3pss.cfg configs/3sps.cfg configs/3rrr.cfg; do
   echo "== kinematics: $cfg =="
   "$pomlab" workspace "$cfg"
   echo
@@ -26,3 +29,6 @@ echo "== the paper's study on the fast exact model: configs/paper-exact.cfg =="
 echo
 echo "== the paper's study on the paper's model (parasitic joints): configs/paper.cfg =="
 "$pomlab" study configs/paper.cfg "$@"
+echo
+echo "== three architectures in orientation space: configs/architectures.cfg =="
+"$pomlab" study configs/architectures.cfg "$@"
