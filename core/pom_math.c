@@ -200,7 +200,7 @@ void pom_m3_singular_values(double sv[3], const double A[9]) {
 }
 
 /* ---- ZYX Euler angles ------------------------------------------------------ */
-void pom_euler_zyx_to_matrix(double R[9], const double e[3]) {
+void pom_euler_zyx_to_matrix_trig(double R[9], double trig[4], const double e[3]) {
   double cps = cos(e[0]), sps = sin(e[0]);
   double cth = cos(e[1]), sth = sin(e[1]);
   double cph = cos(e[2]), sph = sin(e[2]);
@@ -213,6 +213,16 @@ void pom_euler_zyx_to_matrix(double R[9], const double e[3]) {
   R[6] = -sth;
   R[7] = cth * sph;
   R[8] = cth * cph;
+  if (trig) {
+    trig[0] = cps;
+    trig[1] = sps;
+    trig[2] = cth;
+    trig[3] = sth;
+  }
+}
+
+void pom_euler_zyx_to_matrix(double R[9], const double e[3]) {
+  pom_euler_zyx_to_matrix_trig(R, NULL, e);
 }
 
 pom_status pom_euler_zyx_from_matrix(double e[3], const double R[9]) {

@@ -102,6 +102,10 @@ void pom_m3_sym_eig(double w[3], double V[9], const double S[9]);
 /* ---- ZYX Euler angles --------------------------------------------------- */
 /* R = Rz(e[0]) Ry(e[1]) Rx(e[2]) */
 void pom_euler_zyx_to_matrix(double R[9], const double e[3]);
+/* pom_euler_zyx_to_matrix that also returns trig = (cos psi, sin psi,
+ * cos theta, sin theta) for the Euler rate matrix of the same angles (the
+ * dynamics' hot path); trig may be NULL. Bit-identical R. */
+void pom_euler_zyx_to_matrix_trig(double R[9], double trig[4], const double e[3]);
 /* Angles of R with theta in [-pi/2, pi/2]. At the singularity (|cos theta| <
  * 1e-12) psi + phi (or psi - phi) is what is defined: phi is set to 0 and the
  * return is POM_ERR_EULER_SINGULAR (the angles are still a valid

@@ -122,23 +122,7 @@ static void state_rotation(const pom_dyn_model *m, const double *y, double R[9],
     pom_quat_to_matrix(R, q);
     return;
   }
-  double cps = cos(o[0]), sps = sin(o[0]), cth = cos(o[1]), sth = sin(o[1]);
-  double cph = cos(o[2]), sph = sin(o[2]);
-  R[0] = cps * cth;
-  R[1] = cps * sth * sph - sps * cph;
-  R[2] = cps * sth * cph + sps * sph;
-  R[3] = sps * cth;
-  R[4] = sps * sth * sph + cps * cph;
-  R[5] = sps * sth * cph - cps * sph;
-  R[6] = -sth;
-  R[7] = cth * sph;
-  R[8] = cth * cph;
-  if (trig) {
-    trig[0] = cps;
-    trig[1] = sps;
-    trig[2] = cth;
-    trig[3] = sth;
-  }
+  pom_euler_zyx_to_matrix_trig(R, trig, o);
 }
 
 static void exact_platform_rotation(const pom_dyn_model *m, const double *y, double R[9]) {

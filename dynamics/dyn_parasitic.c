@@ -30,26 +30,10 @@ static int bodies_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y)
       pom_quat_normalize(q); /* the rotation of the unit quaternion along q */
       pom_quat_to_matrix(e->R, q);
     } else {
-      /* R = Rz(psi) Ry(theta) Rx(phi) as pom_euler_zyx_to_matrix, keeping
-       * the sines and cosines for the rate matrix of the same angles */
-      const double *ea = yb + DYN_BODY_ORI;
-      double cps = cos(ea[0]), sps = sin(ea[0]);
-      double cth = cos(ea[1]), sth = sin(ea[1]);
-      double cph = cos(ea[2]), sph = sin(ea[2]);
-      double *R = e->R;
-      R[0] = cps * cth;
-      R[1] = cps * sth * sph - sps * cph;
-      R[2] = cps * sth * cph + sps * sph;
-      R[3] = sps * cth;
-      R[4] = sps * sth * sph + cps * cph;
-      R[5] = sps * sth * cph - cps * sph;
-      R[6] = -sth;
-      R[7] = cth * sph;
-      R[8] = cth * cph;
-      e->trig[0] = cps;
-      e->trig[1] = sps;
-      e->trig[2] = cth;
-      e->trig[3] = sth;
+      /* R = Rz(psi) Ry(theta) Rx(phi), keeping the sines and cosines for
+       * the rate matrix of the same angles */
+      pom_euler_zyx_to_matrix_trig(e->R, e->trig, yb + DYN_BODY_ORI);
+      const double cth = e->trig[2];
       if (cth < m->par.scene.euler_cos_min) singular = 1;
     }
     pom_m3_mul(e->Rp, e->R, bd->V);
