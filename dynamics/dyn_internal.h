@@ -169,6 +169,9 @@ struct pom_dyn_data {
  * driver (dyn_model.c, dyn_simulate.c, dyn_fdjac.c) calls only these. */
 struct dyn_formulation {
   const char *name; /* "parasitic" or "rigid" (joints.model) */
+  /* 1: init sets atol = rtol * natural size when solver.atol_scale is 0;
+   * 0: the driver turns atol_scale 0 into min(1e-3, 1e3 rtol) first */
+  int natural_tolerances;
   /* Fills bodies, actuators, the state layout (n_states, offsets), scale,
    * atol and the Jacobian pattern (dep, color, CSC) of m; m->par, gravity,
    * slot_of_mech (all -1) and platform_slot (-1) are set by the caller. arch

@@ -33,7 +33,7 @@ void pom_dyn_params_defaults(pom_dyn_params *p) {
   p->scene.limb_inertia = POM_INERTIA_FULL;
   p->scene.universal_joint = 1;
   p->solver.rtol = 1.0e-6;
-  p->solver.atol_scale = 1.0e-3;
+  p->solver.atol_scale = 0.0; /* natural sizes: rtol alone sets the accuracy (docs 7) */
   p->solver.max_step = 0.0;
   p->solver.max_steps = 200000;
   p->solver.linear_solver = POM_LINSOL_KLU;

@@ -423,6 +423,7 @@ static void parasitic_model_free(pom_dyn_model *m) {
 /* ---- the table ------------------------------------------------------------ */
 const dyn_formulation pom_dyn_form_parasitic = {
     .name = "parasitic",
+    .natural_tolerances = 1,
     .init = pom_dyn_parasitic_init,
     .model_free = parasitic_model_free,
     .data_init = parasitic_data_init,

@@ -83,7 +83,9 @@ typedef struct {
 /* CVODE settings. */
 typedef struct {
   double rtol;       /* relative tolerance */
-  double atol_scale; /* absolute tolerances = atol_scale * characteristic scale per state kind */
+  double atol_scale; /* 0 (default): absolute tolerance of each state = rtol * its natural size
+                        (parasitic path; docs/dynamics.md section 7); > 0: atol_scale *
+                        characteristic scale per state kind */
   double max_step;   /* s, 0 = unlimited */
   long max_steps;    /* per maneuver */
   pom_linsol_kind linear_solver;
