@@ -144,7 +144,8 @@ pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error 
       pom_cfg_bool_opt(cfg, "scene.universal_joint", s->universal_joint, &s->universal_joint, err));
 
   POM_TRY(pom_cfg_real_opt(cfg, "solver.rtol", 1.0, 1e-13, 1e-1, v->rtol, &v->rtol, err));
-  POM_TRY(pom_cfg_real_opt(cfg, "solver.atol_scale", 1.0, 1e-13, 1.0, v->atol_scale, &v->atol_scale,
+  /* 0 = natural sizes (docs/dynamics.md section 7) */
+  POM_TRY(pom_cfg_real_opt(cfg, "solver.atol_scale", 1.0, 0.0, 1.0, v->atol_scale, &v->atol_scale,
                            err));
   POM_TRY(
       pom_cfg_real_opt(cfg, "solver.max_step_ms", 1e-3, 0.0, 1e6, v->max_step, &v->max_step, err));
