@@ -73,7 +73,8 @@ int pom_dyn_fd_jacobian(pom_dyn_data *d, const double *yv, const double *f0, dou
   return 0;
 }
 
-/* CVODE's linear-system callback: A = I - gamma J, J re-evaluated unless
+/* CVODE's linear-system callback: A = I - gamma J, J (the formulation's
+ * analytic one or finite differences, by solver.jacobian) re-evaluated unless
  * CVODE says the stored one is still good (jok). Writing A directly skips
  * SUNDIALS' copy of a saved J and its scale-add-identity pass. */
 int pom_dyn_cvode_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, sunbooleantype jok,
@@ -85,8 +86,10 @@ int pom_dyn_cvode_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, su
   const pom_dyn_model *m = d->m;
   const int n = m->n_states;
   if (!jok || !d->jac_valid) {
-    int r = pom_dyn_fd_jacobian(d, N_VGetArrayPointer(y), N_VGetArrayPointer(fy),
-                                N_VGetArrayPointer(tmp1), N_VGetArrayPointer(tmp2));
+    int r = (m->form->jacobian && m->par.solver.jacobian == POM_JAC_ANALYTIC)
+                ? m->form->jacobian(m, d, N_VGetArrayPointer(y), d->jac)
+                : pom_dyn_fd_jacobian(d, N_VGetArrayPointer(y), N_VGetArrayPointer(fy),
+                                      N_VGetArrayPointer(tmp1), N_VGetArrayPointer(tmp2));
     if (r != 0) return r;
     d->jac_valid = 1;
     *jcur = SUNTRUE;

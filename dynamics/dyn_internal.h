@@ -188,6 +188,10 @@ struct dyn_formulation {
    * Never allocates. */
   int (*eval)(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot);
   CVLsLinSysFn linsys; /* CVODE's linear-system callback A = I - gamma J */
+  /* Analytic Jacobian at y into jac[nnz] over the model's CSC pattern; 0, or
+   * 1 for a non-finite entry. NULL: the formulation has none, the linsys
+   * uses finite differences whatever solver.jacobian says. */
+  int (*jacobian)(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *jac);
   /* State at home with the body velocities of init (NULL = rest). */
   void (*initial)(const pom_dyn_model *m, double *y, const pom_dyn_initial *init);
   /* Actuator coordinates q[n_actuators] (m or rad) of a state, cheaply. */
@@ -216,6 +220,17 @@ pom_status pom_dyn_parasitic_init(pom_dyn_model *m, const pom_mechanism *mech,
 /* dyn_parasitic_jac.c: dep/color of the parasitic model, then its CSC
  * pattern (called by pom_dyn_parasitic_init). */
 pom_status pom_dyn_structure_build(pom_dyn_model *m, pom_error *err);
+
+/* dyn_parasitic_deriv.c: the analytic Jacobian of the parasitic RHS
+ * (docs/dynamics.md section 7): the scatter layout of a model (m->form_model,
+ * built after its pattern), the per-worker scratch (d->form_data) and the
+ * evaluation (the jacobian op). */
+pom_status pom_dyn_parasitic_jac_layout(pom_dyn_model *m, pom_error *err);
+void pom_dyn_parasitic_jac_layout_free(pom_dyn_model *m);
+pom_status pom_dyn_parasitic_jac_data(const pom_dyn_model *m, pom_dyn_data *d, pom_error *err);
+void pom_dyn_parasitic_jac_data_free(pom_dyn_data *d);
+int pom_dyn_parasitic_jacobian(const pom_dyn_model *m, pom_dyn_data *d, const double *y,
+                               double *jac);
 
 /* ---- shared pieces -------------------------------------------------------- */
 /* dyn_simulate.c: m->form->eval (tests and the shared Jacobian use it). */

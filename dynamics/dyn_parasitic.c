@@ -398,6 +398,7 @@ static pom_status parasitic_solver_failure(const pom_dyn_model *m, pom_dyn_data 
 /* ---- per-worker data ------------------------------------------------------ */
 static pom_status parasitic_data_init(const pom_dyn_model *m, pom_dyn_data *d, pom_error *err) {
   const sunindextype n = m->n_states;
+  POM_TRY(pom_dyn_parasitic_jac_data(m, d, err));
   if (m->par.solver.linear_solver == POM_LINSOL_KLU) {
     d->A = SUNSparseMatrix(n, n, (sunindextype)m->nnz, CSC_MAT, d->ctx);
     if (d->A) d->LS = SUNLinSol_KLU(d->y, d->A, d->ctx);
@@ -413,11 +414,11 @@ static pom_status parasitic_data_init(const pom_dyn_model *m, pom_dyn_data *d, p
 }
 
 static void parasitic_data_free(pom_dyn_data *d) {
-  (void)d; /* no scratch beyond the shared data */
+  pom_dyn_parasitic_jac_data_free(d); /* the analytic Jacobian's scratch */
 }
 
 static void parasitic_model_free(pom_dyn_model *m) {
-  (void)m; /* the bond graph lives in the shared model arrays */
+  pom_dyn_parasitic_jac_layout_free(m); /* the bond graph lives in the shared arrays */
 }
 
 /* ---- the table ------------------------------------------------------------ */
@@ -430,6 +431,7 @@ const dyn_formulation pom_dyn_form_parasitic = {
     .data_free = parasitic_data_free,
     .eval = parasitic_eval,
     .linsys = pom_dyn_cvode_linsys,
+    .jacobian = pom_dyn_parasitic_jacobian,
     .initial = parasitic_initial,
     .positions = parasitic_positions,
     .stored = parasitic_stored,

@@ -401,6 +401,7 @@ pom_status pom_dyn_parasitic_init(pom_dyn_model *m, const pom_mechanism *mech,
   if (!m->atol || !m->scale) POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "allocating tolerances");
   tolerances_fill(m);
   POM_TRY_GOTO(pom_dyn_structure_build(m, err), fail);
+  POM_TRY_GOTO(pom_dyn_parasitic_jac_layout(m, err), fail);
 fail:
   free(lm);
   free(lu);

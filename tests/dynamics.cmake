@@ -21,3 +21,6 @@ target_link_libraries(test_arch_registry PRIVATE pom_dynamics pom_kinematics pom
 pom_add_test(test_dyn_tolerances test_dyn_tolerances.c)
 target_include_directories(test_dyn_tolerances PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
 target_link_libraries(test_dyn_tolerances PRIVATE pom_dynamics pom_kinematics pom_core)
+pom_add_test(test_dyn_jacobian test_dyn_jacobian.c)
+target_include_directories(test_dyn_jacobian PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
+target_link_libraries(test_dyn_jacobian PRIVATE pom_dynamics pom_kinematics pom_core)
