@@ -39,6 +39,15 @@ pom_status pom_dyn_pattern_build(pom_dyn_model *m, pom_error *err) {
   return POM_OK;
 }
 
+void pom_dyn_pattern_to_matrix(const pom_dyn_model *m, SUNMatrix A) {
+  sunindextype *cp = SUNSparseMatrix_IndexPointers(A);
+  sunindextype *ri = SUNSparseMatrix_IndexValues(A);
+  for (int j = 0; j <= m->n_states; ++j)
+    cp[j] = (sunindextype)m->colptr[j];
+  for (long k = 0; k < m->nnz; ++k)
+    ri[k] = m->rowind[k];
+}
+
 /* ---- finite-difference Jacobian ------------------------------------------ */
 /* Columns of colour -1 are never perturbed: their entries (the diagonal
  * only, for the exact path's accumulators) keep the zero of data create. */
@@ -97,15 +106,10 @@ int pom_dyn_cvode_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, su
     *jcur = SUNFALSE;
   }
   if (SUNMatGetID(A) == SUNMATRIX_SPARSE) {
-    sunindextype *cp = SUNSparseMatrix_IndexPointers(A);
-    sunindextype *ri = SUNSparseMatrix_IndexValues(A);
+    /* the pattern is in A since data create (pom_dyn_pattern_to_matrix) */
     double *av = SUNSparseMatrix_Data(A);
-    for (int j = 0; j <= n; ++j)
-      cp[j] = (sunindextype)m->colptr[j];
-    for (long k = 0; k < m->nnz; ++k) {
-      ri[k] = m->rowind[k];
+    for (long k = 0; k < m->nnz; ++k)
       av[k] = -gamma * d->jac[k];
-    }
   } else {
     /* zeroed here: SUNMatZero of the distribution's unoptimized build cost
      * the exact path 7 % of its maneuver (bench/README.md, issue 9) */

@@ -271,6 +271,11 @@ void pom_dyn_nvec_fast_ops(N_Vector v);
  * the diagonal. */
 pom_status pom_dyn_pattern_build(pom_dyn_model *m, pom_error *err);
 
+/* dyn_fdjac.c: writes the model's CSC pattern into the sparse matrix A (of
+ * nnz entries) once, at data create; pom_dyn_cvode_linsys then writes the
+ * values only. */
+void pom_dyn_pattern_to_matrix(const pom_dyn_model *m, SUNMatrix A);
+
 /* dyn_fdjac.c: the finite-difference Jacobian shared by both formulations:
  * one RHS evaluation per colour of m->color (columns of colour -1 are left
  * zero), CSC values over the model's pattern into d->jac; f0 = f(yv), yp, fp

@@ -401,6 +401,7 @@ static pom_status parasitic_data_init(const pom_dyn_model *m, pom_dyn_data *d, p
   POM_TRY(pom_dyn_parasitic_jac_data(m, d, err));
   if (m->par.solver.linear_solver == POM_LINSOL_KLU) {
     d->A = SUNSparseMatrix(n, n, (sunindextype)m->nnz, CSC_MAT, d->ctx);
+    if (d->A) pom_dyn_pattern_to_matrix(m, d->A);
     if (d->A) d->LS = SUNLinSol_KLU(d->y, d->A, d->ctx);
     /* AMD ordering: half the fill of SUNDIALS' default COLAMD on these
      * matrices (3PSS: nnz(L+U) 1823 against 3535), 25 % faster maneuvers */

@@ -82,6 +82,8 @@ pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_e
   /* CVODE clones its vectors from y (and atol): they inherit the kernels */
   pom_dyn_nvec_fast_ops(d->y);
   pom_dyn_nvec_fast_ops(d->atol);
+  pom_dyn_nvec_fast_ops(d->ytmp); /* CVodeGetDky's output on the sample grid */
+  pom_dyn_nvec_fast_ops(d->ftmp);
   memcpy(N_VGetArrayPointer(d->atol), m->atol, (size_t)n * sizeof(double));
   N_VConst(0.0, d->y);
 

@@ -24,3 +24,6 @@ target_link_libraries(test_dyn_tolerances PRIVATE pom_dynamics pom_kinematics po
 pom_add_test(test_dyn_jacobian test_dyn_jacobian.c)
 target_include_directories(test_dyn_jacobian PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
 target_link_libraries(test_dyn_jacobian PRIVATE pom_dynamics pom_kinematics pom_core)
+pom_add_test(test_dyn_nvec test_dyn_nvec.c)
+target_include_directories(test_dyn_nvec PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
+target_link_libraries(test_dyn_nvec PRIVATE pom_dynamics pom_kinematics pom_core)
