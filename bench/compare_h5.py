@@ -3,7 +3,10 @@
 two study results files (bench/README.md, "Throughput"): for every candidate
 and every per-maneuver metric, the largest relative difference NEW vs OLD over
 the first N maneuver rows (all by default), and with REF (the same study at a
-tight tolerance) the largest relative error of OLD and of NEW against it.
+tight tolerance) the largest relative error of OLD and of NEW against it, and
+the root-mean-square error of each against it over the maneuvers, scaled by
+the metric's median magnitude in REF (a measure that single near-zero
+values, such as a small actuator's energy, do not dominate).
 Exit 0 when every metric of NEW is within 1e-4 relative of OLD, or (with REF)
 no farther from REF than OLD; 1 otherwise; 2 on bad usage."""
 import sys
@@ -40,6 +43,19 @@ def rel(a, b):
     return float(np.max(np.abs(a[ok] - b[ok]) / den))
 
 
+def rms_scaled(a, ref):
+    """root-mean-square of |a - ref| / median |ref| over finite pairs"""
+    a = np.asarray(a, float).ravel()
+    ref = np.asarray(ref, float).ravel()
+    ok = ~(np.isnan(a) | np.isnan(ref))
+    if not ok.any():
+        return 0.0
+    scale = np.median(np.abs(ref[ok]))
+    if not scale > 0:
+        scale = 1.0
+    return float(np.sqrt(np.mean(((a[ok] - ref[ok]) / scale) ** 2)))
+
+
 def main(argv):
     n = 0
     if "--rows" in argv:
@@ -66,7 +82,7 @@ def main(argv):
               f"steps old {steps[0]} new {steps[1]} ({steps[1] / max(steps[0], 1):.2f}x)")
         hdr = f"  {'metric':22s} {'new vs old':>11s}"
         if ref:
-            hdr += f" {'old vs ref':>11s} {'new vs ref':>11s}"
+            hdr += f" {'old vs ref':>11s} {'new vs ref':>11s} {'rms old':>9s} {'rms new':>9s}"
         print(hdr)
         for k in METRICS:
             if k not in o.dtype.names:
@@ -78,6 +94,7 @@ def main(argv):
                 r = ref[c][:m]
                 eo, en = rel(o[k], r[k]), rel(w[k], r[k])
                 line += f" {eo:11.2e} {en:11.2e}"
+                line += f" {rms_scaled(o[k], r[k]):9.2e} {rms_scaled(w[k], r[k]):9.2e}"
                 good = good or en <= eo
             ok = ok and good
             print(line + ("" if good else "   <- differs"))
