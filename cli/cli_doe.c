@@ -67,8 +67,39 @@ static int find_comparison(const pom_doe_report *rep, int a, int b, pom_doe_metr
   return 0;
 }
 
-static void stats_row(FILE *out, const char *name, const pom_doe_stats *s, double scale, int prec,
-                      const pom_doe_candidate_stats *cs, int with_unsettled) {
+/* The leading cells of a candidate's row: its name and one cell per sweep
+ * factor; with a single candidate, none (the heading names it). */
+static void lead_cells(FILE *out, const pom_doe_study *study, int c) {
+  if (study->n_candidates < 2) return;
+  fprintf(out, "| %s ", study->candidates[c].name);
+  for (int f = 0; f < study->n_factors; ++f)
+    fprintf(out, "| %.6g ", study->candidates[c].factor_value[f]);
+}
+
+/* The leading header cells matching lead_cells, and their separators. */
+static void lead_head(FILE *out, const pom_doe_study *study, int separator) {
+  if (study->n_candidates < 2) return;
+  fprintf(out, "%s", separator ? "|---" : "| candidate ");
+  for (int f = 0; f < study->n_factors; ++f)
+    if (separator)
+      fprintf(out, "|---:");
+    else
+      fprintf(out, "| %s ", study->factor_label[f]);
+}
+
+/* A statistics table's header: lead cells, then cols[] right-aligned. */
+static void stats_head(FILE *out, const pom_doe_study *study, const char *cols) {
+  lead_head(out, study, 0);
+  fprintf(out, "| %s |\n", cols);
+  lead_head(out, study, 1);
+  for (const char *p = cols; *p; ++p)
+    if (*p == '|') fprintf(out, "|---:");
+  fprintf(out, "|---:|\n");
+}
+
+static void stats_row(FILE *out, const pom_doe_study *study, int c, const pom_doe_stats *s,
+                      double scale, int prec, const pom_doe_candidate_stats *cs,
+                      int with_unsettled) {
   char mx[32], mean[32], mn[32], sd[32], med[32], p95[32];
   fmt_num(mx, sizeof mx, s->max, scale, prec);
   fmt_num(mean, sizeof mean, s->mean, scale, prec);
@@ -76,8 +107,8 @@ static void stats_row(FILE *out, const char *name, const pom_doe_stats *s, doubl
   fmt_num(sd, sizeof sd, s->sigma, scale, prec);
   fmt_num(med, sizeof med, s->median, scale, prec);
   fmt_num(p95, sizeof p95, s->p95, scale, prec);
-  fprintf(out, "| %s | %s | %s | %s | %s | %s | %s | %ld |", name, mx, mean, mn, sd, med, p95,
-          s->n);
+  lead_cells(out, study, c);
+  fprintf(out, "| %s | %s | %s | %s | %s | %s | %ld |", mx, mean, mn, sd, med, p95, s->n);
   if (with_unsettled) fprintf(out, " %ld |", cs->n_unsettled);
   fprintf(out, " %ld |\n", cs->n_failed);
 }
@@ -111,26 +142,24 @@ static void mixed_kinds_note(FILE *out, const pom_doe_study *study) {
 void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
   int nc = rep->n_candidates;
   mixed_kinds_note(out, study);
+  static const char cols[] = "max | mean | min | sigma | median | p95 | n | failed";
+  static const char cols_unsettled[] =
+      "max | mean | min | sigma | median | p95 | n | unsettled | failed";
   fprintf(out, "### Table 1: execution time (ms)\n\n");
-  fprintf(out, "| candidate | max | mean | min | sigma | median | p95 | n | unsettled | failed |\n"
-               "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  stats_head(out, study, cols_unsettled);
   for (int c = 0; c < nc; ++c)
-    stats_row(out, study->candidates[c].name, &rep->cand[c].execution_time, 1e3, 2, &rep->cand[c],
-              1);
+    stats_row(out, study, c, &rep->cand[c].execution_time, 1e3, 2, &rep->cand[c], 1);
   fprintf(out, "\n### Table 2: expended energy (J)\n\n");
-  fprintf(out, "| candidate | max | mean | min | sigma | median | p95 | n | failed |\n"
-               "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  stats_head(out, study, cols);
   for (int c = 0; c < nc; ++c)
-    stats_row(out, study->candidates[c].name, &rep->cand[c].energy, 1.0, 4, &rep->cand[c], 0);
+    stats_row(out, study, c, &rep->cand[c].energy, 1.0, 4, &rep->cand[c], 0);
   fprintf(out, "\nExecution time = largest settling time of the three actuators (2 %% band), over "
                "maneuvers that settled within the horizon; energy = sum over the actuators of the "
                "signed integral of u i over the horizon.\n");
   fprintf(out, "\n### Table 1b: execution time (ms), MATLAB stepinfo definition\n\n");
-  fprintf(out, "| candidate | max | mean | min | sigma | median | p95 | n | failed |\n"
-               "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  stats_head(out, study, cols);
   for (int c = 0; c < nc; ++c)
-    stats_row(out, study->candidates[c].name, &rep->cand[c].execution_time_final, 1e3, 2,
-              &rep->cand[c], 0);
+    stats_row(out, study, c, &rep->cand[c].execution_time_final, 1e3, 2, &rep->cand[c], 0);
   fprintf(out, "\nstepinfo: each actuator's band is 2 %% of its largest deviation from its value "
                "at the horizon, about that value (the paper's MATLAB post-processing most likely "
                "used it); defined for tiny steps too.\n");
@@ -284,6 +313,13 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
           (unsigned long long)study->maneuvers.seed);
   json_montecarlo(out, study);
   json_metrics(out);
+  /* the sweep factors (dotted config keys), one value per candidate below */
+  fprintf(out, "  \"factors\": [");
+  for (int f = 0; f < study->n_factors; ++f) {
+    fprintf(out, "%s", f ? ", " : "");
+    json_string(out, study->factor_key[f]);
+  }
+  fprintf(out, "],\n");
   fprintf(out, "  \"candidates\": [\n");
   for (int c = 0; c < rep->n_candidates; ++c) {
     const pom_doe_candidate_stats *cs = &rep->cand[c];
@@ -294,6 +330,14 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
             ", \"actuator_kind\": \"%s\", \"actuator_unit\": \"%s\", \"done\": %ld, "
             "\"failed\": %ld, \"unsettled\": %ld",
             u->kind_name, u->si, cs->n_done, cs->n_failed, cs->n_unsettled);
+    fprintf(out, ", \"factors\": {");
+    for (int f = 0; f < study->candidates[c].n_factors; ++f) {
+      fprintf(out, "%s", f ? ", " : "");
+      json_string(out, study->candidates[c].factor_key[f]);
+      fprintf(out, ": ");
+      json_double(out, study->candidates[c].factor_value[f]);
+    }
+    fprintf(out, "}");
     /* the statistics of every reduced metric of the schema */
     for (int s = 0; s < POM_DYN_N_STATS; ++s) {
       fprintf(out, ",\n     ");
@@ -460,6 +504,14 @@ int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o) {
   pom_doe_run *run = NULL;
   pom_doe_report *rep = NULL;
   const char *output = o->run.output ? o->run.output : study->output;
+  const char *tabular = o->tabular ? o->tabular : study->tabular;
+  if (tabular[0] && !output[0]) {
+    fprintf(stderr,
+            "pomlab: tabular results '%s' need a results file (--out FILE.h5): the "
+            "maneuver rows are read back from it\n",
+            tabular);
+    return 2;
+  }
   double t0 = pom_progress_now();
   pom_status st = pom_doe_run_begin(&run, study, &o->run, &err);
   if (st != POM_OK) {
@@ -517,6 +569,16 @@ int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o) {
            "\n\n",
            study->name, study->n_candidates, study->maneuvers.count, wall, threads, ranks);
     pom_cli_doe_print_report(stdout, study, rep);
+  }
+  if (tabular[0]) {
+    char cand[POM_DOE_PATH_LEN + 32];
+    pom_doe_tabular_candidates_path(cand, sizeof cand, tabular);
+    if (pom_doe_tabular_write(study, rep, output, tabular, &err) != POM_OK) {
+      pom_cli_report("tabular", &err);
+      code = code ? code : 1;
+    } else if (!o->json) {
+      printf("\nTabular: %s (candidate x maneuver), %s (candidate)\n", tabular, cand);
+    }
   }
   if (output[0] && (o->summary || o->plots)) {
     char dir[1100];

@@ -173,7 +173,7 @@ pom_status pom_doe_dyn_evaluator_create(pom_doe_evaluator *eval, const pom_cfg *
                                         pom_error *err);
 
 /* ---- study -------------------------------------------------------------------- */
-#define POM_DOE_NAME_LEN    64
+#define POM_DOE_NAME_LEN    128
 #define POM_DOE_PATH_LEN    1024
 #define POM_DOE_MAX_FACTORS 8
 
@@ -190,14 +190,20 @@ typedef struct {
 typedef enum { POM_DOE_RANK_TIME = 0, POM_DOE_RANK_ENERGY = 1 } pom_doe_rank_by;
 
 typedef struct {
-  char name[POM_DOE_NAME_LEN];   /* study name (file stem) */
-  char source[POM_DOE_PATH_LEN]; /* study config path */
-  char output[POM_DOE_PATH_LEN]; /* results file path */
-  char *config_text;             /* the study file's text, owned */
-  int threads;                   /* 0 = all cores */
-  double alpha;                  /* significance level of the verdict (two-sided) */
-  double confidence;             /* level of the paired interval (default 0.95) */
-  pom_doe_rank_by rank_by;       /* primary ranking metric */
+  char name[POM_DOE_NAME_LEN];    /* study name (file stem) */
+  char source[POM_DOE_PATH_LEN];  /* study config path */
+  char output[POM_DOE_PATH_LEN];  /* results file path */
+  char *config_text;              /* the study file's text, owned */
+  int threads;                    /* 0 = all cores */
+  double alpha;                   /* significance level of the verdict (two-sided) */
+  double confidence;              /* level of the paired interval (default 0.95) */
+  pom_doe_rank_by rank_by;        /* primary ranking metric */
+  char tabular[POM_DOE_PATH_LEN]; /* study.tabular: CSV file of rows ("" = none) */
+  /* sweep factors, shared by every candidate of a sweep (0 for a list) */
+  int n_factors;
+  char factor_key[POM_DOE_MAX_FACTORS][POM_DOE_NAME_LEN];   /* dotted config keys */
+  char factor_label[POM_DOE_MAX_FACTORS][POM_DOE_NAME_LEN]; /* short: the key's last part */
+  long factor_levels[POM_DOE_MAX_FACTORS]; /* grid levels; 0 for a Latin hypercube */
   pom_doe_maneuvers maneuvers;
   int n_candidates;
   pom_doe_candidate *candidates; /* [n_candidates], owned */
@@ -347,5 +353,22 @@ void pom_doe_run_destroy(pom_doe_run *run);
 /* Convenience: begin, step to the end, end. */
 pom_status pom_doe_run_all(const pom_doe_study *study, const pom_doe_run_options *opt,
                            pom_doe_report **report, pom_error *err);
+
+/* ---- tabular results (pom_doe_tabular.c) ------------------------------------- */
+/* Writes the study as two CSV tables (docs/results.md, "Tabular results"):
+ * csv, one row per finished candidate x maneuver (candidate, factors,
+ * maneuver, its drawn values, actuator_unit, every metric of the schema,
+ * status, reason), and pom_doe_tabular_candidates_path(csv), one row per
+ * candidate (factors, counts, every statistic). The rows are read from the
+ * results file `results` a block at a time. Both files are written under a
+ * temporary name and renamed at the end, so a failure leaves neither
+ * half-written. POM_ERR_ARG without a results file, POM_ERR_IO on a failed
+ * write. */
+pom_status pom_doe_tabular_write(const pom_doe_study *study, const pom_doe_report *rep,
+                                 const char *results, const char *csv, pom_error *err);
+
+/* The per-candidate table beside csv: "x.csv" -> "x_candidates.csv" (any other
+ * name gets "_candidates.csv" appended). */
+void pom_doe_tabular_candidates_path(char *out, size_t cap, const char *csv);
 
 #endif

@@ -255,6 +255,49 @@ done:
   return st;
 }
 
+/* A sweep's factor values, one column per factor (docs/results.md, section
+ * 5): /factors [C][F] with the dotted keys, short labels and grid levels. */
+static pom_status write_factors(hid_t file, const pom_doe_study *study, pom_error *err) {
+  int nf = study->n_factors;
+  if (nf == 0) return POM_OK;
+  size_t nc = (size_t)study->n_candidates;
+  double *v = malloc(nc * (size_t)nf * sizeof *v);
+  char *keys = malloc((size_t)nf * (POM_DOE_NAME_LEN + 1));
+  char *labels = malloc((size_t)nf * (POM_DOE_NAME_LEN + 1));
+  double levels[POM_DOE_MAX_FACTORS];
+  pom_status st = POM_OK;
+  hid_t ds = -1;
+  if (!v || !keys || !labels) POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "results: out of memory");
+  keys[0] = labels[0] = '\0';
+  for (int f = 0; f < nf; ++f) {
+    strcat(keys, f ? "," : "");
+    strcat(keys, study->factor_key[f]);
+    strcat(labels, f ? "," : "");
+    strcat(labels, study->factor_label[f]);
+    levels[f] = (double)study->factor_levels[f];
+  }
+  for (size_t c = 0; c < nc; ++c)
+    for (int f = 0; f < nf; ++f)
+      v[c * (size_t)nf + (size_t)f] =
+          f < study->candidates[c].n_factors ? study->candidates[c].factor_value[f] : NAN;
+  size_t dims[2] = {nc, (size_t)nf};
+  POM_TRY_GOTO(pom_h5_write_doubles(file, "factors", 2, dims, v, err), done);
+  ds = H5Dopen2(file, "factors", H5P_DEFAULT);
+  if (ds < 0) {
+    st = pom_h5_fail(err, __FILE__, __LINE__, "annotating factors");
+    goto done;
+  }
+  POM_TRY_GOTO(pom_h5_attr_string(ds, "keys", keys, err), done);
+  POM_TRY_GOTO(pom_h5_attr_string(ds, "labels", labels, err), done);
+  POM_TRY_GOTO(pom_h5_attr_doubles(ds, "levels", levels, (size_t)nf, err), done);
+done:
+  if (ds >= 0) H5Dclose(ds);
+  free(v);
+  free(keys);
+  free(labels);
+  return st;
+}
+
 /* The current time as ISO 8601 UTC. */
 static void utc_now(char *buf, size_t cap) {
   time_t now = time(NULL);
@@ -293,6 +336,7 @@ pom_status pom_doe_results_create(pom_doe_results **out, const char *path,
     POM_TRY_GOTO(write_candidate(res, g, study, c, err), fail);
   H5Gclose(g);
   g = -1;
+  POM_TRY_GOTO(write_factors(f, study, err), fail);
   POM_TRY_GOTO(pom_doe_results_flush(res, err), fail);
   *out = res;
   return POM_OK;

@@ -21,3 +21,9 @@ add_test(NAME test_metric_outputs
   COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/test_metric_outputs.sh $<TARGET_FILE:pomlab>
           $<TARGET_FILE:metric_schema_dump> ${CMAKE_CURRENT_BINARY_DIR}/metric_outputs
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# A sweep through the command line: factor values in names, tables, JSON,
+# HDF5, and the tabular CSV results read back by pandas.
+add_test(NAME test_doe_sweep
+  COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/test_doe_sweep.sh $<TARGET_FILE:pomlab>
+          ${CMAKE_CURRENT_BINARY_DIR}/doe_sweep
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
