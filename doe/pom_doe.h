@@ -282,20 +282,30 @@ typedef struct {
 typedef enum { POM_DOE_METRIC_TIME = 0, POM_DOE_METRIC_ENERGY = 1 } pom_doe_metric;
 
 typedef struct {
-  int a, b;              /* candidate indices, a < b; differences are a - b */
+  int a, b;              /* candidate indices; differences are a - b (a < b when every pair is
+                            compared, a = the metric's best candidate otherwise) */
   pom_doe_metric metric; /* which response */
   pom_doe_paired test;   /* on maneuvers where both are ok (and settled, for time) */
+  double p_holm;         /* Wilcoxon p adjusted by Holm over the comparisons of this metric */
 } pom_doe_comparison;
+
+/* Up to this many candidates every pair is compared; beyond, the best of
+ * each metric against each other one (docs/results.md, section 4). */
+#define POM_DOE_ALL_PAIRS_MAX 4
 
 typedef struct {
   int n_candidates;
   long n_maneuvers;
   pom_doe_candidate_stats *cand; /* [n_candidates] */
+  int all_pairs;                 /* 1: every pair compared; 0: the best against each other */
   int n_comparisons;
-  pom_doe_comparison *cmp; /* [n_comparisons]: every pair, both metrics */
-  int *rank_time;          /* [n_candidates] candidate indices, best (lowest mean) first */
-  int *rank_energy;        /* [n_candidates] */
-  double alpha;            /* level used for "significant" */
+  pom_doe_comparison *cmp;             /* [n_comparisons]: both metrics */
+  pom_doe_friedman_result friedman[2]; /* per pom_doe_metric, over the common maneuvers */
+  int *rank_time;      /* [n_candidates] candidate indices, best (lowest mean) first */
+  int *rank_energy;    /* [n_candidates] */
+  double *mean_time;   /* [n_candidates] mean execution time over the common maneuvers (s) */
+  double *mean_energy; /* [n_candidates] mean expended energy over the common maneuvers (J) */
+  double alpha;        /* level used for "significant" */
 } pom_doe_report;
 
 void pom_doe_report_destroy(pom_doe_report *r);

@@ -642,16 +642,18 @@ done:
   return st;
 }
 
+#define PAIRED_COLUMNS 13
+
 static pom_status write_comparisons(hid_t file, const pom_doe_report *rep, pom_error *err) {
   pom_status st = POM_OK;
   hid_t g = -1;
   size_t n = (size_t)rep->n_comparisons;
-  double *buf = malloc((n ? n : 1) * 11 * sizeof *buf);
+  double *buf = malloc((n ? n : 1) * PAIRED_COLUMNS * sizeof *buf);
   if (!buf) POM_FAIL(err, POM_ERR_NOMEM, "results: out of memory");
   POM_TRY_GOTO(replace_group(&g, file, "comparison", err), done);
   for (size_t j = 0; j < n; ++j) {
     const pom_doe_comparison *c = &rep->cmp[j];
-    double *r = buf + 11 * j;
+    double *r = buf + PAIRED_COLUMNS * j;
     r[0] = c->a;
     r[1] = c->b;
     r[2] = c->metric;
@@ -663,15 +665,40 @@ static pom_status write_comparisons(hid_t file, const pom_doe_report *rep, pom_e
     r[8] = c->test.wilcoxon_p;
     r[9] = (double)c->test.n_nonzero;
     r[10] = c->test.win_fraction;
+    r[11] = c->test.tie_fraction;
+    r[12] = c->p_holm;
   }
-  size_t dims[2] = {n, 11};
+  size_t dims[2] = {n, PAIRED_COLUMNS};
   POM_TRY_GOTO(pom_h5_write_doubles(g, "paired", 2, dims, buf, err), done);
   POM_TRY_GOTO(pom_h5_attr_string(g, "columns",
                                   "a,b,metric(0=execution_time s,1=energy J),n,mean_diff(a-b),"
                                   "ci_low,ci_high,wilcoxon_w_plus,wilcoxon_p,n_nonzero,"
-                                  "win_fraction(a<b)",
+                                  "win_fraction(a<b),tie_fraction(a==b),holm_p",
                                   err),
                done);
+  POM_TRY_GOTO(pom_h5_attr_string(g, "pairs",
+                                  rep->all_pairs ? "every pair"
+                                                 : "the best candidate of each metric (a) against "
+                                                   "each other one (b)",
+                                  err),
+               done);
+  double fr[2 * 4];
+  for (int m = 0; m < 2; ++m) {
+    fr[4 * m + 0] = (double)rep->friedman[m].n_blocks;
+    fr[4 * m + 1] = rep->friedman[m].k;
+    fr[4 * m + 2] = rep->friedman[m].statistic;
+    fr[4 * m + 3] = rep->friedman[m].p;
+  }
+  size_t fdims[2] = {2, 4};
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "friedman", 2, fdims, fr, err), done);
+  hid_t ds = H5Dopen2(g, "friedman", H5P_DEFAULT);
+  if (ds < 0) {
+    st = pom_h5_fail(err, __FILE__, __LINE__, "annotating friedman");
+    goto done;
+  }
+  st = pom_h5_attr_string(ds, "columns", "n_maneuvers,k_candidates,chi_square,p", err);
+  if (st == POM_OK) st = pom_h5_attr_string(ds, "rows", "execution_time,energy", err);
+  H5Dclose(ds);
 done:
   if (g >= 0) H5Gclose(g);
   free(buf);

@@ -37,4 +37,27 @@ code=0; "$POMLAB" study $CFG --out "$WORK/x.h5" --no-plots --no-summary --quiet 
   --tabular "$WORK/none/x.csv" > /dev/null 2> "$WORK/x.err" || code=$?
 [ "$code" -eq 1 ] || { echo "unwritable tabular: exit $code, want 1"; exit 1; }
 grep -q "none/x.csv" "$WORK/x.err"
+# identical candidates tie: no "faster on 50 %", a tie in the verdict, the
+# comparison table and the ranking (item: ties are ties)
+printf 'name = "same"; montecarlo = { maneuvers = 4; seed = 5; };\n%s\n%s\n' \
+  'study = { override = { joints = { model = "rigid"; }; scene = { coil_inductance = false; }; }; };' \
+  "candidates = ( { name = \"A\"; config = \"$(pwd)/configs/3pss.cfg\"; }, { name = \"B\"; config = \"$(pwd)/configs/3pss.cfg\"; } );" \
+  > "$WORK/same.cfg"
+"$POMLAB" study "$WORK/same.cfg" --out "$WORK/same.h5" --no-plots --no-summary --quiet > "$WORK/same.txt"
+grep -q "^- execution time: A and B \*\*tie\*\*: the same execution time on every one of the 4 common" \
+  "$WORK/same.txt" || { echo "identical candidates: no tie in the verdict"; exit 1; }
+grep -q "^- expended energy: A and B \*\*tie\*\*" "$WORK/same.txt" || { echo "energy: no tie"; exit 1; }
+if grep -q "faster than\|less energy than" "$WORK/same.txt"; then
+  echo "identical candidates: a winner was named"; exit 1
+fi
+grep -q "^| execution time (ms) | A | B | 4 | 0.000 | .* | 0.0 % | 100.0 % | 0.0 % |$" "$WORK/same.txt" ||
+  { echo "comparison table: ties not shown as ties"; exit 1; }
+grep -q "^- execution time (primary): 1.= A, 1.= B$" "$WORK/same.txt" ||
+  { echo "ranking: equal means do not share a place"; exit 1; }
+# one candidate: no plural, no ranking of one, no comparison, no name column
+"$POMLAB" montecarlo configs/3pss.cfg --n 3 --quiet > "$WORK/one.txt"
+if grep -q "1 candidates\|Ranking\|Verdict\|nothing to compare\|| candidate |" "$WORK/one.txt"; then
+  echo "single candidate: comparison sections or a name column"; exit 1
+fi
+grep -q "^| max | mean | min | sigma | median | p95 | n | unsettled | failed |$" "$WORK/one.txt"
 echo "sweep: ok"
