@@ -59,4 +59,10 @@ void pom_doe_cell_from_row(pom_doe_cell *cell, const pom_doe_row *row);
 pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *study,
                                   const pom_doe_cell *cells, pom_error *err);
 
+/* ---- effects (pom_doe_effects.c) ---- */
+/* Main effects of the sweep factors and the Pareto front into rep (after
+ * the ranking's common-maneuver means are set). */
+pom_status pom_doe_effects_compute(pom_doe_report *rep, const pom_doe_study *study,
+                                   const pom_doe_cell *cells, pom_error *err);
+
 #endif

@@ -34,6 +34,8 @@ void pom_doe_report_destroy(pom_doe_report *r) {
   free(r->rank_energy);
   free(r->mean_time);
   free(r->mean_energy);
+  free(r->effects);
+  free(r->pareto);
   free(r);
 }
 
@@ -194,6 +196,7 @@ pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *stu
 
   rank(rep->rank_time, rep->mean_time, study, rep, cells, POM_DOE_METRIC_TIME, items);
   rank(rep->rank_energy, rep->mean_energy, study, rep, cells, POM_DOE_METRIC_ENERGY, items);
+  POM_TRY_GOTO(pom_doe_effects_compute(rep, study, cells, err), fail);
   int j = 0;
   for (int metric = 0; metric < 2; ++metric) {
     int first = j;
