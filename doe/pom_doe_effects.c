@@ -51,16 +51,6 @@ int pom_doe_factor_levels(const pom_doe_study *study, int f, int *level_of, doub
   return n;
 }
 
-/* 1 when the cell counts for the metric (time needs settling). */
-static int usable(const pom_doe_cell *cell, pom_doe_metric metric) {
-  return metric == POM_DOE_METRIC_TIME ? cell->settled : cell->ok;
-}
-
-static double value_of(const pom_doe_cell *cell, pom_doe_metric metric) {
-  return cell
-      ->stat[metric == POM_DOE_METRIC_TIME ? POM_DYN_STAT_execution_time : POM_DYN_STAT_energy];
-}
-
 /* One level's effect: y_k = mean over the level's candidates that can use
  * maneuver k, then the mean of y_k over the maneuvers and its t interval
  * (maneuvers are the independent replicates; averaging inside a maneuver
@@ -74,8 +64,8 @@ static void level_effect(pom_doe_effect *e, const pom_doe_cell *cells, size_t m,
     int cnt = 0;
     for (int c = 0; c < nc; ++c) {
       const pom_doe_cell *cell = &cells[(size_t)c * m + k];
-      if (level_of[c] != e->level || !usable(cell, e->metric)) continue;
-      s += value_of(cell, e->metric);
+      if (level_of[c] != e->level || !pom_doe_cell_usable(cell, e->metric)) continue;
+      s += pom_doe_cell_value(cell, e->metric);
       ++cnt;
     }
     if (!cnt) continue;
