@@ -645,19 +645,23 @@ static int exact_ls_solve(SUNLinearSolver S, SUNMatrix A, N_Vector xv, N_Vector 
       x[p] = t;
     }
   }
-  for (int k = 0; k < nb; ++k)
+  /* x[k] held in a local: x may alias the factors for all the compiler knows */
+  for (int k = 0; k < nb; ++k) {
+    const double xk = x[k], *lk = lu + k * nb;
     for (int i = k + 1; i < nb; ++i)
-      x[i] -= lu[k * nb + i] * x[k];
+      x[i] -= lk[i] * xk;
+  }
   for (int k = nb - 1; k >= 0; --k) {
-    x[k] /= lu[k * nb + k];
+    const double xk = x[k] / lu[k * nb + k], *lk = lu + k * nb;
+    x[k] = xk;
     for (int i = 0; i < k; ++i)
-      x[i] -= lu[k * nb + i] * x[k];
+      x[i] -= lk[i] * xk;
   }
   (void)A;
   for (int j = 0; j < nb; ++j) {
-    const double *col = c->a21 + j * (n - nb) - nb;
+    const double xj = x[j], *col = c->a21 + j * (n - nb) - nb;
     for (int i = nb; i < n; ++i)
-      x[i] -= col[i] * x[j];
+      x[i] -= col[i] * xj;
   }
   return SUNLS_SUCCESS;
 }
