@@ -107,6 +107,41 @@ static void mixed_kinds_note(FILE *out, const pom_doe_study *study) {
                  "platform orientations (its own actuator targets by inverse kinematics).\n\n");
 }
 
+/* With uncertain parameters every maneuver has its own draws, so the
+ * statistics are robustness figures: mean, p95 and worst over maneuvers and
+ * draws, and how often a candidate fails (docs/results.md section 10). */
+static void robustness_table(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
+  const pom_unc *unc = &study->uncertain;
+  if (unc->n == 0) return;
+  fprintf(out, "\n### Robustness under %d uncertain parameter(s), drawn per maneuver\n\n", unc->n);
+  for (int j = 0; j < unc->n; ++j) {
+    const pom_dist *d = &unc->param[j].dist;
+    fprintf(out, "- `%s`%s: %s, draws in [%.4g, %.4g]\n", unc->param[j].key,
+            unc->param[j].relative ? " (relative: x nominal)" : "", d->ops->name, d->lo, d->hi);
+  }
+  fprintf(out, "\n| candidate | time mean (ms) | time p95 | time worst | energy mean (J) | "
+               "energy p95 | energy worst | failed | unsettled |\n"
+               "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (int c = 0; c < rep->n_candidates; ++c) {
+    const pom_doe_candidate_stats *cs = &rep->cand[c];
+    const pom_doe_stats *t = &cs->execution_time, *e = &cs->energy;
+    char v[6][32];
+    fmt_num(v[0], sizeof v[0], t->mean, 1e3, 2);
+    fmt_num(v[1], sizeof v[1], t->p95, 1e3, 2);
+    fmt_num(v[2], sizeof v[2], t->max, 1e3, 2);
+    fmt_num(v[3], sizeof v[3], e->mean, 1.0, 4);
+    fmt_num(v[4], sizeof v[4], e->p95, 1.0, 4);
+    fmt_num(v[5], sizeof v[5], e->max, 1.0, 4);
+    double done = cs->n_done > 0 ? (double)cs->n_done : NAN;
+    fprintf(out, "| %s | %s | %s | %s | %s | %s | %s | %.1f %% | %.1f %% |\n",
+            study->candidates[c].name, v[0], v[1], v[2], v[3], v[4], v[5],
+            100.0 * (double)cs->n_failed / done, 100.0 * (double)cs->n_unsettled / done);
+  }
+  fprintf(out, "\nfailed: share of maneuvers whose draws or run failed (reason per row); "
+               "unsettled: share that never settled within the horizon. The draws are stored in "
+               "the results file (/uncertain/draws).\n");
+}
+
 /* ---- the report ---------------------------------------------------------------------- */
 void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
   int nc = rep->n_candidates;
@@ -134,6 +169,7 @@ void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_d
   fprintf(out, "\nstepinfo: each actuator's band is 2 %% of its largest deviation from its value "
                "at the horizon, about that value (the paper's MATLAB post-processing most likely "
                "used it); defined for tiny steps too.\n");
+  robustness_table(out, study, rep);
 
   if (rep->n_comparisons > 0) {
     fprintf(out, "\n### Paired comparisons (same maneuvers; difference = A - B)\n\n");
@@ -260,6 +296,29 @@ static void json_montecarlo(FILE *out, const pom_doe_study *study) {
 }
 
 /* The metric schema: every metric stored per maneuver in the results file. */
+/* The uncertain parameters (their draws are in the results file). */
+static void json_uncertain(FILE *out, const pom_doe_study *study) {
+  const pom_unc *unc = &study->uncertain;
+  fprintf(out, "  \"uncertain\": [");
+  for (int j = 0; j < unc->n; ++j) {
+    const pom_dist *d = &unc->param[j].dist;
+    fprintf(out, "%s\n    {\"key\": ", j ? "," : "");
+    json_string(out, unc->param[j].key);
+    fprintf(out, ", \"dist\": \"%s\", \"relative\": %s, \"parameters\": [", d->ops->name,
+            unc->param[j].relative ? "true" : "false");
+    for (int i = 0; i < 4; ++i) {
+      fprintf(out, "%s", i ? ", " : "");
+      json_double(out, d->p[i]);
+    }
+    fprintf(out, "], \"lo\": ");
+    json_double(out, d->lo);
+    fprintf(out, ", \"hi\": ");
+    json_double(out, d->hi);
+    fprintf(out, "}");
+  }
+  fprintf(out, "%s],\n", unc->n ? "\n  " : "");
+}
+
 static void json_metrics(FILE *out) {
   fprintf(out, "  \"metrics\": [\n");
   const pom_dyn_metric_info *schema = pom_dyn_metric_schema();
@@ -283,6 +342,7 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
   fprintf(out, ",\n  \"maneuvers\": %ld,\n  \"seed\": %llu,\n", rep->n_maneuvers,
           (unsigned long long)study->maneuvers.seed);
   json_montecarlo(out, study);
+  json_uncertain(out, study);
   json_metrics(out);
   fprintf(out, "  \"candidates\": [\n");
   for (int c = 0; c < rep->n_candidates; ++c) {

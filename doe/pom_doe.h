@@ -17,6 +17,7 @@
 #include "pom_dyn_metrics_schema.h"
 #include "pom_dynamics.h"
 #include "pom_status.h"
+#include "pom_uncertain.h"
 
 #include <hdf5.h>
 #include <stdint.h>
@@ -201,6 +202,9 @@ typedef struct {
   pom_doe_maneuvers maneuvers;
   int n_candidates;
   pom_doe_candidate *candidates; /* [n_candidates], owned */
+  pom_unc uncertain;             /* the `uncertain` group (n = 0: none) */
+  double *uncertain_nominal;     /* [n_candidates][uncertain.n] each key's value in the
+                                    candidate's config (NaN when absent), owned */
 } pom_doe_study;
 
 /* Loads a study file: `name`, `montecarlo`, `study` and `candidates`
@@ -214,6 +218,14 @@ pom_status pom_doe_study_load(pom_doe_study *study, const pom_cfg *cfg,
  * `montecarlo` group gives the maneuvers): `pomlab montecarlo`. */
 pom_status pom_doe_study_single(pom_doe_study *study, const pom_cfg *cfg,
                                 pom_doe_evaluator_factory factory, void *user, pom_error *err);
+
+/* Candidate c's evaluator with the uncertain keys set to the draws x[]
+ * (times the nominal values for relative parameters): its resolved config
+ * with the values set, read by pom_doe_dyn_evaluator_create, so a drawn
+ * value is validated like the key in a file. Clear with
+ * pom_doe_evaluator_clear. */
+pom_status pom_doe_uncertain_evaluator(pom_doe_evaluator *eval, const pom_doe_study *study, int c,
+                                       const double *x, pom_error *err);
 
 /* Frees everything a study owns (NULL allowed); leaves it zeroed. */
 void pom_doe_study_clear(pom_doe_study *study);

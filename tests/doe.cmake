@@ -21,3 +21,10 @@ add_test(NAME test_metric_outputs
   COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/test_metric_outputs.sh $<TARGET_FILE:pomlab>
           $<TARGET_FILE:metric_schema_dump> ${CMAKE_CURRENT_BINARY_DIR}/metric_outputs
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# Distributions of uncertain parameters and the `uncertain` group.
+pom_add_test(test_uncertain test_uncertain.c)
+target_link_libraries(test_uncertain PRIVATE pom_doe)
+add_test(NAME test_uncertain_cli
+  COMMAND sh ${CMAKE_CURRENT_SOURCE_DIR}/test_uncertain_cli.sh $<TARGET_FILE:pomlab>
+          ${CMAKE_SOURCE_DIR} ${CMAKE_CURRENT_BINARY_DIR}/uncertain_cli
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
