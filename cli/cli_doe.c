@@ -405,10 +405,10 @@ static void summary_dir(char *dir, size_t cap, const char *output) {
     snprintf(dir, cap, "%s_summary", output);
 }
 
-static int run_plot_script(const char *h5, const char *dir) {
+int pom_cli_run_script(const char *name, const char *a1, const char *a2) {
   char script[1024];
-  snprintf(script, sizeof script, "%s/scripts/plot_study.py", POM_SOURCE_DIR);
-  char *argv[] = {"/usr/bin/python3", script, (char *)h5, (char *)dir, NULL};
+  snprintf(script, sizeof script, "%s/scripts/%s", POM_SOURCE_DIR, name);
+  char *argv[] = {"/usr/bin/python3", script, (char *)a1, (char *)a2, NULL};
   pid_t pid;
   if (posix_spawn(&pid, argv[0], NULL, NULL, argv, environ) != 0) return -1;
   int status = 0;
@@ -586,7 +586,7 @@ int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o) {
     } else {
       int plots_ok = 0;
       if (o->plots) {
-        int r = run_plot_script(output, dir);
+        int r = pom_cli_run_script("plot_study.py", output, dir);
         plots_ok = r == 0;
         if (!plots_ok)
           fprintf(stderr,

@@ -30,4 +30,8 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
  * *mixed = 1 when they do not all share it. */
 pom_actuator_kind pom_cli_doe_study_kind(const pom_doe_study *study, int *mixed);
 
+/* Runs /usr/bin/python3 scripts/NAME A1 A2 (the source tree's scripts);
+ * returns its exit status, -1 when it could not run. */
+int pom_cli_run_script(const char *name, const char *a1, const char *a2);
+
 #endif

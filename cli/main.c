@@ -22,6 +22,7 @@ static const command commands[] = {
     {"montecarlo", pom_cmd_montecarlo, "N random maneuvers of one mechanism: time and energy"},
     {"study", pom_cmd_study, "candidates x maneuvers: results file, tables, verdict, figures"},
     {"synth", pom_cmd_synth, "kinematic synthesis: response surfaces, desirability, scaling"},
+    {"sensitivity", pom_cmd_sensitivity, "Sobol indices / Morris effects of uncertain parameters"},
     {"tradeoff", pom_cmd_tradeoff, "speed against accuracy: solver and model fidelity sweep"},
     {NULL, NULL, NULL} /* end */
 };
@@ -31,7 +32,7 @@ static void usage(FILE *out) {
                "Design study toolkit for 3-DOF parallel orientation manipulators.\n\n"
                "commands:\n");
   for (size_t k = 0; commands[k].name; ++k)
-    fprintf(out, "  %-10s %s\n", commands[k].name, commands[k].summary);
+    fprintf(out, "  %-12s %s\n", commands[k].name, commands[k].summary);
   fprintf(out, "\n  --version  print version and git commit\n");
 }
 

@@ -353,6 +353,11 @@ int pom_doe_run_ranks(const pom_doe_run *run);
  * comparisons and ranking to the results file and closes it. */
 pom_status pom_doe_run_end(pom_doe_run *run, pom_doe_report **report, pom_error *err);
 
+/* After pom_doe_run_end, on the root: the value that statistic `stat`
+ * (pom_dyn_stat_id) of candidate c takes from unit k (NaN when the unit is
+ * not done or does not count: failed, or unsettled for time metrics). */
+double pom_doe_run_value(const pom_doe_run *run, int c, long k, int stat);
+
 /* Frees a run (joins workers if still running); NULL allowed. */
 void pom_doe_run_destroy(pom_doe_run *run);
 

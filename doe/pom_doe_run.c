@@ -550,6 +550,12 @@ pom_status pom_doe_run_end(pom_doe_run *run, pom_doe_report **report, pom_error 
   return st;
 }
 
+double pom_doe_run_value(const pom_doe_run *run, int c, long k, int stat) {
+  const pom_doe_cell *cell =
+      &run->cells[(size_t)c * (size_t)run->study->maneuvers.count + (size_t)k];
+  return cell->done ? cell->stat[stat] : NAN;
+}
+
 void pom_doe_run_destroy(pom_doe_run *run) {
   if (!run) return;
   join_workers(run);

@@ -31,3 +31,7 @@ add_test(NAME test_uncertain_cli
 # Sobol indices (Ishigami, Sobol g) and Morris effects on analytic functions.
 pom_add_test(test_sensitivity test_sensitivity.c)
 target_link_libraries(test_sensitivity PRIVATE pom_doe)
+add_test(NAME test_sensitivity_cli
+  COMMAND sh ${CMAKE_CURRENT_SOURCE_DIR}/test_sensitivity_cli.sh $<TARGET_FILE:pomlab>
+          ${CMAKE_SOURCE_DIR} ${CMAKE_CURRENT_BINARY_DIR}/sensitivity_cli
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
