@@ -14,6 +14,7 @@ typedef struct {
   int summary;             /* 1: write <output folder>/<stem>/summary.md */
   int plots;               /* 1: PNG figures with scripts/plot_study.py */
   int quiet;               /* 1: no progress bar */
+  const char *tabular;     /* CSV tables of the results (NULL = study.tabular, "" = none) */
 } pom_cli_doe_opts;
 
 /* Runs the study and reports; returns the exit code (0 ok, 1 failure,

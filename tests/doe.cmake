@@ -35,3 +35,9 @@ add_test(NAME test_sensitivity_cli
   COMMAND sh ${CMAKE_CURRENT_SOURCE_DIR}/test_sensitivity_cli.sh $<TARGET_FILE:pomlab>
           ${CMAKE_SOURCE_DIR} ${CMAKE_CURRENT_BINARY_DIR}/sensitivity_cli
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# A sweep through the command line: factor values in names, tables, JSON,
+# HDF5, and the tabular CSV results read back by pandas.
+add_test(NAME test_doe_sweep
+  COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/test_doe_sweep.sh $<TARGET_FILE:pomlab>
+          ${CMAKE_CURRENT_BINARY_DIR}/doe_sweep
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})

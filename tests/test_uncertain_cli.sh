@@ -30,7 +30,7 @@ study unc "$GROUP"
 study nom ""
 run() { "$POMLAB" study "$WORK/$1.cfg" --out "$WORK/$2.h5" --no-plots --no-summary --quiet; }
 "$POMLAB" study "$WORK/unc.cfg" --out "$WORK/unc.h5" --threads 2 --no-plots --no-summary --quiet \
-  > "$WORK/unc.txt"
+  --tabular "$WORK/unc.csv" > "$WORK/unc.txt"
 "$POMLAB" study "$WORK/unc.cfg" --out "$WORK/unc1.h5" --threads 1 --no-plots --no-summary --quiet \
   > /dev/null
 "$POMLAB" study "$WORK/nom.cfg" --out "$WORK/nom.h5" --threads 2 --no-plots --no-summary --quiet \
@@ -83,7 +83,13 @@ for key, field in (("energy_total_J", "energy_total"), ("execution_time_s", "exe
     want = ru[field][k]
     # simulate prints 9 significant digits
     assert abs(s[key] - want) <= 1e-8 * abs(want), (key, s[key], want)
-print("uncertain study: draws stored, targets unchanged, row 4 = simulate")
+# the tabular file has the values each row ran with
+import pandas as pd
+t = pd.read_csv(f"{work}/unc.csv")
+assert np.allclose(t["drawn:actuator.resistance_ohm"], d[:, 0], rtol=1e-12)
+assert np.allclose(t["drawn:controller.kp"], 1.2e4 * d[:, 1], rtol=1e-12)
+assert np.allclose(t["energy_total_J"], ru["energy_total"], rtol=1e-12)
+print("uncertain study: draws stored, targets unchanged, row 4 = simulate, tabular columns")
 PY
 # a distribution that reaches an invalid value: config error naming the key
 study bad 'uncertain = ( { key = "actuator.resistance_ohm"; dist = "uniform"; min = -1.0; max = 5.0; } );'
