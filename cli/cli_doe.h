@@ -14,6 +14,7 @@ typedef struct {
   int summary;             /* 1: write <output folder>/<stem>/summary.md */
   int plots;               /* 1: PNG figures with scripts/plot_study.py */
   int quiet;               /* 1: no progress bar */
+  const char *tabular;     /* CSV tables of the results (NULL = study.tabular, "" = none) */
 } pom_cli_doe_opts;
 
 /* Runs the study and reports; returns the exit code (0 ok, 1 failure,
@@ -29,5 +30,9 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
 /* The actuator kind of the study's candidates (the first one's) and
  * *mixed = 1 when they do not all share it. */
 pom_actuator_kind pom_cli_doe_study_kind(const pom_doe_study *study, int *mixed);
+
+/* Runs /usr/bin/python3 scripts/NAME A1 A2 (the source tree's scripts);
+ * returns its exit status, -1 when it could not run. */
+int pom_cli_run_script(const char *name, const char *a1, const char *a2);
 
 #endif

@@ -19,6 +19,8 @@ static void montecarlo_usage(FILE *out) {
           "  --threads N     worker threads (default: all cores)\n"
           "  --out FILE      also write an HDF5 results file, and summary.md with figures\n"
           "                  in FILE's path without .h5 (as pomlab study)\n"
+          "  --tabular FILE  also write FILE (.csv, one row per maneuver) and\n"
+          "                  FILE_candidates.csv (statistics); needs --out\n"
           "  --json          JSON on stdout (SI units)\n"
           "  --quiet         no progress bar\n"
           "  --help          this text\n\n"
@@ -28,7 +30,7 @@ static void montecarlo_usage(FILE *out) {
 }
 
 int pom_cmd_montecarlo(int argc, char **argv) {
-  const char *cfg_path = NULL, *out = "";
+  const char *cfg_path = NULL, *out = "", *tabular = "";
   long n = -1, seed = -1, threads = 0;
   int json = 0, quiet = 0;
   for (int k = 1; k < argc; ++k) {
@@ -45,6 +47,9 @@ int pom_cmd_montecarlo(int argc, char **argv) {
       target = &threads;
     } else if (strcmp(a, "--out") == 0 && k + 1 < argc) {
       out = argv[++k];
+      continue;
+    } else if (strcmp(a, "--tabular") == 0 && k + 1 < argc) {
+      tabular = argv[++k];
       continue;
     } else if (strcmp(a, "--json") == 0) {
       json = 1;
@@ -102,6 +107,7 @@ int pom_cmd_montecarlo(int argc, char **argv) {
   o.run.output = out;
   o.json = json;
   o.quiet = quiet;
+  o.tabular = tabular;
   o.summary = out[0] != '\0';
   o.plots = out[0] != '\0';
   int code = pom_cli_doe_execute(&study, &o);

@@ -23,6 +23,8 @@ static void study_usage(FILE *out) {
                "  --resume         continue an interrupted results file (same study only)\n"
                "  --out FILE       results file (default: study.output, else results/<name>.h5)\n"
                "  --stop-after N   stop after N more maneuvers (to test --resume)\n"
+               "  --tabular FILE   also write FILE (.csv, one row per candidate x maneuver) and\n"
+               "                   FILE_candidates.csv (one row per candidate); study.tabular\n"
                "  --json           JSON report on stdout instead of tables\n"
                "  --no-plots       skip the figures\n"
                "  --no-summary     skip summary.md\n"
@@ -71,6 +73,8 @@ static int study_main(int argc, char **argv, int rank, int size) {
       o.run.stop_after = v;
     } else if (strcmp(a, "--out") == 0 && k + 1 < argc) {
       o.run.output = argv[++k];
+    } else if (strcmp(a, "--tabular") == 0 && k + 1 < argc) {
+      o.tabular = argv[++k];
     } else if (strcmp(a, "--resume") == 0) {
       o.run.resume = 1;
     } else if (strcmp(a, "--json") == 0) {

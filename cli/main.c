@@ -44,6 +44,8 @@ static const command commands[] = {
      "candidates x maneuvers: results file, tables, verdict, figures"},
     {"synth", HEAVY(pom_cmd_synth),
      "kinematic synthesis: response surfaces, desirability, scaling"},
+    {"sensitivity", HEAVY(pom_cmd_sensitivity),
+     "Sobol indices / Morris effects of uncertain parameters"},
     {"tradeoff", HEAVY(pom_cmd_tradeoff),
      "speed against accuracy: solver and model fidelity sweep"},
     {NULL, NULL, NULL} /* end */
@@ -73,7 +75,7 @@ static void usage(FILE *out) {
                "Design study toolkit for 3-DOF parallel orientation manipulators.\n\n"
                "commands:\n");
   for (size_t k = 0; commands[k].name; ++k)
-    fprintf(out, "  %-10s %s\n", commands[k].name, commands[k].summary);
+    fprintf(out, "  %-12s %s\n", commands[k].name, commands[k].summary);
   fprintf(out, "\n  --version  print version and git commit\n");
 }
 
