@@ -81,6 +81,22 @@ assert r['name'] == 'a \"quoted\" name \\\\ here', r['name']
 assert r['criterion_s'] <= r['initial_criterion_s'], r
 "; then echo "FAIL: tune --json"; cat "$TMP/out"; fail=1; fi
 
+# Diagnostics in human text: the one-centre-run CCD has no replicates, so the
+# lack-of-fit column says so (no "nan" anywhere); the 3SPS workspace surface
+# of configs/synth_3sps.cfg predicts left-out runs worse than their mean
+# (predicted R2 -0.031 in its first stage) and is flagged.
+expect_rc 0 "$POMLAB" synth "$TMP/syn.cfg" --no-direct --quiet --out "$TMP/h_"
+if ! grep -q 'n/a (no replicates)' "$TMP/out" || grep -qi 'nan' "$TMP/out"; then
+  echo "FAIL: synth lack-of-fit column"; cat "$TMP/out"; fail=1
+fi
+sed -e "s|@include \"3sps.cfg\"|@include \"$SRC/configs/3sps.cfg\"|" \
+    -e 's/refine_stages = 1;/refine_stages = 0;/' "$SRC/configs/synth_3sps.cfg" > "$TMP/syn3.cfg"
+expect_rc 0 "$POMLAB" synth "$TMP/syn3.cfg" --no-direct --quiet --out "$TMP/w_"
+if ! grep -q 'warning: stage 0 surface of rdw_deg has a negative predicted R2' "$TMP/out" ||
+   grep -q 'warning: .* of gci ' "$TMP/out"; then
+  echo "FAIL: negative predicted R2 warning"; cat "$TMP/out"; fail=1
+fi
+
 # usage errors
 expect_rc 2 "$POMLAB" synth
 expect_rc 2 "$POMLAB" tune --bogus
