@@ -186,8 +186,16 @@ static void print_human(const pom_syn_run *run, const char *geo_path, const char
            pom_opt_result_name(run->direct.result_global), run->direct.evals_local,
            pom_opt_result_name(run->direct.result_local), run->direct.wall_time);
   }
-  printf("\nscaled to the %.4g mm stroke for +-%.3g deg: platform radius %.4f mm (%d workspace "
-         "evaluations)\n",
+  if (run->direct_better)
+    printf("\nthe direct search found a better design than the surrogate: D = %.4f against %.4f "
+           "(true kinematics at the base scale); %s\n",
+           run->d_direct, run->d_confirmed,
+           run->written_direct ? "it is the one written"
+                               : "the surrogate's is written (synthesis.write = \"surrogate\"; "
+                                 "\"direct\" or \"best\" writes the direct one)");
+  printf("\nscaled the %s optimum (synthesis.write = \"%s\") to the %.4g mm stroke for +-%.3g "
+         "deg: platform radius %.4f mm (%d workspace evaluations)\n",
+         run->written_direct ? "direct-search" : "surrogate", pom_syn_write_name(pb->write),
          pb->base.stroke * 1e3, pb->target_half_width / POM_DEG, run->scale * 1e3,
          run->scale_evals);
   printf("  wrote %s and %s\n\n", geo_path, h5_path);
@@ -261,6 +269,8 @@ static void print_json(pom_syn_run *const runs[], int n, char paths[][2][512]) {
       printf(" \"direct\": {\"desirability\": %s, \"true_evals\": %ld, \"time_s\": %s},",
              jn(b1, run->d_direct), run->direct.evals_global + run->direct.evals_local,
              jn(b2, run->direct.wall_time));
+    printf(" \"direct_better\": %s, \"written\": \"%s\",", run->direct_better ? "true" : "false",
+           run->written_direct ? "direct" : "surrogate");
     printf(" \"platform_radius_mm\": %s, \"geometry_file\": ", jn(b1, run->scale * 1e3));
     pom_json_string(stdout, paths[c][0]);
     printf(", \"h5_file\": ");
@@ -329,6 +339,12 @@ int pom_cmd_synth(int argc, char **argv) {
     if (st != POM_OK) {
       pom_cli_report("synth", &err);
       code = pom_cli_exit_code(st);
+      goto out;
+    }
+    if (no_direct && pbs[c].write == POM_SYN_WRITE_DIRECT) {
+      fprintf(stderr, "pomlab synth: --no-direct contradicts synthesis.write = \"direct\" in %s\n",
+              cfg_paths[c]);
+      code = 2;
       goto out;
     }
     if (no_direct) pbs[c].direct = 0;
