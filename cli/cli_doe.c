@@ -506,7 +506,7 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
 /* results/paper.h5 -> results/paper (the folder of the summary and figures);
  * a file name without extension gets "_summary" appended instead, so that the
  * folder never has the results file's own name. */
-static void summary_dir(char *dir, size_t cap, const char *output) {
+void pom_cli_doe_summary_dir(char *dir, size_t cap, const char *output) {
   snprintf(dir, cap, "%s", output);
   char *dot = strrchr(dir, '.');
   char *slash = strrchr(dir, '/');
@@ -572,7 +572,8 @@ static void write_metric_listing(FILE *f) {
 }
 
 static int write_summary(const pom_doe_study *study, const pom_doe_report *rep, const char *output,
-                         double wall, int threads, int ranks, int plots_ok, const char *dir) {
+                         double wall, int threads, int ranks, int plots_ok, const char *dir,
+                         const pom_cli_doe_opts *o) {
   char path[1200];
   snprintf(path, sizeof path, "%s/summary.md", dir);
   FILE *f = fopen(path, "w");
@@ -616,13 +617,13 @@ static int write_summary(const pom_doe_study *study, const pom_doe_report *rep, 
             study->candidates[c].source, cu->kind_name, cu->display, model);
   }
   fprintf(f, "\n");
+  if (o->report_extra) o->report_extra(f, study);
   pom_cli_doe_print_report(f, study, rep);
   write_metric_listing(f);
   if (plots_ok)
     fprintf(f, "\n### Figures\n\n![execution time](execution_time.png)\n\n"
                "![expended energy](energy.png)\n\n![paired differences](paired.png)\n");
-  fclose(f);
-  return 0;
+  return fclose(f) == 0 ? 0 : -1;
 }
 
 /* ---- run ------------------------------------------------------------------------------------ */
@@ -640,7 +641,7 @@ int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o) {
             tabular);
     return 2;
   }
-  double t0 = pom_progress_now();
+  double t0 = o->t_start > 0 ? o->t_start : pom_progress_now();
   pom_status st = pom_doe_run_begin(&run, study, &o->run, &err);
   if (st != POM_OK) {
     pom_cli_report("study", &err);
@@ -700,6 +701,7 @@ int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o) {
       printf("## Study %s: %d candidates x %ld maneuvers (%.2f s wall, %d thread(s) x %d "
              "rank(s))\n\n",
              study->name, study->n_candidates, study->maneuvers.count, wall, threads, ranks);
+    if (o->report_extra) o->report_extra(stdout, study);
     pom_cli_doe_print_report(stdout, study, rep);
   }
   if (tabular[0]) {
@@ -714,7 +716,7 @@ int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o) {
   }
   if (output[0] && (o->summary || o->plots)) {
     char dir[1100];
-    summary_dir(dir, sizeof dir, output);
+    pom_cli_doe_summary_dir(dir, sizeof dir, output);
     if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
       fprintf(stderr, "pomlab: cannot create %s: %s\n", dir, strerror(errno));
     } else {
@@ -728,7 +730,8 @@ int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o) {
                   "needs /usr/bin/python3 with h5py and matplotlib)\n",
                   r);
       }
-      if (o->summary && write_summary(study, rep, output, wall, threads, ranks, plots_ok, dir) != 0)
+      if (o->summary &&
+          write_summary(study, rep, output, wall, threads, ranks, plots_ok, dir, o) != 0)
         fprintf(stderr, "pomlab: cannot write %s/summary.md\n", dir);
       else if (o->summary && !o->json)
         printf("\nSummary: %s/summary.md%s\n", dir, plots_ok ? " (with figures)" : "");
