@@ -139,6 +139,41 @@ static void mixed_kinds_note(FILE *out, const pom_doe_study *study) {
                  "platform orientations (its own actuator targets by inverse kinematics).\n\n");
 }
 
+/* With uncertain parameters every maneuver has its own draws, so the
+ * statistics are robustness figures: mean, p95 and worst over maneuvers and
+ * draws, and how often a candidate fails (docs/results.md section 10). */
+static void robustness_table(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
+  const pom_unc *unc = &study->uncertain;
+  if (unc->n == 0) return;
+  fprintf(out, "\n### Robustness under %d uncertain parameter(s), drawn per maneuver\n\n", unc->n);
+  for (int j = 0; j < unc->n; ++j) {
+    const pom_dist *d = &unc->param[j].dist;
+    fprintf(out, "- `%s`%s: %s, draws in [%.4g, %.4g]\n", unc->param[j].key,
+            unc->param[j].relative ? " (relative: x nominal)" : "", d->ops->name, d->lo, d->hi);
+  }
+  fprintf(out, "\n| candidate | time mean (ms) | time p95 | time worst | energy mean (J) | "
+               "energy p95 | energy worst | failed | unsettled |\n"
+               "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (int c = 0; c < rep->n_candidates; ++c) {
+    const pom_doe_candidate_stats *cs = &rep->cand[c];
+    const pom_doe_stats *t = &cs->execution_time, *e = &cs->energy;
+    char v[6][32];
+    fmt_num(v[0], sizeof v[0], t->mean, 1e3, 2);
+    fmt_num(v[1], sizeof v[1], t->p95, 1e3, 2);
+    fmt_num(v[2], sizeof v[2], t->max, 1e3, 2);
+    fmt_num(v[3], sizeof v[3], e->mean, 1.0, 4);
+    fmt_num(v[4], sizeof v[4], e->p95, 1.0, 4);
+    fmt_num(v[5], sizeof v[5], e->max, 1.0, 4);
+    double done = cs->n_done > 0 ? (double)cs->n_done : NAN;
+    fprintf(out, "| %s | %s | %s | %s | %s | %s | %s | %.1f %% | %.1f %% |\n",
+            study->candidates[c].name, v[0], v[1], v[2], v[3], v[4], v[5],
+            100.0 * (double)cs->n_failed / done, 100.0 * (double)cs->n_unsettled / done);
+  }
+  fprintf(out, "\nfailed: share of maneuvers whose draws or run failed (reason per row); "
+               "unsettled: share that never settled within the horizon. The draws are stored in "
+               "the results file (/uncertain/draws).\n");
+}
+
 /* ---- comparisons ---------------------------------------------------------------------- */
 /* Friedman's test over every candidate (three or more), then the paired
  * comparisons: every pair up to POM_DOE_ALL_PAIRS_MAX candidates, else the
@@ -338,6 +373,7 @@ void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_d
   fprintf(out, "\nstepinfo: each actuator's band is 2 %% of its largest deviation from its value "
                "at the horizon, about that value (the paper's MATLAB post-processing most likely "
                "used it); defined for tiny steps too.\n");
+  robustness_table(out, study, rep);
 
   if (nc < 2) return; /* one candidate: nothing to compare or rank */
   print_effects(out, study, rep);
@@ -465,6 +501,29 @@ static void json_montecarlo(FILE *out, const pom_doe_study *study) {
 }
 
 /* The metric schema: every metric stored per maneuver in the results file. */
+/* The uncertain parameters (their draws are in the results file). */
+static void json_uncertain(FILE *out, const pom_doe_study *study) {
+  const pom_unc *unc = &study->uncertain;
+  fprintf(out, "  \"uncertain\": [");
+  for (int j = 0; j < unc->n; ++j) {
+    const pom_dist *d = &unc->param[j].dist;
+    fprintf(out, "%s\n    {\"key\": ", j ? "," : "");
+    json_string(out, unc->param[j].key);
+    fprintf(out, ", \"dist\": \"%s\", \"relative\": %s, \"parameters\": [", d->ops->name,
+            unc->param[j].relative ? "true" : "false");
+    for (int i = 0; i < 4; ++i) {
+      fprintf(out, "%s", i ? ", " : "");
+      json_double(out, d->p[i]);
+    }
+    fprintf(out, "], \"lo\": ");
+    json_double(out, d->lo);
+    fprintf(out, ", \"hi\": ");
+    json_double(out, d->hi);
+    fprintf(out, "}");
+  }
+  fprintf(out, "%s],\n", unc->n ? "\n  " : "");
+}
+
 static void json_metrics(FILE *out) {
   fprintf(out, "  \"metrics\": [\n");
   const pom_dyn_metric_info *schema = pom_dyn_metric_schema();
@@ -488,6 +547,7 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
   fprintf(out, ",\n  \"maneuvers\": %ld,\n  \"seed\": %llu,\n", rep->n_maneuvers,
           (unsigned long long)study->maneuvers.seed);
   json_montecarlo(out, study);
+  json_uncertain(out, study);
   json_metrics(out);
   /* the sweep factors (dotted config keys), one value per candidate below */
   fprintf(out, "  \"factors\": [");
@@ -570,7 +630,7 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
 /* results/paper.h5 -> results/paper (the folder of the summary and figures);
  * a file name without extension gets "_summary" appended instead, so that the
  * folder never has the results file's own name. */
-static void summary_dir(char *dir, size_t cap, const char *output) {
+void pom_cli_doe_summary_dir(char *dir, size_t cap, const char *output) {
   snprintf(dir, cap, "%s", output);
   char *dot = strrchr(dir, '.');
   char *slash = strrchr(dir, '/');
@@ -580,10 +640,10 @@ static void summary_dir(char *dir, size_t cap, const char *output) {
     snprintf(dir, cap, "%s_summary", output);
 }
 
-static int run_plot_script(const char *h5, const char *dir) {
+int pom_cli_run_script(const char *name, const char *a1, const char *a2) {
   char script[1024];
-  snprintf(script, sizeof script, "%s/scripts/plot_study.py", POM_SOURCE_DIR);
-  char *argv[] = {"/usr/bin/python3", script, (char *)h5, (char *)dir, NULL};
+  snprintf(script, sizeof script, "%s/scripts/%s", POM_SOURCE_DIR, name);
+  char *argv[] = {"/usr/bin/python3", script, (char *)a1, (char *)a2, NULL};
   pid_t pid;
   if (posix_spawn(&pid, argv[0], NULL, NULL, argv, environ) != 0) return -1;
   int status = 0;
@@ -636,7 +696,8 @@ static void write_metric_listing(FILE *f) {
 }
 
 static int write_summary(const pom_doe_study *study, const pom_doe_report *rep, const char *output,
-                         double wall, int threads, int ranks, int plots_ok, const char *dir) {
+                         double wall, int threads, int ranks, int plots_ok, const char *dir,
+                         const pom_cli_doe_opts *o) {
   char path[1200];
   snprintf(path, sizeof path, "%s/summary.md", dir);
   FILE *f = fopen(path, "w");
@@ -680,6 +741,7 @@ static int write_summary(const pom_doe_study *study, const pom_doe_report *rep, 
             study->candidates[c].source, cu->kind_name, cu->display, model);
   }
   fprintf(f, "\n");
+  if (o->report_extra) o->report_extra(f, study);
   pom_cli_doe_print_report(f, study, rep);
   write_metric_listing(f);
   if (plots_ok) {
@@ -719,7 +781,7 @@ int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o) {
             tabular);
     return 2;
   }
-  double t0 = pom_progress_now();
+  double t0 = o->t_start > 0 ? o->t_start : pom_progress_now();
   pom_status st = pom_doe_run_begin(&run, study, &o->run, &err);
   if (st != POM_OK) {
     pom_cli_report("study", &err);
@@ -779,6 +841,7 @@ int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o) {
       printf("## Study %s: %d candidates x %ld maneuvers (%.2f s wall, %d thread(s) x %d "
              "rank(s))\n\n",
              study->name, study->n_candidates, study->maneuvers.count, wall, threads, ranks);
+    if (o->report_extra) o->report_extra(stdout, study);
     pom_cli_doe_print_report(stdout, study, rep);
   }
   if (tabular[0]) {
@@ -793,13 +856,13 @@ int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o) {
   }
   if (output[0] && (o->summary || o->plots)) {
     char dir[1100];
-    summary_dir(dir, sizeof dir, output);
+    pom_cli_doe_summary_dir(dir, sizeof dir, output);
     if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
       fprintf(stderr, "pomlab: cannot create %s: %s\n", dir, strerror(errno));
     } else {
       int plots_ok = 0;
       if (o->plots) {
-        int r = run_plot_script(output, dir);
+        int r = pom_cli_run_script("plot_study.py", output, dir);
         plots_ok = r == 0;
         if (!plots_ok)
           fprintf(stderr,
@@ -807,7 +870,8 @@ int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o) {
                   "needs /usr/bin/python3 with h5py and matplotlib)\n",
                   r);
       }
-      if (o->summary && write_summary(study, rep, output, wall, threads, ranks, plots_ok, dir) != 0)
+      if (o->summary &&
+          write_summary(study, rep, output, wall, threads, ranks, plots_ok, dir, o) != 0)
         fprintf(stderr, "pomlab: cannot write %s/summary.md\n", dir);
       else if (o->summary && !o->json)
         printf("\nSummary: %s/summary.md%s\n", dir, plots_ok ? " (with figures)" : "");

@@ -3,8 +3,10 @@
  * (docs/results.md). Under mpirun (built with POM_WITH_MPI) the maneuvers are
  * split over the ranks and rank 0 writes the same file one process would. */
 #include "cli_doe.h"
+#include "cli_pipeline.h"
 #include "pom_cli.h"
 #include "pom_pipeline.h"
+#include "pom_progress.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -18,7 +20,9 @@ static void study_usage(FILE *out) {
                "Runs every candidate of the study file on the same Monte-Carlo maneuvers, writes\n"
                "the HDF5 results file, prints the execution-time and energy tables, the paired\n"
                "comparison and the ranking, and writes DIR/summary.md with PNG figures, where\n"
-               "DIR is the results file's path without .h5 (e.g. results/paper/).\n\n"
+               "DIR is the results file's path without .h5 (e.g. results/paper/). Candidates\n"
+               "that ask for synthesis or tuning (run_in_study) go through them first, with a\n"
+               "progress bar per phase; their geometry, gains and records go to DIR too.\n\n"
                "  --threads N      worker threads (default: study.threads, else all cores)\n"
                "  --resume         continue an interrupted results file (same study only)\n"
                "  --out FILE       results file (default: study.output, else results/<name>.h5)\n"
@@ -106,6 +110,7 @@ static int study_main(int argc, char **argv, int rank, int size) {
   pom_status st = pom_cfg_load(&cfg, cfg_path, &err);
   pom_doe_study study;
   memset(&study, 0, sizeof study);
+  o.t_start = pom_progress_now();
   /* candidates whose config asks for it are synthesized and tuned first
      (synthesis/tuning.run_in_study, docs/optimize.md 10) */
   if (st == POM_OK) st = pom_doe_study_load(&study, cfg, pom_pipeline_evaluator_create, NULL, &err);
@@ -116,6 +121,29 @@ static int study_main(int argc, char **argv, int rank, int size) {
     /* a study file that cannot be read is a config error, as for every command */
     return loaded ? pom_cli_exit_code(st) : 2;
   }
+  /* the pipeline's files go with the summary: results/x.h5 -> results/x/ */
+  const char *output = o.run.output ? o.run.output : study.output;
+  char prefix[1200] = "results/pipeline_";
+  if (output[0]) {
+    pom_cli_doe_summary_dir(prefix, sizeof prefix - 1, output);
+    strcat(prefix, "/");
+  }
+  pom_cli_phases bars;
+  pom_cli_phases_init(&bars, rank == 0 && !o.quiet ? stderr : NULL);
+  pom_pipeline_options po;
+  memset(&po, 0, sizeof po);
+  po.output_prefix = prefix;
+  po.no_files = rank != 0;
+  po.progress = pom_cli_phases_report;
+  po.progress_user = &bars;
+  st = pom_pipeline_run(&study, &po, &err);
+  pom_cli_phases_end(&bars);
+  if (st != POM_OK) {
+    if (rank == 0) pom_cli_report("pipeline", &err);
+    pom_doe_study_clear(&study);
+    return pom_cli_exit_code(st);
+  }
+  o.report_extra = pom_cli_pipeline_report;
   int code = pom_cli_doe_execute(&study, &o);
   pom_doe_study_clear(&study);
   return code;

@@ -17,6 +17,7 @@
 #include "pom_dyn_metrics_schema.h"
 #include "pom_dynamics.h"
 #include "pom_status.h"
+#include "pom_uncertain.h"
 
 #include <hdf5.h>
 #include <stdint.h>
@@ -207,6 +208,9 @@ typedef struct {
   pom_doe_maneuvers maneuvers;
   int n_candidates;
   pom_doe_candidate *candidates; /* [n_candidates], owned */
+  pom_unc uncertain;             /* the `uncertain` group (n = 0: none) */
+  double *uncertain_nominal;     /* [n_candidates][uncertain.n] each key's value in the
+                                    candidate's config (NaN when absent), owned */
 } pom_doe_study;
 
 /* Loads a study file: `name`, `montecarlo`, `study` and `candidates`
@@ -220,6 +224,14 @@ pom_status pom_doe_study_load(pom_doe_study *study, const pom_cfg *cfg,
  * `montecarlo` group gives the maneuvers): `pomlab montecarlo`. */
 pom_status pom_doe_study_single(pom_doe_study *study, const pom_cfg *cfg,
                                 pom_doe_evaluator_factory factory, void *user, pom_error *err);
+
+/* Candidate c's evaluator with the uncertain keys set to the draws x[]
+ * (times the nominal values for relative parameters): its resolved config
+ * with the values set, read by pom_doe_dyn_evaluator_create, so a drawn
+ * value is validated like the key in a file. Clear with
+ * pom_doe_evaluator_clear. */
+pom_status pom_doe_uncertain_evaluator(pom_doe_evaluator *eval, const pom_doe_study *study, int c,
+                                       const double *x, pom_error *err);
 
 /* Frees everything a study owns (NULL allowed); leaves it zeroed. */
 void pom_doe_study_clear(pom_doe_study *study);
@@ -380,6 +392,11 @@ int pom_doe_run_ranks(const pom_doe_run *run);
  * the root: *report, owned by the caller; elsewhere NULL), writes statistics,
  * comparisons and ranking to the results file and closes it. */
 pom_status pom_doe_run_end(pom_doe_run *run, pom_doe_report **report, pom_error *err);
+
+/* After pom_doe_run_end, on the root: the value that statistic `stat`
+ * (pom_dyn_stat_id) of candidate c takes from unit k (NaN when the unit is
+ * not done or does not count: failed, or unsettled for time metrics). */
+double pom_doe_run_value(const pom_doe_run *run, int c, long k, int stat);
 
 /* Frees a run (joins workers if still running); NULL allowed. */
 void pom_doe_run_destroy(pom_doe_run *run);

@@ -331,6 +331,7 @@ pom_status pom_doe_results_create(pom_doe_results **out, const char *path,
   POM_TRY_GOTO(pom_h5_attr_double(f, "confidence", study->confidence, err), fail);
   POM_TRY_GOTO(pom_h5_write_text(f, "study_config", study->config_text, err), fail);
   POM_TRY_GOTO(write_montecarlo(f, study, err), fail);
+  POM_TRY_GOTO(pom_doe_uncertain_write(f, study, err), fail);
   POM_TRY_GOTO(pom_h5_create_group(&g, f, "candidates", err), fail);
   for (int c = 0; c < study->n_candidates; ++c)
     POM_TRY_GOTO(write_candidate(res, g, study, c, err), fail);
@@ -454,6 +455,7 @@ static pom_status check_identity(pom_doe_results *res, const pom_doe_study *stud
              path, (long long)nc, (long long)nm, (long long)seed, study->n_candidates,
              study->maneuvers.count, (unsigned long long)study->maneuvers.seed);
   POM_TRY(check_protocol(res->file, study, path, err));
+  POM_TRY(pom_doe_uncertain_check(res->file, study, path, err));
   for (int c = 0; c < study->n_candidates; ++c) {
     char name[48];
     snprintf(name, sizeof name, "candidates/%d", c);

@@ -25,6 +25,7 @@ void pom_doe_study_clear(pom_doe_study *study) {
   }
   free(study->candidates);
   free(study->config_text);
+  free(study->uncertain_nominal);
   memset(study, 0, sizeof *study);
 }
 
@@ -363,7 +364,12 @@ pom_status pom_doe_study_load(pom_doe_study *study, const pom_cfg *cfg,
                               pom_doe_evaluator_factory factory, void *user, pom_error *err) {
   /* a study file holds these and nothing else (mechanism groups belong in the
    * candidates' configs or in study.override) */
-  static const char *const scopes[] = {"name", "montecarlo", "study", "candidates", NULL};
+  static const char *const scopes[] = {"name",       "montecarlo", "study",
+                                       "candidates", "uncertain",  NULL};
+  /* a sensitivity file is a study file with one more group
+   * (pomlab sensitivity reads it) */
+  static const char *const known_top[] = {"name",      "montecarlo",  "study", "candidates",
+                                          "uncertain", "sensitivity", NULL};
   pom_status st = POM_OK;
   config_t tree;
   config_init(&tree);
@@ -389,6 +395,7 @@ pom_status pom_doe_study_load(pom_doe_study *study, const pom_cfg *cfg,
     if (*p == '/' || *p == ' ') *p = '_';
   POM_TRY_GOTO(pom_doe_maneuvers_load(&study->maneuvers, cfg, err), fail);
   POM_TRY_GOTO(load_study_group(study, cfg, err), fail);
+  POM_TRY_GOTO(pom_unc_load(&study->uncertain, cfg, study->maneuvers.seed, err), fail);
   if (pom_cfg_has(cfg, "study.override")) pom_cfg_mark_used(cfg, "study.override");
 
   if (!pom_cfg_has(cfg, "candidates"))
@@ -426,7 +433,7 @@ pom_status pom_doe_study_load(pom_doe_study *study, const pom_cfg *cfg,
       snprintf(key, sizeof key, "candidates.[%d].override", c);
       if (pom_cfg_has(cfg, key)) pom_cfg_mark_used(cfg, key);
     }
-    POM_TRY_GOTO(pom_cfg_check_unknown(cfg, scopes, scopes, err), fail);
+    POM_TRY_GOTO(pom_cfg_check_unknown(cfg, scopes, known_top, err), fail);
     for (int c = 0; c < n; ++c) {
       char key[64];
       snprintf(key, sizeof key, "candidates.[%d]", c);
@@ -434,7 +441,7 @@ pom_status pom_doe_study_load(pom_doe_study *study, const pom_cfg *cfg,
     }
   }
   POM_TRY_GOTO(check_names(study, cfg, err), fail);
-  POM_TRY_GOTO(pom_cfg_check_unknown(cfg, scopes, scopes, err), fail);
+  POM_TRY_GOTO(pom_cfg_check_unknown(cfg, scopes, known_top, err), fail);
   for (int c = 0; c < study->n_candidates; ++c)
     if (study->maneuvers.space == POM_DOE_SPACE_ORIENTATION && !study->candidates[c].eval.targets)
       POM_FAIL_GOTO(err, POM_ERR_CONFIG, fail,
@@ -442,6 +449,7 @@ pom_status pom_doe_study_load(pom_doe_study *study, const pom_cfg *cfg,
                     "orientations to actuator targets",
                     pom_cfg_path(cfg), study->candidates[c].name);
   POM_TRY_GOTO(check_kinds(study, cfg, err), fail);
+  POM_TRY_GOTO(pom_doe_uncertain_prepare(study, cfg, err), fail);
   config_destroy(&tree);
   return POM_OK;
 fail:

@@ -113,6 +113,8 @@ static pom_status write_maneuvers(FILE *f, const pom_doe_study *study, const cha
   for (int j = 0; j < N_MANEUVER_COLUMNS; ++j)
     if (!maneuver_columns[j].applies || maneuver_columns[j].applies(study))
       fprintf(f, ",%s", maneuver_columns[j].name);
+  for (int j = 0; j < study->uncertain.n; ++j)
+    fprintf(f, ",drawn:%s", study->uncertain.param[j].key);
   fputs(",actuator_unit", f);
   for (int j = 0; j < POM_DYN_N_METRICS; ++j)
     for (int k = 0; k < schema[j].count; ++k)
@@ -134,6 +136,13 @@ static pom_status write_maneuvers(FILE *f, const pom_doe_study *study, const cha
         for (int j = 0; j < N_MANEUVER_COLUMNS; ++j)
           if (!maneuver_columns[j].applies || maneuver_columns[j].applies(study))
             csv_number(f, maneuver_columns[j].value(study, c, &mv, row));
+        /* the values this candidate ran with (docs/results.md section 10) */
+        double x[POM_UNC_MAX];
+        pom_unc_draws(&study->uncertain, k0 + i, x);
+        for (int j = 0; j < study->uncertain.n; ++j)
+          csv_number(f, study->uncertain.param[j].relative
+                            ? x[j] * study->uncertain_nominal[c * study->uncertain.n + j]
+                            : x[j]);
         fprintf(f, ",%s", unit);
         for (int j = 0; j < POM_DYN_N_METRICS; ++j)
           for (int k = 0; k < schema[j].count; ++k)
