@@ -227,6 +227,127 @@ static void print_comparisons(FILE *out, const pom_doe_study *study, const pom_d
   }
 }
 
+/* ---- many candidates: main effects, heat map, Pareto front ------------------------------ */
+/* A level's label: its value, or its range when binned. */
+static void level_label(char *buf, size_t cap, double lo, double hi) {
+  if (lo == hi)
+    snprintf(buf, cap, "%.6g", lo);
+  else
+    snprintf(buf, cap, "%.4g-%.4g", lo, hi);
+}
+
+static void print_effects(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
+  if (rep->n_effects == 0) return;
+  fprintf(out,
+          "\n### Main effects (mean over each level's candidates, then over the maneuvers; "
+          "%.0f %% interval)\n\n",
+          100 * study->confidence);
+  fprintf(out,
+          "| factor | level | candidates | execution time (ms) | interval | expended energy (J) "
+          "| interval |\n|---|---:|---:|---:|---:|---:|---:|\n");
+  for (int j = 0; j < rep->n_effects; ++j) {
+    const pom_doe_effect *t = &rep->effects[j];
+    if (t->metric != POM_DOE_METRIC_TIME) continue;
+    const pom_doe_effect *e = NULL; /* the same level's energy effect */
+    for (int i = 0; i < rep->n_effects && !e; ++i)
+      if (rep->effects[i].factor == t->factor && rep->effects[i].level == t->level &&
+          rep->effects[i].metric == POM_DOE_METRIC_ENERGY)
+        e = &rep->effects[i];
+    char lv[64], tm[32], tl[32], th[32], em[32], el[32], eh[32];
+    level_label(lv, sizeof lv, t->lo, t->hi);
+    fmt_num(tm, sizeof tm, t->mean, 1e3, 3);
+    fmt_num(tl, sizeof tl, t->ci_low, 1e3, 3);
+    fmt_num(th, sizeof th, t->ci_high, 1e3, 3);
+    fmt_num(em, sizeof em, e ? e->mean : NAN, 1.0, 4);
+    fmt_num(el, sizeof el, e ? e->ci_low : NAN, 1.0, 4);
+    fmt_num(eh, sizeof eh, e ? e->ci_high : NAN, 1.0, 4);
+    fprintf(out, "| %s | %s | %d | %s | [%s, %s] | %s | [%s, %s] |\n",
+            study->factor_label[t->factor], lv, t->n_candidates, tm, tl, th, em, el, eh);
+  }
+}
+
+/* The mean response of the candidates at each pair of levels of the first
+ * two factors (their common-maneuver means). */
+static void print_heat_map(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
+  int nc = study->n_candidates;
+  if (study->n_factors < 2 || nc < 2) return;
+  int *lv0 = malloc((size_t)nc * sizeof *lv0), *lv1 = malloc((size_t)nc * sizeof *lv1);
+  double *lo0 = malloc((size_t)nc * sizeof *lo0), *hi0 = malloc((size_t)nc * sizeof *hi0);
+  double *lo1 = malloc((size_t)nc * sizeof *lo1), *hi1 = malloc((size_t)nc * sizeof *hi1);
+  int n0 = -1, n1 = -1;
+  if (lv0 && lv1 && lo0 && hi0 && lo1 && hi1) {
+    n0 = pom_doe_factor_levels(study, 0, lv0, lo0, hi0);
+    n1 = pom_doe_factor_levels(study, 1, lv1, lo1, hi1);
+  }
+  for (int m = 0; m < 2 && n0 > 0 && n1 > 0; ++m) {
+    const double *mean = m == 0 ? rep->mean_time : rep->mean_energy;
+    fprintf(out, "\n### Heat map: mean %s (%s), %s (rows) x %s (columns)\n\n",
+            metric_label((pom_doe_metric)m), m == 0 ? "ms" : "J", study->factor_label[0],
+            study->factor_label[1]);
+    fprintf(out, "| %s \\ %s |", study->factor_label[0], study->factor_label[1]);
+    for (int j = 0; j < n1; ++j) {
+      char l[64];
+      level_label(l, sizeof l, lo1[j], hi1[j]);
+      fprintf(out, " %s |", l);
+    }
+    fprintf(out, "\n|---|");
+    for (int j = 0; j < n1; ++j)
+      fprintf(out, "---:|");
+    fprintf(out, "\n");
+    for (int i = 0; i < n0; ++i) {
+      char l[64];
+      level_label(l, sizeof l, lo0[i], hi0[i]);
+      fprintf(out, "| %s |", l);
+      for (int j = 0; j < n1; ++j) {
+        double sum = 0;
+        int cnt = 0;
+        for (int c = 0; c < nc; ++c)
+          if (lv0[c] == i && lv1[c] == j && isfinite(mean[c])) {
+            sum += mean[c];
+            ++cnt;
+          }
+        char v[32];
+        fmt_num(v, sizeof v, cnt ? sum / cnt : NAN, m == 0 ? 1e3 : 1.0, m == 0 ? 3 : 4);
+        fprintf(out, " %s |", v);
+      }
+      fprintf(out, "\n");
+    }
+  }
+  free(lv0);
+  free(lv1);
+  free(lo0);
+  free(hi0);
+  free(lo1);
+  free(hi1);
+}
+
+/* The candidates no other beats on both mean time and mean energy, fastest
+ * first. */
+static void print_pareto(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
+  int nc = rep->n_candidates, n = 0;
+  if (nc < 3) return;
+  for (int c = 0; c < nc; ++c)
+    n += rep->pareto[c];
+  fprintf(out, "\n### Pareto front: execution time against energy (%d of %d candidates)\n\n", n,
+          nc);
+  if (n == 0) {
+    fprintf(out, "No maneuver that every candidate completed: no front.\n");
+    return;
+  }
+  fprintf(out, "Means over the maneuvers every candidate completed; no other candidate is as "
+               "fast and as frugal with one of them strictly better.\n\n");
+  lead_head(out, study, 0);
+  fprintf(out, "| execution time (ms) | expended energy (J) |\n");
+  lead_head(out, study, 1);
+  fprintf(out, "|---:|---:|\n");
+  for (int r = 0; r < nc; ++r) {
+    int c = rep->rank_time[r];
+    if (!rep->pareto[c]) continue;
+    lead_cells(out, study, c);
+    fprintf(out, "| %.3f | %.4f |\n", rep->mean_time[c] * 1e3, rep->mean_energy[c]);
+  }
+}
+
 /* ---- the report ---------------------------------------------------------------------- */
 void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
   int nc = rep->n_candidates;
@@ -255,6 +376,9 @@ void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_d
   robustness_table(out, study, rep);
 
   if (nc < 2) return; /* one candidate: nothing to compare or rank */
+  print_effects(out, study, rep);
+  print_heat_map(out, study, rep);
+  print_pareto(out, study, rep);
   print_comparisons(out, study, rep);
 
   fprintf(out, "\n### Ranking (mean over the maneuvers every candidate completed)\n\n");
@@ -620,10 +744,26 @@ static int write_summary(const pom_doe_study *study, const pom_doe_report *rep, 
   if (o->report_extra) o->report_extra(f, study);
   pom_cli_doe_print_report(f, study, rep);
   write_metric_listing(f);
-  if (plots_ok)
-    fprintf(f, "\n### Figures\n\n![execution time](execution_time.png)\n\n"
-               "![expended energy](energy.png)\n\n![paired differences](paired.png)\n");
-  return fclose(f) == 0 ? 0 : -1;
+  if (plots_ok) {
+    /* the figures scripts/plot_study.py made for this study (it removes the
+     * ones the study does not call for) */
+    static const char *const figures[][2] = {{"execution time", "execution_time.png"},
+                                             {"expended energy", "energy.png"},
+                                             {"paired differences", "paired.png"},
+                                             {"main effects", "main_effects.png"},
+                                             {"heat map", "heatmap.png"},
+                                             {"Pareto front", "pareto.png"}};
+    fprintf(f, "\n### Figures\n");
+    for (size_t j = 0; j < sizeof figures / sizeof figures[0]; ++j) {
+      char fig[1300];
+      struct stat sb;
+      snprintf(fig, sizeof fig, "%s/%s", dir, figures[j][1]);
+      if (stat(fig, &sb) == 0) fprintf(f, "\n![%s](%s)\n", figures[j][0], figures[j][1]);
+    }
+  }
+  int bad = ferror(f);
+  if (fclose(f) != 0) bad = 1;
+  return bad ? -1 : 0;
 }
 
 /* ---- run ------------------------------------------------------------------------------------ */

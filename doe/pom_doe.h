@@ -301,6 +301,20 @@ typedef struct {
   double p_holm;         /* Wilcoxon p adjusted by Holm over the comparisons of this metric */
 } pom_doe_comparison;
 
+/* The main effect of one level of a sweep factor on one response: per
+ * maneuver, the mean over the level's candidates that can use it; then the
+ * mean over the maneuvers and its t interval (study.confidence). */
+typedef struct {
+  int factor;            /* index into study->factor_key */
+  int level;             /* 0-based, ascending factor values */
+  double lo, hi;         /* factor values of the level (equal unless binned) */
+  int n_candidates;      /* candidates at this level */
+  pom_doe_metric metric; /* response */
+  long n;                /* maneuvers averaged */
+  double mean;           /* SI (s or J) */
+  double ci_low, ci_high;
+} pom_doe_effect;
+
 /* Up to this many candidates every pair is compared; beyond, the best of
  * each metric against each other one (docs/results.md, section 4). */
 #define POM_DOE_ALL_PAIRS_MAX 4
@@ -318,7 +332,17 @@ typedef struct {
   double *mean_time;   /* [n_candidates] mean execution time over the common maneuvers (s) */
   double *mean_energy; /* [n_candidates] mean expended energy over the common maneuvers (J) */
   double alpha;        /* level used for "significant" */
+  int n_effects;
+  pom_doe_effect *effects; /* [n_effects] main effects: factor-major, then metric, then level */
+  int *pareto;             /* [n_candidates] 1 on the Pareto front of (mean_time, mean_energy) */
 } pom_doe_report;
+
+/* The levels of sweep factor f: its distinct values (ascending) when there
+ * are at most 12, else 8 equal-width bins of its range (a Latin hypercube).
+ * level_of[c] gets each candidate's level, lo/hi[l] (n_candidates doubles
+ * each) the level's value range. Returns the number of levels, -1 when out
+ * of memory. */
+int pom_doe_factor_levels(const pom_doe_study *study, int f, int *level_of, double *lo, double *hi);
 
 void pom_doe_report_destroy(pom_doe_report *r);
 

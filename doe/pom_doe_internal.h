@@ -66,8 +66,18 @@ typedef struct {
 } pom_doe_cell;
 
 void pom_doe_cell_from_row(pom_doe_cell *cell, const pom_doe_row *row);
+/* 1 when the cell counts for the metric (time needs settling). */
+int pom_doe_cell_usable(const pom_doe_cell *cell, pom_doe_metric metric);
+/* The cell's value of a compared metric (execution time or energy). */
+double pom_doe_cell_value(const pom_doe_cell *cell, pom_doe_metric metric);
 /* Report from cells[c * count + k] (c candidates, count maneuvers each). */
 pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *study,
                                   const pom_doe_cell *cells, pom_error *err);
+
+/* ---- effects (pom_doe_effects.c) ---- */
+/* Main effects of the sweep factors and the Pareto front into rep (after
+ * the ranking's common-maneuver means are set). */
+pom_status pom_doe_effects_compute(pom_doe_report *rep, const pom_doe_study *study,
+                                   const pom_doe_cell *cells, pom_error *err);
 
 #endif

@@ -34,17 +34,18 @@ void pom_doe_report_destroy(pom_doe_report *r) {
   free(r->rank_energy);
   free(r->mean_time);
   free(r->mean_energy);
+  free(r->effects);
+  free(r->pareto);
   free(r);
 }
 
-/* 1 when maneuver cell counts for the metric (time needs settling). */
-static int usable(const pom_doe_cell *cell, pom_doe_metric metric) {
+int pom_doe_cell_usable(const pom_doe_cell *cell, pom_doe_metric metric) {
   return metric == POM_DOE_METRIC_TIME ? cell->settled : cell->ok;
 }
 
 /* The chosen metrics of the paired comparison and the ranking, read through
  * the schema's statistics. */
-static double value_of(const pom_doe_cell *cell, pom_doe_metric metric) {
+double pom_doe_cell_value(const pom_doe_cell *cell, pom_doe_metric metric) {
   return cell
       ->stat[metric == POM_DOE_METRIC_TIME ? POM_DYN_STAT_execution_time : POM_DYN_STAT_energy];
 }
@@ -81,11 +82,11 @@ static void rank(int *order, double *means, const pom_doe_study *study, const po
   for (long k = 0; k < m; ++k) {
     int all = 1;
     for (int c = 0; c < nc && all; ++c)
-      all = usable(&cells[(size_t)c * (size_t)m + (size_t)k], metric);
+      all = pom_doe_cell_usable(&cells[(size_t)c * (size_t)m + (size_t)k], metric);
     if (!all) continue;
     ++n;
     for (int c = 0; c < nc; ++c)
-      items[c].mean += value_of(&cells[(size_t)c * (size_t)m + (size_t)k], metric);
+      items[c].mean += pom_doe_cell_value(&cells[(size_t)c * (size_t)m + (size_t)k], metric);
   }
   for (int c = 0; c < nc; ++c) {
     items[c].mean = n ? items[c].mean / (double)n : NAN;
@@ -104,9 +105,9 @@ static void compare(pom_doe_paired *out, const pom_doe_cell *cells, size_t m, in
   size_t n = 0;
   for (size_t k = 0; k < m; ++k) {
     const pom_doe_cell *u = &cells[(size_t)x * m + k], *v = &cells[(size_t)y * m + k];
-    if (!usable(u, metric) || !usable(v, metric)) continue;
-    a[n] = value_of(u, metric);
-    b[n] = value_of(v, metric);
+    if (!pom_doe_cell_usable(u, metric) || !pom_doe_cell_usable(v, metric)) continue;
+    a[n] = pom_doe_cell_value(u, metric);
+    b[n] = pom_doe_cell_value(v, metric);
     ++n;
   }
   pom_doe_paired_compute(out, a, b, n, confidence, scratch);
@@ -126,8 +127,8 @@ static void friedman(pom_doe_friedman_result *out, const pom_doe_cell *cells, si
     int all = 1;
     for (int c = 0; c < nc && all; ++c) {
       const pom_doe_cell *cell = &cells[(size_t)c * m + k];
-      all = usable(cell, metric);
-      values[c] = all ? value_of(cell, metric) : NAN;
+      all = pom_doe_cell_usable(cell, metric);
+      values[c] = all ? pom_doe_cell_value(cell, metric) : NAN;
     }
     if (!all) continue;
     tie_sum += pom_doe_rank_average(rank, values, nc, pairs);
@@ -194,6 +195,7 @@ pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *stu
 
   rank(rep->rank_time, rep->mean_time, study, rep, cells, POM_DOE_METRIC_TIME, items);
   rank(rep->rank_energy, rep->mean_energy, study, rep, cells, POM_DOE_METRIC_ENERGY, items);
+  POM_TRY_GOTO(pom_doe_effects_compute(rep, study, cells, err), fail);
   int j = 0;
   for (int metric = 0; metric < 2; ++metric) {
     int first = j;

@@ -737,6 +737,56 @@ done:
   return st;
 }
 
+/* Main effects, the common-maneuver means and the Pareto front (for the
+ * figures of many candidates). */
+static pom_status write_effects(hid_t file, const pom_doe_report *rep, pom_error *err) {
+  pom_status st = POM_OK;
+  hid_t g = -1;
+  size_t n = (size_t)rep->n_effects, nc = (size_t)rep->n_candidates;
+  double *buf = malloc((n > nc ? n : nc) * 10 * sizeof *buf + sizeof *buf);
+  if (!buf) POM_FAIL(err, POM_ERR_NOMEM, "results: out of memory");
+  POM_TRY_GOTO(replace_group(&g, file, "effects", err), done);
+  for (size_t j = 0; j < n; ++j) {
+    const pom_doe_effect *e = &rep->effects[j];
+    double *r = buf + 10 * j;
+    r[0] = e->factor;
+    r[1] = e->level;
+    r[2] = e->lo;
+    r[3] = e->hi;
+    r[4] = e->n_candidates;
+    r[5] = e->metric;
+    r[6] = (double)e->n;
+    r[7] = e->mean;
+    r[8] = e->ci_low;
+    r[9] = e->ci_high;
+  }
+  size_t dims[2] = {n, 10};
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "main", 2, dims, buf, err), done);
+  POM_TRY_GOTO(pom_h5_attr_string(g, "columns",
+                                  "factor,level,lo,hi,n_candidates,metric(0=execution_time s,"
+                                  "1=energy J),n_maneuvers,mean,ci_low,ci_high",
+                                  err),
+               done);
+  for (size_t c = 0; c < nc; ++c) {
+    buf[3 * c + 0] = rep->mean_time[c];
+    buf[3 * c + 1] = rep->mean_energy[c];
+    buf[3 * c + 2] = rep->pareto[c];
+  }
+  size_t cdims[2] = {nc, 3};
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "common_means", 2, cdims, buf, err), done);
+  hid_t ds = H5Dopen2(g, "common_means", H5P_DEFAULT);
+  if (ds < 0) {
+    st = pom_h5_fail(err, __FILE__, __LINE__, "annotating common_means");
+    goto done;
+  }
+  st = pom_h5_attr_string(ds, "columns", "execution_time_s,energy_J,pareto", err);
+  H5Dclose(ds);
+done:
+  if (g >= 0) H5Gclose(g);
+  free(buf);
+  return st;
+}
+
 pom_status pom_doe_results_write_report(pom_doe_results *res, const pom_doe_study *study,
                                         const pom_doe_report *rep, pom_error *err) {
   pom_h5_quiet();
@@ -752,6 +802,7 @@ pom_status pom_doe_results_write_report(pom_doe_results *res, const pom_doe_stud
   H5Gclose(g);
   POM_TRY(st);
   POM_TRY(write_ranking(res->file, study, rep, err));
+  POM_TRY(write_effects(res->file, rep, err));
   return pom_doe_results_flush(res, err);
 }
 

@@ -16,6 +16,18 @@ grep -q "^| candidate | platform_radius_mm | max |" "$WORK/s.txt" || { echo "no 
 grep -q "^| 3PSS platform_radius_mm=14 | 14 | " "$WORK/s/summary.md" ||
   { echo "summary.md lacks the factor column"; exit 1; }
 /usr/bin/python3 tests/test_doe_tabular.py "$WORK/s.h5" "$WORK/s.csv" "$WORK/s_candidates.csv"
+/usr/bin/python3 tests/test_doe_effects.py "$WORK/s.h5"
+grep -q "^### Main effects" "$WORK/s.txt" || { echo "no main effects table"; exit 1; }
+grep -q "^| platform_radius_mm | 12 | 1 | " "$WORK/s.txt" || { echo "main effects: no level 12"; exit 1; }
+grep -q "^### Pareto front" "$WORK/s.txt" || { echo "no Pareto front"; exit 1; }
+grep -q "^### Friedman test (all 3 candidates" "$WORK/s.txt" || { echo "no Friedman test"; exit 1; }
+# the figures of a sweep, referenced by summary.md
+"$POMLAB" study $CFG --out "$WORK/p.h5" --quiet > /dev/null
+for fig in execution_time energy paired main_effects pareto; do
+  [ -s "$WORK/p/$fig.png" ] || { echo "no $fig.png"; exit 1; }
+  grep -q "($fig.png)" "$WORK/p/summary.md" || { echo "summary.md lacks $fig.png"; exit 1; }
+done
+[ ! -e "$WORK/p/heatmap.png" ] || { echo "a heat map of one factor"; exit 1; }
 "$POMLAB" study $CFG --out "$WORK/j.h5" --no-plots --no-summary --quiet --json > "$WORK/j.json"
 /usr/bin/python3 - "$WORK/j.json" <<'PY'
 import json, sys
