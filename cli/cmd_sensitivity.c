@@ -22,6 +22,8 @@ static void usage(FILE *out) {
                "(sensitivity.metric, default execution_time). Writes an HDF5 file\n"
                "(sensitivity.output, default results/<name>-sensitivity.h5) and a bar plot\n"
                "beside it (.png).\n\n"
+               "  --candidate C only this candidate of the study (its name as printed, or its\n"
+               "                position 1..n): e.g. the winner of a sweep\n"
                "  --threads N   worker threads (default: study.threads, else all cores)\n"
                "  --out FILE    results file (replaced only once complete)\n"
                "  --json        JSON on stdout instead of tables\n"
@@ -140,7 +142,7 @@ static void print_json(FILE *out, const pom_doe_study *study, const pom_doe_sens
 }
 
 int pom_cmd_sensitivity(int argc, char **argv) {
-  const char *cfg_path = NULL, *out_path = NULL;
+  const char *cfg_path = NULL, *out_path = NULL, *only = NULL;
   int json = 0, plots = 1, quiet = 0;
   long threads = 0;
   for (int k = 1; k < argc; ++k) {
@@ -157,6 +159,8 @@ int pom_cmd_sensitivity(int argc, char **argv) {
       }
     } else if (strcmp(a, "--out") == 0 && k + 1 < argc) {
       out_path = argv[++k];
+    } else if (strcmp(a, "--candidate") == 0 && k + 1 < argc) {
+      only = argv[++k];
     } else if (strcmp(a, "--json") == 0) {
       json = 1;
     } else if (strcmp(a, "--no-plots") == 0) {
@@ -183,6 +187,7 @@ int pom_cmd_sensitivity(int argc, char **argv) {
   pom_cfg *cfg = NULL;
   pom_status st = pom_cfg_load(&cfg, cfg_path, &err);
   if (st == POM_OK) st = pom_doe_study_load(&study, cfg, pom_pipeline_evaluator_create, NULL, &err);
+  if (st == POM_OK && only) st = pom_doe_study_select(&study, only, &err);
   if (st == POM_OK) st = pom_doe_sens_load(&sens, cfg, &study, &err);
   int loaded = cfg != NULL;
   pom_cfg_destroy(cfg);

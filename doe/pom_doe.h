@@ -236,6 +236,12 @@ pom_status pom_doe_uncertain_evaluator(pom_doe_evaluator *eval, const pom_doe_st
 /* Frees everything a study owns (NULL allowed); leaves it zeroed. */
 void pom_doe_study_clear(pom_doe_study *study);
 
+/* Keeps one candidate of a loaded study, chosen by its exact name or by its
+ * 1-based position ("3"), and releases the others (their uncertain nominal
+ * values follow). POM_ERR_ARG naming the value and the candidates when none
+ * matches. */
+pom_status pom_doe_study_select(pom_doe_study *study, const char *which, pom_error *err);
+
 /* ---- results rows ------------------------------------------------------------ */
 #define POM_DOE_REASON_LEN 160
 

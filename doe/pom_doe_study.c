@@ -29,6 +29,45 @@ void pom_doe_study_clear(pom_doe_study *study) {
   memset(study, 0, sizeof *study);
 }
 
+pom_status pom_doe_study_select(pom_doe_study *study, const char *which, pom_error *err) {
+  int pick = -1;
+  for (int c = 0; c < study->n_candidates && pick < 0; ++c)
+    if (strcmp(study->candidates[c].name, which) == 0) pick = c;
+  if (pick < 0) {
+    char *end = NULL;
+    long k = strtol(which, &end, 10);
+    if (end != which && *end == '\0' && k >= 1 && k <= study->n_candidates) pick = (int)k - 1;
+  }
+  if (pick < 0) {
+    char list[512] = "";
+    size_t used = 0;
+    for (int c = 0; c < study->n_candidates && used + 8 < sizeof list; ++c) {
+      int w = snprintf(list + used, sizeof list - used, "%s%d '%s'", c ? ", " : "", c + 1,
+                       study->candidates[c].name);
+      if (w < 0) break;
+      used += (size_t)w < sizeof list - used ? (size_t)w : sizeof list - used - 1;
+    }
+    POM_FAIL(err, POM_ERR_ARG,
+             "candidate '%s' is not in study '%s' (%s): give a name or a position "
+             "among %s",
+             which, study->name, study->source, list);
+  }
+  int np = study->uncertain.n;
+  for (int c = 0; c < study->n_candidates; ++c) {
+    if (c == pick) continue;
+    free(study->candidates[c].resolved);
+    pom_doe_evaluator_clear(&study->candidates[c].eval);
+  }
+  if (pick > 0) {
+    study->candidates[0] = study->candidates[pick];
+    if (study->uncertain_nominal && np > 0)
+      memmove(study->uncertain_nominal, study->uncertain_nominal + (size_t)pick * (size_t)np,
+              (size_t)np * sizeof *study->uncertain_nominal);
+  }
+  study->n_candidates = 1;
+  return POM_OK;
+}
+
 static char *dup_text(const char *s) {
   size_t n = strlen(s) + 1;
   char *d = malloc(n);
