@@ -43,6 +43,20 @@ int pom_cli_parse_list(const char *text, int n, double *out) {
   return *p == '\0' ? 0 : -1;
 }
 
+int pom_cli_parse_threads(const char *command, const char *text, int *out) {
+  char *end = NULL;
+  errno = 0;
+  long v = strtol(text, &end, 10);
+  if (end == text || *end || errno != 0 || v < 1 || v > POM_CLI_THREADS_MAX) {
+    if (command)
+      fprintf(stderr, "pomlab %s: --threads '%s': expected an integer in [1, %d]\n", command, text,
+              POM_CLI_THREADS_MAX);
+    return -1;
+  }
+  *out = (int)v;
+  return 0;
+}
+
 pom_cfg *pom_cli_load_config(const char *path) {
   pom_error err;
   pom_error_clear(&err);

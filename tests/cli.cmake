@@ -2,3 +2,8 @@
 add_test(NAME test_cli
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_cli.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# Every input checked alike: wrapped integers, command-line values against the
+# config's ranges, folders and bad @include targets, exit codes (issue 12).
+add_test(NAME test_inputs
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_inputs.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
