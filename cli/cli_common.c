@@ -57,6 +57,14 @@ int pom_cli_parse_threads(const char *command, const char *text, int *out) {
   return 0;
 }
 
+void pom_cli_refuse_shared_output(const char *command, const char *cfg_a, const char *cfg_b,
+                                  const char *output) {
+  fprintf(stderr,
+          "pomlab %s: %s and %s would both write %s (the file name comes from the config's "
+          "`name`): give them distinct names; nothing was written\n",
+          command, cfg_a, cfg_b, output);
+}
+
 pom_cfg *pom_cli_load_config(const char *path) {
   pom_error err;
   pom_error_clear(&err);

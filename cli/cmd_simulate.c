@@ -4,6 +4,7 @@
 #include "cli_kin.h"
 #include "pom_version.h"
 #include "pom_cli.h"
+#include "pom_io.h"
 #include "pom_doe.h"
 #include "pom_dyn_metrics_schema.h"
 #include "pom_dynamics.h"
@@ -162,8 +163,9 @@ static int ends_with(const char *s, const char *suffix) {
 
 static pom_status write_csv(const char *path, const pom_dyn_trace *tr, pom_actuator_kind kind,
                             pom_error *err) {
-  FILE *f = fopen(path, "w");
-  if (!f) POM_FAIL(err, POM_ERR_IO, "cannot write '%s'", path);
+  pom_io_file w;
+  POM_TRY(pom_io_create(&w, path, err));
+  FILE *f = w.f;
   /* actuator coordinates in their SI unit: m and m/s, or rad and rad/s */
   const char *q = pom_act_units_of(kind)->si, *qd = kind == POM_ACT_REVOLUTE ? "radps" : "mps";
   fprintf(f,
@@ -182,8 +184,7 @@ static pom_status write_csv(const char *path, const pom_dyn_trace *tr, pom_actua
       fprintf(f, ",%.9g", tr->quat[4 * k + a]);
     fprintf(f, ",%.9g\n", tr->deflection[k]);
   }
-  if (fclose(f) != 0) POM_FAIL(err, POM_ERR_IO, "writing '%s' failed", path);
-  return POM_OK;
+  return pom_io_commit(&w, err);
 }
 
 static pom_status write_h5(const char *path, const pom_cfg *cfg, const char *name,

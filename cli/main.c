@@ -2,6 +2,7 @@
 #include "pom_cli.h"
 #include "pom_version.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -49,7 +50,16 @@ int main(int argc, char **argv) {
     return 0;
   }
   for (size_t k = 0; commands[k].name; ++k)
-    if (strcmp(argv[1], commands[k].name) == 0) return commands[k].fn(argc - 1, argv + 1);
+    if (strcmp(argv[1], commands[k].name) == 0) {
+      int rc = commands[k].fn(argc - 1, argv + 1);
+      /* tables and JSON on a full disk or a closed pipe are a failure too */
+      if (fflush(stdout) != 0 || ferror(stdout)) {
+        fprintf(stderr, "pomlab: %s: writing standard output failed: %s\n", argv[1],
+                strerror(errno));
+        if (rc == 0) rc = 1;
+      }
+      return rc;
+    }
   fprintf(stderr, "pomlab: unknown command '%s'\n\n", argv[1]);
   usage(stderr);
   return 2;

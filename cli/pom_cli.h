@@ -30,6 +30,11 @@ int pom_cli_parse_list(const char *text, int n, double *out);
  * after printing "pomlab COMMAND: ..." (nothing when command is NULL). */
 int pom_cli_parse_threads(const char *command, const char *text, int *out);
 
+/* Prints why two configs of a multi-config command (synth, tune) are
+ * refused: both would write `output`. */
+void pom_cli_refuse_shared_output(const char *command, const char *cfg_a, const char *cfg_b,
+                                  const char *output);
+
 /* Every top-level config name any command understands (NULL-terminated). */
 extern const char *const pom_cli_known_top[];
 

@@ -7,11 +7,16 @@
 #include "pom_h5.h"
 #include "pom_math.h"
 
+#include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 #define FORMAT_NAME    "pomlab study results"
 #define FORMAT_VERSION 1
@@ -24,7 +29,83 @@ struct pom_doe_results {
   int n_candidates;
   long n_maneuvers;
   hid_t *rows; /* [n_candidates] open maneuvers datasets */
+  /* the file's place (docs/results.md, "Writing safely") */
+  char path[POM_DOE_PATH_LEN + 16];      /* the results file as asked for */
+  char open_path[POM_DOE_PATH_LEN + 16]; /* the file open: path or path.partial */
+  char lock_path[POM_DOE_PATH_LEN + 16]; /* path.lock */
+  int lock_fd;                           /* holds the lock, -1 when none */
+  int resumed;                           /* 1: opened an existing file */
 };
+
+/* ---- exclusive use of a results path -------------------------------------------- */
+void pom_doe_results_partial_path(char *buf, size_t cap, const char *path) {
+  snprintf(buf, cap, "%s.partial", path);
+}
+
+/* Takes PATH.lock with flock: one run at a time per results path. The kernel
+ * drops the lock when the process ends however it ends (kill -9 too), so a
+ * lock file left behind never blocks the next run. */
+static pom_status take_lock(pom_doe_results *res, const char *path, pom_error *err) {
+  snprintf(res->lock_path, sizeof res->lock_path, "%s.lock", path);
+  for (int attempt = 0; attempt < 8; ++attempt) {
+    int fd = open(res->lock_path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0)
+      POM_FAIL(err, POM_ERR_IO, "cannot create the lock file '%s': %s", res->lock_path,
+               strerror(errno));
+    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+      int e = errno;
+      char owner[32] = "";
+      ssize_t n = read(fd, owner, sizeof owner - 1);
+      owner[n > 0 ? n : 0] = '\0';
+      owner[strcspn(owner, "\n")] = '\0';
+      close(fd);
+      if (e == EWOULDBLOCK)
+        POM_FAIL(err, POM_ERR_IO,
+                 "'%s' is being written by another pomlab run (process %s holds '%s'): wait for "
+                 "it to finish or choose another output; nothing was changed",
+                 path, owner[0] ? owner : "?", res->lock_path);
+      POM_FAIL(err, POM_ERR_IO, "cannot lock '%s': %s", res->lock_path, strerror(e));
+    }
+    /* the holder before us may have removed the file after we opened it:
+     * then our lock is on a file nobody else sees; take the new one */
+    struct stat held, now;
+    if (fstat(fd, &held) == 0 && stat(res->lock_path, &now) == 0 && held.st_ino == now.st_ino &&
+        held.st_dev == now.st_dev) {
+      char pid[32];
+      int len = snprintf(pid, sizeof pid, "%ld\n", (long)getpid());
+      if (ftruncate(fd, 0) != 0 || write(fd, pid, (size_t)len) != len) {
+        int e = errno;
+        close(fd);
+        POM_FAIL(err, POM_ERR_IO, "cannot write the lock file '%s': %s", res->lock_path,
+                 strerror(e));
+      }
+      res->lock_fd = fd;
+      return POM_OK;
+    }
+    close(fd);
+  }
+  POM_FAIL(err, POM_ERR_IO, "cannot take the lock file '%s': it keeps being replaced",
+           res->lock_path);
+}
+
+static void release_lock(pom_doe_results *res) {
+  if (res->lock_fd < 0) return;
+  unlink(res->lock_path); /* while still holding it (see take_lock) */
+  close(res->lock_fd);
+  res->lock_fd = -1;
+}
+
+/* Forces the data of a finished file to the disk before it is renamed. */
+static pom_status sync_file(const char *path, pom_error *err) {
+  int fd = open(path, O_RDONLY | O_CLOEXEC);
+  if (fd < 0 || fsync(fd) != 0) {
+    int e = errno;
+    if (fd >= 0) close(fd);
+    POM_FAIL(err, POM_ERR_IO, "cannot sync '%s' to the disk: %s", path, strerror(e));
+  }
+  if (close(fd) != 0) POM_FAIL(err, POM_ERR_IO, "closing '%s': %s", path, strerror(errno));
+  return POM_OK;
+}
 
 /* ---- the row type -------------------------------------------------------------- */
 static pom_status row_types(hid_t *mem, hid_t *file, pom_error *err) {
@@ -76,6 +157,7 @@ static pom_status results_alloc(pom_doe_results **out, const pom_doe_study *stud
   pom_doe_results *res = calloc(1, sizeof *res);
   if (!res) POM_FAIL(err, POM_ERR_NOMEM, "results: out of memory");
   res->file = res->row_mem = res->row_file = -1;
+  res->lock_fd = -1;
   res->n_candidates = study->n_candidates;
   res->n_maneuvers = study->maneuvers.count;
   res->rows = malloc((size_t)study->n_candidates * sizeof *res->rows);
@@ -263,13 +345,11 @@ static void utc_now(char *buf, size_t cap) {
   strftime(buf, cap, "%Y-%m-%dT%H:%M:%SZ", &tmv);
 }
 
-pom_status pom_doe_results_create(pom_doe_results **out, const char *path,
-                                  const pom_doe_study *study, pom_error *err) {
+/* Creates res->open_path with the study's provenance and empty rows. */
+static pom_status results_create(pom_doe_results *res, const pom_doe_study *study, pom_error *err) {
   pom_status st = POM_OK;
-  pom_doe_results *res = NULL;
   hid_t g = -1;
-  *out = NULL;
-  POM_TRY_GOTO(results_alloc(&res, study, err), fail);
+  const char *path = res->open_path;
   POM_TRY_GOTO(pom_h5_create_file(&res->file, path, err), fail);
   char created[64];
   utc_now(created, sizeof created);
@@ -294,12 +374,10 @@ pom_status pom_doe_results_create(pom_doe_results **out, const char *path,
   H5Gclose(g);
   g = -1;
   POM_TRY_GOTO(pom_doe_results_flush(res, err), fail);
-  *out = res;
   return POM_OK;
 fail:
   if (g >= 0) H5Gclose(g);
   pom_error_prefix(err, "creating results file '%s'", path);
-  pom_doe_results_close(res, NULL);
   return st;
 }
 
@@ -438,26 +516,62 @@ done:
   return st;
 }
 
-pom_status pom_doe_results_open(pom_doe_results **out, const char *path, const pom_doe_study *study,
-                                pom_error *err) {
-  pom_status st = POM_OK;
-  pom_doe_results *res = NULL;
-  *out = NULL;
-  POM_TRY_GOTO(results_alloc(&res, study, err), fail);
-  POM_TRY_GOTO(pom_h5_open_file(&res->file, path, 1, err), fail);
-  POM_TRY_GOTO(check_identity(res, study, path, err), fail);
+/* Opens res->open_path for resume: it must hold this study. */
+static pom_status results_open(pom_doe_results *res, const pom_doe_study *study, pom_error *err) {
+  const char *path = res->open_path;
+  POM_TRY(pom_h5_open_file(&res->file, path, 1, err));
+  POM_TRY(check_identity(res, study, path, err));
   /* rows from here on come from this program: say so next to the creator's
    * version and commit */
   char when[64];
   utc_now(when, sizeof when);
-  POM_TRY_GOTO(pom_h5_attr_string(res->file, "last_resumed_utc", when, err), fail);
-  POM_TRY_GOTO(pom_h5_attr_string(res->file, "last_resumed_version", POM_VERSION, err), fail);
-  POM_TRY_GOTO(pom_h5_attr_string(res->file, "last_resumed_git_commit", POM_GIT_COMMIT, err), fail);
+  POM_TRY(pom_h5_attr_string(res->file, "last_resumed_utc", when, err));
+  POM_TRY(pom_h5_attr_string(res->file, "last_resumed_version", POM_VERSION, err));
+  POM_TRY(pom_h5_attr_string(res->file, "last_resumed_git_commit", POM_GIT_COMMIT, err));
+  return POM_OK;
+}
+
+pom_status pom_doe_results_start(pom_doe_results **out, const char *path,
+                                 const pom_doe_study *study, int resume, pom_error *err) {
+  pom_status st = POM_OK;
+  pom_doe_results *res = NULL;
+  *out = NULL;
+  POM_TRY_GOTO(results_alloc(&res, study, err), fail);
+  if (strlen(path) >= POM_DOE_PATH_LEN)
+    POM_FAIL_GOTO(err, POM_ERR_ARG, fail, "results path longer than %d characters: '%s'",
+                  POM_DOE_PATH_LEN - 1, path);
+  snprintf(res->path, sizeof res->path, "%s", path);
+  /* nothing is opened before the lock is held */
+  POM_TRY_GOTO(take_lock(res, path, err), fail);
+  char partial[sizeof res->open_path];
+  pom_doe_results_partial_path(partial, sizeof partial, path);
+  /* an unfinished run (path.partial) first, else a finished file */
+  const char *existing = access(partial, F_OK) == 0 ? partial
+                         : access(path, F_OK) == 0  ? path
+                                                    : NULL;
+  if (resume && existing) {
+    snprintf(res->open_path, sizeof res->open_path, "%s", existing);
+    res->resumed = 1;
+    POM_TRY_GOTO(results_open(res, study, err), fail);
+  } else {
+    /* a new run never touches the finished file: it replaces it by rename
+     * once every maneuver is done */
+    snprintf(res->open_path, sizeof res->open_path, "%s", partial);
+    POM_TRY_GOTO(results_create(res, study, err), fail);
+  }
   *out = res;
   return POM_OK;
 fail:
   pom_doe_results_close(res, NULL);
   return st;
+}
+
+int pom_doe_results_resumed(const pom_doe_results *res) {
+  return res->resumed;
+}
+
+const char *pom_doe_results_open_path(const pom_doe_results *res) {
+  return res->open_path;
 }
 
 /* ---- rows ---------------------------------------------------------------------------- */
@@ -682,15 +796,36 @@ pom_status pom_doe_results_write_report(pom_doe_results *res, const pom_doe_stud
   return pom_doe_results_flush(res, err);
 }
 
-pom_status pom_doe_results_close(pom_doe_results *res, pom_error *err) {
-  if (!res) return POM_OK;
+/* Closes the HDF5 side of res. */
+static pom_status close_hdf5(pom_doe_results *res, pom_error *err) {
   pom_h5_quiet();
   for (int c = 0; c < res->n_candidates; ++c)
     if (res->rows && res->rows[c] >= 0) H5Dclose(res->rows[c]);
   if (res->row_mem >= 0) H5Tclose(res->row_mem);
   if (res->row_file >= 0) H5Tclose(res->row_file);
   pom_status st = pom_h5_close_file(res->file, err);
+  res->file = res->row_mem = res->row_file = -1;
+  if (res->rows)
+    for (int c = 0; c < res->n_candidates; ++c)
+      res->rows[c] = -1;
+  return st;
+}
+
+pom_status pom_doe_results_finish(pom_doe_results *res, int complete, pom_error *err) {
+  if (!res) return POM_OK;
+  pom_status st = close_hdf5(res, err);
+  if (st == POM_OK && complete && strcmp(res->open_path, res->path) != 0) {
+    st = sync_file(res->open_path, err);
+    if (st == POM_OK && rename(res->open_path, res->path) != 0)
+      st = pom_error_set(err, POM_ERR_IO, __FILE__, __LINE__, "cannot rename '%s' to '%s': %s",
+                         res->open_path, res->path, strerror(errno));
+  }
+  release_lock(res);
   free(res->rows);
   free(res);
   return st;
+}
+
+pom_status pom_doe_results_close(pom_doe_results *res, pom_error *err) {
+  return pom_doe_results_finish(res, 0, err);
 }

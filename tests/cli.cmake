@@ -7,3 +7,8 @@ add_test(NAME test_cli
 add_test(NAME test_inputs
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_inputs.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# Data safety: one run per results file, finished files replaced whole, write
+# failures reported, stored rows checked on resume (issue 12).
+add_test(NAME test_safety
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_safety.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})

@@ -7,37 +7,7 @@
 set -u
 POMLAB=$1
 SRC=$2
-TMP=$(mktemp -d)
-trap 'rm -rf "$TMP"' EXIT
-fails=0
-checks=0
-
-fail() {
-  echo "FAIL: $*"
-  fails=$((fails + 1))
-}
-
-# expect_rc WANT CMD... : runs CMD, stdout -> $TMP/out, stderr -> $TMP/err
-expect_rc() {
-  local want=$1
-  shift
-  checks=$((checks + 1))
-  timeout 60 "$@" >"$TMP/out" 2>"$TMP/err"
-  local rc=$?
-  if [ "$rc" != "$want" ]; then
-    fail "exit $rc (want $want): $*"
-    sed 's/^/  stderr: /' "$TMP/err" | head -5
-  fi
-}
-
-# expect_err TEXT : the last command's stderr contains TEXT (fixed string)
-expect_err() {
-  checks=$((checks + 1))
-  grep -qF -- "$1" "$TMP/err" || {
-    fail "'$1' not in stderr:"
-    head -5 "$TMP/err" | sed 's/^/  /'
-  }
-}
+. "$(dirname "$0")/shell_checks.sh"
 
 CFG="$SRC/configs/3pss.cfg"
 # a copy of the shipped config plus one line
@@ -131,5 +101,4 @@ for f in "$TMP/none.cfg" "$TMP/unparsable.cfg" "$TMP/misinc.cfg"; do
   expect_rc 2 "$POMLAB" model "$f"
 done
 
-echo "test_inputs: $checks checks, $fails failed"
-[ "$fails" -eq 0 ]
+finish test_inputs
