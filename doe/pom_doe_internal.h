@@ -36,6 +36,12 @@ pom_status pom_doe_results_start(pom_doe_results **out, const char *path,
 int pom_doe_results_resumed(const pom_doe_results *res);
 /* The file start opened (PATH or PATH.partial). */
 const char *pom_doe_results_open_path(const pom_doe_results *res);
+/* Checks a stored row of candidate c, maneuver k against the study: done is
+ * 0 or 1, and a done row has a pomlab status, a reason only when it failed,
+ * and the target maneuver k gives that candidate (bit for bit). Returns 0,
+ * or -1 with the inconsistency written to why (cap bytes). */
+int pom_doe_results_check_row(const pom_doe_study *study, int c, long k, const pom_doe_row *row,
+                              char *why, size_t cap);
 /* Writes rows [first, first + n) of candidate c. */
 pom_status pom_doe_results_write_rows(pom_doe_results *res, int c, long first, long n,
                                       const pom_doe_row *rows, pom_error *err);

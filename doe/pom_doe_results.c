@@ -450,6 +450,22 @@ static pom_status check_fields(hid_t ds, const char *path, pom_error *err) {
   return st;
 }
 
+/* The first key whose value differs between two resolved configs, as
+ * "key 'K' (V1 in the file, V2 now)" in key (falls back to "text differs"). */
+static void config_key_change(const char *stored, const char *current, char *key, size_t key_cap,
+                              char *was, char *now, size_t val_cap) {
+  pom_cfg *a = NULL, *b = NULL;
+  pom_error e;
+  char name[256];
+  snprintf(key, key_cap, "the config text differs");
+  if (pom_cfg_load_string(&a, stored, "stored", &e) == POM_OK &&
+      pom_cfg_load_string(&b, current, "current", &e) == POM_OK &&
+      pom_cfg_diff(a, b, name, sizeof name, was, now, val_cap))
+    snprintf(key, key_cap, "key '%s' (%s in the file, %s now)", name, was, now);
+  pom_cfg_destroy(a);
+  pom_cfg_destroy(b);
+}
+
 /* The study identity: maneuvers and resolved candidate configs. */
 static pom_status check_identity(pom_doe_results *res, const pom_doe_study *study, const char *path,
                                  pom_error *err) {
@@ -480,13 +496,29 @@ static pom_status check_identity(pom_doe_results *res, const pom_doe_study *stud
     st = pom_h5_read_attr_double(mc, H5Aexists(mc, "range") > 0 ? "range" : "range_m", &range, err);
   H5Gclose(mc);
   POM_TRY(st);
-  if (nc != study->n_candidates || nm != study->maneuvers.count ||
-      (uint64_t)seed != study->maneuvers.seed || range != study->maneuvers.range)
+  /* name what changed, as the config says it */
+  char changed[256];
+  changed[0] = '\0';
+  if (nc != study->n_candidates)
+    snprintf(changed, sizeof changed, "the number of candidates (%lld in the file, %d now)",
+             (long long)nc, study->n_candidates);
+  else if (nm != study->maneuvers.count)
+    snprintf(changed, sizeof changed, "key 'montecarlo.maneuvers' (%lld in the file, %ld now)",
+             (long long)nm, study->maneuvers.count);
+  else if ((uint64_t)seed != study->maneuvers.seed)
+    snprintf(changed, sizeof changed, "key 'montecarlo.seed' (%lld in the file, %llu now)",
+             (long long)seed, (unsigned long long)study->maneuvers.seed);
+  else if (range != study->maneuvers.range)
+    snprintf(changed, sizeof changed,
+             "the target range, key 'montecarlo.range_mm' or 'range_deg' (%.9g in the file, "
+             "%.9g now, SI)",
+             range, study->maneuvers.range);
+  if (changed[0])
     POM_FAIL(err, POM_ERR_ARG,
              "'%s' holds another study (%lld candidates x %lld maneuvers, seed %lld; this one has "
-             "%d x %ld, seed %llu): remove it or choose another output",
+             "%d x %ld, seed %llu); changed: %s; remove it or choose another output",
              path, (long long)nc, (long long)nm, (long long)seed, study->n_candidates,
-             study->maneuvers.count, (unsigned long long)study->maneuvers.seed);
+             study->maneuvers.count, (unsigned long long)study->maneuvers.seed, changed);
   POM_TRY(check_protocol(res->file, study, path, err));
   for (int c = 0; c < study->n_candidates; ++c) {
     char name[48];
@@ -494,11 +526,14 @@ static pom_status check_identity(pom_doe_results *res, const pom_doe_study *stud
     POM_TRY_GOTO(pom_h5_open_group(&g, res->file, name, err), done);
     POM_TRY_GOTO(pom_h5_read_text(g, "config", &text, err), done);
     const char *want = study->candidates[c].resolved ? study->candidates[c].resolved : "";
-    if (strcmp(text, want) != 0)
+    if (strcmp(text, want) != 0) {
+      char key[256], was[128], now[128];
+      config_key_change(text, want, key, sizeof key, was, now, sizeof was);
       POM_FAIL_GOTO(err, POM_ERR_ARG, done,
-                    "'%s': candidate %d ('%s') was run with a different configuration: remove the "
-                    "file or choose another output",
-                    path, c, study->candidates[c].name);
+                    "'%s': candidate %d ('%s') was run with a different configuration; changed: "
+                    "%s; remove the file or choose another output",
+                    path, c, study->candidates[c].name, key);
+    }
     res->rows[c] = H5Dopen2(g, "maneuvers", H5P_DEFAULT);
     if (res->rows[c] < 0) {
       st = pom_h5_fail(err, __FILE__, __LINE__, "opening the maneuvers dataset");
@@ -572,6 +607,48 @@ int pom_doe_results_resumed(const pom_doe_results *res) {
 
 const char *pom_doe_results_open_path(const pom_doe_results *res) {
   return res->open_path;
+}
+
+/* ---- stored rows, checked on resume ------------------------------------------------ */
+int pom_doe_results_check_row(const pom_doe_study *study, int c, long k, const pom_doe_row *row,
+                              char *why, size_t cap) {
+  if (row->done == 0) return 0; /* computed again anyway */
+  if (row->done != 1) {
+    snprintf(why, cap, "done = %d", (int)row->done);
+    return -1;
+  }
+  if (strcmp(pom_status_name((pom_status)row->status), "POM_UNKNOWN") == 0) {
+    snprintf(why, cap, "status = %d is no pomlab status", (int)row->status);
+    return -1;
+  }
+  if (memchr(row->reason, '\0', sizeof row->reason) == NULL ||
+      (row->status == POM_OK) != (row->reason[0] == '\0')) {
+    snprintf(why, cap, "status %d does not match its reason", (int)row->status);
+    return -1;
+  }
+  /* the target is the one maneuver k gives this candidate */
+  pom_doe_maneuver mv;
+  pom_doe_maneuver_draw(&mv, &study->maneuvers, k);
+  double want[3];
+  int drawn = 1;
+  if (study->maneuvers.space == POM_DOE_SPACE_ORIENTATION) {
+    const pom_doe_evaluator *ev = &study->candidates[c].eval;
+    pom_error e;
+    pom_error_clear(&e);
+    drawn = ev->targets(ev->ctx, &mv, want, &e) == POM_OK;
+  } else {
+    memcpy(want, mv.q, sizeof want);
+  }
+  int same = 1;
+  for (int i = 0; i < 3; ++i)
+    same &= drawn ? row->target[i] == want[i] : isnan(row->target[i]);
+  if (!same || (!drawn && row->status == POM_OK)) {
+    snprintf(why, cap, "target (%.6g, %.6g, %.6g) is not maneuver %ld's (seed %llu)",
+             row->target[0], row->target[1], row->target[2], k,
+             (unsigned long long)study->maneuvers.seed);
+    return -1;
+  }
+  return 0;
 }
 
 /* ---- rows ---------------------------------------------------------------------------- */

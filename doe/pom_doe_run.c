@@ -263,14 +263,29 @@ static pom_status open_results(pom_doe_run *run, const char *path, pom_error *er
   pom_doe_row *block = malloc(READ_BLOCK * sizeof *block);
   if (!block) POM_FAIL(err, POM_ERR_NOMEM, "resume: out of memory");
   pom_status st = POM_OK;
+  /* every stored row is checked: a damaged file is refused, naming rows */
+  char bad[640] = "", why[200];
+  long n_bad = 0;
   for (int c = 0; c < study->n_candidates && st == POM_OK; ++c)
     for (long k0 = 0; k0 < m && st == POM_OK; k0 += READ_BLOCK) {
       long n = m - k0 < READ_BLOCK ? m - k0 : READ_BLOCK;
       st = pom_doe_results_read(run->res, c, k0, n, block, err);
-      for (long j = 0; j < n && st == POM_OK; ++j)
+      for (long j = 0; j < n && st == POM_OK; ++j) {
+        if (pom_doe_results_check_row(study, c, k0 + j, &block[j], why, sizeof why) != 0) {
+          if (n_bad++ < 3 && strlen(bad) < sizeof bad - 1)
+            snprintf(bad + strlen(bad), sizeof bad - strlen(bad), "%scandidate %d maneuver %ld: %s",
+                     n_bad > 1 ? "; " : "", c, k0 + j, why);
+          continue;
+        }
         pom_doe_cell_from_row(&run->cells[(size_t)c * (size_t)m + (size_t)(k0 + j)], &block[j]);
+      }
     }
   free(block);
+  if (st == POM_OK && n_bad > 0)
+    POM_FAIL(err, POM_ERR_IO,
+             "'%s': %ld stored row(s) are inconsistent (%s%s): the file is damaged and is not "
+             "resumed; remove it to start again",
+             pom_doe_results_open_path(run->res), n_bad, bad, n_bad > 3 ? "; ..." : "");
   return st;
 }
 

@@ -93,6 +93,37 @@ expect_in "$TMP/err" "figures not made"
 checks=$((checks + 1))
 grep -q "needs /usr/bin/python3 with h5py" "$TMP/err" && fail "figures warning blames python"
 
+# --- item 3: stored rows are checked on resume --------------------------------
+expect_rc 0 "${RUN_STUDY[@]}" --out "$TMP/d.h5" --no-summary --stop-after 6
+cp "$TMP/d.h5.partial" "$TMP/d.keep"
+# a damaged done flag, target and status (as a few corrupted bytes would leave)
+"$PY" - "$TMP/d.h5.partial" <<'PY'
+import sys, h5py
+f = h5py.File(sys.argv[1], "a")
+d = f["candidates/0/maneuvers"]
+r = d[0]; r["done"] = -1; d[0] = r
+r = d[1]; r["target"] = (0.0, 0.0, 0.0); d[1] = r
+d = f["candidates/1/maneuvers"]
+r = d[2]; r["status"] = 12345; d[2] = r
+PY
+expect_rc 1 "${RUN_STUDY[@]}" --out "$TMP/d.h5" --no-summary --resume
+expect_in "$TMP/err" "3 stored row(s) are inconsistent"
+expect_in "$TMP/err" "candidate 0 maneuver 0: done = -1"
+expect_in "$TMP/err" "candidate 0 maneuver 1: target (0, 0, 0) is not maneuver 1's (seed 77)"
+expect_in "$TMP/err" "candidate 1 maneuver 2: status = 12345 is no pomlab status"
+check "a refused resume left no finished file" test ! -e "$TMP/d.h5"
+
+# --- item 11: a refused resume names the key that changed ---------------------
+cp "$TMP/d.keep" "$TMP/d.h5.partial"
+# (copies in TMP, with the candidates' configs by absolute path)
+sed "s|\"\.\./configs/|\"$SRC/configs/|; s/rtol = 1.0e-5/rtol = 2.0e-5/" "$STUDY" >"$TMP/rtol.cfg"
+expect_rc 2 "$POMLAB" study "$TMP/rtol.cfg" --out "$TMP/d.h5" --no-plots --quiet --resume
+expect_in "$TMP/err" "changed: key 'solver.rtol' (1e-05 in the file, 2e-05 now)"
+sed "s|\"\.\./configs/|\"$SRC/configs/|; s/seed = 77/seed = 78/" "$STUDY" >"$TMP/seed.cfg"
+expect_rc 2 "$POMLAB" study "$TMP/seed.cfg" --out "$TMP/d.h5" --no-plots --quiet --resume
+expect_in "$TMP/err" "changed: key 'montecarlo.seed' (77 in the file, 78 now)"
+check "a refused resume changed the unfinished file" cmp -s "$TMP/d.h5.partial" "$TMP/d.keep"
+
 # --- item 4: two configs of one name are refused before any work --------------
 expect_rc 2 "$POMLAB" tune "$CFG" "$CFG" --out "$TMP/t_"
 expect_in "$TMP/err" "would both write $TMP/t_"
