@@ -19,6 +19,8 @@ static void montecarlo_usage(FILE *out) {
           "  --threads N     worker threads (default: all cores)\n"
           "  --out FILE      also write an HDF5 results file, and summary.md with figures\n"
           "                  in FILE's path without .h5 (as pomlab study)\n"
+          "  --tabular FILE  also write FILE (.csv, one row per maneuver) and\n"
+          "                  FILE_candidates.csv (statistics); needs --out\n"
           "  --json          JSON on stdout (SI units)\n"
           "  --quiet         no progress bar\n"
           "  --help          this text\n\n"
@@ -28,7 +30,7 @@ static void montecarlo_usage(FILE *out) {
 }
 
 int pom_cmd_montecarlo(int argc, char **argv) {
-  const char *cfg_path = NULL, *out = "";
+  const char *cfg_path = NULL, *out = "", *tabular = "";
   /* --n and --seed set the config's keys, checked by the config's ranges */
   const char *n_text = NULL, *seed_text = NULL;
   int threads = 0, json = 0, quiet = 0;
@@ -46,6 +48,8 @@ int pom_cmd_montecarlo(int argc, char **argv) {
       if (pom_cli_parse_threads("montecarlo", argv[++k], &threads) != 0) return 2;
     } else if (strcmp(a, "--out") == 0 && has_val) {
       out = argv[++k];
+    } else if (strcmp(a, "--tabular") == 0 && has_val) {
+      tabular = argv[++k];
     } else if (strcmp(a, "--json") == 0) {
       json = 1;
     } else if (strcmp(a, "--quiet") == 0) {
@@ -95,6 +99,7 @@ int pom_cmd_montecarlo(int argc, char **argv) {
   o.run.output = out;
   o.json = json;
   o.quiet = quiet;
+  o.tabular = tabular;
   o.summary = out[0] != '\0';
   o.plots = out[0] != '\0';
   int code = pom_cli_doe_execute(&study, &o);

@@ -58,6 +58,17 @@ pom_status pom_doe_results_finish(pom_doe_results *res, int complete, pom_error 
 /* pom_doe_results_finish(res, 0, err): an unfinished file stays PATH.partial. */
 pom_status pom_doe_results_close(pom_doe_results *res, pom_error *err);
 
+/* ---- uncertain parameters (pom_doe_uncertain.c) ---- */
+/* Nominal values of the study's uncertain keys per candidate, and the check
+ * that both ends of every distribution give a valid candidate (messages
+ * name the study file cfg). */
+pom_status pom_doe_uncertain_prepare(pom_doe_study *study, const pom_cfg *cfg, pom_error *err);
+/* Writes /uncertain (keys, distributions, draws, nominal values). */
+pom_status pom_doe_uncertain_write(hid_t file, const pom_doe_study *study, pom_error *err);
+/* Resume: the file's /uncertain matches the study (or both have none). */
+pom_status pom_doe_uncertain_check(hid_t file, const pom_doe_study *study, const char *path,
+                                   pom_error *err);
+
 /* ---- report (pom_doe_report.c) ---- */
 /* Compact per-row values kept in memory for the statistics. */
 typedef struct {

@@ -337,6 +337,49 @@ done:
   return st;
 }
 
+/* A sweep's factor values, one column per factor (docs/results.md, section
+ * 5): /factors [C][F] with the dotted keys, short labels and grid levels. */
+static pom_status write_factors(hid_t file, const pom_doe_study *study, pom_error *err) {
+  int nf = study->n_factors;
+  if (nf == 0) return POM_OK;
+  size_t nc = (size_t)study->n_candidates;
+  double *v = malloc(nc * (size_t)nf * sizeof *v);
+  char *keys = malloc((size_t)nf * (POM_DOE_NAME_LEN + 1));
+  char *labels = malloc((size_t)nf * (POM_DOE_NAME_LEN + 1));
+  double levels[POM_DOE_MAX_FACTORS];
+  pom_status st = POM_OK;
+  hid_t ds = -1;
+  if (!v || !keys || !labels) POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "results: out of memory");
+  keys[0] = labels[0] = '\0';
+  for (int f = 0; f < nf; ++f) {
+    strcat(keys, f ? "," : "");
+    strcat(keys, study->factor_key[f]);
+    strcat(labels, f ? "," : "");
+    strcat(labels, study->factor_label[f]);
+    levels[f] = (double)study->factor_levels[f];
+  }
+  for (size_t c = 0; c < nc; ++c)
+    for (int f = 0; f < nf; ++f)
+      v[c * (size_t)nf + (size_t)f] =
+          f < study->candidates[c].n_factors ? study->candidates[c].factor_value[f] : NAN;
+  size_t dims[2] = {nc, (size_t)nf};
+  POM_TRY_GOTO(pom_h5_write_doubles(file, "factors", 2, dims, v, err), done);
+  ds = H5Dopen2(file, "factors", H5P_DEFAULT);
+  if (ds < 0) {
+    st = pom_h5_fail(err, __FILE__, __LINE__, "annotating factors");
+    goto done;
+  }
+  POM_TRY_GOTO(pom_h5_attr_string(ds, "keys", keys, err), done);
+  POM_TRY_GOTO(pom_h5_attr_string(ds, "labels", labels, err), done);
+  POM_TRY_GOTO(pom_h5_attr_doubles(ds, "levels", levels, (size_t)nf, err), done);
+done:
+  if (ds >= 0) H5Dclose(ds);
+  free(v);
+  free(keys);
+  free(labels);
+  return st;
+}
+
 /* The current time as ISO 8601 UTC. */
 static void utc_now(char *buf, size_t cap) {
   time_t now = time(NULL);
@@ -368,11 +411,13 @@ static pom_status results_create(pom_doe_results *res, const pom_doe_study *stud
   POM_TRY_GOTO(pom_h5_attr_double(f, "confidence", study->confidence, err), fail);
   POM_TRY_GOTO(pom_h5_write_text(f, "study_config", study->config_text, err), fail);
   POM_TRY_GOTO(write_montecarlo(f, study, err), fail);
+  POM_TRY_GOTO(pom_doe_uncertain_write(f, study, err), fail);
   POM_TRY_GOTO(pom_h5_create_group(&g, f, "candidates", err), fail);
   for (int c = 0; c < study->n_candidates; ++c)
     POM_TRY_GOTO(write_candidate(res, g, study, c, err), fail);
   H5Gclose(g);
   g = -1;
+  POM_TRY_GOTO(write_factors(f, study, err), fail);
   POM_TRY_GOTO(pom_doe_results_flush(res, err), fail);
   return POM_OK;
 fail:
@@ -520,6 +565,7 @@ static pom_status check_identity(pom_doe_results *res, const pom_doe_study *stud
              path, (long long)nc, (long long)nm, (long long)seed, study->n_candidates,
              study->maneuvers.count, (unsigned long long)study->maneuvers.seed, changed);
   POM_TRY(check_protocol(res->file, study, path, err));
+  POM_TRY(pom_doe_uncertain_check(res->file, study, path, err));
   for (int c = 0; c < study->n_candidates; ++c) {
     char name[48];
     snprintf(name, sizeof name, "candidates/%d", c);
@@ -789,16 +835,18 @@ done:
   return st;
 }
 
+#define PAIRED_COLUMNS 13
+
 static pom_status write_comparisons(hid_t file, const pom_doe_report *rep, pom_error *err) {
   pom_status st = POM_OK;
   hid_t g = -1;
   size_t n = (size_t)rep->n_comparisons;
-  double *buf = malloc((n ? n : 1) * 11 * sizeof *buf);
+  double *buf = malloc((n ? n : 1) * PAIRED_COLUMNS * sizeof *buf);
   if (!buf) POM_FAIL(err, POM_ERR_NOMEM, "results: out of memory");
   POM_TRY_GOTO(replace_group(&g, file, "comparison", err), done);
   for (size_t j = 0; j < n; ++j) {
     const pom_doe_comparison *c = &rep->cmp[j];
-    double *r = buf + 11 * j;
+    double *r = buf + PAIRED_COLUMNS * j;
     r[0] = c->a;
     r[1] = c->b;
     r[2] = c->metric;
@@ -810,15 +858,40 @@ static pom_status write_comparisons(hid_t file, const pom_doe_report *rep, pom_e
     r[8] = c->test.wilcoxon_p;
     r[9] = (double)c->test.n_nonzero;
     r[10] = c->test.win_fraction;
+    r[11] = c->test.tie_fraction;
+    r[12] = c->p_holm;
   }
-  size_t dims[2] = {n, 11};
+  size_t dims[2] = {n, PAIRED_COLUMNS};
   POM_TRY_GOTO(pom_h5_write_doubles(g, "paired", 2, dims, buf, err), done);
   POM_TRY_GOTO(pom_h5_attr_string(g, "columns",
                                   "a,b,metric(0=execution_time s,1=energy J),n,mean_diff(a-b),"
                                   "ci_low,ci_high,wilcoxon_w_plus,wilcoxon_p,n_nonzero,"
-                                  "win_fraction(a<b)",
+                                  "win_fraction(a<b),tie_fraction(a==b),holm_p",
                                   err),
                done);
+  POM_TRY_GOTO(pom_h5_attr_string(g, "pairs",
+                                  rep->all_pairs ? "every pair"
+                                                 : "the best candidate of each metric (a) against "
+                                                   "each other one (b)",
+                                  err),
+               done);
+  double fr[2 * 4];
+  for (int m = 0; m < 2; ++m) {
+    fr[4 * m + 0] = (double)rep->friedman[m].n_blocks;
+    fr[4 * m + 1] = rep->friedman[m].k;
+    fr[4 * m + 2] = rep->friedman[m].statistic;
+    fr[4 * m + 3] = rep->friedman[m].p;
+  }
+  size_t fdims[2] = {2, 4};
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "friedman", 2, fdims, fr, err), done);
+  hid_t ds = H5Dopen2(g, "friedman", H5P_DEFAULT);
+  if (ds < 0) {
+    st = pom_h5_fail(err, __FILE__, __LINE__, "annotating friedman");
+    goto done;
+  }
+  st = pom_h5_attr_string(ds, "columns", "n_maneuvers,k_candidates,chi_square,p", err);
+  if (st == POM_OK) st = pom_h5_attr_string(ds, "rows", "execution_time,energy", err);
+  H5Dclose(ds);
 done:
   if (g >= 0) H5Gclose(g);
   free(buf);

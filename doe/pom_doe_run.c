@@ -159,15 +159,33 @@ static void run_unit(const pom_doe_study *study, void **states, long unit, pom_d
   long k = unit / nc;
   int c = (int)(unit % nc);
   const pom_doe_evaluator *ev = &study->candidates[c].eval;
+  void *state = states[c];
   pom_doe_maneuver mv;
   pom_dyn_metrics met;
   pom_error e;
   double q[3];
   pom_error_clear(&e);
   memset(&met, 0, sizeof met);
-  pom_doe_maneuver_draw(&mv, &study->maneuvers, k);
   pom_status st = POM_OK;
-  if (study->maneuvers.space == POM_DOE_SPACE_ORIENTATION) {
+  /* uncertain parameters: this unit's draws make a model of their own
+   * (docs/results.md section 10); a draw that breaks the candidate is a
+   * failed maneuver */
+  pom_doe_evaluator drawn;
+  memset(&drawn, 0, sizeof drawn);
+  void *drawn_state = NULL;
+  long man = k;
+  if (study->uncertain.n > 0) {
+    double u[POM_UNC_MAX], x[POM_UNC_MAX];
+    pom_unc_unit(&study->uncertain, k, &man, u);
+    for (int j = 0; j < study->uncertain.n; ++j)
+      x[j] = pom_dist_quantile(&study->uncertain.param[j].dist, u[j]);
+    st = pom_doe_uncertain_evaluator(&drawn, study, c, x, &e);
+    if (st == POM_OK) st = drawn.worker_create(&drawn_state, drawn.ctx, &e);
+    ev = &drawn;
+    state = drawn_state;
+  }
+  pom_doe_maneuver_draw(&mv, &study->maneuvers, man);
+  if (st == POM_OK && study->maneuvers.space == POM_DOE_SPACE_ORIENTATION) {
     st = ev->targets(ev->ctx, &mv, q, &e);
   } else {
     for (int i = 0; i < 3; ++i)
@@ -176,11 +194,13 @@ static void run_unit(const pom_doe_study *study, void **states, long unit, pom_d
   if (st == POM_OK) {
     for (int i = 0; i < 3; ++i)
       met.target[i] = q[i];
-    st = ev->run(ev->ctx, states[c], q, &met, &e);
+    st = ev->run(ev->ctx, state, q, &met, &e);
   } else {
     for (int i = 0; i < 3; ++i)
-      met.target[i] = NAN;
+      met.target[i] = study->maneuvers.space == POM_DOE_SPACE_ORIENTATION ? NAN : q[i];
   }
+  if (drawn_state) drawn.worker_destroy(drawn_state);
+  pom_doe_evaluator_clear(&drawn);
   if (st != POM_OK && met.status == POM_OK) met.status = st;
   if (met.status != POM_OK && !met.reason[0])
     snprintf(met.reason, sizeof met.reason, "%s",
@@ -543,6 +563,12 @@ pom_status pom_doe_run_end(pom_doe_run *run, pom_doe_report **report, pom_error 
   else
     *report = rep;
   return st;
+}
+
+double pom_doe_run_value(const pom_doe_run *run, int c, long k, int stat) {
+  const pom_doe_cell *cell =
+      &run->cells[(size_t)c * (size_t)run->study->maneuvers.count + (size_t)k];
+  return cell->done ? cell->stat[stat] : NAN;
 }
 
 void pom_doe_run_destroy(pom_doe_run *run) {
