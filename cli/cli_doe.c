@@ -4,6 +4,7 @@
 #include "cli_doe.h"
 #include "pom_version.h"
 #include "pom_cli.h"
+#include "pom_io.h"
 #include "pom_progress.h"
 #include "pom_math.h"
 
@@ -645,7 +646,11 @@ int pom_cli_run_script(const char *name, const char *a1, const char *a2) {
   snprintf(script, sizeof script, "%s/scripts/%s", POM_SOURCE_DIR, name);
   char *argv[] = {"/usr/bin/python3", script, (char *)a1, (char *)a2, NULL};
   pid_t pid;
-  if (posix_spawn(&pid, argv[0], NULL, NULL, argv, environ) != 0) return -1;
+  int e = posix_spawn(&pid, argv[0], NULL, NULL, argv, environ);
+  if (e != 0) {
+    fprintf(stderr, "pomlab: warning: figures not made: cannot run %s: %s\n", argv[0], strerror(e));
+    return -1;
+  }
   int status = 0;
   if (waitpid(pid, &status, 0) < 0) return -1;
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -695,13 +700,15 @@ static void write_metric_listing(FILE *f) {
   }
 }
 
-static int write_summary(const pom_doe_study *study, const pom_doe_report *rep, const char *output,
-                         double wall, int threads, int ranks, int plots_ok, const char *dir,
-                         const pom_cli_doe_opts *o) {
+static pom_status write_summary(const pom_doe_study *study, const pom_doe_report *rep,
+                                const char *output, double wall, int threads, int ranks,
+                                int plots_ok, const char *dir, const pom_cli_doe_opts *o,
+                                pom_error *err) {
   char path[1200];
   snprintf(path, sizeof path, "%s/summary.md", dir);
-  FILE *f = fopen(path, "w");
-  if (!f) return -1;
+  pom_io_file w;
+  POM_TRY(pom_io_create(&w, path, err));
+  FILE *f = w.f;
   char when[64];
   time_t now = time(NULL);
   struct tm tmv;
@@ -761,9 +768,7 @@ static int write_summary(const pom_doe_study *study, const pom_doe_report *rep, 
       if (stat(fig, &sb) == 0) fprintf(f, "\n![%s](%s)\n", figures[j][0], figures[j][1]);
     }
   }
-  int bad = ferror(f);
-  if (fclose(f) != 0) bad = 1;
-  return bad ? -1 : 0;
+  return pom_io_commit(&w, err);
 }
 
 /* ---- run ------------------------------------------------------------------------------------ */
@@ -823,12 +828,16 @@ int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o) {
   }
   if (!root) return 0;
   int code = 0;
+  /* an unfinished study stays in OUTPUT.partial (docs/results.md) */
+  char partial[POM_DOE_PATH_LEN + 16];
+  pom_doe_results_partial_path(partial, sizeof partial, output);
+  const char *h5 = done < total ? partial : output;
   if (done < total) {
     fprintf(stderr,
             "pomlab: study %s: stopped after %ld of %ld candidate-maneuvers; every finished one is "
             "in %s; "
             "continue with --resume\n",
-            study->name, done, total, output[0] ? output : "(no file)");
+            study->name, done, total, output[0] ? h5 : "(no file)");
     code = cancelled ? 130 : 0;
   }
   if (o->json) {
@@ -859,22 +868,28 @@ int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o) {
     pom_cli_doe_summary_dir(dir, sizeof dir, output);
     if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
       fprintf(stderr, "pomlab: cannot create %s: %s\n", dir, strerror(errno));
+      code = code ? code : 1;
     } else {
       int plots_ok = 0;
       if (o->plots) {
-        int r = pom_cli_run_script("plot_study.py", output, dir);
+        int r = pom_cli_run_script("plot_study.py", h5, dir);
         plots_ok = r == 0;
-        if (!plots_ok)
+        /* the script's own message (a missing module, a full disk) is above */
+        if (!plots_ok && r >= 0)
           fprintf(stderr,
-                  "pomlab: warning: figures not made (scripts/plot_study.py exited with %d; "
-                  "needs /usr/bin/python3 with h5py and matplotlib)\n",
+                  "pomlab: warning: figures not made: scripts/plot_study.py exited with %d (its "
+                  "message is above)\n",
                   r);
       }
+      pom_error werr;
+      pom_error_clear(&werr);
       if (o->summary &&
-          write_summary(study, rep, output, wall, threads, ranks, plots_ok, dir, o) != 0)
-        fprintf(stderr, "pomlab: cannot write %s/summary.md\n", dir);
-      else if (o->summary && !o->json)
+          write_summary(study, rep, h5, wall, threads, ranks, plots_ok, dir, o, &werr) != POM_OK) {
+        pom_cli_report("summary", &werr);
+        code = code ? code : 1;
+      } else if (o->summary && !o->json) {
         printf("\nSummary: %s/summary.md%s\n", dir, plots_ok ? " (with figures)" : "");
+      }
     }
   }
   pom_doe_report_destroy(rep);

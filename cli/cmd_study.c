@@ -64,11 +64,8 @@ static int study_main(int argc, char **argv, int rank, int size) {
       if (rank == 0) study_usage(stdout);
       return 0;
     } else if (strcmp(a, "--threads") == 0 && k + 1 < argc) {
-      if (parse_count(argv[++k], &v) != 0 || v < 1 || v > 1024) {
-        if (rank == 0) fprintf(stderr, "pomlab study: --threads needs an integer in [1, 1024]\n");
+      if (pom_cli_parse_threads(rank == 0 ? "study" : NULL, argv[++k], &o.run.threads) != 0)
         return 2;
-      }
-      o.run.threads = (int)v;
     } else if (strcmp(a, "--stop-after") == 0 && k + 1 < argc) {
       if (parse_count(argv[++k], &v) != 0 || v < 1) {
         if (rank == 0) fprintf(stderr, "pomlab study: --stop-after needs a positive integer\n");

@@ -348,6 +348,18 @@ int pom_cmd_synth(int argc, char **argv) {
       goto out;
     }
     if (no_direct) pbs[c].direct = 0;
+    char name[32];
+    safe_name(name, sizeof name, pbs[c].base.name);
+    snprintf(paths[c][0], sizeof paths[c][0], "%s%s.geometry.cfg", prefix, name);
+    snprintf(paths[c][1], sizeof paths[c][1], "%s%s.h5", prefix, name);
+    /* two configs of one name would write the same files, the second over
+     * the first: refused before any work */
+    for (int d = 0; d < c; ++d)
+      if (strcmp(paths[d][0], paths[c][0]) == 0) {
+        pom_cli_refuse_shared_output("synth", cfg_paths[d], cfg_paths[c], paths[c][0]);
+        code = 2;
+        goto out;
+      }
   }
   for (int c = 0; c < ncfg; ++c) {
     pom_status st = pom_syn_begin(&runs[c], &pbs[c], &err);
@@ -364,10 +376,6 @@ int pom_cmd_synth(int argc, char **argv) {
       pom_progress_finish(&bar, runs[c]->next);
     }
     if (st == POM_OK) st = pom_syn_finish(runs[c], &err);
-    char name[32];
-    safe_name(name, sizeof name, pbs[c].base.name);
-    snprintf(paths[c][0], sizeof paths[c][0], "%s%s.geometry.cfg", prefix, name);
-    snprintf(paths[c][1], sizeof paths[c][1], "%s%s.h5", prefix, name);
     if (st == POM_OK) st = pom_syn_write_geometry(runs[c], paths[c][0], &err);
     if (st == POM_OK) st = pom_syn_write_h5(runs[c], paths[c][1], pom_cfg_text(cfgs[c]), &err);
     if (st != POM_OK) {

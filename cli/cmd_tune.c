@@ -110,13 +110,21 @@ int pom_cmd_tune(int argc, char **argv) {
     if (st != POM_OK) {
       pom_cli_report("tune", &err);
       code = pom_cli_exit_code(st);
+      break;
     }
-  }
-  for (int c = 0; c < ncfg && code == 0; ++c) {
-    pom_status st = pom_tune_run(&pbs[c], &res[c], &err);
     char name[32];
     safe_name(name, sizeof name, pbs[c].arch.name);
     snprintf(paths[c], sizeof paths[c], "%s%s.controller.cfg", prefix, name);
+    /* two configs of one name would write the same file, the second over
+     * the first: refused before any work */
+    for (int d = 0; d < c && code == 0; ++d)
+      if (strcmp(paths[d], paths[c]) == 0) {
+        pom_cli_refuse_shared_output("tune", cfg_paths[d], cfg_paths[c], paths[c]);
+        code = 2;
+      }
+  }
+  for (int c = 0; c < ncfg && code == 0; ++c) {
+    pom_status st = pom_tune_run(&pbs[c], &res[c], &err);
     if (st == POM_OK) st = pom_tune_write_controller(&pbs[c], &res[c], paths[c], &err);
     if (st != POM_OK) {
       pom_cli_report("tune", &err);

@@ -2,6 +2,7 @@
  * conditioning index and an optional dexterity map (CSV). */
 #include "cli_kin.h"
 #include "pom_cli.h"
+#include "pom_io.h"
 #include "pom_math.h"
 
 #include <errno.h>
@@ -51,12 +52,14 @@ static const char *reason_text(const pom_kin_arch *arch, const pom_kin_ws_result
 }
 
 static int write_map(const char *file, const pom_kin_arch *arch, const pom_kin_ws_opts *o) {
-  FILE *fp = fopen(file, "w");
-  if (!fp) {
-    fprintf(stderr, "pomlab workspace: --map %s: cannot open for writing (%s)\n", file,
-            strerror(errno));
+  pom_io_file w;
+  pom_error err;
+  pom_error_clear(&err);
+  if (pom_io_create(&w, file, &err) != POM_OK) {
+    pom_cli_report("workspace --map", &err);
     return 1;
   }
+  FILE *fp = w.f;
   const pom_act_units *u = pom_act_units_of(pom_kin_type_actuator(arch->type));
   fprintf(fp,
           "psi_deg,theta_deg,phi_deg,reachable,within_limits,dexterity,q1_%s,q2_%s,q3_%s,"
@@ -80,8 +83,8 @@ static int write_map(const char *file, const pom_kin_arch *arch, const pom_kin_w
                 p.q[0] * u->to_display, p.q[1] * u->to_display, p.q[2] * u->to_display,
                 p.reachable ? v : "unreachable");
       }
-  if (fclose(fp) != 0) {
-    fprintf(stderr, "pomlab workspace: --map %s: write failed (%s)\n", file, strerror(errno));
+  if (pom_io_commit(&w, &err) != POM_OK) {
+    pom_cli_report("workspace --map", &err);
     return 1;
   }
   return 0;

@@ -9,10 +9,10 @@
 #include "pom_cli.h"
 #include "pom_version.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <string.h>
 #if POM_CLI_LIGHT
-#include <errno.h>
 #include <unistd.h>
 #endif
 
@@ -97,7 +97,14 @@ int main(int argc, char **argv) {
 #if POM_CLI_LIGHT
       if (!commands[k].fn) return run_full(argv);
 #endif
-      return commands[k].fn(argc - 1, argv + 1);
+      int rc = commands[k].fn(argc - 1, argv + 1);
+      /* tables and JSON on a full disk or a closed pipe are a failure too */
+      if (fflush(stdout) != 0 || ferror(stdout)) {
+        fprintf(stderr, "pomlab: %s: writing standard output failed: %s\n", argv[1],
+                strerror(errno));
+        if (rc == 0) rc = 1;
+      }
+      return rc;
     }
   fprintf(stderr, "pomlab: unknown command '%s'\n\n", argv[1]);
   usage(stderr);

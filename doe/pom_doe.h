@@ -274,6 +274,10 @@ double pom_doe_row_value(const pom_doe_row *row, int j, int k);
 /* Converts evaluator metrics to a row (done = 1). */
 void pom_doe_row_from_metrics(pom_doe_row *row, const pom_dyn_metrics *m);
 
+/* The file an unfinished run of results path `path` is in: "PATH.partial"
+ * (renamed to PATH when every maneuver is done; docs/results.md). */
+void pom_doe_results_partial_path(char *buf, size_t cap, const char *path);
+
 /* Reads rows [first, first + n) of candidate c from a results file. */
 pom_status pom_doe_results_read_rows(const char *path, int c, long first, long n, pom_doe_row *rows,
                                      pom_error *err);

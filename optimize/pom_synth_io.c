@@ -4,6 +4,7 @@
 #include "pom_version.h"
 
 #include "pom_h5.h"
+#include "pom_io.h"
 #include "pom_math.h"
 
 #include <errno.h>
@@ -15,8 +16,9 @@ pom_status pom_syn_write_geometry(const pom_syn_run *run, const char *path, pom_
   const pom_kin_design *d = &run->scaled.design;
   if (!run->scaled_done)
     POM_FAIL(err, POM_ERR_ARG, "%s: this synthesis run has no scaled geometry to write", path);
-  FILE *f = fopen(path, "w");
-  if (!f) POM_FAIL(err, POM_ERR_IO, "cannot write %s: %s", path, strerror(errno));
+  pom_io_file w;
+  POM_TRY(pom_io_create(&w, path, err));
+  FILE *f = w.f;
   fprintf(f,
           "# Geometry found by pomlab synth for \"%s\" (%s):\n"
           "# the %s optimum of the desirability (synthesis.write = \"%s\"), scaled so\n"
@@ -36,8 +38,7 @@ pom_status pom_syn_write_geometry(const pom_syn_run *run, const char *path, pom_
   for (int k = 0; k < t->n_params; ++k)
     fprintf(f, "  %s = %.9g;\n", t->params[k].key, d->x[k] / t->params[k].to_si);
   fprintf(f, "};\n");
-  if (fclose(f) != 0) POM_FAIL(err, POM_ERR_IO, "writing %s: %s", path, strerror(errno));
-  return POM_OK;
+  return pom_io_commit(&w, err);
 }
 
 /* ---- HDF5 ----------------------------------------------------------------- */

@@ -1,6 +1,7 @@
 /* pom_tune.c - PID gain tuning, one criterion for every architecture
  * (docs/optimize.md, section 9). */
 #include "pom_tune.h"
+#include "pom_io.h"
 
 #include "pom_math.h"
 
@@ -330,8 +331,9 @@ pom_status pom_tune_run(const pom_tune_problem *pb, pom_tune_result *res, pom_er
 
 pom_status pom_tune_write_controller(const pom_tune_problem *pb, const pom_tune_result *res,
                                      const char *path, pom_error *err) {
-  FILE *f = fopen(path, "w");
-  if (!f) POM_FAIL(err, POM_ERR_IO, "cannot write %s", path);
+  pom_io_file w;
+  POM_TRY(pom_io_create(&w, path, err));
+  FILE *f = w.f;
   fprintf(f,
           "# PID gains tuned by pomlab tune for \"%s\" (%s):\n"
           "# mean execution time %.4g ms over %d fixed maneuvers (largest overshoot\n"
@@ -344,6 +346,5 @@ pom_status pom_tune_write_controller(const pom_tune_problem *pb, const pom_tune_
   fprintf(
       f, "controller = {\n  form = \"%s\";\n  kp = %.9g;\n  ki_per_s = %.9g;\n  kd_s = %.9g;\n};\n",
       pom_dyn_pid_form_name(res->best.form), res->best.kp, res->best.ki, res->best.kd);
-  if (fclose(f) != 0) POM_FAIL(err, POM_ERR_IO, "writing %s failed", path);
-  return POM_OK;
+  return pom_io_commit(&w, err);
 }

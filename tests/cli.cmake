@@ -2,6 +2,16 @@
 add_test(NAME test_cli
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_cli.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# Every input checked alike: wrapped integers, command-line values against the
+# config's ranges, folders and bad @include targets, exit codes (issue 12).
+add_test(NAME test_inputs
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_inputs.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# Data safety: one run per results file, finished files replaced whole, write
+# failures reported, stored rows checked on resume (issue 12).
+add_test(NAME test_safety
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_safety.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 # pomlab (kinematic commands, no HDF5) and pomlab-full (every command)
 add_test(NAME test_cli_split
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_cli_split.sh $<TARGET_FILE:pomlab>
