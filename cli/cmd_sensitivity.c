@@ -187,7 +187,12 @@ int pom_cmd_sensitivity(int argc, char **argv) {
   pom_cfg *cfg = NULL;
   pom_status st = pom_cfg_load(&cfg, cfg_path, &err);
   if (st == POM_OK) st = pom_doe_study_load(&study, cfg, pom_pipeline_evaluator_create, NULL, &err);
-  if (st == POM_OK && only) st = pom_doe_study_select(&study, only, &err);
+  if (st == POM_OK && only && pom_doe_study_select(&study, only, &err) != POM_OK) {
+    pom_cli_report("sensitivity --candidate", &err);
+    pom_cfg_destroy(cfg);
+    pom_doe_study_clear(&study);
+    return 2;
+  }
   if (st == POM_OK) st = pom_doe_sens_load(&sens, cfg, &study, &err);
   int loaded = cfg != NULL;
   pom_cfg_destroy(cfg);

@@ -56,6 +56,27 @@ assert m["design"].shape == (6 * 4, 3)
 assert mu[1] == 0 and mu[0] > 10 * mu[2], mu
 print("sensitivity cli: ok")
 PY
+# --candidate: the second candidate of a two-level kd_s sweep is the config's
+# own tau_D (3 ms), so its outputs equal the single-candidate run's (same
+# design, same relative draws); by name or by position alike
+sed 's|^candidates = .*|candidates = { sweep = "grid"; base = ( { name = "3P-S-S/S"; config = "'"$SRC"'/configs/3pss.cfg"; } ); factors = ( { key = "controller.kd_s"; min = 0.002; max = 0.003; levels = 2; } ); };|' \
+  "$WORK/s.cfg" > "$WORK/two.cfg"
+"$POMLAB" sensitivity "$WORK/two.cfg" --candidate 2 --out "$WORK/two.h5" --quiet --no-plots > /dev/null
+"$POMLAB" sensitivity "$WORK/two.cfg" --candidate "3P-S-S/S kd_s=0.003" --out "$WORK/twon.h5" \
+  --quiet --no-plots --json > "$WORK/twon.json"
+/usr/bin/python3 - "$WORK" <<'PY'
+import h5py, json, sys
+import numpy as np
+w = sys.argv[1]
+one, two, twon = (h5py.File(f"{w}/{n}.h5", "r") for n in ("s1", "two", "twon"))
+assert two["outputs"].shape == (1, 160)
+assert np.array_equal(one["outputs"][()], two["outputs"][()])
+assert np.array_equal(two["outputs"][()], twon["outputs"][()])
+c = json.load(open(f"{w}/twon.json"))["candidates"]
+assert len(c) == 1 and c[0]["name"] == "3P-S-S/S kd_s=0.003", c
+PY
+code=0; "$POMLAB" sensitivity "$WORK/two.cfg" --candidate 3 --quiet > /dev/null 2> "$WORK/e0" || code=$?
+[ "$code" -eq 2 ] && grep -q "candidate '3' is not in study" "$WORK/e0" && grep -q "kd_s=0.002" "$WORK/e0"
 # config errors: no uncertain group, an unknown sensitivity key, a bad metric
 grep -v "^uncertain\|^  {" "$WORK/s.cfg" | grep -v "^);" > "$WORK/nounc.cfg"
 code=0; "$POMLAB" sensitivity "$WORK/nounc.cfg" --quiet > /dev/null 2> "$WORK/e1" || code=$?
