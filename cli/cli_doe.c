@@ -432,6 +432,21 @@ void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_d
     fmt_p(p, sizeof p, p_used);
     if (t.tie_fraction > 0) snprintf(ties, sizeof ties, " (tie on %.1f %%)", 100 * t.tie_fraction);
     int significant = p_used < study->alpha;
+    double loss_fraction = 1.0 - t.win_fraction - t.tie_fraction;
+    if (loss_fraction > t.win_fraction) {
+      /* the mean ranks a first, but b is lower on most maneuvers: the signed-rank
+       * test then speaks for b; say that the two disagree rather than crown a */
+      fprintf(out,
+              "- %s: mixed: **%s** has the lower mean (difference %.4g %s, %.0f %% interval "
+              "[%.4g, %.4g] %s) but %s is %s on %.1f %% of %ld common maneuvers%s (Wilcoxon "
+              "p%s = %s, %s at alpha = %g): neither is better on both counts.\n",
+              metric_label((pom_doe_metric)m), study->candidates[a].name, t.mean_diff * scale, unit,
+              100 * study->confidence, t.ci_low * scale, t.ci_high * scale, unit,
+              study->candidates[b].name, m == 0 ? "faster" : "more frugal", 100 * loss_fraction,
+              t.n, ties, several ? " (Holm-adjusted)" : "", p,
+              significant ? "significant" : "not significant", study->alpha);
+      continue;
+    }
     fprintf(out,
             "- %s: **%s** %s %s (%s) on %.1f %% of %ld common maneuvers%s; mean difference %.4g "
             "%s (%.0f %% interval [%.4g, %.4g] %s), Wilcoxon p%s = %s: %s at alpha = %g.\n",
