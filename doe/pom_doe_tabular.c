@@ -5,6 +5,7 @@
  * with the number of maneuvers. */
 #define _POSIX_C_SOURCE 200809L
 #include "pom_doe.h"
+#include "pom_io.h"
 
 #include <errno.h>
 #include <math.h>
@@ -189,60 +190,30 @@ void pom_doe_tabular_candidates_path(char *out, size_t cap, const char *csv) {
     snprintf(out, cap, "%s_candidates.csv", csv);
 }
 
-/* Closes f, and reports a failed write or close of path. */
-static pom_status close_checked(FILE *f, const char *path, pom_error *err) {
-  int bad = ferror(f);
-  int saved = errno;
-  if (fclose(f) != 0 && !bad) {
-    bad = 1;
-    saved = errno;
-  }
-  if (bad) POM_FAIL(err, POM_ERR_IO, "cannot write '%s': %s", path, strerror(saved));
-  return POM_OK;
-}
-
 pom_status pom_doe_tabular_write(const pom_doe_study *study, const pom_doe_report *rep,
                                  const char *results, const char *csv, pom_error *err) {
   pom_status st = POM_OK;
-  char cand_path[POM_DOE_PATH_LEN + 32], tmp[2][POM_DOE_PATH_LEN + 48];
-  const char *final[2] = {csv, cand_path};
-  FILE *f = NULL;
+  char cand_path[POM_DOE_PATH_LEN + 32];
+  pom_io_file w[2];
+  memset(w, 0, sizeof w);
   pom_doe_row *block = NULL;
-  int made = 0;
   if (!results || !results[0])
     POM_FAIL(err, POM_ERR_ARG,
              "tabular results '%s' need a results file (the maneuver rows are read back from it)",
              csv);
   pom_doe_tabular_candidates_path(cand_path, sizeof cand_path, csv);
-  for (int j = 0; j < 2; ++j)
-    snprintf(tmp[j], sizeof tmp[j], "%s.tmp", final[j]);
   block = malloc(READ_BLOCK * sizeof *block);
   if (!block) POM_FAIL(err, POM_ERR_NOMEM, "tabular: out of memory");
-  /* both tables are written beside their names and renamed at the end, so
-   * a failure leaves no half-written table */
-  for (int j = 0; j < 2; ++j) {
-    f = fopen(tmp[j], "w");
-    if (!f) POM_FAIL_GOTO(err, POM_ERR_IO, fail, "cannot create '%s': %s", tmp[j], strerror(errno));
-    made = j + 1;
-    if (j == 0)
-      st = write_maneuvers(f, study, results, block, err);
-    else
-      write_candidates(f, study, rep);
-    pom_status cst = close_checked(f, tmp[j], st == POM_OK ? err : NULL);
-    f = NULL;
-    if (st == POM_OK) st = cst;
-    if (st != POM_OK) goto fail;
-  }
-  for (int j = 0; j < 2; ++j)
-    if (rename(tmp[j], final[j]) != 0)
-      POM_FAIL_GOTO(err, POM_ERR_IO, fail, "cannot rename '%s' to '%s': %s", tmp[j], final[j],
-                    strerror(errno));
-  free(block);
-  return POM_OK;
-fail:
-  if (f) fclose(f);
-  for (int j = 0; j < made; ++j)
-    remove(tmp[j]);
+  /* both tables are written beside their names (core/pom_io.h) and renamed
+   * once both are complete, so a failure leaves no half-written table */
+  st = pom_io_create(&w[0], csv, err);
+  if (st == POM_OK) st = pom_io_create(&w[1], cand_path, err);
+  if (st == POM_OK) st = write_maneuvers(w[0].f, study, results, block, err);
+  if (st == POM_OK) write_candidates(w[1].f, study, rep);
+  if (st == POM_OK) st = pom_io_commit(&w[0], err);
+  if (st == POM_OK) st = pom_io_commit(&w[1], err);
+  pom_io_abort(&w[0]);
+  pom_io_abort(&w[1]);
   free(block);
   return st;
 }
