@@ -252,7 +252,22 @@ typedef struct {
   const pom_tune_problem *pb;
   long simulations;
   pom_tune_eval last;
+  pom_tune_progress progress; /* NULL = nobody */
+  void *user;
+  long evaluations; /* criterion evaluations so far */
 } tune_ctx;
+
+long pom_tune_max_evaluations(const pom_tune_problem *pb) {
+  long n = 2; /* the config's gains and the result's */
+  if (pb->opt.global != POM_OPT_GLOBAL_NONE) n += pb->opt.global_max_evals;
+  if (pb->opt.local != POM_OPT_LOCAL_NONE) n += pb->opt.local_max_evals;
+  return n;
+}
+
+static void tell(tune_ctx *c) {
+  ++c->evaluations;
+  if (c->progress) c->progress(c->user, c->evaluations, pom_tune_max_evaluations(c->pb));
+}
 
 static void search_to_controller(const pom_tune_problem *pb, const double z[],
                                  pom_dyn_controller *c) {
@@ -271,18 +286,27 @@ static pom_status objective(void *vctx, const double z[], double *f, pom_error *
   search_to_controller(c->pb, z, &ctl);
   POM_TRY(pom_tune_evaluate(c->pb, &ctl, &c->last, err));
   c->simulations += c->pb->n_maneuvers;
+  tell(c);
   *f = -c->last.criterion; /* the driver maximizes */
   return POM_OK;
 }
 
 pom_status pom_tune_run(const pom_tune_problem *pb, pom_tune_result *res, pom_error *err) {
+  return pom_tune_run_progress(pb, NULL, NULL, res, err);
+}
+
+pom_status pom_tune_run_progress(const pom_tune_problem *pb, pom_tune_progress progress, void *user,
+                                 pom_tune_result *res, pom_error *err) {
   memset(res, 0, sizeof *res);
   tune_ctx c;
   memset(&c, 0, sizeof c);
   c.pb = pb;
+  c.progress = progress;
+  c.user = user;
   res->initial = pb->params.controller;
   POM_TRY(pom_tune_evaluate(pb, &res->initial, &res->initial_eval, err));
   c.simulations = pb->n_maneuvers;
+  tell(&c);
   double lo[POM_TUNE_N_VARS], hi[POM_TUNE_N_VARS], z0[POM_TUNE_N_VARS];
   for (int i = 0; i < pb->n_vars; ++i) {
     lo[i] = pb->log_scale[i] ? log10(pb->lo[i]) : pb->lo[i];
@@ -298,6 +322,7 @@ pom_status pom_tune_run(const pom_tune_problem *pb, pom_tune_result *res, pom_er
   search_to_controller(pb, res->opt.x, &res->best);
   POM_TRY(pom_tune_evaluate(pb, &res->best, &res->best_eval, err));
   res->simulations += pb->n_maneuvers;
+  tell(&c);
   /* Keep the config's gains when the search found nothing better. */
   if (res->initial_eval.criterion < res->best_eval.criterion) {
     int inside = 1;

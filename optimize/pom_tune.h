@@ -82,6 +82,18 @@ typedef struct {
 /* Minimizes the criterion with NLopt. */
 pom_status pom_tune_run(const pom_tune_problem *pb, pom_tune_result *res, pom_error *err);
 
+/* Told after each criterion evaluation: `done` evaluations so far out of at
+ * most `bound` (the initial and final evaluations plus the stages' evaluation
+ * limits; the run may stop earlier on its tolerances). */
+typedef void (*pom_tune_progress)(void *user, long done, long bound);
+
+/* Evaluations a run makes at most (the `bound` above). */
+long pom_tune_max_evaluations(const pom_tune_problem *pb);
+
+/* pom_tune_run, telling `progress` (NULL = nobody) after each evaluation. */
+pom_status pom_tune_run_progress(const pom_tune_problem *pb, pom_tune_progress progress, void *user,
+                                 pom_tune_result *res, pom_error *err);
+
 /* Writes the tuned gains as a libconfig `controller` group to path. */
 pom_status pom_tune_write_controller(const pom_tune_problem *pb, const pom_tune_result *res,
                                      const char *path, pom_error *err);
