@@ -2,3 +2,7 @@
 add_test(NAME test_cli
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_cli.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# Long work: budgets and estimates of the workspace grids, progress in a log.
+add_test(NAME test_cli_long
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_cli_long.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
