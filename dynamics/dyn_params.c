@@ -39,7 +39,7 @@ void pom_dyn_params_defaults(pom_dyn_params *p) {
   p->solver.linear_solver = POM_LINSOL_KLU;
   p->solver.max_order = 5;
   p->solver.stability_limit_detection = 1;
-  p->solver.max_wall = 0.0;
+  p->solver.max_wall = 60.0; /* generous: a maneuver takes milliseconds (docs 14) */
   p->solver.max_balance_error = 0.05;
   p->maneuver.horizon = 0.100;
   p->maneuver.settle_band = 0.02;

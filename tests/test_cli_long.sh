@@ -54,5 +54,22 @@ sed -i 's/^\( *\)check_limits = true;/&\n\1max_poses = 10.0;/' "$TMP/ws.cfg"
 expect_rc 2 "$POMLAB" workspace "$TMP/ws.cfg"
 expect_in "$TMP/err" "workspace.max_poses"
 
+# --- every maneuver has a wall-clock limit, 60 s unless the config says ---------------
+expect_rc 0 "$POMLAB" model "$SRC/configs/3pss.cfg" --json
+json_check "d['solver']['max_wall_s'] == 60"
+expect_rc 0 "$POMLAB" model "$SRC/configs/3pss.cfg"
+expect_in "$TMP/out" "wall limit 60 s per maneuver"
+# a limit hit is the maneuver's status with its reason (checked every 16
+# steps: 1 us is over before the 16th), not a crash; a study counts it failed
+sed 's/^\( *\)max_steps = \([0-9]*\);/&\n\1max_wall_s = 1e-6;/' "$SRC/configs/3pss.cfg" >"$TMP/wall.cfg"
+expect_rc 1 "$POMLAB" simulate "$TMP/wall.cfg" --target 1,2,3 --json
+json_check "d['status'] == 'POM_ERR_SOLVER' and 'wall-clock budget 1e-06 s' in d['reason']"
+expect_rc 0 "$POMLAB" montecarlo "$TMP/wall.cfg" --n 3 --out "$TMP/wall.h5" --json
+expect_rc 0 "$PY" -c "
+import h5py, sys
+with h5py.File('$TMP/wall.h5') as f:
+    c = f['candidates'][list(f['candidates'])[0]]
+    sys.exit(0 if c.attrs['solver_max_wall_s'] == 1e-6 else 1)"
+
 echo "test_cli_long: $checks checks, $fails failed"
 [ "$fails" = 0 ]
