@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """plot_traces.py - a figure like Fig. 7 of Rahman, Rideout & Krouglicof (2012):
-actuator positions (mm) and cumulative source energy (mJ) of the three
+actuator positions (mm) and cumulative source energy (J) of the three
 actuators against time (ms), one maneuver per architecture, side by side.
 
 Input: trace files written by `pomlab simulate CFG --target ... --out F`
@@ -61,7 +61,7 @@ def main(argv):
         ax_q, ax_e = axes[0][col], axes[1][col]
         for k in range(3):
             ax_q.plot(t_ms, [1e3 * row[k] for row in q], color=colors[k], label="actuator %d" % (k + 1))
-            ax_e.plot(t_ms, [1e3 * row[k] for row in e], color=colors[k], label="actuator %d" % (k + 1))
+            ax_e.plot(t_ms, [row[k] for row in e], color=colors[k], label="actuator %d" % (k + 1))
             if target is not None:
                 ax_q.axhline(1e3 * target[k], color=colors[k], lw=0.6, ls=":")
         ax_q.set_title("Actuator responses: %s" % label)
@@ -69,7 +69,7 @@ def main(argv):
         ax_q.set_ylabel("Position (mm)")
         ax_e.set_title("Energy consumption: %s" % label)
         ax_e.set_xlabel("Time (ms)")
-        ax_e.set_ylabel("Energy (mJ)")
+        ax_e.set_ylabel("Energy (J)")
         for ax in (ax_q, ax_e):
             ax.grid(True, lw=0.3)
             ax.legend(loc="best", fontsize=8)

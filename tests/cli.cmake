@@ -6,3 +6,7 @@ add_test(NAME test_cli
 add_test(NAME test_cli_long
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_cli_long.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# Stroke excursions flagged, refused values with their digits, one text unit per quantity.
+add_test(NAME test_cli_units
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_cli_units.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
