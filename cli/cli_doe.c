@@ -346,8 +346,9 @@ static void summary_dir(char *dir, size_t cap, const char *output) {
 }
 
 static int run_plot_script(const char *h5, const char *dir) {
-  char script[1024];
-  snprintf(script, sizeof script, "%s/scripts/plot_study.py", POM_SOURCE_DIR);
+  char dir_scripts[1024], script[1100];
+  pom_cli_scripts_dir(dir_scripts, sizeof dir_scripts);
+  snprintf(script, sizeof script, "%s/plot_study.py", dir_scripts);
   char *argv[] = {"/usr/bin/python3", script, (char *)h5, (char *)dir, NULL};
   pid_t pid;
   if (posix_spawn(&pid, argv[0], NULL, NULL, argv, environ) != 0) return -1;

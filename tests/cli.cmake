@@ -10,3 +10,8 @@ add_test(NAME test_cli_long
 add_test(NAME test_cli_units
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_cli_units.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# Install into a temporary prefix and run a command that needs the scripts from there.
+add_test(NAME test_install
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_install.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+          ${CMAKE_BINARY_DIR} ${CMAKE_COMMAND}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
