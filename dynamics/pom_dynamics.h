@@ -112,7 +112,7 @@ typedef struct {
   pom_dyn_maneuver maneuver;
 } pom_dyn_params;
 
-/* Defaults: the reference values of PARAMETERS.md for the 3P-S-S/S. */
+/* Defaults: the reference values of docs/PARAMETERS.md for the 3P-S-S/S. */
 void pom_dyn_params_defaults(pom_dyn_params *p);
 
 /* Reads the `actuator`, `controller`, `joints`, `scene`, `solver` and
