@@ -17,6 +17,7 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
+#include <unistd.h>
 
 extern char **environ;
 
@@ -447,9 +448,14 @@ static int write_summary(const pom_doe_study *study, const pom_doe_report *rep, 
   fprintf(f, "\n");
   pom_cli_doe_print_report(f, study, rep);
   write_metric_listing(f);
-  if (plots_ok)
+  if (plots_ok) {
+    /* paired.png exists only with two candidates or more (scripts/plot_study.py) */
+    char paired[1200];
+    snprintf(paired, sizeof paired, "%s/paired.png", dir);
     fprintf(f, "\n### Figures\n\n![execution time](execution_time.png)\n\n"
-               "![expended energy](energy.png)\n\n![paired differences](paired.png)\n");
+               "![expended energy](energy.png)\n");
+    if (access(paired, R_OK) == 0) fprintf(f, "\n![paired differences](paired.png)\n");
+  }
   fclose(f);
   return 0;
 }

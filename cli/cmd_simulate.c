@@ -186,16 +186,17 @@ static int ends_with(const char *s, const char *suffix) {
   return n >= k && strcmp(s + n - k, suffix) == 0;
 }
 
-static pom_status write_csv(const char *path, const pom_dyn_trace *tr, pom_actuator_kind kind,
-                            pom_error *err) {
+static pom_status write_csv(const char *path, const pom_dyn_trace *tr, const double target[3],
+                            pom_actuator_kind kind, pom_error *err) {
   FILE *f = fopen(path, "w");
   if (!f) POM_FAIL(err, POM_ERR_IO, "cannot write '%s'", path);
   /* actuator coordinates in their SI unit: m and m/s, or rad and rad/s */
   const char *q = pom_act_units_of(kind)->si, *qd = kind == POM_ACT_REVOLUTE ? "radps" : "mps";
   fprintf(f,
           "t_s,q1_%s,q2_%s,q3_%s,qdot1_%s,qdot2_%s,qdot3_%s,i1_A,i2_A,i3_A,u1_V,u2_V,u3_V,"
-          "E1_J,E2_J,E3_J,psi_rad,theta_rad,phi_rad,qw,qx,qy,qz,deflection_m\n",
-          q, q, q, qd, qd, qd);
+          "E1_J,E2_J,E3_J,psi_rad,theta_rad,phi_rad,qw,qx,qy,qz,deflection_m,q1_set_%s,"
+          "q2_set_%s,q3_set_%s\n",
+          q, q, q, qd, qd, qd, q, q, q);
   for (int k = 0; k < tr->n; ++k) {
     fprintf(f, "%.9g", tr->t[k]);
     const double *cols[5] = {tr->q, tr->q_dot, tr->current, tr->voltage, tr->energy};
@@ -206,7 +207,8 @@ static pom_status write_csv(const char *path, const pom_dyn_trace *tr, pom_actua
       fprintf(f, ",%.9g", tr->euler_zyx[3 * k + a]);
     for (int a = 0; a < 4; ++a)
       fprintf(f, ",%.9g", tr->quat[4 * k + a]);
-    fprintf(f, ",%.9g\n", tr->deflection[k]);
+    /* the setpoints on every row: plots draw them as the HDF5 file's are */
+    fprintf(f, ",%.9g,%.9g,%.9g,%.9g\n", tr->deflection[k], target[0], target[1], target[2]);
   }
   if (fclose(f) != 0) POM_FAIL(err, POM_ERR_IO, "writing '%s' failed", path);
   return POM_OK;
@@ -467,7 +469,7 @@ int pom_cmd_simulate(int argc, char **argv) {
     pom_error werr;
     pom_error_clear(&werr);
     pom_status wst = ends_with(out_path, ".csv")
-                         ? write_csv(out_path, trace, kind, &werr)
+                         ? write_csv(out_path, trace, mt.target, kind, &werr)
                          : write_h5(out_path, cfg, arch.name, &par, trace, &mt, kind, &werr);
     if (wst != POM_OK) {
       pom_cli_report("simulate: writing traces", &werr);

@@ -7,6 +7,7 @@ Writes into OUTDIR:
   execution_time.png  distribution of the execution time per candidate (ms)
   energy.png          distribution of the expended energy per candidate (J)
   paired.png          every candidate against the first, maneuver by maneuver
+                      (only with two candidates or more; a stale one is removed)
 
 Needs Debian's python3-h5py and python3-matplotlib (run with /usr/bin/python3).
 Only maneuvers that finished without failure are drawn; execution time also
@@ -89,14 +90,15 @@ def main(argv):
         fig.savefig(os.path.join(outdir, fname), dpi=110)
         plt.close(fig)
 
+    paired = os.path.join(outdir, "paired.png")
+    if len(names) < 2:
+        # one candidate: nothing to pair; never leave an empty or stale figure
+        if os.path.exists(paired):
+            os.remove(paired)
+        return 0
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.6))
     for ax, values, scale, unit, label in ((axes[0], times, 1e3, "ms", "execution time"),
                                            (axes[1], energies, 1.0, "J", "expended energy")):
-        if len(names) < 2:
-            ax.text(0.5, 0.5, "one candidate: no pairs to compare", ha="center",
-                    transform=ax.transAxes)
-            ax.set_axis_off()
-            continue
         lo, hi = np.inf, -np.inf
         for c in range(1, len(names)):
             both = np.isfinite(values[0]) & np.isfinite(values[c])
@@ -111,7 +113,7 @@ def main(argv):
         ax.legend(fontsize=8)
     fig.suptitle("study %s: paired maneuvers (same targets)" % study)
     fig.tight_layout()
-    fig.savefig(os.path.join(outdir, "paired.png"), dpi=110)
+    fig.savefig(paired, dpi=110)
     plt.close(fig)
     return 0
 

@@ -83,5 +83,17 @@ sv = [float(x) for x in re.search(r'singular values \(rad/rad\): (.*)', text).gr
 sys.exit(0 if all(abs(a - b) < 1e-6 for a, b in zip(sv, d['singular_values'])) else 1)
 PYEOF
 
+# --- CSV traces carry their setpoints, so their figure draws them ----------------------
+expect_rc 0 "$POMLAB" simulate "$cfg" --target 1.25,-2.5,0.75 --out "$TMP/tr.csv"
+expect_rc 0 "$PY" -c "
+import csv, sys
+rows = list(csv.DictReader(open('$TMP/tr.csv')))
+want = [0.00125, -0.0025, 0.00075]
+sys.exit(0 if all(abs(float(r['q%d_set_m' % (k + 1)]) - want[k]) < 1e-15
+                  for r in rows for k in range(3)) else 1)"
+expect_rc 0 "$PY" "$SRC/scripts/plot_traces.py" "$TMP/tr.png" "3PSS=$TMP/tr.csv"
+checks=$((checks + 1))
+[ -s "$TMP/tr.png" ] || fail "plot_traces.py wrote no figure from a CSV trace"
+
 echo "test_cli_units: $checks checks, $fails failed"
 [ "$fails" = 0 ]

@@ -37,5 +37,12 @@ for f in mc.h5 mc/summary.md mc/execution_time.png mc/energy.png; do
   [ -s "$TMP/run/$f" ] || fail "installed montecarlo did not write $f: $(head -3 "$TMP/err")"
 done
 
+# one candidate: no paired figure (it would be empty), and the summary does
+# not show one
+checks=$((checks + 1))
+[ ! -e "$TMP/run/mc/paired.png" ] || fail "one candidate, yet paired.png was written"
+checks=$((checks + 1))
+grep -q "paired.png" "$TMP/run/mc/summary.md" && fail "summary.md shows a paired figure"
+
 echo "test_install: $checks checks, $fails failed"
 [ "$fails" = 0 ]
