@@ -37,6 +37,12 @@ for f in mc.h5 mc/summary.md mc/execution_time.png mc/energy.png; do
   [ -s "$TMP/run/$f" ] || fail "installed montecarlo did not write $f: $(head -3 "$TMP/err")"
 done
 
+# the dexterity map's figure from the installed script
+expect_rc 0 "$P/bin/pomlab" workspace "$P/share/pomlab/configs/3pss.cfg" --map "$TMP/map.csv"
+expect_rc 0 "$PY" "$P/share/pomlab/scripts/plot_workspace.py" "$TMP/map.csv" "$TMP/map.png"
+checks=$((checks + 1))
+[ -s "$TMP/map.png" ] || fail "plot_workspace.py wrote no figure"
+
 # one candidate: no paired figure (it would be empty), and the summary does
 # not show one
 checks=$((checks + 1))
