@@ -4,6 +4,7 @@
 #include "cli_kin.h"
 #include "pom_version.h"
 #include "pom_cli.h"
+#include "pom_io.h"
 #include "pom_doe.h"
 #include "pom_dyn_metrics_schema.h"
 #include "pom_dynamics.h"
@@ -188,8 +189,9 @@ static int ends_with(const char *s, const char *suffix) {
 
 static pom_status write_csv(const char *path, const pom_dyn_trace *tr, const double target[3],
                             pom_actuator_kind kind, pom_error *err) {
-  FILE *f = fopen(path, "w");
-  if (!f) POM_FAIL(err, POM_ERR_IO, "cannot write '%s'", path);
+  pom_io_file w;
+  POM_TRY(pom_io_create(&w, path, err));
+  FILE *f = w.f;
   /* actuator coordinates in their SI unit: m and m/s, or rad and rad/s */
   const char *q = pom_act_units_of(kind)->si, *qd = kind == POM_ACT_REVOLUTE ? "radps" : "mps";
   fprintf(f,
@@ -210,8 +212,7 @@ static pom_status write_csv(const char *path, const pom_dyn_trace *tr, const dou
     /* the setpoints on every row: plots draw them as the HDF5 file's are */
     fprintf(f, ",%.9g,%.9g,%.9g,%.9g\n", tr->deflection[k], target[0], target[1], target[2]);
   }
-  if (fclose(f) != 0) POM_FAIL(err, POM_ERR_IO, "writing '%s' failed", path);
-  return POM_OK;
+  return pom_io_commit(&w, err);
 }
 
 static pom_status write_h5(const char *path, const pom_cfg *cfg, const char *name,
@@ -277,21 +278,27 @@ done:
 }
 
 /* ---- command ------------------------------------------------------------- */
-static int parse_real(const char *opt, const char *text, double *out) {
-  char *end = NULL;
-  double v = strtod(text, &end);
-  if (end == text || *end != '\0' || !isfinite(v)) {
-    fprintf(stderr, "pomlab simulate: %s expects a number, got '%s'\n", opt, text);
-    return -1;
-  }
-  *out = v;
-  return 0;
+/* Options that set a config value, checked by the config's own ranges. */
+typedef struct {
+  const char *option; /* "--kp" */
+  const char *key;    /* "controller.kp" */
+  const char *text;   /* the value given, NULL when absent */
+} simulate_setting;
+
+static int setting_index(const simulate_setting *s, int n, const char *option) {
+  for (int k = 0; k < n; ++k)
+    if (strcmp(s[k].option, option) == 0) return k;
+  return -1;
 }
 
 int pom_cmd_simulate(int argc, char **argv) {
   const char *cfg_path = NULL, *out_path = NULL, *target_text = NULL;
   const char *form = NULL, *orient = NULL, *linsol = NULL, *joints = NULL;
-  double kp = NAN, ki = NAN, kd = NAN, rtol = NAN;
+  simulate_setting settings[] = {{"--kp", "controller.kp", NULL},
+                                 {"--ki", "controller.ki_per_s", NULL},
+                                 {"--kd", "controller.kd_s", NULL},
+                                 {"--rtol", "solver.rtol", NULL}};
+  const int n_settings = (int)(sizeof settings / sizeof settings[0]);
   int json = 0;
   for (int k = 1; k < argc; ++k) {
     const char *a = argv[k];
@@ -313,14 +320,8 @@ int pom_cmd_simulate(int argc, char **argv) {
       linsol = argv[++k];
     } else if (strcmp(a, "--joints") == 0 && has_val) {
       joints = argv[++k];
-    } else if (strcmp(a, "--kp") == 0 && has_val) {
-      if (parse_real(a, argv[++k], &kp)) return 2;
-    } else if (strcmp(a, "--ki") == 0 && has_val) {
-      if (parse_real(a, argv[++k], &ki)) return 2;
-    } else if (strcmp(a, "--kd") == 0 && has_val) {
-      if (parse_real(a, argv[++k], &kd)) return 2;
-    } else if (strcmp(a, "--rtol") == 0 && has_val) {
-      if (parse_real(a, argv[++k], &rtol)) return 2;
+    } else if (a[0] == '-' && has_val && setting_index(settings, n_settings, a) >= 0) {
+      settings[setting_index(settings, n_settings, a)].text = argv[++k];
     } else if (a[0] != '-' && !cfg_path) {
       cfg_path = a;
     } else {
@@ -355,8 +356,13 @@ int pom_cmd_simulate(int argc, char **argv) {
   pom_dyn_params par;
   pom_dyn_metrics mt;
   pom_cfg *cfg = pom_cli_load_config(cfg_path);
+  if (!cfg) rc = 2; /* a config that cannot be read is a config error */
   if (!cfg || !mech) goto done;
-  pom_status st = pom_kin_arch_load(&arch, cfg, &err);
+  pom_status st = POM_OK;
+  for (int j = 0; j < n_settings && st == POM_OK; ++j)
+    if (settings[j].text)
+      st = pom_cfg_set_number(cfg, settings[j].key, settings[j].text, settings[j].option, &err);
+  if (st == POM_OK) st = pom_kin_arch_load(&arch, cfg, &err);
   if (st == POM_OK) st = pom_kin_mechanism_build(mech, &arch, cfg, &err);
   pom_dyn_params_defaults(&par);
   if (st == POM_OK) st = pom_dyn_params_load(&par, cfg, &err);
@@ -411,19 +417,6 @@ int pom_cmd_simulate(int argc, char **argv) {
       rc = 2;
       goto done;
     }
-  }
-  if (!isnan(kp)) par.controller.kp = kp;
-  if (!isnan(ki)) par.controller.ki = ki;
-  if (!isnan(kd)) par.controller.kd = kd;
-  if (!isnan(rtol)) {
-    /* the same range as solver.rtol in the config (docs/dynamics.md section 9) */
-    if (!(rtol >= 1e-13 && rtol <= 1e-1)) {
-      fprintf(stderr,
-              "pomlab simulate: --rtol %g: out of range: expected a value in [1e-13, 0.1]\n", rtol);
-      rc = 2;
-      goto done;
-    }
-    par.solver.rtol = rtol;
   }
   /* display unit (mm or deg) -> SI (m or rad), once, at the edge */
   const pom_act_units *u = pom_act_units_of(kind);

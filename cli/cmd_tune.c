@@ -60,9 +60,10 @@ static void print_eval(const char *what, const pom_dyn_controller *c, const pom_
 }
 
 /* The progress bar (or log lines) on stderr, in criterion evaluations. */
-static void on_progress(void *user, long done, long bound) {
+static void on_progress(void *user, const char *phase, long done, long total) {
+  (void)phase; /* "tune" */
   pom_progress *bar = user;
-  bar->total = bound;
+  bar->total = total;
   pom_progress_update(bar, done);
 }
 
@@ -122,18 +123,28 @@ int pom_cmd_tune(int argc, char **argv) {
     if (st != POM_OK) {
       pom_cli_report("tune", &err);
       code = pom_cli_exit_code(st);
+      break;
     }
+    char name[32];
+    safe_name(name, sizeof name, pbs[c].arch.name);
+    snprintf(paths[c], sizeof paths[c], "%s%s.controller.cfg", prefix, name);
+    /* two configs of one name would write the same file, the second over
+     * the first: refused before any work */
+    for (int d = 0; d < c && code == 0; ++d)
+      if (strcmp(paths[d], paths[c]) == 0) {
+        pom_cli_refuse_shared_output("tune", cfg_paths[d], cfg_paths[c], paths[c]);
+        code = 2;
+      }
   }
   for (int c = 0; c < ncfg && code == 0; ++c) {
     pom_progress bar;
     char label[64];
     snprintf(label, sizeof label, "tune %s", cfg_paths[c]);
-    pom_progress_init(&bar, quiet ? NULL : stderr, label, pom_tune_max_evaluations(&pbs[c]), 0, 0);
-    pom_status st = pom_tune_run_progress(&pbs[c], on_progress, &bar, &res[c], &err);
-    pom_progress_finish(&bar, res[c].opt.evals_global + res[c].opt.evals_local + 2);
-    char name[32];
-    safe_name(name, sizeof name, pbs[c].arch.name);
-    snprintf(paths[c], sizeof paths[c], "%s%s.controller.cfg", prefix, name);
+    pom_progress_init(&bar, quiet ? NULL : stderr, label, 1, 0, 0);
+    pbs[c].progress = on_progress;
+    pbs[c].progress_user = &bar;
+    pom_status st = pom_tune_run(&pbs[c], &res[c], &err);
+    pom_progress_finish(&bar, bar.total);
     if (st == POM_OK) st = pom_tune_write_controller(&pbs[c], &res[c], paths[c], &err);
     if (st != POM_OK) {
       pom_cli_report("tune", &err);

@@ -2,6 +2,7 @@
  * conditioning index and an optional dexterity map (CSV). */
 #include "cli_kin.h"
 #include "pom_cli.h"
+#include "pom_io.h"
 #include "pom_math.h"
 #include "pom_progress.h"
 
@@ -128,12 +129,14 @@ static void on_progress(void *user, long done, long bound) {
 
 static int write_map(const char *file, const pom_kin_arch *arch, const pom_kin_ws_opts *o,
                      pom_progress *bar) {
-  FILE *fp = fopen(file, "w");
-  if (!fp) {
-    fprintf(stderr, "pomlab workspace: --map %s: cannot open for writing (%s)\n", file,
-            strerror(errno));
+  pom_io_file w;
+  pom_error err;
+  pom_error_clear(&err);
+  if (pom_io_create(&w, file, &err) != POM_OK) {
+    pom_cli_report("workspace --map", &err);
     return 1;
   }
+  FILE *fp = w.f;
   const pom_act_units *u = pom_act_units_of(pom_kin_type_actuator(arch->type));
   fprintf(fp,
           "psi_deg,theta_deg,phi_deg,reachable,within_limits,dexterity,q1_%s,q2_%s,q3_%s,"
@@ -161,10 +164,8 @@ static int write_map(const char *file, const pom_kin_arch *arch, const pom_kin_w
       }
   }
   pom_progress_finish(bar, done);
-  int bad = ferror(fp);
-  if (fclose(fp) != 0 || bad) {
-    fprintf(stderr, "pomlab workspace: --map %s: write failed (%s)\n", file, strerror(errno));
-    remove(file);
+  if (pom_io_commit(&w, &err) != POM_OK) {
+    pom_cli_report("workspace --map", &err);
     return 1;
   }
   return 0;

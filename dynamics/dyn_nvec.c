@@ -125,10 +125,27 @@ static void compare(sunrealtype c, N_Vector x, N_Vector z) {
     zd[i] = (fabs(xd[i]) >= c) ? 1.0 : 0.0;
 }
 
-/* z = sum_k c[k] X[k]; z may be any of the X[k] */
+/* z = sum_k c[k] X[k]; z may be any of the X[k]. Vector by vector when z
+ * is none of X[1..]: the same sum in the same order per entry, without
+ * fetching every vector's data pointer per entry (CVodeGetDky at every output
+ * sample, bench/README.md issue 10). */
 static int lin_comb(int nv, sunrealtype *c, N_Vector *X, N_Vector z) {
   const long n = LEN(z);
   double *zd = DATA(z);
+  int aliased = 0;
+  for (int k = 1; k < nv; ++k)
+    aliased |= DATA(X[k]) == zd;
+  if (!aliased) {
+    const double *x0 = DATA(X[0]), c0 = c[0];
+    for (long i = 0; i < n; ++i)
+      zd[i] = c0 * x0[i];
+    for (int k = 1; k < nv; ++k) {
+      const double *xk = DATA(X[k]), ck = c[k];
+      for (long i = 0; i < n; ++i)
+        zd[i] += ck * xk[i];
+    }
+    return 0;
+  }
   for (long i = 0; i < n; ++i) {
     double s = c[0] * DATA(X[0])[i];
     for (int k = 1; k < nv; ++k)

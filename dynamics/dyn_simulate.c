@@ -79,9 +79,12 @@ pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_e
   d->ftmp = N_VNew_Serial(n, d->ctx);
   if (!d->y || !d->atol || !d->ytmp || !d->ftmp)
     POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "allocating CVODE vectors (%ld states)", (long)n);
-  /* CVODE clones its vectors from y (and atol): they inherit the kernels */
+  /* CVODE clones its vectors from y (and atol): they inherit the kernels;
+   * ytmp receives CVodeGetDky's interpolation at every output sample, which
+   * runs on its own operations */
   pom_dyn_nvec_fast_ops(d->y);
   pom_dyn_nvec_fast_ops(d->atol);
+  pom_dyn_nvec_fast_ops(d->ytmp);
   memcpy(N_VGetArrayPointer(d->atol), m->atol, (size_t)n * sizeof(double));
   N_VConst(0.0, d->y);
 

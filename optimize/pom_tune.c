@@ -1,6 +1,7 @@
 /* pom_tune.c - PID gain tuning, one criterion for every architecture
  * (docs/optimize.md, section 9). */
 #include "pom_tune.h"
+#include "pom_io.h"
 
 #include "pom_math.h"
 
@@ -252,21 +253,19 @@ typedef struct {
   const pom_tune_problem *pb;
   long simulations;
   pom_tune_eval last;
-  pom_tune_progress progress; /* NULL = nobody */
-  void *user;
-  long evaluations; /* criterion evaluations so far */
+  long evals; /* criterion evaluations so far (progress) */
 } tune_ctx;
 
-long pom_tune_max_evaluations(const pom_tune_problem *pb) {
-  long n = 2; /* the config's gains and the result's */
-  if (pb->opt.global != POM_OPT_GLOBAL_NONE) n += pb->opt.global_max_evals;
-  if (pb->opt.local != POM_OPT_LOCAL_NONE) n += pb->opt.local_max_evals;
-  return n;
+/* Criterion evaluations of a run at most: the config's gains, the global
+   and local searches, the result. */
+static long max_evals(const pom_tune_problem *pb) {
+  return 2 + (long)pb->opt.global_max_evals * (pb->opt.global != POM_OPT_GLOBAL_NONE) +
+         (long)pb->opt.local_max_evals * (pb->opt.local != POM_OPT_LOCAL_NONE);
 }
 
-static void tell(tune_ctx *c) {
-  ++c->evaluations;
-  if (c->progress) c->progress(c->user, c->evaluations, pom_tune_max_evaluations(c->pb));
+static void report(tune_ctx *c) {
+  ++c->evals;
+  if (c->pb->progress) c->pb->progress(c->pb->progress_user, "tune", c->evals, max_evals(c->pb));
 }
 
 static void search_to_controller(const pom_tune_problem *pb, const double z[],
@@ -286,27 +285,20 @@ static pom_status objective(void *vctx, const double z[], double *f, pom_error *
   search_to_controller(c->pb, z, &ctl);
   POM_TRY(pom_tune_evaluate(c->pb, &ctl, &c->last, err));
   c->simulations += c->pb->n_maneuvers;
-  tell(c);
+  report(c);
   *f = -c->last.criterion; /* the driver maximizes */
   return POM_OK;
 }
 
 pom_status pom_tune_run(const pom_tune_problem *pb, pom_tune_result *res, pom_error *err) {
-  return pom_tune_run_progress(pb, NULL, NULL, res, err);
-}
-
-pom_status pom_tune_run_progress(const pom_tune_problem *pb, pom_tune_progress progress, void *user,
-                                 pom_tune_result *res, pom_error *err) {
   memset(res, 0, sizeof *res);
   tune_ctx c;
   memset(&c, 0, sizeof c);
   c.pb = pb;
-  c.progress = progress;
-  c.user = user;
   res->initial = pb->params.controller;
   POM_TRY(pom_tune_evaluate(pb, &res->initial, &res->initial_eval, err));
   c.simulations = pb->n_maneuvers;
-  tell(&c);
+  report(&c);
   double lo[POM_TUNE_N_VARS], hi[POM_TUNE_N_VARS], z0[POM_TUNE_N_VARS];
   for (int i = 0; i < pb->n_vars; ++i) {
     lo[i] = pb->log_scale[i] ? log10(pb->lo[i]) : pb->lo[i];
@@ -322,7 +314,8 @@ pom_status pom_tune_run_progress(const pom_tune_problem *pb, pom_tune_progress p
   search_to_controller(pb, res->opt.x, &res->best);
   POM_TRY(pom_tune_evaluate(pb, &res->best, &res->best_eval, err));
   res->simulations += pb->n_maneuvers;
-  tell(&c);
+  c.evals = max_evals(pb) - 1; /* the last unit, also when the searches stopped early */
+  report(&c);
   /* Keep the config's gains when the search found nothing better. */
   if (res->initial_eval.criterion < res->best_eval.criterion) {
     int inside = 1;
@@ -338,8 +331,9 @@ pom_status pom_tune_run_progress(const pom_tune_problem *pb, pom_tune_progress p
 
 pom_status pom_tune_write_controller(const pom_tune_problem *pb, const pom_tune_result *res,
                                      const char *path, pom_error *err) {
-  FILE *f = fopen(path, "w");
-  if (!f) POM_FAIL(err, POM_ERR_IO, "cannot write %s", path);
+  pom_io_file w;
+  POM_TRY(pom_io_create(&w, path, err));
+  FILE *f = w.f;
   fprintf(f,
           "# PID gains tuned by pomlab tune for \"%s\" (%s):\n"
           "# mean execution time %.4g ms over %d fixed maneuvers (largest overshoot\n"
@@ -352,6 +346,5 @@ pom_status pom_tune_write_controller(const pom_tune_problem *pb, const pom_tune_
   fprintf(
       f, "controller = {\n  form = \"%s\";\n  kp = %.9g;\n  ki_per_s = %.9g;\n  kd_s = %.9g;\n};\n",
       pom_dyn_pid_form_name(res->best.form), res->best.kp, res->best.ki, res->best.kd);
-  if (fclose(f) != 0) POM_FAIL(err, POM_ERR_IO, "writing %s failed", path);
-  return POM_OK;
+  return pom_io_commit(&w, err);
 }

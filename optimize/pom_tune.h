@@ -43,6 +43,8 @@ typedef struct {
   double saturation_time_max; /* allowed time at the voltage limit per actuator (s, default 0.02) */
   double penalty_weight;      /* s per unit of relative excess (default: the horizon) */
   pom_opt_options opt;
+  pom_opt_progress_fn progress; /* phase "tune", one unit per criterion evaluation; may be NULL */
+  void *progress_user;          /* passed to progress */
 } pom_tune_problem;
 
 /* Criterion and its parts at one gain set. */
@@ -81,18 +83,6 @@ typedef struct {
 
 /* Minimizes the criterion with NLopt. */
 pom_status pom_tune_run(const pom_tune_problem *pb, pom_tune_result *res, pom_error *err);
-
-/* Told after each criterion evaluation: `done` evaluations so far out of at
- * most `bound` (the initial and final evaluations plus the stages' evaluation
- * limits; the run may stop earlier on its tolerances). */
-typedef void (*pom_tune_progress)(void *user, long done, long bound);
-
-/* Evaluations a run makes at most (the `bound` above). */
-long pom_tune_max_evaluations(const pom_tune_problem *pb);
-
-/* pom_tune_run, telling `progress` (NULL = nobody) after each evaluation. */
-pom_status pom_tune_run_progress(const pom_tune_problem *pb, pom_tune_progress progress, void *user,
-                                 pom_tune_result *res, pom_error *err);
 
 /* Writes the tuned gains as a libconfig `controller` group to path. */
 pom_status pom_tune_write_controller(const pom_tune_problem *pb, const pom_tune_result *res,

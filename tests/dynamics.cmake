@@ -18,3 +18,7 @@ target_link_libraries(test_dyn_rotary PRIVATE pom_dynamics pom_kinematics pom_co
 # a program's own architecture through the public API (docs/extending.md)
 pom_add_test(test_arch_registry test_arch_registry.c)
 target_link_libraries(test_arch_registry PRIVATE pom_dynamics pom_kinematics pom_core)
+# the exact path's Jacobian against central differences (docs/dynamics-exact.md section 5)
+pom_add_test(test_dyn_exact_jac test_dyn_exact_jac.c)
+target_include_directories(test_dyn_exact_jac PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
+target_link_libraries(test_dyn_exact_jac PRIVATE pom_dynamics pom_kinematics pom_core)

@@ -268,6 +268,34 @@ static void test_include(void) {
   rmdir(dir);
 }
 
+/* Values from the command line pass the getters' checks; diffs name the key. */
+static void test_set_and_diff(void) {
+  pom_error err;
+  pom_cfg *a = NULL, *b = NULL;
+  check_true(pom_cfg_load_string(&a, "g = { x = 2.385; n = 7; };", "<a>", &err) == POM_OK);
+  check_true(pom_cfg_load_string(&b, "g = { x = 2.385; n = 7; };", "<b>", &err) == POM_OK);
+  if (!a || !b) return;
+  char key[64], va[64], vb[64];
+  check_true(pom_cfg_diff(a, b, key, sizeof key, va, vb, sizeof va) == 0);
+  /* a 64-bit integer, never wrapped, into an existing group */
+  check_true(pom_cfg_set_number(b, "g.n", "5000000000", "--n", &err) == POM_OK);
+  long n = 0;
+  check_true(pom_cfg_int(b, "g.n", 0, 9007199254740991L, &n, &err) == POM_OK && n == 5000000000L);
+  check_true(pom_cfg_diff(a, b, key, sizeof key, va, vb, sizeof va) == 1);
+  check_true(strcmp(key, "g.n") == 0 && strcmp(va, "7") == 0 && strcmp(vb, "5000000000") == 0);
+  /* out of the getter's range: the message names the option */
+  check_true(pom_cfg_set_number(b, "h.y", "1e300", "--y", &err) == POM_OK);
+  double y = 0;
+  check_true(pom_cfg_real(b, "h.y", 1.0, 0.0, 1e12, &y, &err) == POM_ERR_CONFIG);
+  check_true(strstr(err.message, "command line --y: key 'h.y'") != NULL);
+  check_true(pom_cfg_set_number(b, "g.n", "99999999999999999999", "--n", &err) == POM_ERR_CONFIG);
+  check_true(pom_cfg_set_number(b, "g.n", "12abc", "--n", &err) == POM_ERR_CONFIG);
+  /* a member only one side has */
+  check_true(pom_cfg_diff(a, b, key, sizeof key, va, vb, sizeof va) == 1);
+  pom_cfg_destroy(a);
+  pom_cfg_destroy(b);
+}
+
 static void test_status(void) {
   check_true(strcmp(pom_strerror(POM_OK), "success") == 0);
   check_true(strcmp(pom_status_name(POM_ERR_CONFIG), "POM_ERR_CONFIG") == 0);
@@ -332,5 +360,6 @@ int main(void) {
   test_rng();
   test_config();
   test_include();
+  test_set_and_diff();
   return check_summary("test_core");
 }

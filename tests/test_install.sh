@@ -13,7 +13,7 @@ CMAKE=$4
 P="$TMP/prefix"
 
 expect_rc 0 "$CMAKE" --install "$BUILD" --prefix "$P"
-for f in bin/pomlab share/pomlab/scripts/plot_study.py share/pomlab/scripts/plot_traces.py \
+for f in bin/pomlab bin/pomlab-full share/pomlab/scripts/plot_study.py share/pomlab/scripts/plot_traces.py \
   share/pomlab/scripts/plot_tradeoff.py share/pomlab/configs/3pss.cfg \
   share/pomlab/configs/paper.cfg share/doc/pomlab/README.md share/doc/pomlab/conventions.md; do
   checks=$((checks + 1))
