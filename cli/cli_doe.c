@@ -657,8 +657,9 @@ void pom_cli_doe_summary_dir(char *dir, size_t cap, const char *output) {
 }
 
 int pom_cli_run_script(const char *name, const char *a1, const char *a2) {
-  char script[1024];
-  snprintf(script, sizeof script, "%s/scripts/%s", POM_SOURCE_DIR, name);
+  char dir_scripts[1024], script[1100];
+  pom_cli_scripts_dir(dir_scripts, sizeof dir_scripts);
+  snprintf(script, sizeof script, "%s/%s", dir_scripts, name);
   char *argv[] = {"/usr/bin/python3", script, (char *)a1, (char *)a2, NULL};
   pid_t pid;
   int e = posix_spawn(&pid, argv[0], NULL, NULL, argv, environ);

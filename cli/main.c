@@ -76,7 +76,7 @@ static void usage(FILE *out) {
                "commands:\n");
   for (size_t k = 0; commands[k].name; ++k)
     fprintf(out, "  %-12s %s\n", commands[k].name, commands[k].summary);
-  fprintf(out, "\n  --version  print version and git commit\n");
+  fprintf(out, "\n  --version  print version, git commit and where the plotting scripts are\n");
 }
 
 int main(int argc, char **argv) {
@@ -89,7 +89,10 @@ int main(int argc, char **argv) {
     return 0;
   }
   if (strcmp(argv[1], "--version") == 0) {
-    printf("pomlab %s (commit %s)\n", POM_VERSION, POM_GIT_COMMIT);
+    char scripts[1024];
+    int found = pom_cli_scripts_dir(scripts, sizeof scripts) == 0;
+    printf("pomlab %s (commit %s)\nscripts: %s%s\n", POM_VERSION, POM_GIT_COMMIT, scripts,
+           found ? "" : " (not found: no figures)");
     return 0;
   }
   for (size_t k = 0; commands[k].name; ++k)

@@ -42,6 +42,12 @@ extern const char *const pom_cli_known_top[];
 pom_cfg *pom_cli_load_config(const char *path);
 
 /* Subcommands, one file each (cli/cmd_<name>.c). */
+/* The folder of the plotting scripts into buf: PREFIX/share/pomlab/scripts
+ * beside an installed program, else the source tree's scripts/. Returns 0
+ * when plot_study.py is there, -1 otherwise (buf then names the last place
+ * tried). */
+int pom_cli_scripts_dir(char *buf, size_t cap);
+
 int pom_cmd_model(int argc, char **argv);
 int pom_cmd_ik(int argc, char **argv);
 int pom_cmd_fk(int argc, char **argv);

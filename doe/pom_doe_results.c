@@ -187,6 +187,7 @@ pom_status pom_doe_describe_dyn_params(hid_t g, const pom_dyn_params *par, pom_e
   POM_TRY(pom_h5_attr_double(g, "solver_atol_scale", par->solver.atol_scale, err));
   POM_TRY(pom_h5_attr_double(g, "solver_max_step_s", par->solver.max_step, err));
   POM_TRY(pom_h5_attr_int64(g, "solver_max_steps", par->solver.max_steps, err));
+  POM_TRY(pom_h5_attr_double(g, "solver_max_wall_s", par->solver.max_wall, err));
   POM_TRY(pom_h5_attr_string(g, "solver_linear_solver",
                              pom_dyn_linsol_name(par->solver.linear_solver), err));
   POM_TRY(pom_h5_attr_double(g, "maneuver_horizon_s", par->maneuver.horizon, err));

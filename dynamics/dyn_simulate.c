@@ -336,11 +336,11 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
     double half = 0.5 * m->act[a].stroke;
     if (half > 0 && !(fabs(target[a]) <= half)) {
       pom_status st = pom_error_set(err, POM_ERR_LIMIT, __FILE__, __LINE__,
-                                    "target of actuator %d = %.6g mm is outside its stroke "
-                                    "+-%.6g mm",
+                                    "target of actuator %d = %.10g mm is outside its stroke "
+                                    "+-%.10g mm",
                                     a + 1, target[a] * 1e3, half * 1e3);
       mt->status = st;
-      snprintf(mt->reason, sizeof mt->reason, "target of actuator %d = %.6g mm outside the stroke",
+      snprintf(mt->reason, sizeof mt->reason, "target of actuator %d = %.10g mm outside the stroke",
                a + 1, target[a] * 1e3);
       mt->execution_time = NAN;
       for (int k = 0; k < 3; ++k)

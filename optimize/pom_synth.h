@@ -6,7 +6,7 @@
  * kinematics, and the scaling of the optimum to the actuator stroke
  * (docs/optimize.md, sections 5-7).
  *
- * Driver (STYLE.md 15): pom_syn_begin() builds the design;
+ * Driver (docs/STYLE.md 15): pom_syn_begin() builds the design;
  * pom_syn_step() evaluates one design run (call until it returns 0 runs
  * left); pom_syn_finish() fits, optimizes, confirms and scales. */
 #ifndef POM_SYNTH_H

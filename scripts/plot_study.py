@@ -8,7 +8,7 @@ Writes into OUTDIR:
                       plots up to 6 candidates, beyond one line per candidate
                       (median, quartiles, 5-95 %, mean) sorted by mean
   energy.png          the same for the expended energy (J)
-  paired.png          up to 4 candidates: each against the first, maneuver by maneuver
+  paired.png          2 to 4 candidates: each against the first, maneuver by maneuver
   main_effects.png    sweeps: mean and interval of each response per factor level
   heatmap.png         sweeps of 2+ factors: mean responses over the first two
   pareto.png          3+ candidates: mean execution time against mean energy,
@@ -142,11 +142,6 @@ def paired(d, out):
     names, values = d["names"], d["rows"]
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.6))
     for ax, (key, scale, unit, label) in zip(axes, RESPONSES):
-        if len(names) < 2:
-            ax.text(0.5, 0.5, "one candidate: no pairs to compare", ha="center",
-                    transform=ax.transAxes)
-            ax.set_axis_off()
-            continue
         v = values[key]
         lo, hi = np.inf, -np.inf
         for c in range(1, len(names)):
@@ -283,7 +278,7 @@ def main(argv):
         (few_candidates if n <= FEW else many_candidates)(d, key, scale, unit, label,
                                                           os.path.join(outdir, name))
         made.append(name)
-    if n <= ALL_PAIRS:
+    if 2 <= n <= ALL_PAIRS:  # one candidate has no pairs: no (empty) figure
         paired(d, os.path.join(outdir, "paired.png"))
         made.append("paired.png")
     if "factors" in d and "effects" in d and d["effects"].size:
