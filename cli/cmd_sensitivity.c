@@ -50,7 +50,9 @@ static void json_num(FILE *out, double v) {
 static void print_text(FILE *out, const pom_doe_study *study, const pom_doe_sens *s,
                        const pom_doe_sens_result *r) {
   const pom_dyn_metric_info *mi = pom_dyn_stat_metric(s->stat);
-  const char *unit = pom_dyn_metric_unit(mi, study->candidates[0].eval.actuator_kind);
+  double to_text = 1.0; /* SI to the text unit (ms, J, mm, deg: docs/conventions.md) */
+  const char *unit =
+      pom_dyn_metric_display_unit(mi, study->candidates[0].eval.actuator_kind, &to_text);
   fprintf(out, "## Sensitivity of %s (%s) to %d uncertain parameter(s)\n\n", mi->stat_name, unit,
           r->dim);
   if (r->sobol)
@@ -73,8 +75,9 @@ static void print_text(FILE *out, const pom_doe_study *study, const pom_doe_sens
     }
     if (r->sobol) {
       const pom_sens_sobol_result *o = &r->sobol[c];
-      fprintf(out, "output mean %.6g %s, sd %.4g %s; %ld of %ld base samples used\n\n", o->mean,
-              unit, sqrt(o->variance), unit, o->n_used, o->n_used + o->n_failed);
+      fprintf(out, "output mean %.6g %s, sd %.4g %s; %ld of %ld base samples used\n\n",
+              o->mean * to_text, unit, sqrt(o->variance) * to_text, unit, o->n_used,
+              o->n_used + o->n_failed);
       fprintf(out, "| parameter | S1 | interval | ST | interval |\n|---|---:|---:|---:|---:|\n");
       for (int i = 0; i < r->dim; ++i)
         fprintf(out, "| %s | %.3f | [%.3f, %.3f] | %.3f | [%.3f, %.3f] |\n",
@@ -86,7 +89,8 @@ static void print_text(FILE *out, const pom_doe_study *study, const pom_doe_sens
               unit);
       for (int i = 0; i < r->dim; ++i)
         fprintf(out, "| %s | %.4g | %.4g | %.4g | %ld |\n", study->uncertain.param[i].key,
-                o->mu_star[i], o->mu[i], o->sigma[i], o->n_effects[i]);
+                o->mu_star[i] * to_text, o->mu[i] * to_text, o->sigma[i] * to_text,
+                o->n_effects[i]);
     }
   }
 }
