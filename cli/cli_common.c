@@ -43,6 +43,28 @@ int pom_cli_parse_list(const char *text, int n, double *out) {
   return *p == '\0' ? 0 : -1;
 }
 
+int pom_cli_parse_threads(const char *command, const char *text, int *out) {
+  char *end = NULL;
+  errno = 0;
+  long v = strtol(text, &end, 10);
+  if (end == text || *end || errno != 0 || v < 1 || v > POM_CLI_THREADS_MAX) {
+    if (command)
+      fprintf(stderr, "pomlab %s: --threads '%s': expected an integer in [1, %d]\n", command, text,
+              POM_CLI_THREADS_MAX);
+    return -1;
+  }
+  *out = (int)v;
+  return 0;
+}
+
+void pom_cli_refuse_shared_output(const char *command, const char *cfg_a, const char *cfg_b,
+                                  const char *output) {
+  fprintf(stderr,
+          "pomlab %s: %s and %s would both write %s (the file name comes from the config's "
+          "`name`): give them distinct names; nothing was written\n",
+          command, cfg_a, cfg_b, output);
+}
+
 pom_cfg *pom_cli_load_config(const char *path) {
   pom_error err;
   pom_error_clear(&err);

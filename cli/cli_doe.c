@@ -4,6 +4,7 @@
 #include "cli_doe.h"
 #include "pom_version.h"
 #include "pom_cli.h"
+#include "pom_io.h"
 #include "pom_progress.h"
 #include "pom_math.h"
 
@@ -47,10 +48,11 @@ static void fmt_p(char *buf, size_t cap, double p) {
 
 /* The comparison of candidates a and b on metric, oriented as a - b. */
 static int find_comparison(const pom_doe_report *rep, int a, int b, pom_doe_metric metric,
-                           pom_doe_paired *out) {
+                           pom_doe_paired *out, double *p_holm) {
   for (int j = 0; j < rep->n_comparisons; ++j) {
     const pom_doe_comparison *c = &rep->cmp[j];
     if (c->metric != metric) continue;
+    *p_holm = c->p_holm;
     if (c->a == a && c->b == b) {
       *out = c->test;
       return 1;
@@ -60,15 +62,46 @@ static int find_comparison(const pom_doe_report *rep, int a, int b, pom_doe_metr
       out->mean_diff = -c->test.mean_diff;
       out->ci_low = -c->test.ci_high;
       out->ci_high = -c->test.ci_low;
-      out->win_fraction = 1.0 - c->test.win_fraction;
+      out->win_fraction = 1.0 - c->test.win_fraction - c->test.tie_fraction;
       return 1;
     }
   }
   return 0;
 }
 
-static void stats_row(FILE *out, const char *name, const pom_doe_stats *s, double scale, int prec,
-                      const pom_doe_candidate_stats *cs, int with_unsettled) {
+/* The leading cells of a candidate's row: its name and one cell per sweep
+ * factor; with a single candidate, none (the heading names it). */
+static void lead_cells(FILE *out, const pom_doe_study *study, int c) {
+  if (study->n_candidates < 2) return;
+  fprintf(out, "| %s ", study->candidates[c].name);
+  for (int f = 0; f < study->n_factors; ++f)
+    fprintf(out, "| %.6g ", study->candidates[c].factor_value[f]);
+}
+
+/* The leading header cells matching lead_cells, and their separators. */
+static void lead_head(FILE *out, const pom_doe_study *study, int separator) {
+  if (study->n_candidates < 2) return;
+  fprintf(out, "%s", separator ? "|---" : "| candidate ");
+  for (int f = 0; f < study->n_factors; ++f)
+    if (separator)
+      fprintf(out, "|---:");
+    else
+      fprintf(out, "| %s ", study->factor_label[f]);
+}
+
+/* A statistics table's header: lead cells, then cols[] right-aligned. */
+static void stats_head(FILE *out, const pom_doe_study *study, const char *cols) {
+  lead_head(out, study, 0);
+  fprintf(out, "| %s |\n", cols);
+  lead_head(out, study, 1);
+  for (const char *p = cols; *p; ++p)
+    if (*p == '|') fprintf(out, "|---:");
+  fprintf(out, "|---:|\n");
+}
+
+static void stats_row(FILE *out, const pom_doe_study *study, int c, const pom_doe_stats *s,
+                      double scale, int prec, const pom_doe_candidate_stats *cs,
+                      int with_unsettled) {
   char mx[32], mean[32], mn[32], sd[32], med[32], p95[32];
   fmt_num(mx, sizeof mx, s->max, scale, prec);
   fmt_num(mean, sizeof mean, s->mean, scale, prec);
@@ -76,8 +109,8 @@ static void stats_row(FILE *out, const char *name, const pom_doe_stats *s, doubl
   fmt_num(sd, sizeof sd, s->sigma, scale, prec);
   fmt_num(med, sizeof med, s->median, scale, prec);
   fmt_num(p95, sizeof p95, s->p95, scale, prec);
-  fprintf(out, "| %s | %s | %s | %s | %s | %s | %s | %ld |", name, mx, mean, mn, sd, med, p95,
-          s->n);
+  lead_cells(out, study, c);
+  fprintf(out, "| %s | %s | %s | %s | %s | %s | %ld |", mx, mean, mn, sd, med, p95, s->n);
   if (with_unsettled) fprintf(out, " %ld |", cs->n_unsettled);
   fprintf(out, " %ld |\n", cs->n_failed);
 }
@@ -107,55 +140,247 @@ static void mixed_kinds_note(FILE *out, const pom_doe_study *study) {
                  "platform orientations (its own actuator targets by inverse kinematics).\n\n");
 }
 
+/* With uncertain parameters every maneuver has its own draws, so the
+ * statistics are robustness figures: mean, p95 and worst over maneuvers and
+ * draws, and how often a candidate fails (docs/results.md section 10). */
+static void robustness_table(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
+  const pom_unc *unc = &study->uncertain;
+  if (unc->n == 0) return;
+  fprintf(out, "\n### Robustness under %d uncertain parameter(s), drawn per maneuver\n\n", unc->n);
+  for (int j = 0; j < unc->n; ++j) {
+    const pom_dist *d = &unc->param[j].dist;
+    fprintf(out, "- `%s`%s: %s, draws in [%.4g, %.4g]\n", unc->param[j].key,
+            unc->param[j].relative ? " (relative: x nominal)" : "", d->ops->name, d->lo, d->hi);
+  }
+  fprintf(out, "\n| candidate | time mean (ms) | time p95 | time worst | energy mean (J) | "
+               "energy p95 | energy worst | failed | unsettled |\n"
+               "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (int c = 0; c < rep->n_candidates; ++c) {
+    const pom_doe_candidate_stats *cs = &rep->cand[c];
+    const pom_doe_stats *t = &cs->execution_time, *e = &cs->energy;
+    char v[6][32];
+    fmt_num(v[0], sizeof v[0], t->mean, 1e3, 2);
+    fmt_num(v[1], sizeof v[1], t->p95, 1e3, 2);
+    fmt_num(v[2], sizeof v[2], t->max, 1e3, 2);
+    fmt_num(v[3], sizeof v[3], e->mean, 1.0, 4);
+    fmt_num(v[4], sizeof v[4], e->p95, 1.0, 4);
+    fmt_num(v[5], sizeof v[5], e->max, 1.0, 4);
+    double done = cs->n_done > 0 ? (double)cs->n_done : NAN;
+    fprintf(out, "| %s | %s | %s | %s | %s | %s | %s | %.1f %% | %.1f %% |\n",
+            study->candidates[c].name, v[0], v[1], v[2], v[3], v[4], v[5],
+            100.0 * (double)cs->n_failed / done, 100.0 * (double)cs->n_unsettled / done);
+  }
+  fprintf(out, "\nfailed: share of maneuvers whose draws or run failed (reason per row); "
+               "unsettled: share that never settled within the horizon. The draws are stored in "
+               "the results file (/uncertain/draws).\n");
+}
+
+/* ---- comparisons ---------------------------------------------------------------------- */
+/* Friedman's test over every candidate (three or more), then the paired
+ * comparisons: every pair up to POM_DOE_ALL_PAIRS_MAX candidates, else the
+ * best of each metric against each other one; Holm-adjusted p over each
+ * metric's comparisons. */
+static void print_comparisons(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
+  int nc = rep->n_candidates;
+  if (nc >= 3) {
+    fprintf(out, "\n### Friedman test (all %d candidates, maneuvers every one completed)\n\n", nc);
+    fprintf(out, "| response | maneuvers | chi-square | df | p |\n|---|---:|---:|---:|---:|\n");
+    for (int m = 0; m < 2; ++m) {
+      const pom_doe_friedman_result *f = &rep->friedman[m];
+      char q[32], p[32];
+      fmt_num(q, sizeof q, f->statistic, 1.0, 2);
+      fmt_p(p, sizeof p, f->p);
+      fprintf(out, "| %s | %ld | %s | %.0f | %s |\n", metric_label((pom_doe_metric)m), f->n_blocks,
+              q, f->df, p);
+    }
+  }
+  if (rep->n_comparisons == 0) return;
+  if (rep->all_pairs)
+    fprintf(out, "\n### Paired comparisons (same maneuvers; difference = A - B)\n\n");
+  else
+    fprintf(out,
+            "\n### Paired comparisons: the best candidate (A) against each other one (B)\n\n"
+            "%d candidates: every pair would be %d comparisons, so each metric's best (its "
+            "ranking's first) is compared with each other candidate on the same maneuvers; "
+            "difference = A - B.\n\n",
+            nc, nc * (nc - 1));
+  fprintf(out,
+          "| response | A | B | pairs | mean A - B | %.0f %% interval | Wilcoxon p | Holm p | A "
+          "better | tie | B better |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+          100 * study->confidence);
+  for (int j = 0; j < rep->n_comparisons; ++j) {
+    const pom_doe_comparison *c = &rep->cmp[j];
+    double scale = c->metric == POM_DOE_METRIC_TIME ? 1e3 : 1.0;
+    int prec = c->metric == POM_DOE_METRIC_TIME ? 3 : 5;
+    char md[32], lo[32], hi[32], p[32], ph[32], win[32], tie[32], lose[32];
+    fmt_num(win, sizeof win, c->test.win_fraction, 100, 1);
+    fmt_num(tie, sizeof tie, c->test.tie_fraction, 100, 1);
+    fmt_num(lose, sizeof lose, 1.0 - c->test.win_fraction - c->test.tie_fraction, 100, 1);
+    fmt_num(md, sizeof md, c->test.mean_diff, scale, prec);
+    fmt_num(lo, sizeof lo, c->test.ci_low, scale, prec);
+    fmt_num(hi, sizeof hi, c->test.ci_high, scale, prec);
+    fmt_p(p, sizeof p, c->test.wilcoxon_p);
+    fmt_p(ph, sizeof ph, c->p_holm);
+    fprintf(out, "| %s (%s) | %s | %s | %ld | %s | [%s, %s] | %s | %s | %s %% | %s %% | %s %% |\n",
+            metric_label(c->metric), c->metric == POM_DOE_METRIC_TIME ? "ms" : "J",
+            study->candidates[c->a].name, study->candidates[c->b].name, c->test.n, md, lo, hi, p,
+            ph, win, tie, lose);
+  }
+}
+
+/* ---- many candidates: main effects, heat map, Pareto front ------------------------------ */
+/* A level's label: its value, or its range when binned. */
+static void level_label(char *buf, size_t cap, double lo, double hi) {
+  if (lo == hi)
+    snprintf(buf, cap, "%.6g", lo);
+  else
+    snprintf(buf, cap, "%.4g-%.4g", lo, hi);
+}
+
+static void print_effects(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
+  if (rep->n_effects == 0) return;
+  fprintf(out,
+          "\n### Main effects (mean over each level's candidates, then over the maneuvers; "
+          "%.0f %% interval)\n\n",
+          100 * study->confidence);
+  fprintf(out,
+          "| factor | level | candidates | execution time (ms) | interval | expended energy (J) "
+          "| interval |\n|---|---:|---:|---:|---:|---:|---:|\n");
+  for (int j = 0; j < rep->n_effects; ++j) {
+    const pom_doe_effect *t = &rep->effects[j];
+    if (t->metric != POM_DOE_METRIC_TIME) continue;
+    const pom_doe_effect *e = NULL; /* the same level's energy effect */
+    for (int i = 0; i < rep->n_effects && !e; ++i)
+      if (rep->effects[i].factor == t->factor && rep->effects[i].level == t->level &&
+          rep->effects[i].metric == POM_DOE_METRIC_ENERGY)
+        e = &rep->effects[i];
+    char lv[64], tm[32], tl[32], th[32], em[32], el[32], eh[32];
+    level_label(lv, sizeof lv, t->lo, t->hi);
+    fmt_num(tm, sizeof tm, t->mean, 1e3, 3);
+    fmt_num(tl, sizeof tl, t->ci_low, 1e3, 3);
+    fmt_num(th, sizeof th, t->ci_high, 1e3, 3);
+    fmt_num(em, sizeof em, e ? e->mean : NAN, 1.0, 4);
+    fmt_num(el, sizeof el, e ? e->ci_low : NAN, 1.0, 4);
+    fmt_num(eh, sizeof eh, e ? e->ci_high : NAN, 1.0, 4);
+    fprintf(out, "| %s | %s | %d | %s | [%s, %s] | %s | [%s, %s] |\n",
+            study->factor_label[t->factor], lv, t->n_candidates, tm, tl, th, em, el, eh);
+  }
+}
+
+/* The mean response of the candidates at each pair of levels of the first
+ * two factors (their common-maneuver means). */
+static void print_heat_map(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
+  int nc = study->n_candidates;
+  if (study->n_factors < 2 || nc < 2) return;
+  int *lv0 = malloc((size_t)nc * sizeof *lv0), *lv1 = malloc((size_t)nc * sizeof *lv1);
+  double *lo0 = malloc((size_t)nc * sizeof *lo0), *hi0 = malloc((size_t)nc * sizeof *hi0);
+  double *lo1 = malloc((size_t)nc * sizeof *lo1), *hi1 = malloc((size_t)nc * sizeof *hi1);
+  int n0 = -1, n1 = -1;
+  if (lv0 && lv1 && lo0 && hi0 && lo1 && hi1) {
+    n0 = pom_doe_factor_levels(study, 0, lv0, lo0, hi0);
+    n1 = pom_doe_factor_levels(study, 1, lv1, lo1, hi1);
+  }
+  for (int m = 0; m < 2 && n0 > 0 && n1 > 0; ++m) {
+    const double *mean = m == 0 ? rep->mean_time : rep->mean_energy;
+    fprintf(out, "\n### Heat map: mean %s (%s), %s (rows) x %s (columns)\n\n",
+            metric_label((pom_doe_metric)m), m == 0 ? "ms" : "J", study->factor_label[0],
+            study->factor_label[1]);
+    fprintf(out, "| %s \\ %s |", study->factor_label[0], study->factor_label[1]);
+    for (int j = 0; j < n1; ++j) {
+      char l[64];
+      level_label(l, sizeof l, lo1[j], hi1[j]);
+      fprintf(out, " %s |", l);
+    }
+    fprintf(out, "\n|---|");
+    for (int j = 0; j < n1; ++j)
+      fprintf(out, "---:|");
+    fprintf(out, "\n");
+    for (int i = 0; i < n0; ++i) {
+      char l[64];
+      level_label(l, sizeof l, lo0[i], hi0[i]);
+      fprintf(out, "| %s |", l);
+      for (int j = 0; j < n1; ++j) {
+        double sum = 0;
+        int cnt = 0;
+        for (int c = 0; c < nc; ++c)
+          if (lv0[c] == i && lv1[c] == j && isfinite(mean[c])) {
+            sum += mean[c];
+            ++cnt;
+          }
+        char v[32];
+        fmt_num(v, sizeof v, cnt ? sum / cnt : NAN, m == 0 ? 1e3 : 1.0, m == 0 ? 3 : 4);
+        fprintf(out, " %s |", v);
+      }
+      fprintf(out, "\n");
+    }
+  }
+  free(lv0);
+  free(lv1);
+  free(lo0);
+  free(hi0);
+  free(lo1);
+  free(hi1);
+}
+
+/* The candidates no other beats on both mean time and mean energy, fastest
+ * first. */
+static void print_pareto(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
+  int nc = rep->n_candidates, n = 0;
+  if (nc < 3) return;
+  for (int c = 0; c < nc; ++c)
+    n += rep->pareto[c];
+  fprintf(out, "\n### Pareto front: execution time against energy (%d of %d candidates)\n\n", n,
+          nc);
+  if (n == 0) {
+    fprintf(out, "No maneuver that every candidate completed: no front.\n");
+    return;
+  }
+  fprintf(out, "Means over the maneuvers every candidate completed; no other candidate is as "
+               "fast and as frugal with one of them strictly better.\n\n");
+  lead_head(out, study, 0);
+  fprintf(out, "| execution time (ms) | expended energy (J) |\n");
+  lead_head(out, study, 1);
+  fprintf(out, "|---:|---:|\n");
+  for (int r = 0; r < nc; ++r) {
+    int c = rep->rank_time[r];
+    if (!rep->pareto[c]) continue;
+    lead_cells(out, study, c);
+    fprintf(out, "| %.3f | %.4f |\n", rep->mean_time[c] * 1e3, rep->mean_energy[c]);
+  }
+}
+
 /* ---- the report ---------------------------------------------------------------------- */
 void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
   int nc = rep->n_candidates;
   mixed_kinds_note(out, study);
+  static const char cols[] = "max | mean | min | sigma | median | p95 | n | failed";
+  static const char cols_unsettled[] =
+      "max | mean | min | sigma | median | p95 | n | unsettled | failed";
   fprintf(out, "### Table 1: execution time (ms)\n\n");
-  fprintf(out, "| candidate | max | mean | min | sigma | median | p95 | n | unsettled | failed |\n"
-               "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  stats_head(out, study, cols_unsettled);
   for (int c = 0; c < nc; ++c)
-    stats_row(out, study->candidates[c].name, &rep->cand[c].execution_time, 1e3, 2, &rep->cand[c],
-              1);
+    stats_row(out, study, c, &rep->cand[c].execution_time, 1e3, 2, &rep->cand[c], 1);
   fprintf(out, "\n### Table 2: expended energy (J)\n\n");
-  fprintf(out, "| candidate | max | mean | min | sigma | median | p95 | n | failed |\n"
-               "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  stats_head(out, study, cols);
   for (int c = 0; c < nc; ++c)
-    stats_row(out, study->candidates[c].name, &rep->cand[c].energy, 1.0, 4, &rep->cand[c], 0);
+    stats_row(out, study, c, &rep->cand[c].energy, 1.0, 4, &rep->cand[c], 0);
   fprintf(out, "\nExecution time = largest settling time of the three actuators (2 %% band), over "
                "maneuvers that settled within the horizon; energy = sum over the actuators of the "
                "signed integral of u i over the horizon.\n");
   fprintf(out, "\n### Table 1b: execution time (ms), MATLAB stepinfo definition\n\n");
-  fprintf(out, "| candidate | max | mean | min | sigma | median | p95 | n | failed |\n"
-               "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  stats_head(out, study, cols);
   for (int c = 0; c < nc; ++c)
-    stats_row(out, study->candidates[c].name, &rep->cand[c].execution_time_final, 1e3, 2,
-              &rep->cand[c], 0);
+    stats_row(out, study, c, &rep->cand[c].execution_time_final, 1e3, 2, &rep->cand[c], 0);
   fprintf(out, "\nstepinfo: each actuator's band is 2 %% of its largest deviation from its value "
                "at the horizon, about that value (the paper's MATLAB post-processing most likely "
                "used it); defined for tiny steps too.\n");
+  robustness_table(out, study, rep);
 
-  if (rep->n_comparisons > 0) {
-    fprintf(out, "\n### Paired comparisons (same maneuvers; difference = A - B)\n\n");
-    fprintf(out,
-            "| response | A | B | pairs | mean A - B | %.0f %% interval | Wilcoxon p | A "
-            "better |\n|---|---|---|---:|---:|---:|---:|---:|\n",
-            100 * study->confidence);
-    for (int j = 0; j < rep->n_comparisons; ++j) {
-      const pom_doe_comparison *c = &rep->cmp[j];
-      double scale = c->metric == POM_DOE_METRIC_TIME ? 1e3 : 1.0;
-      int prec = c->metric == POM_DOE_METRIC_TIME ? 3 : 5;
-      char md[32], lo[32], hi[32], p[32];
-      fmt_num(md, sizeof md, c->test.mean_diff, scale, prec);
-      fmt_num(lo, sizeof lo, c->test.ci_low, scale, prec);
-      fmt_num(hi, sizeof hi, c->test.ci_high, scale, prec);
-      fmt_p(p, sizeof p, c->test.wilcoxon_p);
-      fprintf(out, "| %s (%s) | %s | %s | %ld | %s | [%s, %s] | %s | %.1f %% |\n",
-              metric_label(c->metric), c->metric == POM_DOE_METRIC_TIME ? "ms" : "J",
-              study->candidates[c->a].name, study->candidates[c->b].name, c->test.n, md, lo, hi, p,
-              100 * c->test.win_fraction);
-    }
-  }
+  if (nc < 2) return; /* one candidate: nothing to compare or rank */
+  print_effects(out, study, rep);
+  print_heat_map(out, study, rep);
+  print_pareto(out, study, rep);
+  print_comparisons(out, study, rep);
 
   fprintf(out, "\n### Ranking (mean over the maneuvers every candidate completed)\n\n");
   /* the primary metric (study.rank_by) first */
@@ -164,41 +389,73 @@ void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_d
   for (int j = 0; j < 2; ++j) {
     int m = metrics[j];
     const int *order = m == 0 ? rep->rank_time : rep->rank_energy;
+    const double *mean = m == 0 ? rep->mean_time : rep->mean_energy;
     fprintf(out, "- %s%s: ", metric_label((pom_doe_metric)m), j == 0 ? " (primary)" : "");
-    for (int r = 0; r < nc; ++r)
-      fprintf(out, "%s%d. %s", r ? ", " : "", r + 1, study->candidates[order[r]].name);
+    /* equal means share a place */
+    int place = 1;
+    for (int r = 0; r < nc; ++r) {
+      if (r && !(mean[order[r]] == mean[order[r - 1]])) place = r + 1;
+      int tied = (r && mean[order[r]] == mean[order[r - 1]]) ||
+                 (r + 1 < nc && mean[order[r]] == mean[order[r + 1]]);
+      fprintf(out, "%s%d.%s %s", r ? ", " : "", place, tied ? "=" : "",
+              study->candidates[order[r]].name);
+    }
     fprintf(out, "\n");
   }
 
   fprintf(out, "\n### Verdict\n\n");
-  if (nc < 2) {
-    fprintf(out, "One candidate: nothing to compare.\n");
-    return;
-  }
   for (int j = 0; j < 2; ++j) {
     int m = metrics[j];
     const int *order = m == 0 ? rep->rank_time : rep->rank_energy;
     int a = order[0], b = order[1];
     pom_doe_paired t;
-    if (!find_comparison(rep, a, b, (pom_doe_metric)m, &t) || t.n == 0) {
+    double p_holm = NAN;
+    if (!find_comparison(rep, a, b, (pom_doe_metric)m, &t, &p_holm) || t.n == 0) {
       fprintf(out, "- %s: no maneuver that both %s and %s completed.\n",
               metric_label((pom_doe_metric)m), study->candidates[a].name,
               study->candidates[b].name);
       continue;
     }
+    if (t.n_nonzero == 0) { /* every difference is zero: a tie, not a win */
+      fprintf(out,
+              "- %s: %s and %s **tie**: the same %s on every one of the %ld common "
+              "maneuvers.\n",
+              metric_label((pom_doe_metric)m), study->candidates[a].name, study->candidates[b].name,
+              metric_label((pom_doe_metric)m), t.n);
+      continue;
+    }
     double scale = m == 0 ? 1e3 : 1.0;
     const char *unit = m == 0 ? "ms" : "J";
-    char p[32];
-    fmt_p(p, sizeof p, t.wilcoxon_p);
-    int significant = t.wilcoxon_p < study->alpha;
+    int several = rep->n_comparisons > 2; /* more than one comparison per metric */
+    double p_used = several ? p_holm : t.wilcoxon_p;
+    char p[32], ties[64] = "";
+    fmt_p(p, sizeof p, p_used);
+    if (t.tie_fraction > 0) snprintf(ties, sizeof ties, " (tie on %.1f %%)", 100 * t.tie_fraction);
+    int significant = p_used < study->alpha;
+    double loss_fraction = 1.0 - t.win_fraction - t.tie_fraction;
+    if (loss_fraction > t.win_fraction) {
+      /* the mean ranks a first, but b is lower on most maneuvers: the signed-rank
+       * test then speaks for b; say that the two disagree rather than crown a */
+      fprintf(out,
+              "- %s: mixed: **%s** has the lower mean (difference %.4g %s, %.0f %% interval "
+              "[%.4g, %.4g] %s) but %s is %s on %.1f %% of %ld common maneuvers%s (Wilcoxon "
+              "p%s = %s, %s at alpha = %g): neither is better on both counts.\n",
+              metric_label((pom_doe_metric)m), study->candidates[a].name, t.mean_diff * scale, unit,
+              100 * study->confidence, t.ci_low * scale, t.ci_high * scale, unit,
+              study->candidates[b].name, m == 0 ? "faster" : "more frugal", 100 * loss_fraction,
+              t.n, ties, several ? " (Holm-adjusted)" : "", p,
+              significant ? "significant" : "not significant", study->alpha);
+      continue;
+    }
     fprintf(out,
-            "- %s: **%s** %s %s (%s) on %.1f %% of %ld common maneuvers; mean difference %.4g %s "
-            "(%.0f %% interval [%.4g, %.4g] %s), Wilcoxon p = %s: %s at alpha = %g.\n",
+            "- %s: **%s** %s %s (%s) on %.1f %% of %ld common maneuvers%s; mean difference %.4g "
+            "%s (%.0f %% interval [%.4g, %.4g] %s), Wilcoxon p%s = %s: %s at alpha = %g.\n",
             metric_label((pom_doe_metric)m), study->candidates[a].name,
             m == 0 ? "is faster than" : "uses less energy than", study->candidates[b].name,
             m == 0 ? "lower execution time" : "lower expended energy", 100 * t.win_fraction, t.n,
-            t.mean_diff * scale, unit, 100 * study->confidence, t.ci_low * scale, t.ci_high * scale,
-            unit, p, significant ? "significant" : "NOT significant", study->alpha);
+            ties, t.mean_diff * scale, unit, 100 * study->confidence, t.ci_low * scale,
+            t.ci_high * scale, unit, several ? " (Holm-adjusted)" : "", p,
+            significant ? "significant" : "NOT significant", study->alpha);
   }
 }
 
@@ -260,6 +517,29 @@ static void json_montecarlo(FILE *out, const pom_doe_study *study) {
 }
 
 /* The metric schema: every metric stored per maneuver in the results file. */
+/* The uncertain parameters (their draws are in the results file). */
+static void json_uncertain(FILE *out, const pom_doe_study *study) {
+  const pom_unc *unc = &study->uncertain;
+  fprintf(out, "  \"uncertain\": [");
+  for (int j = 0; j < unc->n; ++j) {
+    const pom_dist *d = &unc->param[j].dist;
+    fprintf(out, "%s\n    {\"key\": ", j ? "," : "");
+    json_string(out, unc->param[j].key);
+    fprintf(out, ", \"dist\": \"%s\", \"relative\": %s, \"parameters\": [", d->ops->name,
+            unc->param[j].relative ? "true" : "false");
+    for (int i = 0; i < 4; ++i) {
+      fprintf(out, "%s", i ? ", " : "");
+      json_double(out, d->p[i]);
+    }
+    fprintf(out, "], \"lo\": ");
+    json_double(out, d->lo);
+    fprintf(out, ", \"hi\": ");
+    json_double(out, d->hi);
+    fprintf(out, "}");
+  }
+  fprintf(out, "%s],\n", unc->n ? "\n  " : "");
+}
+
 static void json_metrics(FILE *out) {
   fprintf(out, "  \"metrics\": [\n");
   const pom_dyn_metric_info *schema = pom_dyn_metric_schema();
@@ -283,7 +563,15 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
   fprintf(out, ",\n  \"maneuvers\": %ld,\n  \"seed\": %llu,\n", rep->n_maneuvers,
           (unsigned long long)study->maneuvers.seed);
   json_montecarlo(out, study);
+  json_uncertain(out, study);
   json_metrics(out);
+  /* the sweep factors (dotted config keys), one value per candidate below */
+  fprintf(out, "  \"factors\": [");
+  for (int f = 0; f < study->n_factors; ++f) {
+    fprintf(out, "%s", f ? ", " : "");
+    json_string(out, study->factor_key[f]);
+  }
+  fprintf(out, "],\n");
   fprintf(out, "  \"candidates\": [\n");
   for (int c = 0; c < rep->n_candidates; ++c) {
     const pom_doe_candidate_stats *cs = &rep->cand[c];
@@ -294,6 +582,14 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
             ", \"actuator_kind\": \"%s\", \"actuator_unit\": \"%s\", \"done\": %ld, "
             "\"failed\": %ld, \"unsettled\": %ld",
             u->kind_name, u->si, cs->n_done, cs->n_failed, cs->n_unsettled);
+    fprintf(out, ", \"factors\": {");
+    for (int f = 0; f < study->candidates[c].n_factors; ++f) {
+      fprintf(out, "%s", f ? ", " : "");
+      json_string(out, study->candidates[c].factor_key[f]);
+      fprintf(out, ": ");
+      json_double(out, study->candidates[c].factor_value[f]);
+    }
+    fprintf(out, "}");
     /* the statistics of every reduced metric of the schema */
     for (int s = 0; s < POM_DYN_N_STATS; ++s) {
       fprintf(out, ",\n     ");
@@ -314,11 +610,26 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
     json_double(out, c->test.ci_high);
     fprintf(out, "], \"wilcoxon_p\": ");
     json_double(out, c->test.wilcoxon_p);
+    fprintf(out, ", \"holm_p\": ");
+    json_double(out, c->p_holm);
     fprintf(out, ", \"win_fraction\": ");
     json_double(out, c->test.win_fraction);
+    fprintf(out, ", \"tie_fraction\": ");
+    json_double(out, c->test.tie_fraction);
     fprintf(out, "}%s\n", j + 1 < rep->n_comparisons ? "," : "");
   }
-  fprintf(out, "  ],\n  \"ranking\": {");
+  fprintf(out, "  ],\n  \"comparison_pairs\": \"%s\",\n  \"friedman\": {",
+          rep->all_pairs ? "all" : "best_against_each");
+  for (int m = 0; m < 2; ++m) {
+    const pom_doe_friedman_result *f = &rep->friedman[m];
+    fprintf(out, "%s\"%s\": {\"maneuvers\": %ld, \"chi_square\": ", m ? ", " : "",
+            m == 0 ? "execution_time" : "energy", f->n_blocks);
+    json_double(out, f->statistic);
+    fprintf(out, ", \"df\": %.0f, \"p\": ", f->df);
+    json_double(out, f->p);
+    fprintf(out, "}");
+  }
+  fprintf(out, "},\n  \"ranking\": {");
   for (int m = 0; m < 2; ++m) {
     const int *order = m == 0 ? rep->rank_time : rep->rank_energy;
     fprintf(out, "%s\"%s\": [", m ? ", " : "", m == 0 ? "execution_time" : "energy");
@@ -335,7 +646,7 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
 /* results/paper.h5 -> results/paper (the folder of the summary and figures);
  * a file name without extension gets "_summary" appended instead, so that the
  * folder never has the results file's own name. */
-static void summary_dir(char *dir, size_t cap, const char *output) {
+void pom_cli_doe_summary_dir(char *dir, size_t cap, const char *output) {
   snprintf(dir, cap, "%s", output);
   char *dot = strrchr(dir, '.');
   char *slash = strrchr(dir, '/');
@@ -345,12 +656,17 @@ static void summary_dir(char *dir, size_t cap, const char *output) {
     snprintf(dir, cap, "%s_summary", output);
 }
 
-static int run_plot_script(const char *h5, const char *dir) {
-  char script[1024];
-  snprintf(script, sizeof script, "%s/scripts/plot_study.py", POM_SOURCE_DIR);
-  char *argv[] = {"/usr/bin/python3", script, (char *)h5, (char *)dir, NULL};
+int pom_cli_run_script(const char *name, const char *a1, const char *a2) {
+  char dir_scripts[1024], script[1100];
+  pom_cli_scripts_dir(dir_scripts, sizeof dir_scripts);
+  snprintf(script, sizeof script, "%s/%s", dir_scripts, name);
+  char *argv[] = {"/usr/bin/python3", script, (char *)a1, (char *)a2, NULL};
   pid_t pid;
-  if (posix_spawn(&pid, argv[0], NULL, NULL, argv, environ) != 0) return -1;
+  int e = posix_spawn(&pid, argv[0], NULL, NULL, argv, environ);
+  if (e != 0) {
+    fprintf(stderr, "pomlab: warning: figures not made: cannot run %s: %s\n", argv[0], strerror(e));
+    return -1;
+  }
   int status = 0;
   if (waitpid(pid, &status, 0) < 0) return -1;
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -400,12 +716,15 @@ static void write_metric_listing(FILE *f) {
   }
 }
 
-static int write_summary(const pom_doe_study *study, const pom_doe_report *rep, const char *output,
-                         double wall, int threads, int ranks, int plots_ok, const char *dir) {
+static pom_status write_summary(const pom_doe_study *study, const pom_doe_report *rep,
+                                const char *output, double wall, int threads, int ranks,
+                                int plots_ok, const char *dir, const pom_cli_doe_opts *o,
+                                pom_error *err) {
   char path[1200];
   snprintf(path, sizeof path, "%s/summary.md", dir);
-  FILE *f = fopen(path, "w");
-  if (!f) return -1;
+  pom_io_file w;
+  POM_TRY(pom_io_create(&w, path, err));
+  FILE *f = w.f;
   char when[64];
   time_t now = time(NULL);
   struct tm tmv;
@@ -418,20 +737,21 @@ static int write_summary(const pom_doe_study *study, const pom_doe_report *rep, 
   const pom_act_units *u = pom_act_units_of(pom_cli_doe_study_kind(study, &mixed));
   if (study->maneuvers.space == POM_DOE_SPACE_JOINT)
     fprintf(f,
-            "- %d candidates x %ld maneuvers, seed %llu, targets %s within +-%.3g %s of "
+            "- %d candidate%s x %ld maneuvers, seed %llu, targets %s within +-%.3g %s of "
             "mid-stroke (common to every candidate)\n",
-            study->n_candidates, study->maneuvers.count, (unsigned long long)study->maneuvers.seed,
+            study->n_candidates, study->n_candidates == 1 ? "" : "s", study->maneuvers.count,
+            (unsigned long long)study->maneuvers.seed,
             study->maneuvers.distribution == POM_DOE_DIST_UNIFORM ? "uniform per actuator"
                                                                   : "truncated normal",
             study->maneuvers.range * u->to_display, u->display);
   else
     fprintf(f,
-            "- %d candidates x %ld maneuvers, seed %llu, targets from tilt/torsion via IK (tilt "
+            "- %d candidate%s x %ld maneuvers, seed %llu, targets from tilt/torsion via IK (tilt "
             "up to %.3g deg, torsion up to +-%.3g deg; the orientations are common to every "
             "candidate%s)\n",
-            study->n_candidates, study->maneuvers.count, (unsigned long long)study->maneuvers.seed,
-            study->maneuvers.tilt_max / POM_DEG, study->maneuvers.torsion_max / POM_DEG,
-            mixed ? ", which mix actuator kinds" : "");
+            study->n_candidates, study->n_candidates == 1 ? "" : "s", study->maneuvers.count,
+            (unsigned long long)study->maneuvers.seed, study->maneuvers.tilt_max / POM_DEG,
+            study->maneuvers.torsion_max / POM_DEG, mixed ? ", which mix actuator kinds" : "");
   fprintf(f, "- this run: %.2f s wall, %d worker thread(s) x %d MPI rank(s)\n\n", wall, threads,
           ranks);
   fprintf(f, "| candidate | config | actuators | model (after the study's overrides) |\n"
@@ -444,13 +764,27 @@ static int write_summary(const pom_doe_study *study, const pom_doe_report *rep, 
             study->candidates[c].source, cu->kind_name, cu->display, model);
   }
   fprintf(f, "\n");
+  if (o->report_extra) o->report_extra(f, study);
   pom_cli_doe_print_report(f, study, rep);
   write_metric_listing(f);
-  if (plots_ok)
-    fprintf(f, "\n### Figures\n\n![execution time](execution_time.png)\n\n"
-               "![expended energy](energy.png)\n\n![paired differences](paired.png)\n");
-  fclose(f);
-  return 0;
+  if (plots_ok) {
+    /* the figures scripts/plot_study.py made for this study (it removes the
+     * ones the study does not call for) */
+    static const char *const figures[][2] = {{"execution time", "execution_time.png"},
+                                             {"expended energy", "energy.png"},
+                                             {"paired differences", "paired.png"},
+                                             {"main effects", "main_effects.png"},
+                                             {"heat map", "heatmap.png"},
+                                             {"Pareto front", "pareto.png"}};
+    fprintf(f, "\n### Figures\n");
+    for (size_t j = 0; j < sizeof figures / sizeof figures[0]; ++j) {
+      char fig[1300];
+      struct stat sb;
+      snprintf(fig, sizeof fig, "%s/%s", dir, figures[j][1]);
+      if (stat(fig, &sb) == 0) fprintf(f, "\n![%s](%s)\n", figures[j][0], figures[j][1]);
+    }
+  }
+  return pom_io_commit(&w, err);
 }
 
 /* ---- run ------------------------------------------------------------------------------------ */
@@ -460,7 +794,15 @@ int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o) {
   pom_doe_run *run = NULL;
   pom_doe_report *rep = NULL;
   const char *output = o->run.output ? o->run.output : study->output;
-  double t0 = pom_progress_now();
+  const char *tabular = o->tabular ? o->tabular : study->tabular;
+  if (tabular[0] && !output[0]) {
+    fprintf(stderr,
+            "pomlab: tabular results '%s' need a results file (--out FILE.h5): the "
+            "maneuver rows are read back from it\n",
+            tabular);
+    return 2;
+  }
+  double t0 = o->t_start > 0 ? o->t_start : pom_progress_now();
   pom_status st = pom_doe_run_begin(&run, study, &o->run, &err);
   if (st != POM_OK) {
     pom_cli_report("study", &err);
@@ -502,42 +844,68 @@ int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o) {
   }
   if (!root) return 0;
   int code = 0;
+  /* an unfinished study stays in OUTPUT.partial (docs/results.md) */
+  char partial[POM_DOE_PATH_LEN + 16];
+  pom_doe_results_partial_path(partial, sizeof partial, output);
+  const char *h5 = done < total ? partial : output;
   if (done < total) {
     fprintf(stderr,
             "pomlab: study %s: stopped after %ld of %ld candidate-maneuvers; every finished one is "
             "in %s; "
             "continue with --resume\n",
-            study->name, done, total, output[0] ? output : "(no file)");
+            study->name, done, total, output[0] ? h5 : "(no file)");
     code = cancelled ? 130 : 0;
   }
   if (o->json) {
     pom_cli_doe_print_json(stdout, study, rep);
   } else {
-    printf("## Study %s: %d candidates x %ld maneuvers (%.2f s wall, %d thread(s) x %d rank(s))"
-           "\n\n",
-           study->name, study->n_candidates, study->maneuvers.count, wall, threads, ranks);
+    if (study->n_candidates == 1)
+      printf("## Study %s: %s, %ld maneuvers (%.2f s wall, %d thread(s) x %d rank(s))\n\n",
+             study->name, study->candidates[0].name, study->maneuvers.count, wall, threads, ranks);
+    else
+      printf("## Study %s: %d candidates x %ld maneuvers (%.2f s wall, %d thread(s) x %d "
+             "rank(s))\n\n",
+             study->name, study->n_candidates, study->maneuvers.count, wall, threads, ranks);
+    if (o->report_extra) o->report_extra(stdout, study);
     pom_cli_doe_print_report(stdout, study, rep);
+  }
+  if (tabular[0]) {
+    char cand[POM_DOE_PATH_LEN + 32];
+    pom_doe_tabular_candidates_path(cand, sizeof cand, tabular);
+    if (pom_doe_tabular_write(study, rep, output, tabular, &err) != POM_OK) {
+      pom_cli_report("tabular", &err);
+      code = code ? code : 1;
+    } else if (!o->json) {
+      printf("\nTabular: %s (candidate x maneuver), %s (candidate)\n", tabular, cand);
+    }
   }
   if (output[0] && (o->summary || o->plots)) {
     char dir[1100];
-    summary_dir(dir, sizeof dir, output);
+    pom_cli_doe_summary_dir(dir, sizeof dir, output);
     if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
       fprintf(stderr, "pomlab: cannot create %s: %s\n", dir, strerror(errno));
+      code = code ? code : 1;
     } else {
       int plots_ok = 0;
       if (o->plots) {
-        int r = run_plot_script(output, dir);
+        int r = pom_cli_run_script("plot_study.py", h5, dir);
         plots_ok = r == 0;
-        if (!plots_ok)
+        /* the script's own message (a missing module, a full disk) is above */
+        if (!plots_ok && r >= 0)
           fprintf(stderr,
-                  "pomlab: warning: figures not made (scripts/plot_study.py exited with %d; "
-                  "needs /usr/bin/python3 with h5py and matplotlib)\n",
+                  "pomlab: warning: figures not made: scripts/plot_study.py exited with %d (its "
+                  "message is above)\n",
                   r);
       }
-      if (o->summary && write_summary(study, rep, output, wall, threads, ranks, plots_ok, dir) != 0)
-        fprintf(stderr, "pomlab: cannot write %s/summary.md\n", dir);
-      else if (o->summary && !o->json)
+      pom_error werr;
+      pom_error_clear(&werr);
+      if (o->summary &&
+          write_summary(study, rep, h5, wall, threads, ranks, plots_ok, dir, o, &werr) != POM_OK) {
+        pom_cli_report("summary", &werr);
+        code = code ? code : 1;
+      } else if (o->summary && !o->json) {
         printf("\nSummary: %s/summary.md%s\n", dir, plots_ok ? " (with figures)" : "");
+      }
     }
   }
   pom_doe_report_destroy(rep);

@@ -14,6 +14,11 @@ typedef struct {
   int summary;             /* 1: write <output folder>/<stem>/summary.md */
   int plots;               /* 1: PNG figures with scripts/plot_study.py */
   int quiet;               /* 1: no progress bar */
+  const char *tabular;     /* CSV tables of the results (NULL = study.tabular, "" = none) */
+  double t_start;          /* pom_progress_now() when the command's work began (the pipeline);
+                              0 = when the run begins. The reported wall time counts from it. */
+  /* Extra Markdown section after the candidates (stdout and summary.md); may be NULL. */
+  void (*report_extra)(FILE *out, const pom_doe_study *study);
 } pom_cli_doe_opts;
 
 /* Runs the study and reports; returns the exit code (0 ok, 1 failure,
@@ -26,8 +31,16 @@ void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_d
 /* Prints the report as JSON (SI units). */
 void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe_report *rep);
 
+/* The folder of the summary and figures of results file `output`
+ * (results/paper.h5 -> results/paper). */
+void pom_cli_doe_summary_dir(char *dir, size_t cap, const char *output);
+
 /* The actuator kind of the study's candidates (the first one's) and
  * *mixed = 1 when they do not all share it. */
 pom_actuator_kind pom_cli_doe_study_kind(const pom_doe_study *study, int *mixed);
+
+/* Runs /usr/bin/python3 scripts/NAME A1 A2 (the source tree's scripts);
+ * returns its exit status, -1 when it could not run. */
+int pom_cli_run_script(const char *name, const char *a1, const char *a2);
 
 #endif

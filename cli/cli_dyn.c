@@ -52,7 +52,8 @@ void pom_cli_dyn_params_json(FILE *out, const pom_dyn_params *p) {
           v->stability_limit_detection ? "true" : "false");
   member(out, "rtol", v->rtol, 0);
   member(out, "atol_scale", v->atol_scale, 0);
-  member(out, "max_step_s", v->max_step, 1);
+  member(out, "max_step_s", v->max_step, 0);
+  member(out, "max_wall_s", v->max_wall, 1);
   fprintf(out, ",\n  \"maneuver\": {");
   member(out, "horizon_s", m->horizon, 0);
   member(out, "settle_band", m->settle_band, 0);
@@ -99,10 +100,11 @@ void pom_cli_dyn_params_text(FILE *out, const pom_dyn_params *p) {
           pom_dyn_inertia_name(s->limb_inertia), s->universal_joint ? "on" : "off");
   fprintf(out,
           "solver: CVODE BDF, rtol %g, atol_scale %g, max step %g ms%s, max %ld steps, %s, "
-          "order <= %d%s\n",
+          "order <= %d%s, wall limit %g s%s\n",
           v->rtol, v->atol_scale, v->max_step * 1e3, v->max_step > 0 ? "" : " (none)", v->max_steps,
           pom_dyn_linsol_name(v->linear_solver), v->max_order,
-          v->stability_limit_detection ? ", stability limit detection" : "");
+          v->stability_limit_detection ? ", stability limit detection" : "", v->max_wall,
+          v->max_wall > 0 ? " per maneuver" : " (none)");
   fprintf(out, "maneuver: horizon %g ms, settling band %g %% of |step|, output every %g ms\n",
           m->horizon * 1e3, m->settle_band * 100.0, m->output_dt * 1e3);
 }

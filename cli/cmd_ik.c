@@ -106,12 +106,17 @@ int pom_cmd_ik(int argc, char **argv) {
       const pom_act_units *u = pom_act_units_of(pom_kin_type_actuator(arch.type));
       const double f = u->to_display;
       printf("q (%s):  %12.6f %12.6f %12.6f\n", u->display, p.q[0] * f, p.q[1] * f, p.q[2] * f);
-      printf("J (%s/rad), q_dot = J omega (omega in the fixed frame):\n", u->display);
+      /* a lever arm in mm/rad, or for a rotary actuator a plain ratio
+       * (rad/rad): docs/conventions.md */
+      const int rotary = pom_kin_type_actuator(arch.type) == POM_ACT_REVOLUTE;
+      const double fj = rotary ? 1.0 : f;
+      const char *ju = rotary ? "rad/rad" : "mm/rad";
+      printf("J (%s), q_dot = J omega (omega in the fixed frame):\n", ju);
       for (int i = 0; i < 3; ++i)
-        printf("  [%12.6f %12.6f %12.6f]\n", p.J[3 * i] * f, p.J[3 * i + 1] * f,
-               p.J[3 * i + 2] * f);
-      printf("singular values (%s/rad): %.6f %.6f %.6f\n", u->display, p.sv[0] * f, p.sv[1] * f,
-             p.sv[2] * f);
+        printf("  [%12.6f %12.6f %12.6f]\n", p.J[3 * i] * fj, p.J[3 * i + 1] * fj,
+               p.J[3 * i + 2] * fj);
+      printf("singular values (%s): %.6f %.6f %.6f\n", ju, p.sv[0] * fj, p.sv[1] * fj,
+             p.sv[2] * fj);
       printf("condition number kappa: %.6f   dexterity 1/kappa: %.6f\n", p.kappa, p.dexterity);
       pom_cli_kin_print_limits(stdout, &arch, &p);
       if (st == POM_ERR_LIMIT) printf("limit check: FAILED - %s\n", err.message);

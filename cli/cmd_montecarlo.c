@@ -19,6 +19,8 @@ static void montecarlo_usage(FILE *out) {
           "  --threads N     worker threads (default: all cores)\n"
           "  --out FILE      also write an HDF5 results file, and summary.md with figures\n"
           "                  in FILE's path without .h5 (as pomlab study)\n"
+          "  --tabular FILE  also write FILE (.csv, one row per maneuver) and\n"
+          "                  FILE_candidates.csv (statistics); needs --out\n"
           "  --json          JSON on stdout (SI units)\n"
           "  --quiet         no progress bar\n"
           "  --help          this text\n\n"
@@ -28,45 +30,37 @@ static void montecarlo_usage(FILE *out) {
 }
 
 int pom_cmd_montecarlo(int argc, char **argv) {
-  const char *cfg_path = NULL, *out = "";
-  long n = -1, seed = -1, threads = 0;
-  int json = 0, quiet = 0;
+  const char *cfg_path = NULL, *out = "", *tabular = "";
+  /* --n and --seed set the config's keys, checked by the config's ranges */
+  const char *n_text = NULL, *seed_text = NULL;
+  int threads = 0, json = 0, quiet = 0;
   for (int k = 1; k < argc; ++k) {
     const char *a = argv[k];
-    long *target = NULL;
+    int has_val = k + 1 < argc;
     if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
       montecarlo_usage(stdout);
       return 0;
-    } else if (strcmp(a, "--n") == 0) {
-      target = &n;
-    } else if (strcmp(a, "--seed") == 0) {
-      target = &seed;
-    } else if (strcmp(a, "--threads") == 0) {
-      target = &threads;
-    } else if (strcmp(a, "--out") == 0 && k + 1 < argc) {
+    } else if (strcmp(a, "--n") == 0 && has_val) {
+      n_text = argv[++k];
+    } else if (strcmp(a, "--seed") == 0 && has_val) {
+      seed_text = argv[++k];
+    } else if (strcmp(a, "--threads") == 0 && has_val) {
+      if (pom_cli_parse_threads("montecarlo", argv[++k], &threads) != 0) return 2;
+    } else if (strcmp(a, "--out") == 0 && has_val) {
       out = argv[++k];
-      continue;
+    } else if (strcmp(a, "--tabular") == 0 && has_val) {
+      tabular = argv[++k];
     } else if (strcmp(a, "--json") == 0) {
       json = 1;
-      continue;
     } else if (strcmp(a, "--quiet") == 0) {
       quiet = 1;
-      continue;
     } else if (a[0] == '-' || cfg_path) {
-      fprintf(stderr, "pomlab montecarlo: unexpected argument '%s'\n\n", a);
+      fprintf(stderr, "pomlab montecarlo: unexpected or incomplete argument '%s'\n\n", a);
       montecarlo_usage(stderr);
       return 2;
     } else {
       cfg_path = a;
-      continue;
     }
-    char *end = NULL;
-    if (k + 1 >= argc || (*target = strtol(argv[k + 1], &end, 10), *end) || *target < 0 ||
-        (target != &seed && *target < 1) || (target == &n && *target > 100000000L)) {
-      fprintf(stderr, "pomlab montecarlo: %s needs a positive integer\n", a);
-      return 2;
-    }
-    ++k;
   }
   if (!cfg_path) {
     montecarlo_usage(stderr);
@@ -85,7 +79,12 @@ int pom_cmd_montecarlo(int argc, char **argv) {
   }
   static const char *const own[] = {"montecarlo", NULL};
   pom_doe_study study;
-  st = pom_doe_study_single(&study, cfg, pom_doe_dyn_evaluator_create, NULL, &err);
+  memset(&study, 0, sizeof study);
+  if (n_text) st = pom_cfg_set_number(cfg, "montecarlo.maneuvers", n_text, "--n", &err);
+  if (st == POM_OK && seed_text)
+    st = pom_cfg_set_number(cfg, "montecarlo.seed", seed_text, "--seed", &err);
+  if (st == POM_OK)
+    st = pom_doe_study_single(&study, cfg, pom_doe_dyn_evaluator_create, NULL, &err);
   if (st == POM_OK) st = pom_cfg_check_unknown(cfg, own, pom_cli_known_top, &err);
   pom_cfg_destroy(cfg);
   if (st != POM_OK) {
@@ -93,15 +92,14 @@ int pom_cmd_montecarlo(int argc, char **argv) {
     pom_doe_study_clear(&study);
     return pom_cli_exit_code(st);
   }
-  if (n > 0) study.maneuvers.count = n;
-  if (seed >= 0) study.maneuvers.seed = (uint64_t)seed;
   pom_cli_doe_opts o;
   memset(&o, 0, sizeof o);
   pom_doe_run_options_defaults(&o.run);
-  o.run.threads = (int)threads;
+  o.run.threads = threads;
   o.run.output = out;
   o.json = json;
   o.quiet = quiet;
+  o.tabular = tabular;
   o.summary = out[0] != '\0';
   o.plots = out[0] != '\0';
   int code = pom_cli_doe_execute(&study, &o);

@@ -4,11 +4,13 @@
 #include "cli_kin.h"
 #include "pom_version.h"
 #include "pom_cli.h"
+#include "pom_io.h"
 #include "pom_doe.h"
 #include "pom_dyn_metrics_schema.h"
 #include "pom_dynamics.h"
 #include "pom_h5.h"
 #include "pom_kinematics.h"
+#include "pom_math.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -16,25 +18,25 @@
 #include <string.h>
 
 static void simulate_usage(FILE *out) {
-  fprintf(out,
-          "usage: pomlab simulate CONFIG --target q1,q2,q3 [options]\n\n"
-          "One maneuver from rest at home (mid-stroke) to the three actuator setpoints.\n\n"
-          "  --target q1,q2,q3     setpoints from mid-stroke in the display unit of the\n"
-          "                        mechanism's actuators (required): MILLIMETRES for\n"
-          "                        prismatic actuators, DEGREES for revolute ones\n"
-          "  --json                machine-readable metrics on stdout\n"
-          "  --out FILE            write traces: FILE.h5 (HDF5) or FILE.csv (SI units)\n"
-          "  --form ideal|parallel override controller.form\n"
-          "  --kp X --ki X --kd X  override controller.kp (V/V), ki_per_s (1/s), kd_s (s)\n"
-          "  --orientation euler|quaternion   override scene.orientation\n"
-          "  --linsol dense|klu    override solver.linear_solver\n"
-          "  --joints parasitic|rigid   override joints.model\n"
-          "  --rtol X              override solver.rtol, in [1e-13, 0.1]\n"
-          "  --help                this text\n\n"
-          "Times are reported in ms, energies in mJ, actuator coordinates in mm or deg (SI in\n"
-          "--json and traces: m or rad, named by actuator_unit).\n"
-          "Exit status: 0 ok; 1 the maneuver failed or the traces cannot be written;\n"
-          "2 usage or config error (also a target outside the stroke).\n");
+  fprintf(out, "usage: pomlab simulate CONFIG --target q1,q2,q3 [options]\n\n"
+               "One maneuver from rest at home (mid-stroke) to the three actuator setpoints.\n\n"
+               "  --target q1,q2,q3     setpoints from mid-stroke in the display unit of the\n"
+               "                        mechanism's actuators (required): MILLIMETRES for\n"
+               "                        prismatic actuators, DEGREES for revolute ones\n"
+               "  --json                machine-readable metrics on stdout\n"
+               "  --out FILE            write traces: FILE.h5 (HDF5) or FILE.csv (SI units)\n"
+               "  --form ideal|parallel override controller.form\n"
+               "  --kp X --ki X --kd X  override controller.kp (V/V), ki_per_s (1/s), kd_s (s)\n"
+               "  --orientation euler|quaternion   override scene.orientation\n"
+               "  --linsol dense|klu    override solver.linear_solver\n"
+               "  --joints parasitic|rigid   override joints.model\n"
+               "  --rtol X              override solver.rtol, in [1e-13, 0.1]\n"
+               "  --help                this text\n\n"
+               "Text in the units of docs/conventions.md: times in ms, energies in J, lengths in\n"
+               "mm, angles in deg, actuator coordinates in mm or deg (SI in --json and traces:\n"
+               "m or rad, named by actuator_unit).\n"
+               "Exit status: 0 ok; 1 the maneuver failed or the traces cannot be written;\n"
+               "2 usage or config error (also a target outside the stroke).\n");
 }
 
 /* Every group simulate reads; unknown keys there are errors. */
@@ -67,10 +69,23 @@ static void json_metric(FILE *f, const char *key, const pom_dyn_metrics *mt,
   fprintf(f, "%s%s\n", mi->count > 1 ? "]" : "", sep);
 }
 
+/* Marks in out[] the actuators whose |q| went beyond half the stroke (half,
+ * SI; 0 = not limited) on the output grid; returns how many did. The model
+ * has no end stops, so such a maneuver is not physical (docs/dynamics.md
+ * section 10). */
+static int stroke_excursions(const pom_dyn_metrics *mt, double half, int out[3]) {
+  int n = 0;
+  for (int a = 0; a < 3; ++a) {
+    out[a] = half > 0 && mt->max_abs_q[a] > half;
+    n += out[a];
+  }
+  return n;
+}
+
 /* Every metric of the schema (pom_dyn_metrics_schema.h) under its key, in SI
  * units; actuator coordinates in actuator_unit (m or rad). */
 static void print_json(const char *name, const pom_dyn_params *p, const pom_dyn_metrics *mt,
-                       pom_actuator_kind kind) {
+                       pom_actuator_kind kind, double half_stroke) {
   FILE *f = stdout;
   const pom_act_units *u = pom_act_units_of(kind);
   /* the name comes from the config and the reason may quote option values:
@@ -88,6 +103,11 @@ static void print_json(const char *name, const pom_dyn_params *p, const pom_dyn_
           pom_dyn_linsol_name(p->solver.linear_solver), pom_dyn_joint_model_name(p->joints.model),
           u->kind_name, u->si);
   json_num(f, "horizon_s", p->maneuver.horizon, ",");
+  int out[3];
+  stroke_excursions(mt, half_stroke, out);
+  json_num(f, "half_stroke", half_stroke, ",");
+  fprintf(f, "  \"stroke_exceeded\": [%s, %s, %s],\n", out[0] ? "true" : "false",
+          out[1] ? "true" : "false", out[2] ? "true" : "false");
   /* the keys of prismatic mechanisms before actuator units existed */
   if (kind == POM_ACT_PRISMATIC) {
     json_metric(f, "target_m", mt, pom_dyn_metric(POM_DYN_METRIC_target), ",");
@@ -124,7 +144,7 @@ static void print_actuator_table(const pom_dyn_metrics *mt, pom_actuator_kind ki
 }
 
 static void print_human(const char *name, const pom_dyn_params *p, const pom_dyn_metrics *mt,
-                        pom_actuator_kind kind) {
+                        pom_actuator_kind kind, double half_stroke) {
   const pom_act_units *u = pom_act_units_of(kind);
   double f = u->to_display;
   printf("%s: maneuver to (%.4g, %.4g, %.4g) %s, horizon %.4g ms, PID %s, orientation %s, "
@@ -135,10 +155,17 @@ static void print_human(const char *name, const pom_dyn_params *p, const pom_dyn
          pom_dyn_joint_model_name(p->joints.model));
   if (mt->status != POM_OK) printf("status: %s (%s)\n", pom_status_name(mt->status), mt->reason);
   print_actuator_table(mt, kind);
+  int out[3];
+  if (stroke_excursions(mt, half_stroke, out))
+    for (int a = 0; a < 3; ++a)
+      if (out[a])
+        printf("STROKE EXCEEDED: actuator %d reached |q| = %.6g %s, beyond the stroke +-%.10g %s "
+               "(the model has no end stops: not a physical motion)\n",
+               a + 1, mt->max_abs_q[a] * f, u->display, half_stroke * f, u->display);
   printf("execution time: %.3f ms%s\n", mt->execution_time * 1e3,
          isnan(mt->execution_time) ? " (an actuator did not settle: settled = 0)" : "");
-  printf("expended energy: %.4f mJ (positive part %.4f mJ)\n", mt->energy_total * 1e3,
-         (mt->energy_positive[0] + mt->energy_positive[1] + mt->energy_positive[2]) * 1e3);
+  printf("expended energy: %.6g J (positive part %.6g J)\n", mt->energy_total,
+         mt->energy_positive[0] + mt->energy_positive[1] + mt->energy_positive[2]);
   printf("energy audit: supplied %.6g J = dissipated %.6g J (coil %.4g, bearing %.4g, parasitic "
          "%.4g) + stored change %.6g J; balance error %.2e (relative, docs/dynamics.md "
          "section 6)\n",
@@ -146,8 +173,8 @@ static void print_human(const char *name, const pom_dyn_params *p, const pom_dyn
          mt->energy_coil[0] + mt->energy_coil[1] + mt->energy_coil[2],
          mt->energy_bearing[0] + mt->energy_bearing[1] + mt->energy_bearing[2],
          mt->energy_parasitic, mt->energy_stored_change, mt->energy_balance_error);
-  printf("largest parasitic deflection: %.3g um, %.3g mrad\n", mt->max_deflection * 1e6,
-         mt->max_angular_deflection * 1e3);
+  printf("largest parasitic deflection: %.3g mm, %.3g deg\n", mt->max_deflection * 1e3,
+         mt->max_angular_deflection / POM_DEG);
   printf("solver: %ld steps, %ld RHS evaluations (%ld in %ld Jacobians), %ld Newton iterations, "
          "%ld factorizations, %ld error-test and %ld convergence failures; %.3f ms wall\n",
          mt->steps, mt->rhs_evals, mt->jac_rhs_evals, mt->jac_evals, mt->newton_iters,
@@ -160,16 +187,18 @@ static int ends_with(const char *s, const char *suffix) {
   return n >= k && strcmp(s + n - k, suffix) == 0;
 }
 
-static pom_status write_csv(const char *path, const pom_dyn_trace *tr, pom_actuator_kind kind,
-                            pom_error *err) {
-  FILE *f = fopen(path, "w");
-  if (!f) POM_FAIL(err, POM_ERR_IO, "cannot write '%s'", path);
+static pom_status write_csv(const char *path, const pom_dyn_trace *tr, const double target[3],
+                            pom_actuator_kind kind, pom_error *err) {
+  pom_io_file w;
+  POM_TRY(pom_io_create(&w, path, err));
+  FILE *f = w.f;
   /* actuator coordinates in their SI unit: m and m/s, or rad and rad/s */
   const char *q = pom_act_units_of(kind)->si, *qd = kind == POM_ACT_REVOLUTE ? "radps" : "mps";
   fprintf(f,
           "t_s,q1_%s,q2_%s,q3_%s,qdot1_%s,qdot2_%s,qdot3_%s,i1_A,i2_A,i3_A,u1_V,u2_V,u3_V,"
-          "E1_J,E2_J,E3_J,psi_rad,theta_rad,phi_rad,qw,qx,qy,qz,deflection_m\n",
-          q, q, q, qd, qd, qd);
+          "E1_J,E2_J,E3_J,psi_rad,theta_rad,phi_rad,qw,qx,qy,qz,deflection_m,q1_set_%s,"
+          "q2_set_%s,q3_set_%s\n",
+          q, q, q, qd, qd, qd, q, q, q);
   for (int k = 0; k < tr->n; ++k) {
     fprintf(f, "%.9g", tr->t[k]);
     const double *cols[5] = {tr->q, tr->q_dot, tr->current, tr->voltage, tr->energy};
@@ -180,10 +209,10 @@ static pom_status write_csv(const char *path, const pom_dyn_trace *tr, pom_actua
       fprintf(f, ",%.9g", tr->euler_zyx[3 * k + a]);
     for (int a = 0; a < 4; ++a)
       fprintf(f, ",%.9g", tr->quat[4 * k + a]);
-    fprintf(f, ",%.9g\n", tr->deflection[k]);
+    /* the setpoints on every row: plots draw them as the HDF5 file's are */
+    fprintf(f, ",%.9g,%.9g,%.9g,%.9g\n", tr->deflection[k], target[0], target[1], target[2]);
   }
-  if (fclose(f) != 0) POM_FAIL(err, POM_ERR_IO, "writing '%s' failed", path);
-  return POM_OK;
+  return pom_io_commit(&w, err);
 }
 
 static pom_status write_h5(const char *path, const pom_cfg *cfg, const char *name,
@@ -249,21 +278,27 @@ done:
 }
 
 /* ---- command ------------------------------------------------------------- */
-static int parse_real(const char *opt, const char *text, double *out) {
-  char *end = NULL;
-  double v = strtod(text, &end);
-  if (end == text || *end != '\0' || !isfinite(v)) {
-    fprintf(stderr, "pomlab simulate: %s expects a number, got '%s'\n", opt, text);
-    return -1;
-  }
-  *out = v;
-  return 0;
+/* Options that set a config value, checked by the config's own ranges. */
+typedef struct {
+  const char *option; /* "--kp" */
+  const char *key;    /* "controller.kp" */
+  const char *text;   /* the value given, NULL when absent */
+} simulate_setting;
+
+static int setting_index(const simulate_setting *s, int n, const char *option) {
+  for (int k = 0; k < n; ++k)
+    if (strcmp(s[k].option, option) == 0) return k;
+  return -1;
 }
 
 int pom_cmd_simulate(int argc, char **argv) {
   const char *cfg_path = NULL, *out_path = NULL, *target_text = NULL;
   const char *form = NULL, *orient = NULL, *linsol = NULL, *joints = NULL;
-  double kp = NAN, ki = NAN, kd = NAN, rtol = NAN;
+  simulate_setting settings[] = {{"--kp", "controller.kp", NULL},
+                                 {"--ki", "controller.ki_per_s", NULL},
+                                 {"--kd", "controller.kd_s", NULL},
+                                 {"--rtol", "solver.rtol", NULL}};
+  const int n_settings = (int)(sizeof settings / sizeof settings[0]);
   int json = 0;
   for (int k = 1; k < argc; ++k) {
     const char *a = argv[k];
@@ -285,14 +320,8 @@ int pom_cmd_simulate(int argc, char **argv) {
       linsol = argv[++k];
     } else if (strcmp(a, "--joints") == 0 && has_val) {
       joints = argv[++k];
-    } else if (strcmp(a, "--kp") == 0 && has_val) {
-      if (parse_real(a, argv[++k], &kp)) return 2;
-    } else if (strcmp(a, "--ki") == 0 && has_val) {
-      if (parse_real(a, argv[++k], &ki)) return 2;
-    } else if (strcmp(a, "--kd") == 0 && has_val) {
-      if (parse_real(a, argv[++k], &kd)) return 2;
-    } else if (strcmp(a, "--rtol") == 0 && has_val) {
-      if (parse_real(a, argv[++k], &rtol)) return 2;
+    } else if (a[0] == '-' && has_val && setting_index(settings, n_settings, a) >= 0) {
+      settings[setting_index(settings, n_settings, a)].text = argv[++k];
     } else if (a[0] != '-' && !cfg_path) {
       cfg_path = a;
     } else {
@@ -327,8 +356,13 @@ int pom_cmd_simulate(int argc, char **argv) {
   pom_dyn_params par;
   pom_dyn_metrics mt;
   pom_cfg *cfg = pom_cli_load_config(cfg_path);
+  if (!cfg) rc = 2; /* a config that cannot be read is a config error */
   if (!cfg || !mech) goto done;
-  pom_status st = pom_kin_arch_load(&arch, cfg, &err);
+  pom_status st = POM_OK;
+  for (int j = 0; j < n_settings && st == POM_OK; ++j)
+    if (settings[j].text)
+      st = pom_cfg_set_number(cfg, settings[j].key, settings[j].text, settings[j].option, &err);
+  if (st == POM_OK) st = pom_kin_arch_load(&arch, cfg, &err);
   if (st == POM_OK) st = pom_kin_mechanism_build(mech, &arch, cfg, &err);
   pom_dyn_params_defaults(&par);
   if (st == POM_OK) st = pom_dyn_params_load(&par, cfg, &err);
@@ -384,19 +418,6 @@ int pom_cmd_simulate(int argc, char **argv) {
       goto done;
     }
   }
-  if (!isnan(kp)) par.controller.kp = kp;
-  if (!isnan(ki)) par.controller.ki = ki;
-  if (!isnan(kd)) par.controller.kd = kd;
-  if (!isnan(rtol)) {
-    /* the same range as solver.rtol in the config (docs/dynamics.md section 9) */
-    if (!(rtol >= 1e-13 && rtol <= 1e-1)) {
-      fprintf(stderr,
-              "pomlab simulate: --rtol %g: out of range: expected a value in [1e-13, 0.1]\n", rtol);
-      rc = 2;
-      goto done;
-    }
-    par.solver.rtol = rtol;
-  }
   /* display unit (mm or deg) -> SI (m or rad), once, at the edge */
   const pom_act_units *u = pom_act_units_of(kind);
   for (int a = 0; a < 3; ++a)
@@ -406,8 +427,8 @@ int pom_cmd_simulate(int argc, char **argv) {
     double half = 0.5 * arch.stroke;
     if (half > 0 && !(fabs(target[a]) <= half)) {
       fprintf(stderr,
-              "pomlab simulate: --target q%d = %g %s is outside the stroke +-%g %s "
-              "(limits.stroke_%s = %g)\n",
+              "pomlab simulate: --target q%d = %.10g %s is outside the stroke +-%.10g %s "
+              "(limits.stroke_%s = %.10g)\n",
               a + 1, target[a] * u->to_display, u->display, half * u->to_display, u->display,
               u->display, arch.stroke * u->to_display);
       rc = 2;
@@ -425,16 +446,23 @@ int pom_cmd_simulate(int argc, char **argv) {
   }
   st = pom_dyn_simulate(model, data, target, &mt, trace, &err);
   if (json)
-    print_json(arch.name, &par, &mt, kind);
+    print_json(arch.name, &par, &mt, kind, 0.5 * arch.stroke);
   else
-    print_human(arch.name, &par, &mt, kind);
+    print_human(arch.name, &par, &mt, kind, 0.5 * arch.stroke);
   rc = st == POM_OK ? 0 : 1;
   if (st != POM_OK) pom_cli_report("simulate", &err);
+  int beyond[3];
+  if (stroke_excursions(&mt, 0.5 * arch.stroke, beyond))
+    fprintf(stderr,
+            "pomlab simulate: warning: an actuator left its stroke +-%.10g %s (max |q| %.6g, "
+            "%.6g, %.6g %s); the model has no end stops\n",
+            0.5 * arch.stroke * u->to_display, u->display, mt.max_abs_q[0] * u->to_display,
+            mt.max_abs_q[1] * u->to_display, mt.max_abs_q[2] * u->to_display, u->display);
   if (trace && trace->n > 0) {
     pom_error werr;
     pom_error_clear(&werr);
     pom_status wst = ends_with(out_path, ".csv")
-                         ? write_csv(out_path, trace, kind, &werr)
+                         ? write_csv(out_path, trace, mt.target, kind, &werr)
                          : write_h5(out_path, cfg, arch.name, &par, trace, &mt, kind, &werr);
     if (wst != POM_OK) {
       pom_cli_report("simulate: writing traces", &werr);

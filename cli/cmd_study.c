@@ -3,8 +3,10 @@
  * (docs/results.md). Under mpirun (built with POM_WITH_MPI) the maneuvers are
  * split over the ranks and rank 0 writes the same file one process would. */
 #include "cli_doe.h"
+#include "cli_pipeline.h"
 #include "pom_cli.h"
 #include "pom_pipeline.h"
+#include "pom_progress.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -18,11 +20,15 @@ static void study_usage(FILE *out) {
                "Runs every candidate of the study file on the same Monte-Carlo maneuvers, writes\n"
                "the HDF5 results file, prints the execution-time and energy tables, the paired\n"
                "comparison and the ranking, and writes DIR/summary.md with PNG figures, where\n"
-               "DIR is the results file's path without .h5 (e.g. results/paper/).\n\n"
+               "DIR is the results file's path without .h5 (e.g. results/paper/). Candidates\n"
+               "that ask for synthesis or tuning (run_in_study) go through them first, with a\n"
+               "progress bar per phase; their geometry, gains and records go to DIR too.\n\n"
                "  --threads N      worker threads (default: study.threads, else all cores)\n"
                "  --resume         continue an interrupted results file (same study only)\n"
                "  --out FILE       results file (default: study.output, else results/<name>.h5)\n"
                "  --stop-after N   stop after N more maneuvers (to test --resume)\n"
+               "  --tabular FILE   also write FILE (.csv, one row per candidate x maneuver) and\n"
+               "                   FILE_candidates.csv (one row per candidate); study.tabular\n"
                "  --json           JSON report on stdout instead of tables\n"
                "  --no-plots       skip the figures\n"
                "  --no-summary     skip summary.md\n"
@@ -58,11 +64,8 @@ static int study_main(int argc, char **argv, int rank, int size) {
       if (rank == 0) study_usage(stdout);
       return 0;
     } else if (strcmp(a, "--threads") == 0 && k + 1 < argc) {
-      if (parse_count(argv[++k], &v) != 0 || v < 1 || v > 1024) {
-        if (rank == 0) fprintf(stderr, "pomlab study: --threads needs an integer in [1, 1024]\n");
+      if (pom_cli_parse_threads(rank == 0 ? "study" : NULL, argv[++k], &o.run.threads) != 0)
         return 2;
-      }
-      o.run.threads = (int)v;
     } else if (strcmp(a, "--stop-after") == 0 && k + 1 < argc) {
       if (parse_count(argv[++k], &v) != 0 || v < 1) {
         if (rank == 0) fprintf(stderr, "pomlab study: --stop-after needs a positive integer\n");
@@ -71,6 +74,8 @@ static int study_main(int argc, char **argv, int rank, int size) {
       o.run.stop_after = v;
     } else if (strcmp(a, "--out") == 0 && k + 1 < argc) {
       o.run.output = argv[++k];
+    } else if (strcmp(a, "--tabular") == 0 && k + 1 < argc) {
+      o.tabular = argv[++k];
     } else if (strcmp(a, "--resume") == 0) {
       o.run.resume = 1;
     } else if (strcmp(a, "--json") == 0) {
@@ -102,6 +107,7 @@ static int study_main(int argc, char **argv, int rank, int size) {
   pom_status st = pom_cfg_load(&cfg, cfg_path, &err);
   pom_doe_study study;
   memset(&study, 0, sizeof study);
+  o.t_start = pom_progress_now();
   /* candidates whose config asks for it are synthesized and tuned first
      (synthesis/tuning.run_in_study, docs/optimize.md 10) */
   if (st == POM_OK) st = pom_doe_study_load(&study, cfg, pom_pipeline_evaluator_create, NULL, &err);
@@ -112,6 +118,29 @@ static int study_main(int argc, char **argv, int rank, int size) {
     /* a study file that cannot be read is a config error, as for every command */
     return loaded ? pom_cli_exit_code(st) : 2;
   }
+  /* the pipeline's files go with the summary: results/x.h5 -> results/x/ */
+  const char *output = o.run.output ? o.run.output : study.output;
+  char prefix[1200] = "results/pipeline_";
+  if (output[0]) {
+    pom_cli_doe_summary_dir(prefix, sizeof prefix - 1, output);
+    strcat(prefix, "/");
+  }
+  pom_cli_phases bars;
+  pom_cli_phases_init(&bars, rank == 0 && !o.quiet ? stderr : NULL);
+  pom_pipeline_options po;
+  memset(&po, 0, sizeof po);
+  po.output_prefix = prefix;
+  po.no_files = rank != 0;
+  po.progress = pom_cli_phases_report;
+  po.progress_user = &bars;
+  st = pom_pipeline_run(&study, &po, &err);
+  pom_cli_phases_end(&bars);
+  if (st != POM_OK) {
+    if (rank == 0) pom_cli_report("pipeline", &err);
+    pom_doe_study_clear(&study);
+    return pom_cli_exit_code(st);
+  }
+  o.report_extra = pom_cli_pipeline_report;
   int code = pom_cli_doe_execute(&study, &o);
   pom_doe_study_clear(&study);
   return code;

@@ -50,6 +50,32 @@ static void safe_name(char *out, size_t cap, const char *name) {
   out[j] = '\0';
 }
 
+/* A number in fmt, or a right-aligned "-" of the same width when it is not
+   finite (a row without that statistic). */
+static void fmt_or_dash(char *buf, size_t cap, const char *fmt, double v) {
+  if (isfinite(v)) {
+    snprintf(buf, cap, fmt, v);
+  } else {
+    int width = atoi(fmt + 1);
+    snprintf(buf, cap, "%*s", width, "-");
+  }
+}
+
+/* Surfaces that predict new runs worse than the runs' own mean (predicted
+ * R^2 < 0, docs/optimize.md 2.2), in every stage: the optimum on them is a
+ * guess the confirmation and the direct search must check. */
+static void print_fit_warnings(FILE *out, const pom_syn_run *run) {
+  int stage = 0;
+  for (const pom_syn_run *s = run; s; s = s->refined, ++stage)
+    for (int r = 0; r < POM_SYN_N_RESP; ++r)
+      if (s->fitted[r] && s->fit[r].r2_pred < 0.0)
+        fprintf(out,
+                "  warning: stage %d surface of %s has a negative predicted R2 (%.4f): it predicts "
+                "left-out runs worse than their mean; rely on the confirmation and the direct "
+                "search, or narrow the box (refine_stages)\n",
+                stage, pom_syn_resp_name((pom_syn_resp)r), s->fit[r].r2_pred);
+}
+
 static void print_human(const pom_syn_run *run, const char *geo_path, const char *h5_path) {
   const pom_syn_problem *pb = run->pb;
   int k = pb->n_vars;
@@ -62,8 +88,8 @@ static void print_human(const pom_syn_run *run, const char *geo_path, const char
     printf("  %s in [%.4g, %.4g]", pom_syn_var_name(pb, i), pb->lo[i] * pom_syn_var_unit(pb, i),
            pb->hi[i] * pom_syn_var_unit(pb, i));
   printf("\n\nfits (full quadratic, coded units):\n");
-  printf("  %-14s %8s %8s %8s %9s %10s %10s %9s\n", "response", "R2", "R2adj", "R2pred", "LOF p",
-         "hold rmse", "hold maxab", "in PI");
+  printf("  %-14s %8s %8s %8s %20s %10s %10s %9s\n", "response", "R2", "R2adj", "R2pred",
+         "lack-of-fit p", "hold rmse", "hold maxab", "in PI");
   for (int r = 0; r < POM_SYN_N_RESP; ++r) {
     double u = pom_syn_resp_unit((pom_syn_resp)r);
     if (!run->fitted[r]) {
@@ -73,11 +99,17 @@ static void print_human(const pom_syn_run *run, const char *geo_path, const char
     }
     const pom_rsm_fit *f = &run->fit[r];
     const pom_rsm_check *c = &run->check[r];
-    printf("  %-14s %8.4f %8.4f %8.4f %9.3g %10.4g %10.4g %9.2f\n",
-           pom_syn_resp_name((pom_syn_resp)r), f->r2, f->r2_adj, f->r2_pred,
-           f->has_lack_of_fit ? f->anova[POM_RSM_ROW_LACK_OF_FIT].p : NAN, c->rmse * u,
+    char lof[40];
+    const char *note = pom_rsm_lack_of_fit_note(f);
+    if (note)
+      snprintf(lof, sizeof lof, "n/a (%s)", note);
+    else
+      snprintf(lof, sizeof lof, "%.3g", f->anova[POM_RSM_ROW_LACK_OF_FIT].p);
+    printf("  %-14s %8.4f %8.4f %8.4f %20s %10.4g %10.4g %9.2f\n",
+           pom_syn_resp_name((pom_syn_resp)r), f->r2, f->r2_adj, f->r2_pred, lof, c->rmse * u,
            c->max_abs * u, c->within_pi);
   }
+  print_fit_warnings(stdout, run);
   /* ANOVA of the first goal's surface */
   pom_syn_resp g0 = pb->goal_resp[0];
   if (run->fitted[g0]) {
@@ -92,8 +124,13 @@ static void print_human(const pom_syn_run *run, const char *geo_path, const char
       const pom_rsm_anova_row *a = &f->anova[r];
       if ((r == POM_RSM_ROW_LACK_OF_FIT || r == POM_RSM_ROW_PURE_ERROR) && !f->has_lack_of_fit)
         continue;
-      printf("  %-12s %12.5g %5.0f %12.5g %10.4g %10.3g\n", anova_names[r], a->ss * u0 * u0, a->df,
-             a->ms * u0 * u0, a->f, a->p);
+      /* rows without a test (residual, total, zero pure error) show "-", not nan */
+      char ms[32], fv[32], pv[32];
+      fmt_or_dash(ms, sizeof ms, "%12.5g", a->ms * u0 * u0);
+      fmt_or_dash(fv, sizeof fv, "%10.4g", a->f);
+      fmt_or_dash(pv, sizeof pv, "%10.3g", a->p);
+      printf("  %-12s %12.5g %5.0f %12s %10s %10s\n", anova_names[r], a->ss * u0 * u0, a->df, ms,
+             fv, pv);
     }
     printf("  coefficients: ");
     for (int j = 0; j < f->p; ++j) {
@@ -149,8 +186,16 @@ static void print_human(const pom_syn_run *run, const char *geo_path, const char
            pom_opt_result_name(run->direct.result_global), run->direct.evals_local,
            pom_opt_result_name(run->direct.result_local), run->direct.wall_time);
   }
-  printf("\nscaled to the %.4g mm stroke for +-%.3g deg: platform radius %.4f mm (%d workspace "
-         "evaluations)\n",
+  if (run->direct_better)
+    printf("\nthe direct search found a better design than the surrogate: D = %.4f against %.4f "
+           "(true kinematics at the base scale); %s\n",
+           run->d_direct, run->d_confirmed,
+           run->written_direct ? "it is the one written"
+                               : "the surrogate's is written (synthesis.write = \"surrogate\"; "
+                                 "\"direct\" or \"best\" writes the direct one)");
+  printf("\nscaled the %s optimum (synthesis.write = \"%s\") to the %.4g mm stroke for +-%.3g "
+         "deg: platform radius %.4f mm (%d workspace evaluations)\n",
+         run->written_direct ? "direct-search" : "surrogate", pom_syn_write_name(pb->write),
          pb->base.stroke * 1e3, pb->target_half_width / POM_DEG, run->scale * 1e3,
          run->scale_evals);
   printf("  wrote %s and %s\n\n", geo_path, h5_path);
@@ -224,6 +269,8 @@ static void print_json(pom_syn_run *const runs[], int n, char paths[][2][512]) {
       printf(" \"direct\": {\"desirability\": %s, \"true_evals\": %ld, \"time_s\": %s},",
              jn(b1, run->d_direct), run->direct.evals_global + run->direct.evals_local,
              jn(b2, run->direct.wall_time));
+    printf(" \"direct_better\": %s, \"written\": \"%s\",", run->direct_better ? "true" : "false",
+           run->written_direct ? "direct" : "surrogate");
     printf(" \"platform_radius_mm\": %s, \"geometry_file\": ", jn(b1, run->scale * 1e3));
     pom_json_string(stdout, paths[c][0]);
     printf(", \"h5_file\": ");
@@ -294,7 +341,25 @@ int pom_cmd_synth(int argc, char **argv) {
       code = pom_cli_exit_code(st);
       goto out;
     }
+    if (no_direct && pbs[c].write == POM_SYN_WRITE_DIRECT) {
+      fprintf(stderr, "pomlab synth: --no-direct contradicts synthesis.write = \"direct\" in %s\n",
+              cfg_paths[c]);
+      code = 2;
+      goto out;
+    }
     if (no_direct) pbs[c].direct = 0;
+    char name[32];
+    safe_name(name, sizeof name, pbs[c].base.name);
+    snprintf(paths[c][0], sizeof paths[c][0], "%s%s.geometry.cfg", prefix, name);
+    snprintf(paths[c][1], sizeof paths[c][1], "%s%s.h5", prefix, name);
+    /* two configs of one name would write the same files, the second over
+     * the first: refused before any work */
+    for (int d = 0; d < c; ++d)
+      if (strcmp(paths[d][0], paths[c][0]) == 0) {
+        pom_cli_refuse_shared_output("synth", cfg_paths[d], cfg_paths[c], paths[c][0]);
+        code = 2;
+        goto out;
+      }
   }
   for (int c = 0; c < ncfg; ++c) {
     pom_status st = pom_syn_begin(&runs[c], &pbs[c], &err);
@@ -311,10 +376,6 @@ int pom_cmd_synth(int argc, char **argv) {
       pom_progress_finish(&bar, runs[c]->next);
     }
     if (st == POM_OK) st = pom_syn_finish(runs[c], &err);
-    char name[32];
-    safe_name(name, sizeof name, pbs[c].base.name);
-    snprintf(paths[c][0], sizeof paths[c][0], "%s%s.geometry.cfg", prefix, name);
-    snprintf(paths[c][1], sizeof paths[c][1], "%s%s.h5", prefix, name);
     if (st == POM_OK) st = pom_syn_write_geometry(runs[c], paths[c][0], &err);
     if (st == POM_OK) st = pom_syn_write_h5(runs[c], paths[c][1], pom_cfg_text(cfgs[c]), &err);
     if (st != POM_OK) {
@@ -322,7 +383,10 @@ int pom_cmd_synth(int argc, char **argv) {
       code = pom_cli_exit_code(st);
       goto out;
     }
-    if (!json) print_human(runs[c], paths[c][0], paths[c][1]);
+    if (!json)
+      print_human(runs[c], paths[c][0], paths[c][1]);
+    else
+      print_fit_warnings(stderr, runs[c]);
   }
   if (json)
     print_json(runs, ncfg, paths);

@@ -3,6 +3,7 @@
  * stiffness and linear solver; table, CSV for the work-precision plot and a
  * recommendation (docs/tradeoff.md). */
 #include "pom_cli.h"
+#include "pom_io.h"
 #include "pom_doe.h"
 #include "pom_kinematics.h"
 #include "pom_tradeoff.h"
@@ -73,8 +74,9 @@ static void print_table(const pom_tradeoff_result *res, double accuracy) {
 }
 
 static pom_status write_csv(const char *path, const pom_tradeoff_result *res, pom_error *err) {
-  FILE *f = fopen(path, "w");
-  if (!f) POM_FAIL(err, POM_ERR_IO, "cannot write '%s'", path);
+  pom_io_file out;
+  POM_TRY(pom_io_create(&out, path, err));
+  FILE *f = out.f;
   fprintf(f, "label,family,n_states,time_s,steps,err_settle,err_energy,err_traj,err_max,failures,"
              "recommended\n");
   for (int r = 0; r < res->n_rows; ++r) {
@@ -83,8 +85,7 @@ static pom_status write_csv(const char *path, const pom_tradeoff_result *res, po
             w->n_states, w->time, w->steps, w->err_settle, w->err_energy, w->err_traj, w->err_max,
             w->failures, r == res->recommended);
   }
-  if (fclose(f) != 0) POM_FAIL(err, POM_ERR_IO, "writing '%s' failed", path);
-  return POM_OK;
+  return pom_io_commit(&out, err);
 }
 
 int pom_cmd_tradeoff(int argc, char **argv) {

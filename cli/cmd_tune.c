@@ -2,6 +2,7 @@
  * every architecture (docs/optimize.md section 9). */
 #include "cli_kin.h"
 #include "pom_cli.h"
+#include "pom_progress.h"
 #include "pom_tune.h"
 
 #include <math.h>
@@ -11,7 +12,7 @@
 #define MAX_CFGS 4
 
 static void usage(FILE *out) {
-  fprintf(out, "usage: pomlab tune CFG [CFG ...] [--out PREFIX] [--json]\n\n"
+  fprintf(out, "usage: pomlab tune CFG [CFG ...] [--out PREFIX] [--json] [--quiet]\n\n"
                "Tunes the PID gains of each config by the same criterion: mean execution time\n"
                "over a fixed maneuver set, with penalties beyond the overshoot and saturation\n"
                "limits (docs/optimize.md). Writes PREFIX<name>.controller.cfg, a `controller`\n"
@@ -19,6 +20,8 @@ static void usage(FILE *out) {
                "  --out PREFIX  output path prefix (its folder must exist)\n"
                "  --json        JSON on stdout (SI: gains kp V/V, ki_per_s 1/s, kd_s s;\n"
                "                times s)\n"
+               "  --quiet       no progress on stderr (criterion evaluations done, at most\n"
+               "                the stages' evaluation limits)\n"
                "  --help        this text\n\n"
                "Config keys: the `tuning` group (docs/optimize.md section 9). Exit status:\n"
                "0 ok; 1 a simulation failed or the file cannot be written; 2 usage or\n"
@@ -56,14 +59,24 @@ static void print_eval(const char *what, const pom_dyn_controller *c, const pom_
       e->mean_energy);
 }
 
+/* The progress bar (or log lines) on stderr, in criterion evaluations. */
+static void on_progress(void *user, const char *phase, long done, long total) {
+  (void)phase; /* "tune" */
+  pom_progress *bar = user;
+  bar->total = total;
+  pom_progress_update(bar, done);
+}
+
 int pom_cmd_tune(int argc, char **argv) {
   const char *cfg_paths[MAX_CFGS];
-  int ncfg = 0, json = 0;
+  int ncfg = 0, json = 0, quiet = 0;
   const char *prefix = "results/tune_";
   for (int a = 1; a < argc; ++a) {
     if (strcmp(argv[a], "--help") == 0 || strcmp(argv[a], "-h") == 0) {
       usage(stdout);
       return 0;
+    } else if (strcmp(argv[a], "--quiet") == 0) {
+      quiet = 1;
     } else if (strcmp(argv[a], "--json") == 0) {
       json = 1;
     } else if (strcmp(argv[a], "--out") == 0 && a + 1 < argc) {
@@ -110,13 +123,28 @@ int pom_cmd_tune(int argc, char **argv) {
     if (st != POM_OK) {
       pom_cli_report("tune", &err);
       code = pom_cli_exit_code(st);
+      break;
     }
-  }
-  for (int c = 0; c < ncfg && code == 0; ++c) {
-    pom_status st = pom_tune_run(&pbs[c], &res[c], &err);
     char name[32];
     safe_name(name, sizeof name, pbs[c].arch.name);
     snprintf(paths[c], sizeof paths[c], "%s%s.controller.cfg", prefix, name);
+    /* two configs of one name would write the same file, the second over
+     * the first: refused before any work */
+    for (int d = 0; d < c && code == 0; ++d)
+      if (strcmp(paths[d], paths[c]) == 0) {
+        pom_cli_refuse_shared_output("tune", cfg_paths[d], cfg_paths[c], paths[c]);
+        code = 2;
+      }
+  }
+  for (int c = 0; c < ncfg && code == 0; ++c) {
+    pom_progress bar;
+    char label[64];
+    snprintf(label, sizeof label, "tune %s", cfg_paths[c]);
+    pom_progress_init(&bar, quiet ? NULL : stderr, label, 1, 0, 0);
+    pbs[c].progress = on_progress;
+    pbs[c].progress_user = &bar;
+    pom_status st = pom_tune_run(&pbs[c], &res[c], &err);
+    pom_progress_finish(&bar, bar.total);
     if (st == POM_OK) st = pom_tune_write_controller(&pbs[c], &res[c], paths[c], &err);
     if (st != POM_OK) {
       pom_cli_report("tune", &err);

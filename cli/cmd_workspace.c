@@ -2,7 +2,9 @@
  * conditioning index and an optional dexterity map (CSV). */
 #include "cli_kin.h"
 #include "pom_cli.h"
+#include "pom_io.h"
 #include "pom_math.h"
+#include "pom_progress.h"
 
 #include <errno.h>
 #include <math.h>
@@ -14,7 +16,7 @@ static const char *const ws_scopes[] = {"name",   "architecture", "geometry",
 
 static void ws_usage(FILE *out) {
   fprintf(out,
-          "usage: pomlab workspace CONFIG [--json] [--map FILE.csv]\n\n"
+          "usage: pomlab workspace CONFIG [--json] [--map FILE.csv] [--quiet]\n\n"
           "Regular dexterous workspace (RDW): the largest cube [-a, a]^3 of ZYX Euler\n"
           "angles (psi, theta, phi) about home whose grid poses (step workspace.resolution_deg)\n"
           "are all assemblable on the home branch, within the limits (when\n"
@@ -25,17 +27,26 @@ static void ws_usage(FILE *out) {
           "  --map FILE.csv  write the dexterity map over the cube of half-width\n"
           "                  workspace.map_half_width_deg, step workspace.map_resolution_deg:\n"
           "                  psi_deg,theta_deg,phi_deg,reachable,within_limits,dexterity,\n"
-          "                  q1_mm,q2_mm,q3_mm (or _deg for rotary actuators),violations\n"
+          "                  q1_mm,q2_mm,q3_mm (or _deg for rotary actuators),violations;\n"
+          "                  figure: python3 scripts/plot_workspace.py FILE.csv OUT.png\n"
           "  --json          machine-readable output on stdout\n"
+          "  --quiet         no progress on stderr\n\n"
+          "Cost: each grid (the RDW search, the GCI, the map) may evaluate at most\n"
+          "workspace.max_poses poses (default 1e8, a minute or two on one core). The\n"
+          "search stops before a shell that would pass it (the half-width is then a\n"
+          "lower bound); a GCI region or map that would pass it is refused up front.\n"
+          "Work expected to last over 10 s is announced with its estimate.\n"
           "  --help          this text\n\n"
           "Reads the config groups name, architecture, geometry, limits, workspace.\n"
           "Exit status: 0 ok; 1 home pose fails or the map cannot be written; 2 usage or\n"
-          "config error.\n");
+          "config error (a grid above the budget included).\n");
 }
 
 static const char *reason_text(const pom_kin_arch *arch, const pom_kin_ws_result *r,
                                const pom_kin_ws_opts *o, char *buf, size_t cap) {
-  if (r->capped) {
+  if (r->budget_reached) {
+    snprintf(buf, cap, "none: the search stopped at workspace.max_poses = %g", o->max_poses);
+  } else if (r->capped) {
     snprintf(buf, cap, "none: the search stopped at max_half_width_deg = %g",
              o->max_half_width / POM_DEG);
   } else if (r->fail_status == POM_ERR_UNREACHABLE) {
@@ -50,13 +61,82 @@ static const char *reason_text(const pom_kin_arch *arch, const pom_kin_ws_result
   return buf;
 }
 
-static int write_map(const char *file, const pom_kin_arch *arch, const pom_kin_ws_opts *o) {
-  FILE *fp = fopen(file, "w");
-  if (!fp) {
-    fprintf(stderr, "pomlab workspace: --map %s: cannot open for writing (%s)\n", file,
-            strerror(errno));
+/* ---- cost: budget, estimate, progress ------------------------------------------------ */
+/* Poses per second of this machine on this architecture, from a 8^3 grid of
+ * poses within 4 deg of home (a few milliseconds). */
+static double measured_rate(const pom_kin_arch *arch) {
+  double t0 = pom_progress_now();
+  pom_kin_pose p;
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j)
+      for (int l = 0; l < 8; ++l) {
+        double e[3] = {(i - 3.5) * POM_DEG, (j - 3.5) * POM_DEG, (l - 3.5) * POM_DEG}, R[9];
+        pom_euler_zyx_to_matrix(R, e);
+        pom_kin_pose_evaluate(arch, R, &p, NULL);
+      }
+  double dt = pom_progress_now() - t0;
+  return dt > 0.0 ? 512.0 / dt : NAN;
+}
+
+/* "about 3.2 min" for a number of seconds. */
+static const char *duration_text(char *buf, size_t cap, double s) {
+  if (!isfinite(s))
+    snprintf(buf, cap, "unknown time");
+  else if (s < 120.0)
+    snprintf(buf, cap, "about %.2g s", s);
+  else if (s < 7200.0)
+    snprintf(buf, cap, "about %.2g min", s / 60.0);
+  else if (s < 2.0 * 86400.0)
+    snprintf(buf, cap, "about %.2g h", s / 3600.0);
+  else
+    snprintf(buf, cap, "about %.2g days", s / 86400.0);
+  return buf;
+}
+
+/* Refuses a grid of `poses` above the budget: exit status 2 with the config
+ * file, the keys and their values; 0 when within it. */
+static int check_budget(const pom_cfg *cfg, const pom_kin_ws_opts *o, double poses, double rate,
+                        const char *step_key, double step, const char *width_key, double width) {
+  if (poses <= o->max_poses) return 0;
+  char value[64], how_long[48];
+  snprintf(value, sizeof value, "%.10g", step / POM_DEG);
+  pom_error err;
+  pom_error_clear(&err);
+  pom_cfg_error(cfg, step_key, value, &err,
+                "over %s = %.10g deg this grid needs %.3g pose evaluations (%s here), above the "
+                "budget workspace.max_poses = %.3g; coarsen the step, shrink the region or raise "
+                "the budget",
+                width_key, width / POM_DEG, poses,
+                duration_text(how_long, sizeof how_long, poses / rate), o->max_poses);
+  pom_cli_report("workspace", &err);
+  return 2;
+}
+
+/* Announces work expected to last over 10 s (stderr, unless quiet). */
+static void announce(int quiet, const char *what, double poses, double rate) {
+  char how_long[48];
+  if (quiet || !(poses / rate > 10.0)) return;
+  fprintf(stderr, "pomlab workspace: %s: up to %.3g poses, %s at %.3g poses/s\n", what, poses,
+          duration_text(how_long, sizeof how_long, poses / rate), rate);
+}
+
+/* The kinematics' progress callback drives a pom_progress bar. */
+static void on_progress(void *user, long done, long bound) {
+  pom_progress *bar = user;
+  bar->total = bound;
+  pom_progress_update(bar, done);
+}
+
+static int write_map(const char *file, const pom_kin_arch *arch, const pom_kin_ws_opts *o,
+                     pom_progress *bar) {
+  pom_io_file w;
+  pom_error err;
+  pom_error_clear(&err);
+  if (pom_io_create(&w, file, &err) != POM_OK) {
+    pom_cli_report("workspace --map", &err);
     return 1;
   }
+  FILE *fp = w.f;
   const pom_act_units *u = pom_act_units_of(pom_kin_type_actuator(arch->type));
   fprintf(fp,
           "psi_deg,theta_deg,phi_deg,reachable,within_limits,dexterity,q1_%s,q2_%s,q3_%s,"
@@ -64,9 +144,11 @@ static int write_map(const char *file, const pom_kin_arch *arch, const pom_kin_w
           u->display, u->display, u->display);
   const double h = o->map_resolution;
   const int n = (int)floor(o->map_half_width / h + 1e-9); /* + 1e-9: whole steps survive rounding */
-  for (int i = -n; i <= n; ++i)
+  long done = 0;
+  for (int i = -n; i <= n; ++i) {
+    pom_progress_update(bar, done);
     for (int j = -n; j <= n; ++j)
-      for (int l = -n; l <= n; ++l) {
+      for (int l = -n; l <= n; ++l, ++done) {
         double e[3] = {i * h, j * h, l * h}, R[9];
         pom_euler_zyx_to_matrix(R, e);
         pom_kin_pose p;
@@ -80,8 +162,10 @@ static int write_map(const char *file, const pom_kin_arch *arch, const pom_kin_w
                 p.q[0] * u->to_display, p.q[1] * u->to_display, p.q[2] * u->to_display,
                 p.reachable ? v : "unreachable");
       }
-  if (fclose(fp) != 0) {
-    fprintf(stderr, "pomlab workspace: --map %s: write failed (%s)\n", file, strerror(errno));
+  }
+  pom_progress_finish(bar, done);
+  if (pom_io_commit(&w, &err) != POM_OK) {
+    pom_cli_report("workspace --map", &err);
     return 1;
   }
   return 0;
@@ -89,13 +173,15 @@ static int write_map(const char *file, const pom_kin_arch *arch, const pom_kin_w
 
 int pom_cmd_workspace(int argc, char **argv) {
   const char *path = NULL, *map = NULL;
-  int json = 0;
+  int json = 0, quiet = 0;
   for (int k = 1; k < argc; ++k) {
     if (strcmp(argv[k], "--help") == 0 || strcmp(argv[k], "-h") == 0) {
       ws_usage(stdout);
       return 0;
     } else if (strcmp(argv[k], "--json") == 0) {
       json = 1;
+    } else if (strcmp(argv[k], "--quiet") == 0) {
+      quiet = 1;
     } else if (strcmp(argv[k], "--map") == 0 && k + 1 < argc) {
       map = argv[++k];
     } else if (strncmp(argv[k], "--map=", 6) == 0) {
@@ -121,12 +207,33 @@ int pom_cmd_workspace(int argc, char **argv) {
   pom_kin_ws_opts o;
   int rc = pom_cli_kin_load(path, &cfg, &arch, &o, ws_scopes);
   if (rc) return rc;
+  /* The grids whose size is known before the search: refused above the
+   * budget before any work (the GCI over the RDW is never larger than the
+   * search that found it). */
+  const double rate = measured_rate(&arch);
+  if (o.gci_half_width > 0.0)
+    rc = check_budget(cfg, &o, pom_kin_gci_poses(o.gci_half_width, o.resolution), rate,
+                      "workspace.resolution_deg", o.resolution, "workspace.gci_half_width_deg",
+                      o.gci_half_width);
+  if (!rc && map)
+    rc = check_budget(cfg, &o, pom_kin_grid_poses(o.map_half_width, o.map_resolution), rate,
+                      "workspace.map_resolution_deg", o.map_resolution,
+                      "workspace.map_half_width_deg", o.map_half_width);
   pom_cfg_destroy(cfg);
+  if (rc) return rc;
 
   pom_error err;
   pom_error_clear(&err);
   pom_kin_ws_result r;
+  pom_progress bar;
+  double search_poses = fmin(pom_kin_grid_poses(o.max_half_width, o.resolution), o.max_poses);
+  announce(quiet, "regular dexterous workspace search", search_poses, rate);
+  pom_progress_init(&bar, quiet ? NULL : stderr, "workspace search (poses, at most)",
+                    (long)search_poses, 0, 0);
+  o.progress = on_progress;
+  o.progress_user = &bar;
   pom_status st = pom_kin_workspace(&arch, &o, &r, &err);
+  pom_progress_finish(&bar, r.poses);
   if (st != POM_OK) {
     pom_cli_report("workspace", &err);
     return pom_cli_exit_code(st);
@@ -137,14 +244,28 @@ int pom_cmd_workspace(int argc, char **argv) {
     fprintf(stderr, "pomlab workspace: the home pose itself fails (%s)\n", why);
     return 1;
   }
+  if (r.budget_reached)
+    fprintf(stderr,
+            "pomlab workspace: warning: the search stopped at workspace.max_poses = %g before "
+            "finding the edge; the half-width +-%g deg is a lower bound\n",
+            o.max_poses, r.half_width / POM_DEG);
   double gci_region = o.gci_half_width > 0.0 ? o.gci_half_width : r.half_width;
-  double gci = NAN, usable = NAN;
-  st = pom_kin_gci(&arch, gci_region, o.resolution, o.check_limits, &gci, &usable, &err);
+  double gci = NAN, usable = NAN, gci_poses = pom_kin_gci_poses(gci_region, o.resolution);
+  announce(quiet, "global conditioning index", gci_poses, rate);
+  pom_progress_init(&bar, quiet ? NULL : stderr, "workspace GCI (poses)", (long)gci_poses, 0, 0);
+  st = pom_kin_gci_progress(&arch, gci_region, o.resolution, o.check_limits, on_progress, &bar,
+                            &gci, &usable, &err);
+  pom_progress_finish(&bar, (long)gci_poses);
   if (st != POM_OK) {
     pom_cli_report("workspace: GCI", &err);
     return 1;
   }
-  if (map && write_map(map, &arch, &o) != 0) return 1;
+  if (map) {
+    double map_poses = pom_kin_grid_poses(o.map_half_width, o.map_resolution);
+    announce(quiet, "dexterity map", map_poses, rate);
+    pom_progress_init(&bar, quiet ? NULL : stderr, "workspace map (poses)", (long)map_poses, 0, 0);
+    if (write_map(map, &arch, &o, &bar) != 0) return 1;
+  }
 
   if (json) {
     printf("{\n  \"config\": ");
@@ -159,10 +280,13 @@ int pom_cmd_workspace(int argc, char **argv) {
     pom_json_number(stdout, o.resolution / POM_DEG);
     printf(",\n  \"check_limits\": %s,\n  \"half_width_deg\": ", o.check_limits ? "true" : "false");
     pom_json_number(stdout, r.half_width / POM_DEG);
-    printf(",\n  \"capped\": %s,\n  \"min_dexterity\": ", r.capped ? "true" : "false");
+    printf(",\n  \"capped\": %s,\n  \"budget_reached\": %s,\n  \"max_poses\": ",
+           r.capped ? "true" : "false", r.budget_reached ? "true" : "false");
+    pom_json_number(stdout, o.max_poses);
+    printf(",\n  \"min_dexterity\": ");
     pom_json_number(stdout, r.min_dexterity);
     printf(",\n  \"first_failure\": ");
-    if (r.capped) {
+    if (r.capped || r.budget_reached) {
       printf("null");
     } else {
       printf("{\"euler_zyx_deg\": ");
@@ -189,10 +313,13 @@ int pom_cmd_workspace(int argc, char **argv) {
     printf("regular dexterous workspace (ZYX Euler cube about home, step %g deg,\n"
            "  1/kappa >= %g, limits %s):\n",
            o.resolution / POM_DEG, o.dexterity_min, o.check_limits ? "checked" : "ignored");
-    printf("  half-width:        +-%g deg%s\n", r.half_width / POM_DEG,
-           r.capped ? " (search cap reached)" : "");
+    printf("  half-width:        %s+-%g deg%s\n", r.budget_reached ? "at least " : "",
+           r.half_width / POM_DEG,
+           r.capped           ? " (search cap reached)"
+           : r.budget_reached ? " (search stopped at workspace.max_poses)"
+                              : "");
     printf("  min dexterity:     %.4f\n", r.min_dexterity);
-    if (!r.capped)
+    if (!r.capped && !r.budget_reached)
       printf("  first failure:     psi = %g, theta = %g, phi = %g deg: %s\n",
              r.fail_euler[0] / POM_DEG, r.fail_euler[1] / POM_DEG, r.fail_euler[2] / POM_DEG, why);
     printf("  poses evaluated:   %ld\n", r.poses);

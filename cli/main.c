@@ -1,9 +1,20 @@
-/* main.c - pomlab: dispatch to the subcommands. */
+/* main.c - pomlab: dispatch to the subcommands. Built twice (cli/CMakeLists.txt):
+ * pomlab-full runs every command; pomlab (POM_CLI_LIGHT) runs the kinematic
+ * commands itself and executes its sibling pomlab-full for the others, so that
+ * model, ik, fk and workspace never load HDF5, SUNDIALS, NLopt and their
+ * dependencies (bench/README.md, start-up). */
+#if POM_CLI_LIGHT
+#define _POSIX_C_SOURCE 200809L /* readlink, execv */
+#endif
 #include "pom_cli.h"
 #include "pom_version.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <string.h>
+#if POM_CLI_LIGHT
+#include <unistd.h>
+#endif
 
 typedef struct {
   const char *name;
@@ -11,28 +22,61 @@ typedef struct {
   const char *summary;
 } command;
 
+/* The commands that need the dynamics, optimization or HDF5 libraries: in
+ * the light program, NULL (run by pomlab-full). */
+#if POM_CLI_LIGHT
+#define HEAVY(fn) NULL
+#else
+#define HEAVY(fn) fn
+#endif
+
 /* One line per subcommand; each lives in cli/cmd_<name>.c. */
 static const command commands[] = {
     {"model", pom_cmd_model, "the resolved mechanism: bodies, joints, actuators (SI, home pose)"},
     {"ik", pom_cmd_ik, "inverse kinematics of a ZYX Euler orientation: q, J, kappa, limits"},
     {"fk", pom_cmd_fk, "forward kinematics of actuator displacements: orientation"},
     {"workspace", pom_cmd_workspace, "regular dexterous workspace, GCI, dexterity map"},
-    {"simulate", pom_cmd_simulate, "one maneuver: settling times, energies, traces"},
-    {"tune", pom_cmd_tune, "PID gains by one criterion for every architecture"},
-    {"montecarlo", pom_cmd_montecarlo, "N random maneuvers of one mechanism: time and energy"},
-    {"study", pom_cmd_study, "candidates x maneuvers: results file, tables, verdict, figures"},
-    {"synth", pom_cmd_synth, "kinematic synthesis: response surfaces, desirability, scaling"},
-    {"tradeoff", pom_cmd_tradeoff, "speed against accuracy: solver and model fidelity sweep"},
+    {"simulate", HEAVY(pom_cmd_simulate), "one maneuver: settling times, energies, traces"},
+    {"tune", HEAVY(pom_cmd_tune), "PID gains by one criterion for every architecture"},
+    {"montecarlo", HEAVY(pom_cmd_montecarlo),
+     "N random maneuvers of one mechanism: time and energy"},
+    {"study", HEAVY(pom_cmd_study),
+     "candidates x maneuvers: results file, tables, verdict, figures"},
+    {"synth", HEAVY(pom_cmd_synth),
+     "kinematic synthesis: response surfaces, desirability, scaling"},
+    {"sensitivity", HEAVY(pom_cmd_sensitivity),
+     "Sobol indices / Morris effects of uncertain parameters"},
+    {"tradeoff", HEAVY(pom_cmd_tradeoff),
+     "speed against accuracy: solver and model fidelity sweep"},
     {NULL, NULL, NULL} /* end */
 };
+
+#if POM_CLI_LIGHT
+/* Replaces this process by pomlab-full from this program's directory with the
+ * same arguments; returns only on failure (exit code 1, reason printed). */
+static int run_full(char **argv) {
+  char path[4096];
+  ssize_t len = readlink("/proc/self/exe", path, sizeof path - 32);
+  if (len <= 0 || (size_t)len >= sizeof path - 32) {
+    fprintf(stderr, "pomlab: cannot find this program's path: %s\n", strerror(errno));
+    return 1;
+  }
+  path[len] = '\0';
+  char *slash = strrchr(path, '/');
+  strcpy(slash ? slash + 1 : path, "pomlab-full");
+  execv(path, argv);
+  fprintf(stderr, "pomlab: cannot run %s: %s\n", path, strerror(errno));
+  return 1;
+}
+#endif
 
 static void usage(FILE *out) {
   fprintf(out, "usage: pomlab COMMAND CONFIG [options]   (pomlab COMMAND --help for details)\n\n"
                "Design study toolkit for 3-DOF parallel orientation manipulators.\n\n"
                "commands:\n");
   for (size_t k = 0; commands[k].name; ++k)
-    fprintf(out, "  %-10s %s\n", commands[k].name, commands[k].summary);
-  fprintf(out, "\n  --version  print version and git commit\n");
+    fprintf(out, "  %-12s %s\n", commands[k].name, commands[k].summary);
+  fprintf(out, "\n  --version  print version, git commit and where the plotting scripts are\n");
 }
 
 int main(int argc, char **argv) {
@@ -45,11 +89,26 @@ int main(int argc, char **argv) {
     return 0;
   }
   if (strcmp(argv[1], "--version") == 0) {
-    printf("pomlab %s (commit %s)\n", POM_VERSION, POM_GIT_COMMIT);
+    char scripts[1024];
+    int found = pom_cli_scripts_dir(scripts, sizeof scripts) == 0;
+    printf("pomlab %s (commit %s)\nscripts: %s%s\n", POM_VERSION, POM_GIT_COMMIT, scripts,
+           found ? "" : " (not found: no figures)");
     return 0;
   }
   for (size_t k = 0; commands[k].name; ++k)
-    if (strcmp(argv[1], commands[k].name) == 0) return commands[k].fn(argc - 1, argv + 1);
+    if (strcmp(argv[1], commands[k].name) == 0) {
+#if POM_CLI_LIGHT
+      if (!commands[k].fn) return run_full(argv);
+#endif
+      int rc = commands[k].fn(argc - 1, argv + 1);
+      /* tables and JSON on a full disk or a closed pipe are a failure too */
+      if (fflush(stdout) != 0 || ferror(stdout)) {
+        fprintf(stderr, "pomlab: %s: writing standard output failed: %s\n", argv[1],
+                strerror(errno));
+        if (rc == 0) rc = 1;
+      }
+      return rc;
+    }
   fprintf(stderr, "pomlab: unknown command '%s'\n\n", argv[1]);
   usage(stderr);
   return 2;

@@ -22,6 +22,19 @@ int pom_cli_exit_code(pom_status st);
  * malformed list or a nan/inf value. */
 int pom_cli_parse_list(const char *text, int n, double *out);
 
+/* Largest worker-thread count a command accepts (the range of study.threads,
+ * docs/results.md). */
+#define POM_CLI_THREADS_MAX 1024
+
+/* Parses a --threads value in [1, POM_CLI_THREADS_MAX]; returns 0, or -1
+ * after printing "pomlab COMMAND: ..." (nothing when command is NULL). */
+int pom_cli_parse_threads(const char *command, const char *text, int *out);
+
+/* Prints why two configs of a multi-config command (synth, tune) are
+ * refused: both would write `output`. */
+void pom_cli_refuse_shared_output(const char *command, const char *cfg_a, const char *cfg_b,
+                                  const char *output);
+
 /* Every top-level config name any command understands (NULL-terminated). */
 extern const char *const pom_cli_known_top[];
 
@@ -29,6 +42,12 @@ extern const char *const pom_cli_known_top[];
 pom_cfg *pom_cli_load_config(const char *path);
 
 /* Subcommands, one file each (cli/cmd_<name>.c). */
+/* The folder of the plotting scripts into buf: PREFIX/share/pomlab/scripts
+ * beside an installed program, else the source tree's scripts/. Returns 0
+ * when plot_study.py is there, -1 otherwise (buf then names the last place
+ * tried). */
+int pom_cli_scripts_dir(char *buf, size_t cap);
+
 int pom_cmd_model(int argc, char **argv);
 int pom_cmd_ik(int argc, char **argv);
 int pom_cmd_fk(int argc, char **argv);
@@ -39,5 +58,6 @@ int pom_cmd_tune(int argc, char **argv);
 int pom_cmd_montecarlo(int argc, char **argv);
 int pom_cmd_study(int argc, char **argv);
 int pom_cmd_tradeoff(int argc, char **argv);
+int pom_cmd_sensitivity(int argc, char **argv);
 
 #endif

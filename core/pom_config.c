@@ -2,18 +2,33 @@
 #define _XOPEN_SOURCE 700 /* realpath */
 #include "pom_config.h"
 
+#include <errno.h>
 #include <libconfig.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+
+#define MAX_INCLUDE_DEPTH 10 /* libconfig 1.5's own limit */
+#define MAX_RENAMED       32 /* absolute @includes of one main file */
+#define MAX_OVERRIDES     16 /* values set from the command line */
 
 struct pom_cfg {
   config_t lc; /* parsed tree */
   char *path;  /* file path or name */
   char *dir;   /* folder for @include, NULL for strings */
   char *text;  /* raw text of the main file */
+  /* absolute @includes as libconfig sees them (rewritten relative to dir)
+   * and as the user wrote them, for messages */
+  int n_renamed;
+  char *renamed_from[MAX_RENAMED]; /* rewritten name, owned */
+  char *renamed_to[MAX_RENAMED];   /* name as written, owned */
+  /* settings given on the command line and the option that gave them */
+  int n_overrides;
+  const config_setting_t *override_setting[MAX_OVERRIDES];
+  char override_origin[MAX_OVERRIDES][32];
 };
 
 /* ---- helpers ---------------------------------------------------------------- */
@@ -24,9 +39,23 @@ static char *dup_string(const char *s) {
   return d;
 }
 
+/* A file name as libconfig reports it -> as the user wrote it. */
+static const char *shown_file(const pom_cfg *cfg, const char *f) {
+  if (!f) return cfg->path;
+  for (int k = 0; k < cfg->n_renamed; ++k)
+    if (strcmp(f, cfg->renamed_from[k]) == 0) return cfg->renamed_to[k];
+  return f;
+}
+
 static const char *setting_file(const pom_cfg *cfg, const config_setting_t *s) {
-  const char *f = s ? config_setting_source_file(s) : NULL;
-  return f ? f : cfg->path;
+  return shown_file(cfg, s ? config_setting_source_file(s) : NULL);
+}
+
+/* The command-line option that set s, NULL when s comes from a file. */
+static const char *override_origin(const pom_cfg *cfg, const config_setting_t *s) {
+  for (int k = 0; s && k < cfg->n_overrides; ++k)
+    if (cfg->override_setting[k] == s) return cfg->override_origin[k];
+  return NULL;
 }
 
 static void mark_tree(config_setting_t *s, void *marker) {
@@ -127,6 +156,10 @@ static pom_status setting_error(const pom_cfg *cfg, const config_setting_t *s, c
   va_end(ap);
   if (s) {
     value_text(s, val, sizeof val);
+    const char *opt = override_origin(cfg, s);
+    if (opt)
+      return pom_error_set(err, POM_ERR_CONFIG, __FILE__, __LINE__,
+                           "command line %s: key '%s' = %s: %s", opt, key, val, what);
     return pom_error_set(err, POM_ERR_CONFIG, __FILE__, __LINE__, "%s:%d: key '%s' = %s: %s",
                          setting_file(cfg, s), (int)config_setting_source_line(s), key, val, what);
   }
@@ -158,7 +191,7 @@ static pom_status finish_load(pom_cfg *cfg, int ok, pom_error *err) {
   if (!ok) {
     const char *f = config_error_file(&cfg->lc);
     pom_status st =
-        pom_error_set(err, POM_ERR_CONFIG, __FILE__, __LINE__, "%s:%d: %s", f ? f : cfg->path,
+        pom_error_set(err, POM_ERR_CONFIG, __FILE__, __LINE__, "%s:%d: %s", shown_file(cfg, f),
                       config_error_line(&cfg->lc),
                       config_error_text(&cfg->lc) ? config_error_text(&cfg->lc) : "cannot read");
     return st;
@@ -166,7 +199,8 @@ static pom_status finish_load(pom_cfg *cfg, int ok, pom_error *err) {
   return POM_OK;
 }
 
-/* 1 when a line of text is an @include of an absolute path. */
+/* The file name of a line that is an @include (after its opening quote),
+ * NULL for any other line. */
 static const char *include_target(const char *line) {
   while (*line == ' ' || *line == '\t')
     ++line;
@@ -187,9 +221,31 @@ static int has_absolute_include(const char *text) {
   return 0;
 }
 
+/* Remembers that libconfig will call the absolute include `written` by the
+ * name `rewritten` (both copied). */
+static int add_renamed(pom_cfg *cfg, const char *rewritten, size_t n_rewritten, const char *written,
+                       size_t n_written) {
+  if (cfg->n_renamed == MAX_RENAMED) return 0; /* messages show the rewritten name */
+  char *from = malloc(n_rewritten + 1), *to = malloc(n_written + 1);
+  if (!from || !to) {
+    free(from);
+    free(to);
+    return -1;
+  }
+  memcpy(from, rewritten, n_rewritten);
+  from[n_rewritten] = '\0';
+  memcpy(to, written, n_written);
+  to[n_written] = '\0';
+  cfg->renamed_from[cfg->n_renamed] = from;
+  cfg->renamed_to[cfg->n_renamed] = to;
+  ++cfg->n_renamed;
+  return 0;
+}
+
 /* Copy of text with every absolute @include path made relative to dir (an
- * absolute folder is reached by one "../" per component of dir). */
-static char *rewrite_absolute_includes(const char *text, const char *dir) {
+ * absolute folder is reached by one "../" per component of dir); each
+ * rewritten name is remembered so that messages show the name as written. */
+static char *rewrite_absolute_includes(pom_cfg *cfg, const char *text, const char *dir) {
   char absdir[4096];
   if (!realpath(dir, absdir)) snprintf(absdir, sizeof absdir, "%s", dir);
   size_t ups = 0;
@@ -208,9 +264,18 @@ static char *rewrite_absolute_includes(const char *text, const char *dir) {
     if (t && *t == '/') {
       memcpy(out + w, p, (size_t)(t - p));
       w += (size_t)(t - p);
+      size_t name_at = w;
       for (size_t k = 0; k < ups; ++k) {
         memcpy(out + w, "../", 3);
         w += 3;
+      }
+      const char *close = strchr(t, '"');
+      size_t n_written = close ? (size_t)(close - t) : strlen(t);
+      size_t n_rewritten = (w - name_at) + n_written - 1;
+      memcpy(out + w, t + 1, n_written - 1);
+      if (add_renamed(cfg, out + name_at, n_rewritten, t, n_written) != 0) {
+        free(out);
+        return NULL;
       }
       p = t + 1; /* drop the leading slash */
     }
@@ -222,6 +287,262 @@ static char *rewrite_absolute_includes(const char *text, const char *dir) {
   }
   out[w] = '\0';
   return out;
+}
+
+/* Reads a whole file (any size, any kind but a folder) into *text, malloc'ed
+ * and NUL-terminated. `shown` names it in messages. */
+static pom_status read_whole_file(const char *path, const char *shown, char **text,
+                                  pom_error *err) {
+  *text = NULL;
+  FILE *fp = fopen(path, "rb");
+  if (!fp) POM_FAIL(err, POM_ERR_IO, "%s: cannot open config file: %s", shown, strerror(errno));
+  struct stat sb;
+  if (fstat(fileno(fp), &sb) != 0 || S_ISDIR(sb.st_mode)) {
+    fclose(fp);
+    POM_FAIL(err, POM_ERR_IO, "%s: is a directory, not a config file", shown);
+  }
+  size_t cap = 4096, n = 0;
+  char *buf = malloc(cap);
+  while (buf) {
+    n += fread(buf + n, 1, cap - 1 - n, fp);
+    if (n < cap - 1) break;
+    char *grown = realloc(buf, 2 * cap);
+    if (!grown) {
+      free(buf);
+      buf = NULL;
+    } else {
+      buf = grown;
+      cap *= 2;
+    }
+  }
+  int bad = buf && ferror(fp);
+  fclose(fp);
+  if (!buf) POM_FAIL(err, POM_ERR_NOMEM, "%s: out of memory", shown);
+  if (bad) {
+    free(buf);
+    POM_FAIL(err, POM_ERR_IO, "%s: cannot read", shown);
+  }
+  buf[n] = '\0';
+  *text = buf;
+  return POM_OK;
+}
+
+/* ---- integers that libconfig 1.5 would not keep ------------------------------ */
+/* libconfig 1.5 reads an integer without the L suffix into 32 bits, silently
+ * wrapped or clamped (5000000000 becomes 705032704), and one with L into 64
+ * bits, clamped. The literals are found in the text (strings and comments
+ * skipped) before parsing, and refused after it with the key they belong
+ * to. */
+typedef struct {
+  int found;
+  int in_main;        /* 1: in the main file */
+  char lc_file[1024]; /* else the file as libconfig names it */
+  char file[512];     /* file as the user wrote it */
+  int line;
+  char literal[64]; /* as written */
+  int bits;         /* 32: needs the L suffix; 64: too large for any integer */
+} int_problem;
+
+/* Checks one integer literal [p, end) (sign, digits, suffix included). */
+static int literal_overflows(const char *p, const char *end, int *bits) {
+  char buf[80];
+  size_t n = (size_t)(end - p);
+  if (n >= sizeof buf) n = sizeof buf - 1; /* longer than any 64-bit literal: overflows */
+  memcpy(buf, p, n);
+  buf[n] = '\0';
+  int is64 = n > 0 && buf[n - 1] == 'L';
+  const char *digits = buf + (buf[0] == '-' || buf[0] == '+');
+  int hex = digits[0] == '0' && (digits[1] == 'x' || digits[1] == 'X');
+  errno = 0;
+  if (hex) {
+    unsigned long long v = strtoull(digits, NULL, 16);
+    if (errno == ERANGE || (end - p) >= (long)sizeof buf) return *bits = 64, 1;
+    if (!is64 && v > 0x7fffffffULL) return *bits = 32, 1;
+    return 0;
+  }
+  long long v = strtoll(buf, NULL, 10);
+  if (errno == ERANGE || (end - p) >= (long)sizeof buf) return *bits = 64, 1;
+  if (!is64 && (v > 2147483647LL || v < -2147483648LL)) return *bits = 32, 1;
+  return 0;
+}
+
+static int is_ident_char(char c) {
+  return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' ||
+         c == '*' || c == '-';
+}
+
+static int is_digit(char c) {
+  return c >= '0' && c <= '9';
+}
+
+/* Finds the first integer literal of text that overflows (fills prob). */
+static void scan_integers(const char *text, int_problem *prob) {
+  int line = 1;
+  const char *p = text;
+  while (*p && !prob->found) {
+    char c = *p;
+    if (c == '\n') {
+      ++line;
+      ++p;
+    } else if (c == '"') { /* a string, with escapes */
+      for (++p; *p && *p != '"'; ++p) {
+        if (*p == '\\' && p[1]) ++p;
+        if (*p == '\n') ++line;
+      }
+      if (*p) ++p;
+    } else if (c == '#' || (c == '/' && p[1] == '/') || c == '@') {
+      while (*p && *p != '\n')
+        ++p;
+    } else if (c == '/' && p[1] == '*') {
+      for (p += 2; *p && !(*p == '*' && p[1] == '/'); ++p)
+        if (*p == '\n') ++line;
+      if (*p) p += 2;
+    } else if ((c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || c == '_' || c == '*') {
+      while (is_ident_char(*p))
+        ++p;
+    } else if (is_digit(c) || ((c == '-' || c == '+') && is_digit(p[1]))) {
+      const char *start = p;
+      if (c == '-' || c == '+') ++p;
+      int hex = p[0] == '0' && (p[1] == 'x' || p[1] == 'X');
+      int real = 0;
+      if (hex) {
+        for (p += 2; is_digit(*p) || (*p >= 'a' && *p <= 'f') || (*p >= 'A' && *p <= 'F'); ++p)
+          ;
+      } else {
+        while (is_digit(*p))
+          ++p;
+        if (*p == '.' || *p == 'e' || *p == 'E') { /* a real number */
+          real = 1;
+          while (is_digit(*p) || *p == '.' || *p == 'e' || *p == 'E' ||
+                 ((*p == '-' || *p == '+') && (p[-1] == 'e' || p[-1] == 'E')))
+            ++p;
+        }
+      }
+      if (real) continue;
+      if (*p == 'L') ++p;
+      if (*p == 'L') ++p;
+      int bits = 0;
+      if (literal_overflows(start, p, &bits)) {
+        prob->found = 1;
+        prob->line = line;
+        prob->bits = bits;
+        size_t n = (size_t)(p - start);
+        if (n >= sizeof prob->literal) n = sizeof prob->literal - 1;
+        memcpy(prob->literal, start, n);
+        prob->literal[n] = '\0';
+      }
+    } else {
+      ++p;
+    }
+  }
+}
+
+/* The integer setting on prob's line of prob's file (depth first). */
+static const config_setting_t *find_int_setting(const pom_cfg *cfg, const config_setting_t *s,
+                                                const int_problem *prob) {
+  int t = config_setting_type(s);
+  if ((t == CONFIG_TYPE_INT || t == CONFIG_TYPE_INT64) &&
+      (int)config_setting_source_line(s) == prob->line) {
+    const char *f = config_setting_source_file(s);
+    int main_file = !f || strcmp(f, cfg->path) == 0;
+    if (prob->in_main ? main_file : (f && strcmp(f, prob->lc_file) == 0)) return s;
+  }
+  if (config_setting_is_aggregate(s)) {
+    int n = config_setting_length(s);
+    for (int k = 0; k < n; ++k) {
+      const config_setting_t *hit =
+          find_int_setting(cfg, config_setting_get_elem(s, (unsigned int)k), prob);
+      if (hit) return hit;
+    }
+  }
+  return NULL;
+}
+
+static void setting_path(const config_setting_t *s, char *buf, size_t cap);
+
+static pom_status report_int_problem(const pom_cfg *cfg, const int_problem *prob, pom_error *err) {
+  char key[512] = "", what[600];
+  const config_setting_t *s = find_int_setting(cfg, config_root_setting(&cfg->lc), prob);
+  if (s) {
+    char path[480];
+    setting_path(s, path, sizeof path);
+    snprintf(key, sizeof key, "key '%s' = ", path);
+  }
+  if (prob->bits == 32)
+    snprintf(what, sizeof what,
+             "%s: integers without the L suffix are 32-bit in libconfig and this one would be "
+             "read as %lld; write %sL",
+             prob->literal, s ? (long long)config_setting_get_int64(s) : 0LL, prob->literal);
+  else
+    snprintf(what, sizeof what, "%s: does not fit a 64-bit integer (at most 9223372036854775807)",
+             prob->literal);
+  return pom_error_set(err, POM_ERR_CONFIG, __FILE__, __LINE__, "%s:%d: %s%s", prob->file,
+                       prob->line, key, what);
+}
+
+/* ---- @include targets ---------------------------------------------------------- */
+/* libconfig 1.5 exits the process ("input in flex scanner failed") when an
+ * @include names a folder, and resolves every relative include (nested ones
+ * too) against the main file's folder. Each target is checked first, as the
+ * user wrote it, and every included text is scanned for integers. */
+static pom_status scan_file(pom_cfg *cfg, const char *lc_file, const char *shown, const char *text,
+                            int depth, int_problem *prob, pom_error *err) {
+  if (!prob->found) {
+    scan_integers(text, prob);
+    if (prob->found) {
+      prob->in_main = depth == 0;
+      snprintf(prob->lc_file, sizeof prob->lc_file, "%s", lc_file ? lc_file : "");
+      snprintf(prob->file, sizeof prob->file, "%s", shown);
+    }
+  }
+  int line = 0;
+  for (const char *p = text; p; p = strchr(p, '\n')) {
+    if (*p == '\n') ++p;
+    ++line;
+    const char *t = include_target(p);
+    if (!t) continue;
+    const char *close = strchr(t, '"');
+    const char *nl = strchr(t, '\n');
+    if (!close || (nl && close > nl)) continue; /* libconfig's own syntax error */
+    char name[1024], resolved[2100];
+    size_t n = (size_t)(close - t);
+    if (n >= sizeof name)
+      POM_FAIL(err, POM_ERR_CONFIG, "%s:%d: @include: file name longer than %zu characters", shown,
+               line, sizeof name - 1);
+    memcpy(name, t, n);
+    name[n] = '\0';
+    if (n == 0) POM_FAIL(err, POM_ERR_CONFIG, "%s:%d: @include \"\": empty file name", shown, line);
+    if (name[0] == '/' && depth > 0)
+      POM_FAIL(err, POM_ERR_CONFIG,
+               "%s:%d: @include \"%s\": an absolute path is only allowed in the main config "
+               "file; write it relative to %s",
+               shown, line, name, cfg->dir ? cfg->dir : ".");
+    if (depth + 1 > MAX_INCLUDE_DEPTH)
+      POM_FAIL(err, POM_ERR_CONFIG,
+               "%s:%d: @include \"%s\": includes nested deeper than %d (does a file include "
+               "itself?)",
+               shown, line, name, MAX_INCLUDE_DEPTH);
+    const char *dir = cfg->dir ? cfg->dir : ".";
+    size_t dl = strlen(dir);
+    if (name[0] == '/')
+      snprintf(resolved, sizeof resolved, "%s", name);
+    else
+      snprintf(resolved, sizeof resolved, "%s%s%s", dir, dl && dir[dl - 1] == '/' ? "" : "/", name);
+    char *inc = NULL;
+    pom_status st = read_whole_file(resolved, resolved, &inc, err);
+    if (st != POM_OK) {
+      pom_error_prefix(err, "%s:%d: @include \"%s\"", shown, line, name);
+      return st;
+    }
+    /* the name libconfig will report for the included settings */
+    const char *lc_name = NULL;
+    for (int k = 0; k < cfg->n_renamed && !lc_name; ++k)
+      if (depth == 0 && strcmp(cfg->renamed_to[k], name) == 0) lc_name = cfg->renamed_from[k];
+    st = scan_file(cfg, lc_name ? lc_name : name, name, inc, depth + 1, prob, err);
+    free(inc);
+    POM_TRY(st);
+  }
+  return POM_OK;
 }
 
 static pom_cfg *cfg_alloc(const char *path) {
@@ -240,22 +561,10 @@ static pom_cfg *cfg_alloc(const char *path) {
 pom_status pom_cfg_load(pom_cfg **out, const char *path, pom_error *err) {
   pom_status st = POM_OK;
   *out = NULL;
+  char *parsed = NULL;
   pom_cfg *cfg = cfg_alloc(path);
-  FILE *fp = NULL;
   if (!cfg) POM_FAIL(err, POM_ERR_NOMEM, "loading config '%s'", path);
-  fp = fopen(path, "rb");
-  if (!fp) POM_FAIL_GOTO(err, POM_ERR_IO, fail, "%s: cannot open config file", path);
-  if (fseek(fp, 0, SEEK_END) != 0) POM_FAIL_GOTO(err, POM_ERR_IO, fail, "%s: cannot read", path);
-  long n = ftell(fp);
-  if (n < 0 || fseek(fp, 0, SEEK_SET) != 0)
-    POM_FAIL_GOTO(err, POM_ERR_IO, fail, "%s: cannot read", path);
-  cfg->text = malloc((size_t)n + 1);
-  if (!cfg->text) POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "%s: out of memory", path);
-  if (fread(cfg->text, 1, (size_t)n, fp) != (size_t)n)
-    POM_FAIL_GOTO(err, POM_ERR_IO, fail, "%s: cannot read", path);
-  cfg->text[n] = '\0';
-  fclose(fp);
-  fp = NULL;
+  POM_TRY_GOTO(read_whole_file(path, path, &cfg->text, err), fail);
   cfg->dir = dup_string(path);
   if (!cfg->dir) POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "%s: out of memory", path);
   char *slash = strrchr(cfg->dir, '/');
@@ -265,22 +574,26 @@ pom_status pom_cfg_load(pom_cfg **out, const char *path, pom_error *err) {
     strcpy(cfg->dir, ".");
   }
   config_set_include_dir(&cfg->lc, cfg->dir);
-  if (!has_absolute_include(cfg->text)) {
-    POM_TRY_GOTO(finish_load(cfg, config_read_file(&cfg->lc, path), err), fail);
-  } else {
+  if (has_absolute_include(cfg->text)) {
     /* libconfig 1.5 prefixes the include folder even to absolute paths:
      * parse a copy whose absolute includes are rewritten relative to the
      * folder (same lines, so messages keep their line numbers). */
-    char *parsed = rewrite_absolute_includes(cfg->text, cfg->dir);
+    parsed = rewrite_absolute_includes(cfg, cfg->text, cfg->dir);
     if (!parsed) POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "%s: out of memory", path);
-    int ok = config_read_string(&cfg->lc, parsed);
-    free(parsed);
-    POM_TRY_GOTO(finish_load(cfg, ok, err), fail);
   }
+  int_problem prob;
+  memset(&prob, 0, sizeof prob);
+  POM_TRY_GOTO(scan_file(cfg, NULL, path, cfg->text, 0, &prob, err), fail);
+  if (parsed)
+    POM_TRY_GOTO(finish_load(cfg, config_read_string(&cfg->lc, parsed), err), fail);
+  else
+    POM_TRY_GOTO(finish_load(cfg, config_read_file(&cfg->lc, path), err), fail);
+  if (prob.found) POM_TRY_GOTO(report_int_problem(cfg, &prob, err), fail);
+  free(parsed);
   *out = cfg;
   return POM_OK;
 fail:
-  if (fp) fclose(fp);
+  free(parsed);
   pom_cfg_destroy(cfg);
   return st;
 }
@@ -292,7 +605,11 @@ pom_status pom_cfg_load_string(pom_cfg **out, const char *text, const char *name
   if (!cfg) POM_FAIL(err, POM_ERR_NOMEM, "loading config '%s'", name);
   cfg->text = dup_string(text);
   if (!cfg->text) POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "%s: out of memory", name);
+  int_problem prob;
+  memset(&prob, 0, sizeof prob);
+  POM_TRY_GOTO(scan_file(cfg, NULL, name, text, 0, &prob, err), fail);
   POM_TRY_GOTO(finish_load(cfg, config_read_string(&cfg->lc, text), err), fail);
+  if (prob.found) POM_TRY_GOTO(report_int_problem(cfg, &prob, err), fail);
   *out = cfg;
   return POM_OK;
 fail:
@@ -306,6 +623,10 @@ void pom_cfg_destroy(pom_cfg *cfg) {
   free(cfg->path);
   free(cfg->dir);
   free(cfg->text);
+  for (int k = 0; k < cfg->n_renamed; ++k) {
+    free(cfg->renamed_from[k]);
+    free(cfg->renamed_to[k]);
+  }
   free(cfg);
 }
 
@@ -354,6 +675,10 @@ pom_status pom_cfg_error(const pom_cfg *cfg, const char *key, const char *value_
   } else {
     snprintf(val, sizeof val, "(absent)");
   }
+  const char *opt = override_origin(cfg, s);
+  if (opt)
+    return pom_error_set(err, POM_ERR_CONFIG, __FILE__, __LINE__,
+                         "command line %s: key '%s' = %s: %s", opt, key, val, what);
   const config_setting_t *at = s ? s : nearest_parent(cfg, key);
   if (!at)
     return pom_error_set(err, POM_ERR_CONFIG, __FILE__, __LINE__, "%s: key '%s' = %s: %s",
@@ -625,4 +950,121 @@ pom_status pom_cfg_check_unknown(const pom_cfg *cfg, const char *const scopes[],
     POM_TRY(find_unused(cfg, s, err));
   }
   return POM_OK;
+}
+
+/* ---- values from the command line ---------------------------------------------- */
+/* Drops the origins of a setting about to be removed (its address may be
+ * reused). */
+static void forget_override(pom_cfg *cfg, const config_setting_t *s) {
+  for (int k = 0; k < cfg->n_overrides; ++k)
+    if (cfg->override_setting[k] == s) cfg->override_setting[k] = NULL;
+}
+
+pom_status pom_cfg_set_number(pom_cfg *cfg, const char *key, const char *text, const char *origin,
+                              pom_error *err) {
+  /* the number as written: an integer (64-bit, never wrapped) or a real */
+  const char *d = text + (text[0] == '-' || text[0] == '+');
+  int integer = is_digit(d[0]);
+  for (const char *c = d; *c && integer; ++c)
+    integer = is_digit(*c);
+  long long iv = 0;
+  double rv = 0.0;
+  char *end = NULL;
+  errno = 0;
+  if (integer) {
+    iv = strtoll(text, &end, 10);
+    if (errno == ERANGE)
+      POM_FAIL(err, POM_ERR_CONFIG,
+               "command line %s: key '%s' = %s: does not fit a 64-bit integer (at most "
+               "9223372036854775807)",
+               origin, key, text);
+  } else {
+    rv = strtod(text, &end);
+    if (end == text || *end != '\0' || !isfinite(rv))
+      POM_FAIL(err, POM_ERR_CONFIG, "command line %s: key '%s' = '%s': expected a number", origin,
+               key, text);
+  }
+  if (cfg->n_overrides == MAX_OVERRIDES)
+    POM_FAIL(err, POM_ERR_ARG, "command line %s: more than %d values set on the command line",
+             origin, MAX_OVERRIDES);
+  /* the groups on the way, created when absent */
+  config_setting_t *parent = config_root_setting(&cfg->lc);
+  char path[512];
+  snprintf(path, sizeof path, "%s", key);
+  char *name = path;
+  for (char *dot = strchr(name, '.'); dot; dot = strchr(name, '.')) {
+    *dot = '\0';
+    config_setting_t *g = config_setting_get_member(parent, name);
+    if (!g) g = config_setting_add(parent, name, CONFIG_TYPE_GROUP);
+    if (!g || !config_setting_is_group(g))
+      return setting_error(cfg, g, path, err,
+                           "command line %s sets '%s' below it: expected a group", origin, key);
+    *dot = '.';
+    parent = g;
+    name = dot + 1;
+  }
+  config_setting_t *old = config_setting_get_member(parent, name);
+  if (old) {
+    forget_override(cfg, old);
+    config_setting_remove(parent, name);
+  }
+  config_setting_t *s =
+      config_setting_add(parent, name, integer ? CONFIG_TYPE_INT64 : CONFIG_TYPE_FLOAT);
+  if (!s || !(integer ? config_setting_set_int64(s, iv) : config_setting_set_float(s, rv)))
+    POM_FAIL(err, POM_ERR_NOMEM, "command line %s: cannot set key '%s'", origin, key);
+  cfg->override_setting[cfg->n_overrides] = s;
+  snprintf(cfg->override_origin[cfg->n_overrides], sizeof cfg->override_origin[0], "%s", origin);
+  ++cfg->n_overrides;
+  return POM_OK;
+}
+
+/* ---- comparing two configs -------------------------------------------------------- */
+/* The first difference below a and b (same path); 1 when one is found. */
+static int diff_settings(const config_setting_t *a, const config_setting_t *b, char *key,
+                         size_t key_cap, char *va, char *vb, size_t val_cap) {
+  int ta = config_setting_type(a), tb = config_setting_type(b);
+  int agg_a = config_setting_is_aggregate(a), agg_b = config_setting_is_aggregate(b);
+  if (!agg_a || !agg_b || ta != tb) {
+    value_text(a, va, val_cap);
+    value_text(b, vb, val_cap);
+    if (ta == tb && strcmp(va, vb) == 0) return 0;
+    setting_path(a, key, key_cap);
+    return 1;
+  }
+  int na = config_setting_length(a), nb = config_setting_length(b);
+  if (ta == CONFIG_TYPE_GROUP) {
+    /* members by name, either side */
+    for (int side = 0; side < 2; ++side) {
+      const config_setting_t *x = side ? b : a, *y = side ? a : b;
+      int nx = side ? nb : na;
+      for (int k = 0; k < nx; ++k) {
+        const config_setting_t *e = config_setting_get_elem(x, (unsigned int)k);
+        const config_setting_t *f = config_setting_get_member(y, config_setting_name(e));
+        if (!f) {
+          setting_path(e, key, key_cap);
+          value_text(e, side ? vb : va, val_cap);
+          snprintf(side ? va : vb, val_cap, "(absent)");
+          return 1;
+        }
+        if (!side && diff_settings(e, f, key, key_cap, va, vb, val_cap)) return 1;
+      }
+    }
+    return 0;
+  }
+  for (int k = 0; k < na && k < nb; ++k)
+    if (diff_settings(config_setting_get_elem(a, (unsigned int)k),
+                      config_setting_get_elem(b, (unsigned int)k), key, key_cap, va, vb, val_cap))
+      return 1;
+  if (na == nb) return 0;
+  setting_path(a, key, key_cap);
+  value_text(a, va, val_cap);
+  value_text(b, vb, val_cap);
+  return 1;
+}
+
+int pom_cfg_diff(const pom_cfg *a, const pom_cfg *b, char *key, size_t key_cap, char *value_a,
+                 char *value_b, size_t value_cap) {
+  key[0] = value_a[0] = value_b[0] = '\0';
+  return diff_settings(config_root_setting(&a->lc), config_root_setting(&b->lc), key, key_cap,
+                       value_a, value_b, value_cap);
 }

@@ -89,6 +89,22 @@ pom_status pom_cfg_choice_opt(const pom_cfg *cfg, const char *key, const char *c
 pom_status pom_cfg_check_unknown(const pom_cfg *cfg, const char *const scopes[],
                                  const char *const known_top[], pom_error *err);
 
+/* Sets `key` (dotted; missing groups are created, an existing value is
+ * replaced) to the number written in `text`, as if the file said so: an
+ * integer (64-bit, refused when it does not fit) or a finite real. The
+ * getters then check it like any other value, and their messages name the
+ * command-line option `origin` (e.g. "--seed") instead of a file line.
+ * Call it after load and before the getters. */
+pom_status pom_cfg_set_number(pom_cfg *cfg, const char *key, const char *text, const char *origin,
+                              pom_error *err);
+
+/* Compares two configs setting by setting. Returns 1 when they differ, with
+ * the first differing key ("controller.kp") and its value in each
+ * ("(absent)" when missing) written to key / value_a / value_b (capacities
+ * key_cap and value_cap); 0 when every setting is the same. */
+int pom_cfg_diff(const pom_cfg *a, const pom_cfg *b, char *key, size_t key_cap, char *value_a,
+                 char *value_b, size_t value_cap);
+
 /* Source line of a key (0 when unknown), for callers' own messages. */
 int pom_cfg_line(const pom_cfg *cfg, const char *key);
 

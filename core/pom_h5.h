@@ -1,5 +1,5 @@
 /* pom_h5.h - small HDF5 helpers with HDF5's own error printing turned off and
- * every failure routed into a pom_status / pom_error (STYLE.md 5).
+ * every failure routed into a pom_status / pom_error (docs/STYLE.md 5).
  *
  * Handles are plain hid_t values owned by the caller (close them with the
  * matching H5*close or pom_h5_close_file). The HDF5 library used is the serial

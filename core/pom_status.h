@@ -1,6 +1,6 @@
 /* pom_status.h - status codes, messages and the error record of pomlab.
  *
- * One list defines every status code and its message (STYLE.md 5). Library
+ * One list defines every status code and its message (docs/STYLE.md 5). Library
  * functions return a pom_status and, when given a non-NULL pom_error, fill it
  * with a specific message and the source location of the failure. Library
  * code never prints and never ends the process. */

@@ -17,6 +17,7 @@
 #include "pom_dyn_metrics_schema.h"
 #include "pom_dynamics.h"
 #include "pom_status.h"
+#include "pom_uncertain.h"
 
 #include <hdf5.h>
 #include <stdint.h>
@@ -173,7 +174,7 @@ pom_status pom_doe_dyn_evaluator_create(pom_doe_evaluator *eval, const pom_cfg *
                                         pom_error *err);
 
 /* ---- study -------------------------------------------------------------------- */
-#define POM_DOE_NAME_LEN    64
+#define POM_DOE_NAME_LEN    128
 #define POM_DOE_PATH_LEN    1024
 #define POM_DOE_MAX_FACTORS 8
 
@@ -190,17 +191,26 @@ typedef struct {
 typedef enum { POM_DOE_RANK_TIME = 0, POM_DOE_RANK_ENERGY = 1 } pom_doe_rank_by;
 
 typedef struct {
-  char name[POM_DOE_NAME_LEN];   /* study name (file stem) */
-  char source[POM_DOE_PATH_LEN]; /* study config path */
-  char output[POM_DOE_PATH_LEN]; /* results file path */
-  char *config_text;             /* the study file's text, owned */
-  int threads;                   /* 0 = all cores */
-  double alpha;                  /* significance level of the verdict (two-sided) */
-  double confidence;             /* level of the paired interval (default 0.95) */
-  pom_doe_rank_by rank_by;       /* primary ranking metric */
+  char name[POM_DOE_NAME_LEN];    /* study name (file stem) */
+  char source[POM_DOE_PATH_LEN];  /* study config path */
+  char output[POM_DOE_PATH_LEN];  /* results file path */
+  char *config_text;              /* the study file's text, owned */
+  int threads;                    /* 0 = all cores */
+  double alpha;                   /* significance level of the verdict (two-sided) */
+  double confidence;              /* level of the paired interval (default 0.95) */
+  pom_doe_rank_by rank_by;        /* primary ranking metric */
+  char tabular[POM_DOE_PATH_LEN]; /* study.tabular: CSV file of rows ("" = none) */
+  /* sweep factors, shared by every candidate of a sweep (0 for a list) */
+  int n_factors;
+  char factor_key[POM_DOE_MAX_FACTORS][POM_DOE_NAME_LEN];   /* dotted config keys */
+  char factor_label[POM_DOE_MAX_FACTORS][POM_DOE_NAME_LEN]; /* short: the key's last part */
+  long factor_levels[POM_DOE_MAX_FACTORS]; /* grid levels; 0 for a Latin hypercube */
   pom_doe_maneuvers maneuvers;
   int n_candidates;
   pom_doe_candidate *candidates; /* [n_candidates], owned */
+  pom_unc uncertain;             /* the `uncertain` group (n = 0: none) */
+  double *uncertain_nominal;     /* [n_candidates][uncertain.n] each key's value in the
+                                    candidate's config (NaN when absent), owned */
 } pom_doe_study;
 
 /* Loads a study file: `name`, `montecarlo`, `study` and `candidates`
@@ -215,8 +225,22 @@ pom_status pom_doe_study_load(pom_doe_study *study, const pom_cfg *cfg,
 pom_status pom_doe_study_single(pom_doe_study *study, const pom_cfg *cfg,
                                 pom_doe_evaluator_factory factory, void *user, pom_error *err);
 
+/* Candidate c's evaluator with the uncertain keys set to the draws x[]
+ * (times the nominal values for relative parameters): its resolved config
+ * with the values set, read by pom_doe_dyn_evaluator_create, so a drawn
+ * value is validated like the key in a file. Clear with
+ * pom_doe_evaluator_clear. */
+pom_status pom_doe_uncertain_evaluator(pom_doe_evaluator *eval, const pom_doe_study *study, int c,
+                                       const double *x, pom_error *err);
+
 /* Frees everything a study owns (NULL allowed); leaves it zeroed. */
 void pom_doe_study_clear(pom_doe_study *study);
+
+/* Keeps one candidate of a loaded study, chosen by its exact name or by its
+ * 1-based position ("3"), and releases the others (their uncertain nominal
+ * values follow). POM_ERR_ARG naming the value and the candidates when none
+ * matches. */
+pom_status pom_doe_study_select(pom_doe_study *study, const char *which, pom_error *err);
 
 /* ---- results rows ------------------------------------------------------------ */
 #define POM_DOE_REASON_LEN 160
@@ -250,6 +274,10 @@ double pom_doe_row_value(const pom_doe_row *row, int j, int k);
 /* Converts evaluator metrics to a row (done = 1). */
 void pom_doe_row_from_metrics(pom_doe_row *row, const pom_dyn_metrics *m);
 
+/* The file an unfinished run of results path `path` is in: "PATH.partial"
+ * (renamed to PATH when every maneuver is done; docs/results.md). */
+void pom_doe_results_partial_path(char *buf, size_t cap, const char *path);
+
 /* Reads rows [first, first + n) of candidate c from a results file. */
 pom_status pom_doe_results_read_rows(const char *path, int c, long first, long n, pom_doe_row *rows,
                                      pom_error *err);
@@ -276,21 +304,55 @@ typedef struct {
 typedef enum { POM_DOE_METRIC_TIME = 0, POM_DOE_METRIC_ENERGY = 1 } pom_doe_metric;
 
 typedef struct {
-  int a, b;              /* candidate indices, a < b; differences are a - b */
+  int a, b;              /* candidate indices; differences are a - b (a < b when every pair is
+                            compared, a = the metric's best candidate otherwise) */
   pom_doe_metric metric; /* which response */
   pom_doe_paired test;   /* on maneuvers where both are ok (and settled, for time) */
+  double p_holm;         /* Wilcoxon p adjusted by Holm over the comparisons of this metric */
 } pom_doe_comparison;
+
+/* The main effect of one level of a sweep factor on one response: per
+ * maneuver, the mean over the level's candidates that can use it; then the
+ * mean over the maneuvers and its t interval (study.confidence). */
+typedef struct {
+  int factor;            /* index into study->factor_key */
+  int level;             /* 0-based, ascending factor values */
+  double lo, hi;         /* factor values of the level (equal unless binned) */
+  int n_candidates;      /* candidates at this level */
+  pom_doe_metric metric; /* response */
+  long n;                /* maneuvers averaged */
+  double mean;           /* SI (s or J) */
+  double ci_low, ci_high;
+} pom_doe_effect;
+
+/* Up to this many candidates every pair is compared; beyond, the best of
+ * each metric against each other one (docs/results.md, section 4). */
+#define POM_DOE_ALL_PAIRS_MAX 4
 
 typedef struct {
   int n_candidates;
   long n_maneuvers;
   pom_doe_candidate_stats *cand; /* [n_candidates] */
+  int all_pairs;                 /* 1: every pair compared; 0: the best against each other */
   int n_comparisons;
-  pom_doe_comparison *cmp; /* [n_comparisons]: every pair, both metrics */
-  int *rank_time;          /* [n_candidates] candidate indices, best (lowest mean) first */
-  int *rank_energy;        /* [n_candidates] */
-  double alpha;            /* level used for "significant" */
+  pom_doe_comparison *cmp;             /* [n_comparisons]: both metrics */
+  pom_doe_friedman_result friedman[2]; /* per pom_doe_metric, over the common maneuvers */
+  int *rank_time;      /* [n_candidates] candidate indices, best (lowest mean) first */
+  int *rank_energy;    /* [n_candidates] */
+  double *mean_time;   /* [n_candidates] mean execution time over the common maneuvers (s) */
+  double *mean_energy; /* [n_candidates] mean expended energy over the common maneuvers (J) */
+  double alpha;        /* level used for "significant" */
+  int n_effects;
+  pom_doe_effect *effects; /* [n_effects] main effects: factor-major, then metric, then level */
+  int *pareto;             /* [n_candidates] 1 on the Pareto front of (mean_time, mean_energy) */
 } pom_doe_report;
+
+/* The levels of sweep factor f: its distinct values (ascending) when there
+ * are at most 12, else 8 equal-width bins of its range (a Latin hypercube).
+ * level_of[c] gets each candidate's level, lo/hi[l] (n_candidates doubles
+ * each) the level's value range. Returns the number of levels, -1 when out
+ * of memory. */
+int pom_doe_factor_levels(const pom_doe_study *study, int f, int *level_of, double *lo, double *hi);
 
 void pom_doe_report_destroy(pom_doe_report *r);
 
@@ -341,11 +403,33 @@ int pom_doe_run_ranks(const pom_doe_run *run);
  * comparisons and ranking to the results file and closes it. */
 pom_status pom_doe_run_end(pom_doe_run *run, pom_doe_report **report, pom_error *err);
 
+/* After pom_doe_run_end, on the root: the value that statistic `stat`
+ * (pom_dyn_stat_id) of candidate c takes from unit k (NaN when the unit is
+ * not done or does not count: failed, or unsettled for time metrics). */
+double pom_doe_run_value(const pom_doe_run *run, int c, long k, int stat);
+
 /* Frees a run (joins workers if still running); NULL allowed. */
 void pom_doe_run_destroy(pom_doe_run *run);
 
 /* Convenience: begin, step to the end, end. */
 pom_status pom_doe_run_all(const pom_doe_study *study, const pom_doe_run_options *opt,
                            pom_doe_report **report, pom_error *err);
+
+/* ---- tabular results (pom_doe_tabular.c) ------------------------------------- */
+/* Writes the study as two CSV tables (docs/results.md, "Tabular results"):
+ * csv, one row per finished candidate x maneuver (candidate, factors,
+ * maneuver, its drawn values, actuator_unit, every metric of the schema,
+ * status, reason), and pom_doe_tabular_candidates_path(csv), one row per
+ * candidate (factors, counts, every statistic). The rows are read from the
+ * results file `results` a block at a time. Both files are written under a
+ * temporary name and renamed at the end, so a failure leaves neither
+ * half-written. POM_ERR_ARG without a results file, POM_ERR_IO on a failed
+ * write. */
+pom_status pom_doe_tabular_write(const pom_doe_study *study, const pom_doe_report *rep,
+                                 const char *results, const char *csv, pom_error *err);
+
+/* The per-candidate table beside csv: "x.csv" -> "x_candidates.csv" (any other
+ * name gets "_candidates.csv" appended). */
+void pom_doe_tabular_candidates_path(char *out, size_t cap, const char *csv);
 
 #endif

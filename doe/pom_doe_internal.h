@@ -25,12 +25,23 @@ pom_status pom_doe_tree_write(const config_t *tree, char **text, pom_error *err)
 
 /* ---- results file (pom_doe_results.c) ---- */
 typedef struct pom_doe_results pom_doe_results;
-/* Creates the file with its provenance and empty (not done) rows. */
-pom_status pom_doe_results_create(pom_doe_results **out, const char *path,
-                                  const pom_doe_study *study, pom_error *err);
-/* Opens an existing file for resume; fails when it belongs to another study. */
-pom_status pom_doe_results_open(pom_doe_results **out, const char *path, const pom_doe_study *study,
-                                pom_error *err);
+/* Takes PATH.lock (refused, nothing touched, while another run holds it),
+ * then: with resume, opens PATH.partial (an unfinished run) or else PATH (a
+ * finished one) when either exists, and checks that it holds this study;
+ * otherwise creates PATH.partial with the provenance and empty rows. PATH
+ * itself is only ever replaced whole, by pom_doe_results_finish. */
+pom_status pom_doe_results_start(pom_doe_results **out, const char *path,
+                                 const pom_doe_study *study, int resume, pom_error *err);
+/* 1 when start opened an existing file (its rows are to be loaded). */
+int pom_doe_results_resumed(const pom_doe_results *res);
+/* The file start opened (PATH or PATH.partial). */
+const char *pom_doe_results_open_path(const pom_doe_results *res);
+/* Checks a stored row of candidate c, maneuver k against the study: done is
+ * 0 or 1, and a done row has a pomlab status, a reason only when it failed,
+ * and the target maneuver k gives that candidate (bit for bit). Returns 0,
+ * or -1 with the inconsistency written to why (cap bytes). */
+int pom_doe_results_check_row(const pom_doe_study *study, int c, long k, const pom_doe_row *row,
+                              char *why, size_t cap);
 /* Writes rows [first, first + n) of candidate c. */
 pom_status pom_doe_results_write_rows(pom_doe_results *res, int c, long first, long n,
                                       const pom_doe_row *rows, pom_error *err);
@@ -41,8 +52,22 @@ pom_status pom_doe_results_flush(pom_doe_results *res, pom_error *err);
 /* Writes statistics, comparisons and ranking (replacing earlier ones). */
 pom_status pom_doe_results_write_report(pom_doe_results *res, const pom_doe_study *study,
                                         const pom_doe_report *rep, pom_error *err);
-/* Closes (NULL allowed); returns the first failure. */
+/* Closes (NULL allowed) and releases the lock; when complete, the finished
+ * PATH.partial is synced and renamed to PATH. Returns the first failure. */
+pom_status pom_doe_results_finish(pom_doe_results *res, int complete, pom_error *err);
+/* pom_doe_results_finish(res, 0, err): an unfinished file stays PATH.partial. */
 pom_status pom_doe_results_close(pom_doe_results *res, pom_error *err);
+
+/* ---- uncertain parameters (pom_doe_uncertain.c) ---- */
+/* Nominal values of the study's uncertain keys per candidate, and the check
+ * that both ends of every distribution give a valid candidate (messages
+ * name the study file cfg). */
+pom_status pom_doe_uncertain_prepare(pom_doe_study *study, const pom_cfg *cfg, pom_error *err);
+/* Writes /uncertain (keys, distributions, draws, nominal values). */
+pom_status pom_doe_uncertain_write(hid_t file, const pom_doe_study *study, pom_error *err);
+/* Resume: the file's /uncertain matches the study (or both have none). */
+pom_status pom_doe_uncertain_check(hid_t file, const pom_doe_study *study, const char *path,
+                                   pom_error *err);
 
 /* ---- report (pom_doe_report.c) ---- */
 /* Compact per-row values kept in memory for the statistics. */
@@ -55,8 +80,18 @@ typedef struct {
 } pom_doe_cell;
 
 void pom_doe_cell_from_row(pom_doe_cell *cell, const pom_doe_row *row);
+/* 1 when the cell counts for the metric (time needs settling). */
+int pom_doe_cell_usable(const pom_doe_cell *cell, pom_doe_metric metric);
+/* The cell's value of a compared metric (execution time or energy). */
+double pom_doe_cell_value(const pom_doe_cell *cell, pom_doe_metric metric);
 /* Report from cells[c * count + k] (c candidates, count maneuvers each). */
 pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *study,
                                   const pom_doe_cell *cells, pom_error *err);
+
+/* ---- effects (pom_doe_effects.c) ---- */
+/* Main effects of the sweep factors and the Pareto front into rep (after
+ * the ranking's common-maneuver means are set). */
+pom_status pom_doe_effects_compute(pom_doe_report *rep, const pom_doe_study *study,
+                                   const pom_doe_cell *cells, pom_error *err);
 
 #endif

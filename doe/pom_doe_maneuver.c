@@ -7,7 +7,7 @@
 #include <math.h>
 #include <string.h>
 
-/* The paper's study: 1000 maneuvers within +-3 mm (PARAMETERS.md, protocol). */
+/* The paper's study: 1000 maneuvers within +-3 mm (docs/PARAMETERS.md, protocol). */
 #define PAPER_MANEUVERS 1000
 #define PAPER_RANGE_M   3.0e-3
 #define DEFAULT_SEED    20120708u

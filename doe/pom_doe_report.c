@@ -32,17 +32,20 @@ void pom_doe_report_destroy(pom_doe_report *r) {
   free(r->cmp);
   free(r->rank_time);
   free(r->rank_energy);
+  free(r->mean_time);
+  free(r->mean_energy);
+  free(r->effects);
+  free(r->pareto);
   free(r);
 }
 
-/* 1 when maneuver cell counts for the metric (time needs settling). */
-static int usable(const pom_doe_cell *cell, pom_doe_metric metric) {
+int pom_doe_cell_usable(const pom_doe_cell *cell, pom_doe_metric metric) {
   return metric == POM_DOE_METRIC_TIME ? cell->settled : cell->ok;
 }
 
 /* The chosen metrics of the paired comparison and the ranking, read through
  * the schema's statistics. */
-static double value_of(const pom_doe_cell *cell, pom_doe_metric metric) {
+double pom_doe_cell_value(const pom_doe_cell *cell, pom_doe_metric metric) {
   return cell
       ->stat[metric == POM_DOE_METRIC_TIME ? POM_DYN_STAT_execution_time : POM_DYN_STAT_energy];
 }
@@ -66,7 +69,7 @@ static int cmp_rank(const void *a, const void *b) {
   return x->index - y->index;
 }
 
-static void rank(int *order, const pom_doe_study *study, const pom_doe_report *rep,
+static void rank(int *order, double *means, const pom_doe_study *study, const pom_doe_report *rep,
                  const pom_doe_cell *cells, pom_doe_metric metric, rank_item *items) {
   int nc = study->n_candidates;
   long m = study->maneuvers.count;
@@ -79,17 +82,61 @@ static void rank(int *order, const pom_doe_study *study, const pom_doe_report *r
   for (long k = 0; k < m; ++k) {
     int all = 1;
     for (int c = 0; c < nc && all; ++c)
-      all = usable(&cells[(size_t)c * (size_t)m + (size_t)k], metric);
+      all = pom_doe_cell_usable(&cells[(size_t)c * (size_t)m + (size_t)k], metric);
     if (!all) continue;
     ++n;
     for (int c = 0; c < nc; ++c)
-      items[c].mean += value_of(&cells[(size_t)c * (size_t)m + (size_t)k], metric);
+      items[c].mean += pom_doe_cell_value(&cells[(size_t)c * (size_t)m + (size_t)k], metric);
   }
-  for (int c = 0; c < nc; ++c)
+  for (int c = 0; c < nc; ++c) {
     items[c].mean = n ? items[c].mean / (double)n : NAN;
+    means[c] = items[c].mean;
+  }
   qsort(items, (size_t)nc, sizeof *items, cmp_rank);
   for (int c = 0; c < nc; ++c)
     order[c] = items[c].index;
+}
+
+/* The paired comparison of candidates x and y (differences x - y) on the
+ * maneuvers both can use; a, b: m values of scratch, scratch 3 m. */
+static void compare(pom_doe_paired *out, const pom_doe_cell *cells, size_t m, int x, int y,
+                    pom_doe_metric metric, double confidence, double *a, double *b,
+                    double *scratch) {
+  size_t n = 0;
+  for (size_t k = 0; k < m; ++k) {
+    const pom_doe_cell *u = &cells[(size_t)x * m + k], *v = &cells[(size_t)y * m + k];
+    if (!pom_doe_cell_usable(u, metric) || !pom_doe_cell_usable(v, metric)) continue;
+    a[n] = pom_doe_cell_value(u, metric);
+    b[n] = pom_doe_cell_value(v, metric);
+    ++n;
+  }
+  pom_doe_paired_compute(out, a, b, n, confidence, scratch);
+}
+
+/* Friedman's test over the maneuvers every candidate can use (blocks), one
+ * maneuver at a time so nothing grows with their number; values, rank:
+ * nc doubles each, scratch 4 nc. */
+static void friedman(pom_doe_friedman_result *out, const pom_doe_cell *cells, size_t m, int nc,
+                     pom_doe_metric metric, double *values, double *rank, double *scratch) {
+  double *rank_sum = scratch, *pairs = scratch + nc;
+  double tie_sum = 0;
+  long n = 0;
+  for (int c = 0; c < nc; ++c)
+    rank_sum[c] = 0;
+  for (size_t k = 0; k < m; ++k) {
+    int all = 1;
+    for (int c = 0; c < nc && all; ++c) {
+      const pom_doe_cell *cell = &cells[(size_t)c * m + k];
+      all = pom_doe_cell_usable(cell, metric);
+      values[c] = all ? pom_doe_cell_value(cell, metric) : NAN;
+    }
+    if (!all) continue;
+    tie_sum += pom_doe_rank_average(rank, values, nc, pairs);
+    for (int c = 0; c < nc; ++c)
+      rank_sum[c] += rank[c];
+    ++n;
+  }
+  pom_doe_friedman_from_ranks(out, rank_sum, nc, n, tie_sum);
 }
 
 pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *study,
@@ -98,6 +145,7 @@ pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *stu
   int nc = study->n_candidates;
   size_t m = (size_t)study->maneuvers.count;
   double *a = NULL, *b = NULL, *scratch = NULL;
+  size_t *order_scratch = NULL;
   rank_item *items = NULL;
   pom_doe_report *rep = calloc(1, sizeof *rep);
   if (!rep) POM_FAIL(err, POM_ERR_NOMEM, "report: out of memory");
@@ -105,17 +153,24 @@ pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *stu
   rep->n_candidates = nc;
   rep->n_maneuvers = (long)m;
   rep->alpha = study->alpha;
-  rep->n_comparisons = nc * (nc - 1); /* every pair, two metrics */
+  rep->all_pairs = nc <= POM_DOE_ALL_PAIRS_MAX;
+  rep->n_comparisons = rep->all_pairs ? nc * (nc - 1) : 2 * (nc - 1); /* two metrics */
   rep->cand = calloc((size_t)nc, sizeof *rep->cand);
   rep->cmp = calloc(rep->n_comparisons ? (size_t)rep->n_comparisons : 1, sizeof *rep->cmp);
   rep->rank_time = calloc((size_t)nc, sizeof *rep->rank_time);
   rep->rank_energy = calloc((size_t)nc, sizeof *rep->rank_energy);
-  a = malloc((m ? m : 1) * sizeof *a);
-  b = malloc((m ? m : 1) * sizeof *b);
-  scratch = malloc((m ? m : 1) * 3 * sizeof *scratch);
+  rep->mean_time = calloc((size_t)nc, sizeof *rep->mean_time);
+  rep->mean_energy = calloc((size_t)nc, sizeof *rep->mean_energy);
+  /* a, b: one value per maneuver, per comparison or per candidate */
+  size_t len = m > (size_t)rep->n_comparisons ? m : (size_t)rep->n_comparisons;
+  len = len > (size_t)nc ? len : (size_t)nc;
+  a = malloc((len ? len : 1) * sizeof *a);
+  b = malloc((len ? len : 1) * sizeof *b);
+  scratch = malloc((len ? len : 1) * 4 * sizeof *scratch);
+  order_scratch = malloc((len ? len : 1) * sizeof *order_scratch);
   items = malloc((size_t)nc * sizeof *items);
-  if (!rep->cand || !rep->cmp || !rep->rank_time || !rep->rank_energy || !a || !b || !scratch ||
-      !items)
+  if (!rep->cand || !rep->cmp || !rep->rank_time || !rep->rank_energy || !rep->mean_time ||
+      !rep->mean_energy || !a || !b || !scratch || !order_scratch || !items)
     POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "report: out of memory");
 
   for (int c = 0; c < nc; ++c) {
@@ -138,26 +193,36 @@ pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *stu
     }
   }
 
+  rank(rep->rank_time, rep->mean_time, study, rep, cells, POM_DOE_METRIC_TIME, items);
+  rank(rep->rank_energy, rep->mean_energy, study, rep, cells, POM_DOE_METRIC_ENERGY, items);
+  POM_TRY_GOTO(pom_doe_effects_compute(rep, study, cells, err), fail);
   int j = 0;
-  for (int ca = 0; ca < nc; ++ca)
-    for (int cb = ca + 1; cb < nc; ++cb)
-      for (int metric = 0; metric < 2; ++metric) {
-        size_t n = 0;
-        for (size_t k = 0; k < m; ++k) {
-          const pom_doe_cell *x = &cells[(size_t)ca * m + k], *y = &cells[(size_t)cb * m + k];
-          if (!usable(x, (pom_doe_metric)metric) || !usable(y, (pom_doe_metric)metric)) continue;
-          a[n] = value_of(x, (pom_doe_metric)metric);
-          b[n] = value_of(y, (pom_doe_metric)metric);
-          ++n;
+  for (int metric = 0; metric < 2; ++metric) {
+    int first = j;
+    const int *order = metric == 0 ? rep->rank_time : rep->rank_energy;
+    for (int ca = 0; ca < nc; ++ca)
+      for (int cb = ca + 1; cb < nc; ++cb) {
+        int x = ca, y = cb;
+        if (!rep->all_pairs) { /* the best against each other one */
+          if (ca > 0) break;
+          x = order[0];
+          y = order[cb];
         }
         pom_doe_comparison *cmp = &rep->cmp[j++];
-        cmp->a = ca;
-        cmp->b = cb;
+        cmp->a = x;
+        cmp->b = y;
         cmp->metric = (pom_doe_metric)metric;
-        pom_doe_paired_compute(&cmp->test, a, b, n, study->confidence, scratch);
+        compare(&cmp->test, cells, m, x, y, (pom_doe_metric)metric, study->confidence, a, b,
+                scratch);
       }
-  rank(rep->rank_time, study, rep, cells, POM_DOE_METRIC_TIME, items);
-  rank(rep->rank_energy, study, rep, cells, POM_DOE_METRIC_ENERGY, items);
+    /* Holm over this metric's comparisons */
+    for (int i = first; i < j; ++i)
+      a[i - first] = rep->cmp[i].test.wilcoxon_p;
+    pom_doe_holm(b, a, (size_t)(j - first), order_scratch);
+    for (int i = first; i < j; ++i)
+      rep->cmp[i].p_holm = b[i - first];
+    friedman(&rep->friedman[metric], cells, m, nc, (pom_doe_metric)metric, a, b, scratch);
+  }
   *out = rep;
   goto done;
 fail:
@@ -166,6 +231,7 @@ done:
   free(a);
   free(b);
   free(scratch);
+  free(order_scratch);
   free(items);
   return st;
 }

@@ -7,11 +7,16 @@
 #include "pom_h5.h"
 #include "pom_math.h"
 
+#include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 #define FORMAT_NAME    "pomlab study results"
 #define FORMAT_VERSION 1
@@ -24,7 +29,83 @@ struct pom_doe_results {
   int n_candidates;
   long n_maneuvers;
   hid_t *rows; /* [n_candidates] open maneuvers datasets */
+  /* the file's place (docs/results.md, "Writing safely") */
+  char path[POM_DOE_PATH_LEN + 16];      /* the results file as asked for */
+  char open_path[POM_DOE_PATH_LEN + 16]; /* the file open: path or path.partial */
+  char lock_path[POM_DOE_PATH_LEN + 16]; /* path.lock */
+  int lock_fd;                           /* holds the lock, -1 when none */
+  int resumed;                           /* 1: opened an existing file */
 };
+
+/* ---- exclusive use of a results path -------------------------------------------- */
+void pom_doe_results_partial_path(char *buf, size_t cap, const char *path) {
+  snprintf(buf, cap, "%s.partial", path);
+}
+
+/* Takes PATH.lock with flock: one run at a time per results path. The kernel
+ * drops the lock when the process ends however it ends (kill -9 too), so a
+ * lock file left behind never blocks the next run. */
+static pom_status take_lock(pom_doe_results *res, const char *path, pom_error *err) {
+  snprintf(res->lock_path, sizeof res->lock_path, "%s.lock", path);
+  for (int attempt = 0; attempt < 8; ++attempt) {
+    int fd = open(res->lock_path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0)
+      POM_FAIL(err, POM_ERR_IO, "cannot create the lock file '%s': %s", res->lock_path,
+               strerror(errno));
+    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+      int e = errno;
+      char owner[32] = "";
+      ssize_t n = read(fd, owner, sizeof owner - 1);
+      owner[n > 0 ? n : 0] = '\0';
+      owner[strcspn(owner, "\n")] = '\0';
+      close(fd);
+      if (e == EWOULDBLOCK)
+        POM_FAIL(err, POM_ERR_IO,
+                 "'%s' is being written by another pomlab run (process %s holds '%s'): wait for "
+                 "it to finish or choose another output; nothing was changed",
+                 path, owner[0] ? owner : "?", res->lock_path);
+      POM_FAIL(err, POM_ERR_IO, "cannot lock '%s': %s", res->lock_path, strerror(e));
+    }
+    /* the holder before us may have removed the file after we opened it:
+     * then our lock is on a file nobody else sees; take the new one */
+    struct stat held, now;
+    if (fstat(fd, &held) == 0 && stat(res->lock_path, &now) == 0 && held.st_ino == now.st_ino &&
+        held.st_dev == now.st_dev) {
+      char pid[32];
+      int len = snprintf(pid, sizeof pid, "%ld\n", (long)getpid());
+      if (ftruncate(fd, 0) != 0 || write(fd, pid, (size_t)len) != len) {
+        int e = errno;
+        close(fd);
+        POM_FAIL(err, POM_ERR_IO, "cannot write the lock file '%s': %s", res->lock_path,
+                 strerror(e));
+      }
+      res->lock_fd = fd;
+      return POM_OK;
+    }
+    close(fd);
+  }
+  POM_FAIL(err, POM_ERR_IO, "cannot take the lock file '%s': it keeps being replaced",
+           res->lock_path);
+}
+
+static void release_lock(pom_doe_results *res) {
+  if (res->lock_fd < 0) return;
+  unlink(res->lock_path); /* while still holding it (see take_lock) */
+  close(res->lock_fd);
+  res->lock_fd = -1;
+}
+
+/* Forces the data of a finished file to the disk before it is renamed. */
+static pom_status sync_file(const char *path, pom_error *err) {
+  int fd = open(path, O_RDONLY | O_CLOEXEC);
+  if (fd < 0 || fsync(fd) != 0) {
+    int e = errno;
+    if (fd >= 0) close(fd);
+    POM_FAIL(err, POM_ERR_IO, "cannot sync '%s' to the disk: %s", path, strerror(e));
+  }
+  if (close(fd) != 0) POM_FAIL(err, POM_ERR_IO, "closing '%s': %s", path, strerror(errno));
+  return POM_OK;
+}
 
 /* ---- the row type -------------------------------------------------------------- */
 static pom_status row_types(hid_t *mem, hid_t *file, pom_error *err) {
@@ -76,6 +157,7 @@ static pom_status results_alloc(pom_doe_results **out, const pom_doe_study *stud
   pom_doe_results *res = calloc(1, sizeof *res);
   if (!res) POM_FAIL(err, POM_ERR_NOMEM, "results: out of memory");
   res->file = res->row_mem = res->row_file = -1;
+  res->lock_fd = -1;
   res->n_candidates = study->n_candidates;
   res->n_maneuvers = study->maneuvers.count;
   res->rows = malloc((size_t)study->n_candidates * sizeof *res->rows);
@@ -105,6 +187,7 @@ pom_status pom_doe_describe_dyn_params(hid_t g, const pom_dyn_params *par, pom_e
   POM_TRY(pom_h5_attr_double(g, "solver_atol_scale", par->solver.atol_scale, err));
   POM_TRY(pom_h5_attr_double(g, "solver_max_step_s", par->solver.max_step, err));
   POM_TRY(pom_h5_attr_int64(g, "solver_max_steps", par->solver.max_steps, err));
+  POM_TRY(pom_h5_attr_double(g, "solver_max_wall_s", par->solver.max_wall, err));
   POM_TRY(pom_h5_attr_string(g, "solver_linear_solver",
                              pom_dyn_linsol_name(par->solver.linear_solver), err));
   POM_TRY(pom_h5_attr_double(g, "maneuver_horizon_s", par->maneuver.horizon, err));
@@ -255,6 +338,49 @@ done:
   return st;
 }
 
+/* A sweep's factor values, one column per factor (docs/results.md, section
+ * 5): /factors [C][F] with the dotted keys, short labels and grid levels. */
+static pom_status write_factors(hid_t file, const pom_doe_study *study, pom_error *err) {
+  int nf = study->n_factors;
+  if (nf == 0) return POM_OK;
+  size_t nc = (size_t)study->n_candidates;
+  double *v = malloc(nc * (size_t)nf * sizeof *v);
+  char *keys = malloc((size_t)nf * (POM_DOE_NAME_LEN + 1));
+  char *labels = malloc((size_t)nf * (POM_DOE_NAME_LEN + 1));
+  double levels[POM_DOE_MAX_FACTORS];
+  pom_status st = POM_OK;
+  hid_t ds = -1;
+  if (!v || !keys || !labels) POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "results: out of memory");
+  keys[0] = labels[0] = '\0';
+  for (int f = 0; f < nf; ++f) {
+    strcat(keys, f ? "," : "");
+    strcat(keys, study->factor_key[f]);
+    strcat(labels, f ? "," : "");
+    strcat(labels, study->factor_label[f]);
+    levels[f] = (double)study->factor_levels[f];
+  }
+  for (size_t c = 0; c < nc; ++c)
+    for (int f = 0; f < nf; ++f)
+      v[c * (size_t)nf + (size_t)f] =
+          f < study->candidates[c].n_factors ? study->candidates[c].factor_value[f] : NAN;
+  size_t dims[2] = {nc, (size_t)nf};
+  POM_TRY_GOTO(pom_h5_write_doubles(file, "factors", 2, dims, v, err), done);
+  ds = H5Dopen2(file, "factors", H5P_DEFAULT);
+  if (ds < 0) {
+    st = pom_h5_fail(err, __FILE__, __LINE__, "annotating factors");
+    goto done;
+  }
+  POM_TRY_GOTO(pom_h5_attr_string(ds, "keys", keys, err), done);
+  POM_TRY_GOTO(pom_h5_attr_string(ds, "labels", labels, err), done);
+  POM_TRY_GOTO(pom_h5_attr_doubles(ds, "levels", levels, (size_t)nf, err), done);
+done:
+  if (ds >= 0) H5Dclose(ds);
+  free(v);
+  free(keys);
+  free(labels);
+  return st;
+}
+
 /* The current time as ISO 8601 UTC. */
 static void utc_now(char *buf, size_t cap) {
   time_t now = time(NULL);
@@ -263,13 +389,11 @@ static void utc_now(char *buf, size_t cap) {
   strftime(buf, cap, "%Y-%m-%dT%H:%M:%SZ", &tmv);
 }
 
-pom_status pom_doe_results_create(pom_doe_results **out, const char *path,
-                                  const pom_doe_study *study, pom_error *err) {
+/* Creates res->open_path with the study's provenance and empty rows. */
+static pom_status results_create(pom_doe_results *res, const pom_doe_study *study, pom_error *err) {
   pom_status st = POM_OK;
-  pom_doe_results *res = NULL;
   hid_t g = -1;
-  *out = NULL;
-  POM_TRY_GOTO(results_alloc(&res, study, err), fail);
+  const char *path = res->open_path;
   POM_TRY_GOTO(pom_h5_create_file(&res->file, path, err), fail);
   char created[64];
   utc_now(created, sizeof created);
@@ -288,18 +412,18 @@ pom_status pom_doe_results_create(pom_doe_results **out, const char *path,
   POM_TRY_GOTO(pom_h5_attr_double(f, "confidence", study->confidence, err), fail);
   POM_TRY_GOTO(pom_h5_write_text(f, "study_config", study->config_text, err), fail);
   POM_TRY_GOTO(write_montecarlo(f, study, err), fail);
+  POM_TRY_GOTO(pom_doe_uncertain_write(f, study, err), fail);
   POM_TRY_GOTO(pom_h5_create_group(&g, f, "candidates", err), fail);
   for (int c = 0; c < study->n_candidates; ++c)
     POM_TRY_GOTO(write_candidate(res, g, study, c, err), fail);
   H5Gclose(g);
   g = -1;
+  POM_TRY_GOTO(write_factors(f, study, err), fail);
   POM_TRY_GOTO(pom_doe_results_flush(res, err), fail);
-  *out = res;
   return POM_OK;
 fail:
   if (g >= 0) H5Gclose(g);
   pom_error_prefix(err, "creating results file '%s'", path);
-  pom_doe_results_close(res, NULL);
   return st;
 }
 
@@ -372,6 +496,22 @@ static pom_status check_fields(hid_t ds, const char *path, pom_error *err) {
   return st;
 }
 
+/* The first key whose value differs between two resolved configs, as
+ * "key 'K' (V1 in the file, V2 now)" in key (falls back to "text differs"). */
+static void config_key_change(const char *stored, const char *current, char *key, size_t key_cap,
+                              char *was, char *now, size_t val_cap) {
+  pom_cfg *a = NULL, *b = NULL;
+  pom_error e;
+  char name[256];
+  snprintf(key, key_cap, "the config text differs");
+  if (pom_cfg_load_string(&a, stored, "stored", &e) == POM_OK &&
+      pom_cfg_load_string(&b, current, "current", &e) == POM_OK &&
+      pom_cfg_diff(a, b, name, sizeof name, was, now, val_cap))
+    snprintf(key, key_cap, "key '%s' (%s in the file, %s now)", name, was, now);
+  pom_cfg_destroy(a);
+  pom_cfg_destroy(b);
+}
+
 /* The study identity: maneuvers and resolved candidate configs. */
 static pom_status check_identity(pom_doe_results *res, const pom_doe_study *study, const char *path,
                                  pom_error *err) {
@@ -402,25 +542,45 @@ static pom_status check_identity(pom_doe_results *res, const pom_doe_study *stud
     st = pom_h5_read_attr_double(mc, H5Aexists(mc, "range") > 0 ? "range" : "range_m", &range, err);
   H5Gclose(mc);
   POM_TRY(st);
-  if (nc != study->n_candidates || nm != study->maneuvers.count ||
-      (uint64_t)seed != study->maneuvers.seed || range != study->maneuvers.range)
+  /* name what changed, as the config says it */
+  char changed[256];
+  changed[0] = '\0';
+  if (nc != study->n_candidates)
+    snprintf(changed, sizeof changed, "the number of candidates (%lld in the file, %d now)",
+             (long long)nc, study->n_candidates);
+  else if (nm != study->maneuvers.count)
+    snprintf(changed, sizeof changed, "key 'montecarlo.maneuvers' (%lld in the file, %ld now)",
+             (long long)nm, study->maneuvers.count);
+  else if ((uint64_t)seed != study->maneuvers.seed)
+    snprintf(changed, sizeof changed, "key 'montecarlo.seed' (%lld in the file, %llu now)",
+             (long long)seed, (unsigned long long)study->maneuvers.seed);
+  else if (range != study->maneuvers.range)
+    snprintf(changed, sizeof changed,
+             "the target range, key 'montecarlo.range_mm' or 'range_deg' (%.9g in the file, "
+             "%.9g now, SI)",
+             range, study->maneuvers.range);
+  if (changed[0])
     POM_FAIL(err, POM_ERR_ARG,
              "'%s' holds another study (%lld candidates x %lld maneuvers, seed %lld; this one has "
-             "%d x %ld, seed %llu): remove it or choose another output",
+             "%d x %ld, seed %llu); changed: %s; remove it or choose another output",
              path, (long long)nc, (long long)nm, (long long)seed, study->n_candidates,
-             study->maneuvers.count, (unsigned long long)study->maneuvers.seed);
+             study->maneuvers.count, (unsigned long long)study->maneuvers.seed, changed);
   POM_TRY(check_protocol(res->file, study, path, err));
+  POM_TRY(pom_doe_uncertain_check(res->file, study, path, err));
   for (int c = 0; c < study->n_candidates; ++c) {
     char name[48];
     snprintf(name, sizeof name, "candidates/%d", c);
     POM_TRY_GOTO(pom_h5_open_group(&g, res->file, name, err), done);
     POM_TRY_GOTO(pom_h5_read_text(g, "config", &text, err), done);
     const char *want = study->candidates[c].resolved ? study->candidates[c].resolved : "";
-    if (strcmp(text, want) != 0)
+    if (strcmp(text, want) != 0) {
+      char key[256], was[128], now[128];
+      config_key_change(text, want, key, sizeof key, was, now, sizeof was);
       POM_FAIL_GOTO(err, POM_ERR_ARG, done,
-                    "'%s': candidate %d ('%s') was run with a different configuration: remove the "
-                    "file or choose another output",
-                    path, c, study->candidates[c].name);
+                    "'%s': candidate %d ('%s') was run with a different configuration; changed: "
+                    "%s; remove the file or choose another output",
+                    path, c, study->candidates[c].name, key);
+    }
     res->rows[c] = H5Dopen2(g, "maneuvers", H5P_DEFAULT);
     if (res->rows[c] < 0) {
       st = pom_h5_fail(err, __FILE__, __LINE__, "opening the maneuvers dataset");
@@ -438,26 +598,104 @@ done:
   return st;
 }
 
-pom_status pom_doe_results_open(pom_doe_results **out, const char *path, const pom_doe_study *study,
-                                pom_error *err) {
-  pom_status st = POM_OK;
-  pom_doe_results *res = NULL;
-  *out = NULL;
-  POM_TRY_GOTO(results_alloc(&res, study, err), fail);
-  POM_TRY_GOTO(pom_h5_open_file(&res->file, path, 1, err), fail);
-  POM_TRY_GOTO(check_identity(res, study, path, err), fail);
+/* Opens res->open_path for resume: it must hold this study. */
+static pom_status results_open(pom_doe_results *res, const pom_doe_study *study, pom_error *err) {
+  const char *path = res->open_path;
+  POM_TRY(pom_h5_open_file(&res->file, path, 1, err));
+  POM_TRY(check_identity(res, study, path, err));
   /* rows from here on come from this program: say so next to the creator's
    * version and commit */
   char when[64];
   utc_now(when, sizeof when);
-  POM_TRY_GOTO(pom_h5_attr_string(res->file, "last_resumed_utc", when, err), fail);
-  POM_TRY_GOTO(pom_h5_attr_string(res->file, "last_resumed_version", POM_VERSION, err), fail);
-  POM_TRY_GOTO(pom_h5_attr_string(res->file, "last_resumed_git_commit", POM_GIT_COMMIT, err), fail);
+  POM_TRY(pom_h5_attr_string(res->file, "last_resumed_utc", when, err));
+  POM_TRY(pom_h5_attr_string(res->file, "last_resumed_version", POM_VERSION, err));
+  POM_TRY(pom_h5_attr_string(res->file, "last_resumed_git_commit", POM_GIT_COMMIT, err));
+  return POM_OK;
+}
+
+pom_status pom_doe_results_start(pom_doe_results **out, const char *path,
+                                 const pom_doe_study *study, int resume, pom_error *err) {
+  pom_status st = POM_OK;
+  pom_doe_results *res = NULL;
+  *out = NULL;
+  POM_TRY_GOTO(results_alloc(&res, study, err), fail);
+  if (strlen(path) >= POM_DOE_PATH_LEN)
+    POM_FAIL_GOTO(err, POM_ERR_ARG, fail, "results path longer than %d characters: '%s'",
+                  POM_DOE_PATH_LEN - 1, path);
+  snprintf(res->path, sizeof res->path, "%s", path);
+  /* nothing is opened before the lock is held */
+  POM_TRY_GOTO(take_lock(res, path, err), fail);
+  char partial[sizeof res->open_path];
+  pom_doe_results_partial_path(partial, sizeof partial, path);
+  /* an unfinished run (path.partial) first, else a finished file */
+  const char *existing = access(partial, F_OK) == 0 ? partial
+                         : access(path, F_OK) == 0  ? path
+                                                    : NULL;
+  if (resume && existing) {
+    snprintf(res->open_path, sizeof res->open_path, "%s", existing);
+    res->resumed = 1;
+    POM_TRY_GOTO(results_open(res, study, err), fail);
+  } else {
+    /* a new run never touches the finished file: it replaces it by rename
+     * once every maneuver is done */
+    snprintf(res->open_path, sizeof res->open_path, "%s", partial);
+    POM_TRY_GOTO(results_create(res, study, err), fail);
+  }
   *out = res;
   return POM_OK;
 fail:
   pom_doe_results_close(res, NULL);
   return st;
+}
+
+int pom_doe_results_resumed(const pom_doe_results *res) {
+  return res->resumed;
+}
+
+const char *pom_doe_results_open_path(const pom_doe_results *res) {
+  return res->open_path;
+}
+
+/* ---- stored rows, checked on resume ------------------------------------------------ */
+int pom_doe_results_check_row(const pom_doe_study *study, int c, long k, const pom_doe_row *row,
+                              char *why, size_t cap) {
+  if (row->done == 0) return 0; /* computed again anyway */
+  if (row->done != 1) {
+    snprintf(why, cap, "done = %d", (int)row->done);
+    return -1;
+  }
+  if (strcmp(pom_status_name((pom_status)row->status), "POM_UNKNOWN") == 0) {
+    snprintf(why, cap, "status = %d is no pomlab status", (int)row->status);
+    return -1;
+  }
+  if (memchr(row->reason, '\0', sizeof row->reason) == NULL ||
+      (row->status == POM_OK) != (row->reason[0] == '\0')) {
+    snprintf(why, cap, "status %d does not match its reason", (int)row->status);
+    return -1;
+  }
+  /* the target is the one maneuver k gives this candidate */
+  pom_doe_maneuver mv;
+  pom_doe_maneuver_draw(&mv, &study->maneuvers, k);
+  double want[3];
+  int drawn = 1;
+  if (study->maneuvers.space == POM_DOE_SPACE_ORIENTATION) {
+    const pom_doe_evaluator *ev = &study->candidates[c].eval;
+    pom_error e;
+    pom_error_clear(&e);
+    drawn = ev->targets(ev->ctx, &mv, want, &e) == POM_OK;
+  } else {
+    memcpy(want, mv.q, sizeof want);
+  }
+  int same = 1;
+  for (int i = 0; i < 3; ++i)
+    same &= drawn ? row->target[i] == want[i] : isnan(row->target[i]);
+  if (!same || (!drawn && row->status == POM_OK)) {
+    snprintf(why, cap, "target (%.6g, %.6g, %.6g) is not maneuver %ld's (seed %llu)",
+             row->target[0], row->target[1], row->target[2], k,
+             (unsigned long long)study->maneuvers.seed);
+    return -1;
+  }
+  return 0;
 }
 
 /* ---- rows ---------------------------------------------------------------------------- */
@@ -598,16 +836,18 @@ done:
   return st;
 }
 
+#define PAIRED_COLUMNS 13
+
 static pom_status write_comparisons(hid_t file, const pom_doe_report *rep, pom_error *err) {
   pom_status st = POM_OK;
   hid_t g = -1;
   size_t n = (size_t)rep->n_comparisons;
-  double *buf = malloc((n ? n : 1) * 11 * sizeof *buf);
+  double *buf = malloc((n ? n : 1) * PAIRED_COLUMNS * sizeof *buf);
   if (!buf) POM_FAIL(err, POM_ERR_NOMEM, "results: out of memory");
   POM_TRY_GOTO(replace_group(&g, file, "comparison", err), done);
   for (size_t j = 0; j < n; ++j) {
     const pom_doe_comparison *c = &rep->cmp[j];
-    double *r = buf + 11 * j;
+    double *r = buf + PAIRED_COLUMNS * j;
     r[0] = c->a;
     r[1] = c->b;
     r[2] = c->metric;
@@ -619,15 +859,40 @@ static pom_status write_comparisons(hid_t file, const pom_doe_report *rep, pom_e
     r[8] = c->test.wilcoxon_p;
     r[9] = (double)c->test.n_nonzero;
     r[10] = c->test.win_fraction;
+    r[11] = c->test.tie_fraction;
+    r[12] = c->p_holm;
   }
-  size_t dims[2] = {n, 11};
+  size_t dims[2] = {n, PAIRED_COLUMNS};
   POM_TRY_GOTO(pom_h5_write_doubles(g, "paired", 2, dims, buf, err), done);
   POM_TRY_GOTO(pom_h5_attr_string(g, "columns",
                                   "a,b,metric(0=execution_time s,1=energy J),n,mean_diff(a-b),"
                                   "ci_low,ci_high,wilcoxon_w_plus,wilcoxon_p,n_nonzero,"
-                                  "win_fraction(a<b)",
+                                  "win_fraction(a<b),tie_fraction(a==b),holm_p",
                                   err),
                done);
+  POM_TRY_GOTO(pom_h5_attr_string(g, "pairs",
+                                  rep->all_pairs ? "every pair"
+                                                 : "the best candidate of each metric (a) against "
+                                                   "each other one (b)",
+                                  err),
+               done);
+  double fr[2 * 4];
+  for (int m = 0; m < 2; ++m) {
+    fr[4 * m + 0] = (double)rep->friedman[m].n_blocks;
+    fr[4 * m + 1] = rep->friedman[m].k;
+    fr[4 * m + 2] = rep->friedman[m].statistic;
+    fr[4 * m + 3] = rep->friedman[m].p;
+  }
+  size_t fdims[2] = {2, 4};
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "friedman", 2, fdims, fr, err), done);
+  hid_t ds = H5Dopen2(g, "friedman", H5P_DEFAULT);
+  if (ds < 0) {
+    st = pom_h5_fail(err, __FILE__, __LINE__, "annotating friedman");
+    goto done;
+  }
+  st = pom_h5_attr_string(ds, "columns", "n_maneuvers,k_candidates,chi_square,p", err);
+  if (st == POM_OK) st = pom_h5_attr_string(ds, "rows", "execution_time,energy", err);
+  H5Dclose(ds);
 done:
   if (g >= 0) H5Gclose(g);
   free(buf);
@@ -664,6 +929,56 @@ done:
   return st;
 }
 
+/* Main effects, the common-maneuver means and the Pareto front (for the
+ * figures of many candidates). */
+static pom_status write_effects(hid_t file, const pom_doe_report *rep, pom_error *err) {
+  pom_status st = POM_OK;
+  hid_t g = -1;
+  size_t n = (size_t)rep->n_effects, nc = (size_t)rep->n_candidates;
+  double *buf = malloc((n > nc ? n : nc) * 10 * sizeof *buf + sizeof *buf);
+  if (!buf) POM_FAIL(err, POM_ERR_NOMEM, "results: out of memory");
+  POM_TRY_GOTO(replace_group(&g, file, "effects", err), done);
+  for (size_t j = 0; j < n; ++j) {
+    const pom_doe_effect *e = &rep->effects[j];
+    double *r = buf + 10 * j;
+    r[0] = e->factor;
+    r[1] = e->level;
+    r[2] = e->lo;
+    r[3] = e->hi;
+    r[4] = e->n_candidates;
+    r[5] = e->metric;
+    r[6] = (double)e->n;
+    r[7] = e->mean;
+    r[8] = e->ci_low;
+    r[9] = e->ci_high;
+  }
+  size_t dims[2] = {n, 10};
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "main", 2, dims, buf, err), done);
+  POM_TRY_GOTO(pom_h5_attr_string(g, "columns",
+                                  "factor,level,lo,hi,n_candidates,metric(0=execution_time s,"
+                                  "1=energy J),n_maneuvers,mean,ci_low,ci_high",
+                                  err),
+               done);
+  for (size_t c = 0; c < nc; ++c) {
+    buf[3 * c + 0] = rep->mean_time[c];
+    buf[3 * c + 1] = rep->mean_energy[c];
+    buf[3 * c + 2] = rep->pareto[c];
+  }
+  size_t cdims[2] = {nc, 3};
+  POM_TRY_GOTO(pom_h5_write_doubles(g, "common_means", 2, cdims, buf, err), done);
+  hid_t ds = H5Dopen2(g, "common_means", H5P_DEFAULT);
+  if (ds < 0) {
+    st = pom_h5_fail(err, __FILE__, __LINE__, "annotating common_means");
+    goto done;
+  }
+  st = pom_h5_attr_string(ds, "columns", "execution_time_s,energy_J,pareto", err);
+  H5Dclose(ds);
+done:
+  if (g >= 0) H5Gclose(g);
+  free(buf);
+  return st;
+}
+
 pom_status pom_doe_results_write_report(pom_doe_results *res, const pom_doe_study *study,
                                         const pom_doe_report *rep, pom_error *err) {
   pom_h5_quiet();
@@ -679,18 +994,40 @@ pom_status pom_doe_results_write_report(pom_doe_results *res, const pom_doe_stud
   H5Gclose(g);
   POM_TRY(st);
   POM_TRY(write_ranking(res->file, study, rep, err));
+  POM_TRY(write_effects(res->file, rep, err));
   return pom_doe_results_flush(res, err);
 }
 
-pom_status pom_doe_results_close(pom_doe_results *res, pom_error *err) {
-  if (!res) return POM_OK;
+/* Closes the HDF5 side of res. */
+static pom_status close_hdf5(pom_doe_results *res, pom_error *err) {
   pom_h5_quiet();
   for (int c = 0; c < res->n_candidates; ++c)
     if (res->rows && res->rows[c] >= 0) H5Dclose(res->rows[c]);
   if (res->row_mem >= 0) H5Tclose(res->row_mem);
   if (res->row_file >= 0) H5Tclose(res->row_file);
   pom_status st = pom_h5_close_file(res->file, err);
+  res->file = res->row_mem = res->row_file = -1;
+  if (res->rows)
+    for (int c = 0; c < res->n_candidates; ++c)
+      res->rows[c] = -1;
+  return st;
+}
+
+pom_status pom_doe_results_finish(pom_doe_results *res, int complete, pom_error *err) {
+  if (!res) return POM_OK;
+  pom_status st = close_hdf5(res, err);
+  if (st == POM_OK && complete && strcmp(res->open_path, res->path) != 0) {
+    st = sync_file(res->open_path, err);
+    if (st == POM_OK && rename(res->open_path, res->path) != 0)
+      st = pom_error_set(err, POM_ERR_IO, __FILE__, __LINE__, "cannot rename '%s' to '%s': %s",
+                         res->open_path, res->path, strerror(errno));
+  }
+  release_lock(res);
   free(res->rows);
   free(res);
   return st;
+}
+
+pom_status pom_doe_results_close(pom_doe_results *res, pom_error *err) {
+  return pom_doe_results_finish(res, 0, err);
 }

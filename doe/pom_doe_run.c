@@ -159,15 +159,33 @@ static void run_unit(const pom_doe_study *study, void **states, long unit, pom_d
   long k = unit / nc;
   int c = (int)(unit % nc);
   const pom_doe_evaluator *ev = &study->candidates[c].eval;
+  void *state = states[c];
   pom_doe_maneuver mv;
   pom_dyn_metrics met;
   pom_error e;
   double q[3];
   pom_error_clear(&e);
   memset(&met, 0, sizeof met);
-  pom_doe_maneuver_draw(&mv, &study->maneuvers, k);
   pom_status st = POM_OK;
-  if (study->maneuvers.space == POM_DOE_SPACE_ORIENTATION) {
+  /* uncertain parameters: this unit's draws make a model of their own
+   * (docs/results.md section 10); a draw that breaks the candidate is a
+   * failed maneuver */
+  pom_doe_evaluator drawn;
+  memset(&drawn, 0, sizeof drawn);
+  void *drawn_state = NULL;
+  long man = k;
+  if (study->uncertain.n > 0) {
+    double u[POM_UNC_MAX], x[POM_UNC_MAX];
+    pom_unc_unit(&study->uncertain, k, &man, u);
+    for (int j = 0; j < study->uncertain.n; ++j)
+      x[j] = pom_dist_quantile(&study->uncertain.param[j].dist, u[j]);
+    st = pom_doe_uncertain_evaluator(&drawn, study, c, x, &e);
+    if (st == POM_OK) st = drawn.worker_create(&drawn_state, drawn.ctx, &e);
+    ev = &drawn;
+    state = drawn_state;
+  }
+  pom_doe_maneuver_draw(&mv, &study->maneuvers, man);
+  if (st == POM_OK && study->maneuvers.space == POM_DOE_SPACE_ORIENTATION) {
     st = ev->targets(ev->ctx, &mv, q, &e);
   } else {
     for (int i = 0; i < 3; ++i)
@@ -176,11 +194,13 @@ static void run_unit(const pom_doe_study *study, void **states, long unit, pom_d
   if (st == POM_OK) {
     for (int i = 0; i < 3; ++i)
       met.target[i] = q[i];
-    st = ev->run(ev->ctx, states[c], q, &met, &e);
+    st = ev->run(ev->ctx, state, q, &met, &e);
   } else {
     for (int i = 0; i < 3; ++i)
-      met.target[i] = NAN;
+      met.target[i] = study->maneuvers.space == POM_DOE_SPACE_ORIENTATION ? NAN : q[i];
   }
+  if (drawn_state) drawn.worker_destroy(drawn_state);
+  pom_doe_evaluator_clear(&drawn);
   if (st != POM_OK && met.status == POM_OK) met.status = st;
   if (met.status != POM_OK && !met.reason[0])
     snprintf(met.reason, sizeof met.reason, "%s",
@@ -257,23 +277,36 @@ static pom_status make_parent(const char *path, pom_error *err) {
 static pom_status open_results(pom_doe_run *run, const char *path, pom_error *err) {
   const pom_doe_study *study = run->study;
   long m = study->maneuvers.count;
-  if (run->opt.resume && access(path, F_OK) == 0) {
-    POM_TRY(pom_doe_results_open(&run->res, path, study, err));
-    pom_doe_row *block = malloc(READ_BLOCK * sizeof *block);
-    if (!block) POM_FAIL(err, POM_ERR_NOMEM, "resume: out of memory");
-    pom_status st = POM_OK;
-    for (int c = 0; c < study->n_candidates && st == POM_OK; ++c)
-      for (long k0 = 0; k0 < m && st == POM_OK; k0 += READ_BLOCK) {
-        long n = m - k0 < READ_BLOCK ? m - k0 : READ_BLOCK;
-        st = pom_doe_results_read(run->res, c, k0, n, block, err);
-        for (long j = 0; j < n && st == POM_OK; ++j)
-          pom_doe_cell_from_row(&run->cells[(size_t)c * (size_t)m + (size_t)(k0 + j)], &block[j]);
-      }
-    free(block);
-    return st;
-  }
   POM_TRY(make_parent(path, err));
-  return pom_doe_results_create(&run->res, path, study, err);
+  POM_TRY(pom_doe_results_start(&run->res, path, study, run->opt.resume, err));
+  if (!pom_doe_results_resumed(run->res)) return POM_OK;
+  pom_doe_row *block = malloc(READ_BLOCK * sizeof *block);
+  if (!block) POM_FAIL(err, POM_ERR_NOMEM, "resume: out of memory");
+  pom_status st = POM_OK;
+  /* every stored row is checked: a damaged file is refused, naming rows */
+  char bad[640] = "", why[200];
+  long n_bad = 0;
+  for (int c = 0; c < study->n_candidates && st == POM_OK; ++c)
+    for (long k0 = 0; k0 < m && st == POM_OK; k0 += READ_BLOCK) {
+      long n = m - k0 < READ_BLOCK ? m - k0 : READ_BLOCK;
+      st = pom_doe_results_read(run->res, c, k0, n, block, err);
+      for (long j = 0; j < n && st == POM_OK; ++j) {
+        if (pom_doe_results_check_row(study, c, k0 + j, &block[j], why, sizeof why) != 0) {
+          if (n_bad++ < 3 && strlen(bad) < sizeof bad - 1)
+            snprintf(bad + strlen(bad), sizeof bad - strlen(bad), "%scandidate %d maneuver %ld: %s",
+                     n_bad > 1 ? "; " : "", c, k0 + j, why);
+          continue;
+        }
+        pom_doe_cell_from_row(&run->cells[(size_t)c * (size_t)m + (size_t)(k0 + j)], &block[j]);
+      }
+    }
+  free(block);
+  if (st == POM_OK && n_bad > 0)
+    POM_FAIL(err, POM_ERR_IO,
+             "'%s': %ld stored row(s) are inconsistent (%s%s): the file is damaged and is not "
+             "resumed; remove it to start again",
+             pom_doe_results_open_path(run->res), n_bad, bad, n_bad > 3 ? "; ..." : "");
+  return st;
 }
 
 pom_status pom_doe_run_begin(pom_doe_run **out, const pom_doe_study *study,
@@ -519,7 +552,9 @@ pom_status pom_doe_run_end(pom_doe_run *run, pom_doe_report **report, pom_error 
   pom_status st = POM_OK;
   if (run->res) {
     st = pom_doe_results_write_report(run->res, run->study, rep, err);
-    pom_status st2 = pom_doe_results_close(run->res, st == POM_OK ? err : NULL);
+    /* a finished study replaces the results file in one rename */
+    pom_status st2 =
+        pom_doe_results_finish(run->res, run->done == run->total, st == POM_OK ? err : NULL);
     if (st == POM_OK) st = st2;
     run->res = NULL;
   }
@@ -528,6 +563,12 @@ pom_status pom_doe_run_end(pom_doe_run *run, pom_doe_report **report, pom_error 
   else
     *report = rep;
   return st;
+}
+
+double pom_doe_run_value(const pom_doe_run *run, int c, long k, int stat) {
+  const pom_doe_cell *cell =
+      &run->cells[(size_t)c * (size_t)run->study->maneuvers.count + (size_t)k];
+  return cell->done ? cell->stat[stat] : NAN;
 }
 
 void pom_doe_run_destroy(pom_doe_run *run) {

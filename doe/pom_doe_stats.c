@@ -138,21 +138,23 @@ void pom_doe_paired_compute(pom_doe_paired *out, const double *a, const double *
   double *d = scratch;
   memset(out, 0, sizeof *out);
   out->n = (long)n;
-  double sum = 0, wins = 0;
+  double sum = 0, wins = 0, ties = 0;
   for (size_t k = 0; k < n; ++k) {
     d[k] = a[k] - b[k];
     sum += d[k];
-    wins += a[k] < b[k] ? 1.0 : (a[k] == b[k] ? 0.5 : 0.0);
+    wins += a[k] < b[k];
+    ties += a[k] == b[k];
   }
   if (n == 0) {
     out->mean_diff = out->ci_low = out->ci_high = NAN;
     out->wilcoxon_p = 1.0;
-    out->win_fraction = NAN;
+    out->win_fraction = out->tie_fraction = NAN;
     return;
   }
   double mean = sum / (double)n;
   out->mean_diff = mean;
   out->win_fraction = wins / (double)n;
+  out->tie_fraction = ties / (double)n;
   if (n >= 2) {
     double ss = 0;
     for (size_t k = 0; k < n; ++k)
@@ -165,4 +167,86 @@ void pom_doe_paired_compute(pom_doe_paired *out, const double *a, const double *
     out->ci_low = out->ci_high = NAN;
   }
   out->wilcoxon_p = pom_doe_wilcoxon(d, n, &out->wilcoxon_w, &out->n_nonzero, d + n);
+}
+
+/* ---- Friedman ----------------------------------------------------------------------- */
+/* (value, index) pairs sorted by value */
+static int cmp_pair(const void *a, const void *b) {
+  const double *x = a, *y = b;
+  return (x[0] > y[0]) - (x[0] < y[0]);
+}
+
+double pom_doe_rank_average(double *rank, const double *x, int k, double *scratch) {
+  for (int j = 0; j < k; ++j) {
+    scratch[2 * j] = x[j];
+    scratch[2 * j + 1] = (double)j;
+  }
+  qsort(scratch, (size_t)k, 2 * sizeof *scratch, cmp_pair);
+  double tie_term = 0;
+  for (int i = 0; i < k;) {
+    int j = i + 1;
+    while (j < k && scratch[2 * j] == scratch[2 * i])
+      ++j;
+    double r = 0.5 * (double)(i + 1 + j), t = (double)(j - i);
+    tie_term += t * t * t - t;
+    for (int m = i; m < j; ++m)
+      rank[(int)scratch[2 * m + 1]] = r;
+    i = j;
+  }
+  return tie_term;
+}
+
+void pom_doe_friedman_from_ranks(pom_doe_friedman_result *out, const double *rank_sum, int k,
+                                 long n, double tie_sum) {
+  out->n_blocks = n;
+  out->k = k;
+  out->df = k - 1;
+  out->statistic = NAN;
+  out->p = 1.0;
+  if (n < 1 || k < 2) return;
+  double nk = (double)n * (double)k, ss = 0;
+  for (int j = 0; j < k; ++j)
+    ss += rank_sum[j] * rank_sum[j];
+  double c = 1.0 - tie_sum / (nk * ((double)k * (double)k - 1.0));
+  if (!(c > 0)) return; /* every block all ties: no evidence of any difference */
+  double q = (12.0 / (nk * (double)(k + 1)) * ss - 3.0 * (double)n * (double)(k + 1)) / c;
+  out->statistic = q < 0 ? 0 : q; /* rounding of an exact 0 */
+  out->p = gsl_cdf_chisq_Q(out->statistic, out->df);
+}
+
+void pom_doe_friedman(pom_doe_friedman_result *out, const double *x, long n, int k,
+                      double *scratch) {
+  double *rank_sum = scratch, *rank = scratch + k, *pairs = scratch + 2 * k;
+  double tie_sum = 0;
+  for (int j = 0; j < k; ++j)
+    rank_sum[j] = 0;
+  for (long b = 0; b < n; ++b) {
+    tie_sum += pom_doe_rank_average(rank, x + b * k, k, pairs);
+    for (int j = 0; j < k; ++j)
+      rank_sum[j] += rank[j];
+  }
+  pom_doe_friedman_from_ranks(out, rank_sum, k, n, tie_sum);
+}
+
+/* ---- Holm --------------------------------------------------------------------------- */
+void pom_doe_holm(double *adjusted, const double *p, size_t m, size_t *order) {
+  for (size_t i = 0; i < m; ++i)
+    order[i] = i;
+  /* insertion sort by p (stable; qsort would need the p values as global
+   * context); m is the number of comparisons, a few thousand at most */
+  for (size_t i = 1; i < m; ++i) {
+    size_t v = order[i], j = i;
+    while (j > 0 && p[order[j - 1]] > p[v]) {
+      order[j] = order[j - 1];
+      --j;
+    }
+    order[j] = v;
+  }
+  double running = 0;
+  for (size_t i = 0; i < m; ++i) {
+    double a = (double)(m - i) * p[order[i]];
+    if (a > 1) a = 1;
+    if (a > running) running = a;
+    adjusted[order[i]] = running;
+  }
 }

@@ -50,7 +50,8 @@ typedef struct {
   double wilcoxon_w; /* Wilcoxon signed-rank statistic W+ (sum of ranks of positive d) */
   double wilcoxon_p; /* two-sided p (exact for <= 50 non-zero d without ties, else normal approx) */
   long n_nonzero;    /* pairs with d != 0 (the Wilcoxon test uses these) */
-  double win_fraction; /* fraction of pairs with a < b, ties counted one half */
+  double win_fraction; /* fraction of pairs with a < b (strictly) */
+  double tie_fraction; /* fraction of pairs with a == b */
 } pom_doe_paired;
 
 /* Compares a and b (n each) with confidence `level` (e.g. 0.95) for the
@@ -63,5 +64,38 @@ void pom_doe_paired_compute(pom_doe_paired *out, const double *a, const double *
  * dropped, average ranks for ties). *w gets W+, *n_used the non-zero count.
  * scratch must hold 2 n doubles. Returns the p value. */
 double pom_doe_wilcoxon(const double *d, size_t n, double *w, long *n_used, double *scratch);
+
+/* Average ranks 1..k of x[0..k-1] into rank[k] (ties get the mean of the
+ * ranks they span). scratch must hold 2 k doubles. Returns the tie term
+ * sum over groups of tied values of (t^3 - t). */
+double pom_doe_rank_average(double *rank, const double *x, int k, double *scratch);
+
+/* Friedman test of k treatments on n blocks. */
+typedef struct {
+  long n_blocks;    /* blocks (maneuvers every candidate completed) */
+  int k;            /* treatments (candidates) */
+  double statistic; /* chi-square statistic, tie-corrected; NaN when undefined */
+  double df;        /* degrees of freedom k - 1 */
+  double p;         /* upper tail of chi-square(k - 1); 1 when every block is all ties */
+} pom_doe_friedman_result;
+
+/* Friedman's statistic from the rank sums rank_sum[k] of n blocks (ranks
+ * within each block by pom_doe_rank_average) and the tie term summed over
+ * the blocks: Q = (12 / (n k (k + 1)) sum R_j^2 - 3 n (k + 1)) / C with
+ * C = 1 - tie_sum / (n k (k^2 - 1)) (as scipy.stats.friedmanchisquare);
+ * p from the chi-square distribution with k - 1 degrees of freedom. With
+ * n < 1 or k < 2 the statistic is NaN and p = 1. */
+void pom_doe_friedman_from_ranks(pom_doe_friedman_result *out, const double *rank_sum, int k,
+                                 long n, double tie_sum);
+
+/* The Friedman test of x[b * k + j] (n blocks of k values, block-major).
+ * scratch must hold 4 k doubles. */
+void pom_doe_friedman(pom_doe_friedman_result *out, const double *x, long n, int k,
+                      double *scratch);
+
+/* Holm's step-down adjustment of m p values: sorted ascending p_(1..m),
+ * adjusted p_(i) = max over j <= i of min(1, (m - j + 1) p_(j)), written
+ * back in the order of p. order must hold m size_t of scratch. */
+void pom_doe_holm(double *adjusted, const double *p, size_t m, size_t *order);
 
 #endif

@@ -25,7 +25,47 @@ void pom_doe_study_clear(pom_doe_study *study) {
   }
   free(study->candidates);
   free(study->config_text);
+  free(study->uncertain_nominal);
   memset(study, 0, sizeof *study);
+}
+
+pom_status pom_doe_study_select(pom_doe_study *study, const char *which, pom_error *err) {
+  int pick = -1;
+  for (int c = 0; c < study->n_candidates && pick < 0; ++c)
+    if (strcmp(study->candidates[c].name, which) == 0) pick = c;
+  if (pick < 0) {
+    char *end = NULL;
+    long k = strtol(which, &end, 10);
+    if (end != which && *end == '\0' && k >= 1 && k <= study->n_candidates) pick = (int)k - 1;
+  }
+  if (pick < 0) {
+    char list[512] = "";
+    size_t used = 0;
+    for (int c = 0; c < study->n_candidates && used + 8 < sizeof list; ++c) {
+      int w = snprintf(list + used, sizeof list - used, "%s%d '%s'", c ? ", " : "", c + 1,
+                       study->candidates[c].name);
+      if (w < 0) break;
+      used += (size_t)w < sizeof list - used ? (size_t)w : sizeof list - used - 1;
+    }
+    POM_FAIL(err, POM_ERR_ARG,
+             "candidate '%s' is not in study '%s' (%s): give a name or a position "
+             "among %s",
+             which, study->name, study->source, list);
+  }
+  int np = study->uncertain.n;
+  for (int c = 0; c < study->n_candidates; ++c) {
+    if (c == pick) continue;
+    free(study->candidates[c].resolved);
+    pom_doe_evaluator_clear(&study->candidates[c].eval);
+  }
+  if (pick > 0) {
+    study->candidates[0] = study->candidates[pick];
+    if (study->uncertain_nominal && np > 0)
+      memmove(study->uncertain_nominal, study->uncertain_nominal + (size_t)pick * (size_t)np,
+              (size_t)np * sizeof *study->uncertain_nominal);
+  }
+  study->n_candidates = 1;
+  return POM_OK;
 }
 
 static char *dup_text(const char *s) {
@@ -182,6 +222,55 @@ static pom_status sweep_points(double *values, long n_points, const sweep_factor
   return POM_OK;
 }
 
+/* Short factor labels: the last part of each dotted key, or the whole key
+ * when two factors would share it. */
+static void factor_labels(pom_doe_study *study) {
+  for (int f = 0; f < study->n_factors; ++f) {
+    const char *dot = strrchr(study->factor_key[f], '.');
+    snprintf(study->factor_label[f], sizeof study->factor_label[f], "%s",
+             dot ? dot + 1 : study->factor_key[f]);
+  }
+  for (int f = 0; f < study->n_factors; ++f)
+    for (int g = 0; g < study->n_factors; ++g)
+      if (f != g && strcmp(study->factor_label[f], study->factor_label[g]) == 0) {
+        snprintf(study->factor_label[f], sizeof study->factor_label[f], "%s", study->factor_key[f]);
+        break;
+      }
+}
+
+/* "<base> label=value ..." for `label=value` of every factor at `prec`
+ * significant digits; 0 when it does not fit the name. */
+static int factor_name(char *out, size_t cap, const char *base, const pom_doe_candidate *cand,
+                       const pom_doe_study *study, int prec) {
+  size_t n = (size_t)snprintf(out, cap, "%s", base);
+  for (int f = 0; f < cand->n_factors && n < cap; ++f)
+    n += (size_t)snprintf(out + n, cap - n, " %s=%.*g", study->factor_label[f], prec,
+                          cand->factor_value[f]);
+  return n < cap;
+}
+
+/* Names the n sweep points of one base (their name holds the base name) by
+ * their factor values, with the fewest significant digits (4 to 12) that
+ * tell them apart; "<base>#<j>" when the values do not fit a name. */
+static void name_by_factors(pom_doe_candidate *cands, long n, const pom_doe_study *study) {
+  char base[POM_DOE_NAME_LEN];
+  snprintf(base, sizeof base, "%s", cands[0].name);
+  for (int prec = 4; prec <= 12; ++prec) {
+    int fits = 1, unique = 1;
+    for (long p = 0; p < n && fits; ++p)
+      fits = factor_name(cands[p].name, sizeof cands[p].name, base, &cands[p], study, prec);
+    for (long p = 0; p < n && fits && unique; ++p)
+      for (long q = 0; q < p && unique; ++q)
+        unique = strcmp(cands[p].name, cands[q].name) != 0;
+    if (!fits) break;
+    if (unique) return;
+  }
+  for (long p = 0; p < n; ++p) {
+    size_t len = strlen(base), keep = len < sizeof base - 12 ? len : sizeof base - 12;
+    snprintf(cands[p].name, sizeof cands[p].name, "%.*s#%ld", (int)keep, base, p);
+  }
+}
+
 static pom_status load_sweep(pom_doe_study *study, const study_ctx *sc, pom_error *err) {
   static const char *const kinds[] = {"grid", "lhs", NULL};
   const pom_cfg *cfg = sc->cfg;
@@ -238,22 +327,29 @@ static pom_status load_sweep(pom_doe_study *study, const study_ctx *sc, pom_erro
   if (!values || !study->candidates)
     POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "sweep: out of memory");
   POM_TRY_GOTO(sweep_points(values, n_points, fac, nf, kind == 1, (uint64_t)seed, err), done);
+  study->n_factors = nf;
+  for (int f = 0; f < nf; ++f) {
+    snprintf(study->factor_key[f], sizeof study->factor_key[f], "%s", fac[f].key);
+    study->factor_levels[f] = kind == 0 ? fac[f].levels : 0;
+  }
+  factor_labels(study);
   for (int b = 0; b < nb; ++b) {
     char bkey[64];
     snprintf(bkey, sizeof bkey, "candidates.base.[%d]", b);
+    pom_doe_candidate *first = &study->candidates[study->n_candidates];
     for (long p = 0; p < n_points; ++p) {
-      pom_doe_candidate *cand = &study->candidates[study->n_candidates];
+      pom_doe_candidate *cand = &first[p];
       POM_TRY_GOTO(candidate_name(cand, cfg, bkey, err), done);
-      size_t len = strlen(cand->name);
-      snprintf(cand->name + (len < 52 ? len : 52), sizeof cand->name - (len < 52 ? len : 52),
-               "#%ld", p);
       cand->n_factors = nf;
       for (int f = 0; f < nf; ++f) {
         snprintf(cand->factor_key[f], sizeof cand->factor_key[f], "%s", fac[f].key);
         cand->factor_value[f] = values[p * nf + f];
       }
+    }
+    name_by_factors(first, n_points, study);
+    for (long p = 0; p < n_points; ++p) {
       ++study->n_candidates;
-      POM_TRY_GOTO(resolve_candidate(cand, sc, bkey, err), done);
+      POM_TRY_GOTO(resolve_candidate(&first[p], sc, bkey, err), done);
     }
   }
 done:
@@ -269,6 +365,7 @@ static pom_status load_study_group(pom_doe_study *study, const pom_cfg *cfg, pom
   int rank_by = 0;
   snprintf(dflt, sizeof dflt, "results/%s.h5", study->name);
   POM_TRY(pom_cfg_string_opt(cfg, "study.output", dflt, study->output, sizeof study->output, err));
+  POM_TRY(pom_cfg_string_opt(cfg, "study.tabular", "", study->tabular, sizeof study->tabular, err));
   POM_TRY(pom_cfg_int_opt(cfg, "study.threads", 0, 1024, 0, &threads, err));
   POM_TRY(pom_cfg_real_opt(cfg, "study.alpha", 1.0, 1e-6, 0.5, 0.05, &study->alpha, err));
   POM_TRY(
@@ -306,7 +403,12 @@ pom_status pom_doe_study_load(pom_doe_study *study, const pom_cfg *cfg,
                               pom_doe_evaluator_factory factory, void *user, pom_error *err) {
   /* a study file holds these and nothing else (mechanism groups belong in the
    * candidates' configs or in study.override) */
-  static const char *const scopes[] = {"name", "montecarlo", "study", "candidates", NULL};
+  static const char *const scopes[] = {"name",       "montecarlo", "study",
+                                       "candidates", "uncertain",  NULL};
+  /* a sensitivity file is a study file with one more group
+   * (pomlab sensitivity reads it) */
+  static const char *const known_top[] = {"name",      "montecarlo",  "study", "candidates",
+                                          "uncertain", "sensitivity", NULL};
   pom_status st = POM_OK;
   config_t tree;
   config_init(&tree);
@@ -332,6 +434,7 @@ pom_status pom_doe_study_load(pom_doe_study *study, const pom_cfg *cfg,
     if (*p == '/' || *p == ' ') *p = '_';
   POM_TRY_GOTO(pom_doe_maneuvers_load(&study->maneuvers, cfg, err), fail);
   POM_TRY_GOTO(load_study_group(study, cfg, err), fail);
+  POM_TRY_GOTO(pom_unc_load(&study->uncertain, cfg, study->maneuvers.seed, err), fail);
   if (pom_cfg_has(cfg, "study.override")) pom_cfg_mark_used(cfg, "study.override");
 
   if (!pom_cfg_has(cfg, "candidates"))
@@ -369,7 +472,7 @@ pom_status pom_doe_study_load(pom_doe_study *study, const pom_cfg *cfg,
       snprintf(key, sizeof key, "candidates.[%d].override", c);
       if (pom_cfg_has(cfg, key)) pom_cfg_mark_used(cfg, key);
     }
-    POM_TRY_GOTO(pom_cfg_check_unknown(cfg, scopes, scopes, err), fail);
+    POM_TRY_GOTO(pom_cfg_check_unknown(cfg, scopes, known_top, err), fail);
     for (int c = 0; c < n; ++c) {
       char key[64];
       snprintf(key, sizeof key, "candidates.[%d]", c);
@@ -377,7 +480,7 @@ pom_status pom_doe_study_load(pom_doe_study *study, const pom_cfg *cfg,
     }
   }
   POM_TRY_GOTO(check_names(study, cfg, err), fail);
-  POM_TRY_GOTO(pom_cfg_check_unknown(cfg, scopes, scopes, err), fail);
+  POM_TRY_GOTO(pom_cfg_check_unknown(cfg, scopes, known_top, err), fail);
   for (int c = 0; c < study->n_candidates; ++c)
     if (study->maneuvers.space == POM_DOE_SPACE_ORIENTATION && !study->candidates[c].eval.targets)
       POM_FAIL_GOTO(err, POM_ERR_CONFIG, fail,
@@ -385,6 +488,7 @@ pom_status pom_doe_study_load(pom_doe_study *study, const pom_cfg *cfg,
                     "orientations to actuator targets",
                     pom_cfg_path(cfg), study->candidates[c].name);
   POM_TRY_GOTO(check_kinds(study, cfg, err), fail);
+  POM_TRY_GOTO(pom_doe_uncertain_prepare(study, cfg, err), fail);
   config_destroy(&tree);
   return POM_OK;
 fail:

@@ -51,6 +51,42 @@ double pom_dyn_actuator_law(const pom_dyn_model *m, pom_dyn_data *d, int a, doub
   return ap->force_constant * i - b * qd;
 }
 
+/* ---- its derivatives ------------------------------------------------------ */
+/* z enters u_raw linearly (gain S K_I, or S K_P K_I in the ideal form) and
+ * passes the saturation only inside the limits; i is flux / L (inductive) or
+ * (u - K_m qd) / R_c (quasi-static); the effort is K_m i - b qd. */
+void pom_dyn_actuator_law_partials(const pom_dyn_model *m, const pom_dyn_data *d, int a, double q,
+                                   double qd, const double *y, dyn_law_partials *lp) {
+  const pom_dyn_actuator *ap = &m->par.actuator;
+  const pom_dyn_controller *cp = &m->par.controller;
+  const dyn_actuator *ac = &m->act[a];
+  double e = d->target[a] - q, z = y[ac->int_state], u_raw, g_z;
+  if (cp->form == POM_PID_IDEAL) {
+    u_raw = ap->sensor_gain * cp->kp * (e + cp->ki * z - cp->kd * qd);
+    g_z = ap->sensor_gain * cp->kp * cp->ki;
+  } else {
+    u_raw = ap->sensor_gain * (cp->kp * e + cp->ki * z - cp->kd * qd);
+    g_z = ap->sensor_gain * cp->ki;
+  }
+  double lim = ap->voltage_limit;
+  int saturated = u_raw > lim || u_raw < -lim;
+  lp->u = u_raw > lim ? lim : (u_raw < -lim ? -lim : u_raw);
+  lp->du_dz = saturated ? 0.0 : g_z;
+  if (ac->flux_state >= 0) {
+    lp->i = y[ac->flux_state] / ap->inductance;
+    lp->di_dz = 0.0;
+    lp->di_dflux = 1.0 / ap->inductance;
+  } else {
+    lp->i = (lp->u - ap->force_constant * qd) / ap->resistance;
+    lp->di_dz = lp->du_dz / ap->resistance;
+    lp->di_dflux = 0.0;
+  }
+  lp->dF_dz = ap->force_constant * lp->di_dz;
+  lp->dF_dflux = ap->force_constant * lp->di_dflux;
+  lp->dflux_dz = lp->du_dz - ap->resistance * lp->di_dz;
+  lp->dflux_dflux = -ap->resistance * lp->di_dflux;
+}
+
 /* ---- stored energy of the coils ------------------------------------------ */
 double pom_dyn_add_coil_energy(const pom_dyn_model *m, const double *y, double E) {
   for (int a = 0; a < m->n_actuators; ++a)

@@ -287,9 +287,12 @@ static pom_status exact_init(pom_dyn_model *m, const pom_mechanism *mech, const 
   m->acc_parasitic = next++;
   m->n_states = next;
 
-  /* Jacobian pattern: the mechanical and electrical columns are dense and
-   * each its own colour (every state feeds M(R) omega_dot = f); the
-   * accumulator columns are zero (colour -1: never differenced) */
+  /* Jacobian pattern: the mechanical and electrical columns are dense (every
+   * state feeds M(R) omega_dot = f); the accumulator columns are zero. Only
+   * the mechanical columns (orientation, then omega: the last differenced
+   * column is an omega one, exact_jacobian relies on it) are differenced, each
+   * its own colour; the electrical ones are analytic (colour -1 for both
+   * kinds: never differenced) */
   const size_t n = (size_t)m->n_states;
   m->atol = calloc(n, sizeof *m->atol);
   m->scale = calloc(n, sizeof *m->scale);
@@ -299,11 +302,11 @@ static pom_status exact_init(pom_dyn_model *m, const pom_mechanism *mech, const 
     POM_FAIL(err, POM_ERR_NOMEM, "allocating tolerances and the Jacobian pattern");
   for (size_t j = 0; j < n; ++j) {
     int in = (int)j < ex->n_jac;
-    m->color[j] = in ? (int)j : -1;
+    m->color[j] = (int)j < ex->n_ori + 3 ? (int)j : -1;
     for (size_t i = 0; i < n; ++i)
       m->dep[i * n + j] = (unsigned char)in;
   }
-  m->n_colors = ex->n_jac;
+  m->n_colors = ex->n_ori + 3;
   POM_TRY(pom_dyn_pattern_build(m, err));
   for (int i = 0; i < ex->n_ori; ++i)
     m->scale[ex->ori + i] = EXACT_SCALE_ANGLE;
@@ -465,6 +468,101 @@ static int exact_rhs(const pom_dyn_model *m, pom_dyn_data *d, const double *y, d
   return exact_eval(m, d, y, ydot, 0);
 }
 
+/* ---- Jacobian ------------------------------------------------------------------ */
+/* Columns of the coil flux and PID integral of actuator a (docs/dynamics-exact.md
+ * section 5): they enter only a's law, so omega_dot moves by M^-1 J_a^T dF, the
+ * coil row by the coil equation's partials, the integral row not at all (e does
+ * not depend on them) and a's energy accumulators by the product rule. M, q_a
+ * and J_a are those of the last evaluation, at the platform rotation of y. */
+static void electrical_columns(const pom_dyn_model *m, pom_dyn_data *d, const double *y) {
+  const dyn_exact *ex = exact_of(m);
+  const dyn_exact_work *xw = work_of(d);
+  const double *w = y + ex->omega;
+  const double Rc = m->par.actuator.resistance;
+  for (int a = 0; a < m->n_actuators; ++a) {
+    const dyn_actuator *ac = &m->act[a];
+    int limb = ex->act_limb[a];
+    const double *Jr = xw->tw.J + 3 * limb;
+    double v[3] = {0.0, 0.0, 0.0}, lp_col[2][4];
+    dyn_law_partials lp;
+    pom_dyn_actuator_law_partials(m, d, a, xw->tw.q[limb], pom_v3_dot(Jr, w), y, &lp);
+    (void)spd_solve(v, xw->M, Jr); /* M is positive definite: the evaluation solved with it */
+    /* per column (z, flux): dF, d(flux_dot), du, di */
+    lp_col[0][0] = lp.dF_dz, lp_col[0][1] = lp.dflux_dz, lp_col[0][2] = lp.du_dz;
+    lp_col[0][3] = lp.di_dz;
+    lp_col[1][0] = lp.dF_dflux, lp_col[1][1] = lp.dflux_dflux, lp_col[1][2] = 0.0;
+    lp_col[1][3] = lp.di_dflux;
+    const int cols[2] = {ac->int_state, ac->flux_state};
+    const double pw = lp.u * lp.i;
+    for (int c = 0; c < 2; ++c) {
+      int j = cols[c];
+      if (j < 0) continue;
+      const double *g = lp_col[c];
+      double dpw = g[2] * lp.i + lp.u * g[3];
+      for (long k = m->colptr[j]; k < m->colptr[j + 1]; ++k) {
+        int i = m->rowind[k], r = i - ac->acc_state;
+        double val = 0.0;
+        if (i >= ex->omega && i < ex->omega + 3)
+          val = v[i - ex->omega] * g[0];
+        else if (i == ac->flux_state)
+          val = g[1];
+        else if (r == DYN_ACC_SOURCE)
+          val = dpw;
+        else if (r == DYN_ACC_SOURCE_POS)
+          val = pw > 0 ? dpw : 0.0;
+        else if (r == DYN_ACC_COIL)
+          val = 2.0 * Rc * lp.i * g[3];
+        d->jac[k] = val;
+      }
+    }
+  }
+}
+
+int pom_dyn_exact_jacobian(pom_dyn_data *d, const double *y, const double *f0, double *yp,
+                           double *fp) {
+  /* the mechanical columns by differences; the last one differenced is an
+   * omega column, whose evaluation leaves M, q and J at the rotation of y
+   * (they do not depend on omega) */
+  int r = pom_dyn_fd_jacobian(d, y, f0, yp, fp);
+  if (r != 0) return r;
+  electrical_columns(d->m, d, y);
+  return 0;
+}
+
+/* CVODE's linear-system callback: A = I - gamma J into the dense matrix, J
+ * re-evaluated unless CVODE says the stored one is still good (jok). Only
+ * the leading n_jac columns are non-trivial (the accumulator columns of J
+ * are zero); the block solver reads nothing else. */
+static int exact_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, sunbooleantype jok,
+                        sunbooleantype *jcur, sunrealtype gamma, void *user_data, N_Vector tmp1,
+                        N_Vector tmp2, N_Vector tmp3) {
+  (void)t;
+  (void)tmp3;
+  pom_dyn_data *d = user_data;
+  const pom_dyn_model *m = d->m;
+  const int n = m->n_states, nb = exact_of(m)->n_jac;
+  if (!jok || !d->jac_valid) {
+    int r = pom_dyn_exact_jacobian(d, N_VGetArrayPointer(y), N_VGetArrayPointer(fy),
+                                   N_VGetArrayPointer(tmp1), N_VGetArrayPointer(tmp2));
+    if (r != 0) return r;
+    d->jac_valid = 1;
+    *jcur = SUNTRUE;
+  } else {
+    *jcur = SUNFALSE;
+  }
+  for (int j = 0; j < n; ++j) {
+    double *col = SUNDenseMatrix_Column(A, j);
+    if (j < nb) {
+      for (long k = m->colptr[j]; k < m->colptr[j + 1]; ++k)
+        col[m->rowind[k]] = -gamma * d->jac[k];
+    } else {
+      memset(col, 0, (size_t)n * sizeof(double));
+    }
+    col[j] += 1.0;
+  }
+  return 0;
+}
+
 /* ---- block linear solver --------------------------------------------------- */
 /* The Newton matrix I - gamma J of the exact path is block lower triangular:
  * the accumulator columns of J are zero (they feed nothing back), so
@@ -547,19 +645,23 @@ static int exact_ls_solve(SUNLinearSolver S, SUNMatrix A, N_Vector xv, N_Vector 
       x[p] = t;
     }
   }
-  for (int k = 0; k < nb; ++k)
+  /* x[k] held in a local: x may alias the factors for all the compiler knows */
+  for (int k = 0; k < nb; ++k) {
+    const double xk = x[k], *lk = lu + k * nb;
     for (int i = k + 1; i < nb; ++i)
-      x[i] -= lu[k * nb + i] * x[k];
+      x[i] -= lk[i] * xk;
+  }
   for (int k = nb - 1; k >= 0; --k) {
-    x[k] /= lu[k * nb + k];
+    const double xk = x[k] / lu[k * nb + k], *lk = lu + k * nb;
+    x[k] = xk;
     for (int i = 0; i < k; ++i)
-      x[i] -= lu[k * nb + i] * x[k];
+      x[i] -= lk[i] * xk;
   }
   (void)A;
   for (int j = 0; j < nb; ++j) {
-    const double *col = c->a21 + j * (n - nb) - nb;
+    const double xj = x[j], *col = c->a21 + j * (n - nb) - nb;
     for (int i = nb; i < n; ++i)
-      x[i] -= col[i] * x[j];
+      x[i] -= col[i] * xj;
   }
   return SUNLS_SUCCESS;
 }
@@ -710,7 +812,7 @@ const dyn_formulation pom_dyn_form_exact = {
     .data_init = exact_data_init,
     .data_free = exact_data_free,
     .eval = exact_rhs,
-    .linsys = pom_dyn_cvode_linsys,
+    .linsys = exact_linsys,
     .initial = exact_initial,
     .positions = exact_positions,
     .stored = exact_stored,

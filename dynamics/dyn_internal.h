@@ -250,6 +250,24 @@ int pom_dyn_cvode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
 double pom_dyn_actuator_law(const pom_dyn_model *m, pom_dyn_data *d, int a, double q, double qd,
                             const double *y, double *ydot);
 
+/* Partial derivatives of one actuator's law (pom_dyn_actuator_law) with
+ * respect to its own states, the PID integral z (m s or rad s) and the coil
+ * flux linkage (V s; zero derivatives for a quasi-static coil), at fixed q
+ * and rate. The saturation is the law's: a saturated voltage has du/dz = 0. */
+typedef struct {
+  double u;                     /* saturated voltage (V) */
+  double i;                     /* coil current (A) */
+  double du_dz;                 /* V per unit of z */
+  double di_dz, di_dflux;       /* A per unit of z, A per V s */
+  double dF_dz, dF_dflux;       /* effort (N or N m) per unit of z, per V s */
+  double dflux_dz, dflux_dflux; /* coil equation d(flux_dot)/dz, d(flux_dot)/d flux (1/s) */
+} dyn_law_partials;
+
+/* dyn_actuator.c: the partials above for actuator a at coordinate q and rate
+ * qd, state y (the same inputs as pom_dyn_actuator_law). */
+void pom_dyn_actuator_law_partials(const pom_dyn_model *m, const pom_dyn_data *d, int a, double q,
+                                   double qd, const double *y, dyn_law_partials *lp);
+
 /* dyn_actuator.c: E plus the coil energies 1/2 L i^2 of a state, added one
  * actuator at a time (J; nothing for a quasi-static coil). */
 double pom_dyn_add_coil_energy(const pom_dyn_model *m, const double *y, double E);
@@ -305,5 +323,11 @@ int pom_dyn_exact_layout(const pom_dyn_model *m, int *ori, int *n_ori, int *omeg
  * another formulation. Points into d's scratch (valid until the next
  * evaluation). */
 const double *pom_dyn_exact_mass_matrix(const pom_dyn_model *m, pom_dyn_data *d, const double *y);
+/* The exact path's Jacobian at y into d->jac (CSC over the model's pattern):
+ * forward differences over the orientation and omega columns, the coil and
+ * PID columns analytic (docs/dynamics-exact.md section 5); f0 = f(y), yp, fp
+ * scratch of n_states. Returns the RHS status (0 ok). */
+int pom_dyn_exact_jacobian(pom_dyn_data *d, const double *y, const double *f0, double *yp,
+                           double *fp);
 
 #endif

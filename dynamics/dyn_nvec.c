@@ -147,7 +147,9 @@ static void compare(sunrealtype c, N_Vector x, N_Vector z) {
     zd[i] = (fabs(xd[i]) >= c) ? 1.0 : 0.0;
 }
 
-/* z = sum_k c[k] X[k]; z may be any of the X[k] */
+/* z = sum_k c[k] X[k]; z may be any of the X[k]. Block by block: the same
+ * sum in the same order per entry, each vector's data pointer fetched once
+ * per block (CVodeGetDky at every output sample, bench/README.md issue 10). */
 static int lin_comb(int nv, sunrealtype *c, N_Vector *X, N_Vector z) {
   const long n = LEN(z);
   double *zd = DATA(z);

@@ -7,7 +7,7 @@
 /* ---- defaults ------------------------------------------------------------ */
 void pom_dyn_params_defaults(pom_dyn_params *p) {
   memset(p, 0, sizeof *p);
-  /* reference actuator of PARAMETERS.md (a) */
+  /* reference actuator of docs/PARAMETERS.md (a) */
   p->actuator.force_constant = 3.8;
   p->actuator.resistance = 10.0;
   p->actuator.inductance = 1.45e-4;
@@ -15,7 +15,7 @@ void pom_dyn_params_defaults(pom_dyn_params *p) {
   p->actuator.voltage_limit = 24.0;
   p->actuator.sensor_gain = 833.33;
   p->actuator.kind = POM_ACT_PRISMATIC; /* "linear"; a rotary actuator needs its own values */
-  /* 3P-S-S/S reference gains, ideal form (PARAMETERS.md controller-form note) */
+  /* 3P-S-S/S reference gains, ideal form (docs/PARAMETERS.md controller-form note) */
   p->controller.form = POM_PID_IDEAL;
   p->controller.kp = 1.2e4;
   p->controller.ki = 1.0e-3;
@@ -40,7 +40,7 @@ void pom_dyn_params_defaults(pom_dyn_params *p) {
   p->solver.jacobian = POM_JAC_ANALYTIC;
   p->solver.max_order = 5;
   p->solver.stability_limit_detection = 1;
-  p->solver.max_wall = 0.0;
+  p->solver.max_wall = 60.0; /* generous: a maneuver takes milliseconds (docs 14) */
   p->solver.max_balance_error = 0.05;
   p->maneuver.horizon = 0.100;
   p->maneuver.settle_band = 0.02;

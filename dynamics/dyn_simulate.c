@@ -79,10 +79,12 @@ pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_e
   d->ftmp = N_VNew_Serial(n, d->ctx);
   if (!d->y || !d->atol || !d->ytmp || !d->ftmp)
     POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "allocating CVODE vectors (%ld states)", (long)n);
-  /* CVODE clones its vectors from y (and atol): they inherit the kernels */
+  /* CVODE clones its vectors from y (and atol): they inherit the kernels;
+   * ytmp receives CVodeGetDky's interpolation at every output sample, which
+   * runs on its own operations */
   pom_dyn_nvec_fast_ops(d->y);
   pom_dyn_nvec_fast_ops(d->atol);
-  pom_dyn_nvec_fast_ops(d->ytmp); /* CVodeGetDky's output on the sample grid */
+  pom_dyn_nvec_fast_ops(d->ytmp);
   pom_dyn_nvec_fast_ops(d->ftmp);
   memcpy(N_VGetArrayPointer(d->atol), m->atol, (size_t)n * sizeof(double));
   N_VConst(0.0, d->y);
@@ -335,11 +337,11 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
     double half = 0.5 * m->act[a].stroke;
     if (half > 0 && !(fabs(target[a]) <= half)) {
       pom_status st = pom_error_set(err, POM_ERR_LIMIT, __FILE__, __LINE__,
-                                    "target of actuator %d = %.6g mm is outside its stroke "
-                                    "+-%.6g mm",
+                                    "target of actuator %d = %.10g mm is outside its stroke "
+                                    "+-%.10g mm",
                                     a + 1, target[a] * 1e3, half * 1e3);
       mt->status = st;
-      snprintf(mt->reason, sizeof mt->reason, "target of actuator %d = %.6g mm outside the stroke",
+      snprintf(mt->reason, sizeof mt->reason, "target of actuator %d = %.10g mm outside the stroke",
                a + 1, target[a] * 1e3);
       mt->execution_time = NAN;
       for (int k = 0; k < 3; ++k)

@@ -2,6 +2,8 @@
  * and the units of its unit classes (docs/results.md, section 9). */
 #include "pom_dyn_metrics_schema.h"
 
+#include "pom_math.h"
+
 #include <math.h>
 #include <stdio.h>
 
@@ -73,10 +75,11 @@ typedef struct {
   double factor;       /* SI -> display */
 } unit_info;
 
-/* by pom_dyn_unit; the actuator entry is resolved from the kind */
+/* by pom_dyn_unit; the actuator entry is resolved from the kind. The display
+ * units are the text convention of docs/conventions.md: ms, mm, deg, J, V. */
 static const unit_info units[] = {
-    {"", "", "", 1.0},    {"s", "s", "ms", 1e3}, {"J", "J", "mJ", 1e3},
-    {"V", "V", "V", 1.0}, {"m", "m", "um", 1e6}, {"rad", "rad", "mrad", 1e3},
+    {"", "", "", 1.0},    {"s", "s", "ms", 1e3}, {"J", "J", "J", 1.0},
+    {"V", "V", "V", 1.0}, {"m", "m", "mm", 1e3}, {"rad", "rad", "deg", 180.0 / POM_PI},
     {"1", "", "", 1.0},   {"1", "", "", 1.0},    {"1", "", "", 1.0}};
 _Static_assert(sizeof units / sizeof units[0] == POM_DYN_UNIT_FLAG + 1, "one entry per unit class");
 

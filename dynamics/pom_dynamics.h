@@ -96,7 +96,7 @@ typedef struct {
   int stability_limit_detection; /* 1: CVODE's BDF stability limit detection (default 1; the
                                     closed loop has lightly damped fast poles, docs 7) */
   /* added for the extreme cases (issue 6, docs/dynamics.md section 14) */
-  double max_wall;          /* s of wall-clock time per maneuver, 0 = unlimited (default 0) */
+  double max_wall;          /* s of wall-clock time per maneuver, 0 = unlimited (default 60) */
   double max_balance_error; /* a finished maneuver whose energy_balance_error exceeds this is
                                a failure (POM_ERR_UNSTABLE); 0 = no check (default 0.05) */
   pom_jac_kind jacobian;    /* analytic (default) or finite-difference (issue 10) */
@@ -118,7 +118,7 @@ typedef struct {
   pom_dyn_maneuver maneuver;
 } pom_dyn_params;
 
-/* Defaults: the reference values of PARAMETERS.md for the 3P-S-S/S. */
+/* Defaults: the reference values of docs/PARAMETERS.md for the 3P-S-S/S. */
 void pom_dyn_params_defaults(pom_dyn_params *p);
 
 /* Reads the `actuator`, `controller`, `joints`, `scene`, `solver` and

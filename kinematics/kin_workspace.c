@@ -17,12 +17,16 @@ void pom_kin_ws_defaults(pom_kin_ws_opts *o) {
   o->gci_half_width = 0.0;
   o->map_half_width = 20.0 * POM_DEG;
   o->map_resolution = 2.0 * POM_DEG;
+  o->max_poses = 1e8;
+  o->progress = NULL;
+  o->progress_user = NULL;
 }
 
 pom_status pom_kin_ws_load(pom_kin_ws_opts *o, const pom_cfg *cfg, pom_error *err) {
   static const char *const keys[] = {
-      "dexterity_min",      "resolution_deg",     "max_half_width_deg", "check_limits",
-      "gci_half_width_deg", "map_half_width_deg", "map_resolution_deg", NULL};
+      "dexterity_min",      "resolution_deg",     "max_half_width_deg",
+      "check_limits",       "gci_half_width_deg", "map_half_width_deg",
+      "map_resolution_deg", "max_poses",          NULL};
   pom_kin_ws_defaults(o);
   POM_TRY(pom_kin_require_known_key(cfg, "workspace", keys, err));
   POM_TRY(pom_cfg_real_opt(cfg, "workspace.dexterity_min", 1.0, 0.0, 1.0, o->dexterity_min,
@@ -39,6 +43,8 @@ pom_status pom_kin_ws_load(pom_kin_ws_opts *o, const pom_cfg *cfg, pom_error *er
                            o->map_half_width, &o->map_half_width, err));
   POM_TRY(pom_cfg_real_opt(cfg, "workspace.map_resolution_deg", POM_DEG, 0.01, 10.0,
                            o->map_resolution, &o->map_resolution, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "workspace.max_poses", 1.0, 1e3, 1e13, o->max_poses, &o->max_poses,
+                           err));
   return POM_OK;
 }
 
@@ -61,12 +67,37 @@ static int pose_passes(const pom_kin_arch *arch, const pom_kin_ws_opts *o, const
 
 static pom_status check_opts(const pom_kin_ws_opts *o, pom_error *err) {
   if (!(o->resolution > 0.0) || !(o->max_half_width >= 0.0) ||
-      !(o->max_half_width < 0.5 * POM_PI) || !(o->dexterity_min >= 0.0))
+      !(o->max_half_width < 0.5 * POM_PI) || !(o->dexterity_min >= 0.0) || !(o->max_poses >= 1.0))
     POM_FAIL(err, POM_ERR_ARG,
              "workspace options: need resolution > 0, 0 <= max_half_width < 90 deg, "
-             "dexterity_min >= 0");
+             "dexterity_min >= 0, max_poses >= 1");
   return POM_OK;
 }
+
+/* Steps of size h in half_width; + 1e-9: a bound that is a whole number of
+ * steps (45 deg / 1 deg) must not lose its last step to rounding */
+static long whole_steps(double half_width, double h) {
+  return (long)floor(half_width / h + 1e-9);
+}
+
+double pom_kin_grid_poses(double half_width, double resolution) {
+  double side = 2.0 * (double)whole_steps(half_width, resolution) + 1.0;
+  return side * side * side;
+}
+
+/* Cells per side of the GCI's midpoint rule: size 2a/n <= resolution, n >= 1. */
+static long gci_cells(double half_width, double resolution) {
+  long n = (long)ceil(2.0 * half_width / resolution);
+  return n < 1 ? 1 : n;
+}
+
+double pom_kin_gci_poses(double half_width, double resolution) {
+  double n = (double)gci_cells(half_width, resolution);
+  return n * n * n;
+}
+
+/* Every this many poses the long loops tell their progress callback. */
+#define PROGRESS_EVERY 4096
 
 pom_status pom_kin_workspace(const pom_kin_arch *arch, const pom_kin_ws_opts *o,
                              pom_kin_ws_result *res, pom_error *err) {
@@ -75,14 +106,18 @@ pom_status pom_kin_workspace(const pom_kin_arch *arch, const pom_kin_ws_opts *o,
   res->min_dexterity = 1.0;
   res->fail_status = POM_OK;
   const double h = o->resolution;
-  /* + 1e-9: a bound that is a whole number of steps (45 deg / 1 deg) must not
-   * lose its last step to rounding in the division */
-  const int kmax = (int)floor(o->max_half_width / h + 1e-9);
+  const int kmax = (int)whole_steps(o->max_half_width, h);
+  const long bound = (long)fmin(pom_kin_grid_poses(o->max_half_width, h), o->max_poses);
   pom_kin_pose p;
   /* Grow the cube shell by shell: shell k = grid points with
    * max(|i|, |j|, |l|) = k; the cube of half-width k h passes when every
-   * shell up to k passes. */
+   * shell up to k passes. The cube up to shell k holds (2k + 1)^3 poses. */
   for (int k = 0; k <= kmax; ++k) {
+    double side = 2.0 * k + 1.0;
+    if (side * side * side > o->max_poses) {
+      res->budget_reached = 1;
+      return POM_OK;
+    }
     double shell_min = 1.0;
     for (int i = -k; i <= k; ++i)
       for (int j = -k; j <= k; ++j)
@@ -90,7 +125,8 @@ pom_status pom_kin_workspace(const pom_kin_arch *arch, const pom_kin_ws_opts *o,
           if (abs(i) != k && abs(j) != k && abs(l) != k) continue;
           double e[3] = {i * h, j * h, l * h};
           pom_status why = POM_OK;
-          ++res->poses;
+          if (++res->poses % PROGRESS_EVERY == 0 && o->progress)
+            o->progress(o->progress_user, res->poses, bound);
           if (!pose_passes(arch, o, e, &p, &why)) {
             res->half_width = (k - 1) * h;
             if (k == 0) res->half_width = -1.0;
@@ -112,19 +148,30 @@ pom_status pom_kin_workspace(const pom_kin_arch *arch, const pom_kin_ws_opts *o,
 
 pom_status pom_kin_gci(const pom_kin_arch *arch, double half_width, double resolution,
                        int check_limits, double *gci, double *usable_fraction, pom_error *err) {
+  return pom_kin_gci_progress(arch, half_width, resolution, check_limits, NULL, NULL, gci,
+                              usable_fraction, err);
+}
+
+pom_status pom_kin_gci_progress(const pom_kin_arch *arch, double half_width, double resolution,
+                                int check_limits, pom_kin_progress progress, void *user,
+                                double *gci, double *usable_fraction, pom_error *err) {
   if (!(resolution > 0.0) || !(half_width >= 0.0) || !(half_width < 0.5 * POM_PI))
     POM_FAIL(err, POM_ERR_ARG, "GCI: need resolution > 0 and 0 <= half_width < 90 deg");
   /* midpoint rule on n^3 cells of size 2a/n <= resolution (n >= 1) */
-  int n = (int)ceil(2.0 * half_width / resolution);
-  if (n < 1) n = 1;
-  const double w = 2.0 * half_width / n;
+  const long n = gci_cells(half_width, resolution);
+  const double w = 2.0 * half_width / (double)n;
+  const long bound = (long)pom_kin_gci_poses(half_width, resolution);
+  long done = 0;
   double sum = 0.0, usable = 0.0, total = 0.0;
   pom_kin_pose p;
-  for (int j = 0; j < n; ++j) {
-    double theta = -half_width + (j + 0.5) * w, weight = cos(theta);
-    for (int i = 0; i < n; ++i)
-      for (int l = 0; l < n; ++l) {
-        double e[3] = {-half_width + (i + 0.5) * w, theta, -half_width + (l + 0.5) * w}, R[9];
+  for (long j = 0; j < n; ++j) {
+    double theta = -half_width + ((double)j + 0.5) * w, weight = cos(theta);
+    for (long i = 0; i < n; ++i)
+      for (long l = 0; l < n; ++l) {
+        if (++done % PROGRESS_EVERY == 0 && progress) progress(user, done, bound);
+        double e[3] = {-half_width + ((double)i + 0.5) * w, theta,
+                       -half_width + ((double)l + 0.5) * w},
+               R[9];
         pom_euler_zyx_to_matrix(R, e);
         pom_status st = pom_kin_pose_evaluate(arch, R, &p, NULL);
         total += weight;

@@ -214,16 +214,25 @@ pom_status pom_kin_forward(const pom_kin_arch *arch, const double q[3], const do
 
 /* ---- workspace ----------------------------------------------------------- */
 
+/* Told every few thousand poses by the long workspace loops: `done` poses
+ * evaluated so far out of at most `bound`. */
+typedef void (*pom_kin_progress)(void *user, long done, long bound);
+
 /* Regular dexterous workspace settings (`workspace` group; docs/kinematics.md
  * section 6). */
 typedef struct {
-  double dexterity_min;  /* threshold on 1/kappa; default 0.3 */
-  double resolution;     /* grid step in each ZYX Euler angle (rad); default 1 deg */
-  double max_half_width; /* search stops at this cube half-width (rad); default 45 deg */
-  int check_limits;      /* 1: stroke, cones and clearance count; default 1 */
-  double gci_half_width; /* GCI region: Euler cube half-width (rad); 0 = the RDW; default 0 */
-  double map_half_width; /* half-width of the CSV dexterity map (rad); default 20 deg */
-  double map_resolution; /* grid step of the CSV dexterity map (rad); default 2 deg */
+  double dexterity_min;      /* threshold on 1/kappa; default 0.3 */
+  double resolution;         /* grid step in each ZYX Euler angle (rad); default 1 deg */
+  double max_half_width;     /* search stops at this cube half-width (rad); default 45 deg */
+  int check_limits;          /* 1: stroke, cones and clearance count; default 1 */
+  double gci_half_width;     /* GCI region: Euler cube half-width (rad); 0 = the RDW; default 0 */
+  double map_half_width;     /* half-width of the CSV dexterity map (rad); default 20 deg */
+  double map_resolution;     /* grid step of the CSV dexterity map (rad); default 2 deg */
+  double max_poses;          /* budget of pose evaluations of each grid (RDW search, GCI, map);
+                                default 1e8 */
+  pom_kin_progress progress; /* told during the RDW search; NULL (default) = nobody; not a
+                                config key */
+  void *progress_user;       /* passed to progress */
 } pom_kin_ws_opts;
 
 void pom_kin_ws_defaults(pom_kin_ws_opts *opts);
@@ -236,6 +245,8 @@ typedef struct {
   double half_width;        /* largest a (rad, a multiple of the resolution) such that every grid
                                pose of the Euler cube [-a, a]^3 passes; -1 when home fails */
   int capped;               /* 1 when the search reached max_half_width without a failure */
+  int budget_reached;       /* 1 when the next shell would have taken the search past max_poses:
+                               half_width is then a lower bound, and fail_* are unset */
   double min_dexterity;     /* smallest 1/kappa over the accepted cube */
   double fail_euler[3];     /* first failing pose (psi, theta, phi) (rad) when !capped */
   pom_status fail_status;   /* why it failed: POM_ERR_UNREACHABLE, POM_ERR_LIMIT or POM_ERR_SINGULAR
@@ -247,7 +258,9 @@ typedef struct {
 
 /* Regular dexterous workspace: the largest cube centred at home in ZYX Euler
  * space whose grid poses are all assemblable, within limits (if
- * check_limits) and have dexterity >= dexterity_min. */
+ * check_limits) and have dexterity >= dexterity_min. The search grows the
+ * cube shell by shell and stops before a shell that would take the poses
+ * evaluated past opts->max_poses (res->budget_reached). */
 pom_status pom_kin_workspace(const pom_kin_arch *arch, const pom_kin_ws_opts *opts,
                              pom_kin_ws_result *res, pom_error *err);
 
@@ -259,6 +272,19 @@ pom_status pom_kin_workspace(const pom_kin_arch *arch, const pom_kin_ws_opts *op
  * when no pose is usable. */
 pom_status pom_kin_gci(const pom_kin_arch *arch, double half_width, double resolution,
                        int check_limits, double *gci, double *usable_fraction, pom_error *err);
+
+/* pom_kin_gci telling `progress` (NULL = nobody) every few thousand poses. */
+pom_status pom_kin_gci_progress(const pom_kin_arch *arch, double half_width, double resolution,
+                                int check_limits, pom_kin_progress progress, void *user,
+                                double *gci, double *usable_fraction, pom_error *err);
+
+/* Poses pom_kin_gci evaluates over that cube and resolution (n^3 cells). */
+double pom_kin_gci_poses(double half_width, double resolution);
+
+/* Poses of the search grid of the Euler cube [-a, a]^3 at step h, a = the
+ * largest whole number of steps <= half_width: (2 floor(a/h) + 1)^3. The RDW
+ * search evaluates at most this many; the CSV map exactly this many. */
+double pom_kin_grid_poses(double half_width, double resolution);
 
 /* ---- mechanism inputs ---------------------------------------------------- */
 

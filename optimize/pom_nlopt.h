@@ -72,4 +72,10 @@ pom_status pom_opt_maximize(int n, const double lo[], const double hi[], const d
                             pom_opt_objective f, void *ctx, const pom_opt_options *opts,
                             pom_opt_result *res, pom_error *err);
 
+/* Progress of a long optimization (STYLE.md 15; the caller draws, the
+ * library never prints): `phase` names the work, done of total units
+ * finished (total is an upper bound where an optimizer may stop early).
+ * Called from the thread that runs the optimization. */
+typedef void (*pom_opt_progress_fn)(void *user, const char *phase, long done, long total);
+
 #endif

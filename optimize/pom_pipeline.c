@@ -5,49 +5,89 @@
 
 #include "pom_h5.h"
 #include "pom_kinematics.h"
-#include "pom_synth.h"
-#include "pom_tune.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <errno.h>
 #include <sys/stat.h>
+#include <time.h>
 
 typedef struct {
-  pom_doe_dyn_base base; /* first: the doe dynamics callbacks take this context */
-  int synthesized;       /* 1 when the geometry came from the synthesis */
-  int tuned;             /* 1 when the gains came from the tuning */
-  double d_confirmed;    /* desirability of the synthesized optimum (true kinematics) */
-  double tune_criterion; /* tuning criterion at the tuned gains (s) */
+  pom_doe_dyn_base base;   /* first: the doe dynamics callbacks take this context */
+  pom_kin_inertia inertia; /* mass properties of the config (rebuilt on a new geometry) */
+  pom_syn_problem *synth;  /* the synthesis to run (owned), NULL when none or done */
+  pom_tune_problem *tune;  /* the tuning to run (owned), NULL when none or done */
+  int pending;             /* 1 until pom_pipeline_prepare built the model */
+  char *config_text;       /* the resolved config, for the synthesis record (owned) */
+  pom_pipeline_record rec; /* what was done */
 } pipe_ctx;
+
+static double now_s(void) {
+  struct timespec t;
+  timespec_get(&t, TIME_UTC);
+  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
 
 static void ctx_destroy(void *p) {
   pipe_ctx *ctx = p;
   if (!ctx) return;
   pom_dyn_model_destroy(ctx->base.model);
+  free(ctx->synth);
+  free(ctx->tune);
+  free(ctx->config_text);
   free(ctx);
 }
 
 static pom_status describe(const void *p, hid_t g, pom_error *err) {
   const pipe_ctx *ctx = p;
+  const pom_pipeline_record *r = &ctx->rec;
   POM_TRY(pom_doe_dyn_describe_base(&ctx->base, g, err));
-  POM_TRY(pom_h5_attr_int64(g, "pipeline_synthesized", ctx->synthesized, err));
-  POM_TRY(pom_h5_attr_int64(g, "pipeline_tuned", ctx->tuned, err));
+  POM_TRY(pom_h5_attr_int64(g, "pipeline_synthesized", r->synthesized, err));
+  POM_TRY(pom_h5_attr_int64(g, "pipeline_tuned", r->tuned, err));
   if (ctx->base.arch.has_design)
     POM_TRY(pom_h5_attr_double(g, "platform_radius_m", ctx->base.arch.design.scale, err));
-  if (ctx->synthesized)
-    POM_TRY(pom_h5_attr_double(g, "synthesis_desirability", ctx->d_confirmed, err));
-  if (ctx->tuned) POM_TRY(pom_h5_attr_double(g, "tuning_criterion_s", ctx->tune_criterion, err));
+  if (r->synthesized) {
+    POM_TRY(pom_h5_attr_double(g, "synthesis_desirability", r->d_surrogate, err));
+    POM_TRY(pom_h5_attr_string(g, "synthesis_optimum", r->written_direct ? "direct" : "surrogate",
+                               err));
+  }
+  if (r->tuned) POM_TRY(pom_h5_attr_double(g, "tuning_criterion_s", r->tuned_eval.criterion, err));
   return POM_OK;
 }
 
-/* Creates the folders of an output prefix ("results/pipeline_" -> results/)
- * before any work, so a study run from another folder fails at once, not
- * after the synthesis. */
+/* Workers of a candidate the pipeline has not prepared would run without a
+ * model: refused with a message instead. */
+static pom_status worker_create(void **worker, const void *p, pom_error *err) {
+  const pipe_ctx *ctx = p;
+  if (ctx->pending)
+    POM_FAIL(err, POM_ERR_ARG,
+             "pipeline: candidate '%s' asks for synthesis or tuning that has not run "
+             "(pom_pipeline_run)",
+             ctx->base.arch.name);
+  return pom_doe_dyn_worker_create(worker, p, err);
+}
+
+void pom_pipeline_stem(char *out, size_t cap, const char *name) {
+  size_t j = 0;
+  for (size_t i = 0; name[i] && j + 1 < cap; ++i) {
+    char c = name[i];
+    if ((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9'))
+      out[j++] = c;
+    else if (j > 0 && out[j - 1] != '_')
+      out[j++] = '_';
+  }
+  while (j > 0 && out[j - 1] == '_')
+    --j;
+  if (j == 0 && cap > 1) out[j++] = '_'; /* a name of punctuation only */
+  if (cap > 0) out[j] = '\0';
+}
+
+/* Creates the folders of an output prefix ("results/x/" -> results/x)
+ * before any work, so a study fails at once, not after the synthesis. */
 static pom_status make_prefix_dirs(const char *prefix, pom_error *err) {
-  char path[1024];
+  char path[POM_PIPELINE_PATH_LEN];
   snprintf(path, sizeof path, "%s", prefix);
   char *slash = strrchr(path, '/');
   if (!slash) return POM_OK;
@@ -56,81 +96,23 @@ static pom_status make_prefix_dirs(const char *prefix, pom_error *err) {
     if (*c != '/') continue;
     *c = '\0';
     if (mkdir(path, 0777) != 0 && errno != EEXIST)
-      POM_FAIL(err, POM_ERR_IO, "pipeline: cannot create folder '%s' for its outputs", path);
+      POM_FAIL(err, POM_ERR_IO, "pipeline: cannot create folder '%s' for its outputs: %s", path,
+               strerror(errno));
     *c = '/';
   }
   if (path[0] && mkdir(path, 0777) != 0 && errno != EEXIST)
-    POM_FAIL(err, POM_ERR_IO, "pipeline: cannot create folder '%s' for its outputs", path);
+    POM_FAIL(err, POM_ERR_IO, "pipeline: cannot create folder '%s' for its outputs: %s", path,
+             strerror(errno));
   return POM_OK;
 }
 
-/* Synthesis of the candidate: the scaled optimum replaces its geometry. */
-static pom_status synthesize(pipe_ctx *ctx, const pom_cfg *cfg, const char *prefix,
-                             pom_error *err) {
-  pom_status st = POM_OK;
-  pom_syn_problem *pb = calloc(1, sizeof *pb);
-  pom_syn_run *run = NULL;
-  if (!pb) POM_FAIL(err, POM_ERR_NOMEM, "pipeline: out of memory");
-  POM_TRY_GOTO(pom_syn_load(pb, cfg, err), done);
-  POM_TRY_GOTO(pom_syn_begin(&run, pb, err), done);
-  POM_TRY_GOTO(pom_syn_finish(run, err), done);
-  char path[1024], name[40];
-  size_t j = 0;
-  for (const char *c = pb->base.name; *c && j + 1 < sizeof name && j < 24; ++c)
-    name[j++] = ((*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') || (*c >= '0' && *c <= '9'))
-                    ? *c
-                    : '_';
-  name[j] = '\0';
-  snprintf(path, sizeof path, "%s%s.geometry.cfg", prefix, name);
-  POM_TRY_GOTO(pom_syn_write_geometry(run, path, err), done);
-  snprintf(path, sizeof path, "%s%s.h5", prefix, name);
-  POM_TRY_GOTO(pom_syn_write_h5(run, path, pom_cfg_text(cfg), err), done);
-  ctx->base.arch = run->scaled;
-  ctx->synthesized = 1;
-  ctx->d_confirmed = pom_syn_desirability(pb, run->scaled_resp, NULL);
-done:
-  if (st != POM_OK) pom_error_prefix(err, "pipeline synthesis");
-  pom_syn_destroy(run);
-  free(pb);
-  return st;
-}
-
-static pom_status tune(pipe_ctx *ctx, const pom_cfg *cfg, const char *prefix, pom_error *err) {
-  pom_status st = POM_OK;
-  pom_tune_problem *pb = calloc(1, sizeof *pb);
-  pom_tune_result res;
-  if (!pb) POM_FAIL(err, POM_ERR_NOMEM, "pipeline: out of memory");
-  POM_TRY_GOTO(pom_tune_load(pb, cfg, err), done);
-  /* tune the mechanism the study will run (possibly just synthesized) */
-  pb->arch = ctx->base.arch;
-  pb->mech = ctx->base.mech;
-  pb->params = ctx->base.params;
-  POM_TRY_GOTO(pom_tune_run(pb, &res, err), done);
-  char path[1024], name[40];
-  size_t j = 0;
-  for (const char *c = pb->arch.name; *c && j + 1 < sizeof name && j < 24; ++c)
-    name[j++] = ((*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') || (*c >= '0' && *c <= '9'))
-                    ? *c
-                    : '_';
-  name[j] = '\0';
-  snprintf(path, sizeof path, "%s%s.controller.cfg", prefix, name);
-  POM_TRY_GOTO(pom_tune_write_controller(pb, &res, path, err), done);
-  ctx->base.params.controller = res.best;
-  ctx->tuned = 1;
-  ctx->tune_criterion = res.best_eval.criterion;
-done:
-  if (st != POM_OK) pom_error_prefix(err, "pipeline tuning");
-  free(pb);
-  return st;
-}
-
+/* ---- factory ---------------------------------------------------------------- */
 pom_status pom_pipeline_evaluator_create(pom_doe_evaluator *eval, const pom_cfg *cfg, void *user,
                                          pom_error *err) {
   static const char *const scopes_base[] = {"name",    "architecture", "geometry",   "limits",
                                             "inertia", "actuator",     "controller", "joints",
                                             "scene",   "solver",       "maneuver",   NULL};
-  const pom_pipeline_options *po = user;
-  const char *prefix = (po && po->output_prefix) ? po->output_prefix : "results/pipeline_";
+  (void)user;
   pom_status st = POM_OK;
   int do_synth = 0, do_tune = 0;
   memset(eval, 0, sizeof *eval);
@@ -139,14 +121,28 @@ pom_status pom_pipeline_evaluator_create(pom_doe_evaluator *eval, const pom_cfg 
   pipe_ctx *ctx = calloc(1, sizeof *ctx);
   if (!ctx) POM_FAIL(err, POM_ERR_NOMEM, "evaluator: out of memory");
   POM_TRY_GOTO(pom_kin_arch_load(&ctx->base.arch, cfg, err), fail);
-  if (do_synth || do_tune) POM_TRY_GOTO(make_prefix_dirs(prefix, err), fail);
-  if (do_synth) POM_TRY_GOTO(synthesize(ctx, cfg, prefix, err), fail);
-  pom_kin_inertia in;
-  POM_TRY_GOTO(pom_kin_inertia_load(&in, &ctx->base.arch, cfg, err), fail);
-  POM_TRY_GOTO(pom_kin_mechanism_from(&ctx->base.mech, &ctx->base.arch, &in, err), fail);
+  ctx->rec.config_arch = ctx->base.arch;
+  if (do_synth) {
+    ctx->synth = calloc(1, sizeof *ctx->synth);
+    if (!ctx->synth) POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "pipeline: out of memory");
+    POM_TRY_GOTO(pom_syn_load(ctx->synth, cfg, err), fail);
+    const char *text = pom_cfg_text(cfg);
+    if (text) {
+      size_t len = strlen(text) + 1;
+      ctx->config_text = malloc(len);
+      if (!ctx->config_text) POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "pipeline: out of memory");
+      memcpy(ctx->config_text, text, len);
+    }
+  }
+  POM_TRY_GOTO(pom_kin_inertia_load(&ctx->inertia, &ctx->base.arch, cfg, err), fail);
+  POM_TRY_GOTO(pom_kin_mechanism_from(&ctx->base.mech, &ctx->base.arch, &ctx->inertia, err), fail);
   pom_dyn_params_defaults(&ctx->base.params);
   POM_TRY_GOTO(pom_dyn_params_load(&ctx->base.params, cfg, err), fail);
-  if (do_tune) POM_TRY_GOTO(tune(ctx, cfg, prefix, err), fail);
+  if (do_tune) {
+    ctx->tune = calloc(1, sizeof *ctx->tune);
+    if (!ctx->tune) POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "pipeline: out of memory");
+    POM_TRY_GOTO(pom_tune_load(ctx->tune, cfg, err), fail);
+  }
   {
     const char *scopes[16];
     int n = 0;
@@ -158,12 +154,16 @@ pom_status pom_pipeline_evaluator_create(pom_doe_evaluator *eval, const pom_cfg 
     POM_TRY_GOTO(pom_cfg_check_unknown(cfg, scopes, NULL, err), fail);
   }
   POM_TRY_GOTO(pom_doe_mech_actuator_kind(&ctx->base.mech, &eval->actuator_kind, err), fail);
-  POM_TRY_GOTO(pom_dyn_model_create(&ctx->base.model, &ctx->base.mech, &ctx->base.arch,
-                                    &ctx->base.params, err),
-               fail);
+  ctx->rec.arch = ctx->base.arch;
+  ctx->rec.config_gains = ctx->rec.tuned_gains = ctx->base.params.controller;
+  ctx->pending = do_synth || do_tune;
+  if (!ctx->pending)
+    POM_TRY_GOTO(pom_dyn_model_create(&ctx->base.model, &ctx->base.mech, &ctx->base.arch,
+                                      &ctx->base.params, err),
+                 fail);
   eval->ctx = ctx;
   eval->ctx_destroy = ctx_destroy;
-  eval->worker_create = pom_doe_dyn_worker_create;
+  eval->worker_create = worker_create;
   eval->worker_destroy = pom_doe_dyn_worker_destroy;
   eval->targets = pom_doe_dyn_targets;
   eval->run = pom_doe_dyn_run;
@@ -171,5 +171,169 @@ pom_status pom_pipeline_evaluator_create(pom_doe_evaluator *eval, const pom_cfg 
   return POM_OK;
 fail:
   ctx_destroy(ctx);
+  return st;
+}
+
+const pom_pipeline_record *pom_pipeline_record_of(const pom_doe_evaluator *eval) {
+  if (!eval || eval->ctx_destroy != ctx_destroy || !eval->ctx) return NULL;
+  return &((const pipe_ctx *)eval->ctx)->rec;
+}
+
+/* ---- the work ----------------------------------------------------------------- */
+/* Forwards a phase of the synthesis or tuning as "<stem> <phase>". */
+typedef struct {
+  const pom_pipeline_options *o;
+  const char *stem;
+} relay;
+
+static void relay_progress(void *user, const char *phase, long done, long total) {
+  const relay *r = user;
+  char label[POM_DOE_NAME_LEN + 40];
+  snprintf(label, sizeof label, "%s %s", r->stem, phase);
+  r->o->progress(r->o->progress_user, label, done, total);
+}
+
+/* The synthesis: the scaled optimum (synthesis.write) replaces the geometry. */
+static pom_status synthesize(pipe_ctx *ctx, const pom_pipeline_options *o, relay *rl,
+                             pom_error *err) {
+  pom_status st = POM_OK;
+  pom_syn_run *run = NULL;
+  pom_pipeline_record *r = &ctx->rec;
+  double t0 = now_s();
+  POM_TRY_GOTO(pom_syn_begin(&run, ctx->synth, err), done);
+  if (o->progress) {
+    run->progress = relay_progress;
+    run->progress_user = rl;
+  }
+  POM_TRY_GOTO(pom_syn_finish(run, err), done);
+  if (!o->no_files) {
+    snprintf(r->geometry_file, sizeof r->geometry_file, "%s%s.geometry.cfg", o->output_prefix,
+             r->stem);
+    snprintf(r->synthesis_file, sizeof r->synthesis_file, "%s%s.h5", o->output_prefix, r->stem);
+    POM_TRY_GOTO(pom_syn_write_geometry(run, r->geometry_file, err), done);
+    POM_TRY_GOTO(pom_syn_write_h5(run, r->synthesis_file, ctx->config_text, err), done);
+  }
+  ctx->base.arch = run->scaled;
+  r->arch = run->scaled;
+  r->synthesized = 1;
+  r->d_surrogate = run->d_confirmed;
+  r->d_direct = run->direct_done ? run->d_direct : NAN;
+  r->direct_better = run->direct_better;
+  r->written_direct = run->written_direct;
+  r->write = ctx->synth->write;
+  r->n_goals = ctx->synth->n_goals;
+  for (int g = 0; g < r->n_goals; ++g) {
+    pom_syn_resp resp = ctx->synth->goal_resp[g];
+    r->goal_resp[g] = resp;
+    r->goal_r2_pred[g] = run->fitted[resp] ? run->fit[resp].r2_pred : NAN;
+  }
+  for (const pom_syn_run *s = run; s; s = s->refined)
+    for (int k = 0; k < POM_SYN_N_RESP; ++k)
+      r->n_negative_r2_pred += s->fitted[k] && s->fit[k].r2_pred < 0.0;
+  /* the mechanism of the new geometry, with the config's mass properties */
+  POM_TRY_GOTO(pom_kin_mechanism_from(&ctx->base.mech, &ctx->base.arch, &ctx->inertia, err), done);
+  r->synthesis_time = now_s() - t0;
+done:
+  if (st != POM_OK) pom_error_prefix(err, "pipeline synthesis");
+  pom_syn_destroy(run);
+  return st;
+}
+
+/* The tuning, on the mechanism the study will run (possibly just
+ * synthesized). After a synthesis, the config's own geometry with the
+ * config's gains is scored by the same criterion: tuning never does worse
+ * than the config's gains, so that score bounds what tuning the config's
+ * geometry would reach, and the difference is the geometry's (item of
+ * docs/optimize.md 10). */
+static pom_status tune(pipe_ctx *ctx, const pom_pipeline_options *o, relay *rl, pom_error *err) {
+  pom_status st = POM_OK;
+  pom_tune_problem *pb = ctx->tune;
+  pom_tune_result res;
+  pom_pipeline_record *r = &ctx->rec;
+  double t0 = now_s();
+  if (r->synthesized) {
+    /* pb still holds the config's geometry and mechanism */
+    POM_TRY_GOTO(pom_tune_evaluate(pb, &pb->params.controller, &r->config_geometry_eval, err),
+                 done);
+    r->config_geometry_evaluated = 1;
+  }
+  pb->arch = ctx->base.arch;
+  pb->mech = ctx->base.mech;
+  pb->params = ctx->base.params;
+  if (o->progress) {
+    pb->progress = relay_progress;
+    pb->progress_user = rl;
+  }
+  POM_TRY_GOTO(pom_tune_run(pb, &res, err), done);
+  r->config_gains_in_box = 1;
+  for (int i = 0; i < pb->n_vars; ++i) {
+    double g = pb->var[i] == POM_TUNE_KP   ? res.initial.kp
+               : pb->var[i] == POM_TUNE_KI ? res.initial.ki
+                                           : res.initial.kd;
+    r->config_gains_in_box &= g >= pb->lo[i] && g <= pb->hi[i];
+  }
+  if (!o->no_files) {
+    snprintf(r->controller_file, sizeof r->controller_file, "%s%s.controller.cfg", o->output_prefix,
+             r->stem);
+    POM_TRY_GOTO(pom_tune_write_controller(pb, &res, r->controller_file, err), done);
+  }
+  ctx->base.params.controller = res.best;
+  r->tuned = 1;
+  r->n_tune_maneuvers = pb->n_maneuvers;
+  r->config_gains = res.initial;
+  r->config_eval = res.initial_eval;
+  r->tuned_gains = res.best;
+  r->tuned_eval = res.best_eval;
+  r->tuning_time = now_s() - t0;
+done:
+  if (st != POM_OK) pom_error_prefix(err, "pipeline tuning");
+  return st;
+}
+
+pom_status pom_pipeline_prepare(pom_doe_evaluator *eval, const char *stem,
+                                const pom_pipeline_options *o, pom_error *err) {
+  pipe_ctx *ctx = eval->ctx_destroy == ctx_destroy ? eval->ctx : NULL;
+  if (!ctx || !ctx->pending) return POM_OK;
+  pom_pipeline_options opts;
+  memset(&opts, 0, sizeof opts);
+  if (o) opts = *o;
+  if (!opts.output_prefix) opts.output_prefix = "results/pipeline_";
+  snprintf(ctx->rec.stem, sizeof ctx->rec.stem, "%s", stem);
+  if (!opts.no_files) POM_TRY(make_prefix_dirs(opts.output_prefix, err));
+  relay rl = {&opts, ctx->rec.stem};
+  if (ctx->synth) POM_TRY(synthesize(ctx, &opts, &rl, err));
+  if (ctx->tune) POM_TRY(tune(ctx, &opts, &rl, err));
+  ctx->rec.arch = ctx->base.arch;
+  POM_TRY(pom_dyn_model_create(&ctx->base.model, &ctx->base.mech, &ctx->base.arch,
+                               &ctx->base.params, err));
+  free(ctx->synth);
+  free(ctx->tune);
+  ctx->synth = NULL;
+  ctx->tune = NULL;
+  ctx->pending = 0;
+  return POM_OK;
+}
+
+pom_status pom_pipeline_run(pom_doe_study *study, const pom_pipeline_options *o, pom_error *err) {
+  int n = study->n_candidates;
+  char(*stems)[POM_DOE_NAME_LEN + 8] = calloc(n > 0 ? (size_t)n : 1, sizeof *stems);
+  if (!stems) POM_FAIL(err, POM_ERR_NOMEM, "pipeline: out of memory");
+  pom_status st = POM_OK;
+  for (int c = 0; c < n && st == POM_OK; ++c) {
+    char base[POM_DOE_NAME_LEN];
+    pom_pipeline_stem(base, sizeof base, study->candidates[c].name);
+    snprintf(stems[c], sizeof stems[c], "%s", base);
+    /* distinct candidate names can share a stem ("a b", "a/b"): number them */
+    for (int suffix = 2;; ++suffix) {
+      int taken = 0;
+      for (int e = 0; e < c && !taken; ++e)
+        taken = strcmp(stems[e], stems[c]) == 0;
+      if (!taken) break;
+      snprintf(stems[c], sizeof stems[c], "%s_%d", base, suffix);
+    }
+    st = pom_pipeline_prepare(&study->candidates[c].eval, stems[c], o, err);
+    if (st != POM_OK) pom_error_prefix(err, "candidate '%s'", study->candidates[c].name);
+  }
+  free(stems);
   return st;
 }

@@ -292,6 +292,13 @@ done:
   return st;
 }
 
+const char *pom_rsm_lack_of_fit_note(const pom_rsm_fit *fit) {
+  if (fit->has_lack_of_fit && isfinite(fit->anova[POM_RSM_ROW_LACK_OF_FIT].p)) return NULL;
+  if (fit->n - fit->n_distinct <= 0) return "no replicates";
+  if (fit->n_distinct - fit->p <= 0) return "no distinct runs beyond the terms";
+  return "zero pure error";
+}
+
 /* ---- prediction and validation ------------------------------------------ */
 double pom_rsm_predict(const pom_rsm_fit *fit, const double u[], double *se_mean) {
   double row[POM_RSM_MAX_TERMS];

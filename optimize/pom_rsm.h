@@ -99,6 +99,14 @@ pom_status pom_rsm_fit_quadratic(pom_rsm_fit *fit, int k, int n, const double u[
  * standard error of the mean prediction, s sqrt(x^T (X^T X)^-1 x). */
 double pom_rsm_predict(const pom_rsm_fit *fit, const double u[], double *se_mean);
 
+/* Why the fit has no lack-of-fit p value, for the reader: "no replicates"
+ * when no two runs coincide (no pure-error degrees of freedom), "no distinct
+ * runs beyond the terms" when the distinct runs leave none for lack of fit,
+ * "zero pure error" when the replicates agree to round-off (a deterministic
+ * experiment, docs/optimize.md 2.4). NULL when the test applies
+ * (anova[POM_RSM_ROW_LACK_OF_FIT].p is finite). Static strings. */
+const char *pom_rsm_lack_of_fit_note(const pom_rsm_fit *fit);
+
 /* Compares the fit with n held-out runs (u[n * k], y[n]). */
 void pom_rsm_validate(const pom_rsm_fit *fit, int n, const double u[], const double y[],
                       double confidence, pom_rsm_check *out);

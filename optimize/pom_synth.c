@@ -62,6 +62,13 @@ void pom_syn_defaults(pom_syn_problem *pb) {
   pb->refine_stages = 0;
   pb->refine_shrink = 0.5;
   pb->scale_optimum = 1;
+  pb->write = POM_SYN_WRITE_SURROGATE;
+}
+
+static const char *const write_names[] = {"surrogate", "direct", "best", NULL};
+
+const char *pom_syn_write_name(pom_syn_write w) {
+  return (w >= POM_SYN_WRITE_SURROGATE && w <= POM_SYN_WRITE_BEST) ? write_names[w] : "?";
 }
 
 static pom_status load_opt(const pom_cfg *cfg, const char *group, pom_opt_options *o,
@@ -241,6 +248,12 @@ pom_status pom_syn_load(pom_syn_problem *pb, const pom_cfg *cfg, pom_error *err)
   pb->refine_stages = (int)stages;
   POM_TRY(pom_cfg_real_opt(cfg, "synthesis.refine_shrink", 1.0, 0.05, 0.95, pb->refine_shrink,
                            &pb->refine_shrink, err));
+  int wr = (int)pb->write;
+  POM_TRY(pom_cfg_choice_opt(cfg, "synthesis.write", write_names, wr, &wr, err));
+  pb->write = (pom_syn_write)wr;
+  if (pb->write == POM_SYN_WRITE_DIRECT && !pb->direct)
+    return pom_cfg_error(cfg, "synthesis.write", "direct", err,
+                         "needs the direct search (synthesis.direct.enabled = true)");
   long scan = pb->scale_scan;
   POM_TRY(pom_cfg_int_opt(cfg, "synthesis.scale_scan", 2, 1000, scan, &scan, err));
   pb->scale_scan = (int)scan;
@@ -396,6 +409,10 @@ fail:
   return st;
 }
 
+static void report(const pom_syn_run *run, const char *phase, long done, long total) {
+  if (run->progress) run->progress(run->progress_user, phase, done, total);
+}
+
 pom_status pom_syn_step(pom_syn_run *run, int *remaining, pom_error *err) {
   const pom_syn_problem *pb = run->pb;
   if (run->next < run->n_runs) {
@@ -407,6 +424,7 @@ pom_status pom_syn_step(pom_syn_run *run, int *remaining, pom_error *err) {
     run->n_degenerate += degenerate;
     run->next++;
     run->design_time += now_s() - t0;
+    report(run, run->pb->scale_optimum ? "design" : "refine", run->next, run->n_runs);
   }
   if (remaining) *remaining = run->n_runs - run->next;
   return POM_OK;
@@ -435,6 +453,7 @@ static pom_status surrogate_objective(void *ctx, const double u[], double *f, po
 typedef struct {
   const pom_syn_problem *pb;
   double alpha;
+  pom_syn_run *run; /* progress */
 } direct_ctx;
 
 static void coded_to_x(const pom_syn_problem *pb, double alpha, const double u[], double x[]) {
@@ -448,6 +467,10 @@ static pom_status direct_objective(void *ctx, const double u[], double *f, pom_e
   coded_to_x(c->pb, c->alpha, u, x);
   POM_TRY(pom_syn_evaluate(c->pb, x, resp, NULL, err));
   *f = pom_syn_desirability(c->pb, resp, NULL);
+  const pom_opt_options *o = &c->pb->direct_opt;
+  report(c->run, "direct", ++c->run->direct_evals_seen,
+         (long)o->global_max_evals * (o->global != POM_OPT_GLOBAL_NONE) +
+             (long)o->local_max_evals * (o->local != POM_OPT_LOCAL_NONE));
   return POM_OK;
 }
 
@@ -480,6 +503,8 @@ static pom_status refine(pom_syn_run *run, pom_error *err) {
     sub->hi[i] = hi;
   }
   POM_TRY(pom_syn_begin(&run->refined, sub, err));
+  run->refined->progress = run->progress;
+  run->refined->progress_user = run->progress_user;
   POM_TRY(pom_syn_finish(run->refined, err));
   const pom_syn_run *r2 = run->refined;
   run->true_evals += r2->true_evals;
@@ -558,10 +583,12 @@ pom_status pom_syn_finish(pom_syn_run *run, pom_error *err) {
     for (int i = 0; i < run->n_holdout * k; ++i)
       uh[i] =
           pom_design_to_coded(run->holdout_x[i], run->design->alpha, pb->lo[i % k], pb->hi[i % k]);
-    for (int i = 0; i < run->n_holdout; ++i)
+    for (int i = 0; i < run->n_holdout; ++i) {
       POM_TRY_GOTO(pom_syn_evaluate(pb, run->holdout_x + i * k,
                                     run->holdout_resp + i * POM_SYN_N_RESP, NULL, err),
                    done);
+      report(run, "held-out", i + 1, run->n_holdout);
+    }
     double *yh = malloc(sizeof(double) * (size_t)run->n_holdout);
     if (!yh) POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "synthesis: out of memory");
     for (int r = 0; r < POM_SYN_N_RESP; ++r) {
@@ -611,7 +638,7 @@ pom_status pom_syn_finish(pom_syn_run *run, pom_error *err) {
       lo[i] = -1.0;
       hi[i] = 1.0;
     }
-    direct_ctx dc = {pb, 1.0};
+    direct_ctx dc = {pb, 1.0, run};
     POM_TRY_GOTO(pom_opt_maximize(k, lo, hi, NULL, direct_objective, &dc, &pb->direct_opt,
                                   &run->direct, err),
                  direct_failed);
@@ -621,10 +648,23 @@ pom_status pom_syn_finish(pom_syn_run *run, pom_error *err) {
     run->direct_done = 1;
   }
 
-  /* Scale the surrogate optimum to the stroke. */
+  /* Scale the chosen optimum to the stroke (synthesis.write): both
+     desirabilities are true ones at the base scale, so "best" compares like
+     with like. */
   if (!pb->scale_optimum) goto done;
-  POM_TRY_GOTO(pom_syn_scale(pb, run->x_opt, &run->scale, &run->scale_evals, err), scale_failed);
-  POM_TRY_GOTO(pom_syn_arch(pb, run->x_opt, run->scale, &run->scaled, err), done);
+  run->direct_better = run->direct_done && run->d_direct > run->d_confirmed;
+  run->written_direct =
+      pb->write == POM_SYN_WRITE_DIRECT || (pb->write == POM_SYN_WRITE_BEST && run->direct_better);
+  if (run->written_direct && !run->direct_done)
+    POM_FAIL_GOTO(err, POM_ERR_ARG, done,
+                  "synthesis.write = \"direct\" needs the direct search, which did not run");
+  memcpy(run->x_written, run->written_direct ? run->x_direct : run->x_opt, sizeof run->x_written);
+  run->d_written = run->written_direct ? run->d_direct : run->d_confirmed;
+  report(run, "scale", 0, 1);
+  POM_TRY_GOTO(pom_syn_scale(pb, run->x_written, &run->scale, &run->scale_evals, err),
+               scale_failed);
+  report(run, "scale", 1, 1);
+  POM_TRY_GOTO(pom_syn_arch(pb, run->x_written, run->scale, &run->scaled, err), done);
   POM_TRY_GOTO(pom_syn_responses(pb, &run->scaled, run->scaled_resp, err), done);
   run->scaled_done = 1;
   goto done;

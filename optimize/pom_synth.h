@@ -6,7 +6,7 @@
  * kinematics, and the scaling of the optimum to the actuator stroke
  * (docs/optimize.md, sections 5-7).
  *
- * Driver (STYLE.md 15): pom_syn_begin() builds the design;
+ * Driver (docs/STYLE.md 15): pom_syn_begin() builds the design;
  * pom_syn_step() evaluates one design run (call until it returns 0 runs
  * left); pom_syn_finish() fits, optimizes, confirms and scales. */
 #ifndef POM_SYNTH_H
@@ -43,6 +43,16 @@ typedef enum {
 const char *pom_syn_resp_name(pom_syn_resp r);
 double pom_syn_resp_unit(pom_syn_resp r);
 
+/* Which optimum is scaled and written (synthesis.write). */
+typedef enum {
+  POM_SYN_WRITE_SURROGATE = 0, /* the optimum on the surfaces, confirmed (default) */
+  POM_SYN_WRITE_DIRECT = 1,    /* the direct search's optimum (needs direct.enabled) */
+  POM_SYN_WRITE_BEST = 2       /* the one of the two with the higher true desirability */
+} pom_syn_write;
+
+/* Config name of a choice ("surrogate", "direct", "best"). */
+const char *pom_syn_write_name(pom_syn_write w);
+
 /* The synthesis problem of one architecture (const during a run). */
 typedef struct pom_syn_problem pom_syn_problem;
 struct pom_syn_problem {
@@ -69,6 +79,7 @@ struct pom_syn_problem {
   int refine_stages;    /* sequential designs in a box shrunk about the optimum (default 0) */
   double refine_shrink; /* each stage's box width / the previous one's (default 0.5) */
   int scale_optimum;    /* 1: scale the optimum to the stroke in pom_syn_finish (default 1) */
+  pom_syn_write write;  /* which optimum is scaled and written (default surrogate) */
 };
 
 /* Config name of variable i of pb ("limb_lean_deg") and the factor from SI
@@ -133,7 +144,11 @@ typedef struct pom_syn_run_ {
   double direct_resp[POM_SYN_N_RESP];
   double d_direct;
   pom_opt_result direct;
-  /* scaling of the surrogate optimum to the stroke */
+  /* scaling of the chosen optimum (pb->write) to the stroke */
+  int direct_better;                  /* 1: the direct optimum has the higher true desirability */
+  int written_direct;                 /* 1: the direct optimum was scaled (and is written) */
+  double x_written[POM_SYN_N_VARS];   /* the design point scaled (SI) */
+  double d_written;                   /* its true desirability at the base scale */
   double scale;                       /* platform radius (m) */
   pom_kin_arch scaled;                /* the scaled geometry */
   double scaled_resp[POM_SYN_N_RESP]; /* its responses */
@@ -148,7 +163,11 @@ typedef struct pom_syn_run_ {
   double stage_x_opt[POM_SYN_N_VARS]; /* this stage's own optimum on its surfaces (SI) */
   double stage_d_predicted;           /* and its desirability, predicted and true */
   double stage_d_confirmed;
-  long true_evals; /* true-kinematics evaluations of the surrogate route, all stages */
+  long true_evals;              /* true-kinematics evaluations of the surrogate route, all stages */
+  pom_opt_progress_fn progress; /* phases "design", "held-out", "refine", "direct",
+                                   "scale"; may be NULL; set after pom_syn_begin */
+  void *progress_user;          /* passed to progress */
+  long direct_evals_seen;       /* direct-search evaluations so far (progress) */
 } pom_syn_run;
 
 /* Builds the design and allocates the run. The caller owns *out. */
@@ -158,7 +177,8 @@ pom_status pom_syn_begin(pom_syn_run **out, const pom_syn_problem *pb, pom_error
 pom_status pom_syn_step(pom_syn_run *run, int *remaining, pom_error *err);
 
 /* Held-out runs, fits, optimum on the surfaces, confirmation, direct
- * optimization (if asked) and scaling. */
+ * optimization (if asked) and scaling of the optimum pb->write chooses.
+ * Reports progress through run->progress when set. */
 pom_status pom_syn_finish(pom_syn_run *run, pom_error *err);
 
 /* Frees; NULL allowed. */

@@ -4,6 +4,7 @@
 #include "pom_version.h"
 
 #include "pom_h5.h"
+#include "pom_io.h"
 #include "pom_math.h"
 
 #include <errno.h>
@@ -15,24 +16,29 @@ pom_status pom_syn_write_geometry(const pom_syn_run *run, const char *path, pom_
   const pom_kin_design *d = &run->scaled.design;
   if (!run->scaled_done)
     POM_FAIL(err, POM_ERR_ARG, "%s: this synthesis run has no scaled geometry to write", path);
-  FILE *f = fopen(path, "w");
-  if (!f) POM_FAIL(err, POM_ERR_IO, "cannot write %s: %s", path, strerror(errno));
+  pom_io_file w;
+  POM_TRY(pom_io_create(&w, path, err));
+  FILE *f = w.f;
   fprintf(f,
           "# Geometry found by pomlab synth for \"%s\" (%s):\n"
-          "# the optimum of the desirability, scaled so the %.4g mm stroke covers a\n"
-          "# regular dexterous workspace of +-%.4g deg. Overall desirability %.4f\n"
-          "# (surfaces) / %.4f (true kinematics). Limits, workspace and inertia stay\n"
-          "# in the including config; this file holds only the `geometry` group.\n",
-          run->pb->base.name, pom_kin_arch_name(&run->pb->base), run->pb->base.stroke * 1e3,
-          run->pb->target_half_width / POM_DEG, run->d_predicted, run->d_confirmed);
+          "# the %s optimum of the desirability (synthesis.write = \"%s\"), scaled so\n"
+          "# the %.4g mm stroke covers a regular dexterous workspace of +-%.4g deg.\n"
+          "# Overall desirability (true kinematics, base scale): %.4f surrogate\n"
+          "# (%.4f on the surfaces)",
+          run->pb->base.name, pom_kin_arch_name(&run->pb->base),
+          run->written_direct ? "direct-search" : "surrogate", pom_syn_write_name(run->pb->write),
+          run->pb->base.stroke * 1e3, run->pb->target_half_width / POM_DEG, run->d_confirmed,
+          run->d_predicted);
+  if (run->direct_done) fprintf(f, ", %.4f direct search", run->d_direct);
+  fprintf(f, ".\n# Limits, workspace and inertia stay in the including config; this file\n"
+             "# holds only the `geometry` group.\n");
   const pom_kin_arch_type *t = run->pb->base.type;
   fprintf(f, "geometry = {\n  mode = \"parameters\";\n");
   fprintf(f, "  %s = %.9g;\n", t->scale_key, d->scale * 1e3);
   for (int k = 0; k < t->n_params; ++k)
     fprintf(f, "  %s = %.9g;\n", t->params[k].key, d->x[k] / t->params[k].to_si);
   fprintf(f, "};\n");
-  if (fclose(f) != 0) POM_FAIL(err, POM_ERR_IO, "writing %s: %s", path, strerror(errno));
-  return POM_OK;
+  return pom_io_commit(&w, err);
 }
 
 /* ---- HDF5 ----------------------------------------------------------------- */
@@ -191,6 +197,11 @@ static pom_status write_body(hid_t file, const pom_syn_run *run, const char *con
   if (run->scaled_done) {
     POM_TRY_GOTO(pom_h5_create_group(&g, file, "scaled", err), out);
     POM_TRY_GOTO(pom_h5_attr_double(g, "platform_radius_m", run->scale, err), out);
+    POM_TRY_GOTO(
+        pom_h5_attr_string(g, "optimum", run->written_direct ? "direct" : "surrogate", err), out);
+    POM_TRY_GOTO(pom_h5_attr_string(g, "write", pom_syn_write_name(pb->write), err), out);
+    POM_TRY_GOTO(pom_h5_attr_double(g, "desirability_base_scale", run->d_written, err), out);
+    POM_TRY_GOTO(pom_h5_write_doubles(g, "x", 1, &k, run->x_written, err), out);
     POM_TRY_GOTO(pom_h5_attr_double(g, "target_half_width_rad", pb->target_half_width, err), out);
     POM_TRY_GOTO(pom_h5_attr_int64(g, "bisection_evals", run->scale_evals, err), out);
     POM_TRY_GOTO(pom_h5_write_doubles(g, "responses", 1, &nr, run->scaled_resp, err), out);

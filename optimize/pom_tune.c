@@ -1,6 +1,7 @@
 /* pom_tune.c - PID gain tuning, one criterion for every architecture
  * (docs/optimize.md, section 9). */
 #include "pom_tune.h"
+#include "pom_io.h"
 
 #include "pom_math.h"
 
@@ -252,7 +253,20 @@ typedef struct {
   const pom_tune_problem *pb;
   long simulations;
   pom_tune_eval last;
+  long evals; /* criterion evaluations so far (progress) */
 } tune_ctx;
+
+/* Criterion evaluations of a run at most: the config's gains, the global
+   and local searches, the result. */
+static long max_evals(const pom_tune_problem *pb) {
+  return 2 + (long)pb->opt.global_max_evals * (pb->opt.global != POM_OPT_GLOBAL_NONE) +
+         (long)pb->opt.local_max_evals * (pb->opt.local != POM_OPT_LOCAL_NONE);
+}
+
+static void report(tune_ctx *c) {
+  ++c->evals;
+  if (c->pb->progress) c->pb->progress(c->pb->progress_user, "tune", c->evals, max_evals(c->pb));
+}
 
 static void search_to_controller(const pom_tune_problem *pb, const double z[],
                                  pom_dyn_controller *c) {
@@ -271,6 +285,7 @@ static pom_status objective(void *vctx, const double z[], double *f, pom_error *
   search_to_controller(c->pb, z, &ctl);
   POM_TRY(pom_tune_evaluate(c->pb, &ctl, &c->last, err));
   c->simulations += c->pb->n_maneuvers;
+  report(c);
   *f = -c->last.criterion; /* the driver maximizes */
   return POM_OK;
 }
@@ -283,6 +298,7 @@ pom_status pom_tune_run(const pom_tune_problem *pb, pom_tune_result *res, pom_er
   res->initial = pb->params.controller;
   POM_TRY(pom_tune_evaluate(pb, &res->initial, &res->initial_eval, err));
   c.simulations = pb->n_maneuvers;
+  report(&c);
   double lo[POM_TUNE_N_VARS], hi[POM_TUNE_N_VARS], z0[POM_TUNE_N_VARS];
   for (int i = 0; i < pb->n_vars; ++i) {
     lo[i] = pb->log_scale[i] ? log10(pb->lo[i]) : pb->lo[i];
@@ -298,6 +314,8 @@ pom_status pom_tune_run(const pom_tune_problem *pb, pom_tune_result *res, pom_er
   search_to_controller(pb, res->opt.x, &res->best);
   POM_TRY(pom_tune_evaluate(pb, &res->best, &res->best_eval, err));
   res->simulations += pb->n_maneuvers;
+  c.evals = max_evals(pb) - 1; /* the last unit, also when the searches stopped early */
+  report(&c);
   /* Keep the config's gains when the search found nothing better. */
   if (res->initial_eval.criterion < res->best_eval.criterion) {
     int inside = 1;
@@ -313,8 +331,9 @@ pom_status pom_tune_run(const pom_tune_problem *pb, pom_tune_result *res, pom_er
 
 pom_status pom_tune_write_controller(const pom_tune_problem *pb, const pom_tune_result *res,
                                      const char *path, pom_error *err) {
-  FILE *f = fopen(path, "w");
-  if (!f) POM_FAIL(err, POM_ERR_IO, "cannot write %s", path);
+  pom_io_file w;
+  POM_TRY(pom_io_create(&w, path, err));
+  FILE *f = w.f;
   fprintf(f,
           "# PID gains tuned by pomlab tune for \"%s\" (%s):\n"
           "# mean execution time %.4g ms over %d fixed maneuvers (largest overshoot\n"
@@ -327,6 +346,5 @@ pom_status pom_tune_write_controller(const pom_tune_problem *pb, const pom_tune_
   fprintf(
       f, "controller = {\n  form = \"%s\";\n  kp = %.9g;\n  ki_per_s = %.9g;\n  kd_s = %.9g;\n};\n",
       pom_dyn_pid_form_name(res->best.form), res->best.kp, res->best.ki, res->best.kd);
-  if (fclose(f) != 0) POM_FAIL(err, POM_ERR_IO, "writing %s failed", path);
-  return POM_OK;
+  return pom_io_commit(&w, err);
 }

@@ -43,6 +43,8 @@ typedef struct {
   double saturation_time_max; /* allowed time at the voltage limit per actuator (s, default 0.02) */
   double penalty_weight;      /* s per unit of relative excess (default: the horizon) */
   pom_opt_options opt;
+  pom_opt_progress_fn progress; /* phase "tune", one unit per criterion evaluation; may be NULL */
+  void *progress_user;          /* passed to progress */
 } pom_tune_problem;
 
 /* Criterion and its parts at one gain set. */

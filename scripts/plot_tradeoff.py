@@ -50,7 +50,51 @@ def main(argv):
     return 0
 
 
+# Offsets (points) tried in turn for a label, nearest first: a label takes the
+# first that overlaps no label placed before it (the main cluster has a dozen
+# settings within a few percent of each other); when none is free, the one
+# that overlaps least.
+OFFSETS = sorted(((dx, dy) for dx in (4, -4, 40, -40) for dy in range(-70, 71, 9)),
+                 key=lambda o: abs(o[0]) + abs(o[1] - 2))
+
+
+def overlap(a, b):
+    """Area shared by two boxes (x0, y0, x1, y1)."""
+    return max(0.0, min(a[2], b[2]) - max(a[0], b[0])) * max(0.0, min(a[3], b[3]) - max(a[1], b[1]))
+
+
+def place_labels(ax, labels, fontsize=6):
+    """Annotates (x, y, text) points without overlaps where an offset allows,
+    with a leader line when the label moved away from its point."""
+    ax.autoscale_view()
+    fig = ax.figure
+    fig.canvas.draw()  # final limits and transforms
+    px_per_pt = fig.dpi / 72.0
+    placed = []  # boxes (x0, y0, x1, y1) in display pixels
+    for x, y, text in sorted(labels, key=lambda p: (p[1], p[0])):
+        X, Y = ax.transData.transform((x, y))
+        w = 0.62 * fontsize * len(text) * px_per_pt  # a rough text width
+        h = 1.2 * fontsize * px_per_pt
+        best = None
+        for dx, dy in OFFSETS:
+            x0 = X + dx * px_per_pt - (w if dx < 0 else 0)
+            y0 = Y + dy * px_per_pt
+            box = (x0, y0, x0 + w, y0 + h)
+            cost = sum(overlap(box, b) for b in placed)
+            if best is None or cost < best[0]:
+                best = (cost, dx, dy, box)
+            if cost == 0:
+                break
+        _, dx, dy, box = best
+        placed.append(box)
+        far = abs(dy) > 5 or abs(dx) > 5
+        ax.annotate(text, (x, y), fontsize=fontsize, xytext=(dx, dy), textcoords="offset points",
+                    ha="right" if dx < 0 else "left",
+                    arrowprops=dict(arrowstyle="-", lw=0.4, color="0.5") if far else None)
+
+
 def panel(ax, rows, key, name):
+    labels = []
     if True:
         seen = set()
         for r in rows:
@@ -68,9 +112,8 @@ def panel(ax, rows, key, name):
             if r["recommended"] == "1":
                 ax.loglog(max(e, FLOOR), t, marker="o", markersize=16, markerfacecolor="none",
                           markeredgecolor="k", linestyle="none", label="recommended")
-            short = r["label"].replace("quasi-static+lumped", "qs+lumped")
-            ax.annotate(short, (max(e, FLOOR), t), fontsize=6, xytext=(3, 2),
-                        textcoords="offset points")
+            labels.append((max(e, FLOOR), t,
+                           r["label"].replace("quasi-static+lumped", "qs+lumped")))
         # the rtol and stiffness sweeps as lines
         for fam in ("rtol", "stiffness"):
             pts = [(max(float(r[key]), FLOOR), float(r["time_s"]) * 1e3) for r in rows
@@ -85,6 +128,7 @@ def panel(ax, rows, key, name):
         ax.set_title(name)
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7, loc="best")
+        place_labels(ax, labels)
 
 
 if __name__ == "__main__":

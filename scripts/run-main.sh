@@ -5,7 +5,7 @@
 #   1. configs/paper-exact.cfg: the fast exact model (rigid joints, quasi-static
 #      coil), seconds;
 #   2. configs/paper.cfg: the paper's own model (parasitic joints k_p = 1e6,
-#      inductive coil), about 40 s on 2 cores;
+#      inductive coil), about 20 s on 2 idle cores (38 s of CPU time);
 #   3. configs/architectures.cfg: the two against the 3-RRR spherical wrist
 #      (rotary voice coils) in orientation space, gains tuned by one
 #      criterion, seconds.

@@ -2,3 +2,31 @@
 add_test(NAME test_cli
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_cli.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# Every input checked alike: wrapped integers, command-line values against the
+# config's ranges, folders and bad @include targets, exit codes (issue 12).
+add_test(NAME test_inputs
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_inputs.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# Data safety: one run per results file, finished files replaced whole, write
+# failures reported, stored rows checked on resume (issue 12).
+add_test(NAME test_safety
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_safety.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# pomlab (kinematic commands, no HDF5) and pomlab-full (every command)
+add_test(NAME test_cli_split
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_cli_split.sh $<TARGET_FILE:pomlab>
+          $<TARGET_FILE:pomlab-full> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# Long work: budgets and estimates of the workspace grids, progress in a log.
+add_test(NAME test_cli_long
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_cli_long.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# Stroke excursions flagged, refused values with their digits, one text unit per quantity.
+add_test(NAME test_cli_units
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_cli_units.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# Install into a temporary prefix and run a command that needs the scripts from there.
+add_test(NAME test_install
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_install.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+          ${CMAKE_BINARY_DIR} ${CMAKE_COMMAND}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})

@@ -21,3 +21,23 @@ add_test(NAME test_metric_outputs
   COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/test_metric_outputs.sh $<TARGET_FILE:pomlab>
           $<TARGET_FILE:metric_schema_dump> ${CMAKE_CURRENT_BINARY_DIR}/metric_outputs
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# Distributions of uncertain parameters and the `uncertain` group.
+pom_add_test(test_uncertain test_uncertain.c)
+target_link_libraries(test_uncertain PRIVATE pom_doe)
+add_test(NAME test_uncertain_cli
+  COMMAND sh ${CMAKE_CURRENT_SOURCE_DIR}/test_uncertain_cli.sh $<TARGET_FILE:pomlab>
+          ${CMAKE_SOURCE_DIR} ${CMAKE_CURRENT_BINARY_DIR}/uncertain_cli
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# Sobol indices (Ishigami, Sobol g) and Morris effects on analytic functions.
+pom_add_test(test_sensitivity test_sensitivity.c)
+target_link_libraries(test_sensitivity PRIVATE pom_doe)
+add_test(NAME test_sensitivity_cli
+  COMMAND sh ${CMAKE_CURRENT_SOURCE_DIR}/test_sensitivity_cli.sh $<TARGET_FILE:pomlab>
+          ${CMAKE_SOURCE_DIR} ${CMAKE_CURRENT_BINARY_DIR}/sensitivity_cli
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# A sweep through the command line: factor values in names, tables, JSON,
+# HDF5, and the tabular CSV results read back by pandas.
+add_test(NAME test_doe_sweep
+  COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/test_doe_sweep.sh $<TARGET_FILE:pomlab>
+          ${CMAKE_CURRENT_BINARY_DIR}/doe_sweep
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})

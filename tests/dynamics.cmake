@@ -27,3 +27,7 @@ target_link_libraries(test_dyn_jacobian PRIVATE pom_dynamics pom_kinematics pom_
 pom_add_test(test_dyn_nvec test_dyn_nvec.c)
 target_include_directories(test_dyn_nvec PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
 target_link_libraries(test_dyn_nvec PRIVATE pom_dynamics pom_kinematics pom_core)
+# the exact path's Jacobian against central differences (docs/dynamics-exact.md section 5)
+pom_add_test(test_dyn_exact_jac test_dyn_exact_jac.c)
+target_include_directories(test_dyn_exact_jac PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
+target_link_libraries(test_dyn_exact_jac PRIVATE pom_dynamics pom_kinematics pom_core)

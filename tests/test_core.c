@@ -3,6 +3,7 @@
 #include "check.h"
 #include "pom_config.h"
 #include "pom_math.h"
+#include "pom_progress.h"
 #include "pom_rng.h"
 #include "pom_status.h"
 
@@ -267,6 +268,34 @@ static void test_include(void) {
   rmdir(dir);
 }
 
+/* Values from the command line pass the getters' checks; diffs name the key. */
+static void test_set_and_diff(void) {
+  pom_error err;
+  pom_cfg *a = NULL, *b = NULL;
+  check_true(pom_cfg_load_string(&a, "g = { x = 2.385; n = 7; };", "<a>", &err) == POM_OK);
+  check_true(pom_cfg_load_string(&b, "g = { x = 2.385; n = 7; };", "<b>", &err) == POM_OK);
+  if (!a || !b) return;
+  char key[64], va[64], vb[64];
+  check_true(pom_cfg_diff(a, b, key, sizeof key, va, vb, sizeof va) == 0);
+  /* a 64-bit integer, never wrapped, into an existing group */
+  check_true(pom_cfg_set_number(b, "g.n", "5000000000", "--n", &err) == POM_OK);
+  long n = 0;
+  check_true(pom_cfg_int(b, "g.n", 0, 9007199254740991L, &n, &err) == POM_OK && n == 5000000000L);
+  check_true(pom_cfg_diff(a, b, key, sizeof key, va, vb, sizeof va) == 1);
+  check_true(strcmp(key, "g.n") == 0 && strcmp(va, "7") == 0 && strcmp(vb, "5000000000") == 0);
+  /* out of the getter's range: the message names the option */
+  check_true(pom_cfg_set_number(b, "h.y", "1e300", "--y", &err) == POM_OK);
+  double y = 0;
+  check_true(pom_cfg_real(b, "h.y", 1.0, 0.0, 1e12, &y, &err) == POM_ERR_CONFIG);
+  check_true(strstr(err.message, "command line --y: key 'h.y'") != NULL);
+  check_true(pom_cfg_set_number(b, "g.n", "99999999999999999999", "--n", &err) == POM_ERR_CONFIG);
+  check_true(pom_cfg_set_number(b, "g.n", "12abc", "--n", &err) == POM_ERR_CONFIG);
+  /* a member only one side has */
+  check_true(pom_cfg_diff(a, b, key, sizeof key, va, vb, sizeof va) == 1);
+  pom_cfg_destroy(a);
+  pom_cfg_destroy(b);
+}
+
 static void test_status(void) {
   check_true(strcmp(pom_strerror(POM_OK), "success") == 0);
   check_true(strcmp(pom_status_name(POM_ERR_CONFIG), "POM_ERR_CONFIG") == 0);
@@ -278,11 +307,59 @@ static void test_status(void) {
   check_true(pom_error_set(NULL, POM_ERR_IO, "f.c", 1, "x") == POM_ERR_IO);
 }
 
+/* ---- progress lines in a log ------------------------------------------------------ */
+/* Counts the lines written to f since position `from`. */
+static int lines_since(FILE *f, long from) {
+  fflush(f);
+  long end = ftell(f);
+  fseek(f, from, SEEK_SET);
+  int n = 0, c;
+  while (ftell(f) < end && (c = fgetc(f)) != EOF)
+    n += c == '\n';
+  fseek(f, end, SEEK_SET);
+  return n;
+}
+
+static void test_progress_log(void) {
+  FILE *f = tmpfile(); /* not a terminal: log lines */
+  pom_progress p;
+  pom_progress_init(&p, f, "paper", 1000, 0, 0);
+  check_true(p.log_lines == 1);
+  double t0 = p.t_start;
+  /* the first 2 s stay silent whatever the progress */
+  check_true(pom_progress_update_at(&p, 500, t0 + 1.9) == 0);
+  check_true(ftell(f) == 0);
+  /* then one line per 10 % step: done = k at 0.02 k s, k = 101..999, gives
+   * one line at 2.02 s (the 10 % step reached then) and one for each of the 8
+   * steps 20 %..90 % after it: 9 lines, none twice for one step */
+  long start = ftell(f);
+  for (int k = 101; k < 1000; ++k)
+    pom_progress_update_at(&p, k, t0 + 0.02 * k);
+  check_true(lines_since(f, start) == 9);
+  /* a stalled run still writes a line every log_interval (20 s) */
+  start = ftell(f);
+  check_true(pom_progress_update_at(&p, 999, t0 + 25.0) == 0);
+  check_true(pom_progress_update_at(&p, 999, t0 + 40.0) == 1);
+  check_true(lines_since(f, start) == 1);
+  /* the finish writes the 100 % line, whole, without terminal codes */
+  start = ftell(f);
+  pom_progress_finish(&p, 1000);
+  check_true(lines_since(f, start) == 1);
+  char line[256] = "";
+  fseek(f, start, SEEK_SET);
+  check_true(fgets(line, sizeof line, f) != NULL);
+  check_true(strncmp(line, "paper: 1000/1000 100%", 21) == 0);
+  check_true(strchr(line, '\r') == NULL && strchr(line, '\033') == NULL);
+  fclose(f);
+}
+
 int main(void) {
+  test_progress_log();
   test_status();
   test_rotations();
   test_rng();
   test_config();
   test_include();
+  test_set_and_diff();
   return check_summary("test_core");
 }

@@ -210,19 +210,76 @@ static void test_stats(void) {
   check_rel(pr.mean_diff - pr.ci_low, 2.2621571627409915 * se, 1e-9);
   check_abs(pr.win_fraction, 0.0, 0); /* a > b everywhere */
   {
-    /* ties count one half: a < b once, a == b twice, a > b once -> (1 + 2/2) / 4;
-     * the two zero differences are left out of the Wilcoxon test */
+    /* ties are ties: a < b once, a == b twice, a > b once -> wins 1/4, ties
+     * 2/4; the two zero differences are left out of the Wilcoxon test */
     const double ta[4] = {1, 2, 3, 4}, tb[4] = {2, 2, 1, 4};
     double tscr[12];
     pom_doe_paired tp;
     pom_doe_paired_compute(&tp, ta, tb, 4, 0.95, tscr);
-    check_abs(tp.win_fraction, 0.5, 0);
+    check_abs(tp.win_fraction, 0.25, 0);
+    check_abs(tp.tie_fraction, 0.5, 0);
     check_true(tp.n == 4 && tp.n_nonzero == 2);
+    /* identical candidates: every pair a tie, no win, p = 1 */
+    pom_doe_paired_compute(&tp, ta, ta, 4, 0.95, tscr);
+    check_abs(tp.win_fraction, 0.0, 0);
+    check_abs(tp.tie_fraction, 1.0, 0);
+    check_abs(tp.wilcoxon_p, 1.0, 0);
+    check_true(tp.n_nonzero == 0);
   }
   /* 10 positive differences, two tied at 0.5 (ranks 5.5): normal
    * approximation, W+ = 55, mean 27.5, var = 10 11 21 / 24 - (8 - 2) / 48 */
   check_abs(pr.wilcoxon_w, 55, 0);
   check_rel(pr.wilcoxon_p, erfc(27.5 / sqrt(96.25 - 0.125) / sqrt(2.0)), 1e-13);
+}
+
+/* Friedman's test and Holm's adjustment on cases computed by hand. */
+static void test_friedman_holm(void) {
+  /* 4 blocks x 3 treatments, block 4 with a tie: ranks (1,2,3), (2,1,3),
+   * (1,3,2), (1.5,1.5,3) -> R = (5.5, 7.5, 11), sum R^2 = 207.5;
+   * 12 / (4 3 4) 207.5 - 3 4 4 = 3.875; tie term 2^3 - 2 = 6, C = 1 - 6 /
+   * (4 3 8) = 0.9375; Q = 4.1333..., p = exp(-Q / 2) for 2 degrees of
+   * freedom (scipy.stats.friedmanchisquare gives the same 4.133333333333334,
+   * 0.12660710278908355) */
+  const double x[12] = {1.2, 2.3, 3.4, 2.1, 1.7, 3.9, 0.5, 0.9, 0.7, 4.4, 4.4, 5.1};
+  double scratch[12];
+  pom_doe_friedman_result fr;
+  pom_doe_friedman(&fr, x, 4, 3, scratch);
+  check_rel(fr.statistic, 3.875 / 0.9375, 1e-14);
+  check_rel(fr.p, exp(-0.5 * 3.875 / 0.9375), 1e-12);
+  check_true(fr.n_blocks == 4 && fr.k == 3 && fr.df == 2);
+  /* average ranks and the tie term of one block */
+  double rank[3];
+  check_abs(pom_doe_rank_average(rank, x + 9, 3, scratch), 6.0, 0);
+  check_abs(rank[0], 1.5, 0);
+  check_abs(rank[1], 1.5, 0);
+  check_abs(rank[2], 3.0, 0);
+  /* identical treatments: every block all ties, no statistic, p = 1 */
+  const double same[6] = {2.385, 2.385, 1.25, 1.25, 0.5, 0.5};
+  pom_doe_friedman(&fr, same, 3, 2, scratch);
+  check_true(isnan(fr.statistic));
+  check_abs(fr.p, 1.0, 0);
+  /* Holm: sorted 0.005 0.01 0.03 0.04 -> 4 x 0.005 = 0.02, 3 x 0.01 = 0.03,
+   * 2 x 0.03 = 0.06, max(1 x 0.04, 0.06) = 0.06; a large p is capped at 1 */
+  const double p[5] = {0.01, 0.04, 0.03, 0.005, 0.6};
+  double adj[5];
+  size_t order[5];
+  pom_doe_holm(adj, p, 4, order);
+  check_rel(adj[0], 0.03, 1e-15);
+  check_rel(adj[1], 0.06, 1e-15);
+  check_rel(adj[2], 0.06, 1e-15);
+  check_rel(adj[3], 0.02, 1e-15);
+  /* five: 5 x 0.005, 4 x 0.01, 3 x 0.03, max(2 x 0.04, 0.09), 1 x 0.6 */
+  pom_doe_holm(adj, p, 5, order);
+  check_rel(adj[3], 0.025, 1e-15);
+  check_rel(adj[1], 0.09, 1e-15);
+  check_rel(adj[4], 0.6, 1e-15);
+  /* 2 x 0.6 = 1.2 is capped at 1, and 0.7 inherits it */
+  pom_doe_holm(adj, p + 4, 1, order);
+  check_rel(adj[0], 0.6, 1e-15);
+  const double big[2] = {0.7, 0.6};
+  pom_doe_holm(adj, big, 2, order);
+  check_abs(adj[0], 1.0, 0);
+  check_abs(adj[1], 1.0, 0);
 }
 
 /* ---- maneuvers ------------------------------------------------------------------------ */
@@ -389,7 +446,23 @@ static void test_sweep(void) {
   pom_doe_report *rep = NULL;
   check_true(pom_doe_run_all(&study, &o, &rep, &err) == POM_OK);
   if (rep) {
-    check_true(rep->n_comparisons == 30);
+    /* six candidates: the best of each metric against the five others */
+    check_true(!rep->all_pairs && rep->n_comparisons == 10);
+    for (int j = 0; j < rep->n_comparisons; ++j) {
+      const pom_doe_comparison *c = &rep->cmp[j];
+      const int *order = c->metric == POM_DOE_METRIC_TIME ? rep->rank_time : rep->rank_energy;
+      check_true(c->a == order[0] && c->b == order[1 + j % 5]);
+      check_true(c->p_holm >= c->test.wilcoxon_p);
+      /* energy does not depend on the factors: every pair a tie, p = 1 */
+      if (c->metric == POM_DOE_METRIC_ENERGY) {
+        check_abs(c->test.tie_fraction, 1.0, 0);
+        check_abs(c->test.win_fraction, 0.0, 0);
+        check_abs(c->p_holm, 1.0, 0);
+      }
+    }
+    check_true(rep->friedman[POM_DOE_METRIC_TIME].n_blocks == 4);
+    check_true(isnan(rep->friedman[POM_DOE_METRIC_ENERGY].statistic));
+    check_abs(rep->friedman[POM_DOE_METRIC_ENERGY].p, 1.0, 0);
     const int want[6] = {4, 2, 5, 3, 0, 1};
     for (int r = 0; r < 6; ++r)
       check_true(rep->rank_time[r] == want[r]);
@@ -487,7 +560,11 @@ static void test_runs(void) {
   pom_doe_run_destroy(run);
   check_true(partial && partial->cand[0].n_done + partial->cand[1].n_done == done_first);
   pom_doe_report_destroy(partial);
-  pom_doe_row *part = read_all(p3, 2, m);
+  /* an unfinished run is in p3.partial; p3 appears only when it is done */
+  char p3_partial[600];
+  pom_doe_results_partial_path(p3_partial, sizeof p3_partial, p3);
+  check_true(access(p3, F_OK) != 0 && access(p3_partial, F_OK) == 0);
+  pom_doe_row *part = read_all(p3_partial, 2, m);
   long stored = 0;
   for (long j = 0; part && j < 2 * m; ++j)
     stored += part[j].done;
@@ -505,6 +582,7 @@ static void test_runs(void) {
   check_true(pom_doe_run_done(run) == 2 * m);
   check_true(pom_doe_run_end(run, &r3, &err) == POM_OK);
   pom_doe_run_destroy(run);
+  check_true(access(p3, F_OK) == 0 && access(p3_partial, F_OK) != 0);
 
   pom_doe_row *a = read_all(p1, 2, m), *b = read_all(p2, 2, m), *c = read_all(p3, 2, m);
   if (a && b && c) {
@@ -713,6 +791,7 @@ int main(void) {
   test_maneuvers();
   test_study_config();
   test_sweep();
+  test_friedman_holm();
   test_runs();
   test_final_stroke();
   return check_summary("test_doe");

@@ -137,7 +137,10 @@ def main(argv):
         d = ra[key][both] - rb[key][both]
         check(p[3] == d.size, "pairs")
         check(rel_close(p[4], d.mean(), 1e-12), "mean difference")
-        check(rel_close(p[10], (np.sum(d < 0) + 0.5 * np.sum(d == 0)) / d.size, 1e-15), "wins")
+        check(rel_close(p[10], np.sum(d < 0) / d.size, 1e-15), "wins")
+        check(rel_close(p[11], np.sum(d == 0) / d.size, 1e-15), "ties")
+        # two candidates: one comparison per metric, Holm changes nothing
+        check(p[12] == p[8], "Holm p of a single comparison")
         if sps is not None and d.size >= 2:
             half = sps.t.ppf(0.5 + 0.5 * conf, d.size - 1) * d.std(ddof=1) / np.sqrt(d.size)
             check(rel_close(p[6] - p[4], half, 1e-9), "interval half-width")

@@ -674,6 +674,46 @@ static void test_workspace(const pom_kin_arch *arch, double want_half_width_deg)
   check_abs(g1, 1.0, 1e-12);
 }
 
+/* The pose budget: at a 0.01 deg step with max_poses = 1e4 the search may
+ * run the cube up to shell 10 (21^3 = 9261 poses) but not 11 (23^3 = 12167),
+ * so it stops with a half-width of 0.1 deg as a lower bound (the RDW is 13
+ * deg). The progress callback sees every 4096th pose, bounded by the budget. */
+typedef struct {
+  long calls, last_done, bound;
+} ws_progress_seen;
+
+static void on_ws_progress(void *user, long done, long bound) {
+  ws_progress_seen *s = user;
+  ++s->calls;
+  s->last_done = done;
+  s->bound = bound;
+}
+
+static void test_workspace_budget(const pom_kin_arch *arch) {
+  pom_kin_ws_opts o;
+  pom_kin_ws_defaults(&o);
+  o.resolution = 0.01 * POM_DEG;
+  o.max_poses = 1e4;
+  ws_progress_seen seen = {0, 0, 0};
+  o.progress = on_ws_progress;
+  o.progress_user = &seen;
+  pom_kin_ws_result r;
+  check_true(pom_kin_workspace(arch, &o, &r, NULL) == POM_OK);
+  check_true(r.budget_reached && !r.capped);
+  check_abs(r.half_width / POM_DEG, 0.1, 1e-12);
+  check_true(r.poses == 9261);
+  check_true(seen.calls == 2 && seen.last_done == 8192 && seen.bound == 10000);
+  /* the grid sizes the CLI checks against the budget */
+  check_abs(pom_kin_grid_poses(45.0 * POM_DEG, 1.0 * POM_DEG), 91.0 * 91.0 * 91.0, 0.0);
+  check_abs(pom_kin_gci_poses(13.0 * POM_DEG, 1.0 * POM_DEG), 26.0 * 26.0 * 26.0, 0.0);
+  /* the GCI tells its progress the same way: 26^3 = 17576 poses -> 4 calls */
+  ws_progress_seen gseen = {0, 0, 0};
+  double gci, frac;
+  check_true(pom_kin_gci_progress(arch, 13.0 * POM_DEG, 1.0 * POM_DEG, 1, on_ws_progress, &gseen,
+                                  &gci, &frac, NULL) == POM_OK);
+  check_true(gseen.calls == 4 && gseen.last_done == 16384 && gseen.bound == 17576);
+}
+
 /* The GCI's measure cos(theta) dpsi dtheta dphi is dpsi du dphi with
  * u = sin(theta): an independent quadrature, midpoint rule with equal weights
  * in (psi, u, phi), must give the same mean. Both rules err by O(h^2); over
@@ -1180,6 +1220,7 @@ int main(void) {
   check_true(is_3pss(&p3) && s3.type == pom_kin_arch_type_find("3SPS"));
   test_isotropic_home(&p3);
   test_isotropic_home(&s3);
+  test_workspace_budget(&p3);
   test_points_equal_parameters(&p3, &s3);
   test_jacobian_fd(&p3, &rng);
   test_jacobian_fd(&s3, &rng);

@@ -82,6 +82,16 @@ static void test_units(void) {
   /* fixed units do not depend on the kind */
   check_true(strcmp(pom_dyn_metric_unit(time, POM_ACT_REVOLUTE), "s") == 0);
   check_true(strcmp(pom_dyn_metric_display_unit(time, POM_ACT_REVOLUTE, &f), "ms") == 0);
+  /* one text unit per quantity in every command (docs/conventions.md): J, mm, deg */
+  const pom_dyn_metric_info *energy = pom_dyn_metric(POM_DYN_METRIC_energy_total);
+  check_true(strcmp(pom_dyn_metric_display_unit(energy, POM_ACT_PRISMATIC, &f), "J") == 0);
+  check_abs(f, 1.0, 0);
+  const pom_dyn_metric_info *defl = pom_dyn_metric(POM_DYN_METRIC_max_deflection);
+  check_true(strcmp(pom_dyn_metric_display_unit(defl, POM_ACT_PRISMATIC, &f), "mm") == 0);
+  check_abs(f, 1e3, 0);
+  const pom_dyn_metric_info *adefl = pom_dyn_metric(POM_DYN_METRIC_max_angular_deflection);
+  check_true(strcmp(pom_dyn_metric_display_unit(adefl, POM_ACT_PRISMATIC, &f), "deg") == 0);
+  check_rel(0.0523598775598 * f, 3.0, 1e-12); /* 3 deg */
   char key[64];
   check_true(strcmp(pom_dyn_metric_json_key(time, key, sizeof key), "execution_time_s") == 0);
   check_true(strcmp(pom_dyn_metric_json_key(target, key, sizeof key), "target") == 0);

@@ -437,6 +437,7 @@ static void test_rsm_reference(void) {
     check_rel(a->p, an[i].p, 1e-9);
   }
   check_true(f.has_lack_of_fit && f.n_distinct == 10);
+  check_true(pom_rsm_lack_of_fit_note(&f) == NULL); /* the test applies: p above */
   check_rel(f.anova[POM_RSM_ROW_PURE_ERROR].ss, 0.425, 1e-9);
   check_true(f.anova[POM_RSM_ROW_PURE_ERROR].df == 3 && f.anova[POM_RSM_ROW_RESIDUAL].df == 7);
   check_rel(f.anova[POM_RSM_ROW_TOTAL].ss, 72.18307692307692, 1e-9);
@@ -463,6 +464,21 @@ static void test_rsm_reference(void) {
     check_true(a->ss >= 0.0 && a->ms >= 0.0 && a->ms == a->ss / a->df);
     check_true(isnan(a->f) || (a->f >= 0.0 && a->p >= 0.0 && a->p <= 1.0));
   }
+  /* one centre run: no replicates, so no lack-of-fit test, and the reader is told why */
+  check_true(!f.has_lack_of_fit && isnan(f.anova[POM_RSM_ROW_LACK_OF_FIT].p));
+  const char *note = pom_rsm_lack_of_fit_note(&f);
+  check_true(note && strcmp(note, "no replicates") == 0);
+  pom_design_destroy(d);
+  /* three centre runs of a deterministic response: 2 pure-error df, but the
+     replicates agree exactly, so the F test does not apply either */
+  d = make(POM_DESIGN_CCD_FACE, 3, 3, 1);
+  double yc[17];
+  for (int r = 0; r < d->n; ++r)
+    yc[r] = 2.385 + d->coded[3 * r] * d->coded[3 * r + 1] * d->coded[3 * r + 2];
+  check_true(pom_rsm_fit_quadratic(&f, 3, d->n, d->coded, yc, NULL, &err) == POM_OK);
+  check_true(f.has_lack_of_fit && f.anova[POM_RSM_ROW_PURE_ERROR].df == 2);
+  note = pom_rsm_lack_of_fit_note(&f);
+  check_true(note && strcmp(note, "zero pure error") == 0);
   pom_design_destroy(d);
 }
 

@@ -81,6 +81,71 @@ assert r['name'] == 'a \"quoted\" name \\\\ here', r['name']
 assert r['criterion_s'] <= r['initial_criterion_s'], r
 "; then echo "FAIL: tune --json"; cat "$TMP/out"; fail=1; fi
 
+# Diagnostics in human text: the one-centre-run CCD has no replicates, so the
+# lack-of-fit column says so (no "nan" anywhere); the 3SPS workspace surface
+# of configs/synth_3sps.cfg predicts left-out runs worse than their mean
+# (predicted R2 -0.031 in its first stage) and is flagged.
+expect_rc 0 "$POMLAB" synth "$TMP/syn.cfg" --no-direct --quiet --out "$TMP/h_"
+if ! grep -q 'n/a (no replicates)' "$TMP/out" || grep -qi 'nan' "$TMP/out"; then
+  echo "FAIL: synth lack-of-fit column"; cat "$TMP/out"; fail=1
+fi
+sed -e "s|@include \"3sps.cfg\"|@include \"$SRC/configs/3sps.cfg\"|" \
+    -e 's/refine_stages = 1;/refine_stages = 0;/' "$SRC/configs/synth_3sps.cfg" > "$TMP/syn3.cfg"
+expect_rc 0 "$POMLAB" synth "$TMP/syn3.cfg" --no-direct --quiet --out "$TMP/w_"
+if ! grep -q 'warning: stage 0 surface of rdw_deg has a negative predicted R2' "$TMP/out" ||
+   grep -q 'warning: .* of gci ' "$TMP/out"; then
+  echo "FAIL: negative predicted R2 warning"; cat "$TMP/out"; fail=1
+fi
+
+# The study pipeline: two candidates from one base config whose names share
+# a file stem ("A/1", "A 1") keep separate files, all in the folder of --out;
+# summary.md shows each one's geometry and gains, and its wall time counts
+# the synthesis and tuning.
+cat > "$TMP/pipe.cfg" <<EOF
+name = "pipe";
+montecarlo = { maneuvers = 2; seed = 2385; space = "joint"; distribution = "uniform"; range_mm = 1.0; };
+study = {
+  threads = 1;
+  override = {
+    synthesis = { run_in_study = true; direct = { enabled = false; }; };
+    tuning = {
+      run_in_study = true;
+      variables = ( { name = "kd_s"; min = 1.0e-3; max = 2.0e-2; log = true; } );
+      maneuvers_mm = ( [1.0, -0.5, 0.5] );
+      optimizer = { global = "direct_l"; global_max_evals = 3; local = "bobyqa"; local_max_evals = 3; };
+    };
+  };
+};
+candidates = ( { name = "A/1"; config = "$TMP/syn.cfg"; },
+               { name = "A 1"; config = "$TMP/syn.cfg";
+                 override = { synthesis = { target_half_width_deg = 8.0; }; }; } );
+EOF
+(cd "$TMP" && "$POMLAB" study "$TMP/pipe.cfg" --out "$TMP/st/x.h5" --no-plots --quiet > "$TMP/out" 2> "$TMP/err") ||
+  { echo "FAIL: pipeline study"; cat "$TMP/err"; fail=1; }
+for f in A_1.geometry.cfg A_1.h5 A_1.controller.cfg A_1_2.geometry.cfg A_1_2.h5 A_1_2.controller.cfg; do
+  [ -s "$TMP/st/x/$f" ] || { echo "FAIL: pipeline file $f not in the --out folder"; fail=1; }
+done
+[ -e "$TMP/results" ] && { echo "FAIL: pipeline wrote outside the --out folder"; fail=1; }
+if ! $PY - "$TMP/st/x/summary.md" <<'PYEOF'
+import re, sys
+s = open(sys.argv[1]).read()
+assert '### Pipeline: synthesized geometry and tuned gains' in s
+rows = [l for l in s.splitlines() if l.startswith(('| A/1 |', '| A 1 |')) and 'platform_radius_mm' in l]
+assert len(rows) == 2, rows
+wall = float(re.search(r'this run: ([0-9.]+) s wall', s).group(1))
+spent = 0.0
+for l in rows:
+    cells = [c.strip() for c in l.strip().strip('|').split('|')]
+    assert '(tuned)' in cells[2], cells
+    spent += sum(float(x) for x in cells[4].split(','))
+# two targets, two radii: two syntheses, each in its own files
+radii = [float(re.search(r'platform_radius_mm ([0-9.]+)', l).group(1)) for l in rows]
+assert radii[0] != radii[1], radii
+assert wall >= spent - 0.2, (wall, spent)  # times printed to 0.1 s
+assert 'A_1_2.controller.cfg' in s
+PYEOF
+then echo "FAIL: pipeline summary"; cat "$TMP/st/x/summary.md"; fail=1; fi
+
 # usage errors
 expect_rc 2 "$POMLAB" synth
 expect_rc 2 "$POMLAB" tune --bogus

@@ -78,10 +78,26 @@ int main(void) {
   char prefix[128];
   unsigned long tag = (unsigned long)time(NULL) ^ (unsigned long)(uintptr_t)&tag;
   snprintf(prefix, sizeof prefix, "/tmp/pomlab_test_pipe_%lx_", tag);
-  pom_pipeline_options po = {prefix};
-  pom_status st = pom_pipeline_evaluator_create(&e1, cfg, &po, &err);
+  pom_pipeline_options po;
+  memset(&po, 0, sizeof po);
+  po.output_prefix = prefix;
+  pom_status st = pom_pipeline_evaluator_create(&e1, cfg, NULL, &err);
   check_true(st == POM_OK);
   if (st != POM_OK) printf("pipeline: %s\n", err.message);
+  if (st == POM_OK) {
+    /* loading runs nothing: a worker before the synthesis is refused */
+    void *w = NULL;
+    check_true(e1.worker_create(&w, e1.ctx, &err) == POM_ERR_ARG);
+    check_true(strstr(err.message, "has not run") != NULL);
+    const pom_pipeline_record *rec = pom_pipeline_record_of(&e1);
+    check_true(rec && !rec->synthesized && !rec->tuned);
+    /* the file stem is the candidate's, whole (longer than the old 24-character cut) */
+    st = pom_pipeline_prepare(&e1, "3P_S_S_S_with_a_long_candidate_name", &po, &err);
+    check_true(st == POM_OK);
+    if (st != POM_OK) printf("pipeline: %s\n", err.message);
+    check_true(rec->synthesized && !rec->tuned);
+    check_true(strcmp(rec->stem, "3P_S_S_S_with_a_long_candidate_name") == 0);
+  }
   /* the same synthesis by hand */
   static pom_syn_problem pb;
   pom_syn_run *run = NULL;
@@ -104,13 +120,23 @@ int main(void) {
     pom_doe_evaluator_clear(&e1);
   }
   char path[256];
-  snprintf(path, sizeof path, "%s%s.geometry.cfg", prefix, "3PSS_reference__isotropi");
+  snprintf(path, sizeof path, "%s%s.geometry.cfg", prefix, "3P_S_S_S_with_a_long_candidate_name");
   FILE *f = fopen(path, "r");
   check_true(f != NULL);
   if (f) fclose(f);
   remove(path);
-  snprintf(path, sizeof path, "%s%s.h5", prefix, "3PSS_reference__isotropi");
+  snprintf(path, sizeof path, "%s%s.h5", prefix, "3P_S_S_S_with_a_long_candidate_name");
+  f = fopen(path, "r");
+  check_true(f != NULL);
+  if (f) fclose(f);
   remove(path);
+
+  /* file stems: punctuation runs become one '_', nothing is cut */
+  char stem[80];
+  pom_pipeline_stem(stem, sizeof stem, "3S-P-S/S");
+  check_true(strcmp(stem, "3S_P_S_S") == 0);
+  pom_pipeline_stem(stem, sizeof stem, " 3PSS reference (isotropic at home, sigma = 15 mm)");
+  check_true(strcmp(stem, "3PSS_reference_isotropic_at_home_sigma_15_mm") == 0);
   pom_syn_destroy(run);
   pom_cfg_destroy(cfg);
   return check_summary("test_optimize_pipeline");

@@ -95,6 +95,32 @@ static void test_known_optimum(void) {
      the cubic of J^T J): near-repeated roots lose about half the digits */
   check_abs(run->confirmed[POM_SYN_RESP_MIN_DEXTERITY], home_dexterity(run->x_opt[0]), 1e-7);
   check_true(run->d_direct >= run->d_confirmed);
+  /* synthesis.write defaults to the surrogate: its optimum is the one scaled,
+     and the run says whether the direct search did better */
+  check_true(run->direct_better == (run->d_direct > run->d_confirmed));
+  check_true(!run->written_direct && run->scaled_done);
+  for (int i = 0; i < 2; ++i) {
+    check_true(run->x_written[i] == run->x_opt[i]);
+    check_true(run->scaled.design.x[pb.var[i]] == run->x_opt[i]);
+  }
+  /* "best" scales the direct optimum when it is the better one (here: the
+     exact isotropic lean against the quadratic's approximation) */
+  {
+    static pom_syn_problem best;
+    best = pb;
+    best.write = POM_SYN_WRITE_BEST;
+    pom_syn_run *rb = NULL;
+    check_true(pom_syn_begin(&rb, &best, &err) == POM_OK);
+    check_true(rb && pom_syn_finish(rb, &err) == POM_OK);
+    if (rb) {
+      check_true(rb->direct_better && rb->written_direct);
+      check_true(rb->d_written == rb->d_direct);
+      for (int i = 0; i < 2; ++i)
+        check_true(rb->scaled.design.x[pb.var[i]] == rb->x_direct[i]);
+      check_abs(rb->scaled.design.x[pb.var[0]], lean_opt, 1e-4);
+    }
+    pom_syn_destroy(rb);
+  }
   check_true(run->fitted[POM_SYN_RESP_MIN_DEXTERITY] && run->n_holdout == 6);
   /* The held-out check compares each held-out run with the surface at the
      same natural point: coded through the design's own alpha (sqrt 2 for
@@ -243,6 +269,18 @@ static void test_config_errors(void) {
                   "synthesis = { variables = ( { name = \"limb_length\"; min = 5.0; max = 8.0; "
                   "} ); goals = ( { response = \"gci\"; goal = \"target\"; low = 0.0; "
                   "target = 2.0; high = 1.0; } ); };\n",
+                  &err) == POM_ERR_CONFIG);
+  /* writing the direct optimum needs the direct search */
+  check_true(load(&pb,
+                  "synthesis = { variables = ( { name = \"limb_length\"; min = 5.0; max = 8.0; "
+                  "} ); goals = ( { response = \"gci\"; goal = \"maximize\"; low = 0.0; "
+                  "high = 1.0; } ); direct = { enabled = false; }; write = \"direct\"; };\n",
+                  &err) == POM_ERR_CONFIG);
+  check_true(strstr(err.message, "synthesis.write") != NULL);
+  check_true(load(&pb,
+                  "synthesis = { variables = ( { name = \"limb_length\"; min = 5.0; max = 8.0; "
+                  "} ); goals = ( { response = \"gci\"; goal = \"maximize\"; low = 0.0; "
+                  "high = 1.0; } ); write = \"newest\"; };\n",
                   &err) == POM_ERR_CONFIG);
 }
 

@@ -87,6 +87,20 @@ static void test_criterion(void) {
   check_rel(ev3.mean_execution, pb.params.maneuver.horizon, 1e-15);
 }
 
+/* What the progress callback saw. */
+typedef struct {
+  long calls, last_done, bound, out_of_order;
+} progress_seen;
+
+static void on_progress(void *user, const char *phase, long done, long bound) {
+  progress_seen *s = user;
+  if (strcmp(phase, "tune") != 0) ++s->out_of_order;
+  if (done != s->last_done + 1 && done != bound) ++s->out_of_order;
+  ++s->calls;
+  s->last_done = done;
+  s->bound = bound;
+}
+
 /* A short search from a deliberately slow derivative time improves it. */
 static void test_search(void) {
   pom_error err;
@@ -101,8 +115,15 @@ static void test_search(void) {
   p.opt.global_max_evals = 8;
   p.opt.local_max_evals = 8;
   pom_tune_result res;
+  progress_seen seen = {0, 0, 0, 0};
+  p.progress = on_progress;
+  p.progress_user = &seen;
   check_true(pom_tune_run(&p, &res, &err) == POM_OK);
   check_true(res.best_eval.criterion < 0.7 * res.initial_eval.criterion);
+  /* told once per evaluation, counting up by one, and at the end the bound
+   * (2 + 8 + 8) even when the searches stopped early */
+  check_true(seen.calls == res.opt.evals_global + res.opt.evals_local + 2);
+  check_true(seen.last_done == 18 && seen.bound == 18 && seen.out_of_order == 0);
   check_true(res.best.kd >= p.lo[0] && res.best.kd <= p.hi[0]);
   check_true(res.simulations == (res.opt.evals_global + res.opt.evals_local + 2) * p.n_maneuvers);
   /* the gains in config form */
