@@ -2,7 +2,7 @@
  * (issue 3 goal: under 5 ms on one core at k_p = 1e6 N/m, rtol = 1e-6).
  *
  * usage: bench_dynamics CONFIG [q1,q2,q3 mm] [repeats] [dense|klu] [euler|quaternion]
- *                       [parasitic|rigid]
+ *                       [parasitic|rigid] [analytic|finite-difference]
  * Prints the median and minimum wall time of `repeats` runs of the same
  * maneuver (model and data built once, as a Monte-Carlo worker does) and the
  * solver statistics of the last run. */
@@ -35,7 +35,7 @@ int main(int argc, char **argv) {
   if (argc < 2) {
     fprintf(stderr,
             "usage: %s CONFIG [q1,q2,q3 mm] [repeats] [dense|klu] [euler|quaternion] "
-            "[parasitic|rigid]\n",
+            "[parasitic|rigid] [analytic|finite-difference]\n",
             argv[0]);
     return 2;
   }
@@ -72,6 +72,9 @@ int main(int argc, char **argv) {
         strcmp(argv[5], "quaternion") == 0 ? POM_ORIENT_QUATERNION : POM_ORIENT_EULER_ZYX;
   if (argc > 6)
     par.joints.model = strcmp(argv[6], "rigid") == 0 ? POM_JOINTS_RIGID : POM_JOINTS_PARASITIC;
+  if (argc > 7)
+    par.solver.jacobian =
+        strcmp(argv[7], "finite-difference") == 0 ? POM_JAC_FINITE_DIFFERENCE : POM_JAC_ANALYTIC;
   if (pom_dyn_model_create(&m, mech, &arch, &par, &err) != POM_OK ||
       pom_dyn_data_create(&d, m, &err) != POM_OK)
     goto fail;
@@ -85,11 +88,11 @@ int main(int argc, char **argv) {
   }
   qsort(times, (size_t)repeats, sizeof *times, cmp_double);
   qsort(cpu, (size_t)repeats, sizeof *cpu, cmp_double);
-  printf("%s: %s joints, %s, %s, %d states, %d Jacobian colours, k_p %.3g N/m, rtol %.1e\n",
+  printf("%s: %s joints, %s, %s, %s Jacobian, %d states, %d colours, k_p %.3g N/m, rtol %.1e\n",
          arch.name, pom_dyn_joint_model_name(par.joints.model),
          pom_dyn_linsol_name(par.solver.linear_solver), pom_dyn_orient_name(par.scene.orientation),
-         pom_dyn_model_n_states(m), pom_dyn_model_n_colors(m), par.joints.stiffness,
-         par.solver.rtol);
+         pom_dyn_jacobian_name(par.solver.jacobian), pom_dyn_model_n_states(m),
+         pom_dyn_model_n_colors(m), par.joints.stiffness, par.solver.rtol);
   printf("maneuver (%.3g, %.3g, %.3g) mm over %.0f ms: wall median %.3f ms, min %.3f ms; CPU "
          "median %.3f ms, min %.3f ms (%d runs)\n",
          target[0] * 1e3, target[1] * 1e3, target[2] * 1e3, par.maneuver.horizon * 1e3,

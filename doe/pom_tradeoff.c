@@ -60,12 +60,12 @@ pom_status pom_tradeoff_load(pom_tradeoff_opts *o, const pom_cfg *cfg, pom_error
 }
 
 /* ---- settings ---------------------------------------------------------------- */
-/* atol follows rtol below the config's pair (docs/tradeoff.md): atol_scale =
- * min(config atol_scale, 1e3 rtol) (the shipped pair is rtol 1e-6,
- * atol_scale 1e-3). */
+/* rtol alone: atol_scale 0 = natural sizes, atol = rtol * natural size on the
+ * parasitic path and min(1e-3, 1e3 rtol) * scale on the exact path
+ * (docs/dynamics.md section 7, docs/tradeoff.md). */
 static void set_rtol(pom_dyn_params *p, double rtol) {
   p->solver.rtol = rtol;
-  p->solver.atol_scale = fmin(p->solver.atol_scale, 1e3 * rtol);
+  p->solver.atol_scale = 0.0;
 }
 
 static void set_stiffness(pom_dyn_params *p, double k) {

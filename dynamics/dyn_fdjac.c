@@ -39,6 +39,15 @@ pom_status pom_dyn_pattern_build(pom_dyn_model *m, pom_error *err) {
   return POM_OK;
 }
 
+void pom_dyn_pattern_to_matrix(const pom_dyn_model *m, SUNMatrix A) {
+  sunindextype *cp = SUNSparseMatrix_IndexPointers(A);
+  sunindextype *ri = SUNSparseMatrix_IndexValues(A);
+  for (int j = 0; j <= m->n_states; ++j)
+    cp[j] = (sunindextype)m->colptr[j];
+  for (long k = 0; k < m->nnz; ++k)
+    ri[k] = m->rowind[k];
+}
+
 /* ---- finite-difference Jacobian ------------------------------------------ */
 /* Columns of colour -1 are never perturbed: their entries (the diagonal
  * only, for the exact path's accumulators) keep the zero of data create. */
@@ -73,7 +82,8 @@ int pom_dyn_fd_jacobian(pom_dyn_data *d, const double *yv, const double *f0, dou
   return 0;
 }
 
-/* CVODE's linear-system callback: A = I - gamma J, J re-evaluated unless
+/* CVODE's linear-system callback: A = I - gamma J, J (the formulation's
+ * analytic one or finite differences, by solver.jacobian) re-evaluated unless
  * CVODE says the stored one is still good (jok). Writing A directly skips
  * SUNDIALS' copy of a saved J and its scale-add-identity pass. */
 int pom_dyn_cvode_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, sunbooleantype jok,
@@ -85,8 +95,10 @@ int pom_dyn_cvode_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, su
   const pom_dyn_model *m = d->m;
   const int n = m->n_states;
   if (!jok || !d->jac_valid) {
-    int r = pom_dyn_fd_jacobian(d, N_VGetArrayPointer(y), N_VGetArrayPointer(fy),
-                                N_VGetArrayPointer(tmp1), N_VGetArrayPointer(tmp2));
+    int r = (m->form->jacobian && m->par.solver.jacobian == POM_JAC_ANALYTIC)
+                ? m->form->jacobian(m, d, N_VGetArrayPointer(y), d->jac)
+                : pom_dyn_fd_jacobian(d, N_VGetArrayPointer(y), N_VGetArrayPointer(fy),
+                                      N_VGetArrayPointer(tmp1), N_VGetArrayPointer(tmp2));
     if (r != 0) return r;
     d->jac_valid = 1;
     *jcur = SUNTRUE;
@@ -94,15 +106,10 @@ int pom_dyn_cvode_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, su
     *jcur = SUNFALSE;
   }
   if (SUNMatGetID(A) == SUNMATRIX_SPARSE) {
-    sunindextype *cp = SUNSparseMatrix_IndexPointers(A);
-    sunindextype *ri = SUNSparseMatrix_IndexValues(A);
+    /* the pattern is in A since data create (pom_dyn_pattern_to_matrix) */
     double *av = SUNSparseMatrix_Data(A);
-    for (int j = 0; j <= n; ++j)
-      cp[j] = (sunindextype)m->colptr[j];
-    for (long k = 0; k < m->nnz; ++k) {
-      ri[k] = m->rowind[k];
+    for (long k = 0; k < m->nnz; ++k)
       av[k] = -gamma * d->jac[k];
-    }
   } else {
     /* zeroed here: SUNMatZero of the distribution's unoptimized build cost
      * the exact path 7 % of its maneuver (bench/README.md, issue 9) */

@@ -169,6 +169,9 @@ struct pom_dyn_data {
  * driver (dyn_model.c, dyn_simulate.c, dyn_fdjac.c) calls only these. */
 struct dyn_formulation {
   const char *name; /* "parasitic" or "rigid" (joints.model) */
+  /* 1: init sets atol = rtol * natural size when solver.atol_scale is 0;
+   * 0: the driver turns atol_scale 0 into min(1e-3, 1e3 rtol) first */
+  int natural_tolerances;
   /* Fills bodies, actuators, the state layout (n_states, offsets), scale,
    * atol and the Jacobian pattern (dep, color, CSC) of m; m->par, gravity,
    * slot_of_mech (all -1) and platform_slot (-1) are set by the caller. arch
@@ -185,6 +188,10 @@ struct dyn_formulation {
    * Never allocates. */
   int (*eval)(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot);
   CVLsLinSysFn linsys; /* CVODE's linear-system callback A = I - gamma J */
+  /* Analytic Jacobian at y into jac[nnz] over the model's CSC pattern; 0, or
+   * 1 for a non-finite entry. NULL: the formulation has none, the linsys
+   * uses finite differences whatever solver.jacobian says. */
+  int (*jacobian)(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *jac);
   /* State at home with the body velocities of init (NULL = rest). */
   void (*initial)(const pom_dyn_model *m, double *y, const pom_dyn_initial *init);
   /* Actuator coordinates q[n_actuators] (m or rad) of a state, cheaply. */
@@ -213,6 +220,17 @@ pom_status pom_dyn_parasitic_init(pom_dyn_model *m, const pom_mechanism *mech,
 /* dyn_parasitic_jac.c: dep/color of the parasitic model, then its CSC
  * pattern (called by pom_dyn_parasitic_init). */
 pom_status pom_dyn_structure_build(pom_dyn_model *m, pom_error *err);
+
+/* dyn_parasitic_deriv.c: the analytic Jacobian of the parasitic RHS
+ * (docs/dynamics.md section 7): the scatter layout of a model (m->form_model,
+ * built after its pattern), the per-worker scratch (d->form_data) and the
+ * evaluation (the jacobian op). */
+pom_status pom_dyn_parasitic_jac_layout(pom_dyn_model *m, pom_error *err);
+void pom_dyn_parasitic_jac_layout_free(pom_dyn_model *m);
+pom_status pom_dyn_parasitic_jac_data(const pom_dyn_model *m, pom_dyn_data *d, pom_error *err);
+void pom_dyn_parasitic_jac_data_free(pom_dyn_data *d);
+int pom_dyn_parasitic_jacobian(const pom_dyn_model *m, pom_dyn_data *d, const double *y,
+                               double *jac);
 
 /* ---- shared pieces -------------------------------------------------------- */
 /* dyn_simulate.c: m->form->eval (tests and the shared Jacobian use it). */
@@ -270,6 +288,11 @@ void pom_dyn_nvec_fast_ops(N_Vector v);
 /* dyn_fdjac.c: the CSC pattern (colptr, rowind, diag, nnz) of m->dep plus
  * the diagonal. */
 pom_status pom_dyn_pattern_build(pom_dyn_model *m, pom_error *err);
+
+/* dyn_fdjac.c: writes the model's CSC pattern into the sparse matrix A (of
+ * nnz entries) once, at data create; pom_dyn_cvode_linsys then writes the
+ * values only. */
+void pom_dyn_pattern_to_matrix(const pom_dyn_model *m, SUNMatrix A);
 
 /* dyn_fdjac.c: the finite-difference Jacobian shared by both formulations:
  * one RHS evaluation per colour of m->color (columns of colour -1 are left

@@ -39,10 +39,10 @@ static pom_status params_check(const pom_dyn_params *p, pom_error *err) {
       !(j->angular_damping >= 0))
     POM_FAIL(err, POM_ERR_ARG, "joint stiffness must be > 0 and damping >= 0");
   const pom_dyn_solver *s = &p->solver;
-  if (!(s->rtol > 0) || !(s->atol_scale > 0) || !(s->max_step >= 0) || s->max_steps < 1 ||
+  if (!(s->rtol > 0) || !(s->atol_scale >= 0) || !(s->max_step >= 0) || s->max_steps < 1 ||
       s->max_order < 1 || s->max_order > 5)
     POM_FAIL(err, POM_ERR_ARG,
-             "solver: rtol %g, atol_scale %g must be > 0, max_step %g >= 0, "
+             "solver: rtol %g must be > 0, atol_scale %g >= 0, max_step %g >= 0, "
              "max_steps %ld >= 1, max_order %d in 1..5",
              s->rtol, s->atol_scale, s->max_step, s->max_steps, s->max_order);
   const pom_dyn_maneuver *m = &p->maneuver;
@@ -95,6 +95,10 @@ pom_status pom_dyn_model_create(pom_dyn_model **out, const pom_mechanism *mech,
   for (int b = 0; b < POM_MECH_MAX_BODIES; ++b)
     m->slot_of_mech[b] = -1;
   m->platform_slot = -1;
+  /* atol_scale 0 = natural sizes; a formulation without them gets the
+   * scale rule atol_scale = min(1e-3, 1e3 rtol) (docs/dynamics.md section 7) */
+  if (m->par.solver.atol_scale == 0.0 && !m->form->natural_tolerances)
+    m->par.solver.atol_scale = fmin(1e-3, 1e3 * m->par.solver.rtol);
   POM_TRY_GOTO(m->form->init(m, mech, arch, err), fail);
   for (int a = 0; a < m->n_actuators; ++a) /* targets checked against it (docs 14) */
     m->act[a].stroke = mech->actuator[a].stroke;

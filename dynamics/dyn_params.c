@@ -33,10 +33,11 @@ void pom_dyn_params_defaults(pom_dyn_params *p) {
   p->scene.limb_inertia = POM_INERTIA_FULL;
   p->scene.universal_joint = 1;
   p->solver.rtol = 1.0e-6;
-  p->solver.atol_scale = 1.0e-3;
+  p->solver.atol_scale = 0.0; /* natural sizes: rtol alone sets the accuracy (docs 7) */
   p->solver.max_step = 0.0;
   p->solver.max_steps = 200000;
   p->solver.linear_solver = POM_LINSOL_KLU;
+  p->solver.jacobian = POM_JAC_ANALYTIC;
   p->solver.max_order = 5;
   p->solver.stability_limit_detection = 1;
   p->solver.max_wall = 60.0; /* generous: a maneuver takes milliseconds (docs 14) */
@@ -50,6 +51,7 @@ void pom_dyn_params_defaults(pom_dyn_params *p) {
 static const char *const pid_forms[] = {"ideal", "parallel", NULL};
 static const char *const orient_kinds[] = {"euler", "quaternion", NULL};
 static const char *const linsol_kinds[] = {"dense", "klu", NULL};
+static const char *const jacobian_kinds[] = {"analytic", "finite-difference", NULL};
 static const char *const joint_models[] = {"parasitic", "rigid", NULL};
 static const char *const inertia_kinds[] = {"full", "lumped", NULL};
 static const char *const actuator_kinds[] = {"linear", "rotary", NULL};
@@ -68,6 +70,9 @@ const char *pom_dyn_orient_name(pom_orient_kind k) {
 }
 const char *pom_dyn_linsol_name(pom_linsol_kind k) {
   return (k == POM_LINSOL_KLU) ? linsol_kinds[1] : linsol_kinds[0];
+}
+const char *pom_dyn_jacobian_name(pom_jac_kind k) {
+  return (k == POM_JAC_FINITE_DIFFERENCE) ? jacobian_kinds[1] : jacobian_kinds[0];
 }
 const char *pom_dyn_joint_model_name(pom_joint_model k) {
   return (k == POM_JOINTS_RIGID) ? joint_models[1] : joint_models[0];
@@ -144,7 +149,8 @@ pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error 
       pom_cfg_bool_opt(cfg, "scene.universal_joint", s->universal_joint, &s->universal_joint, err));
 
   POM_TRY(pom_cfg_real_opt(cfg, "solver.rtol", 1.0, 1e-13, 1e-1, v->rtol, &v->rtol, err));
-  POM_TRY(pom_cfg_real_opt(cfg, "solver.atol_scale", 1.0, 1e-13, 1.0, v->atol_scale, &v->atol_scale,
+  /* 0 = natural sizes (docs/dynamics.md section 7) */
+  POM_TRY(pom_cfg_real_opt(cfg, "solver.atol_scale", 1.0, 0.0, 1.0, v->atol_scale, &v->atol_scale,
                            err));
   POM_TRY(
       pom_cfg_real_opt(cfg, "solver.max_step_ms", 1e-3, 0.0, 1e6, v->max_step, &v->max_step, err));
@@ -153,6 +159,9 @@ pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error 
   idx = (int)v->linear_solver;
   POM_TRY(pom_cfg_choice_opt(cfg, "solver.linear_solver", linsol_kinds, idx, &idx, err));
   v->linear_solver = (idx == 1) ? POM_LINSOL_KLU : POM_LINSOL_DENSE;
+  idx = (int)v->jacobian;
+  POM_TRY(pom_cfg_choice_opt(cfg, "solver.jacobian", jacobian_kinds, idx, &idx, err));
+  v->jacobian = (idx == 1) ? POM_JAC_FINITE_DIFFERENCE : POM_JAC_ANALYTIC;
   POM_TRY(pom_cfg_int_opt(cfg, "solver.max_order", 1, 5, v->max_order, &lval, err));
   v->max_order = (int)lval;
   POM_TRY(pom_cfg_bool_opt(cfg, "solver.stability_limit_detection", v->stability_limit_detection,

@@ -398,13 +398,20 @@ static pom_status parasitic_solver_failure(const pom_dyn_model *m, pom_dyn_data 
 /* ---- per-worker data ------------------------------------------------------ */
 static pom_status parasitic_data_init(const pom_dyn_model *m, pom_dyn_data *d, pom_error *err) {
   const sunindextype n = m->n_states;
+  POM_TRY(pom_dyn_parasitic_jac_data(m, d, err));
   if (m->par.solver.linear_solver == POM_LINSOL_KLU) {
     d->A = SUNSparseMatrix(n, n, (sunindextype)m->nnz, CSC_MAT, d->ctx);
+    if (d->A) pom_dyn_pattern_to_matrix(m, d->A);
     if (d->A) d->LS = SUNLinSol_KLU(d->y, d->A, d->ctx);
     /* AMD ordering: half the fill of SUNDIALS' default COLAMD on these
      * matrices (3PSS: nnz(L+U) 1823 against 3535), 25 % faster maneuvers */
     if (d->LS && SUNLinSol_KLUSetOrdering(d->LS, 0) != 0)
       POM_FAIL(err, POM_ERR_SOLVER, "setting the KLU ordering");
+    /* no row scaling, no input check: the pattern is written once, sorted,
+     * and the scaling pass at each of the ~200 refactorizations of a
+     * maneuver cost 11 % of the paper study's CPU with no gain in accuracy
+     * (bench/README.md, issue 10; the solve's residual is tested) */
+    if (d->LS) SUNLinSol_KLUGetCommon(d->LS)->scale = -1;
   } else {
     d->A = SUNDenseMatrix(n, n, d->ctx);
     if (d->A) d->LS = SUNLinSol_Dense(d->y, d->A, d->ctx);
@@ -413,22 +420,24 @@ static pom_status parasitic_data_init(const pom_dyn_model *m, pom_dyn_data *d, p
 }
 
 static void parasitic_data_free(pom_dyn_data *d) {
-  (void)d; /* no scratch beyond the shared data */
+  pom_dyn_parasitic_jac_data_free(d); /* the analytic Jacobian's scratch */
 }
 
 static void parasitic_model_free(pom_dyn_model *m) {
-  (void)m; /* the bond graph lives in the shared model arrays */
+  pom_dyn_parasitic_jac_layout_free(m); /* the bond graph lives in the shared arrays */
 }
 
 /* ---- the table ------------------------------------------------------------ */
 const dyn_formulation pom_dyn_form_parasitic = {
     .name = "parasitic",
+    .natural_tolerances = 1,
     .init = pom_dyn_parasitic_init,
     .model_free = parasitic_model_free,
     .data_init = parasitic_data_init,
     .data_free = parasitic_data_free,
     .eval = parasitic_eval,
     .linsys = pom_dyn_cvode_linsys,
+    .jacobian = pom_dyn_parasitic_jacobian,
     .initial = parasitic_initial,
     .positions = parasitic_positions,
     .stored = parasitic_stored,

@@ -217,8 +217,9 @@ static pom_status lump_mechanism(pom_mechanism *lm, dyn_lump *lu, pom_error *err
 
 /* ---- characteristic scales and tolerances -------------------------------- */
 /* Characteristic scales of each state kind (docs/dynamics.md section 7):
- * the smallest magnitude that still matters in a 3 mm maneuver. atol =
- * atol_scale * scale; the finite-difference increments use the same scale. */
+ * the smallest magnitude that still matters in a 3 mm maneuver. They size
+ * the finite-difference increments, and the absolute tolerances atol =
+ * atol_scale * scale when solver.atol_scale > 0. */
 #define DYN_SCALE_LENGTH  1e-6 /* m: parasitic deflections are 1-30 um */
 #define DYN_SCALE_SPEED   1e-3 /* m/s: actuator speeds reach ~0.5 m/s */
 #define DYN_SCALE_RATE    1e-2 /* rad/s */
@@ -226,32 +227,61 @@ static pom_status lump_mechanism(pom_mechanism *lm, dyn_lump *lu, pom_error *err
 #define DYN_SCALE_CURRENT 1e-2 /* A: currents reach V/R = 2.4 A */
 #define DYN_SCALE_ENERGY  1e-3 /* J: a 3 mm move costs ~0.1-1 J */
 
-static void scales_fill(pom_dyn_model *m) {
+/* Natural sizes: the magnitude each state kind reaches in a maneuver
+ * (docs/dynamics.md section 7). With solver.atol_scale = 0 (the default)
+ * atol = rtol * natural size, so that the error test is relative to
+ * max(|y|, natural size) in every component and rtol alone sets the
+ * accuracy. */
+#define DYN_NATURAL_LENGTH  1e-3 /* m: CM displacements (strokes +-6 mm) */
+#define DYN_NATURAL_SPEED   0.1  /* m/s: actuator speeds 0.1-0.5 m/s */
+#define DYN_NATURAL_RATE    1.0  /* rad/s: platform rates ~1-10 rad/s */
+#define DYN_NATURAL_ANGLE   0.1  /* rad: tilts up to ~0.2 rad; quaternion parts */
+#define DYN_NATURAL_CURRENT 1.0  /* A: 0-2.4 A */
+#define DYN_NATURAL_SETTLE  1e-2 /* s: the settling time, the integral's time scale */
+#define DYN_NATURAL_ENERGY  0.1  /* J: 0.05-1 J per actuator and maneuver */
+
+/* Fills m->scale and m->atol from the per-kind constants; a pair
+ * (scale, natural) per state. */
+static void tolerances_fill(pom_dyn_model *m) {
   const pom_dyn_params *p = &m->par;
+  const int rotary = p->actuator.kind == POM_ACT_REVOLUTE;
+  const double L = p->actuator.inductance;
+  const int natural = !(p->solver.atol_scale > 0);
+  double *nat = m->atol; /* natural sizes first, scaled below */
   for (int b = 0; b < m->n_bodies; ++b) {
     const dyn_body *bd = &m->body[b];
     for (int k = 0; k < 3; ++k) {
       m->scale[bd->offset + DYN_BODY_U + k] = DYN_SCALE_LENGTH;
       m->scale[bd->offset + DYN_BODY_P + k] = bd->mass * DYN_SCALE_SPEED;
       m->scale[bd->offset + DYN_BODY_H + k] = bd->principal[k] * DYN_SCALE_RATE;
+      nat[bd->offset + DYN_BODY_U + k] = DYN_NATURAL_LENGTH;
+      nat[bd->offset + DYN_BODY_P + k] = bd->mass * DYN_NATURAL_SPEED;
+      nat[bd->offset + DYN_BODY_H + k] = bd->principal[k] * DYN_NATURAL_RATE;
     }
-    for (int k = DYN_BODY_ORI; k < m->body_states; ++k)
+    for (int k = DYN_BODY_ORI; k < m->body_states; ++k) {
       m->scale[bd->offset + k] = DYN_SCALE_ANGLE;
+      nat[bd->offset + k] = DYN_NATURAL_ANGLE;
+    }
   }
   for (int a = 0; a < m->n_actuators; ++a) {
     const dyn_actuator *ac = &m->act[a];
-    if (ac->flux_state >= 0) m->scale[ac->flux_state] = p->actuator.inductance * DYN_SCALE_CURRENT;
+    if (ac->flux_state >= 0) {
+      m->scale[ac->flux_state] = L * DYN_SCALE_CURRENT;
+      nat[ac->flux_state] = L * DYN_NATURAL_CURRENT;
+    }
     /* integral of the error: m s (linear) or rad s (rotary) */
-    m->scale[ac->int_state] =
-        (p->actuator.kind == POM_ACT_REVOLUTE ? DYN_SCALE_ANGLE : DYN_SCALE_LENGTH) *
-        p->maneuver.horizon;
-    for (int k = 0; k < DYN_ACC_PER_ACT; ++k)
+    m->scale[ac->int_state] = (rotary ? DYN_SCALE_ANGLE : DYN_SCALE_LENGTH) * p->maneuver.horizon;
+    nat[ac->int_state] = (rotary ? DYN_NATURAL_ANGLE : DYN_NATURAL_LENGTH) * DYN_NATURAL_SETTLE;
+    for (int k = 0; k < DYN_ACC_PER_ACT; ++k) {
       m->scale[ac->acc_state + k] = DYN_SCALE_ENERGY;
+      nat[ac->acc_state + k] = DYN_NATURAL_ENERGY;
+    }
     m->scale[ac->acc_state + DYN_ACC_SATURATED] = p->maneuver.horizon;
   }
   m->scale[m->acc_parasitic] = DYN_SCALE_ENERGY;
+  nat[m->acc_parasitic] = DYN_NATURAL_ENERGY;
   for (int i = 0; i < m->n_states; ++i)
-    m->atol[i] = p->solver.atol_scale * m->scale[i];
+    m->atol[i] = natural ? p->solver.rtol * nat[i] : p->solver.atol_scale * m->scale[i];
   /* time in saturation integrates a discontinuous indicator: kept out of the
    * error test (as CVODES does with quadratures when errconQ is off) */
   for (int a = 0; a < m->n_actuators; ++a)
@@ -369,8 +399,9 @@ pom_status pom_dyn_parasitic_init(pom_dyn_model *m, const pom_mechanism *mech,
   m->atol = calloc((size_t)m->n_states, sizeof *m->atol);
   m->scale = calloc((size_t)m->n_states, sizeof *m->scale);
   if (!m->atol || !m->scale) POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "allocating tolerances");
-  scales_fill(m);
+  tolerances_fill(m);
   POM_TRY_GOTO(pom_dyn_structure_build(m, err), fail);
+  POM_TRY_GOTO(pom_dyn_parasitic_jac_layout(m, err), fail);
 fail:
   free(lm);
   free(lu);

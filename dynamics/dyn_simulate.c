@@ -85,6 +85,7 @@ pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_e
   pom_dyn_nvec_fast_ops(d->y);
   pom_dyn_nvec_fast_ops(d->atol);
   pom_dyn_nvec_fast_ops(d->ytmp);
+  pom_dyn_nvec_fast_ops(d->ftmp);
   memcpy(N_VGetArrayPointer(d->atol), m->atol, (size_t)n * sizeof(double));
   N_VConst(0.0, d->y);
 

@@ -19,6 +19,9 @@
 typedef enum { POM_PID_IDEAL = 0, POM_PID_PARALLEL = 1 } pom_pid_form;
 typedef enum { POM_ORIENT_EULER_ZYX = 0, POM_ORIENT_QUATERNION = 1 } pom_orient_kind;
 typedef enum { POM_LINSOL_DENSE = 0, POM_LINSOL_KLU = 1 } pom_linsol_kind;
+/* Newton Jacobian: the formulation's analytic one (finite differences where it has none) or
+ * coloured finite differences (docs/dynamics.md section 7). */
+typedef enum { POM_JAC_ANALYTIC = 0, POM_JAC_FINITE_DIFFERENCE = 1 } pom_jac_kind;
 /* Joint model (joints.model): parasitic springs (docs/dynamics.md) or exact
  * constraints in minimal coordinates (docs/dynamics-exact.md). */
 typedef enum { POM_JOINTS_PARASITIC = 0, POM_JOINTS_RIGID = 1 } pom_joint_model;
@@ -83,7 +86,9 @@ typedef struct {
 /* CVODE settings. */
 typedef struct {
   double rtol;       /* relative tolerance */
-  double atol_scale; /* absolute tolerances = atol_scale * characteristic scale per state kind */
+  double atol_scale; /* 0 (default): absolute tolerance of each state = rtol * its natural size
+                        (parasitic path; docs/dynamics.md section 7); > 0: atol_scale *
+                        characteristic scale per state kind */
   double max_step;   /* s, 0 = unlimited */
   long max_steps;    /* per maneuver */
   pom_linsol_kind linear_solver;
@@ -94,6 +99,7 @@ typedef struct {
   double max_wall;          /* s of wall-clock time per maneuver, 0 = unlimited (default 60) */
   double max_balance_error; /* a finished maneuver whose energy_balance_error exceeds this is
                                a failure (POM_ERR_UNSTABLE); 0 = no check (default 0.05) */
+  pom_jac_kind jacobian;    /* analytic (default) or finite-difference (issue 10) */
 } pom_dyn_solver;
 
 /* Maneuver definition. */
@@ -246,6 +252,7 @@ double pom_dyn_stored_energy(const pom_dyn_model *m, pom_dyn_data *d);
 const char *pom_dyn_pid_form_name(pom_pid_form f);
 const char *pom_dyn_orient_name(pom_orient_kind k);
 const char *pom_dyn_linsol_name(pom_linsol_kind k);
+const char *pom_dyn_jacobian_name(pom_jac_kind k);
 /* "parasitic"/"rigid" (joints.model). */
 const char *pom_dyn_joint_model_name(pom_joint_model k);
 /* "full"/"lumped" (scene.limb_inertia). */

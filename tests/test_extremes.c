@@ -216,11 +216,15 @@ static void test_rtol(void) {
       check_true(r[k].mt.energy_balance_error <= s.p.solver.max_balance_error);
     else
       check_true(r[k].st == POM_ERR_UNSTABLE || r[k].st == POM_ERR_SOLVER);
-  /* convergence: 1e-6 -> 1e-8 -> 1e-10 against 1e-12, each at least 10x
-   * better (docs 11.7 measured ~60x per two decades) */
+  /* convergence: 1e-6 -> 1e-8 -> 1e-10 against 1e-12: at least 100x over
+   * the four decades and 5x over each two (docs 11.7 measured ~60x per two
+   * decades with the finite-difference Jacobian; with the analytic one
+   * 2.7e-10 / 3.7e-11 / 3.7e-13 m, 7.5x then 99x: the step sequence, not
+   * the order, sets the ratio of one maneuver) */
   double e6 = traj_diff(&r[2], &r[5]), e8 = traj_diff(&r[3], &r[5]), e10 = traj_diff(&r[4], &r[5]);
-  check_true(e8 < e6 / 10.0);
-  check_true(e10 < e8 / 10.0 || e10 < 1e-12);
+  check_true(e8 < e6 / 5.0);
+  check_true(e10 < e8 / 5.0 || e10 < 1e-12);
+  check_true(e10 < e6 / 100.0 || e10 < 1e-12);
   check_true(e6 < 1e-6); /* 0.1 % of the step at the shipped rtol */
   for (int k = 0; k < 6; ++k)
     result_free(&r[k]);

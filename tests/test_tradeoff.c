@@ -85,6 +85,12 @@ static void test_sweep(void) {
     check_true(k5->err_traj > r8->err_traj);
     check_true(r8->n_states < k5->n_states); /* minimal coordinates */
   }
+  /* the rtol rows set rtol alone: natural absolute tolerances on the
+   * parasitic path, the exact path's rule min(1e-3, 1e3 rtol) on the rigid
+   * rows (docs/tradeoff.md section 1) */
+  const pom_tradeoff_row *t4 = find(res, "rtol 1e-04");
+  if (check_true(t4 != NULL)) check_true(t4->params.solver.atol_scale == 0.0);
+  if (r8) check_true(r8->params.solver.atol_scale == 0.0);
   /* the recommendation is the cheapest row within the accuracy */
   int best = pom_tradeoff_recommend(res, o.accuracy);
   check_true(best == res->recommended);

@@ -1,0 +1,126 @@
+/* test_dyn_tolerances.c - absolute tolerances from natural sizes
+ * (docs/dynamics.md section 7): with solver.atol_scale = 0 (the default) the
+ * parasitic path sets atol = rtol * natural size per state kind, so rtol
+ * alone moves the accuracy; a formulation without natural sizes (the exact
+ * path) gets atol_scale = min(1e-3, 1e3 rtol); an explicit atol_scale keeps
+ * atol = atol_scale * scale. */
+#include "check.h"
+#include "dyn_internal.h"
+#include "dyn_test_util.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+/* ---- 1. the atol vector ---------------------------------------------------- */
+static void test_atol_vector(const pom_mechanism *mech, const pom_kin_arch *arch,
+                             pom_dyn_params p) {
+  pom_error err;
+  pom_error_clear(&err);
+  pom_dyn_model *m = NULL;
+  p.solver.rtol = 2.385e-5;
+  p.solver.atol_scale = 0.0;
+  check_true(pom_dyn_model_create(&m, mech, arch, &p, &err) == POM_OK);
+  if (!m) return;
+  const dyn_body *b0 = &m->body[0];
+  const dyn_actuator *a0 = &m->act[0];
+  /* natural sizes: 1 mm, m * 0.1 m/s, I' * 1 rad/s, 0.1 rad, L * 1 A, 1 mm * 10 ms, 0.1 J */
+  check_rel(m->atol[b0->offset + DYN_BODY_U], 2.385e-5 * 1e-3, 1e-15);
+  check_rel(m->atol[b0->offset + DYN_BODY_P + 1], 2.385e-5 * b0->mass * 0.1, 1e-15);
+  check_rel(m->atol[b0->offset + DYN_BODY_H + 2], 2.385e-5 * b0->principal[2], 1e-15);
+  check_rel(m->atol[b0->offset + DYN_BODY_ORI], 2.385e-5 * 0.1, 1e-15);
+  check_rel(m->atol[a0->flux_state], 2.385e-5 * p.actuator.inductance, 1e-15);
+  check_rel(m->atol[a0->int_state], 2.385e-5 * 1e-5, 1e-15);
+  check_rel(m->atol[a0->acc_state + DYN_ACC_SOURCE], 2.385e-5 * 0.1, 1e-15);
+  check_true(m->atol[a0->acc_state + DYN_ACC_SATURATED] >= 1e30); /* out of the error test */
+  pom_dyn_model_destroy(m);
+
+  /* an explicit atol_scale: atol = atol_scale * characteristic scale */
+  m = NULL;
+  p.solver.atol_scale = 3.7e-4;
+  check_true(pom_dyn_model_create(&m, mech, arch, &p, &err) == POM_OK);
+  if (!m) return;
+  for (int i = 0; i < m->n_states; ++i)
+    if (i != m->act[0].acc_state + DYN_ACC_SATURATED &&
+        i != m->act[1].acc_state + DYN_ACC_SATURATED &&
+        i != m->act[2].acc_state + DYN_ACC_SATURATED)
+      check_rel(m->atol[i], 3.7e-4 * m->scale[i], 1e-15);
+  pom_dyn_model_destroy(m);
+
+  /* the exact path has no natural sizes: atol_scale 0 -> min(1e-3, 1e3 rtol) */
+  p.joints.model = POM_JOINTS_RIGID;
+  p.solver.atol_scale = 0.0;
+  const double rt[2] = {2.385e-5, 2.385e-8};
+  for (int k = 0; k < 2; ++k) {
+    m = NULL;
+    p.solver.rtol = rt[k];
+    check_true(pom_dyn_model_create(&m, mech, arch, &p, &err) == POM_OK);
+    if (m) check_rel(pom_dyn_model_params(m)->solver.atol_scale, fmin(1e-3, 1e3 * rt[k]), 1e-15);
+    pom_dyn_model_destroy(m);
+  }
+
+  /* a negative atol_scale is refused */
+  m = NULL;
+  p.joints.model = POM_JOINTS_PARASITIC;
+  p.solver.atol_scale = -1e-3;
+  check_true(pom_dyn_model_create(&m, mech, arch, &p, &err) == POM_ERR_ARG);
+  check_true(m == NULL);
+}
+
+/* ---- 2. rtol controls the accuracy ------------------------------------------ */
+/* The shipped 3P-S-S/S maneuver (3, -3, 3) mm at rtol 1e-4, 1e-6, 1e-8
+ * against rtol 1e-10, all with natural atol: the trajectory error must fall
+ * by at least 10x per 100x of rtol (BDF is tolerance-proportional to first
+ * order; the same criterion as test_dynamics' rtol convergence), the step
+ * count must grow, and the energy error must stay within a few rtol. With the former fixed
+ * atol (atol_scale 1e-3) rtol 1e-6 and 1e-8 gave the same error. */
+static void test_rtol_controls(const pom_mechanism *mech, pom_dyn_params p) {
+  const double target[3] = {3e-3, -3e-3, 3e-3};
+  const double rt[3] = {1e-4, 1e-6, 1e-8};
+  double traj[3], energy[3];
+  long steps[3];
+  run_t ref;
+  p.solver.atol_scale = 0.0;
+  p.solver.rtol = 1e-10;
+  check_true(run(&ref, mech, &p, target, NULL) == POM_OK);
+  for (int k = 0; k < 3; ++k) {
+    run_t r;
+    p.solver.rtol = rt[k];
+    traj[k] = energy[k] = NAN;
+    steps[k] = 0;
+    if (run(&r, mech, &p, target, NULL) == POM_OK && ref.st == POM_OK) {
+      traj[k] = 0.0;
+      for (int s = 0; s < r.tr->n && s < ref.tr->n; ++s)
+        for (int a = 0; a < 3; ++a)
+          traj[k] = fmax(traj[k], fabs(r.tr->q[3 * s + a] - ref.tr->q[3 * s + a]));
+      energy[k] = fabs(r.mt.energy_total - ref.mt.energy_total) / fabs(ref.mt.energy_total);
+      steps[k] = r.mt.steps;
+    }
+    run_free(&r);
+  }
+  printf("  rtol 1e-4/1e-6/1e-8: max |q - q_ref| %.2e / %.2e / %.2e m, energy %.2e / %.2e / "
+         "%.2e, steps %ld / %ld / %ld (reference %ld)\n",
+         traj[0], traj[1], traj[2], energy[0], energy[1], energy[2], steps[0], steps[1], steps[2],
+         ref.mt.steps);
+  check_true(traj[1] < 0.1 * traj[0]);
+  check_true(traj[2] < 0.1 * traj[1]);
+  /* the energy at the horizon sums errors that partly cancel, so one
+   * maneuver's ratio per two decades varies (7.4e-6 / 3.3e-7 / 1.4e-8 with
+   * the finite-difference Jacobian, 1.4e-6 / 4.2e-7 / 1.4e-8 with the
+   * analytic one): it stays within 3 rtol, and falls 10x over four decades */
+  for (int k = 0; k < 3; ++k)
+    check_true(energy[k] < 3.0 * rt[k]);
+  check_true(energy[2] < 0.1 * energy[0]);
+  check_true(steps[0] < steps[1] && steps[1] < steps[2]);
+  run_free(&ref);
+}
+
+int main(void) {
+  pom_kin_arch arch;
+  pom_mechanism *mech = calloc(1, sizeof *mech);
+  pom_dyn_params p;
+  if (!mech || !load_shipped("3pss.cfg", &arch, mech, &p)) return 1;
+  test_atol_vector(mech, &arch, p);
+  test_rtol_controls(mech, p);
+  free(mech);
+  return check_summary("test_dyn_tolerances");
+}
