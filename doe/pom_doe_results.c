@@ -295,6 +295,21 @@ static pom_status describe_rows(hid_t ds, pom_actuator_kind kind, pom_error *err
   POM_TRY(pom_h5_attr_string(ds, "actuator_unit", pom_act_units_of(kind)->si, err));
   return pom_h5_attr_string(ds, "status_codes", legend, err);
 }
+/* Dataset access of a candidate's maneuver rows: a chunk cache of two
+ * chunks instead of HDF5's 1 MB per dataset, so a study's memory does not
+ * grow with its maneuvers (64 candidates x 1 MB otherwise); rows are written
+ * in contiguous runs, so two chunks hold every chunk still being filled.
+ * H5P_DEFAULT when the property list cannot be made. */
+static hid_t rows_access(hid_t row_type) {
+  hid_t dapl = H5Pcreate(H5P_DATASET_ACCESS);
+  size_t bytes = 2 * ROWS_PER_CHUNK * H5Tget_size(row_type);
+  if (dapl < 0) return H5P_DEFAULT;
+  if (H5Pset_chunk_cache(dapl, 11, bytes, 1.0) < 0) {
+    H5Pclose(dapl);
+    return H5P_DEFAULT;
+  }
+  return dapl;
+}
 
 static pom_status write_candidate(pom_doe_results *res, hid_t parent, const pom_doe_study *study,
                                   int c, pom_error *err) {
@@ -325,7 +340,9 @@ static pom_status write_candidate(pom_doe_results *res, hid_t parent, const pom_
     st = pom_h5_fail(err, __FILE__, __LINE__, "creating the maneuvers dataset");
     goto done;
   }
-  res->rows[c] = H5Dcreate2(g, "maneuvers", res->row_file, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+  hid_t dapl = rows_access(res->row_file);
+  res->rows[c] = H5Dcreate2(g, "maneuvers", res->row_file, space, H5P_DEFAULT, dcpl, dapl);
+  if (dapl != H5P_DEFAULT) H5Pclose(dapl);
   if (res->rows[c] < 0) {
     st = pom_h5_fail(err, __FILE__, __LINE__, "creating the maneuvers dataset");
     goto done;
@@ -581,7 +598,9 @@ static pom_status check_identity(pom_doe_results *res, const pom_doe_study *stud
                     "%s; remove the file or choose another output",
                     path, c, study->candidates[c].name, key);
     }
-    res->rows[c] = H5Dopen2(g, "maneuvers", H5P_DEFAULT);
+    hid_t dapl = rows_access(res->row_file);
+    res->rows[c] = H5Dopen2(g, "maneuvers", dapl);
+    if (dapl != H5P_DEFAULT) H5Pclose(dapl);
     if (res->rows[c] < 0) {
       st = pom_h5_fail(err, __FILE__, __LINE__, "opening the maneuvers dataset");
       goto done;
