@@ -1,7 +1,8 @@
 # cli_lib.sh - the checks of pomlab's shell tests, sourced after POMLAB and
 # SRC are set: a temporary folder $TMP (removed on exit), the counters
-# $checks and $fails, and expect_rc, expect_in, json_check. A test ends with
-#   echo "NAME: $checks checks, $fails failed"; [ "$fails" = 0 ]
+# $checks and $fails, and expect_rc, expect_in, expect_err, check,
+# json_check. A test ends with `finish NAME` (or echoes its own summary and
+# returns [ "$fails" = 0 ]).
 PY=/usr/bin/python3
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
@@ -13,12 +14,13 @@ fail() {
   fails=$((fails + 1))
 }
 
-# expect_rc WANT CMD... : runs CMD, stdout -> $TMP/out, stderr -> $TMP/err
+# expect_rc WANT CMD... : runs CMD (at most 120 s: a hang fails the check
+# instead of the whole suite's time), stdout -> $TMP/out, stderr -> $TMP/err
 expect_rc() {
   local want=$1
   shift
   checks=$((checks + 1))
-  "$@" >"$TMP/out" 2>"$TMP/err"
+  timeout 120 "$@" >"$TMP/out" 2>"$TMP/err"
   local rc=$?
   if [ "$rc" != "$want" ]; then
     fail "exit $rc (want $want): $*"
@@ -49,3 +51,21 @@ d = json.load(open('$TMP/out'), object_pairs_hook=pairs)
 sys.exit(0 if ($1) else 1)" || fail "JSON check failed: $1"
 }
 
+# expect_err TEXT : the last command's stderr contains TEXT
+expect_err() {
+  expect_in "$TMP/err" "$1"
+}
+
+# check DESCRIPTION TEST... : a shell test that must hold
+check() {
+  local what=$1
+  shift
+  checks=$((checks + 1))
+  "$@" || fail "$what"
+}
+
+# finish NAME : the summary line and the exit status
+finish() {
+  echo "$1: $checks checks, $fails failed"
+  [ "$fails" -eq 0 ]
+}

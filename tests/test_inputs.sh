@@ -7,7 +7,7 @@
 set -u
 POMLAB=$1
 SRC=$2
-. "$(dirname "$0")/shell_checks.sh"
+. "$(dirname "$0")/cli_lib.sh"
 
 CFG="$SRC/configs/3pss.cfg"
 # a copy of the shipped config plus one line

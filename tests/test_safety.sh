@@ -10,7 +10,7 @@ set -u
 POMLAB=$1
 SRC=$2
 PY=/usr/bin/python3
-. "$(dirname "$0")/shell_checks.sh"
+. "$(dirname "$0")/cli_lib.sh"
 
 STUDY="$SRC/tests/doe_study_small.cfg"
 CFG="$SRC/configs/3pss.cfg"
