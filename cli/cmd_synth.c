@@ -2,6 +2,7 @@
  * more architectures (docs/optimize.md), side by side when several. */
 #include "cli_kin.h"
 #include "pom_cli.h"
+#include "pom_pipeline.h"
 #include "pom_math.h"
 #include "pom_progress.h"
 #include "pom_synth.h"
@@ -32,23 +33,6 @@ static void usage(FILE *out) {
 
 static const char *const anova_names[POM_RSM_N_ROWS] = {
     "model", "linear", "square", "interaction", "residual", "lack of fit", "pure error", "total"};
-
-/* A file-name-safe version of the architecture name. */
-static void safe_name(char *out, size_t cap, const char *name) {
-  size_t j = 0;
-  for (size_t i = 0; name[i] && j + 1 < cap; ++i) {
-    char c = name[i];
-    int ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9');
-    if (ok)
-      out[j++] = c;
-    else if (j > 0 && out[j - 1] != '_')
-      out[j++] = '_';
-    if (j >= 24) break;
-  }
-  while (j > 0 && out[j - 1] == '_')
-    --j;
-  out[j] = '\0';
-}
 
 /* A number in fmt, or a right-aligned "-" of the same width when it is not
    finite (a row without that statistic). */
@@ -348,8 +332,8 @@ int pom_cmd_synth(int argc, char **argv) {
       goto out;
     }
     if (no_direct) pbs[c].direct = 0;
-    char name[32];
-    safe_name(name, sizeof name, pbs[c].base.name);
+    char name[256]; /* the whole name, file-name safe (no truncation) */
+    pom_pipeline_stem(name, sizeof name, pbs[c].base.name);
     snprintf(paths[c][0], sizeof paths[c][0], "%s%s.geometry.cfg", prefix, name);
     snprintf(paths[c][1], sizeof paths[c][1], "%s%s.h5", prefix, name);
     /* two configs of one name would write the same files, the second over

@@ -2,6 +2,7 @@
  * every architecture (docs/optimize.md section 9). */
 #include "cli_kin.h"
 #include "pom_cli.h"
+#include "pom_pipeline.h"
 #include "pom_progress.h"
 #include "pom_tune.h"
 
@@ -26,20 +27,6 @@ static void usage(FILE *out) {
                "Config keys: the `tuning` group (docs/optimize.md section 9). Exit status:\n"
                "0 ok; 1 a simulation failed or the file cannot be written; 2 usage or\n"
                "config error.\n");
-}
-
-static void safe_name(char *out, size_t cap, const char *name) {
-  size_t j = 0;
-  for (size_t i = 0; name[i] && j + 1 < cap && j < 24; ++i) {
-    char c = name[i];
-    if ((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9'))
-      out[j++] = c;
-    else if (j > 0 && out[j - 1] != '_')
-      out[j++] = '_';
-  }
-  while (j > 0 && out[j - 1] == '_')
-    --j;
-  out[j] = '\0';
 }
 
 static const char *jn(char *buf, double v) {
@@ -125,8 +112,8 @@ int pom_cmd_tune(int argc, char **argv) {
       code = pom_cli_exit_code(st);
       break;
     }
-    char name[32];
-    safe_name(name, sizeof name, pbs[c].arch.name);
+    char name[256]; /* the whole name, file-name safe (no truncation) */
+    pom_pipeline_stem(name, sizeof name, pbs[c].arch.name);
     snprintf(paths[c], sizeof paths[c], "%s%s.controller.cfg", prefix, name);
     /* two configs of one name would write the same file, the second over
      * the first: refused before any work */

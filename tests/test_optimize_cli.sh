@@ -80,6 +80,14 @@ r = json.load(open('$TMP/out'))['tune'][0]
 assert r['name'] == 'a \"quoted\" name \\\\ here', r['name']
 assert r['criterion_s'] <= r['initial_criterion_s'], r
 "; then echo "FAIL: tune --json"; cat "$TMP/out"; fail=1; fi
+# the fragment is named by the whole name, made file-name safe (never cut)
+[ -s "$TMP/t_a_quoted_name_here.controller.cfg" ] ||
+  { echo "FAIL: tune fragment not named by the whole name"; ls "$TMP"; fail=1; }
+sed 's/^name = .*/name = "a configuration name well beyond twenty-four characters";/' \
+  "$TMP/tune.cfg" > "$TMP/tune_long.cfg"
+expect_rc 0 "$POMLAB" tune "$TMP/tune_long.cfg" --quiet --out "$TMP/l_"
+[ -s "$TMP/l_a_configuration_name_well_beyond_twenty_four_characters.controller.cfg" ] ||
+  { echo "FAIL: a long name is cut in the tune fragment's file name"; ls "$TMP"; fail=1; }
 
 # Diagnostics in human text: the one-centre-run CCD has no replicates, so the
 # lack-of-fit column says so (no "nan" anywhere); the 3SPS workspace surface
