@@ -148,19 +148,14 @@ static void print_json(FILE *out, const pom_doe_study *study, const pom_doe_sens
 int pom_cmd_sensitivity(int argc, char **argv) {
   const char *cfg_path = NULL, *out_path = NULL, *only = NULL;
   int json = 0, plots = 1, quiet = 0;
-  long threads = 0;
+  int threads = 0;
   for (int k = 1; k < argc; ++k) {
     const char *a = argv[k];
     if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
       usage(stdout);
       return 0;
     } else if (strcmp(a, "--threads") == 0 && k + 1 < argc) {
-      char *end = NULL;
-      threads = strtol(argv[++k], &end, 10);
-      if (*end || threads < 1 || threads > 1024) {
-        fprintf(stderr, "pomlab sensitivity: --threads needs an integer in [1, 1024]\n");
-        return 2;
-      }
+      if (pom_cli_parse_threads("sensitivity", argv[++k], &threads) != 0) return 2;
     } else if (strcmp(a, "--out") == 0 && k + 1 < argc) {
       out_path = argv[++k];
     } else if (strcmp(a, "--candidate") == 0 && k + 1 < argc) {
@@ -212,7 +207,7 @@ int pom_cmd_sensitivity(int argc, char **argv) {
                sens.per_sample * study.n_candidates;
   pom_progress_init(&bar, quiet ? NULL : stderr, "sensitivity", total, 0, 0);
   pom_doe_sens_result *r = NULL;
-  st = pom_doe_sens_run(&r, &study, &sens, (int)threads, on_progress, &bar, NULL, &err);
+  st = pom_doe_sens_run(&r, &study, &sens, threads, on_progress, &bar, NULL, &err);
   pom_progress_finish(&bar, st == POM_OK ? total : 0);
   int code = 0;
   if (st == POM_OK) st = pom_doe_sens_write(sens.output, &study, &sens, r, &err);

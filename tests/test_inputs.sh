@@ -51,6 +51,8 @@ expect_rc 2 "$POMLAB" montecarlo "$CFG" --n 1 --quiet --threads 100000
 expect_err "--threads '100000': expected an integer in [1, 1024]"
 expect_rc 2 "$POMLAB" study "$SRC/tests/doe_study_small.cfg" --threads 100000 --quiet
 expect_err "--threads '100000': expected an integer in [1, 1024]"
+expect_rc 2 "$POMLAB" sensitivity "$SRC/configs/sensitivity.cfg" --threads 100000 --quiet
+expect_err "pomlab sensitivity: --threads '100000': expected an integer in [1, 1024]"
 # a seed above 2^31 from the command line is the seed given
 expect_rc 0 "$POMLAB" montecarlo "$CFG" --n 1 --quiet --json --seed 5000000000
 grep -q '"seed": 5000000000,' "$TMP/out" || fail "--seed 5000000000 not kept"
