@@ -22,8 +22,10 @@ static void tradeoff_usage(FILE *out) {
       "scene options - and compares each with a tight reference (tradeoff.reference:\n"
       "rigid joints at rtol 1e-10 by default, or parasitic joints at k_p 1e9 N/m):\n"
       "wall time per maneuver (median of repeats) against the worst relative error in\n"
-      "execution (settling) time, expended energy and trajectory. Recommends the\n"
-      "cheapest setting within the accuracy asked for.\n\n"
+      "execution (settling) time, expended energy and trajectory. Column integ.: the\n"
+      "integration error alone, the worst of the three against the row's own model\n"
+      "integrated at tradeoff.reference_rtol. Recommends the cheapest setting within\n"
+      "the accuracy asked for (against the reference).\n\n"
       "  --accuracy X%%    accuracy for the recommendation (default tradeoff.accuracy_percent,\n"
       "                   1%%); the %% sign is optional\n"
       "  --maneuvers N    maneuvers (overrides tradeoff.maneuvers, 1..16)\n"
@@ -44,32 +46,36 @@ static const char *const tradeoff_scopes[] = {
 
 static void progress(void *user, const pom_tradeoff_row *row, int done, int total) {
   (void)user;
-  fprintf(stderr, "  [%2d/%2d] %-44s %9.3f ms  err %.2e%s\n", done, total, row->label,
-          row->time * 1e3, row->err_max, row->failures ? "  FAILED" : "");
+  fprintf(stderr, "  [%2d/%2d] %-44s %9.3f ms  err %.2e  integ. %.2e%s\n", done, total, row->label,
+          row->time * 1e3, row->err_max, row->int_max, row->failures ? "  FAILED" : "");
 }
 
 static void fmt_err(char *buf, size_t cap, double e) {
   if (isinf(e))
     snprintf(buf, cap, "%9s", "fail");
+  else if (isnan(e))
+    snprintf(buf, cap, "%9s", "n/a");
   else
     snprintf(buf, cap, "%9.2e", e);
 }
 
 static void print_table(const pom_tradeoff_result *res, double accuracy) {
-  printf("%-44s %6s %10s %8s %9s %9s %9s  %s\n", "setting", "states", "ms/man.", "steps", "settle",
-         "energy", "traject.", "");
+  printf("%-44s %6s %10s %8s %9s %9s %9s %9s  %s\n", "setting", "states", "ms/man.", "steps",
+         "settle", "energy", "traject.", "integ.", "");
   for (int r = 0; r < res->n_rows; ++r) {
     const pom_tradeoff_row *w = &res->row[r];
-    char a[32], b[32], c[32];
+    char a[32], b[32], c[32], i[32];
     fmt_err(a, sizeof a, w->err_settle);
     fmt_err(b, sizeof b, w->err_energy);
     fmt_err(c, sizeof c, w->err_traj);
+    fmt_err(i, sizeof i, w->int_max);
     const char *mark = r == res->recommended               ? "<= recommended"
                        : (r > 0 && w->err_max <= accuracy) ? "ok"
                                                            : "";
-    printf("%-44s %6d %10.3f %8.0f %s %s %s  %s\n", w->label, w->n_states, w->time * 1e3, w->steps,
-           a, b, c, mark);
+    printf("%-44s %6d %10.3f %8.0f %s %s %s %s  %s\n", w->label, w->n_states, w->time * 1e3,
+           w->steps, a, b, c, i, mark);
     if (w->failures) printf("    failed: %s\n", w->reason);
+    if (w->int_reason[0]) printf("    integ. n/a: %s\n", w->int_reason);
   }
 }
 
@@ -77,13 +83,14 @@ static pom_status write_csv(const char *path, const pom_tradeoff_result *res, po
   pom_io_file out;
   POM_TRY(pom_io_create(&out, path, err));
   FILE *f = out.f;
-  fprintf(f, "label,family,n_states,time_s,steps,err_settle,err_energy,err_traj,err_max,failures,"
-             "recommended\n");
+  fprintf(f, "label,family,n_states,time_s,steps,err_settle,err_energy,err_traj,err_max,int_settle,"
+             "int_energy,int_traj,int_max,failures,recommended\n");
   for (int r = 0; r < res->n_rows; ++r) {
     const pom_tradeoff_row *w = &res->row[r];
-    fprintf(f, "\"%s\",%s,%d,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%d\n", w->label, w->family,
-            w->n_states, w->time, w->steps, w->err_settle, w->err_energy, w->err_traj, w->err_max,
-            w->failures, r == res->recommended);
+    fprintf(f, "\"%s\",%s,%d,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%d\n", w->label,
+            w->family, w->n_states, w->time, w->steps, w->err_settle, w->err_energy, w->err_traj,
+            w->err_max, w->int_settle, w->int_energy, w->int_traj, w->int_max, w->failures,
+            r == res->recommended);
   }
   return pom_io_commit(&out, err);
 }
@@ -180,8 +187,11 @@ int pom_cmd_tradeoff(int argc, char **argv) {
       pom_tradeoff_run(&arch, &mech, &params, &mv, &opts, res, quiet ? NULL : progress, NULL, &err);
   if (st != POM_OK) goto done;
   printf("%s: %d maneuvers (montecarlo seed %llu), times = median of %d repeats; errors = worst "
-         "relative to the reference\n",
-         arch.name, res->n_maneuvers, (unsigned long long)mv.seed, opts.repeats);
+         "relative to the reference (model + integration error)\n"
+         "integ. = the worst of the three against the row's own model at rtol %.0e (integration "
+         "error alone; %d distinct models)\n",
+         arch.name, res->n_maneuvers, (unsigned long long)mv.seed, opts.repeats,
+         opts.reference_rtol, res->n_models);
   for (int k = 0; k < res->n_maneuvers; ++k)
     printf("maneuver %d: targets %.4f, %.4f, %.4f mm\n", k, res->targets[k][0] * 1e3,
            res->targets[k][1] * 1e3, res->targets[k][2] * 1e3);
@@ -191,6 +201,9 @@ int pom_cmd_tradeoff(int argc, char **argv) {
     printf("recommended for %g %% accuracy: %s (%.3f ms per maneuver, %.2fx the time of the "
            "config's own setting)\n",
            opts.accuracy * 100.0, w->label, w->time * 1e3, w->time / res->row[1].time);
+    printf("  its integration error (against its own model at rtol %.0e): settle %.2e, energy "
+           "%.2e, trajectory %.2e; its model error is the rest of the errors above\n",
+           opts.reference_rtol, w->int_settle, w->int_energy, w->int_traj);
   } else {
     printf("no setting of the sweep meets %g %% accuracy; tighten the sweep (tradeoff.rtol, "
            "tradeoff.stiffness_N_per_m)\n",

@@ -193,65 +193,72 @@ static double rel_err(double x, double ref) {
   return fabs(x - ref) / fmax(fabs(ref), 1e-300);
 }
 
-/* The reference: metrics and actuator traces of every maneuver. */
+/* What a setting produced: metrics and actuator traces of every maneuver
+ * (kept for the references and, while its errors are computed, for a row). */
 typedef struct {
   pom_dyn_metrics mt[16];
   double *q[16]; /* [n[k]][3] (m) */
   int n[16];
-} ref_data;
+} run_data;
 
-static void ref_free(ref_data *r) {
-  for (int k = 0; k < 16; ++k)
+static void run_free(run_data *r) {
+  for (int k = 0; k < 16; ++k) {
     free(r->q[k]);
+    r->q[k] = NULL;
+    r->n[k] = 0;
+  }
 }
 
-/* Runs one setting over the maneuvers: the median wall time of `repeats`
- * untraced runs, the errors of one traced run against ref (NULL for the
- * reference itself, whose results go to keep). */
-static pom_status run_setting(const pom_kin_arch *arch, const pom_mechanism *mech,
-                              pom_tradeoff_row *row, const pom_tradeoff_opts *o,
-                              const pom_tradeoff_result *res, const ref_data *ref, ref_data *keep,
-                              pom_error *err) {
+/* What every run of the sweep shares. */
+typedef struct {
+  const pom_kin_arch *arch;
+  const pom_mechanism *mech;
+  const pom_tradeoff_opts *o;
+  const pom_tradeoff_result *res;
+} sweep;
+
+/* Runs row->params over the maneuvers: one traced run each, kept in keep,
+ * then `repeats` untraced timed runs (row->time = mean over maneuvers of the
+ * median). A maneuver that fails (or exceeds max_wall) is recorded in the row
+ * (failures, reason) and stops it. Returns POM_OK, POM_ERR_NOMEM, or the
+ * engine's status when it refuses the setting (also recorded in the row;
+ * *why says why). */
+static pom_status measure(const sweep *c, pom_tradeoff_row *row, int repeats, run_data *keep,
+                          pom_error *why) {
   pom_status st = POM_OK;
   pom_dyn_model *m = NULL;
   pom_dyn_data *d = NULL;
   pom_dyn_trace *tr = NULL;
   double times[101];
+  const int n_man = c->res->n_maneuvers;
   pom_error e2;
   pom_error_clear(&e2);
-  st = pom_dyn_model_create(&m, mech, arch, &row->params, &e2);
-  if (st == POM_OK) st = pom_dyn_data_create(&d, m, &e2);
-  if (st == POM_OK) st = pom_dyn_trace_create(&tr, m, &e2);
+  st = pom_dyn_model_create(&m, c->mech, c->arch, &row->params, why);
+  if (st == POM_OK) st = pom_dyn_data_create(&d, m, why);
+  if (st == POM_OK) st = pom_dyn_trace_create(&tr, m, why);
   if (st != POM_OK) {
-    /* a setting the engine refuses is a recorded failure; for the reference
-     * it is fatal */
-    if (!ref) {
-      if (err) *err = e2;
-      goto done;
-    }
-    row->failures = res->n_maneuvers;
-    snprintf(row->reason, sizeof row->reason, "%s", e2.message);
-    st = POM_OK;
+    row->failures = n_man;
+    snprintf(row->reason, sizeof row->reason, "%s", why->message);
     goto done;
   }
   row->n_states = pom_dyn_model_n_states(m);
   double time_sum = 0.0, steps_sum = 0.0;
-  for (int k = 0; k < res->n_maneuvers && !row->failures; ++k) {
-    const double *target = res->targets[k];
+  for (int k = 0; k < n_man && !row->failures; ++k) {
+    const double *target = c->res->targets[k];
     pom_dyn_metrics mt;
     int n_t = 0;
-    for (int rep = 0; rep <= o->repeats; ++rep) {
+    for (int rep = 0; rep <= repeats; ++rep) {
       /* run 0 keeps a trace for the errors; runs 1..repeats are timed */
       pom_error_clear(&e2);
       pom_status s = pom_dyn_simulate(m, d, target, &mt, rep == 0 ? tr : NULL, &e2);
-      if (s != POM_OK || mt.wall_time > o->max_wall) {
+      if (s != POM_OK || mt.wall_time > c->o->max_wall) {
         ++row->failures;
         if (s != POM_OK)
           snprintf(row->reason, sizeof row->reason, "maneuver %d: %s", k, mt.reason);
         else
           snprintf(row->reason, sizeof row->reason,
                    "maneuver %d took %.3g s > tradeoff.max_wall_s = %.3g s", k, mt.wall_time,
-                   o->max_wall);
+                   c->o->max_wall);
         break;
       }
       if (rep > 0) {
@@ -259,43 +266,94 @@ static pom_status run_setting(const pom_kin_arch *arch, const pom_mechanism *mec
         continue;
       }
       steps_sum += (double)mt.steps;
-      if (keep) {
-        keep->mt[k] = mt;
-        keep->n[k] = tr->n;
-        keep->q[k] = malloc((size_t)tr->n * 3 * sizeof(double));
-        if (!keep->q[k]) POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "allocating reference traces");
-        memcpy(keep->q[k], tr->q, (size_t)tr->n * 3 * sizeof(double));
-      }
-      if (ref) {
-        const pom_dyn_metrics *rm = &ref->mt[k];
-        row->err_settle = fmax(row->err_settle, rel_err(mt.execution_time, rm->execution_time));
-        row->err_energy = fmax(row->err_energy, rel_err(mt.energy_total, rm->energy_total));
-        double step = fmax(fmax(fabs(target[0]), fabs(target[1])), fabs(target[2]));
-        double worst = (tr->n == ref->n[k]) ? 0.0 : INFINITY;
-        for (int i = 0; i < 3 * tr->n && i < 3 * ref->n[k]; ++i)
-          worst = fmax(worst, fabs(tr->q[i] - ref->q[k][i]));
-        row->err_traj = fmax(row->err_traj, step > 0 ? worst / step : worst);
-      }
+      keep->mt[k] = mt;
+      keep->n[k] = tr->n;
+      keep->q[k] = malloc((size_t)tr->n * 3 * sizeof(double));
+      if (!keep->q[k]) POM_FAIL_GOTO(why, POM_ERR_NOMEM, done, "allocating traces");
+      memcpy(keep->q[k], tr->q, (size_t)tr->n * 3 * sizeof(double));
     }
     if (n_t > 0) {
       qsort(times, (size_t)n_t, sizeof times[0], cmp_double);
       time_sum += times[n_t / 2];
     }
   }
-  row->time = time_sum / res->n_maneuvers;
-  row->steps = steps_sum / res->n_maneuvers;
-  if (row->failures && !ref)
-    POM_FAIL_GOTO(err, POM_ERR_SOLVER, done, "the reference failed: %s", row->reason);
+  row->time = repeats > 0 ? time_sum / n_man : NAN;
+  row->steps = steps_sum / n_man;
 done:
-  if (row->failures) {
-    row->err_settle = row->err_energy = row->err_traj = INFINITY;
-    row->time = NAN;
-  }
-  row->err_max = fmax(row->err_settle, fmax(row->err_energy, row->err_traj));
+  if (row->failures) row->time = NAN;
   pom_dyn_trace_destroy(tr);
   pom_dyn_data_destroy(d);
   pom_dyn_model_destroy(m);
   return st;
+}
+
+/* The settling-time, energy and trajectory errors of run a against run ref
+ * (worst over the maneuvers, docs/tradeoff.md section 2); e[3] = largest. */
+static void compare(const run_data *a, const run_data *ref, const pom_tradeoff_result *res,
+                    double e[4]) {
+  e[0] = e[1] = e[2] = 0.0;
+  for (int k = 0; k < res->n_maneuvers; ++k) {
+    const double *target = res->targets[k];
+    e[0] = fmax(e[0], rel_err(a->mt[k].execution_time, ref->mt[k].execution_time));
+    e[1] = fmax(e[1], rel_err(a->mt[k].energy_total, ref->mt[k].energy_total));
+    double step = fmax(fmax(fabs(target[0]), fabs(target[1])), fabs(target[2]));
+    double worst = (a->n[k] == ref->n[k]) ? 0.0 : INFINITY;
+    for (int i = 0; i < 3 * a->n[k] && i < 3 * ref->n[k]; ++i)
+      worst = fmax(worst, fabs(a->q[k][i] - ref->q[k][i]));
+    e[2] = fmax(e[2], step > 0 ? worst / step : worst);
+  }
+  e[3] = fmax(e[0], fmax(e[1], e[2]));
+}
+
+/* Two settings describe the same model when everything but the solver
+ * agrees. Only joints and scene are compared: build_settings changes nothing
+ * else (actuator, controller and maneuver are the config's in every row);
+ * the rigid path ignores the parasitic elements. */
+static int same_model(const pom_dyn_params *a, const pom_dyn_params *b) {
+  const pom_dyn_joints *ja = &a->joints, *jb = &b->joints;
+  const pom_dyn_scene *sa = &a->scene, *sb = &b->scene;
+  if (ja->model != jb->model) return 0;
+  if (ja->model == POM_JOINTS_PARASITIC &&
+      (ja->stiffness != jb->stiffness || ja->damping != jb->damping ||
+       ja->angular_stiffness != jb->angular_stiffness ||
+       ja->angular_damping != jb->angular_damping))
+    return 0;
+  return sa->gravity == sb->gravity && sa->bearing_friction == sb->bearing_friction &&
+         sa->coil_inductance == sb->coil_inductance && sa->orientation == sb->orientation &&
+         sa->euler_cos_min == sb->euler_cos_min && sa->limb_inertia == sb->limb_inertia &&
+         sa->universal_joint == sb->universal_joint;
+}
+
+/* A model integrated tightly: the reference of its rows' integration error. */
+typedef struct {
+  pom_tradeoff_row row; /* its setting and, if it failed, why */
+  run_data data;
+} model_ref;
+
+/* The same-model reference of `row` (run now if no earlier row had its
+ * model): the row's model at the reference rtol with natural absolute
+ * tolerances and the config's linear solver, traced once, not timed. */
+static pom_status model_reference(const sweep *c, model_ref *models, int *n_models,
+                                  const pom_tradeoff_row *row, const pom_dyn_params *base,
+                                  const model_ref **out, pom_error *err) {
+  for (int i = 0; i < *n_models; ++i)
+    if (same_model(&models[i].row.params, &row->params)) {
+      *out = &models[i];
+      return POM_OK;
+    }
+  model_ref *mr = &models[(*n_models)++];
+  mr->row.params = row->params;
+  set_rtol(&mr->row.params, c->o->reference_rtol);
+  mr->row.params.solver.linear_solver = base->solver.linear_solver;
+  pom_error why;
+  pom_error_clear(&why);
+  pom_status st = measure(c, &mr->row, 0, &mr->data, &why);
+  if (st == POM_ERR_NOMEM) {
+    if (err) *err = why;
+    return st;
+  }
+  *out = mr;
+  return POM_OK;
 }
 
 /* ---- the sweep ------------------------------------------------------------------ */
@@ -319,21 +377,58 @@ pom_status pom_tradeoff_run(const pom_kin_arch *arch, const pom_mechanism *mech,
     memcpy(res->targets[k], man.q, sizeof man.q);
   }
   build_settings(res, base, o);
-  ref_data *ref = calloc(1, sizeof *ref);
-  if (!ref) POM_FAIL(err, POM_ERR_NOMEM, "allocating the reference");
-  pom_status st = run_setting(arch, mech, &res->row[0], o, res, NULL, ref, err);
-  if (st == POM_OK) {
-    res->row[0].err_settle = res->row[0].err_energy = res->row[0].err_traj = 0.0;
-    res->row[0].err_max = 0.0;
-    if (progress) progress(user, &res->row[0], 1, res->n_rows);
-    for (int r = 1; r < res->n_rows && st == POM_OK; ++r) {
-      st = run_setting(arch, mech, &res->row[r], o, res, ref, NULL, err);
-      if (progress) progress(user, &res->row[r], r + 1, res->n_rows);
+  const sweep c = {arch, mech, o, res};
+  /* models[0] is the reference row's own model: the rows of the reference
+   * model get their integration error against it */
+  model_ref *models = calloc(POM_TRADEOFF_MAX_ROWS, sizeof *models);
+  run_data *cur = calloc(1, sizeof *cur);
+  pom_status st = POM_OK;
+  if (!models || !cur) POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "allocating the references");
+  pom_tradeoff_row *r0 = &res->row[0];
+  st = measure(&c, r0, o->repeats, &models[0].data, err);
+  if (st != POM_OK) goto done;
+  if (r0->failures)
+    POM_FAIL_GOTO(err, POM_ERR_SOLVER, done, "the reference failed: %s", r0->reason);
+  models[0].row = *r0;
+  int n_models = 1;
+  if (progress) progress(user, r0, 1, res->n_rows);
+  for (int r = 1; r < res->n_rows; ++r) {
+    pom_tradeoff_row *w = &res->row[r];
+    const model_ref *mr = NULL;
+    st = model_reference(&c, models, &n_models, w, base, &mr, err);
+    if (st != POM_OK) goto done;
+    pom_error why;
+    pom_error_clear(&why);
+    st = measure(&c, w, o->repeats, cur, &why);
+    if (st == POM_ERR_NOMEM) {
+      if (err) *err = why;
+      goto done;
     }
+    st = POM_OK;
+    double e[4] = {INFINITY, INFINITY, INFINITY, INFINITY}, ei[4];
+    memcpy(ei, e, sizeof e);
+    if (!w->failures) compare(cur, &models[0].data, res, e);
+    if (mr->row.failures) {
+      ei[0] = ei[1] = ei[2] = ei[3] = NAN;
+      snprintf(w->int_reason, sizeof w->int_reason, "the same model at rtol %.0e failed: %s",
+               o->reference_rtol, mr->row.reason);
+    } else if (!w->failures) {
+      compare(cur, &mr->data, res, ei);
+    }
+    w->err_settle = e[0], w->err_energy = e[1], w->err_traj = e[2], w->err_max = e[3];
+    w->int_settle = ei[0], w->int_energy = ei[1], w->int_traj = ei[2], w->int_max = ei[3];
+    run_free(cur);
+    if (progress) progress(user, w, r + 1, res->n_rows);
   }
-  ref_free(ref);
-  free(ref);
-  if (st == POM_OK) res->recommended = pom_tradeoff_recommend(res, o->accuracy);
+  res->n_models = n_models;
+  res->recommended = pom_tradeoff_recommend(res, o->accuracy);
+done:
+  if (models)
+    for (int i = 0; i < POM_TRADEOFF_MAX_ROWS; ++i)
+      run_free(&models[i].data);
+  if (cur) run_free(cur);
+  free(models);
+  free(cur);
   return st;
 }
 

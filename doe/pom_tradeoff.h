@@ -1,7 +1,9 @@
 /* pom_tradeoff.h - speed against accuracy of the dynamics engine
  * (docs/tradeoff.md): a sweep over formulation, scene options, rtol,
  * parasitic stiffness and linear solver, each setting run on a fixed set of
- * maneuvers (drawn from the study seed) and compared with a tight reference.
+ * maneuvers (drawn from the study seed) and compared with a tight reference
+ * (the model error plus the integration error) and with its own model at a
+ * tight tolerance (the integration error alone).
  * Library code: never prints; the caller (cli/cmd_tradeoff.c) shows the
  * table and the recommendation. */
 #ifndef POM_TRADEOFF_H
@@ -27,7 +29,8 @@ typedef struct {
   int n_stiffness;                           /* entries of stiffness */
   int linear_solvers;                        /* 1: also the other linear solver at solver.rtol */
   int scenes;                                /* 1: one row per reduced scene option */
-  double reference_rtol;      /* rtol of the reference (atol_scale = min(config, 1e3 rtol)) */
+  double reference_rtol;                     /* rtol of the reference and of every row's same-model
+                                                reference (natural absolute tolerances, atol_scale 0) */
   int reference_rigid;        /* 1: the reference is the rigid path (joints.model = rigid) */
   int rigid;                  /* 1: rows of the rigid path (rtol sweep, quasi-static coil) */
   double reference_stiffness; /* k_p of the reference (N/m and N m/rad) */
@@ -59,8 +62,14 @@ typedef struct {
   double err_energy;     /* max |E - E_ref| / |E_ref| (total expended energy) */
   double err_traj;       /* max_t |q_i(t) - q_i,ref(t)| / max_i |step_i| */
   double err_max;        /* largest of the three */
-  int failures;          /* maneuvers that failed (status != POM_OK) */
-  char reason[256];      /* first failure reason, "" if none */
+  /* integration error: the same three errors against the same model (every
+   * setting but the solver's) integrated at reference_rtol with natural
+   * absolute tolerances; NaN when that tight run failed (int_reason) */
+  double int_settle, int_energy, int_traj;
+  double int_max;       /* largest of the three */
+  int failures;         /* maneuvers that failed (status != POM_OK) */
+  char reason[256];     /* first failure reason, "" if none */
+  char int_reason[256]; /* why the same-model reference failed, "" if it ran */
 } pom_tradeoff_row;
 
 typedef struct {
@@ -69,6 +78,7 @@ typedef struct {
   double targets[16][3];                       /* the maneuvers' targets (m) */
   int n_maneuvers;
   int recommended; /* row index of the cheapest setting within accuracy, -1 if none */
+  int n_models;    /* distinct models, each integrated once at reference_rtol */
 } pom_tradeoff_result;
 
 /* Progress callback (may be NULL): called after each setting with its row. */

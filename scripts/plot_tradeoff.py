@@ -4,9 +4,12 @@
 usage: /usr/bin/python3 scripts/plot_tradeoff.py OUT.png NAME=FILE.csv [NAME=FILE.csv ...]
 
 One column per table (e.g. one per architecture): wall time per maneuver
-against the worst relative error (top: the largest of the settling-time,
-energy and trajectory errors; bottom: the settling-time error alone), one
-marker per setting family, the recommended setting circled.
+against the worst relative error against the reference (top: the largest of
+the settling-time, energy and trajectory errors; middle: the settling-time
+error alone), one marker per setting family, the recommended setting
+circled; bottom: the work-precision curves, wall time against the
+integration error alone (each row against its own model at a tight
+tolerance), one line per rtol family (parasitic and rigid).
 """
 import csv
 import math
@@ -40,11 +43,12 @@ def main(argv):
         return 2
     out = argv[1]
     tables = [a.split("=", 1) for a in argv[2:]]
-    fig, axes = plt.subplots(2, len(tables), figsize=(6.5 * len(tables), 10), squeeze=False)
+    fig, axes = plt.subplots(3, len(tables), figsize=(6.5 * len(tables), 15), squeeze=False)
     for col, (name, path) in enumerate(tables):
         rows = read(path)
         for row, key in enumerate(("err_max", "err_settle")):
             panel(axes[row][col], rows, key, name)
+        work_precision(axes[2][col], rows, name)
     fig.tight_layout()
     fig.savefig(out, dpi=110)
     return 0
@@ -127,6 +131,37 @@ def panel(ax, rows, key, name):
         ax.set_ylabel("wall time per maneuver (ms, median of repeats)")
         ax.set_title(name)
         ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7, loc="best")
+        place_labels(ax, labels)
+
+
+def work_precision(ax, rows, name):
+    """Wall time against the integration error (int_max) of the two rtol
+    families, each point labelled with its rtol."""
+    families = (("parasitic rtol", "tab:blue", "o",
+                 lambda r: r["family"] == "rtol"),
+                ("rigid rtol", "tab:purple", "P",
+                 lambda r: r["family"] == "rigid" and "quasi-static" not in r["label"]),
+                ("rigid quasi-static rtol", "tab:red", "v",
+                 lambda r: r["family"] == "rigid" and "quasi-static" in r["label"]))
+    labels = []
+    for title, colour, marker, member in families:
+        pts = []
+        for r in rows:
+            if "int_max" not in r or not member(r):
+                continue
+            t, e = float(r["time_s"]) * 1e3, float(r["int_max"])
+            if math.isfinite(t) and math.isfinite(e) and e > 0:  # no floor: the curve goes low
+                pts.append((e, t, r["label"].split("rtol ")[-1]))
+        if pts:
+            ax.loglog([p[0] for p in pts], [p[1] for p in pts], color=colour, marker=marker,
+                      label=title)
+            labels += pts
+    ax.set_xlabel("integration error: worst of the three vs its own model at tight rtol")
+    ax.set_ylabel("wall time per maneuver (ms, median of repeats)")
+    ax.set_title(name + ": work-precision (labels: rtol)")
+    ax.grid(True, which="both", alpha=0.3)
+    if labels:
         ax.legend(fontsize=7, loc="best")
         place_labels(ax, labels)
 

@@ -24,26 +24,29 @@ static const pom_tradeoff_row *find(const pom_tradeoff_result *res, const char *
   return NULL;
 }
 
-static void test_sweep(void) {
+/* Loads the shipped 3P-S-S/S with a 30 ms horizon (its maneuvers settle in
+ * ~13 ms). */
+static int load_3pss(pom_kin_arch *arch, pom_mechanism *mech, pom_dyn_params *p, pom_error *err) {
   char path[512];
   snprintf(path, sizeof path, "%s/configs/3pss.cfg", POM_SOURCE_DIR);
   pom_cfg *cfg = NULL;
+  pom_dyn_params_defaults(p);
+  int ok = pom_cfg_load(&cfg, path, err) == POM_OK && pom_kin_arch_load(arch, cfg, err) == POM_OK &&
+           pom_kin_mechanism_build(mech, arch, cfg, err) == POM_OK &&
+           pom_dyn_params_load(p, cfg, err) == POM_OK;
+  pom_cfg_destroy(cfg);
+  if (!ok) printf("  %s\n", err->message);
+  p->maneuver.horizon = 0.03;
+  return ok;
+}
+
+static void test_sweep(void) {
   pom_error err;
   pom_error_clear(&err);
   pom_kin_arch arch;
   pom_mechanism mech;
   pom_dyn_params p;
-  pom_dyn_params_defaults(&p);
-  int ok = pom_cfg_load(&cfg, path, &err) == POM_OK &&
-           pom_kin_arch_load(&arch, cfg, &err) == POM_OK &&
-           pom_kin_mechanism_build(&mech, &arch, cfg, &err) == POM_OK &&
-           pom_dyn_params_load(&p, cfg, &err) == POM_OK;
-  pom_cfg_destroy(cfg);
-  if (!check_true(ok)) {
-    printf("  %s\n", err.message);
-    return;
-  }
-  p.maneuver.horizon = 0.03; /* the maneuvers settle in ~13 ms */
+  if (!check_true(load_3pss(&arch, &mech, &p, &err))) return;
   pom_doe_maneuvers mv;
   pom_doe_maneuvers_defaults(&mv);
   pom_tradeoff_opts o;
@@ -103,6 +106,73 @@ static void test_sweep(void) {
   free(res);
 }
 
+/* The integration error (each row against its own model at rtol 1e-10):
+ * the parasitic rtol family converges while its error against the rigid
+ * reference stays at the k_p model error, and the rigid rows, whose model is
+ * the reference's, have the same error in both columns. */
+static void test_integration_error(void) {
+  pom_error err;
+  pom_error_clear(&err);
+  pom_kin_arch arch;
+  pom_mechanism mech;
+  pom_dyn_params p;
+  if (!check_true(load_3pss(&arch, &mech, &p, &err))) return;
+  pom_doe_maneuvers mv;
+  pom_doe_maneuvers_defaults(&mv);
+  pom_tradeoff_opts o;
+  pom_tradeoff_defaults(&o);
+  o.maneuvers = 1;
+  o.repeats = 1;
+  o.n_rtol = 3;
+  o.rtol[0] = 1e-4;
+  o.rtol[1] = 1e-6;
+  o.rtol[2] = 1e-8;
+  o.n_stiffness = 0;
+  o.linear_solvers = 0;
+  o.scenes = 0;
+  pom_tradeoff_result *res = calloc(1, sizeof *res);
+  if (!check_true(res != NULL)) return;
+  pom_status st = pom_tradeoff_run(&arch, &mech, &p, &mv, &o, res, NULL, NULL, &err);
+  if (!check_true(st == POM_OK)) {
+    printf("  %s\n", err.message);
+    free(res);
+    return;
+  }
+  /* models: the rigid reference (also the rigid rows'), the config's
+   * parasitic model (config and rtol rows), the rigid quasi-static coil */
+  check_true(res->n_models == 3);
+  const pom_tradeoff_row *t[3] = {find(res, "rtol 1e-04"), find(res, "rtol 1e-06"),
+                                  find(res, "rtol 1e-08")};
+  if (check_true(t[0] && t[1] && t[2])) {
+    for (int k = 0; k < 2; ++k) {
+      printf("  rtol %.0e -> %.0e: steps %.0f -> %.0f, integ. traj %.2e -> %.2e, max %.2e -> "
+             "%.2e, traj vs rigid %.2e -> %.2e\n",
+             t[k]->params.solver.rtol, t[k + 1]->params.solver.rtol, t[k]->steps, t[k + 1]->steps,
+             t[k]->int_traj, t[k + 1]->int_traj, t[k]->int_max, t[k + 1]->int_max, t[k]->err_traj,
+             t[k + 1]->err_traj);
+      /* BDF with natural absolute tolerances: the global error follows rtol
+       * (tolerance proportionality), so two decades of rtol should give
+       * about 100x; 10x leaves room for order changes (measured 16-130x). */
+      check_true(t[k]->steps < t[k + 1]->steps);
+      check_true(t[k + 1]->int_traj < t[k]->int_traj / 10.0);
+      check_true(t[k + 1]->int_max < t[k]->int_max / 10.0);
+      /* the error against the rigid reference is the k_p = 1e6 model error
+       * (4.7e-3 of the step), which no tolerance removes: within 10 % */
+      check_rel(t[k + 1]->err_traj, t[k]->err_traj, 0.1);
+    }
+    /* the integration error is far below the model error from rtol 1e-4 on */
+    check_true(t[0]->int_traj < t[0]->err_traj / 100.0);
+  }
+  for (int r = 0; r < res->n_rows; ++r) {
+    const pom_tradeoff_row *w = &res->row[r];
+    check_true(isfinite(w->int_max) &&
+               w->int_max == fmax(w->int_settle, fmax(w->int_energy, w->int_traj)));
+    if (strcmp(w->family, "rigid") == 0 && strstr(w->label, "quasi-static") == NULL)
+      check_true(w->int_max == w->err_max); /* their model is the reference's */
+  }
+  free(res);
+}
+
 static void test_keys(void) {
   pom_error err;
   pom_error_clear(&err);
@@ -137,5 +207,6 @@ static void test_keys(void) {
 int main(void) {
   test_keys();
   test_sweep();
+  test_integration_error();
   return check_summary("test_tradeoff");
 }
