@@ -21,6 +21,23 @@
 #define EXACT_SCALE_CURRENT 1e-2 /* A, coil flux = L x this */
 #define EXACT_SCALE_ENERGY  1e-3 /* J, energy accumulators */
 
+/* Natural sizes (solver.atol_scale = 0, the default; docs/dynamics-exact.md
+ * section 5): atol = rtol x size. The orientation and omega are tested on
+ * their absolute error alone (no rtol |y| term): the controller turns errors
+ * dq, dq_dot into a voltage error K_S K_P (dq + tau_D dq_dot) (1e7 V/m and
+ * 3e4 V s/m with the paper's gains: a 2.4 um linear band), so an error
+ * relative to a 0.2 rad tilt or a 10 rad/s rate lets the voltage chatter
+ * across its range at rtol >= 1e-4 (measured: 0.4 % energy error at rtol
+ * 1e-4, 33 % at 1e-3). 1e-3 rad is ~15 um of actuator travel at the
+ * platform's 15-30 mm lever; 0.1 rad/s ~2 mm/s. */
+#define EXACT_NATURAL_ANGLE   1e-3 /* rad, orientation angles and quaternion components */
+#define EXACT_NATURAL_RATE    0.1  /* rad/s, platform angular velocity */
+#define EXACT_NATURAL_LENGTH  1e-3 /* m, PID integral of a linear actuator (x settle) */
+#define EXACT_NATURAL_TURN    0.1  /* rad, PID integral of a rotary actuator (x settle) */
+#define EXACT_NATURAL_SETTLE  1e-2 /* s, the integral's time scale */
+#define EXACT_NATURAL_CURRENT 1.0  /* A, coil flux = L x this */
+#define EXACT_NATURAL_ENERGY  0.1  /* J, energy accumulators */
+
 /* Test rotation of the consistency check between mechanism and kinematics:
  * a generic pose ~2 deg from home (no symmetry can hide a mismatch). */
 static const double exact_check_euler[3] = {0.031, -0.022, 0.017};
@@ -325,8 +342,35 @@ static pom_status exact_init(pom_dyn_model *m, const pom_mechanism *mech, const 
     m->scale[ac->acc_state + DYN_ACC_SATURATED] = p->maneuver.horizon;
   }
   m->scale[m->acc_parasitic] = EXACT_SCALE_ENERGY;
-  for (int i = 0; i < m->n_states; ++i)
-    m->atol[i] = p->solver.atol_scale * m->scale[i];
+  if (p->solver.atol_scale > 0) {
+    for (int i = 0; i < m->n_states; ++i)
+      m->atol[i] = p->solver.atol_scale * m->scale[i];
+  } else {
+    /* natural sizes; the mechanical states without the relative term */
+    m->relative = malloc(n);
+    if (!m->relative) POM_FAIL(err, POM_ERR_NOMEM, "allocating tolerances");
+    const int rotary = p->actuator.kind == POM_ACT_REVOLUTE;
+    const double r = p->solver.rtol;
+    for (int i = 0; i < m->n_states; ++i) {
+      m->atol[i] = r * EXACT_NATURAL_ENERGY; /* accumulators */
+      m->relative[i] = 1;
+    }
+    for (int i = 0; i < ex->n_ori; ++i) {
+      m->atol[ex->ori + i] = r * EXACT_NATURAL_ANGLE;
+      m->relative[ex->ori + i] = 0;
+    }
+    for (int i = 0; i < 3; ++i) {
+      m->atol[ex->omega + i] = r * EXACT_NATURAL_RATE;
+      m->relative[ex->omega + i] = 0;
+    }
+    for (int a = 0; a < m->n_actuators; ++a) {
+      const dyn_actuator *ac = &m->act[a];
+      if (ac->flux_state >= 0)
+        m->atol[ac->flux_state] = r * p->actuator.inductance * EXACT_NATURAL_CURRENT;
+      m->atol[ac->int_state] =
+          r * (rotary ? EXACT_NATURAL_TURN : EXACT_NATURAL_LENGTH) * EXACT_NATURAL_SETTLE;
+    }
+  }
   for (int a = 0; a < m->n_actuators; ++a) /* discontinuous indicator: no error test */
     m->atol[m->act[a].acc_state + DYN_ACC_SATURATED] = 1e30;
   return POM_OK;
@@ -807,6 +851,7 @@ const double *pom_dyn_exact_mass_matrix(const pom_dyn_model *m, pom_dyn_data *d,
 /* ---- the table ------------------------------------------------------------ */
 const dyn_formulation pom_dyn_form_exact = {
     .name = "rigid",
+    .natural_tolerances = 1,
     .init = exact_init,
     .model_free = exact_model_free,
     .data_init = exact_data_init,

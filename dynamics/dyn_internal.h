@@ -95,6 +95,10 @@ struct pom_dyn_model {
   dyn_actuator act[POM_MECH_MAX_ACTUATORS];
   int slot_of_mech[POM_MECH_MAX_BODIES]; /* mechanism body -> slot, -1 ground */
   double *atol;                          /* [n_states] absolute tolerances */
+  /* [n_states] or NULL: 1 where the error test has the relative term
+   * rtol |y_i|, 0 where it is absolute only (positions of a high-gain loop,
+   * docs/dynamics-exact.md section 5); NULL = relative everywhere */
+  unsigned char *relative;
   double *scale; /* [n_states] characteristic scale (finite-difference increments) */
   /* Jacobian structure (docs/dynamics.md section 7) */
   unsigned char *dep; /* [n_states][n_states] row i depends on column j */
@@ -170,7 +174,8 @@ struct pom_dyn_data {
 struct dyn_formulation {
   const char *name; /* "parasitic" or "rigid" (joints.model) */
   /* 1: init sets atol = rtol * natural size when solver.atol_scale is 0;
-   * 0: the driver turns atol_scale 0 into min(1e-3, 1e3 rtol) first */
+   * 0: the driver turns atol_scale 0 into min(1e-3, 1e3 rtol) first (both
+   * shipped formulations have natural sizes) */
   int natural_tolerances;
   /* Fills bodies, actuators, the state layout (n_states, offsets), scale,
    * atol and the Jacobian pattern (dep, color, CSC) of m; m->par, gravity,

@@ -113,6 +113,7 @@ void pom_dyn_model_destroy(pom_dyn_model *m) {
   if (!m) return;
   if (m->form) m->form->model_free(m);
   free(m->atol);
+  free(m->relative);
   free(m->scale);
   free(m->dep);
   free(m->color);

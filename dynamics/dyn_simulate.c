@@ -28,6 +28,23 @@ static void cvode_error_handler(int code, const char *module, const char *functi
 }
 
 /* Number of output samples: t_k = min(k dt, horizon), k = 0..K. */
+/* CVODE's error weights when some states have no relative term
+ * (m->relative): w_i = 1 / (rtol |y_i| [relative_i] + atol_i), the same rule as
+ * CVodeSVtolerances otherwise (docs/dynamics-exact.md section 5). */
+static int error_weights(N_Vector yv, N_Vector ewt, void *user_data) {
+  const pom_dyn_data *d = user_data;
+  const pom_dyn_model *m = d->m;
+  const double *y = N_VGetArrayPointer(yv), *atol = m->atol, rtol = m->par.solver.rtol;
+  const unsigned char *rel = m->relative;
+  double *w = N_VGetArrayPointer(ewt);
+  for (int i = 0; i < m->n_states; ++i) {
+    double tol = atol[i] + (rel[i] ? rtol * fabs(y[i]) : 0.0);
+    if (!(tol > 0.0)) return -1; /* CVODE reports an illegal weight */
+    w[i] = 1.0 / tol;
+  }
+  return 0;
+}
+
 static int sample_count(const pom_dyn_params *p) {
   double r = p->maneuver.horizon / p->maneuver.output_dt;
   int K = (int)ceil(r - 1e-9 * r);
@@ -95,6 +112,7 @@ pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_e
       CVodeInit(d->cvode, pom_dyn_cvode_rhs, 0.0, d->y) != CV_SUCCESS ||
       CVodeSVtolerances(d->cvode, p->solver.rtol, d->atol) != CV_SUCCESS ||
       CVodeSetUserData(d->cvode, d) != CV_SUCCESS ||
+      (m->relative && CVodeWFtolerances(d->cvode, error_weights) != CV_SUCCESS) ||
       CVodeSetMaxNumSteps(d->cvode, p->solver.max_steps) != CV_SUCCESS ||
       CVodeSetMaxOrd(d->cvode, p->solver.max_order) != CV_SUCCESS ||
       CVodeSetStabLimDet(d->cvode, p->solver.stability_limit_detection ? 1 : 0) != CV_SUCCESS ||

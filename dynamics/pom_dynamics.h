@@ -87,8 +87,8 @@ typedef struct {
 typedef struct {
   double rtol;       /* relative tolerance */
   double atol_scale; /* 0 (default): absolute tolerance of each state = rtol * its natural size
-                        (parasitic path; docs/dynamics.md section 7); > 0: atol_scale *
-                        characteristic scale per state kind */
+                        (docs/dynamics.md section 7, docs/dynamics-exact.md section 5); > 0:
+                        atol_scale * characteristic scale per state kind */
   double max_step;   /* s, 0 = unlimited */
   long max_steps;    /* per maneuver */
   pom_linsol_kind linear_solver;

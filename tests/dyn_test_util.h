@@ -30,17 +30,24 @@ static inline void run_free(run_t *r) {
 
 /* Builds model, data and trace and runs one maneuver; returns the status
  * (the objects stay alive until run_free). */
-static inline pom_status run(run_t *r, const pom_mechanism *mech, const pom_dyn_params *p,
-                             const double target[3], const pom_dyn_initial *init) {
+static inline pom_status run_arch(run_t *r, const pom_mechanism *mech, const pom_kin_arch *arch,
+                                  const pom_dyn_params *p, const double target[3],
+                                  const pom_dyn_initial *init) {
   memset(r, 0, sizeof *r);
   pom_error_clear(&r->err);
-  r->st = pom_dyn_model_create(&r->m, mech, NULL, p, &r->err);
+  r->st = pom_dyn_model_create(&r->m, mech, arch, p, &r->err);
   if (r->st == POM_OK) r->st = pom_dyn_data_create(&r->d, r->m, &r->err);
   if (r->st == POM_OK) r->st = pom_dyn_trace_create(&r->tr, r->m, &r->err);
   if (r->st == POM_OK)
     r->st = pom_dyn_simulate_ex(r->m, r->d, target, init, &r->mt, r->tr, &r->err);
   if (r->st != POM_OK) printf("  run: %s\n", r->err.message);
   return r->st;
+}
+
+/* The same without the architecture (parasitic joints only). */
+static inline pom_status run(run_t *r, const pom_mechanism *mech, const pom_dyn_params *p,
+                             const double target[3], const pom_dyn_initial *init) {
+  return run_arch(r, mech, NULL, p, target, init);
 }
 
 /* Loads configs/<file> of the source tree into arch, mech and p (defaults

@@ -66,8 +66,8 @@ static void test_sweep(void) {
   pom_status st = pom_tradeoff_run(&arch, &mech, &p, &mv, &o, res, NULL, NULL, &err);
   check_true(st == POM_OK);
   if (st != POM_OK) printf("  %s\n", err.message);
-  /* reference + config + 1 rtol + 2 stiffness + 7 rigid rows */
-  check_true(res->n_rows == 12);
+  /* reference + config + 1 rtol + 2 stiffness + 8 rigid rows */
+  check_true(res->n_rows == 13);
   check_abs(res->row[0].err_max, 0.0, 0.0);
   check_true(strcmp(res->row[0].family, "reference") == 0);
   for (int r = 0; r < res->n_rows; ++r) {
@@ -88,9 +88,8 @@ static void test_sweep(void) {
     check_true(k5->err_traj > r8->err_traj);
     check_true(r8->n_states < k5->n_states); /* minimal coordinates */
   }
-  /* the rtol rows set rtol alone: natural absolute tolerances on the
-   * parasitic path, the exact path's rule min(1e-3, 1e3 rtol) on the rigid
-   * rows (docs/tradeoff.md section 1) */
+  /* the rtol rows set rtol alone: natural absolute tolerances on both
+   * paths (docs/tradeoff.md section 1) */
   const pom_tradeoff_row *t4 = find(res, "rtol 1e-04");
   if (check_true(t4 != NULL)) check_true(t4->params.solver.atol_scale == 0.0);
   if (r8) check_true(r8->params.solver.atol_scale == 0.0);
