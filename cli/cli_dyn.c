@@ -3,6 +3,7 @@
 #include "cli_dyn.h"
 
 #include "cli_kin.h"
+#include "pom_dyn_ctrl.h"
 
 const char *const pom_cli_dyn_groups[] = {"actuator", "controller", "joints", "scene",
                                           "solver",   "maneuver",   NULL};
@@ -29,10 +30,9 @@ void pom_cli_dyn_params_json(FILE *out, const pom_dyn_params *p) {
          a->bearing_friction, 0);
   member(out, "voltage_limit_V", a->voltage_limit, 0);
   member(out, rot ? "sensor_gain_V_per_rad" : "sensor_gain_V_per_m", a->sensor_gain, 1);
-  fprintf(out, ",\n  \"controller\": {\"form\": \"%s\", ", pom_dyn_pid_form_name(c->form));
-  member(out, "kp", c->kp, 0);
-  member(out, "ki_per_s", c->ki, 0);
-  member(out, "kd_s", c->kd, 1);
+  fprintf(out, ",\n  \"controller\": {");
+  pom_cli_ctrl_json_members(out, c);
+  fprintf(out, "}");
   fprintf(out, ",\n  \"joints\": {\"model\": \"%s\", ", pom_dyn_joint_model_name(j->model));
   member(out, "stiffness_N_per_m", j->stiffness, 0);
   member(out, "damping_Ns_per_m", j->damping, 0);
@@ -79,16 +79,9 @@ void pom_cli_dyn_params_text(FILE *out, const pom_dyn_params *p) {
             "limit +-%g V, K_S %g V/m\n",
             a->force_constant, a->resistance, a->inductance, a->bearing_friction, a->voltage_limit,
             a->sensor_gain);
-  if (c->form == POM_PID_IDEAL)
-    fprintf(out,
-            "controller: ideal PID u = sat(K_S K_P (e + K_I int e - tau_D q_dot)), K_P %g, K_I "
-            "%g 1/s, tau_D %g s\n",
-            c->kp, c->ki, c->kd);
-  else
-    fprintf(out,
-            "controller: parallel PID u = sat(K_S (K_P e + K_I int e - K_D q_dot)), K_P %g, K_I "
-            "%g 1/s, K_D %g s\n",
-            c->kp, c->ki, c->kd);
+  char law[512];
+  pom_dyn_ctrl_of(c)->describe(c, law, sizeof law);
+  fprintf(out, "controller (%s): %s\n", pom_dyn_ctrl_of(c)->name, law);
   fprintf(out, "joints: %s; k_p %g N/m, R_p %g N s/m; angular k_p %g N m/rad, R_p %g N m s/rad\n",
           pom_dyn_joint_model_name(j->model), j->stiffness, j->damping, j->angular_stiffness,
           j->angular_damping);
@@ -107,4 +100,104 @@ void pom_cli_dyn_params_text(FILE *out, const pom_dyn_params *p) {
           v->max_wall > 0 ? " per maneuver" : " (none)");
   fprintf(out, "maneuver: horizon %g ms, settling band %g %% of |step|, output every %g ms\n",
           m->horizon * 1e3, m->settle_band * 100.0, m->output_dt * 1e3);
+}
+
+/* ---- controllers ------------------------------------------------------------ */
+void pom_cli_ctrl_json_members(FILE *out, const pom_dyn_controller *c) {
+  const pom_dyn_ctrl_type *t = pom_dyn_ctrl_of(c);
+  fprintf(out, "\"type\": ");
+  pom_json_string(out, t->name);
+  for (int k = 0; k < t->n_options; ++k) {
+    fprintf(out, ", ");
+    pom_json_string(out, t->options[k].key);
+    fprintf(out, ": ");
+    pom_json_string(out, pom_dyn_ctrl_option_name(c, k));
+  }
+  for (int k = 0; k < t->n_gains; ++k) {
+    fprintf(out, ", ");
+    pom_json_string(out, t->gains[k].key);
+    fprintf(out, ": ");
+    pom_json_number(out, pom_dyn_ctrl_gain(c, k));
+  }
+}
+
+static const char *const state_kind_names[] = {"integral of q (m s or rad s)", "like q (m or rad)",
+                                               "like q_dot (m/s or rad/s)", NULL};
+
+int pom_cli_list_controllers(FILE *out, int json) {
+  int n = pom_dyn_ctrl_type_count();
+  if (json) fprintf(out, "{\n  \"controllers\": [\n");
+  for (int k = 0; k < n; ++k) {
+    const pom_dyn_ctrl_type *t = pom_dyn_ctrl_type_at(k);
+    if (json) {
+      fprintf(out, "    {\"name\": ");
+      pom_json_string(out, t->name);
+      fprintf(out, ", \"label\": ");
+      pom_json_string(out, t->label);
+      fprintf(out, ", \"description\": ");
+      pom_json_string(out, t->description);
+      fprintf(out, ", \"analytic_partials\": %s, \"states_per_actuator\": [",
+              t->partials ? "true" : "false");
+      for (int i = 0; i < t->n_states; ++i) {
+        fprintf(out, "%s{\"name\": ", i ? ", " : "");
+        pom_json_string(out, t->states[i].name);
+        fprintf(out, ", \"kind\": ");
+        pom_json_string(out, pom_cfg_choice_name(state_kind_names, (int)t->states[i].kind));
+        fprintf(out, "}");
+      }
+      fprintf(out, "],\n     \"options\": [");
+      for (int i = 0; i < t->n_options; ++i) {
+        const pom_dyn_ctrl_option_desc *o = &t->options[i];
+        fprintf(out, "%s{\"key\": ", i ? ", " : "");
+        pom_json_string(out, o->key);
+        fprintf(out, ", \"choices\": [");
+        for (int j = 0; o->names[j]; ++j) {
+          fprintf(out, "%s", j ? ", " : "");
+          pom_json_string(out, o->names[j]);
+        }
+        fprintf(out, "], \"default\": ");
+        pom_json_string(out, o->names[0]);
+        fprintf(out, "}");
+      }
+      fprintf(out, "],\n     \"gains\": [");
+      for (int i = 0; i < t->n_gains; ++i) {
+        const pom_dyn_gain_desc *g = &t->gains[i];
+        fprintf(out, "%s\n       {\"key\": ", i ? "," : "");
+        pom_json_string(out, g->key);
+        fprintf(out, ", \"symbol\": ");
+        pom_json_string(out, g->symbol);
+        fprintf(out, ", \"unit\": ");
+        pom_json_string(out, g->unit);
+        fprintf(out, ", \"meaning\": ");
+        pom_json_string(out, g->meaning);
+        fprintf(out, ", \"min\": ");
+        pom_json_number(out, g->lo);
+        fprintf(out, ", \"max\": ");
+        pom_json_number(out, g->hi);
+        fprintf(out, ", \"default\": ");
+        pom_json_number(out, g->def);
+        fprintf(out, ", \"tunable\": %s, \"log_search\": %s}", g->tunable ? "true" : "false",
+                g->log_search ? "true" : "false");
+      }
+      fprintf(out, "]}%s\n", k + 1 < n ? "," : "");
+    } else {
+      fprintf(out, "%-16s %s: %s (%d state%s per actuator, %s Jacobian)\n", t->name, t->label,
+              t->description, t->n_states, t->n_states == 1 ? "" : "s",
+              t->partials ? "analytic" : "finite-difference");
+      for (int i = 0; i < t->n_options; ++i) {
+        fprintf(out, "  controller.%-20s", t->options[i].key);
+        for (int j = 0; t->options[i].names[j]; ++j)
+          fprintf(out, "%s\"%s\"", j ? " | " : " ", t->options[i].names[j]);
+        fprintf(out, "; %s\n", t->options[i].meaning);
+      }
+      for (int i = 0; i < t->n_gains; ++i) {
+        const pom_dyn_gain_desc *g = &t->gains[i];
+        fprintf(out, "  controller.%-20s %-6s %-6s in [%g, %g], default %g%s%s; %s\n", g->key,
+                g->symbol, g->unit, g->lo, g->hi, g->def, g->tunable ? ", tunable" : "",
+                g->tunable ? (g->log_search ? " (log)" : " (linear)") : "", g->meaning);
+      }
+    }
+  }
+  if (json) fprintf(out, "  ]\n}\n");
+  return 0;
 }

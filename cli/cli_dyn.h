@@ -16,4 +16,14 @@ void pom_cli_dyn_params_json(FILE *out, const pom_dyn_params *p);
 /* Prints the groups as human-readable lines to out. */
 void pom_cli_dyn_params_text(FILE *out, const pom_dyn_params *p);
 
+/* Prints the members of the `controller` group of c, from its type's
+ * descriptors: "type": "pid", then each option and gain by its config key
+ * (SI values), without braces. */
+void pom_cli_ctrl_json_members(FILE *out, const pom_dyn_controller *c);
+
+/* `pomlab model --list-controllers [--json]`: every registered controller
+ * type with its states, options and gains (key, unit, range, default,
+ * tunable, searched in log). Returns the exit status (0). */
+int pom_cli_list_controllers(FILE *out, int json);
+
 #endif

@@ -1,5 +1,6 @@
 /* cli_pipeline.c - progress and report of the design pipeline
  * (docs/optimize.md section 10, docs/results.md). */
+#include "pom_dyn_ctrl.h"
 #include "cli_pipeline.h"
 
 #include "pom_math.h"
@@ -96,10 +97,11 @@ void pom_cli_pipeline_report(FILE *out, const pom_doe_study *study) {
     any |= r && (r->synthesized || r->tuned);
   }
   if (!any) return;
-  fprintf(out, "### Pipeline: synthesized geometry and tuned gains\n\n"
-               "| candidate | geometry run (config's value in brackets) | gains kp, ki (1/s), kd "
-               "(s) | tuning criterion (ms): config gains -> tuned | time (s): synthesis, "
-               "tuning |\n|---|---|---|---|---|\n");
+  fprintf(out,
+          "### Pipeline: synthesized geometry and tuned gains\n\n"
+          "| candidate | geometry run (config's value in brackets) | controller and gains (SI) "
+          "| tuning criterion (ms): config gains -> tuned | time (s): synthesis, "
+          "tuning |\n|---|---|---|---|---|\n");
   for (int c = 0; c < study->n_candidates; ++c) {
     const pom_pipeline_record *r = pom_pipeline_record_of(&study->candidates[c].eval);
     if (!r || !(r->synthesized || r->tuned)) continue;
@@ -109,8 +111,13 @@ void pom_cli_pipeline_report(FILE *out, const pom_doe_study *study) {
     if (r->tuned)
       snprintf(crit, sizeof crit, "%.2f -> %.2f", r->config_eval.criterion * 1e3,
                r->tuned_eval.criterion * 1e3);
-    fprintf(out, "| %s | %s | %.5g, %.4g, %.4g%s | %s | %.1f, %.1f |\n", study->candidates[c].name,
-            geo, r->tuned_gains.kp, r->tuned_gains.ki, r->tuned_gains.kd,
+    const pom_dyn_ctrl_type *t = pom_dyn_ctrl_of(&r->tuned_gains);
+    char gains[512];
+    int len = snprintf(gains, sizeof gains, "%s:", t->name);
+    for (int k = 0; k < t->n_gains && len >= 0 && (size_t)len < sizeof gains; ++k)
+      len += snprintf(gains + len, sizeof gains - (size_t)len, "%s %s %.5g", k ? "," : "",
+                      t->gains[k].key, pom_dyn_ctrl_gain(&r->tuned_gains, k));
+    fprintf(out, "| %s | %s | %s%s | %s | %.1f, %.1f |\n", study->candidates[c].name, geo, gains,
             r->tuned ? " (tuned)" : " (config's)", crit, r->synthesis_time, r->tuning_time);
   }
   fprintf(out, "\n");

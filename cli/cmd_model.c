@@ -19,7 +19,8 @@ static const char *const model_scopes[] = {
 
 static void model_usage(FILE *out) {
   fprintf(out, "usage: pomlab model CONFIG [--json]\n"
-               "       pomlab model --list-architectures [--json]\n\n"
+               "       pomlab model --list-architectures [--json]\n"
+               "       pomlab model --list-controllers [--json]\n\n"
                "The resolved mechanism at the home pose (R = I, actuators at mid-stroke), in\n"
                "the fixed frame (text: lengths in mm, angles in deg, masses in kg, inertias in\n"
                "kg m^2; --json: SI, m and rad): geometry and limits, every body\n"
@@ -29,6 +30,8 @@ static void model_usage(FILE *out) {
                "  --json   machine-readable output on stdout\n"
                "  --list-architectures  the registered architectures: name, actuator kind,\n"
                "           scale, design parameters and limits (docs/extending.md)\n"
+               "  --list-controllers  the registered controllers: states, options and gains\n"
+               "           with unit, range, default and whether tuning searches them\n"
                "  --help   this text\n\n"
                "Validates the config groups name, architecture, geometry, limits, workspace,\n"
                "inertia, and the dynamics groups actuator, controller, joints, scene, solver,\n"
@@ -279,6 +282,8 @@ int pom_cmd_model(int argc, char **argv) {
       json = 1;
     } else if (strcmp(argv[k], "--list-architectures") == 0) {
       list = 1;
+    } else if (strcmp(argv[k], "--list-controllers") == 0) {
+      list = 2;
     } else if (argv[k][0] == '-' && argv[k][1] != '\0') {
       fprintf(stderr, "pomlab model: unknown option '%s'\n", argv[k]);
       model_usage(stderr);
@@ -290,6 +295,7 @@ int pom_cmd_model(int argc, char **argv) {
       return 2;
     }
   }
+  if (list == 2) return pom_cli_list_controllers(stdout, json);
   if (list) return list_architectures(json);
   if (!path) {
     fprintf(stderr, "pomlab model: missing CONFIG\n");

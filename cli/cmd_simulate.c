@@ -6,6 +6,8 @@
 #include "pom_cli.h"
 #include "pom_io.h"
 #include "pom_doe.h"
+#include "cli_dyn.h"
+#include "pom_dyn_ctrl.h"
 #include "pom_dyn_metrics_schema.h"
 #include "pom_dynamics.h"
 #include "pom_h5.h"
@@ -18,25 +20,27 @@
 #include <string.h>
 
 static void simulate_usage(FILE *out) {
-  fprintf(out, "usage: pomlab simulate CONFIG --target q1,q2,q3 [options]\n\n"
-               "One maneuver from rest at home (mid-stroke) to the three actuator setpoints.\n\n"
-               "  --target q1,q2,q3     setpoints from mid-stroke in the display unit of the\n"
-               "                        mechanism's actuators (required): MILLIMETRES for\n"
-               "                        prismatic actuators, DEGREES for revolute ones\n"
-               "  --json                machine-readable metrics on stdout\n"
-               "  --out FILE            write traces: FILE.h5 (HDF5) or FILE.csv (SI units)\n"
-               "  --form ideal|parallel override controller.form\n"
-               "  --kp X --ki X --kd X  override controller.kp (V/V), ki_per_s (1/s), kd_s (s)\n"
-               "  --orientation euler|quaternion   override scene.orientation\n"
-               "  --linsol dense|klu    override solver.linear_solver\n"
-               "  --joints parasitic|rigid   override joints.model\n"
-               "  --rtol X              override solver.rtol, in [1e-13, 0.1]\n"
-               "  --help                this text\n\n"
-               "Text in the units of docs/conventions.md: times in ms, energies in J, lengths in\n"
-               "mm, angles in deg, actuator coordinates in mm or deg (SI in --json and traces:\n"
-               "m or rad, named by actuator_unit).\n"
-               "Exit status: 0 ok; 1 the maneuver failed or the traces cannot be written;\n"
-               "2 usage or config error (also a target outside the stroke).\n");
+  fprintf(out,
+          "usage: pomlab simulate CONFIG --target q1,q2,q3 [options]\n\n"
+          "One maneuver from rest at home (mid-stroke) to the three actuator setpoints.\n\n"
+          "  --target q1,q2,q3     setpoints from mid-stroke in the display unit of the\n"
+          "                        mechanism's actuators (required): MILLIMETRES for\n"
+          "                        prismatic actuators, DEGREES for revolute ones\n"
+          "  --json                machine-readable metrics on stdout\n"
+          "  --out FILE            write traces: FILE.h5 (HDF5) or FILE.csv (SI units)\n"
+          "  --controller NAME     override controller.type (pomlab model --list-controllers)\n"
+          "  --form ideal|parallel override controller.form (the PID)\n"
+          "  --kp X --ki X --kd X  override controller.kp (V/V), ki_per_s (1/s), kd_s (s)\n"
+          "  --orientation euler|quaternion   override scene.orientation\n"
+          "  --linsol dense|klu    override solver.linear_solver\n"
+          "  --joints parasitic|rigid   override joints.model\n"
+          "  --rtol X              override solver.rtol, in [1e-13, 0.1]\n"
+          "  --help                this text\n\n"
+          "Text in the units of docs/conventions.md: times in ms, energies in J, lengths in\n"
+          "mm, angles in deg, actuator coordinates in mm or deg (SI in --json and traces:\n"
+          "m or rad, named by actuator_unit).\n"
+          "Exit status: 0 ok; 1 the maneuver failed or the traces cannot be written;\n"
+          "2 usage or config error (also a target outside the stroke).\n");
 }
 
 /* Every group simulate reads; unknown keys there are errors. */
@@ -95,13 +99,17 @@ static void print_json(const char *name, const pom_dyn_params *p, const pom_dyn_
   fprintf(f, ",\n  \"status\": \"%s\",\n  \"reason\": ", pom_status_name(mt->status));
   pom_json_string(f, mt->reason);
   fputs(",\n", f);
+  fprintf(f, "  \"controller\": {");
+  pom_cli_ctrl_json_members(f, &p->controller);
+  fprintf(f, "},\n");
+  if (pom_dyn_ctrl_of(&p->controller) == &pom_dyn_ctrl_pid) /* the key before controller types */
+    fprintf(f, "  \"controller_form\": \"%s\",\n", pom_dyn_pid_form_name(p->controller.form));
   fprintf(f,
-          "  \"controller_form\": \"%s\",\n  \"orientation\": \"%s\",\n"
+          "  \"orientation\": \"%s\",\n"
           "  \"linear_solver\": \"%s\",\n  \"joints_model\": \"%s\",\n"
           "  \"actuator_kind\": \"%s\",\n  \"actuator_unit\": \"%s\",\n",
-          pom_dyn_pid_form_name(p->controller.form), pom_dyn_orient_name(p->scene.orientation),
-          pom_dyn_linsol_name(p->solver.linear_solver), pom_dyn_joint_model_name(p->joints.model),
-          u->kind_name, u->si);
+          pom_dyn_orient_name(p->scene.orientation), pom_dyn_linsol_name(p->solver.linear_solver),
+          pom_dyn_joint_model_name(p->joints.model), u->kind_name, u->si);
   json_num(f, "horizon_s", p->maneuver.horizon, ",");
   int out[3];
   stroke_excursions(mt, half_stroke, out);
@@ -147,12 +155,13 @@ static void print_human(const char *name, const pom_dyn_params *p, const pom_dyn
                         pom_actuator_kind kind, double half_stroke) {
   const pom_act_units *u = pom_act_units_of(kind);
   double f = u->to_display;
-  printf("%s: maneuver to (%.4g, %.4g, %.4g) %s, horizon %.4g ms, PID %s, orientation %s, "
+  char law[512];
+  pom_dyn_ctrl_of(&p->controller)->describe(&p->controller, law, sizeof law);
+  printf("%s: maneuver to (%.4g, %.4g, %.4g) %s, horizon %.4g ms, controller %s, orientation %s, "
          "linear solver %s, %s joints\n",
          name, mt->target[0] * f, mt->target[1] * f, mt->target[2] * f, u->display,
-         p->maneuver.horizon * 1e3, pom_dyn_pid_form_name(p->controller.form),
-         pom_dyn_orient_name(p->scene.orientation), pom_dyn_linsol_name(p->solver.linear_solver),
-         pom_dyn_joint_model_name(p->joints.model));
+         p->maneuver.horizon * 1e3, law, pom_dyn_orient_name(p->scene.orientation),
+         pom_dyn_linsol_name(p->solver.linear_solver), pom_dyn_joint_model_name(p->joints.model));
   if (mt->status != POM_OK) printf("status: %s (%s)\n", pom_status_name(mt->status), mt->reason);
   print_actuator_table(mt, kind);
   int out[3];
@@ -248,9 +257,7 @@ static pom_status write_h5(const char *path, const pom_cfg *cfg, const char *nam
   g = -1;
   POM_TRY_GOTO(pom_h5_create_group(&g, file, "metrics", err), done);
   POM_TRY_GOTO(pom_h5_attr_string(g, "status", pom_status_name(mt->status), err), done);
-  POM_TRY_GOTO(
-      pom_h5_attr_string(g, "controller_form", pom_dyn_pid_form_name(p->controller.form), err),
-      done);
+  POM_TRY_GOTO(pom_dyn_ctrl_h5_describe(g, &p->controller, err), done);
   POM_TRY_GOTO(pom_h5_attr_string(g, "orientation", pom_dyn_orient_name(p->scene.orientation), err),
                done);
   POM_TRY_GOTO(pom_h5_attr_doubles(g, "target", mt->target, 3, err), done);
@@ -293,7 +300,7 @@ static int setting_index(const simulate_setting *s, int n, const char *option) {
 
 int pom_cmd_simulate(int argc, char **argv) {
   const char *cfg_path = NULL, *out_path = NULL, *target_text = NULL;
-  const char *form = NULL, *orient = NULL, *linsol = NULL, *joints = NULL;
+  const char *form = NULL, *orient = NULL, *linsol = NULL, *joints = NULL, *controller = NULL;
   simulate_setting settings[] = {{"--kp", "controller.kp", NULL},
                                  {"--ki", "controller.ki_per_s", NULL},
                                  {"--kd", "controller.kd_s", NULL},
@@ -314,6 +321,8 @@ int pom_cmd_simulate(int argc, char **argv) {
       out_path = argv[++k];
     } else if (strcmp(a, "--form") == 0 && has_val) {
       form = argv[++k];
+    } else if (strcmp(a, "--controller") == 0 && has_val) {
+      controller = argv[++k];
     } else if (strcmp(a, "--orientation") == 0 && has_val) {
       orient = argv[++k];
     } else if (strcmp(a, "--linsol") == 0 && has_val) {
@@ -359,6 +368,9 @@ int pom_cmd_simulate(int argc, char **argv) {
   if (!cfg) rc = 2; /* a config that cannot be read is a config error */
   if (!cfg || !mech) goto done;
   pom_status st = POM_OK;
+  /* the controller's type and form through the config, checked like the file's values */
+  if (controller) st = pom_cfg_set_string(cfg, "controller.type", controller, "--controller", &err);
+  if (form && st == POM_OK) st = pom_cfg_set_string(cfg, "controller.form", form, "--form", &err);
   for (int j = 0; j < n_settings && st == POM_OK; ++j)
     if (settings[j].text)
       st = pom_cfg_set_number(cfg, settings[j].key, settings[j].text, settings[j].option, &err);
@@ -373,17 +385,6 @@ int pom_cmd_simulate(int argc, char **argv) {
     pom_cli_report("simulate", &err);
     rc = pom_cli_exit_code(st);
     goto done;
-  }
-  if (form) {
-    if (strcmp(form, "ideal") == 0)
-      par.controller.form = POM_PID_IDEAL;
-    else if (strcmp(form, "parallel") == 0)
-      par.controller.form = POM_PID_PARALLEL;
-    else {
-      fprintf(stderr, "pomlab simulate: --form expects ideal or parallel, got '%s'\n", form);
-      rc = 2;
-      goto done;
-    }
   }
   if (joints) {
     if (strcmp(joints, "parasitic") == 0)

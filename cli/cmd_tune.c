@@ -1,5 +1,6 @@
 /* cmd_tune.c - `pomlab tune CFG [CFG ...]`: PID gains by one criterion for
  * every architecture (docs/optimize.md section 9). */
+#include "pom_dyn_ctrl.h"
 #include "cli_kin.h"
 #include "pom_cli.h"
 #include "pom_pipeline.h"
@@ -38,12 +39,14 @@ static const char *jn(char *buf, double v) {
 }
 
 static void print_eval(const char *what, const pom_dyn_controller *c, const pom_tune_eval *e) {
-  printf(
-      "  %-8s kp %-10.5g ki %-10.4g 1/s  kd %-10.4g s | criterion %8.3f ms  mean exec %7.3f ms  "
-      "max exec %7.3f ms  overshoot %6.2f %%  saturation %6.3f ms  unsettled %d  energy %.4g J\n",
-      what, c->kp, c->ki, c->kd, e->criterion * 1e3, e->mean_execution * 1e3,
-      e->max_execution * 1e3, e->max_overshoot * 100.0, e->max_saturation * 1e3, e->unsettled,
-      e->mean_energy);
+  const pom_dyn_ctrl_type *t = pom_dyn_ctrl_of(c);
+  printf("  %-8s", what);
+  for (int k = 0; k < t->n_gains; ++k)
+    printf(" %s %-10.5g %s", t->gains[k].key, pom_dyn_ctrl_gain(c, k), t->gains[k].unit);
+  printf(" | criterion %8.3f ms  mean exec %7.3f ms  max exec %7.3f ms  overshoot %6.2f %%  "
+         "saturation %6.3f ms  unsettled %d  energy %.4g J\n",
+         e->criterion * 1e3, e->mean_execution * 1e3, e->max_execution * 1e3,
+         e->max_overshoot * 100.0, e->max_saturation * 1e3, e->unsettled, e->mean_energy);
 }
 
 /* The progress bar (or log lines) on stderr, in criterion evaluations. */
@@ -153,21 +156,27 @@ int pom_cmd_tune(int argc, char **argv) {
     }
   }
   if (code == 0 && json) {
-    char b[8][32];
+    char b[8][32], g[32];
     printf("{\"tune\": [");
     for (int c = 0; c < ncfg; ++c) {
       const pom_tune_eval *e = &res[c].best_eval;
       /* name (from the config) and file escaped: a quote made invalid JSON */
       printf("%s{\"name\": ", c ? ", " : "");
       pom_json_string(stdout, pbs[c].arch.name);
-      printf(", \"architecture\": \"%s\", \"kp\": %s, \"ki_per_s\": %s, "
-             "\"kd_s\": %s, \"criterion_s\": %s, \"mean_execution_s\": %s, \"max_overshoot\": %s, "
+      /* the gains by their config keys (the PID: kp, ki_per_s, kd_s) */
+      const pom_dyn_ctrl_type *t = pom_dyn_ctrl_of(&res[c].best);
+      printf(", \"architecture\": \"%s\", \"controller\": ", pom_kin_arch_name(&pbs[c].arch));
+      pom_json_string(stdout, t->name);
+      for (int k = 0; k < t->n_gains; ++k) {
+        printf(", ");
+        pom_json_string(stdout, t->gains[k].key);
+        printf(": %s", jn(g, pom_dyn_ctrl_gain(&res[c].best, k)));
+      }
+      printf(", \"criterion_s\": %s, \"mean_execution_s\": %s, \"max_overshoot\": %s, "
              "\"max_saturation_s\": %s, \"unsettled\": %d, \"initial_criterion_s\": %s, "
              "\"evaluations\": %ld, \"simulations\": %ld, \"file\": ",
-             pom_kin_arch_name(&pbs[c].arch), jn(b[0], res[c].best.kp), jn(b[1], res[c].best.ki),
-             jn(b[2], res[c].best.kd), jn(b[3], e->criterion), jn(b[4], e->mean_execution),
-             jn(b[5], e->max_overshoot), jn(b[6], e->max_saturation), e->unsettled,
-             jn(b[7], res[c].initial_eval.criterion),
+             jn(b[3], e->criterion), jn(b[4], e->mean_execution), jn(b[5], e->max_overshoot),
+             jn(b[6], e->max_saturation), e->unsettled, jn(b[7], res[c].initial_eval.criterion),
              res[c].opt.evals_global + res[c].opt.evals_local, res[c].simulations);
       pom_json_string(stdout, paths[c]);
       printf("}");

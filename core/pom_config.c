@@ -893,6 +893,13 @@ pom_status pom_cfg_choice_opt(const pom_cfg *cfg, const char *key, const char *c
   return check_choice(cfg, s, key, choices, index, err);
 }
 
+const char *pom_cfg_choice_name(const char *const choices[], int index) {
+  if (!choices || index < 0) return "?";
+  for (int k = 0; choices[k]; ++k)
+    if (k == index) return choices[k];
+  return "?";
+}
+
 /* ---- unknown keys ------------------------------------------------------------- */
 static void setting_path(const config_setting_t *s, char *buf, size_t cap) {
   if (!s || config_setting_is_root(s)) {
@@ -960,6 +967,9 @@ static void forget_override(pom_cfg *cfg, const config_setting_t *s) {
     if (cfg->override_setting[k] == s) cfg->override_setting[k] = NULL;
 }
 
+static pom_status set_override(pom_cfg *cfg, const char *key, int type, long long iv, double rv,
+                               const char *sv, const char *origin, pom_error *err);
+
 pom_status pom_cfg_set_number(pom_cfg *cfg, const char *key, const char *text, const char *origin,
                               pom_error *err) {
   /* the number as written: an integer (64-bit, never wrapped) or a real */
@@ -984,6 +994,19 @@ pom_status pom_cfg_set_number(pom_cfg *cfg, const char *key, const char *text, c
       POM_FAIL(err, POM_ERR_CONFIG, "command line %s: key '%s' = '%s': expected a number", origin,
                key, text);
   }
+  return set_override(cfg, key, integer ? CONFIG_TYPE_INT64 : CONFIG_TYPE_FLOAT, iv, rv, NULL,
+                      origin, err);
+}
+
+pom_status pom_cfg_set_string(pom_cfg *cfg, const char *key, const char *text, const char *origin,
+                              pom_error *err) {
+  return set_override(cfg, key, CONFIG_TYPE_STRING, 0, 0.0, text, origin, err);
+}
+
+/* Sets key (dotted, groups created) to one value of the given type, as
+ * an override from `origin`. */
+static pom_status set_override(pom_cfg *cfg, const char *key, int type, long long iv, double rv,
+                               const char *sv, const char *origin, pom_error *err) {
   if (cfg->n_overrides == MAX_OVERRIDES)
     POM_FAIL(err, POM_ERR_ARG, "command line %s: more than %d values set on the command line",
              origin, MAX_OVERRIDES);
@@ -1008,10 +1031,11 @@ pom_status pom_cfg_set_number(pom_cfg *cfg, const char *key, const char *text, c
     forget_override(cfg, old);
     config_setting_remove(parent, name);
   }
-  config_setting_t *s =
-      config_setting_add(parent, name, integer ? CONFIG_TYPE_INT64 : CONFIG_TYPE_FLOAT);
-  if (!s || !(integer ? config_setting_set_int64(s, iv) : config_setting_set_float(s, rv)))
-    POM_FAIL(err, POM_ERR_NOMEM, "command line %s: cannot set key '%s'", origin, key);
+  config_setting_t *s = config_setting_add(parent, name, type);
+  int ok = s && (type == CONFIG_TYPE_INT64   ? config_setting_set_int64(s, iv)
+                 : type == CONFIG_TYPE_FLOAT ? config_setting_set_float(s, rv)
+                                             : config_setting_set_string(s, sv));
+  if (!ok) POM_FAIL(err, POM_ERR_NOMEM, "command line %s: cannot set key '%s'", origin, key);
   cfg->override_setting[cfg->n_overrides] = s;
   snprintf(cfg->override_origin[cfg->n_overrides], sizeof cfg->override_origin[0], "%s", origin);
   ++cfg->n_overrides;

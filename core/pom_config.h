@@ -81,6 +81,10 @@ pom_status pom_cfg_choice(const pom_cfg *cfg, const char *key, const char *const
 pom_status pom_cfg_choice_opt(const pom_cfg *cfg, const char *key, const char *const choices[],
                               int dflt, int *index, pom_error *err);
 
+/* Name of choice `index` of a NULL-terminated choices table (the inverse of
+ * pom_cfg_choice), "?" when index is outside the table. */
+const char *pom_cfg_choice_name(const char *const choices[], int index);
+
 /* Rejects settings that nobody read. Only settings under the top-level names
  * listed in `scopes` (NULL-terminated; NULL pointer = everything) are
  * checked, plus any top-level name not in `known_top` (NULL-terminated list of
@@ -96,6 +100,11 @@ pom_status pom_cfg_check_unknown(const pom_cfg *cfg, const char *const scopes[],
  * command-line option `origin` (e.g. "--seed") instead of a file line.
  * Call it after load and before the getters. */
 pom_status pom_cfg_set_number(pom_cfg *cfg, const char *key, const char *text, const char *origin,
+                              pom_error *err);
+
+/* pom_cfg_set_number for a string value (a choice such as
+ * controller.type = "pid"), checked by the getters like a file's. */
+pom_status pom_cfg_set_string(pom_cfg *cfg, const char *key, const char *text, const char *origin,
                               pom_error *err);
 
 /* Compares two configs setting by setting. Returns 1 when they differ, with

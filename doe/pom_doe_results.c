@@ -4,6 +4,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "pom_doe_internal.h"
 #include "pom_version.h"
+#include "pom_dyn_ctrl.h"
 #include "pom_h5.h"
 #include "pom_math.h"
 
@@ -173,11 +174,11 @@ static pom_status results_alloc(pom_doe_results **out, const pom_doe_study *stud
 
 /* ---- candidate provenance ------------------------------------------------------ */
 pom_status pom_doe_describe_dyn_params(hid_t g, const pom_dyn_params *par, pom_error *err) {
-  POM_TRY(
-      pom_h5_attr_string(g, "controller_form", pom_dyn_pid_form_name(par->controller.form), err));
-  POM_TRY(pom_h5_attr_double(g, "controller_kp", par->controller.kp, err));
-  POM_TRY(pom_h5_attr_double(g, "controller_ki", par->controller.ki, err));
-  POM_TRY(pom_h5_attr_double(g, "controller_kd", par->controller.kd, err));
+  POM_TRY(pom_dyn_ctrl_h5_describe(g, &par->controller, err));
+  if (pom_dyn_ctrl_of(&par->controller) == &pom_dyn_ctrl_pid) { /* the names before types */
+    POM_TRY(pom_h5_attr_double(g, "controller_ki", par->controller.ki, err));
+    POM_TRY(pom_h5_attr_double(g, "controller_kd", par->controller.kd, err));
+  }
   POM_TRY(pom_h5_attr_string(g, "orientation", pom_dyn_orient_name(par->scene.orientation), err));
   POM_TRY(pom_h5_attr_string(g, "joints_model", pom_dyn_joint_model_name(par->joints.model), err));
   POM_TRY(pom_h5_attr_int64(g, "scene_gravity", par->scene.gravity, err));

@@ -1,29 +1,37 @@
-/* dyn_actuator.c - the voice coil and its saturated PID controller, the same
+/* dyn_actuator.c - the voice coil and its saturated controller, the same
  * law for every formulation and for both actuator kinds (docs/dynamics.md
  * section 4): linear (q in m, force K_m i along the axis) or rotary (q in rad,
- * torque K_t i about the axis). Allocates nothing. */
+ * torque K_t i about the axis). The control law itself is the controller
+ * type's (pom_dyn_ctrl.h); this file saturates its voltage and drives the
+ * coil. Allocates nothing. */
 #include "dyn_internal.h"
 #include "pom_math.h"
 
 #include <math.h>
 
+/* ---- the controller --------------------------------------------------------- */
+/* What the sensors give (q, qd), the setpoint and the controller's states:
+ * the type's law, and its partials when asked. */
+double pom_dyn_controller_law(const pom_dyn_model *m, const pom_dyn_data *d, int a, double q,
+                              double qd, const double *y, double *zdot, pom_dyn_ctrl_partials *cp) {
+  const dyn_actuator *ac = &m->act[a];
+  const pom_dyn_ctrl_input in = {d->target[a], q, qd, m->par.actuator.sensor_gain};
+  const double *z = ac->ctrl_state >= 0 ? y + ac->ctrl_state : NULL;
+  if (cp) m->ctrl->partials(&m->par.controller, &in, z, cp);
+  return m->ctrl->law(&m->par.controller, &in, z, zdot);
+}
+
 /* ---- the law ------------------------------------------------------------- */
-/* PID on e = target - q with the derivative on the measured rate, saturation,
- * coil (flux state or quasi-static), bearing friction; outputs and (with
- * ydot) the coil, integral and energy-accumulator derivatives of actuator a. */
+/* The controller's voltage, saturation, coil (flux state or quasi-static),
+ * bearing friction; outputs and (with ydot) the coil, controller-state and
+ * energy-accumulator derivatives of actuator a. */
 double pom_dyn_actuator_law(const pom_dyn_model *m, pom_dyn_data *d, int a, double q, double qd,
                             const double *y, double *ydot) {
   const pom_dyn_actuator *ap = &m->par.actuator;
-  const pom_dyn_controller *cp = &m->par.controller;
   const dyn_actuator *ac = &m->act[a];
   dyn_outputs *o = &d->out;
-  double e = d->target[a] - q;
-  double z = y[ac->int_state];
-  double u_raw;
-  if (cp->form == POM_PID_IDEAL)
-    u_raw = ap->sensor_gain * cp->kp * (e + cp->ki * z - cp->kd * qd);
-  else
-    u_raw = ap->sensor_gain * (cp->kp * e + cp->ki * z - cp->kd * qd);
+  double *zdot = (ydot && ac->ctrl_state >= 0) ? ydot + ac->ctrl_state : NULL;
+  double u_raw = pom_dyn_controller_law(m, d, a, q, qd, y, zdot, NULL);
   double lim = ap->voltage_limit;
   double u = u_raw > lim ? lim : (u_raw < -lim ? -lim : u_raw);
   double i;
@@ -39,7 +47,6 @@ double pom_dyn_actuator_law(const pom_dyn_model *m, pom_dyn_data *d, int a, doub
   if (ydot) {
     if (ac->flux_state >= 0)
       ydot[ac->flux_state] = u - ap->resistance * i - ap->force_constant * qd;
-    ydot[ac->int_state] = e;
     double *acc = ydot + ac->acc_state;
     double pw = u * i;
     acc[DYN_ACC_SOURCE] = pw;
@@ -52,22 +59,19 @@ double pom_dyn_actuator_law(const pom_dyn_model *m, pom_dyn_data *d, int a, doub
 }
 
 /* ---- its derivatives ------------------------------------------------------ */
-/* z enters u_raw linearly (gain S K_I, or S K_P K_I in the ideal form) and
- * passes the saturation only inside the limits; i is flux / L (inductive) or
- * (u - K_m qd) / R_c (quasi-static); the effort is K_m i - b qd. */
+/* z enters u_raw with the controller's du/dz (the PID: S K_I, or S K_P K_I in
+ * the ideal form) and passes the saturation only inside the limits; i is
+ * flux / L (inductive) or (u - K_m qd) / R_c (quasi-static); the effort is
+ * K_m i - b qd. Only for a controller with analytic partials and at most one
+ * state (m->ctrl_analytic). */
 void pom_dyn_actuator_law_partials(const pom_dyn_model *m, const pom_dyn_data *d, int a, double q,
                                    double qd, const double *y, dyn_law_partials *lp) {
   const pom_dyn_actuator *ap = &m->par.actuator;
-  const pom_dyn_controller *cp = &m->par.controller;
   const dyn_actuator *ac = &m->act[a];
-  double e = d->target[a] - q, z = y[ac->int_state], u_raw, g_z;
-  if (cp->form == POM_PID_IDEAL) {
-    u_raw = ap->sensor_gain * cp->kp * (e + cp->ki * z - cp->kd * qd);
-    g_z = ap->sensor_gain * cp->kp * cp->ki;
-  } else {
-    u_raw = ap->sensor_gain * (cp->kp * e + cp->ki * z - cp->kd * qd);
-    g_z = ap->sensor_gain * cp->ki;
-  }
+  pom_dyn_ctrl_partials cp;
+  double u_raw = pom_dyn_controller_law(m, d, a, q, qd, y, NULL, &cp);
+  double g_z = cp.du_dz[0];
+  lp->dzd_dz = cp.dzd_dz[0][0];
   double lim = ap->voltage_limit;
   int saturated = u_raw > lim || u_raw < -lim;
   lp->u = u_raw > lim ? lim : (u_raw < -lim ? -lim : u_raw);

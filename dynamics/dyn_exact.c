@@ -294,7 +294,8 @@ static pom_status exact_init(pom_dyn_model *m, const pom_mechanism *mech, const 
     dyn_actuator *ac = &m->act[a];
     ac->joint = mech->actuator[a].joint;
     ac->flux_state = p->scene.coil_inductance ? next++ : -1;
-    ac->int_state = next++;
+    ac->ctrl_state = m->ctrl->n_states > 0 ? next : -1;
+    next += m->ctrl->n_states;
   }
   ex->n_jac = next;
   for (int a = 0; a < m->n_actuators; ++a) {
@@ -309,7 +310,9 @@ static pom_status exact_init(pom_dyn_model *m, const pom_mechanism *mech, const 
    * the mechanical columns (orientation, then omega: the last differenced
    * column is an omega one, exact_jacobian relies on it) are differenced, each
    * its own colour; the electrical ones are analytic (colour -1 for both
-   * kinds: never differenced) */
+   * kinds: never differenced), unless the controller has no analytic
+   * partials (m->ctrl_analytic 0): then they are differenced too, after the
+   * mechanical ones (docs/dynamics-exact.md section 5) */
   const size_t n = (size_t)m->n_states;
   m->atol = calloc(n, sizeof *m->atol);
   m->scale = calloc(n, sizeof *m->scale);
@@ -319,11 +322,12 @@ static pom_status exact_init(pom_dyn_model *m, const pom_mechanism *mech, const 
     POM_FAIL(err, POM_ERR_NOMEM, "allocating tolerances and the Jacobian pattern");
   for (size_t j = 0; j < n; ++j) {
     int in = (int)j < ex->n_jac;
-    m->color[j] = (int)j < ex->n_ori + 3 ? (int)j : -1;
+    int n_fd = m->ctrl_analytic ? ex->n_ori + 3 : ex->n_jac;
+    m->color[j] = (int)j < n_fd ? (int)j : -1;
     for (size_t i = 0; i < n; ++i)
       m->dep[i * n + j] = (unsigned char)in;
   }
-  m->n_colors = ex->n_ori + 3;
+  m->n_colors = m->ctrl_analytic ? ex->n_ori + 3 : ex->n_jac;
   POM_TRY(pom_dyn_pattern_build(m, err));
   for (int i = 0; i < ex->n_ori; ++i)
     m->scale[ex->ori + i] = EXACT_SCALE_ANGLE;
@@ -333,10 +337,16 @@ static pom_status exact_init(pom_dyn_model *m, const pom_mechanism *mech, const 
     const dyn_actuator *ac = &m->act[a];
     if (ac->flux_state >= 0)
       m->scale[ac->flux_state] = p->actuator.inductance * EXACT_SCALE_CURRENT;
-    /* integral of the error: m s (linear) or rad s (rotary) */
-    m->scale[ac->int_state] =
-        (p->actuator.kind == POM_ACT_REVOLUTE ? EXACT_SCALE_ANGLE : EXACT_SCALE_LENGTH) *
-        p->maneuver.horizon;
+    /* controller states by their kind; the PID integral of the error is m s
+     * (linear) or rad s (rotary) */
+    for (int k = 0; k < m->ctrl->n_states; ++k) {
+      const double sq =
+          p->actuator.kind == POM_ACT_REVOLUTE ? EXACT_SCALE_ANGLE : EXACT_SCALE_LENGTH;
+      const pom_dyn_ctrl_state_kind kind = m->ctrl->states[k].kind;
+      m->scale[ac->ctrl_state + k] = kind == POM_DYN_CTRL_STATE_Q_TIME ? sq * p->maneuver.horizon
+                                     : kind == POM_DYN_CTRL_STATE_Q    ? sq
+                                                                       : sq / EXACT_NATURAL_SETTLE;
+    }
     for (int k = 0; k < DYN_ACC_PER_ACT; ++k)
       m->scale[ac->acc_state + k] = EXACT_SCALE_ENERGY;
     m->scale[ac->acc_state + DYN_ACC_SATURATED] = p->maneuver.horizon;
@@ -367,8 +377,14 @@ static pom_status exact_init(pom_dyn_model *m, const pom_mechanism *mech, const 
       const dyn_actuator *ac = &m->act[a];
       if (ac->flux_state >= 0)
         m->atol[ac->flux_state] = r * p->actuator.inductance * EXACT_NATURAL_CURRENT;
-      m->atol[ac->int_state] =
-          r * (rotary ? EXACT_NATURAL_TURN : EXACT_NATURAL_LENGTH) * EXACT_NATURAL_SETTLE;
+      for (int k = 0; k < m->ctrl->n_states; ++k) {
+        const double nq = rotary ? EXACT_NATURAL_TURN : EXACT_NATURAL_LENGTH;
+        const pom_dyn_ctrl_state_kind kind = m->ctrl->states[k].kind;
+        m->atol[ac->ctrl_state + k] =
+            kind == POM_DYN_CTRL_STATE_Q_TIME ? r * nq * EXACT_NATURAL_SETTLE
+            : kind == POM_DYN_CTRL_STATE_Q    ? r * nq
+                                              : r * nq / EXACT_NATURAL_SETTLE;
+      }
     }
   }
   for (int a = 0; a < m->n_actuators; ++a) /* discontinuous indicator: no error test */
@@ -536,7 +552,7 @@ static void electrical_columns(const pom_dyn_model *m, pom_dyn_data *d, const do
     lp_col[0][3] = lp.di_dz;
     lp_col[1][0] = lp.dF_dflux, lp_col[1][1] = lp.dflux_dflux, lp_col[1][2] = 0.0;
     lp_col[1][3] = lp.di_dflux;
-    const int cols[2] = {ac->int_state, ac->flux_state};
+    const int cols[2] = {ac->ctrl_state, ac->flux_state}; /* ctrl_analytic: at most one state */
     const double pw = lp.u * lp.i;
     for (int c = 0; c < 2; ++c) {
       int j = cols[c];
@@ -550,6 +566,8 @@ static void electrical_columns(const pom_dyn_model *m, pom_dyn_data *d, const do
           val = v[i - ex->omega] * g[0];
         else if (i == ac->flux_state)
           val = g[1];
+        else if (i == ac->ctrl_state)
+          val = c == 0 ? lp.dzd_dz : 0.0; /* the law never reads the current */
         else if (r == DYN_ACC_SOURCE)
           val = dpw;
         else if (r == DYN_ACC_SOURCE_POS)
@@ -569,7 +587,7 @@ int pom_dyn_exact_jacobian(pom_dyn_data *d, const double *y, const double *f0, d
    * (they do not depend on omega) */
   int r = pom_dyn_fd_jacobian(d, y, f0, yp, fp);
   if (r != 0) return r;
-  electrical_columns(d->m, d, y);
+  if (d->m->ctrl_analytic) electrical_columns(d->m, d, y);
   return 0;
 }
 

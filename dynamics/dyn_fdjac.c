@@ -95,7 +95,7 @@ int pom_dyn_cvode_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, su
   const pom_dyn_model *m = d->m;
   const int n = m->n_states;
   if (!jok || !d->jac_valid) {
-    int r = (m->form->jacobian && m->par.solver.jacobian == POM_JAC_ANALYTIC)
+    int r = (m->form->jacobian && m->par.solver.jacobian == POM_JAC_ANALYTIC && m->ctrl_analytic)
                 ? m->form->jacobian(m, d, N_VGetArrayPointer(y), d->jac)
                 : pom_dyn_fd_jacobian(d, N_VGetArrayPointer(y), N_VGetArrayPointer(fy),
                                       N_VGetArrayPointer(tmp1), N_VGetArrayPointer(tmp2));

@@ -5,6 +5,7 @@
 #ifndef POM_DYN_INTERNAL_H
 #define POM_DYN_INTERNAL_H
 
+#include "pom_dyn_ctrl.h"
 #include "pom_dynamics.h"
 #include "pom_kinematics.h"
 
@@ -71,7 +72,8 @@ typedef struct {
 typedef struct {
   int joint;      /* model joint index (prismatic or revolute) */
   int flux_state; /* state index of the coil flux linkage, -1 when quasi-static */
-  int int_state;  /* state index of the PID integral */
+  int ctrl_state; /* first of the controller's n_states state indices (the PID integral), -1
+                     when the controller has none */
   int acc_state;  /* first of DYN_ACC_PER_ACT accumulator states */
   double stroke;  /* total stroke (m or rad), targets within +-stroke/2; 0 = not limited */
 } dyn_actuator;
@@ -79,8 +81,12 @@ typedef struct {
 typedef struct dyn_formulation dyn_formulation;
 
 struct pom_dyn_model {
-  const dyn_formulation *form; /* the formulation's operations (never NULL once created) */
-  void *form_model;            /* the formulation's private model, owned (NULL if none) */
+  const dyn_formulation *form;   /* the formulation's operations (never NULL once created) */
+  const pom_dyn_ctrl_type *ctrl; /* the controller's type (never NULL once created) */
+  /* 1: the controller has partials and at most one state, and the analytic
+   * Jacobians use them; 0: its columns go by finite differences (docs 7) */
+  int ctrl_analytic;
+  void *form_model; /* the formulation's private model, owned (NULL if none) */
   pom_dyn_params par;
   double gravity[3]; /* m/s^2, zero when the scene has gravity off */
   int n_bodies;      /* moving bodies (the ground is not a model body) */
@@ -256,9 +262,11 @@ double pom_dyn_actuator_law(const pom_dyn_model *m, pom_dyn_data *d, int a, doub
                             const double *y, double *ydot);
 
 /* Partial derivatives of one actuator's law (pom_dyn_actuator_law) with
- * respect to its own states, the PID integral z (m s or rad s) and the coil
- * flux linkage (V s; zero derivatives for a quasi-static coil), at fixed q
- * and rate. The saturation is the law's: a saturated voltage has du/dz = 0. */
+ * respect to its own states, the controller state z (m s or rad s for the
+ * PID integral; a controller with an analytic Jacobian has at most one) and
+ * the coil flux linkage (V s; zero derivatives for a quasi-static coil), at
+ * fixed q and rate. The saturation is the law's: a saturated voltage has
+ * du/dz = 0. */
 typedef struct {
   double u;                     /* saturated voltage (V) */
   double i;                     /* coil current (A) */
@@ -266,7 +274,15 @@ typedef struct {
   double di_dz, di_dflux;       /* A per unit of z, A per V s */
   double dF_dz, dF_dflux;       /* effort (N or N m) per unit of z, per V s */
   double dflux_dz, dflux_dflux; /* coil equation d(flux_dot)/dz, d(flux_dot)/d flux (1/s) */
+  double dzd_dz;                /* the controller state's rate against z (1/s) */
 } dyn_law_partials;
+
+/* dyn_actuator.c: the controller's input and its raw (unsaturated) voltage
+ * for actuator a at q, qd and state y (zdot, when non-NULL, receives the
+ * controller state rates); the partials when cp is non-NULL (the type must
+ * have them). */
+double pom_dyn_controller_law(const pom_dyn_model *m, const pom_dyn_data *d, int a, double q,
+                              double qd, const double *y, double *zdot, pom_dyn_ctrl_partials *cp);
 
 /* dyn_actuator.c: the partials above for actuator a at coordinate q and rate
  * qd, state y (the same inputs as pom_dyn_actuator_law). */

@@ -30,10 +30,7 @@ static pom_status params_check(const pom_dyn_params *p, pom_error *err) {
   if (p->scene.coil_inductance && !(a->inductance > 0))
     POM_FAIL(err, POM_ERR_ARG, "coil inductance %g H must be > 0 when scene.coil_inductance is on",
              a->inductance);
-  const pom_dyn_controller *c = &p->controller;
-  if (!(c->kp >= 0) || !(c->ki >= 0) || !(c->kd >= 0))
-    POM_FAIL(err, POM_ERR_ARG, "controller gains must be >= 0 (kp %g, ki %g, kd %g)", c->kp, c->ki,
-             c->kd);
+  POM_TRY(pom_dyn_ctrl_check(&p->controller, err)); /* the type's ranges, as loading checks */
   const pom_dyn_joints *j = &p->joints;
   if (!(j->stiffness > 0) || !(j->angular_stiffness > 0) || !(j->damping >= 0) ||
       !(j->angular_damping >= 0))
@@ -91,6 +88,9 @@ pom_status pom_dyn_model_create(pom_dyn_model **out, const pom_mechanism *mech,
   if (!m) POM_FAIL(err, POM_ERR_NOMEM, "allocating the dynamics model");
   m->form = formulations[p->joints.model];
   m->par = *p;
+  m->ctrl = pom_dyn_ctrl_of(&p->controller);
+  m->par.controller.type = m->ctrl;
+  m->ctrl_analytic = m->ctrl->partials != NULL && m->ctrl->n_states <= 1;
   if (p->scene.gravity) pom_v3_copy(m->gravity, mech->gravity);
   for (int b = 0; b < POM_MECH_MAX_BODIES; ++b)
     m->slot_of_mech[b] = -1;

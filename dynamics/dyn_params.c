@@ -2,6 +2,8 @@
  * (keys: docs/dynamics.md section 9). */
 #include "pom_dynamics.h"
 
+#include "pom_dyn_ctrl.h"
+
 #include <string.h>
 
 /* ---- defaults ------------------------------------------------------------ */
@@ -15,11 +17,9 @@ void pom_dyn_params_defaults(pom_dyn_params *p) {
   p->actuator.voltage_limit = 24.0;
   p->actuator.sensor_gain = 833.33;
   p->actuator.kind = POM_ACT_PRISMATIC; /* "linear"; a rotary actuator needs its own values */
-  /* 3P-S-S/S reference gains, ideal form (docs/PARAMETERS.md controller-form note) */
-  p->controller.form = POM_PID_IDEAL;
-  p->controller.kp = 1.2e4;
-  p->controller.ki = 1.0e-3;
-  p->controller.kd = 3.0e-3;
+  /* the PID with the 3P-S-S/S reference gains, ideal form (its descriptors'
+   * defaults; docs/PARAMETERS.md controller-form note) */
+  pom_dyn_ctrl_set_defaults(&p->controller, &pom_dyn_ctrl_pid);
   p->joints.stiffness = 1.0e6;
   p->joints.damping = 200.0;
   p->joints.angular_stiffness = 1.0e6;
@@ -62,23 +62,25 @@ static const char *const actuator_keys[2][3] = {
     {"actuator.torque_constant_Nm_per_A", "actuator.bearing_friction_Nms_per_rad",
      "actuator.sensor_gain_V_per_rad"}};
 
+/* names from the tables above, indexed by the enum's value; "?" for a value
+ * outside the table (never the first name by default) */
 const char *pom_dyn_pid_form_name(pom_pid_form f) {
-  return (f == POM_PID_PARALLEL) ? pid_forms[1] : pid_forms[0];
+  return pom_cfg_choice_name(pid_forms, (int)f);
 }
 const char *pom_dyn_orient_name(pom_orient_kind k) {
-  return (k == POM_ORIENT_QUATERNION) ? orient_kinds[1] : orient_kinds[0];
+  return pom_cfg_choice_name(orient_kinds, (int)k);
 }
 const char *pom_dyn_linsol_name(pom_linsol_kind k) {
-  return (k == POM_LINSOL_KLU) ? linsol_kinds[1] : linsol_kinds[0];
+  return pom_cfg_choice_name(linsol_kinds, (int)k);
 }
 const char *pom_dyn_jacobian_name(pom_jac_kind k) {
-  return (k == POM_JAC_FINITE_DIFFERENCE) ? jacobian_kinds[1] : jacobian_kinds[0];
+  return pom_cfg_choice_name(jacobian_kinds, (int)k);
 }
 const char *pom_dyn_joint_model_name(pom_joint_model k) {
-  return (k == POM_JOINTS_RIGID) ? joint_models[1] : joint_models[0];
+  return pom_cfg_choice_name(joint_models, (int)k);
 }
 const char *pom_dyn_inertia_name(pom_inertia_kind k) {
-  return (k == POM_INERTIA_LUMPED) ? inertia_kinds[1] : inertia_kinds[0];
+  return pom_cfg_choice_name(inertia_kinds, (int)k);
 }
 
 /* ---- loading ------------------------------------------------------------- */
@@ -115,12 +117,7 @@ pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error 
                            &a->voltage_limit, err));
   POM_TRY(pom_cfg_real_opt(cfg, keys[2], 1.0, 1e-6, 1e9, a->sensor_gain, &a->sensor_gain, err));
 
-  idx = (int)c->form;
-  POM_TRY(pom_cfg_choice_opt(cfg, "controller.form", pid_forms, idx, &idx, err));
-  c->form = (idx == 1) ? POM_PID_PARALLEL : POM_PID_IDEAL;
-  POM_TRY(pom_cfg_real_opt(cfg, "controller.kp", 1.0, 0.0, 1e12, c->kp, &c->kp, err));
-  POM_TRY(pom_cfg_real_opt(cfg, "controller.ki_per_s", 1.0, 0.0, 1e9, c->ki, &c->ki, err));
-  POM_TRY(pom_cfg_real_opt(cfg, "controller.kd_s", 1.0, 0.0, 1e3, c->kd, &c->kd, err));
+  POM_TRY(pom_dyn_ctrl_load(c, cfg, err)); /* the type, then its options and gains */
 
   POM_TRY(pom_cfg_real_opt(cfg, "joints.stiffness_N_per_m", 1.0, 1.0, 1e12, j->stiffness,
                            &j->stiffness, err));

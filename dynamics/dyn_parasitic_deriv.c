@@ -95,26 +95,16 @@ static void skew2(double S[9], const double a[3], const double b[3]) {
 typedef struct {
   double f_q, f_qd, f_lam, f_z; /* effort */
   double l_q, l_qd, l_lam, l_z; /* flux rate */
+  double z_q, z_qd, z_z;        /* controller state rate (the controller's own partials) */
 } act_partials;
 
 static void actuator_partials(const pom_dyn_model *m, const pom_dyn_data *d, int a, double q,
                               double qd, const double *y, act_partials *ap) {
   const pom_dyn_actuator *p = &m->par.actuator;
-  const pom_dyn_controller *cp = &m->par.controller;
   const dyn_actuator *ac = &m->act[a];
-  double e = d->target[a] - q, z = y[ac->int_state];
-  double u_raw, du_q, du_qd, du_z;
-  if (cp->form == POM_PID_IDEAL) {
-    u_raw = p->sensor_gain * cp->kp * (e + cp->ki * z - cp->kd * qd);
-    du_q = -p->sensor_gain * cp->kp;
-    du_z = p->sensor_gain * cp->kp * cp->ki;
-    du_qd = -p->sensor_gain * cp->kp * cp->kd;
-  } else {
-    u_raw = p->sensor_gain * (cp->kp * e + cp->ki * z - cp->kd * qd);
-    du_q = -p->sensor_gain * cp->kp;
-    du_z = p->sensor_gain * cp->ki;
-    du_qd = -p->sensor_gain * cp->kd;
-  }
+  pom_dyn_ctrl_partials cp;
+  double u_raw = pom_dyn_controller_law(m, d, a, q, qd, y, NULL, &cp);
+  double du_q = cp.du_dq, du_qd = cp.du_dqd, du_z = cp.du_dz[0];
   /* the clamp of pom_dyn_actuator_law: u = u_raw on [-limit, limit] */
   double gain = (u_raw <= p->voltage_limit && u_raw >= -p->voltage_limit) ? 1.0 : 0.0;
   double b = m->par.scene.bearing_friction ? p->bearing_friction : 0.0;
@@ -134,6 +124,9 @@ static void actuator_partials(const pom_dyn_model *m, const pom_dyn_data *d, int
     ap->f_qd = K * (gain * du_qd - K) / R - b;
     ap->f_z = K * gain * du_z / R;
   }
+  ap->z_q = cp.dzd_dq[0];
+  ap->z_qd = cp.dzd_dqd[0];
+  ap->z_z = cp.dzd_dz[0][0];
 }
 
 /* ---- one joint ------------------------------------------------------------- */
@@ -292,7 +285,7 @@ static void joint_derivative(const pom_dyn_model *m, pom_dyn_data *d, const dyn_
       for (int c = 0; c < JC; ++c) {
         row[c] = jd->ap.f_q * dq[c] + jd->ap.f_qd * dqd[c];
         jd->lam[c] = jd->ap.l_q * dq[c] + jd->ap.l_qd * dqd[c];
-        jd->zr[c] = -dq[c];
+        jd->zr[c] = jd->ap.z_q * dq[c] + jd->ap.z_qd * dqd[c];
       }
       add_outer(jd->F1, 1.0, n, row);
       double fa = pom_dyn_actuator_law(m, d, a, q, qd, y, NULL);
@@ -418,7 +411,7 @@ static void joint_derivative(const pom_dyn_model *m, pom_dyn_data *d, const dyn_
     for (int c = 0; c < JC; ++c) {
       row[c] = jd->ap.f_q * dq[c] + jd->ap.f_qd * dqd[c];
       jd->lam[c] = jd->ap.l_q * dq[c] + jd->ap.l_qd * dqd[c];
-      jd->zr[c] = -dq[c];
+      jd->zr[c] = jd->ap.z_q * dq[c] + jd->ap.z_qd * dqd[c];
     }
     add_outer(DTp, 1.0, n, row);
     if (jt->slot[0] >= 0) {
@@ -650,8 +643,9 @@ int pom_dyn_parasitic_jacobian(const pom_dyn_model *m, pom_dyn_data *d, const do
       xi_to_states(row + bs, jd.zr + s * XI_N, m, b, &d->be[b], pd->G[b]);
     }
     double *own = pd->vals + L->act_own + 4L * a;
-    own[0] = jd.ap.l_lam; /* flux row: flux, integral columns; integral row: none */
+    own[0] = jd.ap.l_lam; /* flux row: flux, controller-state columns */
     own[1] = jd.ap.l_z;
+    own[3] = jd.ap.z_z; /* controller-state row: its own column (the law never reads i) */
   }
   for (int bi = 0; bi < m->n_bodies; ++bi)
     for (int bj = 0; bj < m->n_bodies; ++bj) {
@@ -674,7 +668,7 @@ int pom_dyn_parasitic_jacobian(const pom_dyn_model *m, pom_dyn_data *d, const do
 static int actuator_state(const pom_dyn_model *m, int i, int *a) {
   for (int k = 0; k < m->n_actuators; ++k) {
     if (i == m->act[k].flux_state) return *a = k, 0;
-    if (i == m->act[k].int_state) return *a = k, 1;
+    if (i == m->act[k].ctrl_state) return *a = k, 1;
   }
   return -1;
 }

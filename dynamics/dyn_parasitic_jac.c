@@ -29,7 +29,8 @@ static int state_entity(const pom_dyn_model *m, int i, int *kind) {
       *kind = KIND_FLUX;
       return m->n_bodies + a;
     }
-    if (i == m->act[a].int_state) {
+    if (m->act[a].ctrl_state >= 0 && i >= m->act[a].ctrl_state &&
+        i < m->act[a].ctrl_state + m->ctrl->n_states) {
       *kind = KIND_INT;
       return m->n_bodies + a;
     }
@@ -40,8 +41,9 @@ static int state_entity(const pom_dyn_model *m, int i, int *kind) {
 
 /* Does the derivative of a state of kind ki on entity ei depend on a state of
  * kind kj on entity ej? (adjacent = same entity or coupled by a joint or an
- * actuator; docs/dynamics.md section 7) */
-static int depends(int ki, int ei, int kj, int ej, int adjacent) {
+ * actuator; rate_deps = the controller's POM_DYN_CTRL_DEP_* flags;
+ * docs/dynamics.md section 7) */
+static int depends(int ki, int ei, int kj, int ej, int adjacent, int rate_deps) {
   int same = ei == ej;
   int body_col = kj <= KIND_ORI;
   switch (ki) {
@@ -54,8 +56,11 @@ static int depends(int ki, int ei, int kj, int ej, int adjacent) {
     return adjacent && (body_col || kj == KIND_FLUX || kj == KIND_INT);
   case KIND_FLUX: /* coil: u(e, z, q_dot), back-emf, its own flux */
     return adjacent && (body_col || kj == KIND_FLUX || kj == KIND_INT);
-  case KIND_INT: /* z_dot = e = target - q(u, orientation) */
-    return adjacent && !same && (kj == KIND_U || kj == KIND_ORI);
+  case KIND_INT: /* controller states: z_dot(q(u, orientation) [, q_dot(p, h')] [, z]) */
+    if (adjacent && !same && (kj == KIND_U || kj == KIND_ORI)) return 1;
+    if ((rate_deps & POM_DYN_CTRL_DEP_QDOT) && adjacent && !same && (kj == KIND_P || kj == KIND_H))
+      return 1;
+    return (rate_deps & POM_DYN_CTRL_DEP_STATE) && same && kj == KIND_INT;
   default: /* accumulators: rows left out (they never feed back) */
     return 0;
   }
@@ -97,7 +102,8 @@ pom_status pom_dyn_structure_build(pom_dyn_model *m, pom_error *err) {
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) {
       int a = ent[i] >= 0 && ent[j] >= 0 && adj[ent[i] * ne + ent[j]];
-      unsigned char dij = (unsigned char)(a ? depends(kind[i], ent[i], kind[j], ent[j], 1) : 0);
+      unsigned char dij =
+          (unsigned char)(a ? depends(kind[i], ent[i], kind[j], ent[j], 1, m->ctrl->rate_deps) : 0);
       m->dep[(size_t)i * (size_t)n + (size_t)j] = dij;
     }
   }

@@ -269,9 +269,27 @@ static void tolerances_fill(pom_dyn_model *m) {
       m->scale[ac->flux_state] = L * DYN_SCALE_CURRENT;
       nat[ac->flux_state] = L * DYN_NATURAL_CURRENT;
     }
-    /* integral of the error: m s (linear) or rad s (rotary) */
-    m->scale[ac->int_state] = (rotary ? DYN_SCALE_ANGLE : DYN_SCALE_LENGTH) * p->maneuver.horizon;
-    nat[ac->int_state] = (rotary ? DYN_NATURAL_ANGLE : DYN_NATURAL_LENGTH) * DYN_NATURAL_SETTLE;
+    /* controller states by their kind; the PID integral of the error is
+     * m s (linear) or rad s (rotary) */
+    for (int k = 0; k < m->ctrl->n_states; ++k) {
+      const int i = ac->ctrl_state + k;
+      const double sq = rotary ? DYN_SCALE_ANGLE : DYN_SCALE_LENGTH;
+      const double nq = rotary ? DYN_NATURAL_ANGLE : DYN_NATURAL_LENGTH;
+      switch (m->ctrl->states[k].kind) {
+      case POM_DYN_CTRL_STATE_Q_TIME:
+        m->scale[i] = sq * p->maneuver.horizon;
+        nat[i] = nq * DYN_NATURAL_SETTLE;
+        break;
+      case POM_DYN_CTRL_STATE_Q:
+        m->scale[i] = sq;
+        nat[i] = nq;
+        break;
+      case POM_DYN_CTRL_STATE_RATE:
+        m->scale[i] = rotary ? DYN_SCALE_RATE : DYN_SCALE_SPEED;
+        nat[i] = rotary ? DYN_NATURAL_RATE : DYN_NATURAL_SPEED;
+        break;
+      }
+    }
     for (int k = 0; k < DYN_ACC_PER_ACT; ++k) {
       m->scale[ac->acc_state + k] = DYN_SCALE_ENERGY;
       nat[ac->acc_state + k] = DYN_NATURAL_ENERGY;
@@ -386,7 +404,8 @@ pom_status pom_dyn_parasitic_init(pom_dyn_model *m, const pom_mechanism *mech,
     dyn_actuator *ac = &m->act[a];
     ac->joint = j;
     ac->flux_state = p->scene.coil_inductance ? next++ : -1;
-    ac->int_state = next++;
+    ac->ctrl_state = m->ctrl->n_states > 0 ? next : -1;
+    next += m->ctrl->n_states;
   }
   m->n_actuators = mech->n_actuators;
   for (int a = 0; a < m->n_actuators; ++a) {

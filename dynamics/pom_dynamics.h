@@ -46,7 +46,15 @@ typedef struct {
                              ("rotary") */
 } pom_dyn_actuator;
 
-/* PID on e = q_set - q (m or rad); derivative on the measured velocity.
+/* A controller type (its op table and descriptors: pom_dyn_ctrl.h). */
+typedef struct pom_dyn_ctrl_type pom_dyn_ctrl_type;
+
+#define POM_DYN_CTRL_MAX_GAINS   8 /* gain slots of a controller type other than the PID */
+#define POM_DYN_CTRL_MAX_OPTIONS 4 /* option slots of a controller type other than the PID */
+
+/* The controller of every actuator: a type (pom_dyn_ctrl.h; NULL reads as
+ * the PID) and its gains. The PID keeps its gains in the named fields:
+ * PID on e = q_set - q (m or rad); derivative on the measured velocity.
  * ideal:    u = sat(K_S K_P (e + K_I int e - tau_D q_dot))
  * parallel: u = sat(K_S (K_P e + K_I int e - K_D q_dot)) */
 typedef struct {
@@ -54,6 +62,10 @@ typedef struct {
   double kp; /* K_P (V/V) */
   double ki; /* ideal: integral factor (1/s); parallel: K_I (1/s) */
   double kd; /* ideal: tau_D (s); parallel: K_D (s) */
+  /* added by the controller types (issue 17) */
+  const pom_dyn_ctrl_type *type;        /* the law; NULL = the PID (pom_dyn_ctrl_pid) */
+  double gain[POM_DYN_CTRL_MAX_GAINS];  /* other types' gains, by their descriptors (SI) */
+  int option[POM_DYN_CTRL_MAX_OPTIONS]; /* other types' option indices */
 } pom_dyn_controller;
 
 /* Parasitic joint elements (pseudo-constraints). */

@@ -3,6 +3,7 @@
 #define _XOPEN_SOURCE 700 /* mkdir */
 #include "pom_pipeline.h"
 
+#include "pom_dyn_ctrl.h"
 #include "pom_h5.h"
 #include "pom_kinematics.h"
 
@@ -267,9 +268,7 @@ static pom_status tune(pipe_ctx *ctx, const pom_pipeline_options *o, relay *rl, 
   POM_TRY_GOTO(pom_tune_run(pb, &res, err), done);
   r->config_gains_in_box = 1;
   for (int i = 0; i < pb->n_vars; ++i) {
-    double g = pb->var[i] == POM_TUNE_KP   ? res.initial.kp
-               : pb->var[i] == POM_TUNE_KI ? res.initial.ki
-                                           : res.initial.kd;
+    double g = pom_dyn_ctrl_gain(&res.initial, (int)pb->var[i]);
     r->config_gains_in_box &= g >= pb->lo[i] && g <= pb->hi[i];
   }
   if (!o->no_files) {

@@ -1,6 +1,8 @@
-/* pom_tune.c - PID gain tuning, one criterion for every architecture
+/* pom_tune.c - gain tuning of any controller type (the gains its
+ * descriptors mark tunable), one criterion for every architecture
  * (docs/optimize.md, section 9). */
 #include "pom_tune.h"
+#include "pom_dyn_ctrl.h"
 #include "pom_io.h"
 
 #include "pom_math.h"
@@ -11,10 +13,39 @@
 #include <string.h>
 #include <time.h>
 
-static const char *const var_names[POM_TUNE_N_VARS + 1] = {"kp", "ki_per_s", "kd_s", NULL};
-
 const char *pom_tune_var_name(pom_tune_var v) {
-  return (v >= 0 && v < POM_TUNE_N_VARS) ? var_names[v] : "?";
+  return ((int)v >= 0 && (int)v < pom_dyn_ctrl_pid.n_gains) ? pom_dyn_ctrl_pid.gains[v].key : "?";
+}
+
+/* The controller type's default search: its gains marked search_default,
+ * with their default bounds. */
+static void default_variables(pom_tune_problem *pb) {
+  const pom_dyn_ctrl_type *t = pom_dyn_ctrl_of(&pb->params.controller);
+  pb->n_vars = 0;
+  for (int k = 0; k < t->n_gains; ++k) {
+    const pom_dyn_gain_desc *g = &t->gains[k];
+    if (!g->tunable || !g->search_default) continue;
+    pb->var[pb->n_vars] = (pom_tune_var)k;
+    pb->lo[pb->n_vars] = g->search_lo;
+    pb->hi[pb->n_vars] = g->search_hi;
+    pb->log_scale[pb->n_vars] = g->log_search;
+    ++pb->n_vars;
+  }
+}
+
+/* "kp 1.2e4 V/V, kd_s 0.003 s" for messages: the tuned gains of c. */
+static void gains_text(char *buf, size_t cap, const pom_tune_problem *pb,
+                       const pom_dyn_controller *c) {
+  const pom_dyn_ctrl_type *t = pom_dyn_ctrl_of(c);
+  size_t len = 0;
+  buf[0] = '\0';
+  for (int k = 0; k < t->n_gains && len < cap; ++k) {
+    int w = snprintf(buf + len, cap - len, "%s%s %.6g %s", k ? ", " : "", t->gains[k].key,
+                     pom_dyn_ctrl_gain(c, k), t->gains[k].unit);
+    if (w < 0) break;
+    len += (size_t)w;
+  }
+  (void)pb;
 }
 
 static double now_s(void) {
@@ -34,15 +65,7 @@ static const double default_targets_mm[N_DEFAULT_MANEUVERS][3] = {
 void pom_tune_defaults(pom_tune_problem *pb) {
   memset(pb, 0, sizeof *pb);
   pom_dyn_params_defaults(&pb->params);
-  pb->n_vars = 2;
-  pb->var[0] = POM_TUNE_KP;
-  pb->lo[0] = 1e2;
-  pb->hi[0] = 1e5;
-  pb->log_scale[0] = 1;
-  pb->var[1] = POM_TUNE_KD;
-  pb->lo[1] = 5e-4;
-  pb->hi[1] = 2e-2;
-  pb->log_scale[1] = 1;
+  default_variables(pb); /* the PID's: kp in [1e2, 1e5] and kd_s in [5e-4, 2e-2], in log */
   pb->n_maneuvers = N_DEFAULT_MANEUVERS;
   for (int m = 0; m < N_DEFAULT_MANEUVERS; ++m)
     for (int i = 0; i < 3; ++i)
@@ -85,31 +108,48 @@ pom_status pom_tune_load(pom_tune_problem *pb, const pom_cfg *cfg, pom_error *er
   POM_TRY(pom_kin_mechanism_build(&pb->mech, &pb->arch, cfg, err));
   POM_TRY(pom_dyn_params_load(&pb->params, cfg, err));
   pb->penalty_weight = pb->params.maneuver.horizon;
+  default_variables(pb);                          /* the loaded controller type's */
   if (!pom_cfg_has(cfg, "tuning")) return POM_OK; /* every tuning key has a default */
 
+  /* the names tuning.variables may use: the type's tunable gains */
+  const pom_dyn_ctrl_type *ct = pom_dyn_ctrl_of(&pb->params.controller);
+  const char *var_names[POM_DYN_CTRL_MAX_GAINS + 1];
+  int var_gain[POM_DYN_CTRL_MAX_GAINS], n_tunable = 0;
+  char names_text[256] = "";
+  for (int k = 0; k < ct->n_gains; ++k) {
+    if (!ct->gains[k].tunable) continue;
+    size_t len = strlen(names_text);
+    snprintf(names_text + len, sizeof names_text - len, "%s\"%s\"", n_tunable ? "|" : "",
+             ct->gains[k].key);
+    var_gain[n_tunable] = k;
+    var_names[n_tunable++] = ct->gains[k].key;
+  }
+  var_names[n_tunable] = NULL;
   int nv = pom_cfg_length(cfg, "tuning.variables");
   if (pom_cfg_has(cfg, "tuning.variables")) {
-    if (nv < 1 || nv > POM_TUNE_N_VARS)
+    if (nv < 1 || nv > n_tunable)
       return pom_cfg_error(cfg, "tuning.variables", NULL, err,
-                           "expected 1..3 groups { name = \"kp\"|\"ki_per_s\"|\"kd_s\"; min = ...; "
-                           "max = ...; log = true|false; }");
+                           "expected 1..%d groups { name = %s; min = ...; max = ...; log = "
+                           "true|false; } (the tunable gains of controller %s)",
+                           n_tunable, names_text, ct->name);
     pb->n_vars = nv;
     for (int i = 0; i < nv; ++i) {
       int id = 0;
       snprintf(key, sizeof key, "tuning.variables.[%d].name", i);
       POM_TRY(pom_cfg_choice(cfg, key, var_names, &id, err));
+      id = var_gain[id];
       for (int j = 0; j < i; ++j)
         if ((int)pb->var[j] == id)
-          return pom_cfg_error(cfg, key, var_names[id], err, "gain listed twice");
+          return pom_cfg_error(cfg, key, ct->gains[id].key, err, "gain listed twice");
       pb->var[i] = (pom_tune_var)id;
       snprintf(key, sizeof key, "tuning.variables.[%d].min", i);
-      POM_TRY(pom_cfg_real(cfg, key, 1.0, 0.0, 1e12, &pb->lo[i], err));
+      POM_TRY(pom_cfg_real(cfg, key, 1.0, ct->gains[id].lo, ct->gains[id].hi, &pb->lo[i], err));
       snprintf(key, sizeof key, "tuning.variables.[%d].max", i);
-      POM_TRY(pom_cfg_real(cfg, key, 1.0, 0.0, 1e12, &pb->hi[i], err));
+      POM_TRY(pom_cfg_real(cfg, key, 1.0, ct->gains[id].lo, ct->gains[id].hi, &pb->hi[i], err));
       if (!(pb->lo[i] < pb->hi[i]))
         return pom_cfg_error(cfg, key, NULL, err, "max must exceed min");
       snprintf(key, sizeof key, "tuning.variables.[%d].log", i);
-      POM_TRY(pom_cfg_bool_opt(cfg, key, 1, &pb->log_scale[i], err));
+      POM_TRY(pom_cfg_bool_opt(cfg, key, ct->gains[id].log_search, &pb->log_scale[i], err));
       if (pb->log_scale[i] && !(pb->lo[i] > 0.0)) {
         snprintf(key, sizeof key, "tuning.variables.[%d].min", i);
         return pom_cfg_error(cfg, key, NULL, err, "a log-scaled gain needs min > 0");
@@ -213,10 +253,11 @@ pom_status pom_tune_evaluate(const pom_tune_problem *pb, const pom_dyn_controlle
     pom_dyn_metrics mt;
     st = pom_dyn_simulate(model, data, pb->target[m], &mt, trace, err);
     if (st != POM_OK) {
-      pom_error_prefix(err,
-                       "maneuver %d to (%.4g, %.4g, %.4g) %s with kp %.6g, ki %.6g 1/s, kd %.6g s",
-                       m + 1, pb->target[m][0] * tu->to_display, pb->target[m][1] * tu->to_display,
-                       pb->target[m][2] * tu->to_display, tu->display, ctl->kp, ctl->ki, ctl->kd);
+      char gains[256];
+      gains_text(gains, sizeof gains, pb, ctl);
+      pom_error_prefix(err, "maneuver %d to (%.4g, %.4g, %.4g) %s with %s", m + 1,
+                       pb->target[m][0] * tu->to_display, pb->target[m][1] * tu->to_display,
+                       pb->target[m][2] * tu->to_display, tu->display, gains);
       goto done;
     }
     /* An unsettled maneuver is censored at the horizon (docs/optimize.md 9). */
@@ -237,9 +278,12 @@ pom_status pom_tune_evaluate(const pom_tune_problem *pb, const pom_dyn_controlle
       penalty += (sat - pb->saturation_time_max) / fmax(pb->saturation_time_max, horizon * 1e-3);
   }
   out->criterion = out->mean_execution + pb->penalty_weight * penalty / pb->n_maneuvers;
-  if (!isfinite(out->criterion))
-    POM_FAIL_GOTO(err, POM_ERR_NONFINITE, done, "tuning criterion is %g at kp %g, ki %g, kd %g",
-                  out->criterion, ctl->kp, ctl->ki, ctl->kd);
+  if (!isfinite(out->criterion)) {
+    char gains[256];
+    gains_text(gains, sizeof gains, pb, ctl);
+    POM_FAIL_GOTO(err, POM_ERR_NONFINITE, done, "tuning criterion is %g at %s", out->criterion,
+                  gains);
+  }
 done:
   out->sim_time = now_s() - t0;
   pom_dyn_trace_destroy(trace);
@@ -273,9 +317,7 @@ static void search_to_controller(const pom_tune_problem *pb, const double z[],
   *c = pb->params.controller;
   for (int i = 0; i < pb->n_vars; ++i) {
     double g = pb->log_scale[i] ? pow(10.0, z[i]) : z[i];
-    if (pb->var[i] == POM_TUNE_KP) c->kp = g;
-    if (pb->var[i] == POM_TUNE_KI) c->ki = g;
-    if (pb->var[i] == POM_TUNE_KD) c->kd = g;
+    *pom_dyn_ctrl_gain_ptr(c, (int)pb->var[i]) = g;
   }
 }
 
@@ -303,9 +345,7 @@ pom_status pom_tune_run(const pom_tune_problem *pb, pom_tune_result *res, pom_er
   for (int i = 0; i < pb->n_vars; ++i) {
     lo[i] = pb->log_scale[i] ? log10(pb->lo[i]) : pb->lo[i];
     hi[i] = pb->log_scale[i] ? log10(pb->hi[i]) : pb->hi[i];
-    double g = pb->var[i] == POM_TUNE_KP   ? res->initial.kp
-               : pb->var[i] == POM_TUNE_KI ? res->initial.ki
-                                           : res->initial.kd;
+    double g = pom_dyn_ctrl_gain(&res->initial, (int)pb->var[i]);
     z0[i] = pb->log_scale[i] ? (g > 0.0 ? log10(g) : lo[i]) : g;
   }
   pom_status st = pom_opt_maximize(pb->n_vars, lo, hi, z0, objective, &c, &pb->opt, &res->opt, err);
@@ -334,17 +374,22 @@ pom_status pom_tune_write_controller(const pom_tune_problem *pb, const pom_tune_
   pom_io_file w;
   POM_TRY(pom_io_create(&w, path, err));
   FILE *f = w.f;
-  fprintf(f,
-          "# PID gains tuned by pomlab tune for \"%s\" (%s):\n"
-          "# mean execution time %.4g ms over %d fixed maneuvers (largest overshoot\n"
-          "# %.3g %%, largest saturation time %.4g ms, %d unsettled); criterion\n"
-          "# %.6g ms (config gains: %.6g ms).\n",
-          pb->arch.name, pom_kin_arch_name(&pb->arch), res->best_eval.mean_execution * 1e3,
-          pb->n_maneuvers, res->best_eval.max_overshoot * 100.0,
-          res->best_eval.max_saturation * 1e3, res->best_eval.unsettled,
-          res->best_eval.criterion * 1e3, res->initial_eval.criterion * 1e3);
+  const pom_dyn_ctrl_type *t = pom_dyn_ctrl_of(&res->best);
   fprintf(
-      f, "controller = {\n  form = \"%s\";\n  kp = %.9g;\n  ki_per_s = %.9g;\n  kd_s = %.9g;\n};\n",
-      pom_dyn_pid_form_name(res->best.form), res->best.kp, res->best.ki, res->best.kd);
+      f,
+      "# %s gains tuned by pomlab tune for \"%s\" (%s):\n"
+      "# mean execution time %.4g ms over %d fixed maneuvers (largest overshoot\n"
+      "# %.3g %%, largest saturation time %.4g ms, %d unsettled); criterion\n"
+      "# %.6g ms (config gains: %.6g ms).\n",
+      t->label, pb->arch.name, pom_kin_arch_name(&pb->arch), res->best_eval.mean_execution * 1e3,
+      pb->n_maneuvers, res->best_eval.max_overshoot * 100.0, res->best_eval.max_saturation * 1e3,
+      res->best_eval.unsettled, res->best_eval.criterion * 1e3, res->initial_eval.criterion * 1e3);
+  /* the type, its options and every gain: the file alone sets the controller */
+  fprintf(f, "controller = {\n  type = \"%s\";\n", t->name);
+  for (int k = 0; k < t->n_options; ++k)
+    fprintf(f, "  %s = \"%s\";\n", t->options[k].key, pom_dyn_ctrl_option_name(&res->best, k));
+  for (int k = 0; k < t->n_gains; ++k)
+    fprintf(f, "  %s = %.9g;\n", t->gains[k].key, pom_dyn_ctrl_gain(&res->best, k));
+  fprintf(f, "};\n");
   return pom_io_commit(&w, err);
 }

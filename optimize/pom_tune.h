@@ -18,14 +18,16 @@
 
 #define POM_TUNE_MAX_MANEUVERS 32
 
+/* A tuned gain: the index of a gain of the controller's type
+ * (pom_dyn_ctrl.h). The PID's three have names here. */
 typedef enum {
-  POM_TUNE_KP = 0, /* controller.kp (V/V) */
-  POM_TUNE_KI = 1, /* controller.ki_per_s (1/s) */
-  POM_TUNE_KD = 2, /* controller.kd_s (s) */
-  POM_TUNE_N_VARS = 3
+  POM_TUNE_KP = 0,                         /* PID controller.kp (V/V) */
+  POM_TUNE_KI = 1,                         /* PID controller.ki_per_s (1/s) */
+  POM_TUNE_KD = 2,                         /* PID controller.kd_s (s) */
+  POM_TUNE_N_VARS = POM_DYN_CTRL_MAX_GAINS /* the most gains a controller type has */
 } pom_tune_var;
 
-/* Config name of a gain ("kp", "ki_per_s", "kd_s"). */
+/* Config name of gain v of the PID ("kp", "ki_per_s", "kd_s"; "?" otherwise). */
 const char *pom_tune_var_name(pom_tune_var v);
 
 /* The tuning problem (const during a run). */

@@ -46,7 +46,7 @@ static void random_state(const pom_dyn_model *m, pom_rng *rng, double *y) {
     const dyn_actuator *ac = &m->act[a];
     if (ac->flux_state >= 0)
       y[ac->flux_state] = m->par.actuator.inductance * pom_rng_range(rng, -2.0, 2.0);
-    y[ac->int_state] = m->scale[ac->int_state] * pom_rng_range(rng, -3.0, 3.0);
+    y[ac->ctrl_state] = m->scale[ac->ctrl_state] * pom_rng_range(rng, -3.0, 3.0);
   }
 }
 
@@ -60,7 +60,7 @@ static void set_target_for(pom_dyn_model *m, pom_dyn_data *d, const double *y, i
   double q = d->out.q[a], qd = d->out.q_dot[a];
   const pom_dyn_actuator *ap = &m->par.actuator;
   const pom_dyn_controller *cp = &m->par.controller;
-  double z = y[m->act[a].int_state];
+  double z = y[m->act[a].ctrl_state];
   /* u_raw = S K_P (e + K_I z - K_D qd) (ideal) or S (K_P e + K_I z - K_D qd) */
   double rest =
       cp->form == POM_PID_IDEAL ? cp->kp * (cp->ki * z - cp->kd * qd) : cp->ki * z - cp->kd * qd;

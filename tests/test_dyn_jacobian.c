@@ -50,7 +50,7 @@ static void set_targets(const pom_dyn_model *m, pom_dyn_data *d, const double *y
   memset(d->target, 0, sizeof d->target);
   pom_dyn_eval(m, d, y, NULL);
   for (int a = 0; a < m->n_actuators; ++a) {
-    double q = d->out.q[a], qd = d->out.q_dot[a], z = y[m->act[a].int_state];
+    double q = d->out.q[a], qd = d->out.q_dot[a], z = y[m->act[a].ctrl_state];
     double S = p->actuator.sensor_gain, kp = p->controller.kp, ki = p->controller.ki,
            kd = p->controller.kd;
     if (a == 0) {

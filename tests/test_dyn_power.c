@@ -55,7 +55,7 @@ static void random_state(const pom_dyn_model *m, pom_rng *g, double *y) {
     const dyn_actuator *ac = &m->act[a];
     if (ac->flux_state >= 0)
       y[ac->flux_state] = m->par.actuator.inductance * pom_rng_range(g, -2.0, 2.0);
-    y[ac->int_state] = pom_rng_range(g, -3e-6, 3e-6);
+    y[ac->ctrl_state] = pom_rng_range(g, -3e-6, 3e-6);
   }
 }
 

@@ -30,7 +30,7 @@ static void test_atol_vector(const pom_mechanism *mech, const pom_kin_arch *arch
   check_rel(m->atol[b0->offset + DYN_BODY_H + 2], 2.385e-5 * b0->principal[2], 1e-15);
   check_rel(m->atol[b0->offset + DYN_BODY_ORI], 2.385e-5 * 0.1, 1e-15);
   check_rel(m->atol[a0->flux_state], 2.385e-5 * p.actuator.inductance, 1e-15);
-  check_rel(m->atol[a0->int_state], 2.385e-5 * 1e-5, 1e-15);
+  check_rel(m->atol[a0->ctrl_state], 2.385e-5 * 1e-5, 1e-15);
   check_rel(m->atol[a0->acc_state + DYN_ACC_SOURCE], 2.385e-5 * 0.1, 1e-15);
   check_true(m->atol[a0->acc_state + DYN_ACC_SATURATED] >= 1e30); /* out of the error test */
   pom_dyn_model_destroy(m);
@@ -70,7 +70,7 @@ static void test_atol_vector(const pom_mechanism *mech, const pom_kin_arch *arch
       }
       const dyn_actuator *ea = &m->act[0];
       check_rel(m->atol[ea->flux_state], 2.385e-5 * p.actuator.inductance, 1e-15);
-      check_rel(m->atol[ea->int_state], 2.385e-5 * 1e-5, 1e-15);
+      check_rel(m->atol[ea->ctrl_state], 2.385e-5 * 1e-5, 1e-15);
       check_rel(m->atol[ea->acc_state + DYN_ACC_SOURCE], 2.385e-5 * 0.1, 1e-15);
       check_true(m->relative[ea->flux_state] == 1 && m->relative[ea->acc_state] == 1);
       check_true(m->atol[ea->acc_state + DYN_ACC_SATURATED] >= 1e30);
