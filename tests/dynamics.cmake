@@ -31,3 +31,7 @@ target_link_libraries(test_dyn_nvec PRIVATE pom_dynamics pom_kinematics pom_core
 pom_add_test(test_dyn_exact_jac test_dyn_exact_jac.c)
 target_include_directories(test_dyn_exact_jac PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
 target_link_libraries(test_dyn_exact_jac PRIVATE pom_dynamics pom_kinematics pom_core)
+# a program's own controllers through the public API (docs/extending.md section 6)
+pom_add_test(test_ctrl_registry test_ctrl_registry.c)
+target_include_directories(test_ctrl_registry PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
+target_link_libraries(test_ctrl_registry PRIVATE pom_dynamics pom_kinematics pom_core)
