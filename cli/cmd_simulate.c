@@ -371,6 +371,13 @@ int pom_cmd_simulate(int argc, char **argv) {
   /* the controller's type and form through the config, checked like the file's values */
   if (controller) st = pom_cfg_set_string(cfg, "controller.type", controller, "--controller", &err);
   if (form && st == POM_OK) st = pom_cfg_set_string(cfg, "controller.form", form, "--form", &err);
+  /* the choices likewise: the loader's tables name them, one parser */
+  if (joints && st == POM_OK)
+    st = pom_cfg_set_string(cfg, "joints.model", joints, "--joints", &err);
+  if (orient && st == POM_OK)
+    st = pom_cfg_set_string(cfg, "scene.orientation", orient, "--orientation", &err);
+  if (linsol && st == POM_OK)
+    st = pom_cfg_set_string(cfg, "solver.linear_solver", linsol, "--linsol", &err);
   for (int j = 0; j < n_settings && st == POM_OK; ++j)
     if (settings[j].text)
       st = pom_cfg_set_number(cfg, settings[j].key, settings[j].text, settings[j].option, &err);
@@ -385,39 +392,6 @@ int pom_cmd_simulate(int argc, char **argv) {
     pom_cli_report("simulate", &err);
     rc = pom_cli_exit_code(st);
     goto done;
-  }
-  if (joints) {
-    if (strcmp(joints, "parasitic") == 0)
-      par.joints.model = POM_JOINTS_PARASITIC;
-    else if (strcmp(joints, "rigid") == 0)
-      par.joints.model = POM_JOINTS_RIGID;
-    else {
-      fprintf(stderr, "pomlab simulate: --joints expects parasitic or rigid, got '%s'\n", joints);
-      rc = 2;
-      goto done;
-    }
-  }
-  if (orient) {
-    if (strcmp(orient, "euler") == 0)
-      par.scene.orientation = POM_ORIENT_EULER_ZYX;
-    else if (strcmp(orient, "quaternion") == 0)
-      par.scene.orientation = POM_ORIENT_QUATERNION;
-    else {
-      fprintf(stderr, "pomlab simulate: --orientation expects euler or quaternion\n");
-      rc = 2;
-      goto done;
-    }
-  }
-  if (linsol) {
-    if (strcmp(linsol, "dense") == 0)
-      par.solver.linear_solver = POM_LINSOL_DENSE;
-    else if (strcmp(linsol, "klu") == 0)
-      par.solver.linear_solver = POM_LINSOL_KLU;
-    else {
-      fprintf(stderr, "pomlab simulate: --linsol expects dense or klu\n");
-      rc = 2;
-      goto done;
-    }
   }
   /* display unit (mm or deg) -> SI (m or rad), once, at the edge */
   const pom_act_units *u = pom_act_units_of(kind);

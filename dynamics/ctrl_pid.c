@@ -8,7 +8,9 @@
 
 #include <stdio.h>
 
+/* indexed by pom_pid_form */
 static const char *const pid_forms[] = {"ideal", "parallel", NULL};
+_Static_assert(POM_PID_IDEAL == 0 && POM_PID_PARALLEL == 1, "pid_forms follows pom_pid_form");
 
 static const pom_dyn_ctrl_state_desc pid_states[] = {
     {"integral", "integral of the error e = q_set - q (m s or rad s)", POM_DYN_CTRL_STATE_Q_TIME},

@@ -1,7 +1,7 @@
 /* dyn_ctrl_registry.c - the registry of controller types (the built-ins,
  * then the ones a program registers) and the descriptor-driven helpers every
  * caller uses: defaults, the one range check, loading (docs/extending.md
- * section 6). Registering a controller of the library = one line in
+ * section 8). Registering a controller of the library = one line in
  * `builtin` below. */
 #include "pom_dyn_ctrl.h"
 

@@ -48,13 +48,24 @@ void pom_dyn_params_defaults(pom_dyn_params *p) {
 }
 
 /* ---- names --------------------------------------------------------------- */
-static const char *const pid_forms[] = {"ideal", "parallel", NULL};
 static const char *const orient_kinds[] = {"euler", "quaternion", NULL};
 static const char *const linsol_kinds[] = {"dense", "klu", NULL};
 static const char *const jacobian_kinds[] = {"analytic", "finite-difference", NULL};
 static const char *const joint_models[] = {"parasitic", "rigid", NULL};
 static const char *const inertia_kinds[] = {"full", "lumped", NULL};
 static const char *const actuator_kinds[] = {"linear", "rotary", NULL};
+/* each table lists its enum's values in order: the loader casts the index */
+#define TABLE_LEN(t) (sizeof(t) / sizeof((t)[0]) - 1)
+_Static_assert(TABLE_LEN(orient_kinds) == POM_ORIENT_QUATERNION + 1,
+               "orient_kinds follows pom_orient_kind");
+_Static_assert(TABLE_LEN(linsol_kinds) == POM_LINSOL_KLU + 1,
+               "linsol_kinds follows pom_linsol_kind");
+_Static_assert(TABLE_LEN(jacobian_kinds) == POM_JAC_FINITE_DIFFERENCE + 1,
+               "jacobian_kinds follows pom_jac_kind");
+_Static_assert(TABLE_LEN(joint_models) == POM_JOINTS_RIGID + 1,
+               "joint_models follows pom_joint_model");
+_Static_assert(TABLE_LEN(inertia_kinds) == POM_INERTIA_LUMPED + 1,
+               "inertia_kinds follows pom_inertia_kind");
 /* constant, bearing friction and sensor gain keys of each actuator kind */
 static const char *const actuator_keys[2][3] = {
     {"actuator.force_constant_N_per_A", "actuator.bearing_friction_Ns_per_m",
@@ -65,7 +76,7 @@ static const char *const actuator_keys[2][3] = {
 /* names from the tables above, indexed by the enum's value; "?" for a value
  * outside the table (never the first name by default) */
 const char *pom_dyn_pid_form_name(pom_pid_form f) {
-  return pom_cfg_choice_name(pid_forms, (int)f);
+  return pom_cfg_choice_name(pom_dyn_ctrl_pid.options[0].names, (int)f); /* ctrl_pid.c */
 }
 const char *pom_dyn_orient_name(pom_orient_kind k) {
   return pom_cfg_choice_name(orient_kinds, (int)k);
@@ -129,7 +140,7 @@ pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error 
                            j->angular_damping, &j->angular_damping, err));
   idx = (int)j->model;
   POM_TRY(pom_cfg_choice_opt(cfg, "joints.model", joint_models, idx, &idx, err));
-  j->model = (idx == 1) ? POM_JOINTS_RIGID : POM_JOINTS_PARASITIC;
+  j->model = (pom_joint_model)idx; /* the enum values are the table indices */
 
   POM_TRY(pom_cfg_bool_opt(cfg, "scene.gravity", s->gravity, &s->gravity, err));
   POM_TRY(pom_cfg_bool_opt(cfg, "scene.bearing_friction", s->bearing_friction, &s->bearing_friction,
@@ -138,10 +149,10 @@ pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error 
       pom_cfg_bool_opt(cfg, "scene.coil_inductance", s->coil_inductance, &s->coil_inductance, err));
   idx = (int)s->orientation;
   POM_TRY(pom_cfg_choice_opt(cfg, "scene.orientation", orient_kinds, idx, &idx, err));
-  s->orientation = (idx == 1) ? POM_ORIENT_QUATERNION : POM_ORIENT_EULER_ZYX;
+  s->orientation = (pom_orient_kind)idx; /* the enum values are the table indices */
   idx = (int)s->limb_inertia;
   POM_TRY(pom_cfg_choice_opt(cfg, "scene.limb_inertia", inertia_kinds, idx, &idx, err));
-  s->limb_inertia = (idx == 1) ? POM_INERTIA_LUMPED : POM_INERTIA_FULL;
+  s->limb_inertia = (pom_inertia_kind)idx; /* the enum values are the table indices */
   POM_TRY(
       pom_cfg_bool_opt(cfg, "scene.universal_joint", s->universal_joint, &s->universal_joint, err));
 
@@ -155,10 +166,10 @@ pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error 
   v->max_steps = lval;
   idx = (int)v->linear_solver;
   POM_TRY(pom_cfg_choice_opt(cfg, "solver.linear_solver", linsol_kinds, idx, &idx, err));
-  v->linear_solver = (idx == 1) ? POM_LINSOL_KLU : POM_LINSOL_DENSE;
+  v->linear_solver = (pom_linsol_kind)idx; /* the enum values are the table indices */
   idx = (int)v->jacobian;
   POM_TRY(pom_cfg_choice_opt(cfg, "solver.jacobian", jacobian_kinds, idx, &idx, err));
-  v->jacobian = (idx == 1) ? POM_JAC_FINITE_DIFFERENCE : POM_JAC_ANALYTIC;
+  v->jacobian = (pom_jac_kind)idx; /* the enum values are the table indices */
   POM_TRY(pom_cfg_int_opt(cfg, "solver.max_order", 1, 5, v->max_order, &lval, err));
   v->max_order = (int)lval;
   POM_TRY(pom_cfg_bool_opt(cfg, "solver.stability_limit_detection", v->stability_limit_detection,

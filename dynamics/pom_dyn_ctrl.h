@@ -2,7 +2,7 @@
  * and descriptors (pom_dyn_ctrl_type), in the manner of the architectures'
  * pom_kin_arch_type (kinematics/pom_arch.h). The ideal and parallel PID
  * (ctrl_pid.c) are the built-in implementation; a user's control law is one
- * more file and one registration (docs/extending.md section 6,
+ * more file and one registration (docs/extending.md section 8,
  * docs/dynamics.md section 4).
  *
  * Contract every implementation keeps: the law of actuator a sees only what

@@ -79,6 +79,22 @@ expect_rc 2 "$POMLAB" simulate "$TMP/bad.cfg" --target 1,2,3
 grep -q "actuator.resistance_ohm" "$TMP/err" || { echo "FAIL: message does not name the key"; fail=1; }
 sed 's/  rtol = 1.0e-6; /  rtol = 1.0e-6; bogus_key = 1;/' "$SRC/configs/3pss.cfg" > "$TMP/unknown.cfg"
 expect_rc 2 "$POMLAB" simulate "$TMP/unknown.cfg" --target 1,2,3
+# the controller by name, through the config's own checks (issue 17)
+expect_rc 2 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target 1,2,3 --controller no_such_law
+grep -q "command line --controller: key 'controller.type' = no_such_law" "$TMP/err" ||
+  { echo "FAIL: --controller message"; fail=1; }
+expect_rc 0 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target 1,2,3 --controller pid --joints rigid --json
+$PY -c "
+import json,sys; r=json.load(open('$TMP/out'))
+c=r['controller']; assert c['type']=='pid' and c['form']=='ideal' and c['kp']>0, c
+" || { echo "FAIL: simulate JSON controller"; fail=1; }
+expect_rc 0 "$POMLAB" model --list-controllers --json
+$PY -c "
+import json; r=json.load(open('$TMP/out'))
+pid=[c for c in r['controllers'] if c['name']=='pid'][0]
+keys=[g['key'] for g in pid['gains']]; assert keys==['kp','ki_per_s','kd_s'], keys
+assert pid['states_per_actuator'][0]['name']=='integral' and pid['options'][0]['choices']==['ideal','parallel']
+" || { echo "FAIL: --list-controllers JSON"; fail=1; }
 expect_rc 0 "$POMLAB" simulate --help
 grep -q -i "millimetres" "$TMP/out" || { echo "FAIL: --help does not state the unit"; fail=1; }
 
