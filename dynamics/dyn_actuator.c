@@ -21,6 +21,30 @@ double pom_dyn_controller_law(const pom_dyn_model *m, const pom_dyn_data *d, int
   return m->ctrl->law(&m->par.controller, &in, z, zdot);
 }
 
+/* A coupled law over every actuator: the sensors, then the voltages and the
+ * state rates (the states are contiguous per actuator, actuator-major, as
+ * both formulations lay them out). */
+void pom_dyn_controller_pass(const pom_dyn_model *m, pom_dyn_data *d, const double *q,
+                             const double *qd, const double *y, double *ydot) {
+  const int n = m->n_actuators, ns = m->ctrl->n_states;
+  double current[POM_MECH_MAX_ACTUATORS];
+  int inductive = n > 0 && m->act[0].flux_state >= 0;
+  for (int a = 0; a < n && inductive; ++a)
+    current[a] = y[m->act[a].flux_state] / m->par.actuator.inductance;
+  double z[POM_MECH_MAX_ACTUATORS * POM_DYN_CTRL_MAX_STATES];
+  double zdot[POM_MECH_MAX_ACTUATORS * POM_DYN_CTRL_MAX_STATES];
+  for (int a = 0; a < n; ++a)
+    for (int k = 0; k < ns; ++k)
+      z[a * ns + k] = y[m->act[a].ctrl_state + k];
+  const pom_dyn_ctrl_sensed s = {n, d->target, q, qd, inductive ? current : NULL};
+  m->ctrl->law_all(&m->par.controller, m->ctrl_model, d->ctrl_work, &s, m->par.actuator.sensor_gain,
+                   ns > 0 ? z : NULL, d->ctrl_u, ydot && ns > 0 ? zdot : NULL);
+  if (ydot)
+    for (int a = 0; a < n; ++a)
+      for (int k = 0; k < ns; ++k)
+        ydot[m->act[a].ctrl_state + k] = zdot[a * ns + k];
+}
+
 /* ---- the law ------------------------------------------------------------- */
 /* The controller's voltage, saturation, coil (flux state or quasi-static),
  * bearing friction; outputs and (with ydot) the coil, controller-state and
@@ -30,8 +54,13 @@ double pom_dyn_actuator_law(const pom_dyn_model *m, pom_dyn_data *d, int a, doub
   const pom_dyn_actuator *ap = &m->par.actuator;
   const dyn_actuator *ac = &m->act[a];
   dyn_outputs *o = &d->out;
-  double *zdot = (ydot && ac->ctrl_state >= 0) ? ydot + ac->ctrl_state : NULL;
-  double u_raw = pom_dyn_controller_law(m, d, a, q, qd, y, zdot, NULL);
+  double u_raw;
+  if (m->ctrl->law_all) {
+    u_raw = d->ctrl_u[a]; /* the coupled law ran for every actuator (pom_dyn_controller_pass) */
+  } else {
+    double *zdot = (ydot && ac->ctrl_state >= 0) ? ydot + ac->ctrl_state : NULL;
+    u_raw = pom_dyn_controller_law(m, d, a, q, qd, y, zdot, NULL);
+  }
   double lim = ap->voltage_limit;
   double u = u_raw > lim ? lim : (u_raw < -lim ? -lim : u_raw);
   double i;

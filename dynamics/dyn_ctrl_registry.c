@@ -12,6 +12,7 @@
 
 static const pom_dyn_ctrl_type *const builtin[] = {
     &pom_dyn_ctrl_pid,
+    &pom_dyn_ctrl_computed_torque,
 };
 #define N_BUILTIN ((int)(sizeof builtin / sizeof builtin[0]))
 #define MAX_USER  16
@@ -47,7 +48,8 @@ const pom_dyn_ctrl_type *pom_dyn_ctrl_type_find(const char *name) {
  * slots within their arrays. */
 static pom_status type_check(const pom_dyn_ctrl_type *t, pom_error *err) {
   if (!t || !t->name || !t->name[0]) POM_FAIL(err, POM_ERR_ARG, "controller type without a name");
-  if (!t->law || !t->describe)
+  if ((!t->law && !t->law_all) || !t->describe || (t->law_all && t->partials) ||
+      (!t->model_create) != (!t->model_destroy) || (!t->work_create) != (!t->work_destroy))
     POM_FAIL(err, POM_ERR_ARG, "controller %s: its operations table is incomplete", t->name);
   if (t->n_states < 0 || t->n_states > POM_DYN_CTRL_MAX_STATES || (t->n_states > 0 && !t->states))
     POM_FAIL(err, POM_ERR_ARG, "controller %s: %d states (0..%d, each described)", t->name,
@@ -194,6 +196,21 @@ pom_status pom_dyn_ctrl_load(pom_dyn_controller *c, const pom_cfg *cfg, pom_erro
     double *slot = pom_dyn_ctrl_gain_ptr(c, k);
     snprintf(key, sizeof key, "controller.%s", g->key);
     POM_TRY(pom_cfg_real_opt(cfg, key, 1.0, g->lo, g->hi, *slot, slot, err));
+  }
+  /* keys of the other registered types may stay in the group (one config
+   * carries the gains of several controllers, switched by controller.type or
+   * --controller): they are not read; a key of no registered type is still
+   * refused by the unknown-key check (docs/config.md) */
+  for (int k = 0; k < pom_dyn_ctrl_type_count(); ++k) {
+    const pom_dyn_ctrl_type *o = pom_dyn_ctrl_type_at(k);
+    if (o == t) continue;
+    for (int i = 0; i < o->n_gains + o->n_options; ++i) {
+      const char *okey = i < o->n_gains ? o->gains[i].key : o->options[i - o->n_gains].key;
+      snprintf(key, sizeof key, "controller.%s", okey);
+      if (pom_cfg_has(cfg, key) && pom_dyn_ctrl_gain_index(t, okey) < 0 &&
+          pom_dyn_ctrl_option_index(t, okey) < 0)
+        pom_cfg_mark_used(cfg, key);
+    }
   }
   return POM_OK;
 }

@@ -392,32 +392,15 @@ static pom_status exact_init(pom_dyn_model *m, const pom_mechanism *mech, const 
   return POM_OK;
 }
 
-/* ---- right-hand side ------------------------------------------------------ */
-/* One evaluation. ydot NULL and !energy: the outputs (q, q_dot, current,
- * voltage) only, from the IK and J (the driver's per-step extremes); energy:
- * also M, the kinetic and the potential energy. */
-static int exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot,
-                      int energy) {
+/* ---- mass matrix and generalized forces ------------------------------------ */
+/* Kane's equations over the moving bodies at the twists tw and angular
+ * velocity w: adds to M the mass matrix, to f the generalized force of
+ * gravity and the velocity terms, to *pe the gravitational energy relative
+ * to home (docs/dynamics-exact.md section 3). */
+static void body_terms(const pom_dyn_model *m, const pom_kin_twists *tw, const double *w,
+                       double M[9], double f[3], double *pe) {
   const dyn_exact *ex = exact_of(m);
-  dyn_exact_work *xw = work_of(d);
-  const pom_dyn_params *par = &m->par;
-  dyn_outputs *o = &d->out;
-  memset(o, 0, sizeof *o);
-  double R[9], trig[4] = {1.0, 0.0, 1.0, 0.0};
-  state_rotation(m, y, R, trig);
-  if (ex->n_ori == 3 && trig[2] < par->scene.euler_cos_min) o->euler_singular = 1;
-  const double *w = y + ex->omega;
-  pom_kin_twists *tw = &xw->tw;
-  const int outputs_only = !ydot && !energy;
-  if (outputs_only ? pom_kin_inverse_jacobian(&ex->arch, R, tw->q, tw->J, NULL) != POM_OK
-                   : pom_kin_body_twists(&ex->arch, R, w, tw, NULL) != POM_OK) {
-    o->kin_fail = 1;
-    return 1;
-  }
-
-  /* Kane: M = sum m Acm^T Acm + B^T I B; f = sum Acm^T (F - m a0) - B^T (I al0 + w x I w) */
-  double M[9] = {0}, f[3] = {0}, pe = 0.0;
-  for (int b = 0; b < (outputs_only ? 0 : m->n_bodies); ++b) {
+  for (int b = 0; b < m->n_bodies; ++b) {
     const dyn_body *bd = &m->body[b];
     const pom_kin_body_twist *t = &tw->body[bd->mech_index];
     double d0[3], rho[3], Acm[9], wb[3], a0[3], tmp[3], x[3];
@@ -476,11 +459,47 @@ static int exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, 
     /* gravitational potential relative to home */
     pom_v3_add(x, t->ref, rho);
     pom_v3_sub(x, x, bd->cm_home);
-    pe -= bd->mass * pom_v3_dot(m->gravity, x);
+    *pe -= bd->mass * pom_v3_dot(m->gravity, x);
   }
+}
+
+/* ---- right-hand side ------------------------------------------------------ */
+/* One evaluation. ydot NULL and !energy: the outputs (q, q_dot, current,
+ * voltage) only, from the IK and J (the driver's per-step extremes); energy:
+ * also M, the kinetic and the potential energy. */
+static int exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot,
+                      int energy) {
+  const dyn_exact *ex = exact_of(m);
+  dyn_exact_work *xw = work_of(d);
+  const pom_dyn_params *par = &m->par;
+  dyn_outputs *o = &d->out;
+  memset(o, 0, sizeof *o);
+  double R[9], trig[4] = {1.0, 0.0, 1.0, 0.0};
+  state_rotation(m, y, R, trig);
+  if (ex->n_ori == 3 && trig[2] < par->scene.euler_cos_min) o->euler_singular = 1;
+  const double *w = y + ex->omega;
+  pom_kin_twists *tw = &xw->tw;
+  const int outputs_only = !ydot && !energy;
+  if (outputs_only ? pom_kin_inverse_jacobian(&ex->arch, R, tw->q, tw->J, NULL) != POM_OK
+                   : pom_kin_body_twists(&ex->arch, R, w, tw, NULL) != POM_OK) {
+    o->kin_fail = 1;
+    return 1;
+  }
+
+  /* Kane: M = sum m Acm^T Acm + B^T I B; f = sum Acm^T (F - m a0) - B^T (I al0 + w x I w) */
+  double M[9] = {0}, f[3] = {0}, pe = 0.0;
+  if (!outputs_only) body_terms(m, tw, w, M, f, &pe);
 
   /* actuators: the same coil and controller laws as the parasitic path
    * (dyn_rhs.c), the force entering as J^T F */
+  if (m->ctrl->law_all) { /* a coupled controller sees every actuator's sensors first */
+    double qa[POM_MECH_MAX_ACTUATORS], qda[POM_MECH_MAX_ACTUATORS];
+    for (int a = 0; a < m->n_actuators; ++a) {
+      qa[a] = tw->q[ex->act_limb[a]];
+      qda[a] = pom_v3_dot(tw->J + 3 * ex->act_limb[a], w);
+    }
+    pom_dyn_controller_pass(m, d, qa, qda, y, ydot);
+  }
   for (int a = 0; a < m->n_actuators; ++a) {
     int limb = ex->act_limb[a];
     const double *Jr = tw->J + 3 * limb;
@@ -884,3 +903,21 @@ const dyn_formulation pom_dyn_form_exact = {
     .body_pose = exact_body_pose,
     .solver_failure = exact_solver_failure,
 };
+
+/* ---- the controller's view (model-based control) ----------------------------- */
+int pom_dyn_exact_terms(const pom_dyn_model *m, pom_dyn_data *d, const double R[9],
+                        const double w[3], double M[9], double f[3], double q[3], double J[9]) {
+  const dyn_exact *ex = exact_of(m);
+  pom_kin_twists *tw = &work_of(d)->tw;
+  if (pom_kin_body_twists(&ex->arch, R, w, tw, NULL) != POM_OK) return 1;
+  double pe = 0.0;
+  memset(M, 0, 9 * sizeof *M);
+  memset(f, 0, 3 * sizeof *f);
+  body_terms(m, tw, w, M, f, &pe);
+  for (int a = 0; a < m->n_actuators; ++a) { /* q and J in actuator order */
+    int limb = ex->act_limb[a];
+    q[a] = tw->q[limb];
+    memcpy(J + 3 * a, tw->J + 3 * limb, 3 * sizeof *J);
+  }
+  return 0;
+}

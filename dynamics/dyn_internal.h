@@ -86,6 +86,7 @@ struct pom_dyn_model {
   /* 1: the controller has partials and at most one state, and the analytic
    * Jacobians use them; 0: its columns go by finite differences (docs 7) */
   int ctrl_analytic;
+  void *ctrl_model; /* the controller's own model (its type's model_create), owned; or NULL */
   void *form_model; /* the formulation's private model, owned (NULL if none) */
   pom_dyn_params par;
   double gravity[3]; /* m/s^2, zero when the scene has gravity off */
@@ -168,7 +169,10 @@ struct pom_dyn_data {
   double *qs;                /* [n_samples][n_actuators] sampled positions for metrics */
   double *yfinal;            /* [n_states] state at the end of the last run */
   int have_final;
-  void *form_data;     /* the formulation's per-worker scratch, owned (NULL if none) */
+  void *form_data; /* the formulation's per-worker scratch, owned (NULL if none) */
+  void *ctrl_work; /* the controller's per-worker scratch (work_create), owned, or NULL */
+  double ctrl_u[POM_MECH_MAX_ACTUATORS]; /* a coupled controller's raw voltages of this
+                                            evaluation (V), set by pom_dyn_controller_pass */
   long kin_fail_count; /* exact path: RHS calls of this run at an unassemblable pose */
 };
 
@@ -276,6 +280,23 @@ typedef struct {
   double dflux_dz, dflux_dflux; /* coil equation d(flux_dot)/dz, d(flux_dot)/d flux (1/s) */
   double dzd_dz;                /* the controller state's rate against z (1/s) */
 } dyn_law_partials;
+
+/* dyn_actuator.c: a coupled controller (law_all) at one evaluation: every
+ * actuator's measured q[n] and qd[n] (and, from y, the coil currents) give
+ * d->ctrl_u and (ydot non-NULL) the controller state rates. The formulation
+ * calls it before its actuator laws; pom_dyn_actuator_law then reads
+ * d->ctrl_u. */
+void pom_dyn_controller_pass(const pom_dyn_model *m, pom_dyn_data *d, const double *q,
+                             const double *qd, const double *y, double *ydot);
+
+/* dyn_exact.c: the controller's view of an exact model (model-based
+ * control): at platform rotation R and angular velocity w (fixed frame), the
+ * mass matrix M (kg m^2), the generalized force of gravity and the velocity
+ * terms f (N m; M w_dot = f + J^T F with the actuator efforts F), the
+ * actuator coordinates q and the Jacobian J (q_dot = J w). Uses d's scratch.
+ * Returns 0, or 1 when the mechanism cannot be assembled at R. */
+int pom_dyn_exact_terms(const pom_dyn_model *m, pom_dyn_data *d, const double R[9],
+                        const double w[3], double M[9], double f[3], double q[3], double J[9]);
 
 /* dyn_actuator.c: the controller's input and its raw (unsaturated) voltage
  * for actuator a at q, qd and state y (zdot, when non-NULL, receives the

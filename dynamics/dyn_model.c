@@ -60,6 +60,13 @@ static pom_status params_check(const pom_dyn_params *p, pom_error *err) {
 /* ---- create / destroy ---------------------------------------------------- */
 pom_status pom_dyn_model_create(pom_dyn_model **out, const pom_mechanism *mech,
                                 const pom_kin_arch *arch, const pom_dyn_params *p, pom_error *err) {
+  return pom_dyn_model_create_ex(out, mech, arch, p, NULL, NULL, NULL, err);
+}
+
+pom_status pom_dyn_model_create_ex(pom_dyn_model **out, const pom_mechanism *mech,
+                                   const pom_kin_arch *arch, const pom_dyn_params *p,
+                                   const pom_mechanism *ctrl_mech, const pom_kin_arch *ctrl_arch,
+                                   const pom_dyn_params *ctrl_params, pom_error *err) {
   pom_status st = POM_OK;
   pom_dyn_model *m = NULL;
   if (!out || !mech || !p) POM_FAIL(err, POM_ERR_ARG, "pom_dyn_model_create: NULL argument");
@@ -90,7 +97,7 @@ pom_status pom_dyn_model_create(pom_dyn_model **out, const pom_mechanism *mech,
   m->par = *p;
   m->ctrl = pom_dyn_ctrl_of(&p->controller);
   m->par.controller.type = m->ctrl;
-  m->ctrl_analytic = m->ctrl->partials != NULL && m->ctrl->n_states <= 1;
+  m->ctrl_analytic = m->ctrl->partials != NULL && m->ctrl->n_states <= 1 && !m->ctrl->law_all;
   if (p->scene.gravity) pom_v3_copy(m->gravity, mech->gravity);
   for (int b = 0; b < POM_MECH_MAX_BODIES; ++b)
     m->slot_of_mech[b] = -1;
@@ -102,6 +109,14 @@ pom_status pom_dyn_model_create(pom_dyn_model **out, const pom_mechanism *mech,
   POM_TRY_GOTO(m->form->init(m, mech, arch, err), fail);
   for (int a = 0; a < m->n_actuators; ++a) /* targets checked against it (docs 14) */
     m->act[a].stroke = mech->actuator[a].stroke;
+  /* the controller's own model: the nominal candidate unless told otherwise */
+  if (m->ctrl->model_create) {
+    const pom_dyn_params *cp = ctrl_params ? ctrl_params : p;
+    POM_TRY_GOTO(m->ctrl->model_create(&m->ctrl_model, &m->par.controller,
+                                       ctrl_mech ? ctrl_mech : mech, ctrl_arch ? ctrl_arch : arch,
+                                       cp, err),
+                 fail);
+  }
   *out = m;
   return POM_OK;
 fail:
@@ -112,6 +127,7 @@ fail:
 void pom_dyn_model_destroy(pom_dyn_model *m) {
   if (!m) return;
   if (m->form) m->form->model_free(m);
+  if (m->ctrl_model) m->ctrl->model_destroy(m->ctrl_model);
   free(m->atol);
   free(m->relative);
   free(m->scale);

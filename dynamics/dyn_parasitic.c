@@ -97,6 +97,52 @@ static void apply_torque(pom_dyn_data *d, const dyn_joint *jt, int s, double sca
 static const double identity3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
 static const double zero3[3] = {0, 0, 0};
 
+/* ---- actuator sensors ------------------------------------------------------ */
+/* The coordinate q and rate qd of joint jt's actuator from its sides'
+ * rotations, angular velocities and the relative point position dd and
+ * velocity dv (docs 4): about the revolute axis n (nxd unused), or along the
+ * prismatic axis n (nxd = n x dd, the lever of its reaction torque). */
+static void actuator_coordinate(const dyn_joint *jt, const double *R0, const double *R1,
+                                const double *w0, const double *w1, const double dd[3],
+                                const double dv[3], double n[3], double nxd[3], double *q,
+                                double *qd) {
+  pom_m3_apply(n, R0, jt->axis);
+  if (jt->type == POM_JOINT_REVOLUTE) {
+    double ref0[3], ref1[3];
+    pom_m3_apply(ref0, R0, jt->ref);
+    pom_m3_apply(ref1, R1, jt->ref);
+    *q = pom_dyn_revolute_angle(n, ref0, ref1);
+    *qd = pom_v3_dot(w1, n) - pom_v3_dot(w0, n);
+    pom_v3_set(nxd, 0.0, 0.0, 0.0);
+  } else {
+    pom_v3_cross(nxd, n, dd);
+    *q = pom_v3_dot(n, dd);
+    *qd = pom_v3_dot(n, dv) + pom_v3_dot(w0, nxd);
+  }
+}
+
+/* A coupled controller (law_all) reads every actuator's sensors before any
+ * actuator law runs: q and qd of each actuated joint, then the pass. */
+static void controller_pass(const pom_dyn_model *m, pom_dyn_data *d, const double *y,
+                            double *ydot) {
+  double q[POM_MECH_MAX_ACTUATORS] = {0}, qd[POM_MECH_MAX_ACTUATORS] = {0};
+  for (int j = 0; j < m->n_joints; ++j) {
+    const dyn_joint *jt = &m->joint[j];
+    if (jt->actuator < 0) continue;
+    double p0[3], v0[3], r0[3], p1[3], v1[3], r1[3], dd[3], dv[3], n[3], nxd[3];
+    point_eval(m, d, jt, 0, p0, v0, r0);
+    point_eval(m, d, jt, 1, p1, v1, r1);
+    pom_v3_sub(dd, p1, p0);
+    pom_v3_sub(dv, v1, v0);
+    const double *R0 = jt->slot[0] >= 0 ? d->be[jt->slot[0]].R : identity3;
+    const double *R1 = jt->slot[1] >= 0 ? d->be[jt->slot[1]].R : identity3;
+    const double *w0 = jt->slot[0] >= 0 ? d->be[jt->slot[0]].w : zero3;
+    const double *w1 = jt->slot[1] >= 0 ? d->be[jt->slot[1]].w : zero3;
+    actuator_coordinate(jt, R0, R1, w0, w1, dd, dv, n, nxd, &q[jt->actuator], &qd[jt->actuator]);
+  }
+  pom_dyn_controller_pass(m, d, q, qd, y, ydot);
+}
+
 /* ---- the pass ------------------------------------------------------------ */
 static int parasitic_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot) {
   const pom_dyn_params *par = &m->par;
@@ -109,6 +155,7 @@ static int parasitic_eval(const pom_dyn_model *m, pom_dyn_data *d, const double 
   o->max_ang_deflection = 0.0;
   o->spring_energy = 0.0;
   o->parasitic_power = 0.0;
+  if (m->ctrl->law_all) controller_pass(m, d, y, ydot);
 
   for (int j = 0; j < m->n_joints; ++j) {
     const dyn_joint *jt = &m->joint[j];
@@ -187,21 +234,14 @@ static int parasitic_eval(const pom_dyn_model *m, pom_dyn_data *d, const double 
      * -> torque on the revolute joint's relative rotation (docs 4) */
     int a = jt->actuator;
     if (a >= 0 && jt->type == POM_JOINT_REVOLUTE) {
-      double n[3], ref0[3], ref1[3];
-      pom_m3_apply(n, R0, jt->axis);
-      pom_m3_apply(ref0, R0, jt->ref);
-      pom_m3_apply(ref1, R1, jt->ref);
-      double q = pom_dyn_revolute_angle(n, ref0, ref1);
-      double qd = pom_v3_dot(w1, n) - pom_v3_dot(w0, n);
+      double n[3], nxd[3], q, qd;
+      actuator_coordinate(jt, R0, R1, w0, w1, dd, dv, n, nxd, &q, &qd);
       double torque = pom_dyn_actuator_law(m, d, a, q, qd, y, ydot);
       apply_torque(d, jt, 1, torque, n);
       apply_torque(d, jt, 0, -torque, n);
     } else if (a >= 0) {
-      double n[3], nxd[3];
-      pom_m3_apply(n, R0, jt->axis);
-      pom_v3_cross(nxd, n, dd);
-      double q = pom_v3_dot(n, dd);
-      double qd = pom_v3_dot(n, dv) + pom_v3_dot(w0, nxd);
+      double n[3], nxd[3], q, qd;
+      actuator_coordinate(jt, R0, R1, w0, w1, dd, dv, n, nxd, &q, &qd);
       double force = pom_dyn_actuator_law(m, d, a, q, qd, y, ydot);
       pom_v3_axpy(F1, F1, force, n);
       pom_v3_axpy(F0, F0, -force, n);

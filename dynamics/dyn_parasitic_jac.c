@@ -41,7 +41,8 @@ static int state_entity(const pom_dyn_model *m, int i, int *kind) {
 
 /* Does the derivative of a state of kind ki on entity ei depend on a state of
  * kind kj on entity ej? (adjacent = same entity or coupled by a joint or an
- * actuator; rate_deps = the controller's POM_DYN_CTRL_DEP_* flags;
+ * actuator; rate_deps = the controller's POM_DYN_CTRL_DEP_* flags, -1 for a
+ * coupled controller (law_all, every entity adjacent);
  * docs/dynamics.md section 7) */
 static int depends(int ki, int ei, int kj, int ej, int adjacent, int rate_deps) {
   int same = ei == ej;
@@ -56,7 +57,9 @@ static int depends(int ki, int ei, int kj, int ej, int adjacent, int rate_deps) 
     return adjacent && (body_col || kj == KIND_FLUX || kj == KIND_INT);
   case KIND_FLUX: /* coil: u(e, z, q_dot), back-emf, its own flux */
     return adjacent && (body_col || kj == KIND_FLUX || kj == KIND_INT);
-  case KIND_INT: /* controller states: z_dot(q(u, orientation) [, q_dot(p, h')] [, z]) */
+  case KIND_INT:       /* controller states: z_dot(q(u, orientation) [, q_dot(p, h')] [, z]) */
+    if (rate_deps < 0) /* a coupled law: anything it is adjacent to */
+      return adjacent && (body_col || kj == KIND_FLUX || kj == KIND_INT);
     if (adjacent && !same && (kj == KIND_U || kj == KIND_ORI)) return 1;
     if ((rate_deps & POM_DYN_CTRL_DEP_QDOT) && adjacent && !same && (kj == KIND_P || kj == KIND_H))
       return 1;
@@ -97,13 +100,17 @@ pom_status pom_dyn_structure_build(pom_dyn_model *m, pom_error *err) {
         if (jt->slot[s] >= 0) adj[jt->slot[s] * ne + ea] = adj[ea * ne + jt->slot[s]] = 1;
     }
   }
+  /* a coupled controller: every actuator's voltage reads every actuator's
+   * sensors (and currents), so every entity is adjacent to every other */
+  if (m->ctrl->law_all) memset(adj, 1, (size_t)(ne * ne));
   for (int i = 0; i < n; ++i)
     ent[i] = state_entity(m, i, &kind[i]);
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) {
       int a = ent[i] >= 0 && ent[j] >= 0 && adj[ent[i] * ne + ent[j]];
-      unsigned char dij =
-          (unsigned char)(a ? depends(kind[i], ent[i], kind[j], ent[j], 1, m->ctrl->rate_deps) : 0);
+      unsigned char dij = (unsigned char)(a ? depends(kind[i], ent[i], kind[j], ent[j], 1,
+                                                      m->ctrl->law_all ? -1 : m->ctrl->rate_deps)
+                                            : 0);
       m->dep[(size_t)i * (size_t)n + (size_t)j] = dij;
     }
   }

@@ -121,6 +121,8 @@ pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_e
 
   /* the formulation's scratch, Newton matrix and linear solver */
   POM_TRY_GOTO(m->form->data_init(m, d, err), fail);
+  if (m->ctrl->work_create)
+    POM_TRY_GOTO(m->ctrl->work_create(&d->ctrl_work, m->ctrl_model, err), fail);
   if (!d->A || !d->LS)
     POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "creating the %s linear solver",
                   pom_dyn_linsol_name(p->solver.linear_solver));
@@ -155,6 +157,7 @@ void pom_dyn_data_destroy(pom_dyn_data *d) {
   free(d->yfinal);
   free(d->jac);
   if (d->m) d->m->form->data_free(d);
+  if (d->m && d->ctrl_work) d->m->ctrl->work_destroy(d->ctrl_work);
   free(d);
 }
 

@@ -82,6 +82,17 @@ typedef struct {
   double sensor_gain; /* K_S (V/m or V/rad) */
 } pom_dyn_ctrl_input;
 
+/* What a coupled controller (law_all) sees of all actuators at once: the
+ * sensors (actuator coordinates, rates, and the coil currents where the coil
+ * has a state) and the setpoints. */
+typedef struct {
+  int n;                 /* actuators */
+  const double *target;  /* [n] setpoints (m or rad) */
+  const double *q;       /* [n] measured coordinates (m or rad) */
+  const double *q_dot;   /* [n] measured rates (m/s or rad/s) */
+  const double *current; /* [n] measured coil currents (A); NULL for a quasi-static coil */
+} pom_dyn_ctrl_sensed;
+
 /* Partial derivatives of the raw voltage u and of the state rates z_dot of
  * one actuator's law with respect to q, q_dot and the states z, at fixed
  * inputs otherwise (the saturation is the engine's, not the law's). */
@@ -125,6 +136,27 @@ struct pom_dyn_ctrl_type {
   /* The law with its gain values in one line of text, into buf (the
    * snprintf contract). Required. */
   int (*describe)(const pom_dyn_controller *c, char *buf, size_t cap);
+
+  /* ---- coupled and model-based controllers (all optional) ---------------- */
+  /* The controller's own model, built once per dynamics model from the
+   * mechanism, architecture and parameters the controller believes in (the
+   * nominal ones, whatever the plant draws: pom_dyn_model_create_ex);
+   * *out is owned by the engine (model_destroy). NULL: no model. */
+  pom_status (*model_create)(void **out, const pom_dyn_controller *c, const pom_mechanism *mech,
+                             const pom_kin_arch *arch, const pom_dyn_params *p, pom_error *err);
+  void (*model_destroy)(void *model);
+  /* Per-worker scratch of the law (never shared between threads). */
+  pom_status (*work_create)(void **out, const void *model, pom_error *err);
+  void (*work_destroy)(void *work);
+  /* A coupled law: the raw voltages u_raw[n] of every actuator at once and
+   * the state rates zdot[n * n_states] (actuator-major; NULL: not wanted)
+   * from the sensors, the states z[n * n_states] (NULL when n_states is 0),
+   * its model and scratch. When set, `law` is not called and the Newton
+   * matrix goes by finite differences. A non-finite voltage makes the step
+   * fail recoverably (the integrator retries smaller). */
+  void (*law_all)(const pom_dyn_controller *c, const void *model, void *work,
+                  const pom_dyn_ctrl_sensed *s, double sensor_gain, const double *z, double *u_raw,
+                  double *zdot);
 };
 
 /* ---- registry (dyn_ctrl_registry.c) ---------------------------------------- */
@@ -140,6 +172,9 @@ pom_status pom_dyn_ctrl_register(const pom_dyn_ctrl_type *t, pom_error *err);
 
 /* The built-in PID (ctrl_pid.c), the default controller. */
 extern const pom_dyn_ctrl_type pom_dyn_ctrl_pid;
+/* Computed torque in orientation space (ctrl_computed_torque.c,
+ * docs/control.md). */
+extern const pom_dyn_ctrl_type pom_dyn_ctrl_computed_torque;
 
 /* ---- helpers every caller uses --------------------------------------------- */
 /* The type of c (the PID when c->type is NULL). */

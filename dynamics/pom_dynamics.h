@@ -155,6 +155,16 @@ pom_status pom_dyn_model_create(pom_dyn_model **out, const pom_mechanism *mech,
 /* Frees a model; NULL is a no-op. */
 void pom_dyn_model_destroy(pom_dyn_model *m);
 
+/* pom_dyn_model_create with the model a model-based controller believes in:
+ * ctrl_mech, ctrl_arch and ctrl_params (the nominal candidate) build the
+ * controller's own model while mech, arch and p are the plant (which an
+ * `uncertain` draw may have changed). NULL for any of the three: the
+ * plant's. Controllers without a model ignore them. */
+pom_status pom_dyn_model_create_ex(pom_dyn_model **out, const pom_mechanism *mech,
+                                   const pom_kin_arch *arch, const pom_dyn_params *p,
+                                   const pom_mechanism *ctrl_mech, const pom_kin_arch *ctrl_arch,
+                                   const pom_dyn_params *ctrl_params, pom_error *err);
+
 pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_error *err);
 void pom_dyn_data_destroy(pom_dyn_data *d);
 
