@@ -16,7 +16,6 @@
  * candidate; the engine saturates u like the PID's. With a perfect model, a
  * quasi-static coil and no saturation, w_dot = alpha exactly, so the error
  * obeys e'' + 2 zeta omega_n e' + omega_n^2 e = 0 to first order in |e|. */
-#include "dyn_internal.h"
 #include "pom_dyn_ctrl.h"
 #include "pom_math.h"
 
@@ -39,24 +38,27 @@ static const pom_dyn_gain_desc ct_gains[] = {
 
 /* ---- the controller's model and scratch -------------------------------------------- */
 typedef struct {
-  pom_dyn_model *dyn;   /* exact (rigid) model of the nominal mechanism: M and f */
-  pom_kin_arch arch;    /* nominal architecture: forward kinematics and J */
-  pom_dyn_actuator act; /* nominal actuator: the coil's inverse */
-  int bearing;          /* 1: the nominal scene has bearing friction */
+  const pom_dyn_ctrl_engine *eng; /* the engine's services */
+  pom_dyn_model *dyn;             /* exact (rigid) model of the nominal mechanism: M and f */
+  pom_kin_arch arch;              /* nominal architecture: forward kinematics and J */
+  pom_dyn_actuator act;           /* nominal actuator: the coil's inverse */
+  int bearing;                    /* 1: the nominal scene has bearing friction */
 } ct_model;
 
 typedef struct {
-  pom_dyn_data *dd;   /* scratch of the controller's model */
-  double target[3];   /* setpoints R_ref was computed for */
-  double R_ref[9];    /* reference rotation (FK of the setpoints) */
-  double R_last[9];   /* last measured rotation: the next forward kinematics' start */
-  int have_ref;       /* 1 once R_ref belongs to target */
-  pom_kin_fk_opts fk; /* forward-kinematics options */
+  const pom_dyn_ctrl_engine *eng; /* the engine's services */
+  pom_dyn_data *dd;               /* scratch of the controller's model */
+  double target[3];               /* setpoints R_ref was computed for */
+  double R_ref[9];                /* reference rotation (FK of the setpoints) */
+  double R_last[9];               /* last measured rotation: the next forward kinematics' start */
+  int have_ref;                   /* 1 once R_ref belongs to target */
+  pom_kin_fk_opts fk;             /* forward-kinematics options */
 } ct_work;
 
-static pom_status ct_model_create(void **out, const pom_dyn_controller *c,
-                                  const pom_mechanism *mech, const pom_kin_arch *arch,
-                                  const pom_dyn_params *p, pom_error *err) {
+static pom_status ct_model_create(void **out, const pom_dyn_ctrl_engine *eng,
+                                  const pom_dyn_controller *c, const pom_mechanism *mech,
+                                  const pom_kin_arch *arch, const pom_dyn_params *p,
+                                  pom_error *err) {
   (void)c;
   *out = NULL;
   if (!arch)
@@ -65,6 +67,7 @@ static pom_status ct_model_create(void **out, const pom_dyn_controller *c,
              "the exact model)");
   ct_model *cm = calloc(1, sizeof *cm);
   if (!cm) POM_FAIL(err, POM_ERR_NOMEM, "allocating the computed-torque model");
+  cm->eng = eng;
   cm->arch = *arch;
   cm->act = p->actuator;
   cm->bearing = p->scene.bearing_friction;
@@ -74,7 +77,7 @@ static pom_status ct_model_create(void **out, const pom_dyn_controller *c,
   mp.scene.orientation = POM_ORIENT_QUATERNION;
   mp.scene.coil_inductance = 0;
   pom_dyn_ctrl_set_defaults(&mp.controller, &pom_dyn_ctrl_pid);
-  pom_status st = pom_dyn_model_create(&cm->dyn, mech, arch, &mp, err);
+  pom_status st = eng->model_create(&cm->dyn, mech, arch, &mp, err);
   if (st != POM_OK) {
     free(cm);
     return pom_error_prefix(err, "controller computed_torque: its model");
@@ -86,7 +89,7 @@ static pom_status ct_model_create(void **out, const pom_dyn_controller *c,
 static void ct_model_destroy(void *model) {
   ct_model *cm = model;
   if (!cm) return;
-  pom_dyn_model_destroy(cm->dyn);
+  cm->eng->model_destroy(cm->dyn);
   free(cm);
 }
 
@@ -94,7 +97,8 @@ static pom_status ct_work_create(void **out, const void *model, pom_error *err) 
   const ct_model *cm = model;
   ct_work *w = calloc(1, sizeof *w);
   if (!w) POM_FAIL(err, POM_ERR_NOMEM, "allocating the computed-torque scratch");
-  pom_status st = pom_dyn_data_create(&w->dd, cm->dyn, err);
+  w->eng = cm->eng;
+  pom_status st = cm->eng->data_create(&w->dd, cm->dyn, err);
   if (st != POM_OK) {
     free(w);
     return st;
@@ -107,7 +111,7 @@ static pom_status ct_work_create(void **out, const void *model, pom_error *err) 
 static void ct_work_destroy(void *work) {
   ct_work *w = work;
   if (!w) return;
-  pom_dyn_data_destroy(w->dd);
+  w->eng->data_destroy(w->dd);
   free(w);
 }
 
@@ -166,7 +170,7 @@ static void ct_law_all(const pom_dyn_controller *c, const void *model, void *wor
     return;
   }
   /* the model's mass matrix and passive generalized forces there */
-  if (pom_dyn_exact_terms(cm->dyn, w->dd, Rm, wm, M, f, qm, J) != 0) {
+  if (cm->eng->exact_terms(cm->dyn, w->dd, Rm, wm, M, f, qm, J) != 0) {
     ct_fail(s->n, u_raw);
     return;
   }

@@ -15,6 +15,15 @@ static const dyn_formulation *const formulations[] = {
     [POM_JOINTS_RIGID] = &pom_dyn_form_exact,
 };
 
+/* What model-based controllers may call (pom_dyn_ctrl_engine). */
+static const pom_dyn_ctrl_engine ctrl_engine = {
+    .model_create = pom_dyn_model_create,
+    .model_destroy = pom_dyn_model_destroy,
+    .data_create = pom_dyn_data_create,
+    .data_destroy = pom_dyn_data_destroy,
+    .exact_terms = pom_dyn_exact_terms,
+};
+
 /* ---- validation of the parameters ---------------------------------------- */
 static pom_status params_check(const pom_dyn_params *p, pom_error *err) {
   const pom_dyn_actuator *a = &p->actuator;
@@ -112,7 +121,7 @@ pom_status pom_dyn_model_create_ex(pom_dyn_model **out, const pom_mechanism *mec
   /* the controller's own model: the nominal candidate unless told otherwise */
   if (m->ctrl->model_create) {
     const pom_dyn_params *cp = ctrl_params ? ctrl_params : p;
-    POM_TRY_GOTO(m->ctrl->model_create(&m->ctrl_model, &m->par.controller,
+    POM_TRY_GOTO(m->ctrl->model_create(&m->ctrl_model, &ctrl_engine, &m->par.controller,
                                        ctrl_mech ? ctrl_mech : mech, ctrl_arch ? ctrl_arch : arch,
                                        cp, err),
                  fail);

@@ -112,6 +112,24 @@ enum {
   POM_DYN_CTRL_DEP_STATE = 2 /* z_dot reads z */
 };
 
+/* What the engine lends a model-based controller: building and running a
+ * model of its own. Passed to model_create (a controller file calls the
+ * engine only through it, so a program that links the descriptors alone,
+ * such as the light pomlab, does not link the integrator). */
+typedef struct {
+  pom_status (*model_create)(pom_dyn_model **out, const pom_mechanism *mech,
+                             const pom_kin_arch *arch, const pom_dyn_params *p, pom_error *err);
+  void (*model_destroy)(pom_dyn_model *m);
+  pom_status (*data_create)(pom_dyn_data **out, const pom_dyn_model *m, pom_error *err);
+  void (*data_destroy)(pom_dyn_data *d);
+  /* an exact model's M(R) (kg m^2), passive generalized force f(R, w)
+   * (gravity and velocity terms, N m), actuator coordinates q and Jacobian J
+   * at rotation R and angular velocity w (fixed frame); 0, or 1 when the
+   * mechanism cannot be assembled at R (pom_dyn_exact_terms) */
+  int (*exact_terms)(const pom_dyn_model *m, pom_dyn_data *d, const double R[9], const double w[3],
+                     double M[9], double f[3], double q[3], double J[9]);
+} pom_dyn_ctrl_engine;
+
 struct pom_dyn_ctrl_type {
   const char *name;                      /* registry key and `controller.type` value: "pid" */
   const char *label;                     /* "PID" */
@@ -142,7 +160,8 @@ struct pom_dyn_ctrl_type {
    * mechanism, architecture and parameters the controller believes in (the
    * nominal ones, whatever the plant draws: pom_dyn_model_create_ex);
    * *out is owned by the engine (model_destroy). NULL: no model. */
-  pom_status (*model_create)(void **out, const pom_dyn_controller *c, const pom_mechanism *mech,
+  pom_status (*model_create)(void **out, const pom_dyn_ctrl_engine *engine,
+                             const pom_dyn_controller *c, const pom_mechanism *mech,
                              const pom_kin_arch *arch, const pom_dyn_params *p, pom_error *err);
   void (*model_destroy)(void *model);
   /* Per-worker scratch of the law (never shared between threads). */
