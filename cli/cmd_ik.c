@@ -103,7 +103,7 @@ int pom_cmd_ik(int argc, char **argv) {
       printf("reachable: NO - %s\n", err.message);
     } else {
       printf("reachable: yes\n");
-      const pom_act_units *u = pom_act_units_of(pom_kin_type_actuator(arch.type));
+      const pom_act_desc *u = pom_act_kind_desc(pom_kin_type_actuator(arch.type));
       const double f = u->to_display;
       printf("q (%s):  %12.6f %12.6f %12.6f\n", u->display, p.q[0] * f, p.q[1] * f, p.q[2] * f);
       /* a lever arm in mm/rad, or for a rotary actuator a plain ratio

@@ -205,7 +205,7 @@ static pom_status consistency_check(dyn_exact *ex, const pom_mechanism *mech, po
     if (a >= 0 && a < mech->n_actuators) {
       /* the limb whose q (m or rad, by the actuator's kind) matches; limb a
        * itself when several do */
-      const pom_act_units *u = pom_act_units_of(mech->actuator[a].kind);
+      const pom_act_desc *u = pom_act_kind_desc(mech->actuator[a].kind);
       for (int i = 0; i < 3; ++i)
         if (fabs(tw.q[i] - q) <= EXACT_MATCH_TOL && (ex->act_limb[a] < 0 || i == a))
           ex->act_limb[a] = i;

@@ -83,8 +83,8 @@ pom_status pom_dyn_model_create(pom_dyn_model **out, const pom_mechanism *mech,
       POM_FAIL(err, POM_ERR_ARG,
                "actuator %d of the mechanism is %s (q in %s) but the actuator parameters are for "
                "a %s actuator: set actuator.kind = \"%s\"",
-               a + 1, pom_act_units_of(mech->actuator[a].kind)->kind_name,
-               pom_act_units_of(mech->actuator[a].kind)->si,
+               a + 1, pom_act_kind_desc(mech->actuator[a].kind)->kind_name,
+               pom_act_kind_desc(mech->actuator[a].kind)->si,
                p->actuator.kind == POM_ACT_REVOLUTE ? "rotary" : "linear",
                mech->actuator[a].kind == POM_ACT_REVOLUTE ? "rotary" : "linear");
   m = calloc(1, sizeof *m);

@@ -377,7 +377,7 @@ pom_status pom_dyn_parasitic_init(pom_dyn_model *m, const pom_mechanism *mech,
         p->actuator.kind == POM_ACT_REVOLUTE ? POM_JOINT_REVOLUTE : POM_JOINT_PRISMATIC;
     if (jm < 0 || jm >= mech->n_joints || mech->joint[jm].type != want || joint_map[jm] < 0)
       POM_FAIL_GOTO(err, POM_ERR_ARG, fail, "actuator %d: joint %d is not a %s joint", a, jm,
-                    pom_act_units_of(p->actuator.kind)->kind_name);
+                    pom_act_kind_desc(p->actuator.kind)->kind_name);
     int j = joint_map[jm];
     if (m->joint[j].actuator >= 0)
       POM_FAIL_GOTO(err, POM_ERR_ARG, fail, "actuators %d and %d drive the same joint",

@@ -122,7 +122,7 @@ pom_status pom_tune_load(pom_tune_problem *pb, const pom_cfg *cfg, pom_error *er
    * candidate's IK: the same platform motions for every architecture, the
    * fair criterion when candidates mix actuator kinds (docs/optimize.md 9). */
   const int rotary = pom_kin_type_actuator(pb->arch.type) == POM_ACT_REVOLUTE;
-  const pom_act_units *u = pom_act_units_of(rotary ? POM_ACT_REVOLUTE : POM_ACT_PRISMATIC);
+  const pom_act_desc *u = pom_act_kind_desc(rotary ? POM_ACT_REVOLUTE : POM_ACT_PRISMATIC);
   const char *own = rotary ? "tuning.maneuvers_deg" : "tuning.maneuvers_mm";
   const char *other = rotary ? "tuning.maneuvers_mm" : "tuning.maneuvers_deg";
   const char *euler = "tuning.maneuvers_euler_deg";
@@ -208,7 +208,7 @@ pom_status pom_tune_evaluate(const pom_tune_problem *pb, const pom_dyn_controlle
   POM_TRY_GOTO(pom_dyn_data_create(&data, model, err), done);
   POM_TRY_GOTO(pom_dyn_trace_create(&trace, model, err), done);
   double horizon = p.maneuver.horizon, penalty = 0.0;
-  const pom_act_units *tu = pom_act_units_of(pom_kin_type_actuator(pb->arch.type));
+  const pom_act_desc *tu = pom_act_kind_desc(pom_kin_type_actuator(pb->arch.type));
   for (int m = 0; m < pb->n_maneuvers; ++m) {
     pom_dyn_metrics mt;
     st = pom_dyn_simulate(model, data, pb->target[m], &mt, trace, err);
