@@ -325,6 +325,7 @@ static pom_status exact_init(pom_dyn_model *m, const pom_mechanism *mech, const 
   }
   m->n_colors = ex->n_ori + 3;
   POM_TRY(pom_dyn_pattern_build(m, err));
+  const int angular = pom_act_kind_desc(p->actuator.kind)->angular; /* q in rad, else m */
   for (int i = 0; i < ex->n_ori; ++i)
     m->scale[ex->ori + i] = EXACT_SCALE_ANGLE;
   for (int i = 0; i < 3; ++i)
@@ -335,8 +336,7 @@ static pom_status exact_init(pom_dyn_model *m, const pom_mechanism *mech, const 
       m->scale[ac->flux_state] = p->actuator.inductance * EXACT_SCALE_CURRENT;
     /* integral of the error: m s (linear) or rad s (rotary) */
     m->scale[ac->int_state] =
-        (p->actuator.kind == POM_ACT_REVOLUTE ? EXACT_SCALE_ANGLE : EXACT_SCALE_LENGTH) *
-        p->maneuver.horizon;
+        (angular ? EXACT_SCALE_ANGLE : EXACT_SCALE_LENGTH) * p->maneuver.horizon;
     for (int k = 0; k < DYN_ACC_PER_ACT; ++k)
       m->scale[ac->acc_state + k] = EXACT_SCALE_ENERGY;
     m->scale[ac->acc_state + DYN_ACC_SATURATED] = p->maneuver.horizon;
@@ -349,7 +349,6 @@ static pom_status exact_init(pom_dyn_model *m, const pom_mechanism *mech, const 
     /* natural sizes; the mechanical states without the relative term */
     m->relative = malloc(n);
     if (!m->relative) POM_FAIL(err, POM_ERR_NOMEM, "allocating tolerances");
-    const int rotary = p->actuator.kind == POM_ACT_REVOLUTE;
     const double r = p->solver.rtol;
     for (int i = 0; i < m->n_states; ++i) {
       m->atol[i] = r * EXACT_NATURAL_ENERGY; /* accumulators */
@@ -368,7 +367,7 @@ static pom_status exact_init(pom_dyn_model *m, const pom_mechanism *mech, const 
       if (ac->flux_state >= 0)
         m->atol[ac->flux_state] = r * p->actuator.inductance * EXACT_NATURAL_CURRENT;
       m->atol[ac->int_state] =
-          r * (rotary ? EXACT_NATURAL_TURN : EXACT_NATURAL_LENGTH) * EXACT_NATURAL_SETTLE;
+          r * (angular ? EXACT_NATURAL_TURN : EXACT_NATURAL_LENGTH) * EXACT_NATURAL_SETTLE;
     }
   }
   for (int a = 0; a < m->n_actuators; ++a) /* discontinuous indicator: no error test */

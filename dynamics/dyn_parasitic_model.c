@@ -244,7 +244,7 @@ static pom_status lump_mechanism(pom_mechanism *lm, dyn_lump *lu, pom_error *err
  * (scale, natural) per state. */
 static void tolerances_fill(pom_dyn_model *m) {
   const pom_dyn_params *p = &m->par;
-  const int rotary = p->actuator.kind == POM_ACT_REVOLUTE;
+  const int angular = pom_act_kind_desc(p->actuator.kind)->angular;
   const double L = p->actuator.inductance;
   const int natural = !(p->solver.atol_scale > 0);
   double *nat = m->atol; /* natural sizes first, scaled below */
@@ -270,8 +270,8 @@ static void tolerances_fill(pom_dyn_model *m) {
       nat[ac->flux_state] = L * DYN_NATURAL_CURRENT;
     }
     /* integral of the error: m s (linear) or rad s (rotary) */
-    m->scale[ac->int_state] = (rotary ? DYN_SCALE_ANGLE : DYN_SCALE_LENGTH) * p->maneuver.horizon;
-    nat[ac->int_state] = (rotary ? DYN_NATURAL_ANGLE : DYN_NATURAL_LENGTH) * DYN_NATURAL_SETTLE;
+    m->scale[ac->int_state] = (angular ? DYN_SCALE_ANGLE : DYN_SCALE_LENGTH) * p->maneuver.horizon;
+    nat[ac->int_state] = (angular ? DYN_NATURAL_ANGLE : DYN_NATURAL_LENGTH) * DYN_NATURAL_SETTLE;
     for (int k = 0; k < DYN_ACC_PER_ACT; ++k) {
       m->scale[ac->acc_state + k] = DYN_SCALE_ENERGY;
       nat[ac->acc_state + k] = DYN_NATURAL_ENERGY;
@@ -373,11 +373,10 @@ pom_status pom_dyn_parasitic_init(pom_dyn_model *m, const pom_mechanism *mech,
   for (int a = 0; a < mech->n_actuators; ++a) {
     int jm = mech->actuator[a].joint;
     /* a linear actuator drives a prismatic joint, a rotary one a revolute joint */
-    pom_joint_type want =
-        p->actuator.kind == POM_ACT_REVOLUTE ? POM_JOINT_REVOLUTE : POM_JOINT_PRISMATIC;
-    if (jm < 0 || jm >= mech->n_joints || mech->joint[jm].type != want || joint_map[jm] < 0)
+    const pom_act_desc *kind = pom_act_kind_desc(p->actuator.kind);
+    if (jm < 0 || jm >= mech->n_joints || mech->joint[jm].type != kind->joint || joint_map[jm] < 0)
       POM_FAIL_GOTO(err, POM_ERR_ARG, fail, "actuator %d: joint %d is not a %s joint", a, jm,
-                    pom_act_kind_desc(p->actuator.kind)->kind_name);
+                    kind->kind_name);
     int j = joint_map[jm];
     if (m->joint[j].actuator >= 0)
       POM_FAIL_GOTO(err, POM_ERR_ARG, fail, "actuators %d and %d drive the same joint",
