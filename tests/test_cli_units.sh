@@ -29,6 +29,13 @@ cp "$TMP/out" "$TMP/sim.json"
 # --- a refused target shows the digits that put it outside -----------------------------
 expect_rc 2 "$POMLAB" simulate "$cfg" --target 6.000001,0,0
 expect_in "$TMP/err" "q1 = 6.000001 mm is outside the stroke +-6 mm"
+# the dynamics' own refusal, reached by tune's default rotary maneuvers
+# (3 mm through the 15 mm/rad lever: 0.2 rad = 11.46 deg) beyond a +-10 deg
+# range: in degrees too
+sed 's/^  range_deg = 60.0;/  range_deg = 20.0;/' "$SRC/configs/3rrr.cfg" >"$TMP/3rrr_narrow.cfg"
+echo 'tuning = { overshoot_max_percent = 5.0; };' >>"$TMP/3rrr_narrow.cfg"
+expect_rc 1 "$POMLAB" tune "$TMP/3rrr_narrow.cfg" --out "$TMP/tune_" --quiet
+expect_in "$TMP/err" "target of actuator 1 = 11.4591559 deg is outside its stroke +-10 deg"
 
 # --- text numbers are the JSON numbers in ms, mm, J, deg --------------------------------
 expect_rc 0 "$POMLAB" simulate "$cfg" --target 1,2,3
