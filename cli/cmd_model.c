@@ -176,8 +176,7 @@ static void model_mechanism_text(const pom_kin_arch *a, const pom_mechanism *m) 
       printf("  (%8.3f %8.3f %8.3f)", p[i][0] * f, p[i][1] * f, p[i][2] * f);
     printf("\n");
   }
-  printf("limits: %s +-%.6g %s", t->actuator == POM_ACT_REVOLUTE ? "range" : "stroke",
-         0.5 * a->stroke * u->to_display, u->display);
+  printf("limits: %s +-%.6g %s", u->range_word, 0.5 * a->stroke * u->to_display, u->display);
   for (int kind = 1; kind < POM_KIN_LIM_KINDS; ++kind) {
     const pom_kin_limit_desc *ld = &t->limits[kind];
     if (!ld->name) continue;
