@@ -96,8 +96,7 @@ pom_status pom_doe_dyn_describe_base(const pom_doe_dyn_base *ctx, hid_t g, pom_e
   const pom_act_desc *u = pom_act_kind_desc(kind_of(ctx));
   /* stroke in the actuator's SI unit; stroke_m kept for prismatic files */
   POM_TRY(pom_h5_attr_double(g, "stroke", ctx->arch.stroke, err));
-  if (kind_of(ctx) == POM_ACT_PRISMATIC)
-    POM_TRY(pom_h5_attr_double(g, "stroke_m", ctx->arch.stroke, err));
+  if (u->legacy_keys) POM_TRY(pom_h5_attr_double(g, "stroke_m", ctx->arch.stroke, err));
   POM_TRY(pom_h5_attr_string(g, "actuator_kind", u->kind_name, err));
   POM_TRY(pom_doe_describe_dyn_params(g, &ctx->params, err));
   POM_TRY(pom_h5_attr_int64(g, "model_states", pom_dyn_model_n_states(ctx->model), err));

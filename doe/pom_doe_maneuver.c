@@ -88,37 +88,47 @@ pom_status pom_doe_maneuvers_check_kinds(const pom_doe_maneuvers *mv,
                                          pom_error *err) {
   if (mv->space != POM_DOE_SPACE_JOINT || n < 1) return POM_OK;
   if (pom_doe_kinds_mixed(kinds, n)) {
-    int np = 0;
-    for (int c = 0; c < n; ++c)
-      np += kinds[c] == POM_ACT_PRISMATIC;
+    /* the count of each kind: "2 prismatic in m, 1 revolute in rad" */
+    char counts[256] = "";
+    size_t used = 0;
+    for (int k = 0; k < POM_ACT_KINDS && used < sizeof counts; ++k) {
+      const pom_act_desc *d = pom_act_kind_desc((pom_actuator_kind)k);
+      int nk = 0;
+      for (int c = 0; c < n; ++c)
+        nk += kinds[c] == d->kind;
+      int w = snprintf(counts + used, sizeof counts - used, "%s%d %s in %s", k ? ", " : "", nk,
+                       d->kind_name, d->si);
+      used += w > 0 ? (size_t)w : 0;
+    }
     POM_FAIL(err, POM_ERR_CONFIG,
-             "%s: key 'montecarlo.space': the candidates mix actuator kinds (%d prismatic in m, %d "
-             "revolute in rad), so joint-space targets would not mean the same motion for all: "
-             "set montecarlo.space = \"orientation\" (targets drawn as platform orientations, "
-             "mapped to each candidate's actuators by its inverse kinematics; docs/results.md "
-             "section 1)",
-             pom_cfg_path(cfg), np, n - np);
+             "%s: key 'montecarlo.space': the candidates mix actuator kinds (%s), so joint-space "
+             "targets would not mean the same motion for all: set montecarlo.space = "
+             "\"orientation\" (targets drawn as platform orientations, mapped to each "
+             "candidate's actuators by its inverse kinematics; docs/results.md section 1)",
+             pom_cfg_path(cfg), counts);
   }
   const char *range_key =
       mv->keys == POM_DOE_RANGE_DEG ? "montecarlo.range_deg" : "montecarlo.range_mm";
   const char *sigma_key =
       mv->keys == POM_DOE_RANGE_DEG ? "montecarlo.sigma_deg" : "montecarlo.sigma_mm";
   const char *key = pom_cfg_has(cfg, range_key) ? range_key : sigma_key;
-  if (kinds[0] == POM_ACT_REVOLUTE && mv->keys == POM_DOE_RANGE_MM)
+  /* the keys given must carry the kind's suffix; the default range is a
+   * length, for kinds whose q is one */
+  const pom_act_desc *d = pom_act_kind_desc(kinds[0]);
+  const char *given = mv->keys == POM_DOE_RANGE_DEG  ? "_deg"
+                      : mv->keys == POM_DOE_RANGE_MM ? "_mm"
+                                                     : NULL;
+  if (given && strcmp(given, d->key_suffix) != 0)
     return pom_cfg_error(cfg, key, NULL, err,
-                         "the candidates' actuators are revolute (q in rad): give the range in "
-                         "degrees with montecarlo.%s_deg",
-                         key == range_key ? "range" : "sigma");
-  if (kinds[0] == POM_ACT_PRISMATIC && mv->keys == POM_DOE_RANGE_DEG)
-    return pom_cfg_error(cfg, key, NULL, err,
-                         "the candidates' actuators are prismatic (q in m): give the range in "
-                         "millimetres with montecarlo.%s_mm",
-                         key == range_key ? "range" : "sigma");
-  if (kinds[0] == POM_ACT_REVOLUTE && mv->keys == POM_DOE_RANGE_DEFAULT)
+                         "the candidates' actuators are %s (q in %s): give the range in %s with "
+                         "montecarlo.%s%s",
+                         d->kind_name, d->si, d->display_words,
+                         key == range_key ? "range" : "sigma", d->key_suffix);
+  if (!given && d->angular)
     POM_FAIL(err, POM_ERR_CONFIG,
-             "%s: key 'montecarlo.range_deg': missing: the candidates' actuators are revolute and "
-             "the default range (+-3 mm, the paper's) is for prismatic ones",
-             pom_cfg_path(cfg));
+             "%s: key 'montecarlo.range%s': missing: the candidates' actuators are %s and the "
+             "default range (+-3 mm, the paper's) is for prismatic ones",
+             pom_cfg_path(cfg), d->key_suffix, d->kind_name);
   return POM_OK;
 }
 

@@ -228,7 +228,7 @@ static pom_status write_montecarlo(hid_t file, const pom_doe_study *study, pom_e
                    g, "actuator_unit",
                    pom_doe_kinds_mixed_study(study) ? "mixed" : pom_act_kind_desc(kind)->si, err),
                done);
-  if (kind == POM_ACT_PRISMATIC) {
+  if (pom_act_kind_desc(kind)->legacy_keys) {
     POM_TRY_GOTO(pom_h5_attr_double(g, "range_m", mv->range, err), done);
     POM_TRY_GOTO(pom_h5_attr_double(g, "sigma_m", mv->sigma, err), done);
   }
@@ -251,11 +251,13 @@ static pom_status write_montecarlo(hid_t file, const pom_doe_study *study, pom_e
     st = pom_h5_fail(err, __FILE__, __LINE__, "annotating the maneuver table");
     goto done;
   }
+  char joint_unit[64];
+  snprintf(joint_unit, sizeof joint_unit, "%s from mid-stroke, per actuator",
+           pom_act_kind_desc(kind)->si);
   st = pom_h5_attr_string(ds, "unit",
                           mv->space != POM_DOE_SPACE_JOINT
                               ? "rad: azimuth, tilt, torsion (R = Rz(a) Ry(t) Rz(s - a))"
-                          : kind == POM_ACT_REVOLUTE ? "rad from mid-stroke, per actuator"
-                                                     : "m from mid-stroke, per actuator",
+                              : joint_unit,
                           err);
   H5Dclose(ds);
 done:
