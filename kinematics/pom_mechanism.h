@@ -77,6 +77,8 @@ typedef struct {
   const char *range_word;    /* the actuator's range in words, limit names and its limits key:
                                 "stroke" (limits.stroke_mm) or "range" (limits.range_deg) */
   double range_max;          /* largest value of that limits key (display unit): 1000 or 360 */
+  double maneuver_range_max; /* largest Monte-Carlo joint range or sigma, montecarlo.range<suffix>
+                                (display unit): 100 or 180 */
   const char *lever_unit;    /* unit of J = dq/domega in text: "mm/rad" or "rad/rad" */
   double lever_to_display;   /* J_text = J_si * lever_to_display (1e3 or 1) */
   /* the effort and the coil's constants */

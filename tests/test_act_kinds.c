@@ -30,7 +30,8 @@ static void test_fields(void) {
     check_true(d->joint == POM_JOINT_PRISMATIC || d->joint == POM_JOINT_REVOLUTE);
     check_true(d->angular == 0 || d->angular == 1);
     check_true(d->legacy_keys == 0 || d->legacy_keys == 1);
-    check_true(d->to_display > 0 && d->range_max > 0 && d->lever_to_display > 0);
+    check_true(d->to_display > 0 && d->range_max > 0 && d->maneuver_range_max > 0 &&
+               d->lever_to_display > 0);
     /* the config-key suffix is the display unit's; q_dot is q per second */
     check_true(d->key_suffix[0] == '_' && strcmp(d->key_suffix + 1, d->display) == 0);
     check_true(strncmp(d->rate, d->si, strlen(d->si)) == 0 &&
