@@ -20,10 +20,14 @@ static pom_status params_check(const pom_dyn_params *p, pom_error *err) {
   const pom_dyn_actuator *a = &p->actuator;
   const pom_act_desc *kind = pom_act_kind_desc(a->kind);
   if (!kind) {
+    /* "neither linear nor rotary": the names of the kinds */
     char names[128] = "";
-    for (int k = 0, n = 0; k < POM_ACT_KINDS && n >= 0 && n < (int)sizeof names; ++k)
-      n += snprintf(names + n, sizeof names - (size_t)n, "%s%s", k ? " nor " : "",
-                    pom_act_kind_desc((pom_actuator_kind)k)->name);
+    size_t used = 0;
+    for (int k = 0; k < POM_ACT_KINDS && used < sizeof names; ++k) {
+      int w = snprintf(names + used, sizeof names - used, "%s%s", k ? " nor " : "",
+                       pom_act_kind_desc((pom_actuator_kind)k)->name);
+      used += w > 0 ? (size_t)w : 0;
+    }
     POM_FAIL(err, POM_ERR_ARG, "actuator kind %d is neither %s", (int)a->kind, names);
   }
   if (!(a->force_constant > 0) || !(a->resistance > 0) || !(a->voltage_limit > 0) ||
