@@ -503,7 +503,7 @@ static void json_montecarlo(FILE *out, const pom_doe_study *study) {
   if (mv->space == POM_DOE_SPACE_JOINT) {
     fprintf(out, "\"distribution\": \"%s\", \"actuator_unit\": \"%s\", \"range\": ",
             mv->distribution == POM_DOE_DIST_UNIFORM ? "uniform" : "normal",
-            pom_act_units_of(kind)->si);
+            pom_act_kind_desc(kind)->si);
     json_double(out, mv->range);
     fprintf(out, ", \"sigma\": ");
     json_double(out, mv->sigma);
@@ -577,7 +577,7 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
     const pom_doe_candidate_stats *cs = &rep->cand[c];
     fprintf(out, "    {\"name\": ");
     json_string(out, study->candidates[c].name);
-    const pom_act_units *u = pom_act_units_of(study->candidates[c].eval.actuator_kind);
+    const pom_act_desc *u = pom_act_kind_desc(study->candidates[c].eval.actuator_kind);
     fprintf(out,
             ", \"actuator_kind\": \"%s\", \"actuator_unit\": \"%s\", \"done\": %ld, "
             "\"failed\": %ld, \"unsettled\": %ld",
@@ -734,7 +734,7 @@ static pom_status write_summary(const pom_doe_study *study, const pom_doe_report
   fprintf(f, "- config: `%s`; results file: `%s`\n", study->source, output);
   fprintf(f, "- pomlab %s (commit %s), %s\n", POM_VERSION, POM_GIT_COMMIT, when);
   int mixed = 0;
-  const pom_act_units *u = pom_act_units_of(pom_cli_doe_study_kind(study, &mixed));
+  const pom_act_desc *u = pom_act_kind_desc(pom_cli_doe_study_kind(study, &mixed));
   if (study->maneuvers.space == POM_DOE_SPACE_JOINT)
     fprintf(f,
             "- %d candidate%s x %ld maneuvers, seed %llu, targets %s within +-%.3g %s of "
@@ -759,7 +759,7 @@ static pom_status write_summary(const pom_doe_study *study, const pom_doe_report
   for (int c = 0; c < study->n_candidates; ++c) {
     char model[160];
     model_text(&study->candidates[c], model, sizeof model);
-    const pom_act_units *cu = pom_act_units_of(study->candidates[c].eval.actuator_kind);
+    const pom_act_desc *cu = pom_act_kind_desc(study->candidates[c].eval.actuator_kind);
     fprintf(f, "| %s | `%s` | %s (q in %s) | %s |\n", study->candidates[c].name,
             study->candidates[c].source, cu->kind_name, cu->display, model);
   }

@@ -21,15 +21,14 @@ void pom_cli_dyn_params_json(FILE *out, const pom_dyn_params *p) {
   const pom_dyn_scene *s = &p->scene;
   const pom_dyn_solver *v = &p->solver;
   const pom_dyn_maneuver *m = &p->maneuver;
-  const int rot = a->kind == POM_ACT_REVOLUTE;
-  fprintf(out, ",\n  \"actuator\": {\"kind\": \"%s\", ", rot ? "rotary" : "linear");
-  member(out, rot ? "torque_constant_Nm_per_A" : "force_constant_N_per_A", a->force_constant, 0);
+  const pom_act_desc *kind = pom_act_kind_desc(a->kind);
+  fprintf(out, ",\n  \"actuator\": {\"kind\": \"%s\", ", kind->name);
+  member(out, kind->constant_key, a->force_constant, 0);
   member(out, "resistance_ohm", a->resistance, 0);
   member(out, "inductance_H", a->inductance, 0);
-  member(out, rot ? "bearing_friction_Nms_per_rad" : "bearing_friction_Ns_per_m",
-         a->bearing_friction, 0);
+  member(out, kind->friction_key, a->bearing_friction, 0);
   member(out, "voltage_limit_V", a->voltage_limit, 0);
-  member(out, rot ? "sensor_gain_V_per_rad" : "sensor_gain_V_per_m", a->sensor_gain, 1);
+  member(out, kind->gain_key, a->sensor_gain, 1);
   fprintf(out, ",\n  \"controller\": {");
   pom_cli_ctrl_json_members(out, c);
   fprintf(out, "}");
@@ -67,18 +66,12 @@ void pom_cli_dyn_params_text(FILE *out, const pom_dyn_params *p) {
   const pom_dyn_scene *s = &p->scene;
   const pom_dyn_solver *v = &p->solver;
   const pom_dyn_maneuver *m = &p->maneuver;
-  if (a->kind == POM_ACT_REVOLUTE)
-    fprintf(out,
-            "actuator (rotary voice coil): K_t %g N m/A, R_c %g ohm, L %g H, bearing %g N m s/rad, "
-            "limit +-%g V, K_S %g V/rad\n",
-            a->force_constant, a->resistance, a->inductance, a->bearing_friction, a->voltage_limit,
-            a->sensor_gain);
-  else
-    fprintf(out,
-            "actuator (linear voice coil): K_m %g N/A, R_c %g ohm, L %g H, bearing %g N s/m, "
-            "limit +-%g V, K_S %g V/m\n",
-            a->force_constant, a->resistance, a->inductance, a->bearing_friction, a->voltage_limit,
-            a->sensor_gain);
+  const pom_act_desc *kind = pom_act_kind_desc(a->kind);
+  fprintf(out,
+          "actuator (%s): %s %g %s, R_c %g ohm, L %g H, bearing %g %s, limit +-%g V, K_S %g %s\n",
+          kind->device, kind->constant_symbol, a->force_constant, kind->constant_unit,
+          a->resistance, a->inductance, a->bearing_friction, kind->friction_unit, a->voltage_limit,
+          a->sensor_gain, kind->gain_unit);
   char law[512];
   pom_dyn_ctrl_of(c)->describe(c, law, sizeof law);
   fprintf(out, "controller (%s): %s\n", pom_dyn_ctrl_of(c)->name, law);

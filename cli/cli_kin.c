@@ -88,7 +88,7 @@ void pom_json_mat3(FILE *out, const double M[9], double scale) {
 
 /* ---- pose reports ------------------------------------------------------------ */
 void pom_cli_kin_print_limits(FILE *out, const pom_kin_arch *arch, const pom_kin_pose *p) {
-  const pom_act_units *u = pom_act_units_of(pom_kin_type_actuator(arch->type));
+  const pom_act_desc *u = pom_act_kind_desc(pom_kin_type_actuator(arch->type));
   fprintf(out, "limits:\n");
   fprintf(out, "  %-17s +-%-8.4g %-4s q = %9.4f %9.4f %9.4f %s\n",
           u->kind_name[0] == 'r' ? "actuator range" : "stroke", 0.5 * arch->stroke * u->to_display,
@@ -109,7 +109,7 @@ void pom_cli_kin_print_limits(FILE *out, const pom_kin_arch *arch, const pom_kin
 }
 
 void pom_cli_kin_pose_json(FILE *out, const pom_kin_arch *arch, const pom_kin_pose *p) {
-  const pom_act_units *u = pom_act_units_of(pom_kin_type_actuator(arch->type));
+  const pom_act_desc *u = pom_act_kind_desc(pom_kin_type_actuator(arch->type));
   fprintf(
       out,
       "\"actuator_kind\": \"%s\",\n  \"actuator_unit\": \"%s\",\n  \"display_unit\": \"%s\",\n  ",

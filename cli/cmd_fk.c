@@ -68,7 +68,7 @@ int pom_cmd_fk(int argc, char **argv) {
   int rc = pom_cli_kin_load(path, &cfg, &arch, NULL, pom_cli_kin_scopes);
   if (rc) return rc;
 
-  const pom_act_units *u = pom_act_units_of(pom_kin_type_actuator(arch.type));
+  const pom_act_desc *u = pom_act_kind_desc(pom_kin_type_actuator(arch.type));
   double q[3] = {q_disp[0] / u->to_display, q_disp[1] / u->to_display, q_disp[2] / u->to_display};
   double R[9];
   pom_kin_fk_info info = {0, 0, 0.0};

@@ -103,14 +103,13 @@ int pom_cmd_ik(int argc, char **argv) {
       printf("reachable: NO - %s\n", err.message);
     } else {
       printf("reachable: yes\n");
-      const pom_act_units *u = pom_act_units_of(pom_kin_type_actuator(arch.type));
+      const pom_act_desc *u = pom_act_kind_desc(pom_kin_type_actuator(arch.type));
       const double f = u->to_display;
       printf("q (%s):  %12.6f %12.6f %12.6f\n", u->display, p.q[0] * f, p.q[1] * f, p.q[2] * f);
       /* a lever arm in mm/rad, or for a rotary actuator a plain ratio
        * (rad/rad): docs/conventions.md */
-      const int rotary = pom_kin_type_actuator(arch.type) == POM_ACT_REVOLUTE;
-      const double fj = rotary ? 1.0 : f;
-      const char *ju = rotary ? "rad/rad" : "mm/rad";
+      const double fj = u->lever_to_display;
+      const char *ju = u->lever_unit;
       printf("J (%s), q_dot = J omega (omega in the fixed frame):\n", ju);
       for (int i = 0; i < 3; ++i)
         printf("  [%12.6f %12.6f %12.6f]\n", p.J[3 * i] * fj, p.J[3 * i + 1] * fj,

@@ -68,7 +68,7 @@ static void points_json(const char *key, const double p[3][3], int last) {
  * architecture: its type's tables name every value (pom_arch.h). */
 static void model_mechanism_json(const pom_kin_arch *a, const pom_mechanism *m) {
   const pom_kin_arch_type *t = a->type;
-  const pom_act_units *u = pom_act_units_of(t->actuator);
+  const pom_act_desc *u = pom_act_kind_desc(t->actuator);
   printf("  \"geometry\": {\n    \"mode\": \"%s\",\n", a->has_design ? "parameters" : "points");
   printf("    \"scale_m\": ");
   pom_json_number(stdout, a->design.scale);
@@ -147,7 +147,7 @@ static void model_mechanism_json(const pom_kin_arch *a, const pom_mechanism *m) 
     const pom_mech_actuator *ac = &m->actuator[k];
     printf("      {\"index\": %d, \"joint\": %d, \"joint_name\": ", k, ac->joint);
     pom_json_string(stdout, m->joint[ac->joint].name);
-    const pom_act_units *au = pom_act_units_of(ac->kind);
+    const pom_act_desc *au = pom_act_kind_desc(ac->kind);
     printf(", \"kind\": \"%s\", \"moving_body\": %d, \"axis\": ", au->kind_name, ac->moving_body);
     pom_json_vec(stdout, m->joint[ac->joint].axis, 3, 1.0);
     printf(", \"stroke\": ");
@@ -161,7 +161,7 @@ static void model_mechanism_json(const pom_kin_arch *a, const pom_mechanism *m) 
 /* ---- kinematic part: human text ------------------------------------------------ */
 static void model_mechanism_text(const pom_kin_arch *a, const pom_mechanism *m) {
   const pom_kin_arch_type *t = a->type;
-  const pom_act_units *u = pom_act_units_of(t->actuator);
+  const pom_act_desc *u = pom_act_kind_desc(t->actuator);
   printf("geometry (%s form), fixed frame at home:\n",
          a->has_design ? "design parameters" : "explicit points");
   printf("  scale: %s = %.6g mm (%s)\n", t->scale_key, a->design.scale * 1e3, t->scale_meaning);
@@ -179,8 +179,7 @@ static void model_mechanism_text(const pom_kin_arch *a, const pom_mechanism *m) 
       printf("  (%8.3f %8.3f %8.3f)", p[i][0] * f, p[i][1] * f, p[i][2] * f);
     printf("\n");
   }
-  printf("limits: %s +-%.6g %s", t->actuator == POM_ACT_REVOLUTE ? "range" : "stroke",
-         0.5 * a->stroke * u->to_display, u->display);
+  printf("limits: %s +-%.6g %s", u->range_word, 0.5 * a->stroke * u->to_display, u->display);
   for (int kind = 1; kind < POM_KIN_LIM_KINDS; ++kind) {
     const pom_kin_limit_desc *ld = &t->limits[kind];
     if (!ld->name) continue;
@@ -215,7 +214,7 @@ static void model_mechanism_text(const pom_kin_arch *a, const pom_mechanism *m) 
   for (int k = 0; k < m->n_actuators; ++k) {
     const pom_mech_actuator *ac = &m->actuator[k];
     const double *ax = m->joint[ac->joint].axis;
-    const pom_act_units *au = pom_act_units_of(ac->kind);
+    const pom_act_desc *au = pom_act_kind_desc(ac->kind);
     printf("  %d %s joint %s, moves %s, axis (%6.3f %6.3f %6.3f), range +-%.4g %s\n", k,
            au->kind_name, m->joint[ac->joint].name, m->body[ac->moving_body].name, ax[0], ax[1],
            ax[2], 0.5 * ac->stroke * au->to_display, au->display);
@@ -228,7 +227,7 @@ static int list_architectures(int json) {
   if (json) printf("{\n  \"architectures\": [\n");
   for (int k = 0; k < n; ++k) {
     const pom_kin_arch_type *t = pom_kin_arch_type_at(k);
-    const pom_act_units *u = pom_act_units_of(t->actuator);
+    const pom_act_desc *u = pom_act_kind_desc(t->actuator);
     if (json) {
       printf("    {\"name\": ");
       pom_json_string(stdout, t->name);

@@ -91,7 +91,7 @@ static int stroke_excursions(const pom_dyn_metrics *mt, double half, int out[3])
 static void print_json(const char *name, const pom_dyn_params *p, const pom_dyn_metrics *mt,
                        pom_actuator_kind kind, double half_stroke) {
   FILE *f = stdout;
-  const pom_act_units *u = pom_act_units_of(kind);
+  const pom_act_desc *u = pom_act_kind_desc(kind);
   /* the name comes from the config and the reason may quote option values:
    * both escaped */
   fputs("{\n  \"name\": ", f);
@@ -117,7 +117,7 @@ static void print_json(const char *name, const pom_dyn_params *p, const pom_dyn_
   fprintf(f, "  \"stroke_exceeded\": [%s, %s, %s],\n", out[0] ? "true" : "false",
           out[1] ? "true" : "false", out[2] ? "true" : "false");
   /* the keys of prismatic mechanisms before actuator units existed */
-  if (kind == POM_ACT_PRISMATIC) {
+  if (u->legacy_keys) {
     json_metric(f, "target_m", mt, pom_dyn_metric(POM_DYN_METRIC_target), ",");
     json_metric(f, "final_q_m", mt, pom_dyn_metric(POM_DYN_METRIC_final_q), ",");
   }
@@ -153,7 +153,7 @@ static void print_actuator_table(const pom_dyn_metrics *mt, pom_actuator_kind ki
 
 static void print_human(const char *name, const pom_dyn_params *p, const pom_dyn_metrics *mt,
                         pom_actuator_kind kind, double half_stroke) {
-  const pom_act_units *u = pom_act_units_of(kind);
+  const pom_act_desc *u = pom_act_kind_desc(kind);
   double f = u->to_display;
   char law[512];
   pom_dyn_ctrl_of(&p->controller)->describe(&p->controller, law, sizeof law);
@@ -202,7 +202,7 @@ static pom_status write_csv(const char *path, const pom_dyn_trace *tr, const dou
   POM_TRY(pom_io_create(&w, path, err));
   FILE *f = w.f;
   /* actuator coordinates in their SI unit: m and m/s, or rad and rad/s */
-  const char *q = pom_act_units_of(kind)->si, *qd = kind == POM_ACT_REVOLUTE ? "radps" : "mps";
+  const char *q = pom_act_kind_desc(kind)->si, *qd = pom_act_kind_desc(kind)->rate_tag;
   fprintf(f,
           "t_s,q1_%s,q2_%s,q3_%s,qdot1_%s,qdot2_%s,qdot3_%s,i1_A,i2_A,i3_A,u1_V,u2_V,u3_V,"
           "E1_J,E2_J,E3_J,psi_rad,theta_rad,phi_rad,qw,qx,qy,qz,deflection_m,q1_set_%s,"
@@ -241,9 +241,9 @@ static pom_status write_h5(const char *path, const pom_cfg *cfg, const char *nam
   snprintf(units, sizeof units,
            "t s; q %s; q_dot %s; current A; voltage V; energy J (cumulative int u i dt); "
            "euler_zyx rad (psi, theta, phi); quat (w, x, y, z); deflection m",
-           pom_act_units_of(kind)->si, pom_act_units_of(kind)->rate);
+           pom_act_kind_desc(kind)->si, pom_act_kind_desc(kind)->rate);
   POM_TRY_GOTO(pom_h5_attr_string(g, "units", units, err), done);
-  POM_TRY_GOTO(pom_h5_attr_string(g, "actuator_unit", pom_act_units_of(kind)->si, err), done);
+  POM_TRY_GOTO(pom_h5_attr_string(g, "actuator_unit", pom_act_kind_desc(kind)->si, err), done);
   POM_TRY_GOTO(pom_h5_write_doubles(g, "t", 1, d1, tr->t, err), done);
   POM_TRY_GOTO(pom_h5_write_doubles(g, "q", 2, d3, tr->q, err), done);
   POM_TRY_GOTO(pom_h5_write_doubles(g, "q_dot", 2, d3, tr->q_dot, err), done);
@@ -261,7 +261,7 @@ static pom_status write_h5(const char *path, const pom_cfg *cfg, const char *nam
   POM_TRY_GOTO(pom_h5_attr_string(g, "orientation", pom_dyn_orient_name(p->scene.orientation), err),
                done);
   POM_TRY_GOTO(pom_h5_attr_doubles(g, "target", mt->target, 3, err), done);
-  if (kind == POM_ACT_PRISMATIC) /* the name before actuator units existed */
+  if (pom_act_kind_desc(kind)->legacy_keys) /* the name before actuator units existed */
     POM_TRY_GOTO(pom_h5_attr_doubles(g, "target_m", mt->target, 3, err), done);
   POM_TRY_GOTO(pom_h5_attr_doubles(g, "settling_time_s", mt->settling_time, 3, err), done);
   POM_TRY_GOTO(pom_h5_attr_doubles(g, "settling_time_final_s", mt->settling_time_final, 3, err),
@@ -394,7 +394,7 @@ int pom_cmd_simulate(int argc, char **argv) {
     goto done;
   }
   /* display unit (mm or deg) -> SI (m or rad), once, at the edge */
-  const pom_act_units *u = pom_act_units_of(kind);
+  const pom_act_desc *u = pom_act_kind_desc(kind);
   for (int a = 0; a < 3; ++a)
     target[a] /= u->to_display;
   /* a target outside the stroke is a usage error, refused before any work */
@@ -403,9 +403,9 @@ int pom_cmd_simulate(int argc, char **argv) {
     if (half > 0 && !(fabs(target[a]) <= half)) {
       fprintf(stderr,
               "pomlab simulate: --target q%d = %.10g %s is outside the stroke +-%.10g %s "
-              "(limits.stroke_%s = %.10g)\n",
+              "(limits.%s%s = %.10g)\n",
               a + 1, target[a] * u->to_display, u->display, half * u->to_display, u->display,
-              u->display, arch.stroke * u->to_display);
+              u->range_word, u->key_suffix, arch.stroke * u->to_display);
       rc = 2;
       goto done;
     }

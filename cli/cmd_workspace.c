@@ -137,7 +137,7 @@ static int write_map(const char *file, const pom_kin_arch *arch, const pom_kin_w
     return 1;
   }
   FILE *fp = w.f;
-  const pom_act_units *u = pom_act_units_of(pom_kin_type_actuator(arch->type));
+  const pom_act_desc *u = pom_act_kind_desc(pom_kin_type_actuator(arch->type));
   fprintf(fp,
           "psi_deg,theta_deg,phi_deg,reachable,within_limits,dexterity,q1_%s,q2_%s,q3_%s,"
           "violations\n",

@@ -33,15 +33,6 @@ typedef enum {
   POM_DOE_DIST_NORMAL = 1   /* normal(0, sigma) truncated to [-range, +range] */
 } pom_doe_dist;
 
-/* Which keys set the joint-space range and sigma: none (the paper's +-3 mm,
- * prismatic only), range_mm/sigma_mm (prismatic) or range_deg/sigma_deg
- * (revolute). */
-typedef enum {
-  POM_DOE_RANGE_DEFAULT = 0,
-  POM_DOE_RANGE_MM = 1,
-  POM_DOE_RANGE_DEG = 2
-} pom_doe_range_keys;
-
 /* How maneuvers are drawn: the `montecarlo` config group. */
 typedef struct {
   long count;                /* maneuvers per candidate */
@@ -50,7 +41,9 @@ typedef struct {
   pom_doe_dist distribution; /* of each joint target (joint space) */
   double range;              /* joint: targets within +-range of mid-stroke (m or rad) */
   double sigma;              /* joint, normal: standard deviation (m or rad) */
-  pom_doe_range_keys keys;   /* which keys gave range and sigma (their unit) */
+  const char *range_suffix;  /* suffix of the keys that gave range and sigma, an actuator kind's
+                                key_suffix ("_mm": range_mm, sigma_mm; "_deg"); NULL: none, the
+                                paper's +-3 mm (prismatic only) */
   double tilt_max;           /* orientation: largest tilt angle (rad) */
   double torsion_max;        /* orientation: largest |torsion| angle (rad) */
 } pom_doe_maneuvers;

@@ -44,8 +44,8 @@ pom_status pom_doe_mech_actuator_kind(const pom_mechanism *mech, pom_actuator_ki
       POM_FAIL(err, POM_ERR_ARG,
                "actuator %d is %s but actuator 1 is %s: the actuators of one mechanism must share "
                "a kind (one unit for targets, strokes and ranges)",
-               a + 1, pom_act_units_of(mech->actuator[a].kind)->kind_name,
-               pom_act_units_of(*kind)->kind_name);
+               a + 1, pom_act_kind_desc(mech->actuator[a].kind)->kind_name,
+               pom_act_kind_desc(*kind)->kind_name);
   return POM_OK;
 }
 
@@ -55,7 +55,7 @@ static pom_actuator_kind kind_of(const pom_doe_dyn_base *ctx) {
 
 /* Joint targets must lie inside the stroke: the maneuver fails otherwise. */
 static pom_status check_stroke(const pom_doe_dyn_base *ctx, const double q[3], pom_error *err) {
-  const pom_act_units *u = pom_act_units_of(kind_of(ctx));
+  const pom_act_desc *u = pom_act_kind_desc(kind_of(ctx));
   double half = 0.5 * ctx->arch.stroke, f = u->to_display;
   for (int i = 0; i < 3; ++i)
     if (!(fabs(q[i]) <= half))
@@ -93,11 +93,10 @@ pom_status pom_doe_dyn_run(const void *p, void *worker, const double target[3],
 
 pom_status pom_doe_dyn_describe_base(const pom_doe_dyn_base *ctx, hid_t g, pom_error *err) {
   POM_TRY(pom_h5_attr_string(g, "architecture", pom_kin_arch_name(&ctx->arch), err));
-  const pom_act_units *u = pom_act_units_of(kind_of(ctx));
+  const pom_act_desc *u = pom_act_kind_desc(kind_of(ctx));
   /* stroke in the actuator's SI unit; stroke_m kept for prismatic files */
   POM_TRY(pom_h5_attr_double(g, "stroke", ctx->arch.stroke, err));
-  if (kind_of(ctx) == POM_ACT_PRISMATIC)
-    POM_TRY(pom_h5_attr_double(g, "stroke_m", ctx->arch.stroke, err));
+  if (u->legacy_keys) POM_TRY(pom_h5_attr_double(g, "stroke_m", ctx->arch.stroke, err));
   POM_TRY(pom_h5_attr_string(g, "actuator_kind", u->kind_name, err));
   POM_TRY(pom_doe_describe_dyn_params(g, &ctx->params, err));
   POM_TRY(pom_h5_attr_int64(g, "model_states", pom_dyn_model_n_states(ctx->model), err));

@@ -39,32 +39,44 @@ pom_status pom_doe_maneuvers_load(pom_doe_maneuvers *mv, const pom_cfg *cfg, pom
   POM_TRY(pom_cfg_choice_opt(cfg, "montecarlo.distribution", dists, 0, &dist, err));
   mv->space = (pom_doe_space)space;
   mv->distribution = (pom_doe_dist)dist;
-  /* joint-space ranges in the actuator's display unit: mm (prismatic) or deg
-   * (revolute); which set was given is checked against the candidates'
-   * actuator kind once they are known (pom_doe_maneuvers_check_kinds) */
-  int mm = pom_cfg_has(cfg, "montecarlo.range_mm") || pom_cfg_has(cfg, "montecarlo.sigma_mm");
-  int deg = pom_cfg_has(cfg, "montecarlo.range_deg") || pom_cfg_has(cfg, "montecarlo.sigma_deg");
-  if (mm && deg)
-    return pom_cfg_error(cfg,
-                         pom_cfg_has(cfg, "montecarlo.range_deg") ? "montecarlo.range_deg"
-                                                                  : "montecarlo.sigma_deg",
-                         NULL, err,
-                         "mixes units with montecarlo.range_mm/sigma_mm: give the range in the "
-                         "candidates' actuator unit only (_mm prismatic, _deg revolute)");
-  if (deg) {
-    mv->keys = POM_DOE_RANGE_DEG;
-    mv->range = 3.0 * POM_DEG;
+  /* joint-space ranges in the display unit of an actuator kind: range_mm /
+   * sigma_mm (prismatic) or range_deg / sigma_deg (revolute); which set was
+   * given is checked against the candidates' actuator kind once they are
+   * known (pom_doe_maneuvers_check_kinds) */
+  const pom_act_desc *given = NULL;
+  char range_key[64], sigma_key[64];
+  for (int k = 0; k < POM_ACT_KINDS; ++k) {
+    const pom_act_desc *d = pom_act_kind_desc((pom_actuator_kind)k);
+    snprintf(range_key, sizeof range_key, "montecarlo.range%s", d->key_suffix);
+    snprintf(sigma_key, sizeof sigma_key, "montecarlo.sigma%s", d->key_suffix);
+    if (!pom_cfg_has(cfg, range_key) && !pom_cfg_has(cfg, sigma_key)) continue;
+    if (given && strcmp(given->key_suffix, d->key_suffix) != 0) {
+      char units[128] = "";
+      size_t used = 0;
+      for (int u = 0; u < POM_ACT_KINDS && used < sizeof units; ++u) {
+        const pom_act_desc *du = pom_act_kind_desc((pom_actuator_kind)u);
+        int w = snprintf(units + used, sizeof units - used, "%s%s %s", u ? ", " : "",
+                         du->key_suffix, du->kind_name);
+        used += w > 0 ? (size_t)w : 0;
+      }
+      return pom_cfg_error(cfg, pom_cfg_has(cfg, range_key) ? range_key : sigma_key, NULL, err,
+                           "mixes units with montecarlo.range%s/sigma%s: give the range in the "
+                           "candidates' actuator unit only (%s)",
+                           given->key_suffix, given->key_suffix, units);
+    }
+    given = d;
+  }
+  if (given) {
+    /* in SI from the display unit; the range defaults to 3 of it (the
+     * paper's +-3 mm; +-3 deg) */
+    const double to_si = 1.0 / given->to_display, hi = given->maneuver_range_max;
+    mv->range_suffix = given->key_suffix;
+    mv->range = 3.0 * to_si;
     mv->sigma = 0.5 * mv->range;
-    POM_TRY(pom_cfg_real_opt(cfg, "montecarlo.range_deg", POM_DEG, 1e-6, 180.0, mv->range,
-                             &mv->range, err));
-    POM_TRY(pom_cfg_real_opt(cfg, "montecarlo.sigma_deg", POM_DEG, 1e-6, 180.0, mv->sigma,
-                             &mv->sigma, err));
-  } else {
-    if (mm) mv->keys = POM_DOE_RANGE_MM;
-    POM_TRY(pom_cfg_real_opt(cfg, "montecarlo.range_mm", 1e-3, 1e-6, 100.0, mv->range, &mv->range,
-                             err));
-    POM_TRY(pom_cfg_real_opt(cfg, "montecarlo.sigma_mm", 1e-3, 1e-6, 100.0, mv->sigma, &mv->sigma,
-                             err));
+    snprintf(range_key, sizeof range_key, "montecarlo.range%s", given->key_suffix);
+    snprintf(sigma_key, sizeof sigma_key, "montecarlo.sigma%s", given->key_suffix);
+    POM_TRY(pom_cfg_real_opt(cfg, range_key, to_si, 1e-6, hi, mv->range, &mv->range, err));
+    POM_TRY(pom_cfg_real_opt(cfg, sigma_key, to_si, 1e-6, hi, mv->sigma, &mv->sigma, err));
   }
   POM_TRY(pom_cfg_real_opt(cfg, "montecarlo.tilt_max_deg", POM_DEG, 1e-6, 89.0, mv->tilt_max,
                            &mv->tilt_max, err));
@@ -88,37 +100,45 @@ pom_status pom_doe_maneuvers_check_kinds(const pom_doe_maneuvers *mv,
                                          pom_error *err) {
   if (mv->space != POM_DOE_SPACE_JOINT || n < 1) return POM_OK;
   if (pom_doe_kinds_mixed(kinds, n)) {
-    int np = 0;
-    for (int c = 0; c < n; ++c)
-      np += kinds[c] == POM_ACT_PRISMATIC;
+    /* the count of each kind: "2 prismatic in m, 1 revolute in rad" */
+    char counts[256] = "";
+    size_t used = 0;
+    for (int k = 0; k < POM_ACT_KINDS && used < sizeof counts; ++k) {
+      const pom_act_desc *d = pom_act_kind_desc((pom_actuator_kind)k);
+      int nk = 0;
+      for (int c = 0; c < n; ++c)
+        nk += kinds[c] == d->kind;
+      int w = snprintf(counts + used, sizeof counts - used, "%s%d %s in %s", k ? ", " : "", nk,
+                       d->kind_name, d->si);
+      used += w > 0 ? (size_t)w : 0;
+    }
     POM_FAIL(err, POM_ERR_CONFIG,
-             "%s: key 'montecarlo.space': the candidates mix actuator kinds (%d prismatic in m, %d "
-             "revolute in rad), so joint-space targets would not mean the same motion for all: "
-             "set montecarlo.space = \"orientation\" (targets drawn as platform orientations, "
-             "mapped to each candidate's actuators by its inverse kinematics; docs/results.md "
-             "section 1)",
-             pom_cfg_path(cfg), np, n - np);
+             "%s: key 'montecarlo.space': the candidates mix actuator kinds (%s), so joint-space "
+             "targets would not mean the same motion for all: set montecarlo.space = "
+             "\"orientation\" (targets drawn as platform orientations, mapped to each "
+             "candidate's actuators by its inverse kinematics; docs/results.md section 1)",
+             pom_cfg_path(cfg), counts);
   }
-  const char *range_key =
-      mv->keys == POM_DOE_RANGE_DEG ? "montecarlo.range_deg" : "montecarlo.range_mm";
-  const char *sigma_key =
-      mv->keys == POM_DOE_RANGE_DEG ? "montecarlo.sigma_deg" : "montecarlo.sigma_mm";
-  const char *key = pom_cfg_has(cfg, range_key) ? range_key : sigma_key;
-  if (kinds[0] == POM_ACT_REVOLUTE && mv->keys == POM_DOE_RANGE_MM)
-    return pom_cfg_error(cfg, key, NULL, err,
-                         "the candidates' actuators are revolute (q in rad): give the range in "
-                         "degrees with montecarlo.%s_deg",
-                         key == range_key ? "range" : "sigma");
-  if (kinds[0] == POM_ACT_PRISMATIC && mv->keys == POM_DOE_RANGE_DEG)
-    return pom_cfg_error(cfg, key, NULL, err,
-                         "the candidates' actuators are prismatic (q in m): give the range in "
-                         "millimetres with montecarlo.%s_mm",
-                         key == range_key ? "range" : "sigma");
-  if (kinds[0] == POM_ACT_REVOLUTE && mv->keys == POM_DOE_RANGE_DEFAULT)
+  /* the keys given must carry the kind's suffix; the default range is a
+   * length, for kinds whose q is one */
+  const pom_act_desc *d = pom_act_kind_desc(kinds[0]);
+  const char *given = mv->range_suffix;
+  if (given && strcmp(given, d->key_suffix) != 0) {
+    char range_key[64], sigma_key[64];
+    snprintf(range_key, sizeof range_key, "montecarlo.range%s", given);
+    snprintf(sigma_key, sizeof sigma_key, "montecarlo.sigma%s", given);
+    int range = pom_cfg_has(cfg, range_key);
+    return pom_cfg_error(cfg, range ? range_key : sigma_key, NULL, err,
+                         "the candidates' actuators are %s (q in %s): give the range in %s with "
+                         "montecarlo.%s%s",
+                         d->kind_name, d->si, d->display_words, range ? "range" : "sigma",
+                         d->key_suffix);
+  }
+  if (!given && d->angular)
     POM_FAIL(err, POM_ERR_CONFIG,
-             "%s: key 'montecarlo.range_deg': missing: the candidates' actuators are revolute and "
-             "the default range (+-3 mm, the paper's) is for prismatic ones",
-             pom_cfg_path(cfg));
+             "%s: key 'montecarlo.range%s': missing: the candidates' actuators are %s and the "
+             "default range (+-3 mm, the paper's) is for prismatic ones",
+             pom_cfg_path(cfg), d->key_suffix, d->kind_name);
   return POM_OK;
 }
 

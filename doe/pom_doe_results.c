@@ -227,9 +227,9 @@ static pom_status write_montecarlo(hid_t file, const pom_doe_study *study, pom_e
   POM_TRY_GOTO(pom_h5_attr_double(g, "sigma", mv->sigma, err), done);
   POM_TRY_GOTO(pom_h5_attr_string(
                    g, "actuator_unit",
-                   pom_doe_kinds_mixed_study(study) ? "mixed" : pom_act_units_of(kind)->si, err),
+                   pom_doe_kinds_mixed_study(study) ? "mixed" : pom_act_kind_desc(kind)->si, err),
                done);
-  if (kind == POM_ACT_PRISMATIC) {
+  if (pom_act_kind_desc(kind)->legacy_keys) {
     POM_TRY_GOTO(pom_h5_attr_double(g, "range_m", mv->range, err), done);
     POM_TRY_GOTO(pom_h5_attr_double(g, "sigma_m", mv->sigma, err), done);
   }
@@ -252,11 +252,13 @@ static pom_status write_montecarlo(hid_t file, const pom_doe_study *study, pom_e
     st = pom_h5_fail(err, __FILE__, __LINE__, "annotating the maneuver table");
     goto done;
   }
+  char joint_unit[64];
+  snprintf(joint_unit, sizeof joint_unit, "%s from mid-stroke, per actuator",
+           pom_act_kind_desc(kind)->si);
   st = pom_h5_attr_string(ds, "unit",
                           mv->space != POM_DOE_SPACE_JOINT
                               ? "rad: azimuth, tilt, torsion (R = Rz(a) Ry(t) Rz(s - a))"
-                          : kind == POM_ACT_REVOLUTE ? "rad from mid-stroke, per actuator"
-                                                     : "m from mid-stroke, per actuator",
+                              : joint_unit,
                           err);
   H5Dclose(ds);
 done:
@@ -293,7 +295,7 @@ static pom_status describe_rows(hid_t ds, pom_actuator_kind kind, pom_error *err
 #undef LEGEND_ITEM
   POM_TRY(pom_h5_attr_string(ds, "units", units, err));
   POM_TRY(pom_h5_attr_string(ds, "descriptions", descr, err));
-  POM_TRY(pom_h5_attr_string(ds, "actuator_unit", pom_act_units_of(kind)->si, err));
+  POM_TRY(pom_h5_attr_string(ds, "actuator_unit", pom_act_kind_desc(kind)->si, err));
   return pom_h5_attr_string(ds, "status_codes", legend, err);
 }
 /* Dataset access of a candidate's maneuver rows: a chunk cache of two
@@ -324,7 +326,7 @@ static pom_status write_candidate(pom_doe_results *res, hid_t parent, const pom_
   POM_TRY_GOTO(pom_h5_attr_string(g, "source", cand->source, err), done);
   POM_TRY_GOTO(pom_h5_attr_int64(g, "index", c, err), done);
   POM_TRY_GOTO(
-      pom_h5_attr_string(g, "actuator_unit", pom_act_units_of(cand->eval.actuator_kind)->si, err),
+      pom_h5_attr_string(g, "actuator_unit", pom_act_kind_desc(cand->eval.actuator_kind)->si, err),
       done);
   for (int f = 0; f < cand->n_factors; ++f) {
     char an[POM_DOE_NAME_LEN + 16];

@@ -128,7 +128,7 @@ pom_status pom_doe_check_final_stroke(pom_dyn_metrics *out, double stroke, pom_e
 pom_status pom_doe_check_final_stroke_kind(pom_dyn_metrics *out, double stroke,
                                            pom_actuator_kind kind, pom_error *err) {
   if (out->status != POM_OK) return POM_OK; /* already a recorded failure */
-  const pom_act_units *u = pom_act_units_of(kind);
+  const pom_act_desc *u = pom_act_kind_desc(kind);
   double half = 0.5 * stroke, f = u->to_display;
   for (int i = 0; i < 3; ++i) {
     if (!(fabs(out->final_q[i]) <= half)) {

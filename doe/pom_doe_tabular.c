@@ -123,7 +123,7 @@ static pom_status write_maneuvers(FILE *f, const pom_doe_study *study, const cha
   fputs(",status,reason\n", f);
   long m = study->maneuvers.count;
   for (int c = 0; c < study->n_candidates; ++c) {
-    const char *unit = pom_act_units_of(study->candidates[c].eval.actuator_kind)->si;
+    const char *unit = pom_act_kind_desc(study->candidates[c].eval.actuator_kind)->si;
     for (long k0 = 0; k0 < m; k0 += READ_BLOCK) {
       long n = m - k0 < READ_BLOCK ? m - k0 : READ_BLOCK;
       POM_TRY(pom_doe_results_read_rows(results, c, k0, n, block, err));
@@ -169,8 +169,9 @@ static void write_candidates(FILE *f, const pom_doe_study *study, const pom_doe_
   for (int c = 0; c < study->n_candidates; ++c) {
     const pom_doe_candidate_stats *cs = &rep->cand[c];
     lead_values(f, study, c);
-    fprintf(f, ",%s,%ld,%ld,%ld,%ld", pom_act_units_of(study->candidates[c].eval.actuator_kind)->si,
-            cs->n_done, cs->n_done - cs->n_failed, cs->n_failed, cs->n_unsettled);
+    fprintf(f, ",%s,%ld,%ld,%ld,%ld",
+            pom_act_kind_desc(study->candidates[c].eval.actuator_kind)->si, cs->n_done,
+            cs->n_done - cs->n_failed, cs->n_failed, cs->n_unsettled);
     for (int s = 0; s < POM_DYN_N_STATS; ++s) {
       double v[POM_DOE_STATS_FIELDS];
       pom_doe_stats_flatten(v, &cs->stat[s]);

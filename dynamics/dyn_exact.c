@@ -205,7 +205,7 @@ static pom_status consistency_check(dyn_exact *ex, const pom_mechanism *mech, po
     if (a >= 0 && a < mech->n_actuators) {
       /* the limb whose q (m or rad, by the actuator's kind) matches; limb a
        * itself when several do */
-      const pom_act_units *u = pom_act_units_of(mech->actuator[a].kind);
+      const pom_act_desc *u = pom_act_kind_desc(mech->actuator[a].kind);
       for (int i = 0; i < 3; ++i)
         if (fabs(tw.q[i] - q) <= EXACT_MATCH_TOL && (ex->act_limb[a] < 0 || i == a))
           ex->act_limb[a] = i;
@@ -329,6 +329,7 @@ static pom_status exact_init(pom_dyn_model *m, const pom_mechanism *mech, const 
   }
   m->n_colors = m->ctrl_analytic ? ex->n_ori + 3 : ex->n_jac;
   POM_TRY(pom_dyn_pattern_build(m, err));
+  const int angular = pom_act_kind_desc(p->actuator.kind)->angular; /* q in rad, else m */
   for (int i = 0; i < ex->n_ori; ++i)
     m->scale[ex->ori + i] = EXACT_SCALE_ANGLE;
   for (int i = 0; i < 3; ++i)
@@ -340,8 +341,7 @@ static pom_status exact_init(pom_dyn_model *m, const pom_mechanism *mech, const 
     /* controller states by their kind; the PID integral of the error is m s
      * (linear) or rad s (rotary) */
     for (int k = 0; k < m->ctrl->n_states; ++k) {
-      const double sq =
-          p->actuator.kind == POM_ACT_REVOLUTE ? EXACT_SCALE_ANGLE : EXACT_SCALE_LENGTH;
+      const double sq = angular ? EXACT_SCALE_ANGLE : EXACT_SCALE_LENGTH;
       const pom_dyn_ctrl_state_kind kind = m->ctrl->states[k].kind;
       m->scale[ac->ctrl_state + k] = kind == POM_DYN_CTRL_STATE_Q_TIME ? sq * p->maneuver.horizon
                                      : kind == POM_DYN_CTRL_STATE_Q    ? sq
@@ -359,7 +359,6 @@ static pom_status exact_init(pom_dyn_model *m, const pom_mechanism *mech, const 
     /* natural sizes; the mechanical states without the relative term */
     m->relative = malloc(n);
     if (!m->relative) POM_FAIL(err, POM_ERR_NOMEM, "allocating tolerances");
-    const int rotary = p->actuator.kind == POM_ACT_REVOLUTE;
     const double r = p->solver.rtol;
     for (int i = 0; i < m->n_states; ++i) {
       m->atol[i] = r * EXACT_NATURAL_ENERGY; /* accumulators */
@@ -378,7 +377,7 @@ static pom_status exact_init(pom_dyn_model *m, const pom_mechanism *mech, const 
       if (ac->flux_state >= 0)
         m->atol[ac->flux_state] = r * p->actuator.inductance * EXACT_NATURAL_CURRENT;
       for (int k = 0; k < m->ctrl->n_states; ++k) {
-        const double nq = rotary ? EXACT_NATURAL_TURN : EXACT_NATURAL_LENGTH;
+        const double nq = angular ? EXACT_NATURAL_TURN : EXACT_NATURAL_LENGTH;
         const pom_dyn_ctrl_state_kind kind = m->ctrl->states[k].kind;
         m->atol[ac->ctrl_state + k] =
             kind == POM_DYN_CTRL_STATE_Q_TIME ? r * nq * EXACT_NATURAL_SETTLE

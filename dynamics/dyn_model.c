@@ -27,15 +27,25 @@ static const pom_dyn_ctrl_engine ctrl_engine = {
 /* ---- validation of the parameters ---------------------------------------- */
 static pom_status params_check(const pom_dyn_params *p, pom_error *err) {
   const pom_dyn_actuator *a = &p->actuator;
-  if (a->kind != POM_ACT_PRISMATIC && a->kind != POM_ACT_REVOLUTE)
-    POM_FAIL(err, POM_ERR_ARG, "actuator kind %d is neither linear nor rotary", (int)a->kind);
+  const pom_act_desc *kind = pom_act_kind_desc(a->kind);
+  if (!kind) {
+    /* "neither linear nor rotary": the names of the kinds */
+    char names[128] = "";
+    size_t used = 0;
+    for (int k = 0; k < POM_ACT_KINDS && used < sizeof names; ++k) {
+      int w = snprintf(names + used, sizeof names - used, "%s%s", k ? " nor " : "",
+                       pom_act_kind_desc((pom_actuator_kind)k)->name);
+      used += w > 0 ? (size_t)w : 0;
+    }
+    POM_FAIL(err, POM_ERR_ARG, "actuator kind %d is neither %s", (int)a->kind, names);
+  }
   if (!(a->force_constant > 0) || !(a->resistance > 0) || !(a->voltage_limit > 0) ||
       !(a->sensor_gain > 0) || !(a->bearing_friction >= 0))
     POM_FAIL(err, POM_ERR_ARG,
              "actuator parameters must be positive (%s %g, R_c %g, limit %g, K_S %g) and "
              "friction >= 0 (%g)",
-             a->kind == POM_ACT_REVOLUTE ? "K_t" : "K_m", a->force_constant, a->resistance,
-             a->voltage_limit, a->sensor_gain, a->bearing_friction);
+             kind->constant_symbol, a->force_constant, a->resistance, a->voltage_limit,
+             a->sensor_gain, a->bearing_friction);
   if (p->scene.coil_inductance && !(a->inductance > 0))
     POM_FAIL(err, POM_ERR_ARG, "coil inductance %g H must be > 0 when scene.coil_inductance is on",
              a->inductance);
@@ -91,15 +101,18 @@ pom_status pom_dyn_model_create_ex(pom_dyn_model **out, const pom_mechanism *mec
              mech->n_bodies, POM_MECH_MAX_BODIES, mech->n_joints, POM_MECH_MAX_JOINTS,
              mech->n_actuators);
   /* one actuator model for all limbs: its kind must be the mechanism's */
-  for (int a = 0; a < mech->n_actuators; ++a)
-    if (mech->actuator[a].kind != p->actuator.kind)
+  for (int a = 0; a < mech->n_actuators; ++a) {
+    const pom_act_desc *want = pom_act_kind_desc(mech->actuator[a].kind);
+    if (!want)
+      POM_FAIL(err, POM_ERR_ARG, "actuator %d of the mechanism has kind %d, not a known kind",
+               a + 1, (int)mech->actuator[a].kind);
+    if (want->kind != p->actuator.kind)
       POM_FAIL(err, POM_ERR_ARG,
                "actuator %d of the mechanism is %s (q in %s) but the actuator parameters are for "
                "a %s actuator: set actuator.kind = \"%s\"",
-               a + 1, pom_act_units_of(mech->actuator[a].kind)->kind_name,
-               pom_act_units_of(mech->actuator[a].kind)->si,
-               p->actuator.kind == POM_ACT_REVOLUTE ? "rotary" : "linear",
-               mech->actuator[a].kind == POM_ACT_REVOLUTE ? "rotary" : "linear");
+               a + 1, want->kind_name, want->si, pom_act_kind_desc(p->actuator.kind)->name,
+               want->name);
+  }
   m = calloc(1, sizeof *m);
   if (!m) POM_FAIL(err, POM_ERR_NOMEM, "allocating the dynamics model");
   m->form = formulations[p->joints.model];

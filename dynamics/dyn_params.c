@@ -4,6 +4,7 @@
 
 #include "pom_dyn_ctrl.h"
 
+#include <stdio.h>
 #include <string.h>
 
 /* ---- defaults ------------------------------------------------------------ */
@@ -53,7 +54,6 @@ static const char *const linsol_kinds[] = {"dense", "klu", NULL};
 static const char *const jacobian_kinds[] = {"analytic", "finite-difference", NULL};
 static const char *const joint_models[] = {"parasitic", "rigid", NULL};
 static const char *const inertia_kinds[] = {"full", "lumped", NULL};
-static const char *const actuator_kinds[] = {"linear", "rotary", NULL};
 /* each table lists its enum's values in order: the loader casts the index */
 #define TABLE_LEN(t) (sizeof(t) / sizeof((t)[0]) - 1)
 _Static_assert(TABLE_LEN(orient_kinds) == POM_ORIENT_QUATERNION + 1,
@@ -66,12 +66,13 @@ _Static_assert(TABLE_LEN(joint_models) == POM_JOINTS_RIGID + 1,
                "joint_models follows pom_joint_model");
 _Static_assert(TABLE_LEN(inertia_kinds) == POM_INERTIA_LUMPED + 1,
                "inertia_kinds follows pom_inertia_kind");
-/* constant, bearing friction and sensor gain keys of each actuator kind */
-static const char *const actuator_keys[2][3] = {
-    {"actuator.force_constant_N_per_A", "actuator.bearing_friction_Ns_per_m",
-     "actuator.sensor_gain_V_per_m"},
-    {"actuator.torque_constant_Nm_per_A", "actuator.bearing_friction_Nms_per_rad",
-     "actuator.sensor_gain_V_per_rad"}};
+/* "actuator.<key>" of the constant (0), bearing friction (1) or sensor gain
+ * (2) of an actuator kind */
+static const char *actuator_key(char *buf, size_t cap, const pom_act_desc *kind, int which) {
+  const char *key[3] = {kind->constant_key, kind->friction_key, kind->gain_key};
+  snprintf(buf, cap, "actuator.%s", key[which]);
+  return buf;
+}
 
 /* names from the tables above, indexed by the enum's value; "?" for a value
  * outside the table (never the first name by default) */
@@ -106,16 +107,25 @@ pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error 
   long lval = 0;
 
   /* actuator.kind chooses the units of the constant, friction and gain keys;
-   * the other kind's keys are refused by name (docs/config.md) */
-  idx = (int)a->kind;
-  POM_TRY(pom_cfg_choice_opt(cfg, "actuator.kind", actuator_kinds, idx, &idx, err));
-  a->kind = (idx == 1) ? POM_ACT_REVOLUTE : POM_ACT_PRISMATIC;
-  const char *const *keys = actuator_keys[idx], *const *other = actuator_keys[1 - idx];
+   * the other kinds' keys are refused by name (docs/config.md) */
+  const char *kind_names[POM_ACT_KINDS + 1];
+  for (int k = 0; k < POM_ACT_KINDS; ++k)
+    kind_names[k] = pom_act_kind_desc((pom_actuator_kind)k)->name;
+  kind_names[POM_ACT_KINDS] = NULL;
+  idx = pom_act_kind_desc(a->kind) ? (int)a->kind : 0;
+  POM_TRY(pom_cfg_choice_opt(cfg, "actuator.kind", kind_names, idx, &idx, err));
+  a->kind = (pom_actuator_kind)idx;
+  const pom_act_desc *kind = pom_act_kind_desc(a->kind);
+  char keys[3][64], other[64];
   for (int k = 0; k < 3; ++k)
-    if (pom_cfg_has(cfg, other[k]))
-      return pom_cfg_error(cfg, other[k], NULL, err,
-                           "is a key of a %s actuator but actuator.kind = \"%s\": use %s",
-                           actuator_kinds[1 - idx], actuator_kinds[idx], keys[k]);
+    actuator_key(keys[k], sizeof keys[k], kind, k);
+  for (int o = 0; o < POM_ACT_KINDS; ++o)
+    for (int k = 0; k < 3 && o != idx; ++k)
+      if (pom_cfg_has(
+              cfg, actuator_key(other, sizeof other, pom_act_kind_desc((pom_actuator_kind)o), k)))
+        return pom_cfg_error(cfg, other, NULL, err,
+                             "is a key of a %s actuator but actuator.kind = \"%s\": use %s",
+                             kind_names[o], kind->name, keys[k]);
   POM_TRY(
       pom_cfg_real_opt(cfg, keys[0], 1.0, 1e-6, 1e4, a->force_constant, &a->force_constant, err));
   POM_TRY(pom_cfg_real_opt(cfg, "actuator.resistance_ohm", 1.0, 1e-6, 1e6, a->resistance,

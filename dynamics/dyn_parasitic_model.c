@@ -244,7 +244,7 @@ static pom_status lump_mechanism(pom_mechanism *lm, dyn_lump *lu, pom_error *err
  * (scale, natural) per state. */
 static void tolerances_fill(pom_dyn_model *m) {
   const pom_dyn_params *p = &m->par;
-  const int rotary = p->actuator.kind == POM_ACT_REVOLUTE;
+  const int angular = pom_act_kind_desc(p->actuator.kind)->angular;
   const double L = p->actuator.inductance;
   const int natural = !(p->solver.atol_scale > 0);
   double *nat = m->atol; /* natural sizes first, scaled below */
@@ -273,8 +273,8 @@ static void tolerances_fill(pom_dyn_model *m) {
      * m s (linear) or rad s (rotary) */
     for (int k = 0; k < m->ctrl->n_states; ++k) {
       const int i = ac->ctrl_state + k;
-      const double sq = rotary ? DYN_SCALE_ANGLE : DYN_SCALE_LENGTH;
-      const double nq = rotary ? DYN_NATURAL_ANGLE : DYN_NATURAL_LENGTH;
+      const double sq = angular ? DYN_SCALE_ANGLE : DYN_SCALE_LENGTH;
+      const double nq = angular ? DYN_NATURAL_ANGLE : DYN_NATURAL_LENGTH;
       switch (m->ctrl->states[k].kind) {
       case POM_DYN_CTRL_STATE_Q_TIME:
         m->scale[i] = sq * p->maneuver.horizon;
@@ -285,8 +285,8 @@ static void tolerances_fill(pom_dyn_model *m) {
         nat[i] = nq;
         break;
       case POM_DYN_CTRL_STATE_RATE:
-        m->scale[i] = rotary ? DYN_SCALE_RATE : DYN_SCALE_SPEED;
-        nat[i] = rotary ? DYN_NATURAL_RATE : DYN_NATURAL_SPEED;
+        m->scale[i] = angular ? DYN_SCALE_RATE : DYN_SCALE_SPEED;
+        nat[i] = angular ? DYN_NATURAL_RATE : DYN_NATURAL_SPEED;
         break;
       }
     }
@@ -391,11 +391,10 @@ pom_status pom_dyn_parasitic_init(pom_dyn_model *m, const pom_mechanism *mech,
   for (int a = 0; a < mech->n_actuators; ++a) {
     int jm = mech->actuator[a].joint;
     /* a linear actuator drives a prismatic joint, a rotary one a revolute joint */
-    pom_joint_type want =
-        p->actuator.kind == POM_ACT_REVOLUTE ? POM_JOINT_REVOLUTE : POM_JOINT_PRISMATIC;
-    if (jm < 0 || jm >= mech->n_joints || mech->joint[jm].type != want || joint_map[jm] < 0)
+    const pom_act_desc *kind = pom_act_kind_desc(p->actuator.kind);
+    if (jm < 0 || jm >= mech->n_joints || mech->joint[jm].type != kind->joint || joint_map[jm] < 0)
       POM_FAIL_GOTO(err, POM_ERR_ARG, fail, "actuator %d: joint %d is not a %s joint", a, jm,
-                    pom_act_units_of(p->actuator.kind)->kind_name);
+                    kind->kind_name);
     int j = joint_map[jm];
     if (m->joint[j].actuator >= 0)
       POM_FAIL_GOTO(err, POM_ERR_ARG, fail, "actuators %d and %d drive the same joint",

@@ -353,17 +353,20 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
       return mt->status;
     }
   /* a target outside the actuator's stroke is refused before any work
-   * (docs/dynamics.md section 14); stroke 0 = not limited */
+   * (docs/dynamics.md section 14); stroke 0 = not limited. Reported in the
+   * display unit of the actuator kind (mm or deg) */
+  const pom_act_desc *kind = pom_act_kind_desc(p->actuator.kind);
+  const double f = kind->to_display;
   for (int a = 0; a < m->n_actuators; ++a) {
     double half = 0.5 * m->act[a].stroke;
     if (half > 0 && !(fabs(target[a]) <= half)) {
       pom_status st = pom_error_set(err, POM_ERR_LIMIT, __FILE__, __LINE__,
-                                    "target of actuator %d = %.10g mm is outside its stroke "
-                                    "+-%.10g mm",
-                                    a + 1, target[a] * 1e3, half * 1e3);
+                                    "target of actuator %d = %.10g %s is outside its stroke "
+                                    "+-%.10g %s",
+                                    a + 1, target[a] * f, kind->display, half * f, kind->display);
       mt->status = st;
-      snprintf(mt->reason, sizeof mt->reason, "target of actuator %d = %.10g mm outside the stroke",
-               a + 1, target[a] * 1e3);
+      snprintf(mt->reason, sizeof mt->reason, "target of actuator %d = %.10g %s outside the stroke",
+               a + 1, target[a] * f, kind->display);
       mt->execution_time = NAN;
       for (int k = 0; k < 3; ++k)
         mt->settling_time[k] = mt->settling_time_final[k] = NAN;

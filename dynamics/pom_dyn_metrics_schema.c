@@ -84,14 +84,14 @@ static const unit_info units[] = {
 _Static_assert(sizeof units / sizeof units[0] == POM_DYN_UNIT_FLAG + 1, "one entry per unit class");
 
 const char *pom_dyn_metric_unit(const pom_dyn_metric_info *mi, pom_actuator_kind kind) {
-  if (mi->unit == POM_DYN_UNIT_ACTUATOR) return pom_act_units_of(kind)->si;
+  if (mi->unit == POM_DYN_UNIT_ACTUATOR) return pom_act_kind_desc(kind)->si;
   return units[mi->unit].si;
 }
 
 const char *pom_dyn_metric_display_unit(const pom_dyn_metric_info *mi, pom_actuator_kind kind,
                                         double *factor) {
   if (mi->unit == POM_DYN_UNIT_ACTUATOR) {
-    const pom_act_units *u = pom_act_units_of(kind);
+    const pom_act_desc *u = pom_act_kind_desc(kind);
     if (factor) *factor = u->to_display;
     return u->display;
   }

@@ -53,7 +53,7 @@ pom_status pom_kin_arch_finish(pom_kin_arch *arch, pom_error *err) {
   if (!(sv[2] > POM_KIN_HOME_MIN_COS * sv[0]))
     POM_FAIL(err, POM_ERR_ARG,
              "the Jacobian is singular at home (singular values %g, %g, %g %s/rad)", sv[0], sv[1],
-             sv[2], pom_act_units_of(arch->type->actuator)->si);
+             sv[2], pom_act_kind_desc(arch->type->actuator)->si);
   arch->home_det_sign = det > 0.0 ? 1.0 : -1.0;
   return POM_OK;
 }
@@ -172,12 +172,11 @@ pom_status pom_kin_arch_load(pom_kin_arch *arch, const pom_cfg *cfg, pom_error *
   snprintf(arch->name, sizeof arch->name, "%s", name);
 
   /* limits (group optional, every key optional) */
-  const pom_act_units *u = pom_act_units_of(type->actuator);
+  const pom_act_desc *u = pom_act_kind_desc(type->actuator);
   char stroke_key[64];
   const char *known[POM_KIN_LIM_KINDS + 1];
   int nk = 0;
-  snprintf(stroke_key, sizeof stroke_key, "%s_%s",
-           type->actuator == POM_ACT_REVOLUTE ? "range" : "stroke", u->display);
+  snprintf(stroke_key, sizeof stroke_key, "%s%s", u->range_word, u->key_suffix);
   known[nk++] = stroke_key;
   for (int k = 1; k < POM_KIN_LIM_KINDS; ++k)
     if (type->limits[k].name) known[nk++] = type->limits[k].key;
@@ -185,8 +184,7 @@ pom_status pom_kin_arch_load(pom_kin_arch *arch, const pom_cfg *cfg, pom_error *
   POM_TRY(pom_kin_require_known_key(cfg, "limits", known, err));
   snprintf(key, sizeof key, "limits.%s", stroke_key);
   double to_si = 1.0 / u->to_display;
-  double smax = type->actuator == POM_ACT_REVOLUTE ? 360.0 : 1000.0;
-  POM_TRY(pom_cfg_real_opt(cfg, key, to_si, 0.01, smax, arch->stroke, &arch->stroke, err));
+  POM_TRY(pom_cfg_real_opt(cfg, key, to_si, 0.01, u->range_max, arch->stroke, &arch->stroke, err));
   for (int k = 1; k < POM_KIN_LIM_KINDS; ++k) {
     const pom_kin_limit_desc *ld = &type->limits[k];
     if (!ld->name) continue;

@@ -156,7 +156,7 @@ const char *pom_kin_limit_name(const pom_kin_arch *arch, int k, char *buf, size_
   if (!arch || !arch->type || k < 0 || k >= POM_KIN_LIM_COUNT) return buf;
   int kind = k / 3, member = k % 3;
   if (kind == 0) {
-    snprintf(buf, cap, "%s limb %d", arch->type->actuator == POM_ACT_REVOLUTE ? "range" : "stroke",
+    snprintf(buf, cap, "%s limb %d", pom_act_kind_desc(arch->type->actuator)->range_word,
              member + 1);
     return buf;
   }
@@ -208,7 +208,7 @@ static void check_limits(const pom_kin_arch *arch, const double R[9], pom_kin_po
 }
 
 static void limit_message(const pom_kin_arch *arch, const pom_kin_pose *p, char *buf, size_t cap) {
-  const pom_act_units *u = pom_act_units_of(arch->type->actuator);
+  const pom_act_desc *u = pom_act_kind_desc(arch->type->actuator);
   size_t used = 0;
   char name[64];
   buf[0] = '\0';

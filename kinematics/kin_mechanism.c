@@ -1,6 +1,6 @@
 /* kin_mechanism.c - the mechanism of an architecture at the home pose: the
- * `inertia` group read by the type's tables, the builders the types use, and
- * the actuator units (docs/kinematics.md section 7). */
+ * `inertia` group read by the type's tables and the builders the types use
+ * (docs/kinematics.md section 7). */
 #include "pom_kinematics.h"
 
 #include "kin_internal.h"
@@ -9,14 +9,6 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-
-/* ---- actuator units -------------------------------------------------------- */
-const pom_act_units *pom_act_units_of(pom_actuator_kind k) {
-  static const pom_act_units units[2] = {
-      {"m", "mm", 1e3, "N", "m/s", "prismatic", "displacement"},
-      {"rad", "deg", 180.0 / POM_PI, "N m", "rad/s", "revolute", "angle"}};
-  return k == POM_ACT_REVOLUTE ? &units[1] : &units[0];
-}
 
 /* ---- config ---------------------------------------------------------------- */
 static pom_status load_body(pom_kin_body_inertia *b, const char *group, int kind,
@@ -157,8 +149,12 @@ void pom_kin_build_actuator(pom_mechanism *m, int joint, int moving_body, double
   m->actuator[k].joint = joint;
   m->actuator[k].moving_body = moving_body;
   m->actuator[k].stroke = stroke;
-  m->actuator[k].kind =
-      m->joint[joint].type == POM_JOINT_REVOLUTE ? POM_ACT_REVOLUTE : POM_ACT_PRISMATIC;
+  /* the kind whose joint type this is; kind 0 on another joint type, which the
+   * dynamics refuses ("joint j is not a prismatic joint") */
+  m->actuator[k].kind = (pom_actuator_kind)0;
+  for (int a = 0; a < POM_ACT_KINDS; ++a)
+    if (pom_act_kind_desc((pom_actuator_kind)a)->joint == m->joint[joint].type)
+      m->actuator[k].kind = (pom_actuator_kind)a;
   m->joint[joint].actuator = k;
 }
 
@@ -184,8 +180,8 @@ pom_status pom_kin_mechanism_from(pom_mechanism *mech, const pom_kin_arch *arch,
     if (mech->actuator[a].kind != arch->type->actuator)
       POM_FAIL(err, POM_ERR_INTERNAL,
                "architecture %s: actuator %d drives a %s joint, the type declares %s actuators",
-               arch->type->name, a + 1, pom_act_units_of(mech->actuator[a].kind)->kind_name,
-               pom_act_units_of(arch->type->actuator)->kind_name);
+               arch->type->name, a + 1, pom_act_kind_desc(mech->actuator[a].kind)->kind_name,
+               pom_act_kind_desc(arch->type->actuator)->kind_name);
   return POM_OK;
 }
 

@@ -47,6 +47,9 @@ pom_status pom_kin_arch_register(const pom_kin_arch_type *t, pom_error *err) {
   if (!t->from_design || !t->finish || !t->limb || !t->limb_twist || !t->limit_values ||
       !t->footprint || !t->mechanism)
     POM_FAIL(err, POM_ERR_ARG, "architecture %s: its operations table is incomplete", t->name);
+  if (!pom_act_kind_desc(t->actuator))
+    POM_FAIL(err, POM_ERR_ARG, "architecture %s: actuator kind %d is not a known kind", t->name,
+             (int)t->actuator);
   if (t->data_size > sizeof(((pom_kin_arch *)0)->data))
     POM_FAIL(err, POM_ERR_ARG,
              "architecture %s: private data of %zu bytes exceeds the %zu of pom_kin_arch.data",

@@ -45,25 +45,64 @@ typedef struct {
 
 /* Kind of an actuated joint: it fixes the unit of the actuator coordinate q
  * and of everything derived from it (stroke, targets, settling bands,
- * Monte-Carlo ranges, sensor gain, force/torque constant). */
+ * Monte-Carlo ranges, sensor gain, force/torque constant). What depends on the
+ * kind is read from its descriptor (pom_act_kind_desc), never by comparing
+ * kinds; a new kind is one enum value and one table entry (kin_actuator.c). */
 typedef enum {
   POM_ACT_PRISMATIC = 0, /* linear voice coil on a prismatic joint: q in m, force in N */
   POM_ACT_REVOLUTE = 1   /* rotary voice coil on a revolute joint: q in rad, torque in N m */
 } pom_actuator_kind;
+#define POM_ACT_KINDS 2 /* number of kinds: the valid kinds are 0 .. POM_ACT_KINDS - 1 */
 
-/* Units of one actuator kind, for printing and file attributes. */
+/* Everything that depends on the kind of an actuator: names, units, config
+ * keys, the joint it drives and the wording of outputs (static storage). */
 typedef struct {
-  const char *si;         /* SI unit of q: "m" or "rad" (JSON, HDF5) */
-  const char *display;    /* unit of q in text output and config keys: "mm" or "deg" */
-  double to_display;      /* q_display = q_si * to_display (1e3 or 180/pi) */
-  const char *effort;     /* SI unit of the actuator effort: "N" or "N m" */
-  const char *rate;       /* SI unit of q_dot: "m/s" or "rad/s" */
-  const char *kind_name;  /* "prismatic" or "revolute" */
-  const char *coordinate; /* "displacement" or "angle" */
-} pom_act_units;
+  pom_actuator_kind kind; /* the kind described */
+  const char *name;       /* config value of actuator.kind: "linear" or "rotary" */
+  const char *kind_name;  /* in outputs and the mechanism: "prismatic" or "revolute" */
+  const char *device;     /* in text: "linear voice coil" or "rotary voice coil" */
+  pom_joint_type joint;   /* the joint type it drives: prismatic or revolute */
+  int angular;            /* 1 when q is an angle (rad), 0 when a length (m): the formulations
+                             size the tolerance of the PID integral by it */
+  /* the coordinate q */
+  const char *coordinate;    /* "displacement" or "angle" */
+  const char *si;            /* SI unit of q: "m" or "rad" (JSON, HDF5) */
+  const char *rate;          /* SI unit of q_dot: "m/s" or "rad/s" */
+  const char *rate_tag;      /* SI unit of q_dot in CSV column names: "mps" or "radps" */
+  const char *display;       /* unit of q in text output and config keys: "mm" or "deg" */
+  double to_display;         /* q_display = q_si * to_display (1e3 or 180/pi) */
+  const char *display_words; /* the display unit in words: "millimetres" or "degrees" */
+  const char *key_suffix;    /* suffix of config keys in the display unit: "_mm" or "_deg"
+                                (montecarlo.range_mm, tuning.maneuvers_deg) */
+  const char *range_word;    /* the actuator's range in words, limit names and its limits key:
+                                "stroke" (limits.stroke_mm) or "range" (limits.range_deg) */
+  double range_max;          /* largest value of that limits key (display unit): 1000 or 360 */
+  double maneuver_range_max; /* largest Monte-Carlo joint range or sigma, montecarlo.range<suffix>
+                                (display unit): 100 or 180 */
+  const char *lever_unit;    /* unit of J = dq/domega in text: "mm/rad" or "rad/rad" */
+  double lever_to_display;   /* J_text = J_si * lever_to_display (1e3 or 1) */
+  /* the effort and the coil's constants */
+  const char *effort;          /* SI unit of the effort: "N" or "N m" */
+  const char *constant_symbol; /* force or torque constant: "K_m" or "K_t" */
+  const char *constant_unit;   /* its unit in text: "N/A" or "N m/A" */
+  const char *friction_unit;   /* bearing friction in text: "N s/m" or "N m s/rad" */
+  const char *gain_unit;       /* sensor gain in text: "V/m" or "V/rad" */
+  const char *constant_key;    /* key of the constant in the `actuator` group */
+  const char *friction_key;    /* key of the bearing friction in the `actuator` group */
+  const char *gain_key;        /* key of the sensor gain in the `actuator` group */
+  int legacy_keys; /* 1: outputs also carry the keys written before actuator units existed
+                      (stroke_m, target_m, final_q_m, range_m, sigma_m) */
+} pom_act_desc;
 
-/* Units of kind k (static storage; the prismatic units for an unknown k). */
-const pom_act_units *pom_act_units_of(pom_actuator_kind k);
+/* The descriptor of kind k (static storage); NULL when k is not a kind (not
+ * in 0 .. POM_ACT_KINDS - 1): callers validate kinds where they enter
+ * (config loading, pom_kin_arch_register, pom_dyn_model_create). */
+const pom_act_desc *pom_act_kind_desc(pom_actuator_kind k);
+
+/* The kind whose name (pom_act_desc.name, e.g. "rotary") is `name`: 1 and
+ * *kind set, or 0 and *kind untouched when no kind has that name (or name is
+ * NULL). */
+int pom_act_kind_parse(const char *name, pom_actuator_kind *kind);
 
 typedef struct {
   int joint;              /* the joint it drives: prismatic (kind PRISMATIC) or revolute */

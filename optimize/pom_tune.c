@@ -161,22 +161,25 @@ pom_status pom_tune_load(pom_tune_problem *pb, const pom_cfg *cfg, pom_error *er
    * orientations (maneuvers_euler_deg, ZYX, deg) turned into setpoints by the
    * candidate's IK: the same platform motions for every architecture, the
    * fair criterion when candidates mix actuator kinds (docs/optimize.md 9). */
-  const int rotary = pom_kin_type_actuator(pb->arch.type) == POM_ACT_REVOLUTE;
-  const pom_act_units *u = pom_act_units_of(rotary ? POM_ACT_REVOLUTE : POM_ACT_PRISMATIC);
-  const char *own = rotary ? "tuning.maneuvers_deg" : "tuning.maneuvers_mm";
-  const char *other = rotary ? "tuning.maneuvers_mm" : "tuning.maneuvers_deg";
+  const pom_act_desc *u = pom_act_kind_desc(pom_kin_type_actuator(pb->arch.type));
+  char own[64], other[64];
+  snprintf(own, sizeof own, "tuning.maneuvers%s", u->key_suffix);
   const char *euler = "tuning.maneuvers_euler_deg";
-  if (pom_cfg_has(cfg, other))
-    return pom_cfg_error(cfg, other, NULL, err,
-                         "the %s's actuators are %s (q in %s): use %s, or %s for platform "
-                         "orientations",
-                         pom_kin_type_label(pb->arch.type), u->kind_name, u->display, own + 7,
-                         euler + 7);
+  for (int k = 0; k < POM_ACT_KINDS; ++k) {
+    snprintf(other, sizeof other, "tuning.maneuvers%s",
+             pom_act_kind_desc((pom_actuator_kind)k)->key_suffix);
+    if (strcmp(other, own) != 0 && pom_cfg_has(cfg, other))
+      return pom_cfg_error(cfg, other, NULL, err,
+                           "the %s's actuators are %s (q in %s): use %s, or %s for platform "
+                           "orientations",
+                           pom_kin_type_label(pb->arch.type), u->kind_name, u->display, own + 7,
+                           euler + 7);
+  }
   if (pom_cfg_has(cfg, own) && pom_cfg_has(cfg, euler))
     return pom_cfg_error(cfg, euler, NULL, err, "give either %s or %s, not both", own + 7,
                          euler + 7);
   const char *mkey = pom_cfg_has(cfg, euler) ? euler : pom_cfg_has(cfg, own) ? own : NULL;
-  if (!mkey && rotary) {
+  if (!mkey && u->angular) {
     /* the linear defaults through the 15 mm/rad lever of the isotropic
      * linear designs: 3 mm -> 0.2 rad */
     for (int m = 0; m < pb->n_maneuvers; ++m)
@@ -248,7 +251,7 @@ pom_status pom_tune_evaluate(const pom_tune_problem *pb, const pom_dyn_controlle
   POM_TRY_GOTO(pom_dyn_data_create(&data, model, err), done);
   POM_TRY_GOTO(pom_dyn_trace_create(&trace, model, err), done);
   double horizon = p.maneuver.horizon, penalty = 0.0;
-  const pom_act_units *tu = pom_act_units_of(pom_kin_type_actuator(pb->arch.type));
+  const pom_act_desc *tu = pom_act_kind_desc(pom_kin_type_actuator(pb->arch.type));
   for (int m = 0; m < pb->n_maneuvers; ++m) {
     pom_dyn_metrics mt;
     st = pom_dyn_simulate(model, data, pb->target[m], &mt, trace, err);

@@ -296,7 +296,8 @@ static int load_radial(pom_kin_arch *arch, pom_mechanism *mech, pom_dyn_params *
 
 /* ---- 1. registry ---------------------------------------------------------------- */
 /* Registering grows the count by one and makes the name findable; the same
- * name again, an incomplete table and oversized private data are refused. */
+ * name again, an incomplete table, oversized private data and an actuator
+ * kind that is not one are refused. */
 static void test_register(void) {
   pom_error err;
   int n0 = pom_kin_arch_type_count();
@@ -308,7 +309,7 @@ static void test_register(void) {
   check_true(pom_kin_arch_register(&radial_type, &err) == POM_ERR_ARG);
   check_true(strstr(err.message, "3PSS-radial") != NULL);
 
-  static pom_kin_arch_type incomplete, fat, clash;
+  static pom_kin_arch_type incomplete, fat, clash, unknown_kind;
   incomplete = radial_type;
   incomplete.name = "3PSS-radial-no-twist";
   incomplete.limb_twist = NULL;
@@ -320,6 +321,11 @@ static void test_register(void) {
   clash = radial_type; /* another table, a built-in's name */
   clash.name = "3PSS";
   check_true(pom_kin_arch_register(&clash, &err) == POM_ERR_ARG);
+  unknown_kind = radial_type;
+  unknown_kind.name = "3PSS-radial-unknown-kind";
+  unknown_kind.actuator = (pom_actuator_kind)POM_ACT_KINDS;
+  check_true(pom_kin_arch_register(&unknown_kind, &err) == POM_ERR_ARG);
+  check_true(strstr(err.message, "not a known kind") != NULL);
   check_true(pom_kin_arch_type_count() == n0 + 1);
   printf("registry: %d built-in + user types, 3PSS-radial at %d\n", n0 + 1, n0);
 }

@@ -29,6 +29,16 @@ cp "$TMP/out" "$TMP/sim.json"
 # --- a refused target shows the digits that put it outside -----------------------------
 expect_rc 2 "$POMLAB" simulate "$cfg" --target 6.000001,0,0
 expect_in "$TMP/err" "q1 = 6.000001 mm is outside the stroke +-6 mm"
+# a rotary actuator's in degrees, naming its real limits key
+expect_rc 2 "$POMLAB" simulate "$SRC/configs/3rrr.cfg" --target 0,30.5,0
+expect_in "$TMP/err" "q2 = 30.5 deg is outside the stroke +-30 deg (limits.range_deg = 60)"
+# the dynamics' own refusal, reached by tune's default rotary maneuvers
+# (3 mm through the 15 mm/rad lever: 0.2 rad = 11.46 deg) beyond a +-10 deg
+# range: in degrees too
+sed 's/^  range_deg = 60.0;/  range_deg = 20.0;/' "$SRC/configs/3rrr.cfg" >"$TMP/3rrr_narrow.cfg"
+echo 'tuning = { overshoot_max_percent = 5.0; };' >>"$TMP/3rrr_narrow.cfg"
+expect_rc 1 "$POMLAB" tune "$TMP/3rrr_narrow.cfg" --out "$TMP/tune_" --quiet
+expect_in "$TMP/err" "target of actuator 1 = 11.4591559 deg is outside its stroke +-10 deg"
 
 # --- text numbers are the JSON numbers in ms, mm, J, deg --------------------------------
 expect_rc 0 "$POMLAB" simulate "$cfg" --target 1,2,3

@@ -1,7 +1,7 @@
 /* test_dyn_rotary.c - rotary voice-coil actuators on revolute joints
  * (docs/dynamics.md section 4) against an independent integration, the
  * energy audit of a rotary scene, the Jacobian pattern of the torque
- * couplings and the rotary configuration keys.
+ * couplings, the rotary configuration keys and a refused target's unit.
  *
  * Three rotors, each a rigid body on its own actuated revolute joint to the
  * ground, the joint axis through the CM along a principal axis (x, y and z
@@ -323,9 +323,75 @@ static void test_rotary_config(void) {
   check_true(strstr(err.message, "needs the architecture") != NULL);
 }
 
+/* ---- a target outside a rotary stroke --------------------------------------- */
+/* Reads "... = <value> <unit> ..." after `label` in text: 1 when both were
+ * found (unit at most 7 characters). */
+static int read_quantity(const char *text, const char *label, double *value, char unit[8]) {
+  const char *at = strstr(text, label);
+  return at && sscanf(at + strlen(label), "%lf %7s", value, unit) == 2;
+}
+
+/* The refusal reports the target and the stroke in the actuator kind's
+ * display unit, degrees here (it said mm: 0.7 rad read as "700 mm").
+ * Numbers are read back and compared: %.10g keeps 10 digits, 5e-10
+ * relative. */
+static void test_rotary_refusal(void) {
+  pom_mechanism mech;
+  rotors3(&mech); /* stroke 1.2 rad: +-0.6 rad = +-34.377 deg */
+  pom_dyn_params p;
+  rotary_params(&p);
+  pom_dyn_model *m = NULL;
+  pom_dyn_data *d = NULL;
+  pom_dyn_metrics mt;
+  pom_error err;
+  pom_error_clear(&err);
+  const double target[3] = {0.1, 0.7, -0.2}; /* rad: actuator 2 beyond +-0.6 */
+  if (check_true(pom_dyn_model_create(&m, &mech, NULL, &p, &err) == POM_OK &&
+                 pom_dyn_data_create(&d, m, &err) == POM_OK &&
+                 pom_dyn_simulate(m, d, target, &mt, NULL, &err) == POM_ERR_LIMIT)) {
+    printf("  %s\n  reason: %s\n", err.message, mt.reason);
+    double q = 0.0, half = 0.0, q_reason = 0.0;
+    char unit[8] = "", half_unit[8] = "", reason_unit[8] = "";
+    check_true(mt.status == POM_ERR_LIMIT);
+    check_true(read_quantity(err.message, "actuator 2 = ", &q, unit) &&
+               read_quantity(err.message, "stroke +-", &half, half_unit) &&
+               read_quantity(mt.reason, "actuator 2 = ", &q_reason, reason_unit));
+    check_true(strcmp(unit, "deg") == 0 && strcmp(half_unit, "deg") == 0 &&
+               strcmp(reason_unit, "deg") == 0);
+    check_rel(q, 0.7 / POM_DEG, 5e-10);
+    check_rel(half, 0.6 / POM_DEG, 5e-10);
+    check_rel(q_reason, 0.7 / POM_DEG, 5e-10);
+  }
+  pom_dyn_data_destroy(d);
+  pom_dyn_model_destroy(m);
+}
+
+/* Kinds that are not kinds are refused where they enter the dynamics, in
+ * the parameters and in the mechanism. */
+static void test_unknown_kind(void) {
+  pom_mechanism mech;
+  rotors3(&mech);
+  pom_dyn_params p;
+  rotary_params(&p);
+  pom_dyn_model *m = NULL;
+  pom_error err;
+  pom_error_clear(&err);
+  p.actuator.kind = (pom_actuator_kind)POM_ACT_KINDS;
+  check_true(pom_dyn_model_create(&m, &mech, NULL, &p, &err) == POM_ERR_ARG && m == NULL);
+  printf("  %s\n", err.message);
+  check_true(strstr(err.message, "neither linear nor rotary") != NULL);
+  rotary_params(&p);
+  mech.actuator[2].kind = (pom_actuator_kind)-1;
+  check_true(pom_dyn_model_create(&m, &mech, NULL, &p, &err) == POM_ERR_ARG && m == NULL);
+  printf("  %s\n", err.message);
+  check_true(strstr(err.message, "actuator 3 of the mechanism has kind -1") != NULL);
+}
+
 int main(void) {
   test_rotors();
   test_rotary_pattern();
   test_rotary_config();
+  test_rotary_refusal();
+  test_unknown_kind();
   return check_summary("test_dyn_rotary");
 }

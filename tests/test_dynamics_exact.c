@@ -40,7 +40,7 @@ static int setup_load(setup_t *s, const char *rel) {
            pom_kin_mechanism_from(&s->mech, &s->arch, &s->in, &err) == POM_OK &&
            pom_dyn_params_load(&s->par, cfg, &err) == POM_OK;
   if (!ok) printf("loading %s: %s\n", rel, err.message);
-  s->unit = s->mech.actuator[0].kind == POM_ACT_REVOLUTE ? 1.0 / 0.015 : 1.0;
+  s->unit = pom_act_kind_desc(s->mech.actuator[0].kind)->angular ? 1.0 / 0.015 : 1.0;
   pom_cfg_destroy(cfg);
   return ok;
 }

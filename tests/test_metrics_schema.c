@@ -215,6 +215,11 @@ static void test_range_keys(void) {
        "montecarlo = { maneuvers = 5; range_deg = 2.5; sigma_deg = 1.25; };\n"
        "candidates = ( { name = \"r\"; config = \"rot.cfg\"; } );\n",
        NULL, 2.5 * POM_DEG, 1.25 * POM_DEG},
+      /* sigma alone: the range defaults to 3 of the display unit */
+      {"sigma_deg.cfg",
+       "montecarlo = { maneuvers = 5; distribution = \"normal\"; sigma_deg = 0.75; };\n"
+       "candidates = ( { name = \"r\"; config = \"rot.cfg\"; } );\n",
+       NULL, 3.0 * POM_DEG, 0.75 * POM_DEG},
       {"mm.cfg",
        "montecarlo = { maneuvers = 5; range_mm = 2.5; };\n"
        "candidates = ( { name = \"p\"; config = \"lin.cfg\"; } );\n",
@@ -242,6 +247,12 @@ static void test_range_keys(void) {
        "candidates = ( { name = \"p\"; config = \"lin.cfg\"; },\n"
        "               { name = \"r\"; config = \"rot.cfg\"; } );\n",
        "montecarlo.space = \"orientation\"", 0, 0},
+      {"mixed_counts.cfg",
+       "montecarlo = { maneuvers = 5; };\n"
+       "candidates = ( { name = \"p\"; config = \"lin.cfg\"; },\n"
+       "               { name = \"q\"; config = \"lin.cfg\"; },\n"
+       "               { name = \"r\"; config = \"rot.cfg\"; } );\n",
+       "(2 prismatic in m, 1 revolute in rad)", 0, 0},
       {"mixed_orient.cfg",
        "montecarlo = { maneuvers = 5; space = \"orientation\"; };\n"
        "candidates = ( { name = \"p\"; config = \"lin.cfg\"; },\n"
