@@ -35,3 +35,6 @@ target_link_libraries(test_dyn_exact_jac PRIVATE pom_dynamics pom_kinematics pom
 pom_add_test(test_ctrl_registry test_ctrl_registry.c)
 target_include_directories(test_ctrl_registry PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
 target_link_libraries(test_ctrl_registry PRIVATE pom_dynamics pom_kinematics pom_core)
+# computed torque: the designed omega_n and zeta recovered, a 20 % model error (docs/control.md)
+pom_add_test(test_ctrl_computed_torque test_ctrl_computed_torque.c)
+target_link_libraries(test_ctrl_computed_torque PRIVATE pom_dynamics pom_kinematics pom_core)
