@@ -16,6 +16,7 @@
  * candidate; the engine saturates u like the PID's. With a perfect model, a
  * quasi-static coil and no saturation, w_dot = alpha exactly, so the error
  * obeys e'' + 2 zeta omega_n e' + omega_n^2 e = 0 to first order in |e|. */
+#include "dyn_ctrl_model.h"
 #include "pom_dyn_ctrl.h"
 #include "pom_math.h"
 
@@ -36,103 +37,18 @@ static const pom_dyn_gain_desc ct_gains[] = {
      1, POM_DYN_CTRL_GAIN_SLOT(2), 0, 0.0, 0.0},
 };
 
-/* ---- the controller's model and scratch -------------------------------------------- */
-typedef struct {
-  const pom_dyn_ctrl_engine *eng; /* the engine's services */
-  pom_dyn_model *dyn;             /* exact (rigid) model of the nominal mechanism: M and f */
-  pom_kin_arch arch;              /* nominal architecture: forward kinematics and J */
-  pom_dyn_actuator act;           /* nominal actuator: the coil's inverse */
-  int bearing;                    /* 1: the nominal scene has bearing friction */
-} ct_model;
-
-typedef struct {
-  const pom_dyn_ctrl_engine *eng; /* the engine's services */
-  pom_dyn_data *dd;               /* scratch of the controller's model */
-  double target[3];               /* setpoints R_ref was computed for */
-  double R_ref[9];                /* reference rotation (FK of the setpoints) */
-  double R_last[9];               /* last measured rotation: the next forward kinematics' start */
-  int have_ref;                   /* 1 once R_ref belongs to target */
-  pom_kin_fk_opts fk;             /* forward-kinematics options */
-} ct_work;
+/* ---- the law --------------------------------------------------------------------- */
+static void ct_fail(int n, double *u_raw) {
+  for (int a = 0; a < n; ++a)
+    u_raw[a] = NAN; /* a recoverable step failure (the engine's non-finite check) */
+}
 
 static pom_status ct_model_create(void **out, const pom_dyn_ctrl_engine *eng,
                                   const pom_dyn_controller *c, const pom_mechanism *mech,
                                   const pom_kin_arch *arch, const pom_dyn_params *p,
                                   pom_error *err) {
   (void)c;
-  *out = NULL;
-  if (!arch)
-    POM_FAIL(err, POM_ERR_ARG,
-             "controller computed_torque: needs the architecture (its forward kinematics and "
-             "the exact model)");
-  ct_model *cm = calloc(1, sizeof *cm);
-  if (!cm) POM_FAIL(err, POM_ERR_NOMEM, "allocating the computed-torque model");
-  cm->eng = eng;
-  cm->arch = *arch;
-  cm->act = p->actuator;
-  cm->bearing = p->scene.bearing_friction;
-  /* the rigid model of the same scene; its own controller is never run */
-  pom_dyn_params mp = *p;
-  mp.joints.model = POM_JOINTS_RIGID;
-  mp.scene.orientation = POM_ORIENT_QUATERNION;
-  mp.scene.coil_inductance = 0;
-  pom_dyn_ctrl_set_defaults(&mp.controller, &pom_dyn_ctrl_pid);
-  pom_status st = eng->model_create(&cm->dyn, mech, arch, &mp, err);
-  if (st != POM_OK) {
-    free(cm);
-    return pom_error_prefix(err, "controller computed_torque: its model");
-  }
-  *out = cm;
-  return POM_OK;
-}
-
-static void ct_model_destroy(void *model) {
-  ct_model *cm = model;
-  if (!cm) return;
-  cm->eng->model_destroy(cm->dyn);
-  free(cm);
-}
-
-static pom_status ct_work_create(void **out, const void *model, pom_error *err) {
-  const ct_model *cm = model;
-  ct_work *w = calloc(1, sizeof *w);
-  if (!w) POM_FAIL(err, POM_ERR_NOMEM, "allocating the computed-torque scratch");
-  w->eng = cm->eng;
-  pom_status st = cm->eng->data_create(&w->dd, cm->dyn, err);
-  if (st != POM_OK) {
-    free(w);
-    return st;
-  }
-  pom_kin_fk_defaults(&w->fk);
-  *out = w;
-  return POM_OK;
-}
-
-static void ct_work_destroy(void *work) {
-  ct_work *w = work;
-  if (!w) return;
-  w->eng->data_destroy(w->dd);
-  free(w);
-}
-
-/* x = A^-1 b for a 3x3 A (row-major) by Cramer's rule; 0 when singular. */
-static int solve3(double x[3], const double A[9], const double b[3]) {
-  double det = pom_m3_det(A);
-  if (!(fabs(det) > 0.0) || !isfinite(det)) return 0;
-  for (int k = 0; k < 3; ++k) {
-    double Ak[9];
-    memcpy(Ak, A, sizeof Ak);
-    for (int r = 0; r < 3; ++r)
-      Ak[3 * r + k] = b[r];
-    x[k] = pom_m3_det(Ak) / det;
-  }
-  return 1;
-}
-
-/* ---- the law --------------------------------------------------------------------- */
-static void ct_fail(int n, double *u_raw) {
-  for (int a = 0; a < n; ++a)
-    u_raw[a] = NAN; /* a recoverable step failure (the engine's non-finite check) */
+  return pom_dyn_ctrl_model_create(out, eng, "computed_torque", mech, arch, p, err);
 }
 
 static void ct_law_all(const pom_dyn_controller *c, const void *model, void *work,
@@ -141,62 +57,40 @@ static void ct_law_all(const pom_dyn_controller *c, const void *model, void *wor
   (void)sensor_gain; /* the sensors give q in SI; K_S is the PID's scale */
   (void)z;
   (void)zdot;
-  const ct_model *cm = model;
-  ct_work *w = work;
+  const dyn_ctrl_model *cm = model;
+  dyn_ctrl_work *w = work;
   const double omega_n = c->gain[0], zeta = c->gain[1], tau_i = c->gain[2];
-  if (s->n != 3) {
+  if (s->n != 3 || !pom_dyn_ctrl_reference(cm, w, s->target)) {
     ct_fail(s->n, u_raw);
     return;
   }
-  /* the reference: forward kinematics of the setpoints, once per target */
-  if (!w->have_ref || memcmp(w->target, s->target, sizeof w->target) != 0) {
-    if (pom_kin_forward(&cm->arch, s->target, NULL, &w->fk, w->R_ref, NULL, NULL) != POM_OK) {
-      ct_fail(s->n, u_raw);
-      return;
-    }
-    memcpy(w->target, s->target, sizeof w->target);
-    pom_m3_identity(w->R_last); /* every maneuver starts at home */
-    w->have_ref = 1;
-  }
   /* the measured rotation and angular velocity, from q and q_dot alone */
-  double Rm[9], M[9], f[3], qm[3], J[9], wm[3];
+  double Rm[9], qm[3], J[9], wm[3];
   if (pom_kin_forward(&cm->arch, s->q, w->R_last, &w->fk, Rm, NULL, NULL) != POM_OK) {
     ct_fail(s->n, u_raw);
     return;
   }
   memcpy(w->R_last, Rm, sizeof Rm);
-  if (pom_kin_inverse_jacobian(&cm->arch, Rm, qm, J, NULL) != POM_OK || !solve3(wm, J, s->q_dot)) {
-    ct_fail(s->n, u_raw);
-    return;
-  }
-  /* the model's mass matrix and passive generalized forces there */
-  if (cm->eng->exact_terms(cm->dyn, w->dd, Rm, wm, M, f, qm, J) != 0) {
+  if (pom_kin_inverse_jacobian(&cm->arch, Rm, qm, J, NULL) != POM_OK ||
+      !pom_dyn_ctrl_solve3(wm, J, s->q_dot)) {
     ct_fail(s->n, u_raw);
     return;
   }
   /* error rotation vector (fixed frame) and the desired angular acceleration */
-  double Re[9], e[3], alpha[3], tau[3], F[3], Jt[9];
-  pom_m3_mult(Re, w->R_ref, Rm);
+  double Re[9], e[3], alpha[3], F[3];
+  pom_m3_mult(Re, w->R_set, Rm);
   pom_m3_rotvec(e, Re);
   for (int k = 0; k < 3; ++k)
     alpha[k] = omega_n * omega_n * e[k] - 2.0 * zeta * omega_n * wm[k];
-  /* M alpha = f + J^T F */
-  pom_m3_apply(tau, M, alpha);
-  pom_v3_sub(tau, tau, f);
-  pom_m3_transpose(Jt, J);
-  if (!solve3(F, Jt, tau)) {
+  if (!pom_dyn_ctrl_inverse_dynamics(cm, w, Rm, wm, alpha, F, qm, J)) {
     ct_fail(s->n, u_raw);
     return;
   }
-  /* the coil's inverse: the current that gives F against friction, then
-   * the voltage (a current loop in place of L di/dt for an inductive coil) */
-  const pom_dyn_actuator *ap = &cm->act;
-  const double b = cm->bearing ? ap->bearing_friction : 0.0;
+  /* the coil's inverse; a current loop in place of L di/dt when inductive */
   for (int a = 0; a < 3; ++a) {
-    double i = (F[a] + b * s->q_dot[a]) / ap->force_constant;
-    double u = ap->resistance * i + ap->force_constant * s->q_dot[a];
-    if (s->current) u += ap->inductance / tau_i * (i - s->current[a]);
-    u_raw[a] = u;
+    double i = 0.0;
+    u_raw[a] = pom_dyn_ctrl_coil_voltage(cm, F[a], s->q_dot[a], &i);
+    if (s->current) u_raw[a] += cm->act.inductance / tau_i * (i - s->current[a]);
   }
 }
 
@@ -223,8 +117,8 @@ const pom_dyn_ctrl_type pom_dyn_ctrl_computed_torque = {
     .partials = NULL,
     .describe = ct_describe,
     .model_create = ct_model_create,
-    .model_destroy = ct_model_destroy,
-    .work_create = ct_work_create,
-    .work_destroy = ct_work_destroy,
+    .model_destroy = pom_dyn_ctrl_model_destroy,
+    .work_create = pom_dyn_ctrl_work_create,
+    .work_destroy = pom_dyn_ctrl_work_destroy,
     .law_all = ct_law_all,
 };

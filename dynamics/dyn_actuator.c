@@ -36,7 +36,7 @@ void pom_dyn_controller_pass(const pom_dyn_model *m, pom_dyn_data *d, const doub
   for (int a = 0; a < n; ++a)
     for (int k = 0; k < ns; ++k)
       z[a * ns + k] = y[m->act[a].ctrl_state + k];
-  const pom_dyn_ctrl_sensed s = {n, d->target, q, qd, inductive ? current : NULL};
+  const pom_dyn_ctrl_sensed s = {d->t, n, d->target, q, qd, inductive ? current : NULL};
   m->ctrl->law_all(&m->par.controller, m->ctrl_model, d->ctrl_work, &s, m->par.actuator.sensor_gain,
                    ns > 0 ? z : NULL, d->ctrl_u, ydot && ns > 0 ? zdot : NULL);
   if (ydot)

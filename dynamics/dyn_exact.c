@@ -616,11 +616,11 @@ int pom_dyn_exact_jacobian(pom_dyn_data *d, const double *y, const double *f0, d
 static int exact_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, sunbooleantype jok,
                         sunbooleantype *jcur, sunrealtype gamma, void *user_data, N_Vector tmp1,
                         N_Vector tmp2, N_Vector tmp3) {
-  (void)t;
   (void)tmp3;
   pom_dyn_data *d = user_data;
   const pom_dyn_model *m = d->m;
   const int n = m->n_states, nb = exact_of(m)->n_jac;
+  d->t = t; /* the differenced evaluations at the Jacobian's time */
   if (!jok || !d->jac_valid) {
     int r = pom_dyn_exact_jacobian(d, N_VGetArrayPointer(y), N_VGetArrayPointer(fy),
                                    N_VGetArrayPointer(tmp1), N_VGetArrayPointer(tmp2));

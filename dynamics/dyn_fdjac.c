@@ -89,11 +89,11 @@ int pom_dyn_fd_jacobian(pom_dyn_data *d, const double *yv, const double *f0, dou
 int pom_dyn_cvode_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, sunbooleantype jok,
                          sunbooleantype *jcur, sunrealtype gamma, void *user_data, N_Vector tmp1,
                          N_Vector tmp2, N_Vector tmp3) {
-  (void)t;
   (void)tmp3;
   pom_dyn_data *d = user_data;
   const pom_dyn_model *m = d->m;
   const int n = m->n_states;
+  d->t = t; /* the differenced evaluations at the Jacobian's time */
   if (!jok || !d->jac_valid) {
     int r = (m->form->jacobian && m->par.solver.jacobian == POM_JAC_ANALYTIC && m->ctrl_analytic)
                 ? m->form->jacobian(m, d, N_VGetArrayPointer(y), d->jac)

@@ -171,6 +171,7 @@ struct pom_dyn_data {
   int have_final;
   void *form_data; /* the formulation's per-worker scratch, owned (NULL if none) */
   void *ctrl_work; /* the controller's per-worker scratch (work_create), owned, or NULL */
+  double t;        /* time of the evaluation under way (s): the controller's clock */
   double ctrl_u[POM_MECH_MAX_ACTUATORS]; /* a coupled controller's raw voltages of this
                                             evaluation (V), set by pom_dyn_controller_pass */
   long kin_fail_count; /* exact path: RHS calls of this run at an unassemblable pose */

@@ -65,8 +65,8 @@ double pom_dyn_stored(const pom_dyn_model *m, pom_dyn_data *d, const double *y) 
 }
 
 int pom_dyn_cvode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data) {
-  (void)t;
   pom_dyn_data *d = user_data;
+  d->t = t;
   ++d->rhs_count;
   int r = d->m->form->eval(d->m, d, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
   d->last_euler_singular = d->out.euler_singular;
@@ -394,6 +394,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
     st = fail_status(d, CV_ILL_INPUT, 0.0, mt, err);
     goto finish;
   }
+  d->t = 0.0;
   pom_dyn_eval(m, d, y, NULL);
   record_sample(m, d, 0, 0.0, y, tr);
   track_extremes(m, d, mt);
@@ -430,6 +431,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
       st = fail_status(d, CV_RHSFUNC_FAIL, t, mt, err);
       goto finish;
     }
+    d->t = t;
     pom_dyn_eval(m, d, y, NULL); /* extremes at every internal step */
     track_extremes(m, d, mt);
     while (k < d->n_samples && sample_time(p, k) <= t) {
@@ -439,6 +441,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
         goto finish;
       }
       if (tr) {
+        d->t = tk;
         pom_dyn_eval(m, d, ys, NULL);
         track_extremes(m, d, mt);
         record_sample(m, d, k, tk, ys, tr);

@@ -86,6 +86,7 @@ typedef struct {
  * sensors (actuator coordinates, rates, and the coil currents where the coil
  * has a state) and the setpoints. */
 typedef struct {
+  double t;              /* time since the maneuver's start (s): a reference's clock */
   int n;                 /* actuators */
   const double *target;  /* [n] setpoints (m or rad) */
   const double *q;       /* [n] measured coordinates (m or rad) */
