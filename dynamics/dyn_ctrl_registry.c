@@ -13,6 +13,7 @@
 static const pom_dyn_ctrl_type *const builtin[] = {
     &pom_dyn_ctrl_pid,
     &pom_dyn_ctrl_computed_torque,
+    &pom_dyn_ctrl_pid_feedforward,
 };
 #define N_BUILTIN ((int)(sizeof builtin / sizeof builtin[0]))
 #define MAX_USER  16

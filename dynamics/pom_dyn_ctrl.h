@@ -195,6 +195,9 @@ extern const pom_dyn_ctrl_type pom_dyn_ctrl_pid;
 /* Computed torque in orientation space (ctrl_computed_torque.c,
  * docs/control.md). */
 extern const pom_dyn_ctrl_type pom_dyn_ctrl_computed_torque;
+/* The PID on a reference trajectory with inverse-dynamics feedforward
+ * (ctrl_pid_feedforward.c, docs/control.md section 3). */
+extern const pom_dyn_ctrl_type pom_dyn_ctrl_pid_feedforward;
 
 /* ---- helpers every caller uses --------------------------------------------- */
 /* The type of c (the PID when c->type is NULL). */

@@ -38,3 +38,6 @@ target_link_libraries(test_ctrl_registry PRIVATE pom_dynamics pom_kinematics pom
 # computed torque: the designed omega_n and zeta recovered, a 20 % model error (docs/control.md)
 pom_add_test(test_ctrl_computed_torque test_ctrl_computed_torque.c)
 target_link_libraries(test_ctrl_computed_torque PRIVATE pom_dynamics pom_kinematics pom_core)
+# PID with inverse-dynamics feedforward along a minimum-jerk reference (docs/control.md)
+pom_add_test(test_ctrl_feedforward test_ctrl_feedforward.c)
+target_link_libraries(test_ctrl_feedforward PRIVATE pom_dynamics pom_kinematics pom_core)
