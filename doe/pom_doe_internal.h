@@ -23,6 +23,17 @@ pom_status pom_doe_tree_set_number(config_t *tree, const char *key, double value
  * (reals with round-trip precision). *text is malloc'ed. */
 pom_status pom_doe_tree_write(const config_t *tree, char **text, pom_error *err);
 
+/* ---- keys of a study (pom_doe_study.c) ---- */
+/* A sweep factor or uncertain key (`what` = where the config gives it, e.g.
+ * "uncertain.[0].key") must be "group.name": POM_ERR_CONFIG naming file,
+ * line, what and the key otherwise. */
+pom_status pom_doe_check_dotted(const pom_cfg *cfg, const char *what, const char *key,
+                                pom_error *err);
+/* The same, and its group must be one that candidate cand's evaluator reads
+ * (pom_doe_evaluator_reads): a key the model never reads changes nothing. */
+pom_status pom_doe_check_model_key(const pom_cfg *cfg, const char *what, const char *key,
+                                   const pom_doe_candidate *cand, pom_error *err);
+
 /* ---- results file (pom_doe_results.c) ---- */
 typedef struct pom_doe_results pom_doe_results;
 /* Takes PATH.lock (refused, nothing touched, while another run holds it),

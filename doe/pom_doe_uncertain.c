@@ -37,6 +37,8 @@ static pom_status nominal_values(double *nominal, const pom_doe_study *study, in
   for (int j = 0; j < unc->n; ++j) {
     char k[64];
     snprintf(k, sizeof k, "uncertain.[%d].key", j);
+    /* a key the model never reads changes nothing: its indices would be 0 */
+    POM_TRY_GOTO(pom_doe_check_model_key(cfg, k, unc->param[j].key, cand, err), done);
     const config_setting_t *s = config_lookup(&tree, unc->param[j].key);
     int type = s ? config_setting_type(s) : CONFIG_TYPE_NONE;
     nominal[j] = NAN;
@@ -56,6 +58,13 @@ static pom_status nominal_values(double *nominal, const pom_doe_study *study, in
       st = pom_cfg_error(cfg, k, NULL, err,
                          "relative = true needs the key in the config of candidate '%s' (the "
                          "nominal value the draws multiply)",
+                         cand->name);
+      goto done;
+    }
+    if (unc->param[j].relative && nominal[j] == 0.0) {
+      st = pom_cfg_error(cfg, k, NULL, err,
+                         "relative = true multiplies the nominal value, which is 0 in candidate "
+                         "'%s': every draw would be 0 (give absolute values instead)",
                          cand->name);
       goto done;
     }

@@ -213,3 +213,12 @@ const double *pom_kin_arch_points(const pom_kin_arch *arch, const char *key) {
                                             arch->type->points[k].offset);
   return NULL;
 }
+
+/* ---- config groups ------------------------------------------------------------ */
+/* What pom_kin_arch_load and pom_kin_inertia_load read. */
+static const char *const model_groups[] = {"name",   "architecture", "geometry",
+                                           "limits", "inertia",      NULL};
+
+const char *const *pom_kin_model_groups(void) {
+  return model_groups;
+}

@@ -61,6 +61,14 @@ typedef struct {
  * keys of cfg (docs/config.md). */
 pom_status pom_kin_arch_load(pom_kin_arch *arch, const pom_cfg *cfg, pom_error *err);
 
+/* The top-level config names that the kinematic model of a mechanism reads
+ * (pom_kin_arch_load and pom_kin_inertia_load: `name`, `architecture`,
+ * `geometry`, `limits`, `inertia`), NULL-terminated, static storage. The
+ * `workspace` group (pom_kin_ws_load) belongs to `pomlab workspace`, not to
+ * the model, and is not listed. Callers use it to refuse settings that the
+ * model never reads (docs/config.md). */
+const char *const *pom_kin_model_groups(void);
+
 /* Inverse kinematics in closed form on the home assembly branch: q (m) for
  * rotation R. POM_ERR_UNREACHABLE (q untouched, err says which limb) when a
  * limb cannot be assembled; POM_ERR_NONFINITE when R holds NaN or Inf. Does
