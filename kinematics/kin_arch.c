@@ -96,6 +96,10 @@ static pom_status load_design(pom_kin_design *d, const pom_kin_arch_type *t, con
     } else {
       POM_TRY(pom_cfg_real(cfg, key, p->to_si, p->lo, p->hi, &d->x[k], err));
     }
+    double v = d->x[k] / p->to_si;
+    if (p->integer && v != floor(v))
+      return pom_cfg_error(cfg, key, NULL, err,
+                           "expected a whole number in [%g, %g], not a fraction", p->lo, p->hi);
   }
   return POM_OK;
 }

@@ -30,6 +30,8 @@ typedef struct {
   int optional;        /* 1: may be omitted, then `def` */
   double def;          /* default, config unit */
   int synth;           /* 1: the synthesis may vary it (synthesis.variables name = key) */
+  int integer;         /* 1: a choice that takes whole values only (the 3-RRR's elbow = +1 or
+                          -1): a fraction is refused, not rounded */
 } pom_kin_param_desc;
 
 /* One set of three points or axes of the private geometry: a key of the

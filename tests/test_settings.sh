@@ -16,7 +16,7 @@ study() {
   local cands=${3:-"candidates = ( { name = \"A\"; config = \"$SRC/configs/3pss.cfg\"; } );"}
   cat >"$TMP/$1.cfg" <<CFG
 name = "$1";
-montecarlo = { maneuvers = 6; seed = 4242; range_mm = 3.0; };
+montecarlo = { maneuvers = ${M:-6}; seed = 4242; range_mm = 3.0; };
 study = { override = { joints = { model = "rigid"; }; scene = { coil_inductance = false; };
   ${2:-} }; };
 $cands
@@ -106,5 +106,13 @@ study k6 "" "" 'uncertain = ( { key = "geometry.actuator_tilt_deg"; dist = "unif
 WANT=2 run k6
 expect_err "key 'uncertain.[0].key' = \"geometry.actuator_tilt_deg\""
 expect_err "nominal value, which is 0"
+
+# an integer key refuses a fraction (3-RRR elbow = 0.5 was read as +1)
+sed 's/^\( *elbow = \).*/\10.5;/' "$SRC/configs/3rrr.cfg" >"$TMP/elbow.cfg"
+expect_rc 2 "$POMLAB" model "$TMP/elbow.cfg"
+expect_err "elbow.cfg:$(grep -n '^ *elbow = ' "$TMP/elbow.cfg" | cut -d: -f1): key 'geometry.elbow' = 0.5"
+expect_err "not a fraction"
+sed 's/^\( *elbow = \).*/\1-1.0;/' "$SRC/configs/3rrr.cfg" >"$TMP/elbow.cfg"
+expect_rc 0 "$POMLAB" model "$TMP/elbow.cfg"
 
 finish test_settings
