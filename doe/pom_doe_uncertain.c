@@ -210,6 +210,45 @@ done:
   return st;
 }
 
+/* Resume: every setting of a parameter that changes a row is the file's:
+ * its distribution and parameters, and `relative` (which the draws do not
+ * show: the same draws are factors or values). */
+static pom_status check_settings(hid_t g, const pom_doe_study *study, const char *path,
+                                 pom_error *err) {
+  const pom_unc *unc = &study->uncertain;
+  char dists[POM_UNC_MAX * 20] = "", stored[sizeof dists];
+  double relative[POM_UNC_MAX], params[POM_UNC_MAX * 4];
+  for (int j = 0; j < unc->n; ++j) {
+    strcat(dists, j ? "," : "");
+    strcat(dists, unc->param[j].dist.ops->name);
+  }
+  POM_TRY(pom_h5_read_attr_string(g, "distributions", stored, sizeof stored, err));
+  POM_TRY(pom_h5_read_doubles(g, "relative", (size_t)unc->n, relative, err));
+  POM_TRY(pom_h5_read_doubles(g, "parameters", (size_t)unc->n * 4, params, err));
+  char changed[256] = "";
+  if (strcmp(stored, dists) != 0)
+    snprintf(changed, sizeof changed, "the distributions (%s in the file, %s now)", stored, dists);
+  for (int j = 0; j < unc->n && !changed[0]; ++j) {
+    const pom_unc_param *p = &unc->param[j];
+    if (relative[j] != (double)p->relative)
+      snprintf(changed, sizeof changed, "key 'uncertain.[%d].relative' (%s in the file, %s now)", j,
+               relative[j] != 0 ? "true" : "false", p->relative ? "true" : "false");
+    for (int i = 0; i < 4 && !changed[0]; ++i) {
+      double a = params[4 * j + i], b = p->dist.p[i];
+      if (a != b && !(isnan(a) && isnan(b)))
+        snprintf(changed, sizeof changed,
+                 "the parameters of uncertain.[%d] ('%s', %s: parameter %d is %.17g in the file, "
+                 "%.17g now)",
+                 j, p->key, p->dist.ops->name, i + 1, a, b);
+    }
+  }
+  if (changed[0])
+    POM_FAIL(err, POM_ERR_ARG,
+             "'%s' holds another study; changed: %s; remove it or choose another output", path,
+             changed);
+  return POM_OK;
+}
+
 pom_status pom_doe_uncertain_check(hid_t file, const pom_doe_study *study, const char *path,
                                    pom_error *err) {
   const pom_unc *unc = &study->uncertain;
@@ -236,6 +275,7 @@ pom_status pom_doe_uncertain_check(hid_t file, const pom_doe_study *study, const
     POM_FAIL_GOTO(err, POM_ERR_ARG, done,
                   "'%s' has uncertain keys %s, this study %s: remove it or choose another output",
                   path, stored, keys);
+  POM_TRY_GOTO(check_settings(g, study, path, err), done);
   POM_TRY_GOTO(pom_h5_read_doubles(g, "draws", n, got, err), done);
   if (memcmp(got, want, n * sizeof *got) != 0)
     POM_FAIL_GOTO(err, POM_ERR_ARG, done,

@@ -107,6 +107,68 @@ WANT=2 run k6
 expect_err "key 'uncertain.[0].key' = \"geometry.actuator_tilt_deg\""
 expect_err "nominal value, which is 0"
 
+# --- item 9: --resume compares every setting that changes a row --------------
+M=40 study r1 "" "" 'uncertain = ( { key = "actuator.resistance_ohm"; dist = "uniform"; min = 0.9;
+  max = 1.1; relative = true; } );'
+run r1 --stop-after 2 --threads 1
+sed -i 's/relative = true;/relative = false;/' "$TMP/r1.cfg"
+cp "$TMP/r1.h5.partial" "$TMP/r1.before"
+WANT=2 run r1 --resume
+expect_err "changed: key 'uncertain.[0].relative' (true in the file, false now)"
+check "a refused resume (relative) leaves the file as it was" cmp -s "$TMP/r1.h5.partial" "$TMP/r1.before"
+
+# --- item 14: --resume checks the rows it carries, and touches nothing when it
+# refuses; a renamed candidate is a change ------------------------------------
+# tamper FILE FIELD VALUE: sets FIELD of the first done row of candidate 0
+tamper() {
+  "$PY" - "$@" <<'PY'
+import sys, h5py
+path, field, value = sys.argv[1], sys.argv[2], float(sys.argv[3])
+with h5py.File(path, "r+") as f:
+    ds = f["candidates/0/maneuvers"]
+    rows = ds[()]
+    k = [i for i in range(len(rows)) if rows["done"][i] == 1][0]
+    rows[field][k] = value
+    ds[k] = rows[k]
+    print(k)
+PY
+}
+M=40 study r2
+run r2 --stop-after 3 --threads 1
+cp "$TMP/r2.h5.partial" "$TMP/r2.good"
+for tv in "energy_total 1e6 field 'energy_total' = 1000000 is not the sum of 'energy'" \
+  "execution_time -5 field 'execution_time' = -5 is negative" \
+  "energy_coil -0.25 field 'energy_coil[0]' = -0.25 is negative" \
+  "steps -3 field 'steps' = -3 is negative" \
+  "peak_voltage nan field 'peak_voltage[0]' = nan is NaN" \
+  "done 2 done = 2"; do
+  set -- $tv
+  cp "$TMP/r2.good" "$TMP/r2.h5.partial"
+  k=$(tamper "$TMP/r2.h5.partial" "$1" "$2")
+  cp "$TMP/r2.h5.partial" "$TMP/r2.before"
+  WANT=1 run r2 --resume
+  shift 2
+  expect_err "candidate 0 maneuver $k: $*"
+  check "a refused resume ($*) leaves the file as it was" cmp -s "$TMP/r2.h5.partial" "$TMP/r2.before"
+done
+cp "$TMP/r2.good" "$TMP/r2.h5.partial"
+run r2 --resume
+"$PY" -c "import h5py, sys; f = h5py.File('$TMP/r2.h5', 'r'); sys.exit(0 if 'last_resumed_utc' in f.attrs else 1)" ||
+  fail "an accepted resume does not record last_resumed_utc"
+# a renamed candidate
+M=40 study r3
+run r3 --stop-after 2 --threads 1
+sed -i 's/name = "A";/name = "B";/' "$TMP/r3.cfg"
+cp "$TMP/r3.h5.partial" "$TMP/r3.before"
+WANT=2 run r3 --resume
+expect_err "candidate 0 was run as 'A' and is named 'B' now"
+check "a refused resume (name) leaves the file as it was" cmp -s "$TMP/r3.h5.partial" "$TMP/r3.before"
+# revolute studies resume too (their file has sigma, not sigma_m), and their
+# rows pass the checks
+M=40 study r4 "" "candidates = ( { name = \"R\"; config = \"$SRC/configs/3rrr.cfg\"; } );"
+sed -i 's/range_mm = 3.0;/range_deg = 10.0;/' "$TMP/r4.cfg"
+run r4 --stop-after 3 --threads 1
+run r4 --resume
 # an integer key refuses a fraction (3-RRR elbow = 0.5 was read as +1)
 sed 's/^\( *elbow = \).*/\10.5;/' "$SRC/configs/3rrr.cfg" >"$TMP/elbow.cfg"
 expect_rc 2 "$POMLAB" model "$TMP/elbow.cfg"
