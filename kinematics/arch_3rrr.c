@@ -399,6 +399,7 @@ const pom_kin_arch_type pom_kin_arch_3rrr = {
     .inertia_values = values,
     .unreachable = "the distal link cannot reach the platform axis (no real IK root), or the leg "
                    "is at a leg singularity",
+    .optional_central_joint = 1,
     .from_design = from_design,
     .finish = finish,
     .limb = limb,

@@ -55,6 +55,9 @@ typedef struct {
   int has_design;                 /* 1 when loaded from design parameters (mode = "parameters") */
   pom_kin_design design;          /* the design parameters when has_design (else zero) */
   double data[POM_KIN_ARCH_DATA]; /* private geometry of the type (its data_size bytes) */
+  int central_joint; /* 1: the mechanism has the spherical joint O between ground and platform
+                        (always for types without optional_central_joint; the 3-RRR's
+                        geometry.central_joint, default 0: docs/kinematics-3rrr.md section 9) */
 } pom_kin_arch;
 
 /* Loads geometry and limits from the `architecture`, `geometry` and `limits`

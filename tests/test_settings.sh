@@ -177,4 +177,39 @@ expect_err "not a fraction"
 sed 's/^\( *elbow = \).*/\1-1.0;/' "$SRC/configs/3rrr.cfg" >"$TMP/elbow.cfg"
 expect_rc 0 "$POMLAB" model "$TMP/elbow.cfg"
 
+# --- item 22: the 3-RRR's spherical joint at O is a documented choice ---------
+# default: the wrist as built, no central joint (9 revolute joints)
+expect_rc 0 "$POMLAB" model "$SRC/configs/3rrr.cfg" --json
+json_check "[j['name'] for j in d['mechanism']['joints']] == ['U1', 'W1', 'V1', 'U2', 'W2', 'V2', 'U3', 'W3', 'V3']"
+for cj in false true; do
+  sed "s/^\( *central_joint = \).*/\1$cj;/" "$SRC/configs/3rrr.cfg" >"$TMP/rrr_$cj.cfg"
+  for model in rigid parasitic; do
+    expect_rc 0 "$POMLAB" simulate "$TMP/rrr_$cj.cfg" --target 5,-8,3 --joints $model --json
+    cp "$TMP/out" "$TMP/sim_${cj}_$model.json"
+  done
+done
+expect_rc 0 "$POMLAB" model "$TMP/rrr_true.cfg" --json
+json_check "d['mechanism']['joints'][0]['name'] == 'O' and len(d['mechanism']['joints']) == 10"
+# the rigid formulation is the same with or without it (redundant there); the
+# parasitic one differs (its springs are the extra stiffness) and stays within
+# 2 % of the rigid energy, 1e-3 of its execution time
+check "3-RRR central joint: rigid unchanged, parasitic close to rigid" "$PY" - "$TMP" <<'PY'
+import json, sys
+t = sys.argv[1]
+r = {(cj, m): json.load(open("%s/sim_%s_%s.json" % (t, cj, m)))
+     for cj in ("false", "true") for m in ("rigid", "parasitic")}
+assert r["false", "rigid"]["energy_J"] == r["true", "rigid"]["energy_J"]
+assert r["false", "rigid"]["execution_time_s"] == r["true", "rigid"]["execution_time_s"]
+assert r["false", "parasitic"]["energy_J"] != r["true", "parasitic"]["energy_J"]
+for cj in ("false", "true"):
+    e, e0 = r[cj, "parasitic"]["energy_total_J"], r[cj, "rigid"]["energy_total_J"]
+    assert abs(e - e0) <= 0.02 * e0, (cj, e, e0)
+    x, x0 = r[cj, "parasitic"]["execution_time_s"], r[cj, "rigid"]["execution_time_s"]
+    assert abs(x - x0) <= 1e-3 * x0, (cj, x, x0)
+PY
+# the 3P-S-S/S's joint O is its own: the key is unknown there
+sed 's/^\( *mode = "parameters";\)/\1 central_joint = false;/' "$SRC/configs/3pss.cfg" >"$TMP/pss_cj.cfg"
+expect_rc 2 "$POMLAB" model "$TMP/pss_cj.cfg"
+expect_err "geometry.central_joint"
+
 finish test_settings
