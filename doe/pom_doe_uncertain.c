@@ -210,6 +210,23 @@ done:
   return st;
 }
 
+/* The config key of parameter i of a distribution kind (pom_dist p[]). */
+static const char *param_name(const char *dist, int i) {
+  static const char *const names[][5] = {{"uniform", "min", "max", NULL, NULL},
+                                         {"normal", "mean", "sd", NULL, NULL},
+                                         {"truncated_normal", "mean", "sd", "min", "max"},
+                                         {"lognormal", "median", "sigma_ln", "min", "max"}};
+  for (size_t k = 0; k < sizeof names / sizeof names[0]; ++k)
+    if (strcmp(names[k][0], dist) == 0 && names[k][1 + i]) return names[k][1 + i];
+  return "parameter";
+}
+
+/* The shortest of %.15g / %.17g that reads back as v. */
+static void shortest(char *buf, size_t cap, double v) {
+  snprintf(buf, cap, "%.15g", v);
+  if (strtod(buf, NULL) != v) snprintf(buf, cap, "%.17g", v);
+}
+
 /* Resume: every setting of a parameter that changes a row is the file's:
  * its distribution and parameters, and `relative` (which the draws do not
  * show: the same draws are factors or values). */
@@ -235,11 +252,14 @@ static pom_status check_settings(hid_t g, const pom_doe_study *study, const char
                relative[j] != 0 ? "true" : "false", p->relative ? "true" : "false");
     for (int i = 0; i < 4 && !changed[0]; ++i) {
       double a = params[4 * j + i], b = p->dist.p[i];
-      if (a != b && !(isnan(a) && isnan(b)))
+      if (a != b && !(isnan(a) && isnan(b))) {
+        char was[32], now[32];
+        shortest(was, sizeof was, a);
+        shortest(now, sizeof now, b);
         snprintf(changed, sizeof changed,
-                 "the parameters of uncertain.[%d] ('%s', %s: parameter %d is %.17g in the file, "
-                 "%.17g now)",
-                 j, p->key, p->dist.ops->name, i + 1, a, b);
+                 "key 'uncertain.[%d].%s' of '%s' (%s in the file, %s now)", j,
+                 param_name(p->dist.ops->name, i), p->key, was, now);
+      }
     }
   }
   if (changed[0])
