@@ -260,18 +260,22 @@ static pom_status write_h5(const char *path, const pom_cfg *cfg, const char *nam
   POM_TRY_GOTO(pom_dyn_ctrl_h5_describe(g, &p->controller, err), done);
   POM_TRY_GOTO(pom_h5_attr_string(g, "orientation", pom_dyn_orient_name(p->scene.orientation), err),
                done);
-  POM_TRY_GOTO(pom_h5_attr_doubles(g, "target", mt->target, 3, err), done);
-  if (pom_act_kind_desc(kind)->legacy_keys) /* the name before actuator units existed */
+  if (mt->status != POM_OK) POM_TRY_GOTO(pom_h5_attr_string(g, "reason", mt->reason, err), done);
+  /* every metric of the list, named by its JSON key (docs/results.md section
+   * 9): float64 in SI (counts and flags exactly), [3] per actuator */
+  const pom_dyn_metric_info *schema = pom_dyn_metric_schema();
+  for (int j = 0; j < POM_DYN_N_METRICS; ++j) {
+    char key[96];
+    double v[3];
+    pom_dyn_metric_json_key(&schema[j], key, sizeof key);
+    for (int k = 0; k < schema[j].count; ++k)
+      v[k] = pom_dyn_metric_value(mt, &schema[j], k);
+    st = schema[j].count == 1 ? pom_h5_attr_double(g, key, v[0], err)
+                              : pom_h5_attr_doubles(g, key, v, (size_t)schema[j].count, err);
+    if (st != POM_OK) goto done;
+  }
+  if (pom_act_kind_desc(kind)->legacy_keys) /* the names before actuator units existed */
     POM_TRY_GOTO(pom_h5_attr_doubles(g, "target_m", mt->target, 3, err), done);
-  POM_TRY_GOTO(pom_h5_attr_doubles(g, "settling_time_s", mt->settling_time, 3, err), done);
-  POM_TRY_GOTO(pom_h5_attr_doubles(g, "settling_time_final_s", mt->settling_time_final, 3, err),
-               done);
-  POM_TRY_GOTO(pom_h5_attr_doubles(g, "energy_J", mt->energy, 3, err), done);
-  POM_TRY_GOTO(pom_h5_attr_doubles(g, "energy_positive_J", mt->energy_positive, 3, err), done);
-  POM_TRY_GOTO(pom_h5_attr_double(g, "execution_time_s", mt->execution_time, err), done);
-  POM_TRY_GOTO(pom_h5_attr_double(g, "energy_total_J", mt->energy_total, err), done);
-  POM_TRY_GOTO(pom_h5_attr_double(g, "energy_balance_error", mt->energy_balance_error, err), done);
-  POM_TRY_GOTO(pom_h5_attr_double(g, "max_deflection_m", mt->max_deflection, err), done);
 done:
   if (g >= 0) H5Gclose(g);
   pom_error close_err;

@@ -82,6 +82,8 @@ typedef struct {
 void pom_doe_maneuver_draw(pom_doe_maneuver *out, const pom_doe_maneuvers *mv, long k);
 
 /* ---- evaluators -------------------------------------------------------------- */
+#define POM_DOE_MAX_GROUPS 16 /* top-level config names one evaluator reads */
+
 /* Runs maneuvers of one candidate. ctx is shared read-only by every worker;
  * each worker thread owns one state made by worker_create. */
 typedef struct {
@@ -104,7 +106,22 @@ typedef struct {
   /* Kind of the candidate's actuators (unit of targets, strokes, ranges and
    * of the ACTUATOR metrics); zero-initialised = prismatic. */
   pom_actuator_kind actuator_kind;
+  /* Top-level config names the evaluator reads (NULL-terminated, names in
+   * static storage; pom_doe_evaluator_add_groups). A setting anywhere else
+   * changes no maneuver: a study refuses it as a sweep factor, an uncertain
+   * key or an override group. groups[0] == NULL: the evaluator does not
+   * say (no such check). */
+  const char *groups[POM_DOE_MAX_GROUPS + 1];
 } pom_doe_evaluator;
+
+/* Appends the NULL-terminated names (e.g. pom_kin_model_groups()) to
+ * eval->groups; POM_ERR_INTERNAL beyond POM_DOE_MAX_GROUPS in all. */
+pom_status pom_doe_evaluator_add_groups(pom_doe_evaluator *eval, const char *const *names,
+                                        pom_error *err);
+
+/* 1 when eval reads the top-level name `group` (or does not say what it
+ * reads), 0 otherwise. */
+int pom_doe_evaluator_reads(const pom_doe_evaluator *eval, const char *group);
 
 /* Frees an evaluator's context (eval may be NULL or empty). */
 void pom_doe_evaluator_clear(pom_doe_evaluator *eval);

@@ -9,11 +9,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Every group the evaluator reads; unknown keys there are errors. */
-static const char *const dyn_scopes[] = {"name",    "architecture", "geometry",   "limits",
-                                         "inertia", "actuator",     "controller", "joints",
-                                         "scene",   "solver",       "maneuver",   NULL};
-
 typedef pom_doe_dyn_base dyn_ctx;
 
 static void ctx_destroy(void *p) {
@@ -112,13 +107,16 @@ pom_status pom_doe_dyn_evaluator_create(pom_doe_evaluator *eval, const pom_cfg *
   (void)user;
   pom_status st = POM_OK;
   memset(eval, 0, sizeof *eval);
+  /* every group the model reads; unknown keys there are errors */
+  POM_TRY(pom_doe_evaluator_add_groups(eval, pom_kin_model_groups(), err));
+  POM_TRY(pom_doe_evaluator_add_groups(eval, pom_dyn_param_groups(), err));
   dyn_ctx *ctx = calloc(1, sizeof *ctx);
   if (!ctx) POM_FAIL(err, POM_ERR_NOMEM, "evaluator: out of memory");
   POM_TRY_GOTO(pom_kin_arch_load(&ctx->arch, cfg, err), fail);
   POM_TRY_GOTO(pom_kin_mechanism_build(&ctx->mech, &ctx->arch, cfg, err), fail);
   pom_dyn_params_defaults(&ctx->params);
   POM_TRY_GOTO(pom_dyn_params_load(&ctx->params, cfg, err), fail);
-  POM_TRY_GOTO(pom_cfg_check_unknown(cfg, dyn_scopes, NULL, err), fail);
+  POM_TRY_GOTO(pom_cfg_check_unknown(cfg, eval->groups, NULL, err), fail);
   POM_TRY_GOTO(pom_doe_mech_actuator_kind(&ctx->mech, &eval->actuator_kind, err), fail);
   POM_TRY_GOTO(pom_dyn_model_create(&ctx->model, &ctx->mech, &ctx->arch, &ctx->params, err), fail);
   eval->ctx = ctx;
@@ -131,5 +129,6 @@ pom_status pom_doe_dyn_evaluator_create(pom_doe_evaluator *eval, const pom_cfg *
   return POM_OK;
 fail:
   ctx_destroy(ctx);
+  memset(eval, 0, sizeof *eval);
   return st;
 }

@@ -23,6 +23,17 @@ pom_status pom_doe_tree_set_number(config_t *tree, const char *key, double value
  * (reals with round-trip precision). *text is malloc'ed. */
 pom_status pom_doe_tree_write(const config_t *tree, char **text, pom_error *err);
 
+/* ---- keys of a study (pom_doe_study.c) ---- */
+/* A sweep factor or uncertain key (`what` = where the config gives it, e.g.
+ * "uncertain.[0].key") must be "group.name": POM_ERR_CONFIG naming file,
+ * line, what and the key otherwise. */
+pom_status pom_doe_check_dotted(const pom_cfg *cfg, const char *what, const char *key,
+                                pom_error *err);
+/* The same, and its group must be one that candidate cand's evaluator reads
+ * (pom_doe_evaluator_reads): a key the model never reads changes nothing. */
+pom_status pom_doe_check_model_key(const pom_cfg *cfg, const char *what, const char *key,
+                                   const pom_doe_candidate *cand, pom_error *err);
+
 /* ---- results file (pom_doe_results.c) ---- */
 typedef struct pom_doe_results pom_doe_results;
 /* Takes PATH.lock (refused, nothing touched, while another run holds it),
@@ -57,6 +68,22 @@ pom_status pom_doe_results_write_report(pom_doe_results *res, const pom_doe_stud
 pom_status pom_doe_results_finish(pom_doe_results *res, int complete, pom_error *err);
 /* pom_doe_results_finish(res, 0, err): an unfinished file stays PATH.partial. */
 pom_status pom_doe_results_close(pom_doe_results *res, pom_error *err);
+
+/* Resume: records in the opened file that rows from here on come from this
+ * program (last_resumed_utc, _version, _git_commit). Called once every stored
+ * row passed its check, so a refused file is left as it was. */
+pom_status pom_doe_results_mark_resumed(pom_doe_results *res, pom_error *err);
+
+/* ---- stored rows (pom_doe_rowcheck.c) ---- */
+/* Checks the metrics of a done row: every value finite (NaN only where it
+ * means "unsettled") and in its unit class's range (flags 0 or 1; counts,
+ * times, magnitudes and dissipated energies >= 0), and for a maneuver that
+ * succeeded the identities of pom_dyn_simulate (energy_total = sum of
+ * energy, energy_supplied = energy_total, execution_time = the largest
+ * settling time, settled exactly when its settling time is a number); a
+ * failed row's flags and counts only. 0 when it holds; -1 with the field,
+ * its value and the rule in why (cap bytes). */
+int pom_doe_row_check_metrics(const pom_doe_row *row, char *why, size_t cap);
 
 /* ---- uncertain parameters (pom_doe_uncertain.c) ---- */
 /* Nominal values of the study's uncertain keys per candidate, and the check

@@ -464,7 +464,10 @@ static pom_status check_protocol(hid_t file, const pom_doe_study *study, const c
   POM_TRY(pom_h5_open_group(&mc, file, "montecarlo", err));
   POM_TRY_GOTO(pom_h5_read_attr_string(mc, "space", space, sizeof space, err), done);
   POM_TRY_GOTO(pom_h5_read_attr_string(mc, "distribution", dist, sizeof dist, err), done);
-  POM_TRY_GOTO(pom_h5_read_attr_double(mc, "sigma_m", &sigma, err), done);
+  /* "sigma" (any actuator kind); files written before it have only sigma_m */
+  POM_TRY_GOTO(
+      pom_h5_read_attr_double(mc, H5Aexists(mc, "sigma") > 0 ? "sigma" : "sigma_m", &sigma, err),
+      done);
   POM_TRY_GOTO(pom_h5_read_attr_double(mc, "tilt_max_rad", &tilt, err), done);
   POM_TRY_GOTO(pom_h5_read_attr_double(mc, "torsion_max_rad", &torsion, err), done);
   if (strcmp(space, spaces[mv->space]) != 0 || strcmp(dist, dists[mv->distribution]) != 0 ||
@@ -592,6 +595,14 @@ static pom_status check_identity(pom_doe_results *res, const pom_doe_study *stud
     snprintf(name, sizeof name, "candidates/%d", c);
     POM_TRY_GOTO(pom_h5_open_group(&g, res->file, name, err), done);
     POM_TRY_GOTO(pom_h5_read_text(g, "config", &text, err), done);
+    /* a renamed candidate is another one in every table and in /ranking */
+    char stored_name[POM_DOE_NAME_LEN];
+    POM_TRY_GOTO(pom_h5_read_attr_string(g, "name", stored_name, sizeof stored_name, err), done);
+    if (strcmp(stored_name, study->candidates[c].name) != 0)
+      POM_FAIL_GOTO(err, POM_ERR_ARG, done,
+                    "'%s': candidate %d was run as '%s' and is named '%s' now; changed: its "
+                    "name; remove the file or choose another output",
+                    path, c, stored_name, study->candidates[c].name);
     const char *want = study->candidates[c].resolved ? study->candidates[c].resolved : "";
     if (strcmp(text, want) != 0) {
       char key[256], was[128], now[128];
@@ -624,7 +635,10 @@ done:
 static pom_status results_open(pom_doe_results *res, const pom_doe_study *study, pom_error *err) {
   const char *path = res->open_path;
   POM_TRY(pom_h5_open_file(&res->file, path, 1, err));
-  POM_TRY(check_identity(res, study, path, err));
+  return check_identity(res, study, path, err);
+}
+
+pom_status pom_doe_results_mark_resumed(pom_doe_results *res, pom_error *err) {
   /* rows from here on come from this program: say so next to the creator's
    * version and commit */
   char when[64];
@@ -686,6 +700,8 @@ int pom_doe_results_check_row(const pom_doe_study *study, int c, long k, const p
     snprintf(why, cap, "done = %d", (int)row->done);
     return -1;
   }
+  /* what the statistics would carry: finite and in range */
+  if (pom_doe_row_check_metrics(row, why, cap) != 0) return -1;
   if (strcmp(pom_status_name((pom_status)row->status), "POM_UNKNOWN") == 0) {
     snprintf(why, cap, "status = %d is no pomlab status", (int)row->status);
     return -1;

@@ -306,6 +306,7 @@ static pom_status open_results(pom_doe_run *run, const char *path, pom_error *er
              "'%s': %ld stored row(s) are inconsistent (%s%s): the file is damaged and is not "
              "resumed; remove it to start again",
              pom_doe_results_open_path(run->res), n_bad, bad, n_bad > 3 ? "; ..." : "");
+  if (st == POM_OK) st = pom_doe_results_mark_resumed(run->res, err);
   return st;
 }
 

@@ -17,6 +17,27 @@ void pom_doe_evaluator_clear(pom_doe_evaluator *eval) {
   memset(eval, 0, sizeof *eval);
 }
 
+pom_status pom_doe_evaluator_add_groups(pom_doe_evaluator *eval, const char *const *names,
+                                        pom_error *err) {
+  int n = 0;
+  while (eval->groups[n])
+    ++n;
+  for (; *names; ++names) {
+    if (n >= POM_DOE_MAX_GROUPS)
+      POM_FAIL(err, POM_ERR_INTERNAL, "evaluator: more than %d config groups", POM_DOE_MAX_GROUPS);
+    eval->groups[n++] = *names;
+  }
+  eval->groups[n] = NULL;
+  return POM_OK;
+}
+
+int pom_doe_evaluator_reads(const pom_doe_evaluator *eval, const char *group) {
+  if (!eval->groups[0]) return 1;
+  for (int k = 0; eval->groups[k]; ++k)
+    if (strcmp(eval->groups[k], group) == 0) return 1;
+  return 0;
+}
+
 void pom_doe_study_clear(pom_doe_study *study) {
   if (!study) return;
   for (int c = 0; c < study->n_candidates; ++c) {
@@ -93,6 +114,42 @@ static void stem_of(char *stem, size_t cap, const char *path) {
   if (dot && dot != stem) *dot = '\0';
 }
 
+/* ---- keys the model reads ------------------------------------------------------- */
+/* "a, b, c": the groups eval reads, for messages. */
+static void group_list(char *buf, size_t cap, const pom_doe_evaluator *eval) {
+  size_t used = 0;
+  buf[0] = '\0';
+  for (int k = 0; eval->groups[k] && used < cap; ++k) {
+    int w = snprintf(buf + used, cap - used, "%s%s", k ? ", " : "", eval->groups[k]);
+    if (w < 0) break;
+    used += (size_t)w;
+  }
+}
+
+pom_status pom_doe_check_dotted(const pom_cfg *cfg, const char *what, const char *key,
+                                pom_error *err) {
+  const char *dot = strchr(key, '.');
+  if (!dot || dot == key || dot[1] == '\0' || dot[strcspn(dot, "[")] != '\0')
+    return pom_cfg_error(cfg, what, NULL, err,
+                         "expected a dotted key group.name of the candidates' configs (e.g. "
+                         "\"controller.kp\")");
+  return POM_OK;
+}
+
+pom_status pom_doe_check_model_key(const pom_cfg *cfg, const char *what, const char *key,
+                                   const pom_doe_candidate *cand, pom_error *err) {
+  POM_TRY(pom_doe_check_dotted(cfg, what, key, err));
+  char group[POM_DOE_NAME_LEN];
+  snprintf(group, sizeof group, "%.*s", (int)(strchr(key, '.') - key), key);
+  if (pom_doe_evaluator_reads(&cand->eval, group)) return POM_OK;
+  char list[256];
+  group_list(list, sizeof list, &cand->eval);
+  return pom_cfg_error(cfg, what, NULL, err,
+                       "the model of candidate '%s' never reads group '%s', so the key would "
+                       "change nothing (its groups: %s)",
+                       cand->name, group, list);
+}
+
 /* ---- one candidate ------------------------------------------------------------ */
 /* Study-wide inputs to candidate resolution. */
 typedef struct {
@@ -154,7 +211,30 @@ static pom_status resolve_candidate(pom_doe_candidate *cand, const study_ctx *sc
              cand->name);
     POM_TRY_GOTO(pom_cfg_load_string(&ccfg, cand->resolved, name, err), done);
   }
-  st = sc->factory(&cand->eval, ccfg, sc->user, err);
+  POM_TRY_GOTO(sc->factory(&cand->eval, ccfg, sc->user, err), done);
+  /* an override group or a factor the model never reads would change
+   * nothing: a misspelt name, refused like an unknown key */
+  for (int j = 0; j < 2; ++j) {
+    const config_setting_t *o = config_lookup(sc->tree, over_keys[j]);
+    int n = o ? config_setting_length(o) : 0;
+    for (int e = 0; e < n; ++e) {
+      const char *group = config_setting_name(config_setting_get_elem(o, (unsigned int)e));
+      if (pom_doe_evaluator_reads(&cand->eval, group)) continue;
+      char okey[400], list[256];
+      snprintf(okey, sizeof okey, "%s.%s", over_keys[j], group);
+      group_list(list, sizeof list, &cand->eval);
+      st = pom_cfg_error(sc->cfg, okey, NULL, err,
+                         "unknown group: the model of candidate '%s' never reads '%s' (its "
+                         "groups: %s)",
+                         cand->name, group, list);
+      goto done;
+    }
+  }
+  for (int f = 0; f < cand->n_factors; ++f) {
+    char fkey[64];
+    snprintf(fkey, sizeof fkey, "candidates.factors.[%d].key", f);
+    POM_TRY_GOTO(pom_doe_check_model_key(sc->cfg, fkey, cand->factor_key[f], cand, err), done);
+  }
 done:
   if (st != POM_OK) pom_error_prefix(err, "candidate '%s'", cand->name);
   pom_cfg_destroy(ccfg);
@@ -295,6 +375,25 @@ static pom_status load_sweep(pom_doe_study *study, const study_ctx *sc, pom_erro
     char k[128];
     snprintf(k, sizeof k, "candidates.factors.[%d].key", f);
     POM_TRY(pom_cfg_string(cfg, k, fac[f].key, sizeof fac[f].key, err));
+    POM_TRY(pom_doe_check_dotted(cfg, k, fac[f].key, err));
+    /* one key, one factor: the later one would win in the configs while the
+     * tables and the effects carried the first one's values */
+    for (int g = 0; g < f; ++g)
+      if (strcmp(fac[g].key, fac[f].key) == 0)
+        return pom_cfg_error(cfg, k, NULL, err,
+                             "the key is already factor candidates.factors.[%d]: a key can be "
+                             "one factor only",
+                             g);
+    /* an absolute draw would replace the factor's value in every maneuver
+     * (a relative one scales each candidate's own value: allowed) */
+    for (int j = 0; j < study->uncertain.n; ++j)
+      if (strcmp(study->uncertain.param[j].key, fac[f].key) == 0 &&
+          !study->uncertain.param[j].relative)
+        return pom_cfg_error(cfg, k, NULL, err,
+                             "the key is also uncertain.[%d] with absolute draws, which would "
+                             "replace the factor's values (the candidates would tie): make that "
+                             "parameter relative = true or drop one of the two",
+                             j);
     snprintf(k, sizeof k, "candidates.factors.[%d].log", f);
     POM_TRY(pom_cfg_bool_opt(cfg, k, 0, &fac[f].log, err));
     snprintf(k, sizeof k, "candidates.factors.[%d].min", f);

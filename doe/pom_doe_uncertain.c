@@ -37,6 +37,8 @@ static pom_status nominal_values(double *nominal, const pom_doe_study *study, in
   for (int j = 0; j < unc->n; ++j) {
     char k[64];
     snprintf(k, sizeof k, "uncertain.[%d].key", j);
+    /* a key the model never reads changes nothing: its indices would be 0 */
+    POM_TRY_GOTO(pom_doe_check_model_key(cfg, k, unc->param[j].key, cand, err), done);
     const config_setting_t *s = config_lookup(&tree, unc->param[j].key);
     int type = s ? config_setting_type(s) : CONFIG_TYPE_NONE;
     nominal[j] = NAN;
@@ -56,6 +58,13 @@ static pom_status nominal_values(double *nominal, const pom_doe_study *study, in
       st = pom_cfg_error(cfg, k, NULL, err,
                          "relative = true needs the key in the config of candidate '%s' (the "
                          "nominal value the draws multiply)",
+                         cand->name);
+      goto done;
+    }
+    if (unc->param[j].relative && nominal[j] == 0.0) {
+      st = pom_cfg_error(cfg, k, NULL, err,
+                         "relative = true multiplies the nominal value, which is 0 in candidate "
+                         "'%s': every draw would be 0 (give absolute values instead)",
                          cand->name);
       goto done;
     }
@@ -201,6 +210,65 @@ done:
   return st;
 }
 
+/* The config key of parameter i of a distribution kind (pom_dist p[]). */
+static const char *param_name(const char *dist, int i) {
+  static const char *const names[][5] = {{"uniform", "min", "max", NULL, NULL},
+                                         {"normal", "mean", "sd", NULL, NULL},
+                                         {"truncated_normal", "mean", "sd", "min", "max"},
+                                         {"lognormal", "median", "sigma_ln", "min", "max"}};
+  for (size_t k = 0; k < sizeof names / sizeof names[0]; ++k)
+    if (strcmp(names[k][0], dist) == 0 && names[k][1 + i]) return names[k][1 + i];
+  return "parameter";
+}
+
+/* The shortest of %.15g / %.17g that reads back as v. */
+static void shortest(char *buf, size_t cap, double v) {
+  snprintf(buf, cap, "%.15g", v);
+  if (strtod(buf, NULL) != v) snprintf(buf, cap, "%.17g", v);
+}
+
+/* Resume: every setting of a parameter that changes a row is the file's:
+ * its distribution and parameters, and `relative` (which the draws do not
+ * show: the same draws are factors or values). */
+static pom_status check_settings(hid_t g, const pom_doe_study *study, const char *path,
+                                 pom_error *err) {
+  const pom_unc *unc = &study->uncertain;
+  char dists[POM_UNC_MAX * 20] = "", stored[sizeof dists];
+  double relative[POM_UNC_MAX], params[POM_UNC_MAX * 4];
+  for (int j = 0; j < unc->n; ++j) {
+    strcat(dists, j ? "," : "");
+    strcat(dists, unc->param[j].dist.ops->name);
+  }
+  POM_TRY(pom_h5_read_attr_string(g, "distributions", stored, sizeof stored, err));
+  POM_TRY(pom_h5_read_doubles(g, "relative", (size_t)unc->n, relative, err));
+  POM_TRY(pom_h5_read_doubles(g, "parameters", (size_t)unc->n * 4, params, err));
+  char changed[256] = "";
+  if (strcmp(stored, dists) != 0)
+    snprintf(changed, sizeof changed, "the distributions (%s in the file, %s now)", stored, dists);
+  for (int j = 0; j < unc->n && !changed[0]; ++j) {
+    const pom_unc_param *p = &unc->param[j];
+    if (relative[j] != (double)p->relative)
+      snprintf(changed, sizeof changed, "key 'uncertain.[%d].relative' (%s in the file, %s now)", j,
+               relative[j] != 0 ? "true" : "false", p->relative ? "true" : "false");
+    for (int i = 0; i < 4 && !changed[0]; ++i) {
+      double a = params[4 * j + i], b = p->dist.p[i];
+      if (a != b && !(isnan(a) && isnan(b))) {
+        char was[32], now[32];
+        shortest(was, sizeof was, a);
+        shortest(now, sizeof now, b);
+        snprintf(changed, sizeof changed,
+                 "key 'uncertain.[%d].%s' of '%s' (%s in the file, %s now)", j,
+                 param_name(p->dist.ops->name, i), p->key, was, now);
+      }
+    }
+  }
+  if (changed[0])
+    POM_FAIL(err, POM_ERR_ARG,
+             "'%s' holds another study; changed: %s; remove it or choose another output", path,
+             changed);
+  return POM_OK;
+}
+
 pom_status pom_doe_uncertain_check(hid_t file, const pom_doe_study *study, const char *path,
                                    pom_error *err) {
   const pom_unc *unc = &study->uncertain;
@@ -227,6 +295,7 @@ pom_status pom_doe_uncertain_check(hid_t file, const pom_doe_study *study, const
     POM_FAIL_GOTO(err, POM_ERR_ARG, done,
                   "'%s' has uncertain keys %s, this study %s: remove it or choose another output",
                   path, stored, keys);
+  POM_TRY_GOTO(check_settings(g, study, path, err), done);
   POM_TRY_GOTO(pom_h5_read_doubles(g, "draws", n, got, err), done);
   if (memcmp(got, want, n * sizeof *got) != 0)
     POM_FAIL_GOTO(err, POM_ERR_ARG, done,

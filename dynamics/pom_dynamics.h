@@ -137,6 +137,12 @@ void pom_dyn_params_defaults(pom_dyn_params *p);
  * `maneuver` groups (docs/config.md) over the defaults. */
 pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error *err);
 
+/* The config groups pom_dyn_params_load reads (`actuator`, `controller`,
+ * `joints`, `scene`, `solver`, `maneuver`), NULL-terminated, static
+ * storage: callers use it to refuse settings that the model never reads
+ * (docs/config.md). */
+const char *const *pom_dyn_param_groups(void);
+
 typedef struct pom_dyn_model pom_dyn_model;
 typedef struct pom_dyn_data pom_dyn_data;
 

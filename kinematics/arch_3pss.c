@@ -27,16 +27,18 @@ enum { P_FIRST_AZ, P_HEIGHT, P_LENGTH, P_LEAN, P_AZ, P_TILT, P_TILT_AZ, P_COUNT 
 
 static const pom_kin_param_desc params[P_COUNT] = {
     {"first_azimuth_deg", "azimuth phi_1 of limb 1 (limb i at phi_1 + (i - 1) 120 deg)", POM_DEG,
-     -360.0, 360.0, 1, 90.0, 0},
+     -360.0, 360.0, 1, 90.0, 0, 0},
     {"platform_height", "height of the platform points above O / platform radius", 1.0, -10.0, 10.0,
-     1, 0.0, 1},
-    {"limb_length", "link length |B_i C_i| / platform radius", 1.0, 0.1, 100.0, 0, 0.0, 1},
-    {"limb_lean_deg", "angle of the home link direction from +z", POM_DEG, 0.0, 180.0, 0, 0.0, 1},
+     1, 0.0, 1, 0},
+    {"limb_length", "link length |B_i C_i| / platform radius", 1.0, 0.1, 100.0, 0, 0.0, 1, 0},
+    {"limb_lean_deg", "angle of the home link direction from +z", POM_DEG, 0.0, 180.0, 0, 0.0, 1,
+     0},
     {"limb_azimuth_deg", "azimuth of the home link direction, from e_r toward e_t", POM_DEG, -360.0,
-     360.0, 0, 0.0, 1},
-    {"actuator_tilt_deg", "angle of the slider axis d_i from +z", POM_DEG, 0.0, 180.0, 1, 0.0, 1},
+     360.0, 0, 0.0, 1, 0},
+    {"actuator_tilt_deg", "angle of the slider axis d_i from +z", POM_DEG, 0.0, 180.0, 1, 0.0, 1,
+     0},
     {"actuator_azimuth_deg", "azimuth of the slider axis, from e_r toward e_t", POM_DEG, -360.0,
-     360.0, 1, 0.0, 1},
+     360.0, 1, 0.0, 1, 0},
 };
 
 static const pom_kin_points_desc points[] = {

@@ -27,18 +27,19 @@ enum { P_FIRST_AZ, P_ALPHA1, P_ALPHA2, P_BETA, P_GAMMA, P_TWIST, P_ELBOW, P_COUN
 
 static const pom_kin_param_desc params[P_COUNT] = {
     {"first_azimuth_deg", "azimuth of base axis u_1 (leg i at + (i - 1) 120 deg)", POM_DEG, -360.0,
-     360.0, 1, 90.0, 0},
+     360.0, 1, 90.0, 0, 0},
     {"proximal_angle_deg", "alpha1: angle of the proximal link, u_i to w_i", POM_DEG, 1.0, 179.0, 0,
-     0.0, 1},
+     0.0, 1, 0},
     {"distal_angle_deg", "alpha2: angle of the distal link, w_i to v_i", POM_DEG, 1.0, 179.0, 0,
-     0.0, 1},
-    {"base_cone_deg", "beta: angle of the base axes u_i from -z", POM_DEG, 0.0, 180.0, 0, 0.0, 1},
+     0.0, 1, 0},
+    {"base_cone_deg", "beta: angle of the base axes u_i from -z", POM_DEG, 0.0, 180.0, 0, 0.0, 1,
+     0},
     {"platform_cone_deg", "gamma: angle of the platform axes v_i from +z", POM_DEG, 0.0, 180.0, 0,
-     0.0, 1},
+     0.0, 1, 0},
     {"platform_twist_deg", "azimuth of v_i minus that of u_i at home", POM_DEG, -360.0, 360.0, 1,
-     60.0, 1},
+     60.0, 1, 0},
     {"elbow", "+1 or -1: elbow w_i on the side of u_i x v_i (+1) or the other", 1.0, -1.0, 1.0, 1,
-     1.0, 0},
+     1.0, 0, 1},
 };
 
 static const pom_kin_points_desc points[] = {
@@ -398,6 +399,7 @@ const pom_kin_arch_type pom_kin_arch_3rrr = {
     .inertia_values = values,
     .unreachable = "the distal link cannot reach the platform axis (no real IK root), or the leg "
                    "is at a leg singularity",
+    .optional_central_joint = 1,
     .from_design = from_design,
     .finish = finish,
     .limb = limb,

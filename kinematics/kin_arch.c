@@ -24,6 +24,7 @@ pom_status pom_kin_arch_from_design(pom_kin_arch *arch, const pom_kin_arch_type 
   memset(arch, 0, sizeof *arch);
   if (!type) POM_FAIL(err, POM_ERR_ARG, "design: no architecture type");
   arch->type = type;
+  arch->central_joint = !type->optional_central_joint;
   snprintf(arch->name, sizeof arch->name, "%s", type->name);
   pom_kin_limits_defaults(arch);
   if (!(d->scale > 0.0 && d->scale < INFINITY))
@@ -96,6 +97,10 @@ static pom_status load_design(pom_kin_design *d, const pom_kin_arch_type *t, con
     } else {
       POM_TRY(pom_cfg_real(cfg, key, p->to_si, p->lo, p->hi, &d->x[k], err));
     }
+    double v = d->x[k] / p->to_si;
+    if (p->integer && v != floor(v))
+      return pom_cfg_error(cfg, key, NULL, err,
+                           "expected a whole number in [%g, %g], not a fraction", p->lo, p->hi);
   }
   return POM_OK;
 }
@@ -155,6 +160,7 @@ pom_status pom_kin_arch_load(pom_kin_arch *arch, const pom_cfg *cfg, pom_error *
   } else {
     memset(arch, 0, sizeof *arch);
     arch->type = type;
+    arch->central_joint = !type->optional_central_joint;
     for (int k = 0; k < type->n_points; ++k) {
       const pom_kin_points_desc *pd = &type->points[k];
       double(*pts)[3] = (double(*)[3])(void *)((char *)arch->data + pd->offset);
@@ -170,6 +176,10 @@ pom_status pom_kin_arch_load(pom_kin_arch *arch, const pom_cfg *cfg, pom_error *
       return pom_cfg_error(cfg, "geometry", NULL, err, "degenerate geometry: %s", sub.message);
   }
   snprintf(arch->name, sizeof arch->name, "%s", name);
+  /* a type whose central joint is a modelling choice reads it (the others'
+   * joint O is their own: the key is then unknown) */
+  if (type->optional_central_joint)
+    POM_TRY(pom_cfg_bool_opt(cfg, "geometry.central_joint", 0, &arch->central_joint, err));
 
   /* limits (group optional, every key optional) */
   const pom_act_desc *u = pom_act_kind_desc(type->actuator);
@@ -210,4 +220,13 @@ const double *pom_kin_arch_points(const pom_kin_arch *arch, const char *key) {
       return (const double *)(const void *)((const char *)arch->data +
                                             arch->type->points[k].offset);
   return NULL;
+}
+
+/* ---- config groups ------------------------------------------------------------ */
+/* What pom_kin_arch_load and pom_kin_inertia_load read. */
+static const char *const model_groups[] = {"name",   "architecture", "geometry",
+                                           "limits", "inertia",      NULL};
+
+const char *const *pom_kin_model_groups(void) {
+  return model_groups;
 }

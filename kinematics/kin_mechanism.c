@@ -158,20 +158,21 @@ void pom_kin_build_actuator(pom_mechanism *m, int joint, int moving_body, double
   m->joint[joint].actuator = k;
 }
 
-void pom_kin_build_base(pom_mechanism *mech, const pom_kin_inertia *in) {
+void pom_kin_build_base(pom_mechanism *mech, const pom_kin_inertia *in, int central_joint) {
   double I3[9], origin[3] = {0.0, 0.0, 0.0};
   pom_m3_identity(I3);
   pom_v3_copy(mech->gravity, in->gravity);
   pom_kin_build_body(mech, "ground", 0, NULL, I3, origin);
   mech->platform = pom_kin_build_body(mech, "platform", 0, &in->platform, I3, in->platform.cm);
-  pom_kin_build_joint(mech, "O", 0, POM_JOINT_SPHERICAL, 0, mech->platform, origin, NULL, NULL);
+  if (central_joint)
+    pom_kin_build_joint(mech, "O", 0, POM_JOINT_SPHERICAL, 0, mech->platform, origin, NULL, NULL);
 }
 
 pom_status pom_kin_mechanism_from(pom_mechanism *mech, const pom_kin_arch *arch,
                                   const pom_kin_inertia *in, pom_error *err) {
   if (!arch->type) POM_FAIL(err, POM_ERR_ARG, "mechanism: architecture without a type");
   memset(mech, 0, sizeof *mech);
-  pom_kin_build_base(mech, in);
+  pom_kin_build_base(mech, in, arch->central_joint);
   POM_TRY(arch->type->mechanism(mech, arch, in, err));
   if (mech->n_actuators != 3)
     POM_FAIL(err, POM_ERR_INTERNAL, "architecture %s built %d actuators, expected 3",

@@ -30,6 +30,8 @@ typedef struct {
   int optional;        /* 1: may be omitted, then `def` */
   double def;          /* default, config unit */
   int synth;           /* 1: the synthesis may vary it (synthesis.variables name = key) */
+  int integer;         /* 1: a choice that takes whole values only (the 3-RRR's elbow = +1 or
+                          -1): a fraction is refused, not rounded */
 } pom_kin_param_desc;
 
 /* One set of three points or axes of the private geometry: a key of the
@@ -105,6 +107,11 @@ struct pom_kin_arch_type {
   const pom_kin_value_desc *inertia_values; /* [n_inertia_values] */
   const char *unreachable; /* why a limb cannot be assembled, for messages ("the link cannot
                               reach the slider axis (no real IK root)") */
+  /* 0: the spherical joint O between ground and platform is part of the
+   * mechanism (3P-S-S/S, 3S-P-S/S: it holds the platform against
+   * translation); 1: it is a choice, geometry.central_joint (default false:
+   * the 3-RRR's legs hold O already and the wrist as built has none). */
+  int optional_central_joint;
 
   /* operations (all required) */
   /* Private geometry from design parameters d (d->x SI in the order of params). */
@@ -157,9 +164,10 @@ int pom_kin_build_body(pom_mechanism *m, const char *name, int limb, const pom_k
 int pom_kin_build_joint(pom_mechanism *m, const char *name, int limb, pom_joint_type type, int b0,
                         int b1, const double point[3], const double axis[3], const double axis2[3]);
 void pom_kin_build_actuator(pom_mechanism *m, int joint, int moving_body, double stroke);
-/* Ground, platform (mass properties in->platform) and the spherical joint O
- * at the origin: the first two bodies and first joint of every mechanism. */
-void pom_kin_build_base(pom_mechanism *m, const pom_kin_inertia *in);
+/* Ground and platform (mass properties in->platform), the first two bodies
+ * of every mechanism, and when central_joint the spherical joint O at the
+ * origin between them (then the first joint). */
+void pom_kin_build_base(pom_mechanism *m, const pom_kin_inertia *in, int central_joint);
 /* Principal axes of a limb body: z = unit limb axis a; x = x_given or
  * unit(e_z x a), or e_z x er when a is vertical; y = z x x. */
 void pom_kin_limb_axes(double Q[9], const double a[3], const double er[3], const double *x_given);

@@ -55,11 +55,22 @@ typedef struct {
   int has_design;                 /* 1 when loaded from design parameters (mode = "parameters") */
   pom_kin_design design;          /* the design parameters when has_design (else zero) */
   double data[POM_KIN_ARCH_DATA]; /* private geometry of the type (its data_size bytes) */
+  int central_joint; /* 1: the mechanism has the spherical joint O between ground and platform
+                        (always for types without optional_central_joint; the 3-RRR's
+                        geometry.central_joint, default 0: docs/kinematics-3rrr.md section 9) */
 } pom_kin_arch;
 
 /* Loads geometry and limits from the `architecture`, `geometry` and `limits`
  * keys of cfg (docs/config.md). */
 pom_status pom_kin_arch_load(pom_kin_arch *arch, const pom_cfg *cfg, pom_error *err);
+
+/* The top-level config names that the kinematic model of a mechanism reads
+ * (pom_kin_arch_load and pom_kin_inertia_load: `name`, `architecture`,
+ * `geometry`, `limits`, `inertia`), NULL-terminated, static storage. The
+ * `workspace` group (pom_kin_ws_load) belongs to `pomlab workspace`, not to
+ * the model, and is not listed. Callers use it to refuse settings that the
+ * model never reads (docs/config.md). */
+const char *const *pom_kin_model_groups(void);
 
 /* Inverse kinematics in closed form on the home assembly branch: q (m) for
  * rotation R. POM_ERR_UNREACHABLE (q untouched, err says which limb) when a

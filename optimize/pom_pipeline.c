@@ -110,9 +110,9 @@ static pom_status make_prefix_dirs(const char *prefix, pom_error *err) {
 /* ---- factory ---------------------------------------------------------------- */
 pom_status pom_pipeline_evaluator_create(pom_doe_evaluator *eval, const pom_cfg *cfg, void *user,
                                          pom_error *err) {
-  static const char *const scopes_base[] = {"name",    "architecture", "geometry",   "limits",
-                                            "inertia", "actuator",     "controller", "joints",
-                                            "scene",   "solver",       "maneuver",   NULL};
+  /* what the synthesis and the tuning read, when they run in the study */
+  static const char *const synth_groups[] = {"synthesis", NULL};
+  static const char *const tune_groups[] = {"tuning", NULL};
   (void)user;
   pom_status st = POM_OK;
   int do_synth = 0, do_tune = 0;
@@ -144,16 +144,12 @@ pom_status pom_pipeline_evaluator_create(pom_doe_evaluator *eval, const pom_cfg 
     if (!ctx->tune) POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "pipeline: out of memory");
     POM_TRY_GOTO(pom_tune_load(ctx->tune, cfg, err), fail);
   }
-  {
-    const char *scopes[16];
-    int n = 0;
-    for (; scopes_base[n]; ++n)
-      scopes[n] = scopes_base[n];
-    if (do_synth) scopes[n++] = "synthesis";
-    if (do_tune) scopes[n++] = "tuning";
-    scopes[n] = NULL;
-    POM_TRY_GOTO(pom_cfg_check_unknown(cfg, scopes, NULL, err), fail);
-  }
+  /* every group the candidate's model reads; unknown keys there are errors */
+  POM_TRY_GOTO(pom_doe_evaluator_add_groups(eval, pom_kin_model_groups(), err), fail);
+  POM_TRY_GOTO(pom_doe_evaluator_add_groups(eval, pom_dyn_param_groups(), err), fail);
+  if (do_synth) POM_TRY_GOTO(pom_doe_evaluator_add_groups(eval, synth_groups, err), fail);
+  if (do_tune) POM_TRY_GOTO(pom_doe_evaluator_add_groups(eval, tune_groups, err), fail);
+  POM_TRY_GOTO(pom_cfg_check_unknown(cfg, eval->groups, NULL, err), fail);
   POM_TRY_GOTO(pom_doe_mech_actuator_kind(&ctx->base.mech, &eval->actuator_kind, err), fail);
   ctx->rec.arch = ctx->base.arch;
   ctx->rec.config_gains = ctx->rec.tuned_gains = ctx->base.params.controller;
@@ -172,6 +168,7 @@ pom_status pom_pipeline_evaluator_create(pom_doe_evaluator *eval, const pom_cfg 
   return POM_OK;
 fail:
   ctx_destroy(ctx);
+  memset(eval, 0, sizeof *eval);
   return st;
 }
 

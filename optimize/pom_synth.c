@@ -270,6 +270,7 @@ pom_status pom_syn_arch(const pom_syn_problem *pb, const double x[], double scal
   POM_TRY(pom_kin_arch_from_design(arch, pb->base.type, &d, err));
   snprintf(arch->name, sizeof arch->name, "%s", pb->base.name);
   arch->stroke = pb->base.stroke;
+  arch->central_joint = pb->base.central_joint;
   memcpy(arch->limit_bound, pb->base.limit_bound, sizeof arch->limit_bound);
   return POM_OK;
 }

@@ -37,6 +37,9 @@ pom_status pom_syn_write_geometry(const pom_syn_run *run, const char *path, pom_
   fprintf(f, "  %s = %.9g;\n", t->scale_key, d->scale * 1e3);
   for (int k = 0; k < t->n_params; ++k)
     fprintf(f, "  %s = %.9g;\n", t->params[k].key, d->x[k] / t->params[k].to_si);
+  /* the modelling choice of the config, kept with the geometry it belongs to */
+  if (t->optional_central_joint)
+    fprintf(f, "  central_joint = %s;\n", run->scaled.central_joint ? "true" : "false");
   fprintf(f, "};\n");
   return pom_io_commit(&w, err);
 }

@@ -30,3 +30,8 @@ add_test(NAME test_install
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_install.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
           ${CMAKE_BINARY_DIR} ${CMAKE_COMMAND}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# Settings read as something else: override groups, sweep factors and
+# uncertain keys the model never reads, what --resume compares (issue 22).
+add_test(NAME test_settings
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_settings.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})

@@ -47,11 +47,11 @@ typedef struct {
 enum { RP_LENGTH, RP_LEAN, RP_TWIST, RP_COUNT };
 
 static const pom_kin_param_desc radial_params[RP_COUNT] = {
-    {"rod_length", "link length |B_i C_i| / platform radius", 1.0, 0.2, 50.0, 0, 0.0, 1},
+    {"rod_length", "link length |B_i C_i| / platform radius", 1.0, 0.2, 50.0, 0, 0.0, 1, 0},
     {"link_lean_deg", "angle of the home link direction B->C from +z", POM_DEG, 0.0, 180.0, 0, 0.0,
-     1},
+     1, 0},
     {"link_twist_deg", "azimuth of the home link direction, from e_r toward e_t", POM_DEG, -360.0,
-     360.0, 0, 0.0, 1},
+     360.0, 0, 0.0, 1, 0},
 };
 
 static const pom_kin_points_desc radial_points[] = {

@@ -13,6 +13,66 @@
 static const double magic_cone = 0.95531661812450927816; /* atan(sqrt 2) = 54.7356 deg */
 
 /* ---- helpers --------------------------------------------------------------- */
+/* Loads the shipped configs/<file> with `extra` put first inside its
+ * geometry group in place of its own central_joint (NULL: as shipped), builds its mechanism and
+ * checks the geometry group for unknown keys; the config error, if any, in err. */
+static pom_status load_with(const char *file, const char *extra, pom_kin_arch *arch,
+                            pom_mechanism *mech, pom_error *err) {
+  static const char *const scopes[] = {"geometry", NULL};
+  static char text[1 << 16], patched[(1 << 16) + 256];
+  char path[512];
+  snprintf(path, sizeof path, "%s/configs/%s", POM_SOURCE_DIR, file);
+  FILE *f = fopen(path, "rb");
+  size_t n = f ? fread(text, 1, sizeof text - 1, f) : 0;
+  if (f) fclose(f);
+  text[n] = '\0';
+  /* the shipped file's own setting gives way to extra */
+  char *own = strstr(text, "central_joint = ");
+  if (own && extra)
+    for (; *own && *own != ';'; ++own)
+      *own = ' ';
+  if (own && extra && *own == ';') *own = ' ';
+  const char *g = strstr(text, "geometry = {");
+  if (!g) return POM_ERR_INTERNAL;
+  int head = (int)(g - text) + (int)strlen("geometry = {");
+  snprintf(patched, sizeof patched, "%.*s %s %s", head, text, extra ? extra : "", text + head);
+  pom_cfg *cfg = NULL;
+  pom_kin_inertia in;
+  pom_status st = pom_cfg_load_string(&cfg, patched, file, err);
+  if (st == POM_OK) st = pom_kin_arch_load(arch, cfg, err);
+  if (st == POM_OK) st = pom_kin_inertia_load(&in, arch, cfg, err);
+  if (st == POM_OK) st = pom_kin_mechanism_from(mech, arch, &in, err);
+  if (st == POM_OK) st = pom_cfg_check_unknown(cfg, scopes, NULL, err);
+  pom_cfg_destroy(cfg);
+  return st;
+}
+
+/* The spherical joint at O is a choice of the 3-RRR (geometry.central_joint,
+ * default false: the wrist as built; docs/kinematics-3rrr.md section 9), a
+ * boolean; the 3P-S-S/S's joint O is its own (the key is unknown there). */
+static void test_central_joint(void) {
+  static pom_mechanism m;
+  pom_kin_arch a;
+  pom_error err;
+  pom_error_clear(&err);
+  check_true(load_with("3rrr.cfg", NULL, &a, &m, &err) == POM_OK);
+  check_true(a.central_joint == 0 && m.n_joints == 9);
+  for (int j = 0; j < m.n_joints; ++j)
+    check_true(m.joint[j].type == POM_JOINT_REVOLUTE && strcmp(m.joint[j].name, "O") != 0);
+  check_true(load_with("3rrr.cfg", "central_joint = false;", &a, &m, &err) == POM_OK);
+  check_true(a.central_joint == 0 && m.n_joints == 9);
+  check_true(load_with("3rrr.cfg", "central_joint = true;", &a, &m, &err) == POM_OK);
+  check_true(a.central_joint == 1 && m.n_joints == 10);
+  check_true(strcmp(m.joint[0].name, "O") == 0 && m.joint[0].type == POM_JOINT_SPHERICAL &&
+             m.joint[0].body[0] == 0 && m.joint[0].body[1] == m.platform);
+  check_true(load_with("3rrr.cfg", "central_joint = 1;", &a, &m, &err) == POM_ERR_CONFIG);
+  check_true(strstr(err.message, "geometry.central_joint") != NULL);
+  check_true(load_with("3pss.cfg", NULL, &a, &m, &err) == POM_OK);
+  check_true(a.central_joint == 1 && strcmp(m.joint[0].name, "O") == 0);
+  check_true(load_with("3pss.cfg", "central_joint = false;", &a, &m, &err) == POM_ERR_CONFIG);
+  check_true(strstr(err.message, "geometry.central_joint") != NULL);
+}
+
 static int load_cfg(pom_kin_arch *arch, pom_mechanism *mech, pom_kin_inertia *in) {
   char path[512];
   snprintf(path, sizeof path, "%s/configs/3rrr.cfg", POM_SOURCE_DIR);
@@ -199,7 +259,7 @@ static void test_body_twists(const pom_kin_arch *a, const pom_mechanism *m, pom_
     double wn = pom_v3_norm(w);
     pom_kin_twists tw, tp, tm;
     if (!check_true(pom_kin_body_twists(a, R, w, &tw, NULL) == POM_OK)) return;
-    check_true(tw.n_bodies == m->n_bodies && m->n_bodies == 8 && m->n_joints == 10);
+    check_true(tw.n_bodies == m->n_bodies && m->n_bodies == 8 && m->n_joints == 9);
     check_true(pom_kin_inverse_jacobian(a, R, q, J, NULL) == POM_OK);
     for (int k = 0; k < 3; ++k)
       check_abs(tw.q[k], q[k], 0.0);
@@ -360,5 +420,6 @@ int main(void) {
   test_body_twists(&a, &mech, &rng);
   test_link_model(&a, &mech, &in);
   test_random_designs(&rng);
+  test_central_joint();
   return check_summary("test_kin_3rrr");
 }

@@ -2,6 +2,7 @@
 """Every metric of the schema in every output (tests/test_metric_outputs.sh).
 
 usage: test_metric_outputs.py SCHEMA.json SIMULATE.json STUDY.json MONTECARLO.json STUDY.h5 SUMMARY.md
+                              SIMULATE.h5
 """
 import json
 import sys
@@ -19,7 +20,7 @@ def check(cond, what):
 
 
 def main(argv):
-    schema, sim, study, mc, h5, summary = argv[1:7]
+    schema, sim, study, mc, h5, summary, sim_h5 = argv[1:8]
     metrics = json.load(open(schema))
     check(len(metrics) > 20, "schema dump has the metrics")
     sim = json.load(open(sim))
@@ -45,6 +46,20 @@ def main(argv):
             if m["json_key"] in sim:
                 v = sim[m["json_key"]]
                 check(isinstance(v, list) == (m["count"] == 3), "simulate JSON shape of %s" % name)
+            # simulate --out F.h5: /metrics holds it under its JSON key, with the
+            # value the JSON prints (%.9g: 9 significant digits)
+            with h5py.File(sim_h5, "r") as g:
+                attrs = g["metrics"].attrs
+                key = m["json_key"]
+                check(key in attrs, "simulate HDF5 /metrics attribute %s" % key)
+                if key in attrs and key in sim:
+                    got = [float(x) for x in (attrs[key] if m["count"] == 3 else [attrs[key]])]
+                    want = sim[key] if m["count"] == 3 else [sim[key]]
+                    want = [float("nan") if x is None else float(x) for x in want]
+                    same = all(a == b or (a != a and b != b) or
+                               abs(a - b) <= 1e-8 * max(abs(a), abs(b))
+                               for a, b in zip(got, want))
+                    check(same, "simulate HDF5 %s = %s, JSON %s" % (key, got, want))
             check("`%s`" % name in summary_text, "summary.md lists %s" % name)
             for rep in reports:
                 check(any(x["name"] == name for x in rep["metrics"]), "study JSON lists %s" % name)

@@ -106,13 +106,13 @@ code=0; run int int > /dev/null 2> "$WORK/int.err" || code=$?
 study typo 'uncertain = ( { key = "actuator.resistanse_ohm"; dist = "uniform"; min = 9.0; max = 11.0; } );'
 code=0; run typo typo > /dev/null 2> "$WORK/typo.err" || code=$?
 [ "$code" -eq 2 ] && grep -q "resistanse_ohm" "$WORK/typo.err"
-# resume with other draws is refused
+# resume with another distribution is refused, naming the parameter
 "$POMLAB" study "$WORK/unc.cfg" --out "$WORK/res.h5" --stop-after 3 --no-plots --no-summary \
   --quiet > /dev/null 2>&1
 sed -i 's/sd = 1.0/sd = 0.9/' "$WORK/unc.cfg"
 code=0; "$POMLAB" study "$WORK/unc.cfg" --out "$WORK/res.h5" --resume --no-plots --no-summary \
   --quiet > /dev/null 2> "$WORK/res.err" || code=$?
-[ "$code" -ne 0 ] && grep -q "uncertain draws" "$WORK/res.err"
+[ "$code" -ne 0 ] && grep -q "changed: key 'uncertain.\[0\].sd' of 'actuator.resistance_ohm' (1 in the file, 0.9 now)" "$WORK/res.err"
 # and a study without uncertainty does not resume a file with it
 code=0; "$POMLAB" study "$WORK/nom.cfg" --out "$WORK/res.h5" --resume --no-plots --no-summary \
   --quiet > /dev/null 2> "$WORK/res2.err" || code=$?
