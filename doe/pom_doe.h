@@ -180,6 +180,11 @@ pom_status pom_doe_dyn_describe_base(const pom_doe_dyn_base *base, hid_t g, pom_
 
 /* The real evaluator: architecture, mechanism and dynamics model from cfg
  * (kinematics and dynamics groups; unknown keys in them rejected). */
+/* pom_doe_dyn_evaluator_create with the config a model-based controller's
+ * own model is built from (ctrl_cfg; NULL: cfg's): the plant from cfg (an
+ * uncertain draw), the controller's belief from the nominal candidate. */
+pom_status pom_doe_dyn_evaluator_create_ex(pom_doe_evaluator *eval, const pom_cfg *cfg,
+                                           const pom_cfg *ctrl_cfg, pom_error *err);
 pom_status pom_doe_dyn_evaluator_create(pom_doe_evaluator *eval, const pom_cfg *cfg, void *user,
                                         pom_error *err);
 

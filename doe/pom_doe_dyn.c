@@ -1,6 +1,7 @@
 /* pom_doe_dyn.c - the real evaluator: one candidate = architecture +
  * mechanism + dynamics model; each worker owns a pom_dyn_data. */
 #include "pom_doe.h"
+#include "pom_dyn_ctrl.h"
 #include "pom_h5.h"
 #include "pom_kinematics.h"
 
@@ -105,6 +106,31 @@ static pom_status describe(const void *p, hid_t g, pom_error *err) {
 pom_status pom_doe_dyn_evaluator_create(pom_doe_evaluator *eval, const pom_cfg *cfg, void *user,
                                         pom_error *err) {
   (void)user;
+  return pom_doe_dyn_evaluator_create_ex(eval, cfg, NULL, err);
+}
+
+/* The model a model-based controller believes in, from ctrl_cfg, into a
+ * model of the plant in ctx (docs/control.md section 1). */
+static pom_status model_with_controller(dyn_ctx *ctx, const pom_cfg *ctrl_cfg, pom_error *err) {
+  if (!ctrl_cfg || !pom_dyn_ctrl_of(&ctx->params.controller)->model_create)
+    return pom_dyn_model_create(&ctx->model, &ctx->mech, &ctx->arch, &ctx->params, err);
+  pom_kin_arch arch;
+  pom_mechanism *mech = malloc(sizeof *mech);
+  pom_dyn_params par;
+  if (!mech) POM_FAIL(err, POM_ERR_NOMEM, "evaluator: out of memory");
+  pom_status st = pom_kin_arch_load(&arch, ctrl_cfg, err);
+  if (st == POM_OK) st = pom_kin_mechanism_build(mech, &arch, ctrl_cfg, err);
+  pom_dyn_params_defaults(&par);
+  if (st == POM_OK) st = pom_dyn_params_load(&par, ctrl_cfg, err);
+  if (st == POM_OK)
+    st = pom_dyn_model_create_ex(&ctx->model, &ctx->mech, &ctx->arch, &ctx->params, mech, &arch,
+                                 &par, err);
+  free(mech);
+  return st;
+}
+
+pom_status pom_doe_dyn_evaluator_create_ex(pom_doe_evaluator *eval, const pom_cfg *cfg,
+                                           const pom_cfg *ctrl_cfg, pom_error *err) {
   pom_status st = POM_OK;
   memset(eval, 0, sizeof *eval);
   /* every group the model reads; unknown keys there are errors */
@@ -118,7 +144,7 @@ pom_status pom_doe_dyn_evaluator_create(pom_doe_evaluator *eval, const pom_cfg *
   POM_TRY_GOTO(pom_dyn_params_load(&ctx->params, cfg, err), fail);
   POM_TRY_GOTO(pom_cfg_check_unknown(cfg, eval->groups, NULL, err), fail);
   POM_TRY_GOTO(pom_doe_mech_actuator_kind(&ctx->mech, &eval->actuator_kind, err), fail);
-  POM_TRY_GOTO(pom_dyn_model_create(&ctx->model, &ctx->mech, &ctx->arch, &ctx->params, err), fail);
+  POM_TRY_GOTO(model_with_controller(ctx, ctrl_cfg, err), fail);
   eval->ctx = ctx;
   eval->ctx_destroy = ctx_destroy;
   eval->worker_create = pom_doe_dyn_worker_create;

@@ -77,29 +77,46 @@ done:
 /* ---- evaluators with drawn values ----------------------------------------------- */
 /* Candidate c's evaluator with key j set to value[j] for every j where
  * set[j] (NULL = all). */
-static pom_status build(pom_doe_evaluator *eval, const pom_doe_study *study, int c,
-                        const double *value, const int *set, pom_error *err) {
+/* The candidate's config with key j set to value[j] where set[j] (NULL =
+ * all) and, when controller_only, only for the keys whose draw the
+ * controller's own model takes (uncertain.[j].controller = "drawn"). */
+static pom_status drawn_config(pom_cfg **out, const pom_doe_study *study, int c,
+                               const double *value, const int *set, int controller_only,
+                               pom_error *err) {
   const pom_doe_candidate *cand = &study->candidates[c];
   const pom_unc *unc = &study->uncertain;
   pom_status st = POM_OK;
   char *text = NULL;
-  pom_cfg *cfg = NULL;
   config_t tree;
   config_init(&tree);
-  memset(eval, 0, sizeof *eval);
   POM_TRY_GOTO(pom_doe_tree_read_string(&tree, cand->resolved, cand->source, NULL, err), done);
   for (int j = 0; j < unc->n; ++j)
-    if (!set || set[j])
+    if ((!set || set[j]) && (!controller_only || unc->param[j].controller_drawn))
       POM_TRY_GOTO(pom_doe_tree_set_number(&tree, unc->param[j].key, value[j], err), done);
   POM_TRY_GOTO(pom_doe_tree_write(&tree, &text, err), done);
   char name[POM_DOE_PATH_LEN + 64];
-  snprintf(name, sizeof name, "%s with uncertain values", cand->source);
-  POM_TRY_GOTO(pom_cfg_load_string(&cfg, text, name, err), done);
-  st = pom_doe_dyn_evaluator_create(eval, cfg, NULL, err);
+  snprintf(name, sizeof name, "%s with %s values", cand->source,
+           controller_only ? "the controller's" : "uncertain");
+  POM_TRY_GOTO(pom_cfg_load_string(out, text, name, err), done);
 done:
-  pom_cfg_destroy(cfg);
   free(text);
   config_destroy(&tree);
+  return st;
+}
+
+/* The plant takes the draws; a model-based controller keeps the nominal
+ * candidate unless a parameter says otherwise (docs/control.md section 1). */
+static pom_status build(pom_doe_evaluator *eval, const pom_doe_study *study, int c,
+                        const double *value, const int *set, pom_error *err) {
+  pom_status st = POM_OK;
+  pom_cfg *cfg = NULL, *ctrl_cfg = NULL;
+  memset(eval, 0, sizeof *eval);
+  POM_TRY_GOTO(drawn_config(&cfg, study, c, value, set, 0, err), done);
+  POM_TRY_GOTO(drawn_config(&ctrl_cfg, study, c, value, set, 1, err), done);
+  st = pom_doe_dyn_evaluator_create_ex(eval, cfg, ctrl_cfg, err);
+done:
+  pom_cfg_destroy(cfg);
+  pom_cfg_destroy(ctrl_cfg);
   return st;
 }
 

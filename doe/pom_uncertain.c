@@ -192,6 +192,11 @@ pom_status pom_unc_load(pom_unc *unc, const pom_cfg *cfg, uint64_t seed, pom_err
         return pom_cfg_error(cfg, k, NULL, err, "the key is uncertain twice");
     snprintf(k, sizeof k, "uncertain.[%d].relative", j);
     POM_TRY(pom_cfg_bool_opt(cfg, k, 0, &p->relative, err));
+    /* what a model-based controller believes: the nominal value (default)
+     * or the drawn one (docs/control.md section 1) */
+    static const char *const sees[] = {"nominal", "drawn", NULL};
+    snprintf(k, sizeof k, "uncertain.[%d].controller", j);
+    POM_TRY(pom_cfg_choice_opt(cfg, k, sees, 0, &p->controller_drawn, err));
     snprintf(k, sizeof k, "uncertain.[%d]", j);
     POM_TRY(pom_dist_load(&p->dist, cfg, k, err));
   }

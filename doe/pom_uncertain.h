@@ -68,6 +68,8 @@ typedef struct {
   char key[POM_UNC_KEY_LEN]; /* dotted numeric config key, e.g. "actuator.resistance_ohm" */
   pom_dist dist;             /* of the value (config units), or of the factor when relative */
   int relative;              /* 1: value = candidate's nominal value x draw */
+  int controller_drawn;      /* 1: a model-based controller's own model takes the draw too; 0
+                                (default, `controller = "nominal"`): it keeps the nominal value */
 } pom_unc_param;
 
 /* The uncertain parameters of a study and where unit k's draws come from. */
