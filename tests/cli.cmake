@@ -35,3 +35,7 @@ add_test(NAME test_install
 add_test(NAME test_settings
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_settings.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# a model-based controller keeps its nominal model under `uncertain` (docs/control.md)
+add_test(NAME test_ctrl_uncertain
+  COMMAND sh ${CMAKE_CURRENT_SOURCE_DIR}/test_ctrl_uncertain.sh $<TARGET_FILE:pomlab>
+          ${CMAKE_SOURCE_DIR} ${CMAKE_CURRENT_BINARY_DIR}/ctrl_uncertain)
