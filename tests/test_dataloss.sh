@@ -1,0 +1,124 @@
+#!/usr/bin/env bash
+# test_dataloss.sh - a full disk and failed writes lose nothing (issue 22).
+# One part per ctest entry (tests/cli.cmake):
+#   tabular     item 5: the two tables are both the new pair or both the old
+#               one, never one of each (needs a tmpfs)
+# Exit 77 (ctest SKIP_RETURN_CODE) when a part needs a tmpfs and mounting is
+# not permitted here.
+# Usage: test_dataloss.sh PATH/TO/pomlab SOURCE_DIR PART
+set -u
+POMLAB=$1
+SRC=$2
+PART=$3
+. "$(dirname "$0")/cli_lib.sh"
+
+STUDY="$SRC/tests/doe_study_small.cfg"
+RUN_STUDY=("$POMLAB" study "$STUDY" --no-plots --no-summary --quiet)
+MNT="$TMP/mnt"
+mkdir -p "$MNT"
+trap 'mountpoint -q "$MNT" && umount "$MNT"; rm -rf "$TMP"' EXIT
+
+# mount_small KB : a tmpfs of KB kilobytes at $MNT (returns 1 when not permitted)
+mount_small() {
+  mountpoint -q "$MNT" && umount "$MNT"
+  mount -t tmpfs -o "size=$1k" tmpfs "$MNT" 2>/dev/null
+}
+
+# rows_equal REF FILE... : every candidate's rows of each FILE equal REF's
+# (wall times aside, the one field that differs between runs)
+rows_equal() {
+  checks=$((checks + 1))
+  "$PY" - "$@" <<'PY' || fail "resumed rows differ from a clean run"
+import sys, h5py
+ref = h5py.File(sys.argv[1], "r")
+for path in sys.argv[2:]:
+    f = h5py.File(path, "r")
+    assert sorted(f["candidates"]) == sorted(ref["candidates"]), path
+    for c in ref["candidates"]:
+        x, y = f["candidates"][c]["maneuvers"][:], ref["candidates"][c]["maneuvers"][:]
+        x["wall_time"] = y["wall_time"] = 0.0
+        assert x.tobytes() == y.tobytes(), (path, c)
+    assert "statistics" in f and "ranking" in f, path
+PY
+}
+
+# after_failure RC DIR KIND : a run that ran out of space (KIND: the system's
+# reason) exited 1 naming it, left no finished file and no temporary one
+after_failure() {
+  local rc=$1 dir=$2 why=$3
+  checks=$((checks + 1))
+  if [ "$rc" != 1 ]; then
+    fail "$label: exit $rc, want 1 (or 0 when it fits)"
+    sed 's/^/  stderr: /' "$TMP/err" | head -3
+    return
+  fi
+  expect_in "$TMP/err" "$why"
+  check "$label: a failed run left a finished file" test ! -e "$dir/s.h5"
+  check "$label: a failed run left a temporary file" \
+    test -z "$(find "$dir" -name 's.h5.tmp.*' -print -quit)"
+}
+
+# resume_with_room DIR : --resume completes the study
+resume_with_room() {
+  local dir=$1
+  expect_rc 0 "${RUN_STUDY[@]}" --out "$dir/s.h5" --resume
+  check "$label: no finished file after --resume" test -e "$dir/s.h5"
+  check "$label: a .partial left after a complete --resume" test ! -e "$dir/s.h5.partial"
+}
+
+part_tabular() {
+  mount_small 64 || {
+    echo "test_dataloss: cannot mount a tmpfs here: skipped"
+    exit 77
+  }
+  umount "$MNT"
+  # eight candidates, so that the candidates table is written in more than
+  # one buffer; the results on the ordinary disk, the tables on a small
+  # tmpfs that already holds an older pair, whose main table has a backup
+  # (a hard link: replacing it frees no space)
+  sed "s/levels = 3;/levels = 8;/; s/maneuvers = 6;/maneuvers = 2;/; s#\.\./configs#$SRC/configs#" \
+    "$SRC/tests/doe_sweep_small.cfg" >"$TMP/sweep8.cfg"
+  local run=("$POMLAB" study "$TMP/sweep8.cfg" --no-plots --no-summary --quiet --out "$TMP/t.h5")
+  expect_rc 0 "${run[@]}" --tabular "$TMP/new.csv"
+  local both
+  both=$(($(cat "$TMP/new.csv" "$TMP/new_candidates.csv" | wc -c) / 1024))
+  local kb rc mixed=0 sizes=0 a b
+  # from room for the old pair alone to room for both pairs
+  for kb in $(seq $(((both + 8) / 4 * 4)) 4 $((2 * both + 24))); do
+    mount_small "$kb"
+    { printf 'old\n' && cat "$TMP/new.csv"; } >"$MNT/t.csv" 2>/dev/null
+    ln "$MNT/t.csv" "$MNT/t.csv.bak"
+    { printf 'old\n' && cat "$TMP/new_candidates.csv"; } >"$MNT/t_candidates.csv" 2>/dev/null
+    timeout 120 "${run[@]}" --resume --tabular "$MNT/t.csv" >"$TMP/out" 2>"$TMP/err"
+    rc=$?
+    sizes=$((sizes + 1))
+    a=$(head -c 3 "$MNT/t.csv")
+    b=$(head -c 3 "$MNT/t_candidates.csv")
+    if [ "$a" != "$b" ]; then
+      mixed=$((mixed + 1))
+      fail "tmpfs $kb KB: one table is new, the other old (exit $rc)"
+    fi
+    if [ "$rc" = 0 ]; then
+      check "tmpfs $kb KB: exit 0 but the main table is not the new one" \
+        cmp -s "$MNT/t.csv" "$TMP/new.csv"
+      check "tmpfs $kb KB: exit 0 but the candidates table is not the new one" \
+        cmp -s "$MNT/t_candidates.csv" "$TMP/new_candidates.csv"
+    else
+      check "tmpfs $kb KB: exit $rc, want 1" test "$rc" = 1
+      expect_in "$TMP/err" "No space left on device"
+    fi
+    check "tmpfs $kb KB: a temporary table left" \
+      test -z "$(find "$MNT" -name '*.tmp.*' -print -quit)"
+  done
+  check "the tables never fitted" test "$rc" = 0
+  echo "test_dataloss: tables at $sizes sizes, $mixed mixed pairs"
+  finish test_dataloss_tabular
+}
+
+case "$PART" in
+tabular) part_tabular ;;
+*)
+  echo "test_dataloss.sh: unknown part '$PART'"
+  exit 2
+  ;;
+esac
