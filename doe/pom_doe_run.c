@@ -551,11 +551,9 @@ pom_status pom_doe_run_end(pom_doe_run *run, pom_doe_report **report, pom_error 
   POM_TRY(pom_doe_report_compute(&rep, run->study, run->cells, err));
   pom_status st = POM_OK;
   if (run->res) {
-    st = pom_doe_results_write_report(run->res, run->study, rep, err);
-    /* a finished study replaces the results file in one rename */
-    pom_status st2 =
-        pom_doe_results_finish(run->res, run->done == run->total, st == POM_OK ? err : NULL);
-    if (st == POM_OK) st = st2;
+    /* a finished study replaces the results file in one rename, and only
+     * when its report was written whole */
+    st = pom_doe_results_end(run->res, run->study, rep, run->done == run->total, err);
     run->res = NULL;
   }
   if (st != POM_OK || !report)

@@ -1,6 +1,13 @@
 #!/usr/bin/env bash
-# test_dataloss.sh - a full disk and failed writes lose nothing (issue 22).
-# One part per ctest entry (tests/cli.cmake):
+# test_dataloss.sh - a full disk and failed writes lose nothing (issue 22,
+# items 1, 4, 5 and 6). One part per ctest entry (tests/cli.cmake):
+#   full_disk   items 1 and 6: a study on a disk that fills up at every size
+#               from 8 KB to the complete file (a small tmpfs when this user
+#               may mount one, and always a file size limit, ulimit -f) exits
+#               1, never 139 (HDF5's exit handler on a file that failed to
+#               close); --resume with room completes rows equal to a clean run
+#   report      item 4: a report that cannot be written never replaces the
+#               finished file
 #   tabular     item 5: the two tables are both the new pair or both the old
 #               one, never one of each (needs a tmpfs)
 # Exit 77 (ctest SKIP_RETURN_CODE) when a part needs a tmpfs and mounting is
@@ -66,6 +73,84 @@ resume_with_room() {
   check "$label: a .partial left after a complete --resume" test ! -e "$dir/s.h5.partial"
 }
 
+part_full_disk() {
+  expect_rc 0 "${RUN_STUDY[@]}" --out "$TMP/ref.h5"
+  local done_files=()
+  # a file size limit (works anywhere): a write past it fails with EFBIG
+  local kb rc
+  for kb in $(seq 4 4 200); do
+    label="ulimit -f $kb"
+    mkdir -p "$TMP/u$kb"
+    (
+      trap '' XFSZ
+      ulimit -f "$kb"
+      exec "${RUN_STUDY[@]}" --out "$TMP/u$kb/s.h5"
+    ) >"$TMP/out" 2>"$TMP/err"
+    rc=$?
+    [ "$rc" = 0 ] && break
+    after_failure "$rc" "$TMP/u$kb" "File too large"
+    resume_with_room "$TMP/u$kb"
+    done_files+=("$TMP/u$kb/s.h5")
+  done
+  check "no size limit let the study complete" test "$rc" = 0
+  rows_equal "$TMP/ref.h5" "${done_files[@]}"
+  # a full tmpfs (the issue's reproduction): every size from 8 KB until the
+  # study fits, the rows file and its report copy included
+  if ! mount_small 8; then
+    echo "test_dataloss: cannot mount a tmpfs here: the full-disk sweep is skipped"
+    finish test_dataloss_full_disk
+    return
+  fi
+  done_files=()
+  for kb in $(seq 8 4 400); do
+    label="tmpfs $kb KB"
+    mount_small "$kb"
+    timeout 120 "${RUN_STUDY[@]}" --out "$MNT/s.h5" >"$TMP/out" 2>"$TMP/err"
+    rc=$?
+    [ "$rc" = 0 ] && break
+    after_failure "$rc" "$MNT" "No space left on device"
+    mount -o remount,size=10m "$MNT"
+    resume_with_room "$MNT"
+    mkdir -p "$TMP/t$kb"
+    cp "$MNT/s.h5" "$TMP/t$kb/s.h5"
+    done_files+=("$TMP/t$kb/s.h5")
+  done
+  check "no tmpfs size let the study complete" test "$rc" = 0
+  rows_equal "$TMP/ref.h5" "${done_files[@]}"
+  echo "test_dataloss: full disk at ${#done_files[@]} sizes from 8 KB to $((kb - 4)) KB"
+  finish test_dataloss_full_disk
+}
+
+part_report() {
+  # a finished file, and an unfinished run of the same study whose report
+  # cannot be written (its /statistics object header damaged)
+  expect_rc 0 "${RUN_STUDY[@]}" --out "$TMP/r.h5"
+  cp "$TMP/r.h5" "$TMP/r.ref"
+  cp "$TMP/r.h5" "$TMP/r.h5.partial"
+  checks=$((checks + 1))
+  "$PY" - "$TMP/r.h5.partial" <<'PY' || fail "could not damage the report"
+import sys, h5py
+with h5py.File(sys.argv[1], "r") as f:
+    addr = h5py.h5o.get_info(f["statistics"].id).addr
+with open(sys.argv[1], "r+b") as g:
+    g.seek(addr)
+    g.write(b"\xff" * 16)
+PY
+  expect_rc 1 "${RUN_STUDY[@]}" --out "$TMP/r.h5" --resume
+  expect_in "$TMP/err" "the report was not written; every finished maneuver is kept in '$TMP/r.h5.partial'"
+  check "a failed report replaced the finished file" cmp -s "$TMP/r.h5" "$TMP/r.ref"
+  check "a failed report lost the unfinished file" test -e "$TMP/r.h5.partial"
+  check "a failed report left a temporary file" \
+    test -z "$(find "$TMP" -name 'r.h5.tmp.*' -print -quit)"
+  # the same when the finished file itself is resumed: it is never written
+  rm "$TMP/r.h5.partial"
+  cp "$TMP/r.h5" "$TMP/r2.h5"
+  expect_rc 0 "${RUN_STUDY[@]}" --out "$TMP/r2.h5" --resume
+  check "resuming a finished file left a .partial" test ! -e "$TMP/r2.h5.partial"
+  rows_equal "$TMP/r.ref" "$TMP/r2.h5"
+  finish test_dataloss_report
+}
+
 part_tabular() {
   mount_small 64 || {
     echo "test_dataloss: cannot mount a tmpfs here: skipped"
@@ -116,6 +201,8 @@ part_tabular() {
 }
 
 case "$PART" in
+full_disk) part_full_disk ;;
+report) part_report ;;
 tabular) part_tabular ;;
 *)
   echo "test_dataloss.sh: unknown part '$PART'"
