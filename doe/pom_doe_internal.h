@@ -34,6 +34,11 @@ typedef struct pom_doe_results pom_doe_results;
  * pom_doe_results_end. A file made by a failed start is removed. */
 pom_status pom_doe_results_start(pom_doe_results **out, const char *path,
                                  const pom_doe_study *study, int resume, pom_error *err);
+/* The same for a file that only keeps the rows for a caller that writes its
+ * own file at PATH (pom_doe_run_options.rows_only): resume considers
+ * PATH.partial only. */
+pom_status pom_doe_results_start_rows(pom_doe_results **out, const char *path,
+                                      const pom_doe_study *study, int resume, pom_error *err);
 /* 1 when start opened an existing file (its rows are to be loaded). */
 int pom_doe_results_resumed(const pom_doe_results *res);
 /* The file start opened (PATH.partial). */
@@ -60,6 +65,11 @@ pom_status pom_doe_results_flush(pom_doe_results *res, pom_error *err);
  * it) and err says so. Returns the first failure. */
 pom_status pom_doe_results_end(pom_doe_results *res, const pom_doe_study *study,
                                const pom_doe_report *rep, int complete, pom_error *err);
+/* Rows only: closes the rows file (its rows stay in PATH.partial) and keeps
+ * res and its lock; pom_doe_results_drop_rows then removes PATH.partial once
+ * the caller's own file is in place. pom_doe_results_close releases. */
+pom_status pom_doe_results_close_rows(pom_doe_results *res, pom_error *err);
+pom_status pom_doe_results_drop_rows(pom_doe_results *res, pom_error *err);
 /* Closes (NULL allowed) without a report and releases the lock: an
  * unfinished file stays PATH.partial. */
 pom_status pom_doe_results_close(pom_doe_results *res, pom_error *err);

@@ -582,6 +582,11 @@ static pom_status check_identity(pom_doe_results *res, const pom_doe_study *stud
   if (nc != study->n_candidates)
     snprintf(changed, sizeof changed, "the number of candidates (%lld in the file, %d now)",
              (long long)nc, study->n_candidates);
+  else if (nm != study->maneuvers.count && study->uncertain.design)
+    snprintf(changed, sizeof changed,
+             "the runs of the sensitivity design (keys 'sensitivity.samples', 'trajectories' "
+             "or 'maneuvers'; %lld in the file, %ld now)",
+             (long long)nm, study->maneuvers.count);
   else if (nm != study->maneuvers.count)
     snprintf(changed, sizeof changed, "key 'montecarlo.maneuvers' (%lld in the file, %ld now)",
              (long long)nm, study->maneuvers.count);
@@ -648,8 +653,8 @@ static pom_status results_open(pom_doe_results *res, const pom_doe_study *study,
   return POM_OK;
 }
 
-pom_status pom_doe_results_start(pom_doe_results **out, const char *path,
-                                 const pom_doe_study *study, int resume, pom_error *err) {
+static pom_status results_start(pom_doe_results **out, const char *path, const pom_doe_study *study,
+                                int resume, int rows_only, pom_error *err) {
   pom_status st = POM_OK;
   pom_doe_results *res = NULL;
   *out = NULL;
@@ -663,9 +668,9 @@ pom_status pom_doe_results_start(pom_doe_results **out, const char *path,
   char partial[sizeof res->open_path];
   pom_doe_results_partial_path(partial, sizeof partial, path);
   /* an unfinished run (path.partial) first, else a finished file */
-  const char *existing = access(partial, F_OK) == 0 ? partial
-                         : access(path, F_OK) == 0  ? path
-                                                    : NULL;
+  const char *existing = access(partial, F_OK) == 0              ? partial
+                         : !rows_only && access(path, F_OK) == 0 ? path
+                                                                 : NULL;
   /* the finished file is never written: every run works in PATH.partial */
   snprintf(res->open_path, sizeof res->open_path, "%s", partial);
   if (resume && existing) {
@@ -695,6 +700,16 @@ fail:
   return st;
 }
 
+pom_status pom_doe_results_start(pom_doe_results **out, const char *path,
+                                 const pom_doe_study *study, int resume, pom_error *err) {
+  return results_start(out, path, study, resume, 0, err);
+}
+
+pom_status pom_doe_results_start_rows(pom_doe_results **out, const char *path,
+                                      const pom_doe_study *study, int resume, pom_error *err) {
+  return results_start(out, path, study, resume, 1, err);
+}
+
 int pom_doe_results_resumed(const pom_doe_results *res) {
   return res->resumed;
 }
@@ -720,9 +735,15 @@ int pom_doe_results_check_row(const pom_doe_study *study, int c, long k, const p
     snprintf(why, cap, "status %d does not match its reason", (int)row->status);
     return -1;
   }
-  /* the target is the one maneuver k gives this candidate */
+  /* the target is the one maneuver k gives this candidate (unit k of a
+   * sensitivity design runs maneuver k modulo the maneuvers per sample) */
+  long man = k;
+  if (study->uncertain.n > 0) {
+    double u[POM_UNC_MAX];
+    pom_unc_unit(&study->uncertain, k, &man, u);
+  }
   pom_doe_maneuver mv;
-  pom_doe_maneuver_draw(&mv, &study->maneuvers, k);
+  pom_doe_maneuver_draw(&mv, &study->maneuvers, man);
   double want[3];
   int drawn = 1;
   if (study->maneuvers.space == POM_DOE_SPACE_ORIENTATION) {
@@ -738,7 +759,7 @@ int pom_doe_results_check_row(const pom_doe_study *study, int c, long k, const p
     same &= drawn ? row->target[i] == want[i] : isnan(row->target[i]);
   if (!same || (!drawn && row->status == POM_OK)) {
     snprintf(why, cap, "target (%.6g, %.6g, %.6g) is not maneuver %ld's (seed %llu)",
-             row->target[0], row->target[1], row->target[2], k,
+             row->target[0], row->target[1], row->target[2], man,
              (unsigned long long)study->maneuvers.seed);
     return -1;
   }
@@ -1104,6 +1125,16 @@ pom_status pom_doe_results_end(pom_doe_results *res, const pom_doe_study *study,
   }
   results_free(res);
   return st;
+}
+
+pom_status pom_doe_results_close_rows(pom_doe_results *res, pom_error *err) {
+  return close_hdf5(res, err);
+}
+
+pom_status pom_doe_results_drop_rows(pom_doe_results *res, pom_error *err) {
+  if (unlink(res->open_path) != 0)
+    POM_FAIL(err, POM_ERR_IO, "cannot remove '%s': %s", res->open_path, strerror(errno));
+  return pom_io_sync_folder(res->open_path, err);
 }
 
 pom_status pom_doe_results_close(pom_doe_results *res, pom_error *err) {

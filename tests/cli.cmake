@@ -31,8 +31,8 @@ add_test(NAME test_install
           ${CMAKE_BINARY_DIR} ${CMAKE_COMMAND}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 # Nothing lost on a full disk (issue 22): a study filling the disk at every
-# size, a report that fails, the two tables.
-foreach(part full_disk report tabular)
+# size, a report that fails, the two tables, pomlab sensitivity's output.
+foreach(part full_disk report tabular sensitivity)
   add_test(NAME test_dataloss_${part}
     COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_dataloss.sh $<TARGET_FILE:pomlab>
             ${CMAKE_SOURCE_DIR} ${part}

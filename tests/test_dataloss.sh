@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # test_dataloss.sh - a full disk and failed writes lose nothing (issue 22,
-# items 1, 4, 5 and 6). One part per ctest entry (tests/cli.cmake):
+# items 1 and 3 to 6). One part per ctest entry (tests/cli.cmake):
 #   full_disk   items 1 and 6: a study on a disk that fills up at every size
 #               from 8 KB to the complete file (a small tmpfs when this user
 #               may mount one, and always a file size limit, ulimit -f) exits
@@ -10,6 +10,9 @@
 #               finished file
 #   tabular     item 5: the two tables are both the new pair or both the old
 #               one, never one of each (needs a tmpfs)
+#   sensitivity item 3: pomlab sensitivity takes its output before the first
+#               run (lock, rows file), resumes (--stop-after, a full disk),
+#               and prints its indices when only the file cannot be written
 # Exit 77 (ctest SKIP_RETURN_CODE) when a part needs a tmpfs and mounting is
 # not permitted here.
 # Usage: test_dataloss.sh PATH/TO/pomlab SOURCE_DIR PART
@@ -200,10 +203,127 @@ part_tabular() {
   finish test_dataloss_tabular
 }
 
+# same_table A B : the index tables (lines of "|") of two outputs are equal
+# (the rest says the wall time and the file)
+same_table() {
+  [ -n "$(grep '^|' "$1")" ] && diff <(grep '^|' "$1") <(grep '^|' "$2") >/dev/null
+}
+
+# sens_equal REF FILE... : the same design outputs and indices as REF
+sens_equal() {
+  checks=$((checks + 1))
+  "$PY" - "$@" <<'PY' || fail "a resumed sensitivity file differs from a clean run"
+import sys, h5py, numpy as np
+ref = h5py.File(sys.argv[1], "r")
+for path in sys.argv[2:]:
+    f = h5py.File(path, "r")
+    for name in ("design", "values", "outputs", "sobol/S1", "sobol/ST"):
+        assert np.array_equal(f[name][()], ref[name][()], equal_nan=True), (path, name)
+PY
+}
+
+part_sensitivity() {
+  # two inputs, 8 base samples: 32 runs of the exact model
+  cat >"$TMP/s.cfg" <<CFG
+name = "s";
+montecarlo = { maneuvers = 1; seed = 20120708; range_mm = 3.0; };
+study = { override = { joints = { model = "rigid"; }; scene = { coil_inductance = false; }; }; };
+uncertain = (
+  { key = "controller.kd_s"; dist = "uniform"; min = 0.8; max = 1.2; relative = true; },
+  { key = "actuator.resistance_ohm"; dist = "uniform"; min = 0.95; max = 1.05; relative = true; }
+);
+sensitivity = { method = "sobol"; samples = 8; bootstrap = 50; metric = "execution_time"; };
+candidates = ( { name = "3P-S-S/S"; config = "$SRC/configs/3pss.cfg"; } );
+CFG
+  local run=("$POMLAB" sensitivity "$TMP/s.cfg" --no-plots --quiet)
+  expect_rc 0 "${run[@]}" --out "$TMP/ref.h5"
+  cp "$TMP/out" "$TMP/ref.txt"
+  # interrupted (--stop-after), then resumed: the same file as a clean run
+  expect_rc 0 "${run[@]}" --out "$TMP/a.h5" --stop-after 10
+  expect_in "$TMP/err" "every finished one is in '$TMP/a.h5.partial': continue with --resume"
+  check "a stopped run left a results file" test ! -e "$TMP/a.h5"
+  check "a stopped run kept no .partial" test -e "$TMP/a.h5.partial"
+  expect_rc 0 "${run[@]}" --out "$TMP/a.h5" --resume
+  check "a resumed run printed other indices" same_table "$TMP/out" "$TMP/ref.txt"
+  check "a complete run left its .partial" test ! -e "$TMP/a.h5.partial"
+  check "a complete run left its lock" test ! -e "$TMP/a.h5.lock"
+  sens_equal "$TMP/ref.h5" "$TMP/a.h5"
+  # another run holds the output: refused before any run, nothing touched
+  checks=$((checks + 1))
+  flock -n "$TMP/b.h5.lock" "${run[@]}" --out "$TMP/b.h5" >"$TMP/out" 2>"$TMP/err"
+  [ $? = 1 ] || fail "a second run on a locked output: not exit 1"
+  expect_in "$TMP/err" "is being written by another pomlab run"
+  check "a refused run printed results" test ! -s "$TMP/out"
+  # a file size limit (anywhere): every size exits 1 or 0, never 139
+  local kb rc done_files=()
+  for kb in $(seq 4 4 80); do
+    mkdir -p "$TMP/u$kb"
+    (
+      trap '' XFSZ
+      ulimit -f "$kb"
+      exec "${run[@]}" --out "$TMP/u$kb/s.h5"
+    ) >"$TMP/out" 2>"$TMP/err"
+    rc=$?
+    [ "$rc" = 0 ] && break
+    check "ulimit -f $kb: exit $rc, want 1" test "$rc" = 1
+    expect_in "$TMP/err" "File too large"
+    expect_rc 0 "${run[@]}" --out "$TMP/u$kb/s.h5" --resume
+    done_files+=("$TMP/u$kb/s.h5")
+  done
+  check "no size limit let the sensitivity run complete" test "$rc" = 0
+  sens_equal "$TMP/ref.h5" "${done_files[@]}"
+  if ! mount_small 8; then
+    echo "test_dataloss: cannot mount a tmpfs here: the full-disk sweep is skipped"
+    finish test_dataloss_sensitivity
+    return
+  fi
+  # a read-only output folder: refused before the first run, stdout empty
+  umount "$MNT"
+  mount -t tmpfs -o size=64k,ro tmpfs "$MNT"
+  expect_rc 1 "${run[@]}" --out "$MNT/s.h5"
+  expect_in "$TMP/err" "cannot create the lock file '$MNT/s.h5.lock': Read-only file system"
+  check "a refused output printed results" test ! -s "$TMP/out"
+  # a full disk at every size until it fits: exit 1 or 0, never 139; when
+  # the runs are done and only the file fails, the indices are printed all
+  # the same; --resume with room writes the file of a clean run
+  done_files=()
+  local late=0
+  for kb in $(seq 8 4 200); do
+    label="tmpfs $kb KB"
+    mount_small "$kb"
+    timeout 120 "${run[@]}" --out "$MNT/s.h5" >"$TMP/out" 2>"$TMP/err"
+    rc=$?
+    [ "$rc" = 0 ] && break
+    check "$label: exit $rc, want 1" test "$rc" = 1
+    expect_in "$TMP/err" "No space left on device"
+    if grep -qF "every run is kept in '$MNT/s.h5.partial'" "$TMP/err"; then
+      late=$((late + 1))
+      check "$label: the file failed but the indices were not printed" \
+        same_table "$TMP/out" "$TMP/ref.txt"
+    else
+      check "$label: output printed by a run that did not compute" test ! -s "$TMP/out"
+    fi
+    check "$label: a failed run left a results file" test ! -e "$MNT/s.h5"
+    mount -o remount,size=10m "$MNT"
+    expect_rc 0 "${run[@]}" --out "$MNT/s.h5" --resume
+    check "$label: a resumed run printed other indices" same_table "$TMP/out" "$TMP/ref.txt"
+    check "$label: a .partial left after a complete --resume" test ! -e "$MNT/s.h5.partial"
+    mkdir -p "$TMP/t$kb"
+    cp "$MNT/s.h5" "$TMP/t$kb/s.h5"
+    done_files+=("$TMP/t$kb/s.h5")
+  done
+  check "no tmpfs size let the sensitivity run complete" test "$rc" = 0
+  check "no size failed after the runs (the file alone)" test "$late" -gt 0
+  sens_equal "$TMP/ref.h5" "${done_files[@]}"
+  echo "test_dataloss: sensitivity on a full disk at ${#done_files[@]} sizes ($late after the runs)"
+  finish test_dataloss_sensitivity
+}
+
 case "$PART" in
 full_disk) part_full_disk ;;
 report) part_report ;;
 tabular) part_tabular ;;
+sensitivity) part_sensitivity ;;
 *)
   echo "test_dataloss.sh: unknown part '$PART'"
   exit 2
