@@ -1100,6 +1100,7 @@ pom_status pom_doe_results_end(pom_doe_results *res, const pom_doe_study *study,
    * on it is only read: the report goes into a copy, so a failure (a full
    * disk) cannot damage the rows */
   pom_status st = close_hdf5(res, err);
+  if (st == POM_OK) st = pom_io_sync(res->open_path, err); /* durable before the report */
   if (st == POM_OK) {
     st = pom_io_copy(res->open_path, tmp, err);
     if (st == POM_OK) st = pom_h5_open_file(&res->file, tmp, 1, err);
