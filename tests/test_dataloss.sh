@@ -52,6 +52,12 @@ for path in sys.argv[2:]:
 PY
 }
 
+# no_sanitizer_report : the last command's stderr has no sanitizer report
+# (their exit status, 1, is also the one a failed write gives)
+no_sanitizer_report() {
+  check "$label: a sanitizer report" test -z "$(grep -l Sanitizer "$TMP/err")"
+}
+
 # after_failure RC DIR KIND : a run that ran out of space (KIND: the system's
 # reason) exited 1 naming it, left no finished file and no temporary one
 after_failure() {
@@ -63,6 +69,7 @@ after_failure() {
     return
   fi
   expect_in "$TMP/err" "$why"
+  no_sanitizer_report
   check "$label: a failed run left a finished file" test ! -e "$dir/s.h5"
   check "$label: a failed run left a temporary file" \
     test -z "$(find "$dir" -name 's.h5.tmp.*' -print -quit)"
@@ -140,6 +147,8 @@ with open(sys.argv[1], "r+b") as g:
     g.write(b"\xff" * 16)
 PY
   expect_rc 1 "${RUN_STUDY[@]}" --out "$TMP/r.h5" --resume
+  label="damaged report"
+  no_sanitizer_report
   expect_in "$TMP/err" "the report was not written; every finished maneuver is kept in '$TMP/r.h5.partial'"
   check "a failed report replaced the finished file" cmp -s "$TMP/r.h5" "$TMP/r.ref"
   check "a failed report lost the unfinished file" test -e "$TMP/r.h5.partial"
@@ -192,8 +201,10 @@ part_tabular() {
       check "tmpfs $kb KB: exit 0 but the candidates table is not the new one" \
         cmp -s "$MNT/t_candidates.csv" "$TMP/new_candidates.csv"
     else
-      check "tmpfs $kb KB: exit $rc, want 1" test "$rc" = 1
+      label="tmpfs $kb KB"
+      check "$label: exit $rc, want 1" test "$rc" = 1
       expect_in "$TMP/err" "No space left on device"
+      no_sanitizer_report
     fi
     check "tmpfs $kb KB: a temporary table left" \
       test -z "$(find "$MNT" -name '*.tmp.*' -print -quit)"
@@ -265,8 +276,10 @@ CFG
     ) >"$TMP/out" 2>"$TMP/err"
     rc=$?
     [ "$rc" = 0 ] && break
-    check "ulimit -f $kb: exit $rc, want 1" test "$rc" = 1
+    label="ulimit -f $kb"
+    check "$label: exit $rc, want 1" test "$rc" = 1
     expect_in "$TMP/err" "File too large"
+    no_sanitizer_report
     expect_rc 0 "${run[@]}" --out "$TMP/u$kb/s.h5" --resume
     done_files+=("$TMP/u$kb/s.h5")
   done
@@ -296,6 +309,7 @@ CFG
     [ "$rc" = 0 ] && break
     check "$label: exit $rc, want 1" test "$rc" = 1
     expect_in "$TMP/err" "No space left on device"
+    no_sanitizer_report
     if grep -qF "every run is kept in '$MNT/s.h5.partial'" "$TMP/err"; then
       late=$((late + 1))
       check "$label: the file failed but the indices were not printed" \
