@@ -23,12 +23,15 @@ void pom_h5_quiet(void);
  * whose close failed (a full disk) half-closed in its ID table, where no
  * call can release it and its exit handler crashes (SIGSEGV) on it. */
 void pom_h5_startup(void);
-/* Call last: closes the HDF5 library (H5close) unless a file failed to close
- * in this process; then HDF5's state is left for the operating system to
- * release at exit (the file was already reported as failed). */
+/* Call last: closes the HDF5 library (H5close) unless a file failed to be
+ * created, opened or closed in this process; then HDF5's state is left for the
+ * operating system to release at exit (the failure was already reported).
+ * After a failed H5Fcreate, HDF5 1.10.8's H5close drops the half-made
+ * file's buffers without freeing them (LeakSanitizer reports them). */
 void pom_h5_shutdown(void);
-/* The number of pom_h5_close_file calls that failed in this process. */
-int pom_h5_close_failures(void);
+/* The number of pom_h5_create_file, pom_h5_open_file and pom_h5_close_file
+ * calls that failed in this process. */
+int pom_h5_file_failures(void);
 
 /* Fills err with POM_ERR_HDF5, "what: <innermost HDF5 message>", and returns
  * POM_ERR_HDF5. Use right after an HDF5 call failed. */
