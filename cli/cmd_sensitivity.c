@@ -7,6 +7,7 @@
 #include "pom_pipeline.h"
 #include "pom_progress.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -25,14 +26,19 @@ static void usage(FILE *out) {
                "  --candidate C only this candidate of the study (its name as printed, or its\n"
                "                position 1..n): e.g. the winner of a sweep\n"
                "  --threads N   worker threads (default: study.threads, else all cores)\n"
-               "  --out FILE    results file (replaced only once complete)\n"
+               "  --out FILE    results file (replaced only once complete; taken before the\n"
+               "                first run: FILE.lock, and FILE.partial keeps every run)\n"
+               "  --resume      continue FILE.partial of an interrupted run (or one whose\n"
+               "                file could not be written: then nothing runs again)\n"
+               "  --stop-after N stop after N more runs (to test --resume)\n"
                "  --json        JSON on stdout instead of tables\n"
                "  --no-plots    skip the figure\n"
                "  --quiet       no progress bar\n"
                "  --help        this text\n\n"
                "Config keys: docs/results.md sections 10 and 11.\n"
-               "Exit status: 0 done; 1 runtime failure (e.g. the output cannot be written or\n"
-               "too few runs succeeded for the indices); 2 usage or config error.\n");
+               "Exit status: 0 done; 1 runtime failure (e.g. the output cannot be written: the\n"
+               "indices are printed all the same; or too few runs succeeded for the indices);\n"
+               "2 usage or config error. Stopped by --stop-after: 0 (continue with --resume).\n");
 }
 
 static void on_progress(long done, long total, void *user) {
@@ -145,10 +151,19 @@ static void print_json(FILE *out, const pom_doe_study *study, const pom_doe_sens
   fprintf(out, "  ]\n}\n");
 }
 
+/* A positive count for --stop-after; -1 when text is not one. */
+static long parse_positive(const char *text) {
+  char *end = NULL;
+  errno = 0;
+  long v = strtol(text, &end, 10);
+  return text[0] && !*end && errno == 0 && v >= 1 ? v : -1;
+}
+
 int pom_cmd_sensitivity(int argc, char **argv) {
   const char *cfg_path = NULL, *out_path = NULL, *only = NULL;
   int json = 0, plots = 1, quiet = 0;
-  int threads = 0;
+  int threads = 0, resume = 0;
+  long stop_after = 0;
   for (int k = 1; k < argc; ++k) {
     const char *a = argv[k];
     if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
@@ -158,6 +173,15 @@ int pom_cmd_sensitivity(int argc, char **argv) {
       if (pom_cli_parse_threads("sensitivity", argv[++k], &threads) != 0) return 2;
     } else if (strcmp(a, "--out") == 0 && k + 1 < argc) {
       out_path = argv[++k];
+    } else if (strcmp(a, "--resume") == 0) {
+      resume = 1;
+    } else if (strcmp(a, "--stop-after") == 0 && k + 1 < argc) {
+      stop_after = parse_positive(argv[++k]);
+      if (stop_after < 1) {
+        fprintf(stderr, "pomlab sensitivity: --stop-after needs a positive integer, not '%s'\n",
+                argv[k]);
+        return 2;
+      }
     } else if (strcmp(a, "--candidate") == 0 && k + 1 < argc) {
       only = argv[++k];
     } else if (strcmp(a, "--json") == 0) {
@@ -207,20 +231,32 @@ int pom_cmd_sensitivity(int argc, char **argv) {
                sens.per_sample * study.n_candidates;
   pom_progress_init(&bar, quiet ? NULL : stderr, "sensitivity", total, 0, 0);
   pom_doe_sens_result *r = NULL;
-  st = pom_doe_sens_run(&r, &study, &sens, threads, on_progress, &bar, NULL, &err);
-  pom_progress_finish(&bar, st == POM_OK ? total : 0);
+  pom_doe_sens_run_opts ro;
+  pom_doe_sens_run_opts_defaults(&ro);
+  ro.threads = threads;
+  ro.output = sens.output;
+  ro.resume = resume;
+  ro.stop_after = stop_after;
+  ro.progress = on_progress;
+  ro.user = &bar;
+  /* the output is locked and its rows file made before the first run */
+  st = pom_doe_sens_run(&r, &study, &sens, &ro, &err);
+  pom_progress_finish(&bar, r ? total : 0);
   int code = 0;
-  if (st == POM_OK) st = pom_doe_sens_write(sens.output, &study, &sens, r, &err);
-  if (st != POM_OK) {
-    pom_cli_report("sensitivity", &err);
-    code = pom_cli_exit_code(st);
-  } else {
+  /* the indices, even when the file could not be written */
+  if (r) {
     if (json)
       print_json(stdout, &study, &sens, r);
     else
       print_text(stdout, &study, &sens, r);
     for (int c = 0; c < r->n_candidates; ++c)
       if (r->status[c] != POM_OK) code = 1;
+  }
+  if (st != POM_OK) {
+    pom_cli_report("sensitivity", &err);
+    /* stopped by --stop-after: exit 0, as pomlab study */
+    code = st == POM_ERR_INTERRUPTED && stop_after > 0 ? 0 : pom_cli_exit_code(st);
+  } else {
     if (plots) {
       char png[POM_DOE_PATH_LEN + 8];
       snprintf(png, sizeof png, "%s", sens.output);

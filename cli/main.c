@@ -8,6 +8,9 @@
 #endif
 #include "pom_cli.h"
 #include "pom_version.h"
+#if !POM_CLI_LIGHT
+#include "pom_h5.h"
+#endif
 
 #include <errno.h>
 #include <stdio.h>
@@ -99,8 +102,14 @@ int main(int argc, char **argv) {
     if (strcmp(argv[1], commands[k].name) == 0) {
 #if POM_CLI_LIGHT
       if (!commands[k].fn) return run_full(argv);
+#else
+      /* a file that failed to close must not crash HDF5's exit handler */
+      pom_h5_startup();
 #endif
       int rc = commands[k].fn(argc - 1, argv + 1);
+#if !POM_CLI_LIGHT
+      pom_h5_shutdown();
+#endif
       /* tables and JSON on a full disk or a closed pipe are a failure too */
       if (fflush(stdout) != 0 || ferror(stdout)) {
         fprintf(stderr, "pomlab: %s: writing standard output failed: %s\n", argv[1],

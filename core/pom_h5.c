@@ -11,14 +11,23 @@ void pom_h5_quiet(void) {
 }
 
 typedef struct {
-  char text[512]; /* description of the innermost (first) stack entry */
+  char text[512];   /* description of the innermost (first) stack entry */
+  char system[200]; /* the system's reason of a failed read or write, "" if none */
 } h5_walk_data;
 
 static herr_t h5_walk(unsigned n, const H5E_error2_t *e, void *client) {
   h5_walk_data *w = client;
-  if (n == 0 && e) {
+  if (!e) return 0;
+  if (n == 0)
     snprintf(w->text, sizeof w->text, "%s (in %s)", e->desc ? e->desc : "?",
              e->func_name ? e->func_name : "?");
+  /* the file driver's long message ("file write failed: time = ..., errno =
+   * 28, error message = 'No space left on device', ...") carries the reason */
+  const char *m = e->desc ? strstr(e->desc, "error message = '") : NULL;
+  if (m && !w->system[0]) {
+    m += strlen("error message = '");
+    size_t len = strcspn(m, "'");
+    snprintf(w->system, sizeof w->system, "%.*s", (int)(len < 190 ? len : 190), m);
   }
   return 0;
 }
@@ -26,9 +35,33 @@ static herr_t h5_walk(unsigned n, const H5E_error2_t *e, void *client) {
 pom_status pom_h5_fail(pom_error *err, const char *src_file, int src_line, const char *what) {
   h5_walk_data w;
   snprintf(w.text, sizeof w.text, "no HDF5 error message");
+  w.system[0] = '\0';
   H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, h5_walk, &w);
   H5Eclear2(H5E_DEFAULT);
+  if (w.system[0])
+    return pom_error_set(err, POM_ERR_HDF5, src_file, src_line, "%s: %s", what, w.system);
   return pom_error_set(err, POM_ERR_HDF5, src_file, src_line, "%s: %s", what, w.text);
+}
+
+/* ---- the library's lifetime ------------------------------------------------ */
+/* Failed creates and closes in this process. Global because what it mirrors
+ * is global: HDF5's own table of open files, shared by the whole process. */
+static int file_failures;
+
+void pom_h5_startup(void) {
+  H5dont_atexit();
+  pom_h5_quiet();
+}
+
+void pom_h5_shutdown(void) {
+  /* H5close would visit a half-closed file and crash like the exit handler,
+   * and loses a half-created one's buffers (measured with HDF5 1.10.8:
+   * tests/test_dataloss.sh) */
+  if (file_failures == 0) H5close();
+}
+
+int pom_h5_file_failures(void) {
+  return file_failures;
 }
 
 /* ---- files and groups ---------------------------------------------------- */
@@ -36,6 +69,7 @@ pom_status pom_h5_create_file(hid_t *file, const char *path, pom_error *err) {
   pom_h5_quiet();
   *file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (*file < 0) {
+    ++file_failures; /* a half-made file: HDF5 1.10.8 keeps its buffers */
     char what[600];
     snprintf(what, sizeof what, "cannot create HDF5 file '%s'", path);
     POM_H5_FAIL(err, what);
@@ -47,6 +81,7 @@ pom_status pom_h5_open_file(hid_t *file, const char *path, int writable, pom_err
   pom_h5_quiet();
   *file = H5Fopen(path, writable ? H5F_ACC_RDWR : H5F_ACC_RDONLY, H5P_DEFAULT);
   if (*file < 0) {
+    ++file_failures; /* as a failed create */
     char what[600];
     snprintf(what, sizeof what, "cannot open HDF5 file '%s'", path);
     POM_H5_FAIL(err, what);
@@ -59,6 +94,7 @@ pom_status pom_h5_close_file(hid_t file, pom_error *err) {
   pom_h5_quiet();
   herr_t a = H5Fflush(file, H5F_SCOPE_LOCAL);
   herr_t b = H5Fclose(file);
+  if (b < 0) ++file_failures; /* still in HDF5's ID table (pom_h5_startup) */
   if (a < 0 || b < 0) POM_H5_FAIL(err, "closing HDF5 file");
   return POM_OK;
 }

@@ -17,6 +17,22 @@
  * Every function below calls it; calling it again is harmless. */
 void pom_h5_quiet(void);
 
+/* ---- the library's lifetime (for programs; library code never calls these) -- */
+/* Call first in a program, before any other HDF5 call: keeps HDF5 from
+ * registering its own exit handler (H5dont_atexit). HDF5 1.10 leaves a file
+ * whose close failed (a full disk) half-closed in its ID table, where no
+ * call can release it and its exit handler crashes (SIGSEGV) on it. */
+void pom_h5_startup(void);
+/* Call last: closes the HDF5 library (H5close) unless a file failed to be
+ * created, opened or closed in this process; then HDF5's state is left for the
+ * operating system to release at exit (the failure was already reported).
+ * After a failed H5Fcreate, HDF5 1.10.8's H5close drops the half-made
+ * file's buffers without freeing them (LeakSanitizer reports them). */
+void pom_h5_shutdown(void);
+/* The number of pom_h5_create_file, pom_h5_open_file and pom_h5_close_file
+ * calls that failed in this process. */
+int pom_h5_file_failures(void);
+
 /* Fills err with POM_ERR_HDF5, "what: <innermost HDF5 message>", and returns
  * POM_ERR_HDF5. Use right after an HDF5 call failed. */
 pom_status pom_h5_fail(pom_error *err, const char *src_file, int src_line, const char *what);
@@ -28,7 +44,10 @@ pom_status pom_h5_fail(pom_error *err, const char *src_file, int src_line, const
 pom_status pom_h5_create_file(hid_t *file, const char *path, pom_error *err);
 /* Opens an existing file read-write (writable != 0) or read-only. */
 pom_status pom_h5_open_file(hid_t *file, const char *path, int writable, pom_error *err);
-/* Flushes and closes a file handle (a negative handle is ignored). */
+/* Flushes and closes a file handle (a negative handle is ignored). On
+ * failure the handle stays unusable in HDF5's ID table (HDF5 1.10 cannot
+ * release it): do not use it again, and end the program through
+ * pom_h5_shutdown. */
 pom_status pom_h5_close_file(hid_t file, pom_error *err);
 /* 1 when a link `name` exists below loc (one level, no path walking). */
 int pom_h5_exists(hid_t loc, const char *name);

@@ -1,8 +1,9 @@
-/* pom_io.c - text files written whole or not at all. */
-#define _POSIX_C_SOURCE 200809L
+/* pom_io.c - files written whole or not at all. */
+#define _GNU_SOURCE /* copy_file_range (Linux, glibc 2.27) */
 #include "pom_io.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -28,28 +29,97 @@ pom_status pom_io_create(pom_io_file *w, const char *path, pom_error *err) {
   return POM_OK;
 }
 
-pom_status pom_io_commit(pom_io_file *w, pom_error *err) {
-  if (!w->f) POM_FAIL(err, POM_ERR_ARG, "'%s' is not open", w->path);
+/* ---- sync -------------------------------------------------------------------- */
+pom_status pom_io_sync(const char *path, pom_error *err) {
+  int fd = open(path, O_RDONLY | O_CLOEXEC);
+  if (fd < 0 || fsync(fd) != 0) {
+    int e = errno;
+    if (fd >= 0) close(fd);
+    POM_FAIL(err, POM_ERR_IO, "cannot sync '%s' to the disk: %s", path, strerror(e));
+  }
+  if (close(fd) != 0) POM_FAIL(err, POM_ERR_IO, "closing '%s': %s", path, strerror(errno));
+  return POM_OK;
+}
+
+pom_status pom_io_sync_folder(const char *path, pom_error *err) {
+  char dir[1200];
+  snprintf(dir, sizeof dir, "%s", path);
+  char *slash = strrchr(dir, '/');
+  if (!slash)
+    snprintf(dir, sizeof dir, ".");
+  else if (slash == dir)
+    dir[1] = '\0';
+  else
+    *slash = '\0';
+  int fd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  /* a folder that cannot be synced (EINVAL: some file systems) has nothing
+   * the kernel would write later */
+  if (fd < 0 || (fsync(fd) != 0 && errno != EINVAL)) {
+    int e = errno;
+    if (fd >= 0) close(fd);
+    POM_FAIL(err, POM_ERR_IO, "cannot sync the folder '%s' to the disk: %s", dir, strerror(e));
+  }
+  close(fd);
+  return POM_OK;
+}
+
+/* ---- commit -------------------------------------------------------------------- */
+/* Closes w, checking every write, the close and (for a temporary file) the
+ * sync. Returns 0, or the errno of the failure (-1 when none is known). */
+static int close_checked(pom_io_file *w) {
   /* a failed write sets the error flag (errno still says why, unless the
    * close fails too and says it again); the close flushes the rest */
   int e = errno;
   int failed = ferror(w->f) != 0;
+  if (!failed && fflush(w->f) != 0) {
+    failed = 1;
+    e = errno;
+  }
+  if (!failed && w->tmp[0] && fsync(fileno(w->f)) != 0) {
+    failed = 1;
+    e = errno;
+  }
   if (fclose(w->f) != 0) {
     failed = 1;
     e = errno;
   }
   w->f = NULL;
-  if (!failed && w->tmp[0] && rename(w->tmp, w->path) != 0) {
-    failed = 1;
-    e = errno;
+  return failed ? (e ? e : -1) : 0;
+}
+
+pom_status pom_io_commit_all(pom_io_file *w, int n, pom_error *err) {
+  pom_status st = POM_OK;
+  for (int k = 0; k < n; ++k) {
+    if (!w[k].f) {
+      if (st == POM_OK)
+        st = pom_error_set(err, POM_ERR_ARG, __FILE__, __LINE__, "'%s' is not open", w[k].path);
+      continue;
+    }
+    int e = close_checked(&w[k]);
+    if (e != 0 && st == POM_OK)
+      st = pom_error_set(err, POM_ERR_IO, __FILE__, __LINE__, "writing '%s' failed: %s", w[k].path,
+                         e > 0 ? strerror(e) : "write error");
   }
-  if (failed) {
-    if (w->tmp[0]) unlink(w->tmp);
-    w->tmp[0] = '\0';
-    POM_FAIL(err, POM_ERR_IO, "writing '%s' failed: %s", w->path, e ? strerror(e) : "write error");
+  /* every file is complete before the first rename */
+  for (int k = 0; k < n && st == POM_OK; ++k) {
+    if (!w[k].tmp[0]) continue;
+    if (rename(w[k].tmp, w[k].path) != 0) {
+      st = pom_error_set(err, POM_ERR_IO, __FILE__, __LINE__, "cannot rename '%s' to '%s': %s",
+                         w[k].tmp, w[k].path, strerror(errno));
+      break;
+    }
+    w[k].tmp[0] = '\0';
+    st = pom_io_sync_folder(w[k].path, err);
   }
-  w->tmp[0] = '\0';
-  return POM_OK;
+  for (int k = 0; k < n; ++k) {
+    if (w[k].tmp[0]) unlink(w[k].tmp);
+    w[k].tmp[0] = '\0';
+  }
+  return st;
+}
+
+pom_status pom_io_commit(pom_io_file *w, pom_error *err) {
+  return pom_io_commit_all(w, 1, err);
 }
 
 void pom_io_abort(pom_io_file *w) {
@@ -57,4 +127,66 @@ void pom_io_abort(pom_io_file *w) {
   w->f = NULL;
   if (w->tmp[0]) unlink(w->tmp);
   w->tmp[0] = '\0';
+}
+
+/* ---- copy ---------------------------------------------------------------------- */
+pom_status pom_io_copy(const char *from, const char *to, pom_error *err) {
+  char buf[1 << 16];
+  int in = open(from, O_RDONLY | O_CLOEXEC);
+  if (in < 0) POM_FAIL(err, POM_ERR_IO, "cannot read '%s': %s", from, strerror(errno));
+  int out = open(to, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (out < 0) {
+    int e = errno;
+    close(in);
+    POM_FAIL(err, POM_ERR_IO, "cannot create '%s': %s", to, strerror(e));
+  }
+  int e = 0;
+  const char *failed = to;
+  /* in the kernel first: a reflink (no data copied, no space taken) where the
+   * file system shares blocks (btrfs, XFS), else a copy without the round
+   * trip through this process; read and write where it is not supported */
+  off_t copied = 0;
+  for (;;) {
+    ssize_t n = copy_file_range(in, NULL, out, NULL, (size_t)1 << 30, 0);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      int ce = errno;
+      if (copied == 0 && (ce == ENOSYS || ce == EXDEV || ce == EINVAL || ce == EOPNOTSUPP ||
+                          ce == EBADF || ce == EPERM))
+        break; /* not supported here: read and write below */
+      e = ce;
+      break;
+    }
+    if (n == 0) break;
+    copied += n;
+  }
+  for (; !e;) {
+    ssize_t n = read(in, buf, sizeof buf);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      e = errno;
+      failed = from;
+      break;
+    }
+    if (n == 0) break;
+    for (ssize_t off = 0; off < n;) {
+      ssize_t m = write(out, buf + off, (size_t)(n - off));
+      if (m < 0 && errno == EINTR) continue;
+      if (m <= 0) {
+        e = m < 0 ? errno : ENOSPC;
+        break;
+      }
+      off += m;
+    }
+    if (e) break;
+  }
+  if (!e && fsync(out) != 0) e = errno;
+  if (close(out) != 0 && !e) e = errno;
+  close(in);
+  if (e) {
+    unlink(to);
+    POM_FAIL(err, POM_ERR_IO, "copying '%s' to '%s' failed: %s ('%s')", from, to, strerror(e),
+             failed);
+  }
+  return POM_OK;
 }

@@ -1,10 +1,13 @@
-/* pom_io.h - text files written whole or not at all.
+/* pom_io.h - files written whole or not at all.
  *
  * pom_io_create opens PATH.tmp.<pid> next to PATH; pom_io_commit checks every
- * write and the close, then renames it over PATH, so PATH is either the old
- * file or the complete new one, never a truncated one (a full disk, a killed
- * run). A PATH that exists and is not a regular file (/dev/stdout, a pipe,
- * /dev/full) is written directly, with the same checks. */
+ * write and the close, syncs the file to the disk, renames it over PATH and
+ * syncs the folder, so PATH is either the old file or the complete new one,
+ * never a truncated one (a full disk, a killed run, a power cut after the
+ * commit). pom_io_commit_all does the same for files that belong together:
+ * every one is complete before any is renamed. A PATH that exists and is not
+ * a regular file (/dev/stdout, a pipe, /dev/full) is written directly, with
+ * the same checks. */
 #ifndef POM_IO_H
 #define POM_IO_H
 
@@ -26,7 +29,25 @@ pom_status pom_io_create(pom_io_file *w, const char *path, pom_error *err);
  * names the path and errno. */
 pom_status pom_io_commit(pom_io_file *w, pom_error *err);
 
+/* Commits n files together: closes and syncs all of them, and renames them
+ * only when every one is complete; on a failure none is renamed (all
+ * temporary files removed, err names the first failure). The renames
+ * themselves need no space, so a full disk cannot separate them. */
+pom_status pom_io_commit_all(pom_io_file *w, int n, pom_error *err);
+
 /* Closes and removes the temporary file (nothing written); NULL f is allowed. */
 void pom_io_abort(pom_io_file *w);
+
+/* Forces a file's data to the disk (fsync); err names the path. */
+pom_status pom_io_sync(const char *path, pom_error *err);
+
+/* Forces the folder holding path to the disk, so that a rename or an
+ * unlink in it survives a crash; err names the folder. */
+pom_status pom_io_sync_folder(const char *path, pom_error *err);
+
+/* Copies the regular file from to the new file to (created, 0644; an
+ * existing one is replaced), checking every write, and syncs it. On
+ * failure to is removed and err names the file and the reason. */
+pom_status pom_io_copy(const char *from, const char *to, pom_error *err);
 
 #endif

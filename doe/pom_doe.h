@@ -380,6 +380,11 @@ typedef struct {
   int queue_capacity;   /* finished rows buffered before workers wait (default 64) */
   double poll_interval; /* step() returns at least this often (s, default 0.1) */
   int use_mpi;          /* 1: split units over MPI ranks (needs POM_WITH_MPI) */
+  int rows_only;        /* 1: the results file only keeps the rows, for a caller that
+                           writes its own file at `output` (pomlab sensitivity): the
+                           run works in OUTPUT.partial and resumes only that one;
+                           pom_doe_run_end writes no report and renames nothing (see
+                           pom_doe_run_rows_done) */
 } pom_doe_run_options;
 
 void pom_doe_run_options_defaults(pom_doe_run_options *o);
@@ -414,14 +419,22 @@ int pom_doe_run_threads(const pom_doe_run *run);
 int pom_doe_run_ranks(const pom_doe_run *run);
 
 /* Stops the workers, computes the report from every finished maneuver (on
- * the root: *report, owned by the caller; elsewhere NULL), writes statistics,
- * comparisons and ranking to the results file and closes it. */
+ * the root: *report, owned by the caller; elsewhere NULL), closes the rows
+ * file and writes statistics, comparisons and ranking into a copy of it,
+ * which replaces the results file only when it is complete and whole
+ * (docs/results.md, "Writing safely"). With rows_only: closes the rows file
+ * and keeps it (and the lock on the output) for the caller. */
 pom_status pom_doe_run_end(pom_doe_run *run, pom_doe_report **report, pom_error *err);
 
 /* After pom_doe_run_end, on the root: the value that statistic `stat`
  * (pom_dyn_stat_id) of candidate c takes from unit k (NaN when the unit is
  * not done or does not count: failed, or unsettled for time metrics). */
 double pom_doe_run_value(const pom_doe_run *run, int c, long k, int stat);
+
+/* With rows_only, on the root after pom_doe_run_end, once the caller's own
+ * file is in place at the output: removes OUTPUT.partial, whose rows are no
+ * longer needed. The lock on the output is held until pom_doe_run_destroy. */
+pom_status pom_doe_run_rows_done(pom_doe_run *run, pom_error *err);
 
 /* Frees a run (joins workers if still running); NULL allowed. */
 void pom_doe_run_destroy(pom_doe_run *run);
@@ -437,8 +450,8 @@ pom_status pom_doe_run_all(const pom_doe_study *study, const pom_doe_run_options
  * status, reason), and pom_doe_tabular_candidates_path(csv), one row per
  * candidate (factors, counts, every statistic). The rows are read from the
  * results file `results` a block at a time. Both files are written under a
- * temporary name and renamed at the end, so a failure leaves neither
- * half-written. POM_ERR_ARG without a results file, POM_ERR_IO on a failed
+ * temporary name and renamed only once both are complete, so a failure
+ * leaves the earlier pair as it was. POM_ERR_ARG without a results file, POM_ERR_IO on a failed
  * write. */
 pom_status pom_doe_tabular_write(const pom_doe_study *study, const pom_doe_report *rep,
                                  const char *results, const char *csv, pom_error *err);

@@ -6,6 +6,7 @@
 #include "pom_version.h"
 #include "pom_dyn_ctrl.h"
 #include "pom_h5.h"
+#include "pom_io.h"
 #include "pom_math.h"
 
 #include <errno.h>
@@ -36,7 +37,11 @@ struct pom_doe_results {
   char lock_path[POM_DOE_PATH_LEN + 16]; /* path.lock */
   int lock_fd;                           /* holds the lock, -1 when none */
   int resumed;                           /* 1: opened an existing file */
+  int made;                              /* 1: open_path was made by this run (created or
+                                            copied): removed again when start fails */
 };
+
+static pom_status close_hdf5(pom_doe_results *res, pom_error *err);
 
 /* ---- exclusive use of a results path -------------------------------------------- */
 void pom_doe_results_partial_path(char *buf, size_t cap, const char *path) {
@@ -94,18 +99,6 @@ static void release_lock(pom_doe_results *res) {
   unlink(res->lock_path); /* while still holding it (see take_lock) */
   close(res->lock_fd);
   res->lock_fd = -1;
-}
-
-/* Forces the data of a finished file to the disk before it is renamed. */
-static pom_status sync_file(const char *path, pom_error *err) {
-  int fd = open(path, O_RDONLY | O_CLOEXEC);
-  if (fd < 0 || fsync(fd) != 0) {
-    int e = errno;
-    if (fd >= 0) close(fd);
-    POM_FAIL(err, POM_ERR_IO, "cannot sync '%s' to the disk: %s", path, strerror(e));
-  }
-  if (close(fd) != 0) POM_FAIL(err, POM_ERR_IO, "closing '%s': %s", path, strerror(errno));
-  return POM_OK;
 }
 
 /* ---- the row type -------------------------------------------------------------- */
@@ -339,17 +332,23 @@ static pom_status write_candidate(pom_doe_results *res, hid_t parent, const pom_
   hsize_t chunk = n < ROWS_PER_CHUNK ? n : ROWS_PER_CHUNK;
   space = H5Screate_simple(1, &n, NULL);
   dcpl = H5Pcreate(H5P_DATASET_CREATE);
-  if (space < 0 || dcpl < 0 || H5Pset_chunk(dcpl, 1, &chunk) < 0) {
+  /* every row's place is allocated when the file is created and reserved on
+   * the disk by results_create (posix_fallocate: zeros, done = 0, without
+   * writing them, which HDF5's fill would do at ~70 MB/s): writing rows then
+   * never allocates, so a full disk shows at the start and cannot damage
+   * the file's metadata later */
+  if (space < 0 || dcpl < 0 || H5Pset_chunk(dcpl, 1, &chunk) < 0 ||
+      H5Pset_alloc_time(dcpl, H5D_ALLOC_TIME_EARLY) < 0 ||
+      H5Pset_fill_time(dcpl, H5D_FILL_TIME_NEVER) < 0) {
     st = pom_h5_fail(err, __FILE__, __LINE__, "creating the maneuvers dataset");
     goto done;
   }
   hid_t dapl = rows_access(res->row_file);
   res->rows[c] = H5Dcreate2(g, "maneuvers", res->row_file, space, H5P_DEFAULT, dcpl, dapl);
+  /* the message first: the next HDF5 call clears the error stack */
+  if (res->rows[c] < 0) st = pom_h5_fail(err, __FILE__, __LINE__, "creating the maneuvers dataset");
   if (dapl != H5P_DEFAULT) H5Pclose(dapl);
-  if (res->rows[c] < 0) {
-    st = pom_h5_fail(err, __FILE__, __LINE__, "creating the maneuvers dataset");
-    goto done;
-  }
+  if (st != POM_OK) goto done;
   POM_TRY_GOTO(describe_rows(res->rows[c], cand->eval.actuator_kind, err), done);
 done:
   if (dcpl >= 0) H5Pclose(dcpl);
@@ -409,6 +408,26 @@ static void utc_now(char *buf, size_t cap) {
   strftime(buf, cap, "%Y-%m-%dT%H:%M:%SZ", &tmv);
 }
 
+/* Reserves disk blocks for every byte of the file written so far (the
+ * rows' storage is allocated but not written: holes in a sparse file), so
+ * that writing the rows cannot run out of space. */
+static pom_status reserve_space(const char *path, pom_error *err) {
+  int fd = open(path, O_RDWR | O_CLOEXEC);
+  struct stat sb;
+  if (fd < 0 || fstat(fd, &sb) != 0) {
+    int e = errno;
+    if (fd >= 0) close(fd);
+    POM_FAIL(err, POM_ERR_IO, "cannot open '%s': %s", path, strerror(e));
+  }
+  int e = sb.st_size > 0 ? posix_fallocate(fd, 0, sb.st_size) : 0;
+  close(fd);
+  /* a file system without fallocate (EOPNOTSUPP, EINVAL) is written as it goes */
+  if (e != 0 && e != EOPNOTSUPP && e != EINVAL)
+    POM_FAIL(err, POM_ERR_IO, "cannot reserve %lld bytes for the rows in '%s': %s",
+             (long long)sb.st_size, path, strerror(e));
+  return POM_OK;
+}
+
 /* Creates res->open_path with the study's provenance and empty rows. */
 static pom_status results_create(pom_doe_results *res, const pom_doe_study *study, pom_error *err) {
   pom_status st = POM_OK;
@@ -440,6 +459,7 @@ static pom_status results_create(pom_doe_results *res, const pom_doe_study *stud
   g = -1;
   POM_TRY_GOTO(write_factors(f, study, err), fail);
   POM_TRY_GOTO(pom_doe_results_flush(res, err), fail);
+  POM_TRY_GOTO(reserve_space(path, err), fail);
   return POM_OK;
 fail:
   if (g >= 0) H5Gclose(g);
@@ -571,6 +591,11 @@ static pom_status check_identity(pom_doe_results *res, const pom_doe_study *stud
   if (nc != study->n_candidates)
     snprintf(changed, sizeof changed, "the number of candidates (%lld in the file, %d now)",
              (long long)nc, study->n_candidates);
+  else if (nm != study->maneuvers.count && study->uncertain.design)
+    snprintf(changed, sizeof changed,
+             "the runs of the sensitivity design (keys 'sensitivity.samples', 'trajectories' "
+             "or 'maneuvers'; %lld in the file, %ld now)",
+             (long long)nm, study->maneuvers.count);
   else if (nm != study->maneuvers.count)
     snprintf(changed, sizeof changed, "key 'montecarlo.maneuvers' (%lld in the file, %ld now)",
              (long long)nm, study->maneuvers.count);
@@ -614,11 +639,10 @@ static pom_status check_identity(pom_doe_results *res, const pom_doe_study *stud
     }
     hid_t dapl = rows_access(res->row_file);
     res->rows[c] = H5Dopen2(g, "maneuvers", dapl);
-    if (dapl != H5P_DEFAULT) H5Pclose(dapl);
-    if (res->rows[c] < 0) {
+    if (res->rows[c] < 0)
       st = pom_h5_fail(err, __FILE__, __LINE__, "opening the maneuvers dataset");
-      goto done;
-    }
+    if (dapl != H5P_DEFAULT) H5Pclose(dapl);
+    if (st != POM_OK) goto done;
     POM_TRY_GOTO(check_fields(res->rows[c], path, err), done);
     free(text);
     text = NULL;
@@ -649,8 +673,8 @@ pom_status pom_doe_results_mark_resumed(pom_doe_results *res, pom_error *err) {
   return POM_OK;
 }
 
-pom_status pom_doe_results_start(pom_doe_results **out, const char *path,
-                                 const pom_doe_study *study, int resume, pom_error *err) {
+static pom_status results_start(pom_doe_results **out, const char *path, const pom_doe_study *study,
+                                int resume, int rows_only, pom_error *err) {
   pom_status st = POM_OK;
   pom_doe_results *res = NULL;
   *out = NULL;
@@ -664,24 +688,46 @@ pom_status pom_doe_results_start(pom_doe_results **out, const char *path,
   char partial[sizeof res->open_path];
   pom_doe_results_partial_path(partial, sizeof partial, path);
   /* an unfinished run (path.partial) first, else a finished file */
-  const char *existing = access(partial, F_OK) == 0 ? partial
-                         : access(path, F_OK) == 0  ? path
-                                                    : NULL;
+  const char *existing = access(partial, F_OK) == 0              ? partial
+                         : !rows_only && access(path, F_OK) == 0 ? path
+                                                                 : NULL;
+  /* the finished file is never written: every run works in PATH.partial */
+  snprintf(res->open_path, sizeof res->open_path, "%s", partial);
   if (resume && existing) {
-    snprintf(res->open_path, sizeof res->open_path, "%s", existing);
     res->resumed = 1;
+    /* a finished file is resumed from a copy, replaced by rename at the end */
+    if (existing == path) {
+      res->made = 1;
+      POM_TRY_GOTO(pom_io_copy(path, partial, err), fail);
+    }
     POM_TRY_GOTO(results_open(res, study, err), fail);
   } else {
     /* a new run never touches the finished file: it replaces it by rename
      * once every maneuver is done */
-    snprintf(res->open_path, sizeof res->open_path, "%s", partial);
+    res->made = 1;
     POM_TRY_GOTO(results_create(res, study, err), fail);
   }
   *out = res;
   return POM_OK;
 fail:
+  /* a file made here holds no row: remove it, so that nothing half-made is
+   * left to resume (a full disk while the file is created) */
+  if (res && res->made) {
+    close_hdf5(res, NULL);
+    unlink(res->open_path);
+  }
   pom_doe_results_close(res, NULL);
   return st;
+}
+
+pom_status pom_doe_results_start(pom_doe_results **out, const char *path,
+                                 const pom_doe_study *study, int resume, pom_error *err) {
+  return results_start(out, path, study, resume, 0, err);
+}
+
+pom_status pom_doe_results_start_rows(pom_doe_results **out, const char *path,
+                                      const pom_doe_study *study, int resume, pom_error *err) {
+  return results_start(out, path, study, resume, 1, err);
 }
 
 int pom_doe_results_resumed(const pom_doe_results *res) {
@@ -711,9 +757,15 @@ int pom_doe_results_check_row(const pom_doe_study *study, int c, long k, const p
     snprintf(why, cap, "status %d does not match its reason", (int)row->status);
     return -1;
   }
-  /* the target is the one maneuver k gives this candidate */
+  /* the target is the one maneuver k gives this candidate (unit k of a
+   * sensitivity design runs maneuver k modulo the maneuvers per sample) */
+  long man = k;
+  if (study->uncertain.n > 0) {
+    double u[POM_UNC_MAX];
+    pom_unc_unit(&study->uncertain, k, &man, u);
+  }
   pom_doe_maneuver mv;
-  pom_doe_maneuver_draw(&mv, &study->maneuvers, k);
+  pom_doe_maneuver_draw(&mv, &study->maneuvers, man);
   double want[3];
   int drawn = 1;
   if (study->maneuvers.space == POM_DOE_SPACE_ORIENTATION) {
@@ -729,7 +781,7 @@ int pom_doe_results_check_row(const pom_doe_study *study, int c, long k, const p
     same &= drawn ? row->target[i] == want[i] : isnan(row->target[i]);
   if (!same || (!drawn && row->status == POM_OK)) {
     snprintf(why, cap, "target (%.6g, %.6g, %.6g) is not maneuver %ld's (seed %llu)",
-             row->target[0], row->target[1], row->target[2], k,
+             row->target[0], row->target[1], row->target[2], man,
              (unsigned long long)study->maneuvers.seed);
     return -1;
   }
@@ -1017,8 +1069,8 @@ done:
   return st;
 }
 
-pom_status pom_doe_results_write_report(pom_doe_results *res, const pom_doe_study *study,
-                                        const pom_doe_report *rep, pom_error *err) {
+static pom_status write_report(pom_doe_results *res, const pom_doe_study *study,
+                               const pom_doe_report *rep, pom_error *err) {
   pom_h5_quiet();
   /* a resumed study may use other levels than the run that created the file */
   POM_TRY(pom_h5_attr_double(res->file, "alpha", study->alpha, err));
@@ -1051,21 +1103,66 @@ static pom_status close_hdf5(pom_doe_results *res, pom_error *err) {
   return st;
 }
 
-pom_status pom_doe_results_finish(pom_doe_results *res, int complete, pom_error *err) {
-  if (!res) return POM_OK;
-  pom_status st = close_hdf5(res, err);
-  if (st == POM_OK && complete && strcmp(res->open_path, res->path) != 0) {
-    st = sync_file(res->open_path, err);
-    if (st == POM_OK && rename(res->open_path, res->path) != 0)
-      st = pom_error_set(err, POM_ERR_IO, __FILE__, __LINE__, "cannot rename '%s' to '%s': %s",
-                         res->open_path, res->path, strerror(errno));
-  }
+/* Frees res after closing it; releases the lock. */
+static void results_free(pom_doe_results *res) {
   release_lock(res);
   free(res->rows);
   free(res);
+}
+
+pom_status pom_doe_results_end(pom_doe_results *res, const pom_doe_study *study,
+                               const pom_doe_report *rep, int complete, pom_error *err) {
+  if (!res) return POM_OK;
+  char tmp[sizeof res->path + 32];
+  snprintf(tmp, sizeof tmp, "%s.tmp.%ld", res->path, (long)getpid());
+  /* the rows are complete in open_path (every step flushed them); from here
+   * on it is only read: the report goes into a copy, so a failure (a full
+   * disk) cannot damage the rows */
+  pom_status st = close_hdf5(res, err);
+  if (st == POM_OK) st = pom_io_sync(res->open_path, err); /* durable before the report */
+  if (st == POM_OK) {
+    st = pom_io_copy(res->open_path, tmp, err);
+    if (st == POM_OK) st = pom_h5_open_file(&res->file, tmp, 1, err);
+    if (st == POM_OK) st = write_report(res, study, rep, err);
+    if (res->file >= 0) {
+      pom_status cst = close_hdf5(res, st == POM_OK ? err : NULL);
+      if (st == POM_OK) st = cst;
+    }
+    if (st == POM_OK) st = pom_io_sync(tmp, err);
+    /* promoted only when every write and the close succeeded */
+    const char *dest = complete ? res->path : res->open_path;
+    if (st == POM_OK && rename(tmp, dest) != 0)
+      st = pom_error_set(err, POM_ERR_IO, __FILE__, __LINE__, "cannot rename '%s' to '%s': %s", tmp,
+                         dest, strerror(errno));
+    if (st == POM_OK) st = pom_io_sync_folder(dest, err);
+    if (st == POM_OK && complete) {
+      unlink(res->open_path);
+      st = pom_io_sync_folder(res->open_path, err);
+    } else if (st != POM_OK) {
+      unlink(tmp);
+      pom_error_prefix(err,
+                       "the report was not written; every finished maneuver is kept in '%s' "
+                       "(resume it once the cause is fixed)",
+                       res->open_path);
+    }
+  }
+  results_free(res);
   return st;
 }
 
+pom_status pom_doe_results_close_rows(pom_doe_results *res, pom_error *err) {
+  return close_hdf5(res, err);
+}
+
+pom_status pom_doe_results_drop_rows(pom_doe_results *res, pom_error *err) {
+  if (unlink(res->open_path) != 0)
+    POM_FAIL(err, POM_ERR_IO, "cannot remove '%s': %s", res->open_path, strerror(errno));
+  return pom_io_sync_folder(res->open_path, err);
+}
+
 pom_status pom_doe_results_close(pom_doe_results *res, pom_error *err) {
-  return pom_doe_results_finish(res, 0, err);
+  if (!res) return POM_OK;
+  pom_status st = close_hdf5(res, err);
+  results_free(res);
+  return st;
 }

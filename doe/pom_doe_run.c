@@ -278,7 +278,9 @@ static pom_status open_results(pom_doe_run *run, const char *path, pom_error *er
   const pom_doe_study *study = run->study;
   long m = study->maneuvers.count;
   POM_TRY(make_parent(path, err));
-  POM_TRY(pom_doe_results_start(&run->res, path, study, run->opt.resume, err));
+  POM_TRY(run->opt.rows_only
+              ? pom_doe_results_start_rows(&run->res, path, study, run->opt.resume, err)
+              : pom_doe_results_start(&run->res, path, study, run->opt.resume, err));
   if (!pom_doe_results_resumed(run->res)) return POM_OK;
   pom_doe_row *block = malloc(READ_BLOCK * sizeof *block);
   if (!block) POM_FAIL(err, POM_ERR_NOMEM, "resume: out of memory");
@@ -551,12 +553,13 @@ pom_status pom_doe_run_end(pom_doe_run *run, pom_doe_report **report, pom_error 
   pom_doe_report *rep = NULL;
   POM_TRY(pom_doe_report_compute(&rep, run->study, run->cells, err));
   pom_status st = POM_OK;
-  if (run->res) {
-    st = pom_doe_results_write_report(run->res, run->study, rep, err);
-    /* a finished study replaces the results file in one rename */
-    pom_status st2 =
-        pom_doe_results_finish(run->res, run->done == run->total, st == POM_OK ? err : NULL);
-    if (st == POM_OK) st = st2;
+  if (run->res && run->opt.rows_only) {
+    /* the caller makes its own file; the rows and the lock stay */
+    st = pom_doe_results_close_rows(run->res, err);
+  } else if (run->res) {
+    /* a finished study replaces the results file in one rename, and only
+     * when its report was written whole */
+    st = pom_doe_results_end(run->res, run->study, rep, run->done == run->total, err);
     run->res = NULL;
   }
   if (st != POM_OK || !report)
@@ -564,6 +567,11 @@ pom_status pom_doe_run_end(pom_doe_run *run, pom_doe_report **report, pom_error 
   else
     *report = rep;
   return st;
+}
+
+pom_status pom_doe_run_rows_done(pom_doe_run *run, pom_error *err) {
+  if (!run->res || !run->opt.rows_only) return POM_OK;
+  return pom_doe_results_drop_rows(run->res, err);
 }
 
 double pom_doe_run_value(const pom_doe_run *run, int c, long k, int stat) {

@@ -4,8 +4,10 @@
 #define _POSIX_C_SOURCE 200809L
 #include "pom_doe_sensitivity.h"
 #include "pom_h5.h"
+#include "pom_io.h"
 #include "pom_progress.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -86,15 +88,19 @@ void pom_doe_sens_result_destroy(pom_doe_sens_result *r) {
   free(r);
 }
 
+void pom_doe_sens_run_opts_defaults(pom_doe_sens_run_opts *o) {
+  memset(o, 0, sizeof *o);
+}
+
 pom_status pom_doe_sens_run(pom_doe_sens_result **out, pom_doe_study *study, const pom_doe_sens *s,
-                            int threads, pom_doe_sens_progress progress, void *user,
-                            volatile int *cancel, pom_error *err) {
+                            const pom_doe_sens_run_opts *o, pom_error *err) {
   pom_status st = POM_OK;
   *out = NULL;
   int nc = study->n_candidates, d = study->uncertain.n;
   pom_doe_run *run = NULL;
   pom_doe_maneuvers saved_mv = study->maneuvers;
   pom_unc saved_unc = study->uncertain;
+  const char *output = o->output ? o->output : "";
   pom_doe_sens_result *r = calloc(1, sizeof *r);
   if (!r) POM_FAIL(err, POM_ERR_NOMEM, "sensitivity: out of memory");
   double t0 = pom_progress_now();
@@ -128,20 +134,33 @@ pom_status pom_doe_sens_run(pom_doe_sens_result **out, pom_doe_study *study, con
   study->maneuvers.count = r->rows * s->per_sample;
   pom_doe_run_options opt;
   pom_doe_run_options_defaults(&opt);
-  opt.output = "";
-  opt.threads = threads;
+  /* the output is taken (locked, its rows file made) before the first run */
+  opt.output = output;
+  opt.rows_only = 1;
+  opt.resume = o->resume;
+  opt.stop_after = o->stop_after;
+  opt.threads = o->threads;
   POM_TRY_GOTO(pom_doe_run_begin(&run, study, &opt, err), fail);
   r->threads = pom_doe_run_threads(run);
   int finished = 0;
   while (!finished) {
     POM_TRY_GOTO(pom_doe_run_step(run, &finished, err), fail);
-    if (progress) progress(pom_doe_run_done(run), pom_doe_run_total(run), user);
-    if (cancel && *cancel) {
+    if (o->progress) o->progress(pom_doe_run_done(run), pom_doe_run_total(run), o->user);
+    if (o->cancel && *o->cancel) {
       pom_doe_run_cancel(run);
       POM_FAIL_GOTO(err, POM_ERR_INTERRUPTED, fail, "sensitivity: interrupted");
     }
   }
   POM_TRY_GOTO(pom_doe_run_end(run, NULL, err), fail);
+  if (pom_doe_run_done(run) < pom_doe_run_total(run)) {
+    if (output[0])
+      POM_FAIL_GOTO(err, POM_ERR_INTERRUPTED, fail,
+                    "stopped after %ld of %ld runs; every finished one is in "
+                    "'%s.partial': continue with --resume",
+                    pom_doe_run_done(run), pom_doe_run_total(run), output);
+    POM_FAIL_GOTO(err, POM_ERR_INTERRUPTED, fail, "stopped after %ld of %ld runs",
+                  pom_doe_run_done(run), pom_doe_run_total(run));
+  }
   for (int c = 0; c < nc; ++c)
     for (long row = 0; row < r->rows; ++row) {
       double sum = 0;
@@ -159,11 +178,21 @@ pom_status pom_doe_sens_run(pom_doe_sens_result **out, pom_doe_study *study, con
     snprintf(r->reason[c], sizeof r->reason[c], "%s", r->status[c] ? e.message : "");
   }
   r->wall = pom_progress_now() - t0;
-  pom_doe_run_destroy(run);
   study->maneuvers = saved_mv;
   study->uncertain = saved_unc;
+  /* the indices stand whatever happens to the file: the caller shows them */
   *out = r;
-  return POM_OK;
+  if (output[0]) {
+    st = pom_doe_sens_write(output, study, s, r, err);
+    if (st == POM_OK) st = pom_doe_run_rows_done(run, err);
+    if (st != POM_OK)
+      pom_error_prefix(err,
+                       "every run is kept in '%s.partial' (--resume writes the file without "
+                       "running again)",
+                       output);
+  }
+  pom_doe_run_destroy(run);
+  return st;
 fail:
   pom_doe_run_destroy(run);
   study->maneuvers = saved_mv;
@@ -265,11 +294,13 @@ done:
 pom_status pom_doe_sens_write(const char *path, const pom_doe_study *study, const pom_doe_sens *s,
                               const pom_doe_sens_result *r, pom_error *err) {
   char tmp[POM_DOE_PATH_LEN + 32];
-  snprintf(tmp, sizeof tmp, "%s.tmp-%ld", path, (long)getpid());
+  snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
   pom_status st = write_file(tmp, study, s, r, err);
+  if (st == POM_OK) st = pom_io_sync(tmp, err);
   if (st == POM_OK && rename(tmp, path) != 0)
-    st =
-        pom_error_set(err, POM_ERR_IO, __FILE__, __LINE__, "cannot rename '%s' to '%s'", tmp, path);
+    st = pom_error_set(err, POM_ERR_IO, __FILE__, __LINE__, "cannot rename '%s' to '%s': %s", tmp,
+                       path, strerror(errno));
+  if (st == POM_OK) st = pom_io_sync_folder(path, err);
   if (st != POM_OK) {
     remove(tmp);
     pom_error_prefix(err, "writing sensitivity file '%s'", path);

@@ -46,16 +46,36 @@ void pom_doe_sens_result_destroy(pom_doe_sens_result *r);
 /* Progress callback: units done of total. */
 typedef void (*pom_doe_sens_progress)(long done, long total, void *user);
 
-/* Runs the design on every candidate of study (changed during the call:
- * its uncertain draws come from the design; restored before return) with
- * `threads` workers (0 = study's) and computes the indices. *cancel (may be
- * NULL) is polled: when set the run stops with POM_ERR_INTERRUPTED. */
-pom_status pom_doe_sens_run(pom_doe_sens_result **out, pom_doe_study *study, const pom_doe_sens *s,
-                            int threads, pom_doe_sens_progress progress, void *user,
-                            volatile int *cancel, pom_error *err);
+/* How pom_doe_sens_run runs. */
+typedef struct {
+  int threads;                    /* worker threads; 0 = the study's */
+  const char *output;             /* the results file; NULL or "" = none */
+  int resume;                     /* 1: continue OUTPUT.partial of an interrupted run */
+  long stop_after;                /* stop after this many new runs (0 = run them all) */
+  pom_doe_sens_progress progress; /* NULL = none */
+  void *user;                     /* for progress */
+  volatile int *cancel;           /* polled when not NULL: set, the run stops */
+} pom_doe_sens_run_opts;
 
-/* Writes the results file: to a temporary name beside path, renamed over
- * path only when complete. */
+void pom_doe_sens_run_opts_defaults(pom_doe_sens_run_opts *o);
+
+/* Runs the design on every candidate of study (changed during the call:
+ * its uncertain draws come from the design; restored before return),
+ * computes the indices and writes the results file. The output is taken
+ * before the first run, as `pomlab study` takes its own (docs/results.md
+ * "Writing safely"): OUTPUT.lock held for the whole call, every run's row
+ * kept in OUTPUT.partial as it finishes (its disk space reserved up front;
+ * a resume continues it), OUTPUT written under a temporary name and renamed
+ * when complete, then OUTPUT.partial removed. A stopped or cancelled run
+ * returns POM_ERR_INTERRUPTED (its rows stay in OUTPUT.partial). *out is
+ * set whenever the indices were computed, also when writing the file
+ * failed afterwards (the status and err say why; the rows stay in
+ * OUTPUT.partial, and a resume writes the file without running again). */
+pom_status pom_doe_sens_run(pom_doe_sens_result **out, pom_doe_study *study, const pom_doe_sens *s,
+                            const pom_doe_sens_run_opts *o, pom_error *err);
+
+/* Writes the results file: to a temporary name beside path, synced and
+ * renamed over path only when complete (the folder synced after). */
 pom_status pom_doe_sens_write(const char *path, const pom_doe_study *study, const pom_doe_sens *s,
                               const pom_doe_sens_result *r, pom_error *err);
 

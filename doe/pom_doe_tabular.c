@@ -211,8 +211,8 @@ pom_status pom_doe_tabular_write(const pom_doe_study *study, const pom_doe_repor
   if (st == POM_OK) st = pom_io_create(&w[1], cand_path, err);
   if (st == POM_OK) st = write_maneuvers(w[0].f, study, results, block, err);
   if (st == POM_OK) write_candidates(w[1].f, study, rep);
-  if (st == POM_OK) st = pom_io_commit(&w[0], err);
-  if (st == POM_OK) st = pom_io_commit(&w[1], err);
+  /* both complete before either is renamed: never a new table beside an old one */
+  if (st == POM_OK) st = pom_io_commit_all(w, 2, err);
   pom_io_abort(&w[0]);
   pom_io_abort(&w[1]);
   free(block);
