@@ -7,6 +7,11 @@ add_test(NAME test_cli
 add_test(NAME test_inputs
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_inputs.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# What a config file may be: regular files of bounded size and nesting, as
+# the main config, an @include or a candidate's config (issue 22, items 7, 19).
+add_test(NAME test_config_files
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_config_files.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 # Data safety: one run per results file, finished files replaced whole, write
 # failures reported, stored rows checked on resume (issue 12).
 add_test(NAME test_safety
