@@ -787,6 +787,51 @@ static pom_status write_summary(const pom_doe_study *study, const pom_doe_report
   return pom_io_commit(&w, err);
 }
 
+/* ---- paths ---------------------------------------------------------------------------------- */
+pom_cli_paths *pom_cli_doe_inputs(const char *command, const char *cfg_path,
+                                  const pom_doe_study *study) {
+  pom_cli_paths *p = pom_cli_paths_create(command);
+  if (!p) return NULL;
+  pom_cli_paths_config(p, cfg_path, "the config");
+  for (int c = 0; c < study->n_candidates; ++c) {
+    char what[POM_DOE_NAME_LEN + 32];
+    snprintf(what, sizeof what, "the config of candidate '%s'", study->candidates[c].name);
+    pom_cli_paths_config(p, study->candidates[c].source, what);
+  }
+  return p;
+}
+
+int pom_cli_doe_check_paths(const char *command, const char *cfg_path, const pom_doe_study *study,
+                            const pom_cli_doe_opts *o, int report) {
+  const char *output = o->run.output ? o->run.output : study->output;
+  const char *tabular = o->tabular ? o->tabular : study->tabular;
+  const char *tab_origin = o->tabular ? "--tabular" : "study.tabular";
+  pom_cli_paths *p = pom_cli_doe_inputs(command, cfg_path, study);
+  char partial[POM_DOE_PATH_LEN + 16], summary[1200], cand[POM_DOE_PATH_LEN + 32], what[64];
+  snprintf(what, sizeof what, "the results file (%s)", o->run.output ? "--out" : "study.output");
+  pom_cli_paths_output(p, output, what);
+  if (output[0]) {
+    pom_doe_results_partial_path(partial, sizeof partial, output);
+    pom_cli_paths_output(p, partial, "the unfinished results file");
+    if (o->summary) {
+      pom_cli_doe_summary_dir(summary, sizeof summary - 12, output);
+      strcat(summary, "/summary.md");
+      pom_cli_paths_output(p, summary, "the summary");
+    }
+  }
+  if (tabular[0]) {
+    snprintf(what, sizeof what, "the tabular file (%s)", tab_origin);
+    pom_cli_paths_output(p, tabular, what);
+    pom_doe_tabular_candidates_path(cand, sizeof cand, tabular);
+    snprintf(what, sizeof what, "the candidates table (%s)", tab_origin);
+    pom_cli_paths_output(p, cand, what);
+  }
+  int rc = pom_cli_paths_check(p, report);
+  pom_cli_paths_destroy(p);
+  /* then the tabular file's name and folder (made now, as --out's is) */
+  return rc ? rc : pom_cli_tabular_check(command, tab_origin, tabular, report);
+}
+
 /* ---- run ------------------------------------------------------------------------------------ */
 int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o) {
   pom_error err;

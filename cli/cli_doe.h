@@ -4,6 +4,7 @@
 #ifndef POM_CLI_DOE_H
 #define POM_CLI_DOE_H
 
+#include "cli_outputs.h"
 #include "pom_doe.h"
 
 #include <stdio.h>
@@ -24,6 +25,20 @@ typedef struct {
 /* Runs the study and reports; returns the exit code (0 ok, 1 failure,
  * 130 interrupted). Only the root rank prints. */
 int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o);
+
+/* The study's inputs as a list for `command`: the config at cfg_path, every
+ * candidate's config and the files they include. NULL when out of memory;
+ * the caller adds the outputs, checks (pom_cli_paths_check) and destroys. */
+pom_cli_paths *pom_cli_doe_inputs(const char *command, const char *cfg_path,
+                                  const pom_doe_study *study);
+
+/* Checks a study's or Monte-Carlo run's output paths before any work: the
+ * tabular file's name rule and folder (pom_cli_tabular_check), and that no
+ * output (results file, its .partial, summary.md, the two tables) is an
+ * input or another output. Returns 0, else the exit code; prints only when
+ * `report` (the root rank). */
+int pom_cli_doe_check_paths(const char *command, const char *cfg_path, const pom_doe_study *study,
+                            const pom_cli_doe_opts *o, int report);
 
 /* Prints the tables, comparisons and verdict as Markdown. */
 void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_doe_report *rep);

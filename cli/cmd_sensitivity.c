@@ -201,6 +201,23 @@ int pom_cmd_sensitivity(int argc, char **argv) {
     return loaded ? pom_cli_exit_code(st) : 2;
   }
   if (out_path) snprintf(sens.output, sizeof sens.output, "%s", out_path);
+  char png[POM_DOE_PATH_LEN + 8];
+  snprintf(png, sizeof png, "%s", sens.output);
+  char *dot = strrchr(png, '.');
+  if (dot && !strchr(dot, '/')) *dot = '\0';
+  strcat(png, ".png");
+  /* no output may overwrite an input or the other output (docs/results.md) */
+  pom_cli_paths *paths = pom_cli_doe_inputs("sensitivity", cfg_path, &study);
+  pom_cli_paths_output(paths, sens.output,
+                       out_path ? "the results file (--out)"
+                                : "the results file (sensitivity.output)");
+  if (plots) pom_cli_paths_output(paths, png, "the figure");
+  int path_rc = pom_cli_paths_check(paths, 1);
+  pom_cli_paths_destroy(paths);
+  if (path_rc) {
+    pom_doe_study_clear(&study);
+    return path_rc;
+  }
   pom_progress bar;
   long total = (sens.method == POM_DOE_SENS_SOBOL ? pom_sens_sobol_rows(&sens.sobol)
                                                   : pom_sens_morris_rows(&sens.morris)) *
@@ -222,11 +239,6 @@ int pom_cmd_sensitivity(int argc, char **argv) {
     for (int c = 0; c < r->n_candidates; ++c)
       if (r->status[c] != POM_OK) code = 1;
     if (plots) {
-      char png[POM_DOE_PATH_LEN + 8];
-      snprintf(png, sizeof png, "%s", sens.output);
-      char *dot = strrchr(png, '.');
-      if (dot && !strchr(dot, '/')) *dot = '\0';
-      strcat(png, ".png");
       if (pom_cli_run_script("plot_sensitivity.py", sens.output, png) != 0)
         fprintf(stderr, "pomlab sensitivity: the figure was not drawn (needs /usr/bin/python3 "
                         "with h5py and matplotlib)\n");

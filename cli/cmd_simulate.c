@@ -2,6 +2,7 @@
  * the configured mechanism; metrics on stdout, traces to HDF5 or CSV on
  * request (docs/dynamics.md section 10). */
 #include "cli_kin.h"
+#include "cli_outputs.h"
 #include "pom_version.h"
 #include "pom_cli.h"
 #include "pom_io.h"
@@ -358,6 +359,12 @@ int pom_cmd_simulate(int argc, char **argv) {
   pom_cfg *cfg = pom_cli_load_config(cfg_path);
   if (!cfg) rc = 2; /* a config that cannot be read is a config error */
   if (!cfg || !mech) goto done;
+  /* the traces must not overwrite the config or a file it includes */
+  int path_rc = pom_cli_check_output("simulate", cfg_path, out_path, "the traces (--out)");
+  if (path_rc) {
+    rc = path_rc;
+    goto done;
+  }
   pom_status st = POM_OK;
   for (int j = 0; j < n_settings && st == POM_OK; ++j)
     if (settings[j].text)

@@ -1,6 +1,7 @@
 /* cmd_workspace.c - pomlab workspace: regular dexterous workspace, global
  * conditioning index and an optional dexterity map (CSV). */
 #include "cli_kin.h"
+#include "cli_outputs.h"
 #include "pom_cli.h"
 #include "pom_io.h"
 #include "pom_math.h"
@@ -207,6 +208,12 @@ int pom_cmd_workspace(int argc, char **argv) {
   pom_kin_ws_opts o;
   int rc = pom_cli_kin_load(path, &cfg, &arch, &o, ws_scopes);
   if (rc) return rc;
+  /* the map must not overwrite the config or a file it includes */
+  rc = pom_cli_check_output("workspace", path, map, "the map (--map)");
+  if (rc) {
+    pom_cfg_destroy(cfg);
+    return rc;
+  }
   /* The grids whose size is known before the search: refused above the
    * budget before any work (the GCI over the RDW is never larger than the
    * search that found it). */

@@ -12,6 +12,11 @@ add_test(NAME test_inputs
 add_test(NAME test_config_files
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_config_files.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# Outputs never overwrite inputs or each other; the tabular name rule and its
+# folder, checked before the work (issue 22, items 2 and 20).
+add_test(NAME test_output_paths
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_output_paths.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 # Data safety: one run per results file, finished files replaced whole, write
 # failures reported, stored rows checked on resume (issue 12).
 add_test(NAME test_safety
