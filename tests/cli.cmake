@@ -17,6 +17,12 @@ add_test(NAME test_config_files
 add_test(NAME test_output_paths
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_output_paths.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# Failures that name the key, the value and the rule: solver bounds, a
+# sensitivity analysis without usable runs, the right key in messages
+# (issue 22, items 17, 18, 19).
+add_test(NAME test_messages
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_messages.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 # Data safety: one run per results file, finished files replaced whole, write
 # failures reported, stored rows checked on resume (issue 12).
 add_test(NAME test_safety
