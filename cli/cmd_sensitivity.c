@@ -227,6 +227,27 @@ int pom_cmd_sensitivity(int argc, char **argv) {
   st = pom_doe_sens_run(&r, &study, &sens, threads, on_progress, &bar, NULL, &err);
   pom_progress_finish(&bar, st == POM_OK ? total : 0);
   int code = 0;
+  /* a candidate without indices is an error, said on stderr; with none at
+     all, no file of NaN is written (docs/results.md section 11) */
+  int usable = 0;
+  for (int c = 0; st == POM_OK && c < r->n_candidates; ++c) {
+    if (r->status[c] == POM_OK) {
+      ++usable;
+      continue;
+    }
+    fprintf(stderr, "pomlab sensitivity: candidate '%s': no indices: %s\n",
+            study.candidates[c].name, r->reason[c]);
+    code = 1;
+  }
+  if (st == POM_OK && usable == 0) {
+    fprintf(stderr,
+            "pomlab sensitivity: no candidate has indices, so nothing was written to %s; `pomlab "
+            "study` of the same file gives each run's status and reason\n",
+            sens.output);
+    pom_doe_sens_result_destroy(r);
+    pom_doe_study_clear(&study);
+    return 1;
+  }
   if (st == POM_OK) st = pom_doe_sens_write(sens.output, &study, &sens, r, &err);
   if (st != POM_OK) {
     pom_cli_report("sensitivity", &err);
@@ -236,8 +257,6 @@ int pom_cmd_sensitivity(int argc, char **argv) {
       print_json(stdout, &study, &sens, r);
     else
       print_text(stdout, &study, &sens, r);
-    for (int c = 0; c < r->n_candidates; ++c)
-      if (r->status[c] != POM_OK) code = 1;
     if (plots) {
       if (pom_cli_run_script("plot_sensitivity.py", sens.output, png) != 0)
         fprintf(stderr, "pomlab sensitivity: the figure was not drawn (needs /usr/bin/python3 "

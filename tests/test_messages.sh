@@ -39,4 +39,28 @@ expect_err "solver.max_steps"
 with_solver atol_scale 1e-9
 expect_rc 0 "$POMLAB" simulate "$TMP/m.cfg" --target 1,1,1 --joints rigid
 
+# --- item 18: a sensitivity analysis without usable runs -------------------------
+# a stroke drawn in 0.5-1 mm puts every 3 mm target outside it: every run fails
+cp "$CFG" "$TMP/3pss.cfg"
+cat >"$TMP/nouse.cfg" <<CFG
+name = "nouse";
+montecarlo = { maneuvers = 2; seed = 5; range_mm = 3.0; };
+study = { threads = 1; override = { joints = { model = "rigid"; };
+  scene = { coil_inductance = false; }; }; };
+uncertain = ( { key = "limits.stroke_mm"; dist = "uniform"; min = 0.5; max = 1.0; },
+  { key = "controller.kp"; dist = "uniform"; min = 0.8; max = 1.2; relative = true; } );
+sensitivity = { method = "sobol"; samples = 8; bootstrap = 20; maneuvers = 1; };
+candidates = ( { name = "A"; config = "3pss.cfg"; } );
+CFG
+expect_rc 1 "$POMLAB" sensitivity "$TMP/nouse.cfg" --out "$TMP/n.h5" --quiet
+expect_err "pomlab sensitivity: candidate 'A': no indices: sobol: 0 of 8 base samples usable"
+expect_err "no candidate has indices, so nothing was written to $TMP/n.h5"
+check "no results file of NaN" [ ! -e "$TMP/n.h5" ]
+check "no figure" [ ! -e "$TMP/n.png" ]
+check "nothing on stdout" [ ! -s "$TMP/out" ]
+sed -i 's/method = "sobol"; samples = 8; bootstrap = 20;/method = "morris"; trajectories = 4;/' "$TMP/nouse.cfg"
+expect_rc 1 "$POMLAB" sensitivity "$TMP/nouse.cfg" --out "$TMP/n.h5" --quiet --json
+expect_err "pomlab sensitivity: candidate 'A': no indices:"
+check "morris: no results file" [ ! -e "$TMP/n.h5" ]
+
 finish test_messages
