@@ -63,4 +63,44 @@ expect_rc 1 "$POMLAB" sensitivity "$TMP/nouse.cfg" --out "$TMP/n.h5" --quiet --j
 expect_err "pomlab sensitivity: candidate 'A': no indices:"
 check "morris: no results file" [ ! -e "$TMP/n.h5" ]
 
+# --- item 19: each message names the key that breaks the rule ------------------
+# an uncertain parameter's spread, bounds and centre, not its `dist`
+unc() {
+  printf 'name = "u";\nmontecarlo = { maneuvers = 2; seed = 5; };\nuncertain = %s;\n%s\n' "$1" \
+    'candidates = ( { name = "A"; config = "3pss.cfg"; } );' >"$TMP/u.cfg"
+  expect_rc 2 "$POMLAB" study "$TMP/u.cfg" --out "$TMP/u.h5" --quiet --no-plots
+  expect_err "$2"
+  check "no message against .dist: $2" bash -c "! grep -q \"dist'\" '$TMP/err'"
+}
+R='key = "actuator.resistance_ohm"'
+unc "( { $R; dist = \"normal\"; mean = 10.0; sd = -0.5; } )" \
+  "key 'uncertain.[0].sd' = -0.5: normal: needs a finite mean and sd > 0"
+unc "( { $R; dist = \"lognormal\"; median = 10.0; sigma_ln = 0.0; } )" \
+  "key 'uncertain.[0].sigma_ln' = 0: lognormal: needs a finite median and sigma_ln > 0"
+unc "( { $R; dist = \"lognormal\"; median = -1.0; sigma_ln = 0.2; } )" \
+  "key 'uncertain.[0].median' = -1: lognormal: median must be > 0"
+unc "( { $R; dist = \"truncated_normal\"; mean = 10.0; sd = 1.0; min = 12.0; max = 9.0; } )" \
+  "key 'uncertain.[0].max' = 9: truncated_normal: needs finite min < max (found 12, 9)"
+unc "( { $R; dist = \"truncated_normal\"; mean = 10.0; sd = 0.01; min = 20.0; max = 21.0; } )" \
+  "key 'uncertain.[0].min' = 20: truncated_normal: [min, max] = [20, 21] holds no probability"
+unc "( { $R; dist = \"uniform\"; min = 1.0; max = 0.5; } )" \
+  "key 'uncertain.[0].max' = 0.5: uniform: needs finite min < max"
+unc "( { $R; dist = \"lognormal\"; median = 10.0; sigma_ln = 0.1; min = 5.0; max = 4.0; } )" \
+  "key 'uncertain.[0].max' = 4: lognormal: needs 0 <= min < max"
+# a group where a list belongs: said so, not "uncertain.[0].key missing"
+unc "{ $R; dist = \"uniform\"; min = 9.0; max = 11.0; }" \
+  "key 'uncertain' = {group}: expected a list in parentheses"
+check "not the missing first key" bash -c "! grep -q 'uncertain.\[0\].key' '$TMP/err'"
+# the 3-RRR whose links cannot join u and v: the rule that fails
+rrr() {
+  sed -e "s/proximal_angle_deg = 90.0/proximal_angle_deg = $1/" \
+    -e "s/distal_angle_deg = 90.0/distal_angle_deg = $2/" "$SRC/configs/3rrr.cfg" >"$TMP/r.cfg"
+  expect_rc 2 "$POMLAB" model "$TMP/r.cfg"
+  expect_err "$3"
+}
+rrr 150 30 "the angle u-v = 90 deg (set by geometry.base_cone_deg, platform_cone_deg and platform_twist_deg) is shorter than |alpha1 - alpha2|: the leg would have to fold; it must lie in [|alpha1 - alpha2|, min(alpha1 + alpha2, 360 deg - alpha1 - alpha2)] = [120, 180] deg (alpha1 = geometry.proximal_angle_deg = 150, alpha2 = geometry.distal_angle_deg = 30)"
+check "not the sum as the rule" bash -c "! grep -q 'alpha1 + alpha2 = 180' '$TMP/err'"
+rrr 30 40 "is longer than alpha1 + alpha2: the links cannot reach; it must lie in [|alpha1 - alpha2|, min(alpha1 + alpha2, 360 deg - alpha1 - alpha2)] = [10, 70] deg"
+rrr 170 170 "is longer than 360 deg - alpha1 - alpha2; it must lie in"
+
 finish test_messages
