@@ -2,6 +2,7 @@
  * verdict, summary.md and figures (docs/results.md, "What you see"). */
 #define _POSIX_C_SOURCE 200809L
 #include "cli_doe.h"
+#include "pom_doe_estimate.h"
 #include "pom_version.h"
 #include "pom_cli.h"
 #include "pom_io.h"
@@ -18,6 +19,7 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
+#include <unistd.h>
 
 extern char **environ;
 
@@ -830,6 +832,113 @@ int pom_cli_doe_check_paths(const char *command, const char *cfg_path, const pom
   pom_cli_paths_destroy(p);
   /* then the tabular file's name and folder (made now, as --out's is) */
   return rc ? rc : pom_cli_tabular_check(command, tab_origin, tabular, report);
+}
+
+/* ---- cost ----------------------------------------------------------------------------------- */
+/* Runs at or above which the time is measured and announced when long. */
+#define ANNOUNCE_MIN_RUNS 64
+/* Announced: over 10 s, or over 1 GB of memory or of results file. */
+#define ANNOUNCE_SECONDS 10.0
+#define ANNOUNCE_BYTES   1e9
+
+int pom_cli_doe_check_memory(const char *command, const pom_doe_study *study,
+                             const pom_cli_doe_opts *o, int report) {
+  const char *output = o->run.output ? o->run.output : study->output;
+  pom_doe_cost cost;
+  pom_doe_cost_study(&cost, study, output[0] != '\0');
+  double limit = pom_doe_memory_limit();
+  if (!(cost.memory > limit)) return 0;
+  if (report) {
+    char need[32], have[32];
+    fprintf(stderr,
+            "pomlab %s: config: %s: %d candidate(s) x %ld maneuvers = %.4g runs need about %s of "
+            "memory (%.0f bytes per run), more than this machine's %s: lower "
+            "montecarlo.maneuvers%s or the number of candidates (the `candidates` list, the "
+            "levels of its sweep factors); nothing was run\n",
+            command, study->source, study->n_candidates, study->maneuvers.count, cost.runs,
+            pom_cli_bytes_text(need, sizeof need, cost.memory), cost.per_run,
+            pom_cli_bytes_text(have, sizeof have, limit),
+            strcmp(command, "montecarlo") == 0 ? " (--n)" : "");
+  }
+  return 2;
+}
+
+void pom_cli_doe_announce(const char *command, const pom_doe_study *study,
+                          const pom_cli_doe_opts *o) {
+  if (o->quiet) return;
+  const char *output = o->run.output ? o->run.output : study->output;
+  pom_doe_cost cost;
+  pom_doe_cost_study(&cost, study, output[0] != '\0');
+  double per_run = NAN;
+  pom_error err;
+  pom_error_clear(&err);
+  if (cost.runs >= ANNOUNCE_MIN_RUNS) pom_doe_calibrate(&per_run, study, &err);
+  long cores = sysconf(_SC_NPROCESSORS_ONLN);
+  int threads = o->run.threads > 0   ? o->run.threads
+                : study->threads > 0 ? study->threads
+                                     : (int)(cores > 0 ? cores : 1);
+  double seconds = per_run * cost.runs / threads;
+  if (!(seconds > ANNOUNCE_SECONDS) && !(cost.memory > ANNOUNCE_BYTES) &&
+      !(cost.file > ANNOUNCE_BYTES))
+    return;
+  char mem[32], file[32], how_long[48];
+  fprintf(stderr, "pomlab %s: %s: %d candidate(s) x %ld maneuvers = %.4g runs; memory about %s",
+          command, study->name, study->n_candidates, study->maneuvers.count, cost.runs,
+          pom_cli_bytes_text(mem, sizeof mem, cost.memory));
+  if (cost.file > 0)
+    fprintf(stderr, ", results file about %s", pom_cli_bytes_text(file, sizeof file, cost.file));
+  if (isfinite(seconds))
+    fprintf(stderr, "; %s on %d thread(s) (%.3g ms per run, measured on a few runs)",
+            pom_cli_duration_text(how_long, sizeof how_long, seconds), threads, per_run * 1e3);
+  fprintf(stderr, "\n");
+}
+
+int pom_cli_doe_sens_cost(const pom_doe_study *study, const char *method, long rows,
+                          long per_sample, int dim, int threads, int quiet) {
+  pom_doe_cost cost;
+  pom_doe_cost_sensitivity(&cost, study, rows, per_sample, dim);
+  double limit = pom_doe_memory_limit();
+  char mem[32], have[32], file[32], how_long[48];
+  int sobol = strcmp(method, "sobol") == 0;
+  if (cost.memory > limit) {
+    fprintf(stderr,
+            "pomlab sensitivity: config: %s: %ld design rows (%s) x %ld maneuver(s) "
+            "(sensitivity.maneuvers) x %d candidate(s) = %.4g runs need about %s of memory (%.0f "
+            "bytes per run), more than this machine's %s: lower %s, sensitivity.maneuvers or the "
+            "candidates (--candidate runs one); nothing was run\n",
+            study->source, rows,
+            sobol ? "sensitivity.samples N x (inputs + 2)"
+                  : "sensitivity.trajectories r x (inputs + 1)",
+            per_sample, study->n_candidates, cost.runs,
+            pom_cli_bytes_text(mem, sizeof mem, cost.memory), cost.per_run,
+            pom_cli_bytes_text(have, sizeof have, limit),
+            sobol ? "sensitivity.samples" : "sensitivity.trajectories");
+    return 2;
+  }
+  if (quiet) return 0;
+  double per_run = NAN;
+  pom_error err;
+  pom_error_clear(&err);
+  if (cost.runs >= ANNOUNCE_MIN_RUNS) pom_doe_calibrate(&per_run, study, &err);
+  long cores = sysconf(_SC_NPROCESSORS_ONLN);
+  int n_threads = threads > 0          ? threads
+                  : study->threads > 0 ? study->threads
+                                       : (int)(cores > 0 ? cores : 1);
+  double seconds = per_run * cost.runs / n_threads;
+  if (!(seconds > ANNOUNCE_SECONDS) && !(cost.memory > ANNOUNCE_BYTES) &&
+      !(cost.file > ANNOUNCE_BYTES))
+    return 0;
+  fprintf(stderr,
+          "pomlab sensitivity: %s: %ld design rows x %ld maneuver(s) x %d candidate(s) = %.4g "
+          "runs; memory about %s, results file about %s",
+          study->name, rows, per_sample, study->n_candidates, cost.runs,
+          pom_cli_bytes_text(mem, sizeof mem, cost.memory),
+          pom_cli_bytes_text(file, sizeof file, cost.file));
+  if (isfinite(seconds))
+    fprintf(stderr, "; %s on %d thread(s) (%.3g ms per run, measured on a few runs)",
+            pom_cli_duration_text(how_long, sizeof how_long, seconds), n_threads, per_run * 1e3);
+  fprintf(stderr, "\n");
+  return 0;
 }
 
 /* ---- run ------------------------------------------------------------------------------------ */

@@ -40,6 +40,28 @@ pom_cli_paths *pom_cli_doe_inputs(const char *command, const char *cfg_path,
 int pom_cli_doe_check_paths(const char *command, const char *cfg_path, const pom_doe_study *study,
                             const pom_cli_doe_opts *o, int report);
 
+/* Refuses a run whose tables cannot fit in this machine's memory: exit 2
+ * (a config error) with the size needed, the number of runs and the keys
+ * that set them, before any work; 0 when it fits. Prints only when
+ * `report`. */
+int pom_cli_doe_check_memory(const char *command, const pom_doe_study *study,
+                             const pom_cli_doe_opts *o, int report);
+
+/* Announces on stderr, before the work, a run expected to last over 10 s or
+ * to need over 1 GB of memory or of file: its runs, memory, file size and
+ * time, the time per run measured on a few runs first (pom_doe_calibrate).
+ * Nothing when quiet; a failed calibration only leaves the time out. */
+void pom_cli_doe_announce(const char *command, const pom_doe_study *study,
+                          const pom_cli_doe_opts *o);
+
+/* The same for a sensitivity analysis of `rows` design points of `dim`
+ * inputs, per_sample maneuvers each (method: "sobol" or "morris", which
+ * names the key that sets rows): refuses what cannot fit in memory (exit 2,
+ * with the keys), else announces a long or large one unless quiet; 0 when
+ * it may run. */
+int pom_cli_doe_sens_cost(const pom_doe_study *study, const char *method, long rows,
+                          long per_sample, int dim, int threads, int quiet);
+
 /* Prints the tables, comparisons and verdict as Markdown. */
 void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_doe_report *rep);
 

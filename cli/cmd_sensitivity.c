@@ -219,9 +219,16 @@ int pom_cmd_sensitivity(int argc, char **argv) {
     return path_rc;
   }
   pom_progress bar;
-  long total = (sens.method == POM_DOE_SENS_SOBOL ? pom_sens_sobol_rows(&sens.sobol)
-                                                  : pom_sens_morris_rows(&sens.morris)) *
-               sens.per_sample * study.n_candidates;
+  long rows = sens.method == POM_DOE_SENS_SOBOL ? pom_sens_sobol_rows(&sens.sobol)
+                                                : pom_sens_morris_rows(&sens.morris);
+  /* refused when too large for memory, announced when long (docs/results.md) */
+  path_rc = pom_cli_doe_sens_cost(&study, sens.method == POM_DOE_SENS_SOBOL ? "sobol" : "morris",
+                                  rows, sens.per_sample, study.uncertain.n, threads, quiet);
+  if (path_rc) {
+    pom_doe_study_clear(&study);
+    return path_rc;
+  }
+  long total = rows * sens.per_sample * study.n_candidates;
   pom_progress_init(&bar, quiet ? NULL : stderr, "sensitivity", total, 0, 0);
   pom_doe_sens_result *r = NULL;
   st = pom_doe_sens_run(&r, &study, &sens, threads, on_progress, &bar, NULL, &err);

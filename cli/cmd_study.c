@@ -123,6 +123,8 @@ static int study_main(int argc, char **argv, int rank, int size) {
   /* no output may overwrite an input or another output: refused before any
      work, the pipeline's included (docs/results.md, "Output paths") */
   int path_rc = pom_cli_doe_check_paths("study", cfg_path, &study, &o, rank == 0);
+  /* and a study too large for memory is refused with the keys that size it */
+  if (!path_rc) path_rc = pom_cli_doe_check_memory("study", &study, &o, rank == 0);
   if (path_rc) {
     pom_doe_study_clear(&study);
     return path_rc;
@@ -150,6 +152,8 @@ static int study_main(int argc, char **argv, int rank, int size) {
     return pom_cli_exit_code(st);
   }
   o.report_extra = pom_cli_pipeline_report;
+  /* runs, memory, file size and time, said before a long run starts */
+  if (rank == 0) pom_cli_doe_announce("study", &study, &o);
   int code = pom_cli_doe_execute(&study, &o);
   pom_doe_study_clear(&study);
   return code;

@@ -79,21 +79,6 @@ static double measured_rate(const pom_kin_arch *arch) {
   return dt > 0.0 ? 512.0 / dt : NAN;
 }
 
-/* "about 3.2 min" for a number of seconds. */
-static const char *duration_text(char *buf, size_t cap, double s) {
-  if (!isfinite(s))
-    snprintf(buf, cap, "unknown time");
-  else if (s < 120.0)
-    snprintf(buf, cap, "about %.2g s", s);
-  else if (s < 7200.0)
-    snprintf(buf, cap, "about %.2g min", s / 60.0);
-  else if (s < 2.0 * 86400.0)
-    snprintf(buf, cap, "about %.2g h", s / 3600.0);
-  else
-    snprintf(buf, cap, "about %.2g days", s / 86400.0);
-  return buf;
-}
-
 /* Refuses a grid of `poses` above the budget: exit status 2 with the config
  * file, the keys and their values; 0 when within it. */
 static int check_budget(const pom_cfg *cfg, const pom_kin_ws_opts *o, double poses, double rate,
@@ -108,7 +93,7 @@ static int check_budget(const pom_cfg *cfg, const pom_kin_ws_opts *o, double pos
                 "budget workspace.max_poses = %.3g; coarsen the step, shrink the region or raise "
                 "the budget",
                 width_key, width / POM_DEG, poses,
-                duration_text(how_long, sizeof how_long, poses / rate), o->max_poses);
+                pom_cli_duration_text(how_long, sizeof how_long, poses / rate), o->max_poses);
   pom_cli_report("workspace", &err);
   return 2;
 }
@@ -118,7 +103,7 @@ static void announce(int quiet, const char *what, double poses, double rate) {
   char how_long[48];
   if (quiet || !(poses / rate > 10.0)) return;
   fprintf(stderr, "pomlab workspace: %s: up to %.3g poses, %s at %.3g poses/s\n", what, poses,
-          duration_text(how_long, sizeof how_long, poses / rate), rate);
+          pom_cli_duration_text(how_long, sizeof how_long, poses / rate), rate);
 }
 
 /* The kinematics' progress callback drives a pom_progress bar. */

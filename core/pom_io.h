@@ -4,7 +4,9 @@
  * write and the close, then renames it over PATH, so PATH is either the old
  * file or the complete new one, never a truncated one (a full disk, a killed
  * run). A PATH that exists and is not a regular file (/dev/stdout, a pipe,
- * /dev/full) is written directly, with the same checks. */
+ * /dev/full) is written directly, with the same checks. A run killed before
+ * its rename leaves PATH.tmp.<pid>; the next pom_io_create of PATH removes
+ * those whose process no longer runs. */
 #ifndef POM_IO_H
 #define POM_IO_H
 

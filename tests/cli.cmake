@@ -23,6 +23,11 @@ add_test(NAME test_output_paths
 add_test(NAME test_messages
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_messages.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# Long or large work announced before it starts, what cannot fit in memory
+# refused with its keys, stale temporary files removed (issue 22, 15 and 16).
+add_test(NAME test_cost
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_cost.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 # Data safety: one run per results file, finished files replaced whole, write
 # failures reported, stored rows checked on resume (issue 12).
 add_test(NAME test_safety
