@@ -808,6 +808,14 @@ int pom_cli_doe_check_paths(const char *command, const char *cfg_path, const pom
   const char *output = o->run.output ? o->run.output : study->output;
   const char *tabular = o->tabular ? o->tabular : study->tabular;
   const char *tab_origin = o->tabular ? "--tabular" : "study.tabular";
+  if (tabular[0] && !output[0]) {
+    if (report)
+      fprintf(stderr,
+              "pomlab: tabular results '%s' need a results file (--out FILE.h5): the "
+              "maneuver rows are read back from it\n",
+              tabular);
+    return 2;
+  }
   pom_cli_paths *p = pom_cli_doe_inputs(command, cfg_path, study);
   char partial[POM_DOE_PATH_LEN + 16], summary[1200], cand[POM_DOE_PATH_LEN + 32], what[64];
   snprintf(what, sizeof what, "the results file (%s)", o->run.output ? "--out" : "study.output");

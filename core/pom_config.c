@@ -765,14 +765,6 @@ const char *pom_cfg_file(const pom_cfg *cfg, int k) {
   return k >= 0 && k < cfg->n_files ? cfg->files[k] : NULL;
 }
 
-pom_status pom_cfg_check_file(const char *path, pom_error *err) {
-  int fd = -1;
-  off_t size = 0;
-  POM_TRY(open_config_file(path, path, &fd, &size, err));
-  close(fd);
-  return POM_OK;
-}
-
 int pom_cfg_has(const pom_cfg *cfg, const char *key) {
   return lookup(cfg, key) != NULL;
 }

@@ -49,10 +49,6 @@ const char *pom_cfg_text(const pom_cfg *cfg);
 int pom_cfg_n_files(const pom_cfg *cfg);
 const char *pom_cfg_file(const pom_cfg *cfg, int k);
 
-/* Checks that path is a config file pom_cfg_load would read (a regular file
- * of at most POM_CFG_MAX_BYTES) without reading it; err names the file. */
-pom_status pom_cfg_check_file(const char *path, pom_error *err);
-
 /* 1 when the key exists (does not mark it used). */
 int pom_cfg_has(const pom_cfg *cfg, const char *key);
 
