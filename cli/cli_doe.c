@@ -901,8 +901,9 @@ void pom_cli_doe_announce(const char *command, const pom_doe_study *study,
   fprintf(stderr, "\n");
 }
 
-int pom_cli_doe_sens_cost(const pom_doe_study *study, const char *method, long rows,
-                          long per_sample, int dim, int threads, int quiet) {
+/* The memory refusal and the announcement of pom_cli_doe_sens_check. */
+static int sens_cost(const pom_doe_study *study, const char *method, long rows, long per_sample,
+                     int dim, int threads, int quiet) {
   pom_doe_cost cost;
   pom_doe_cost_sensitivity(&cost, study, rows, per_sample, dim);
   double limit = pom_doe_memory_limit();
@@ -947,6 +948,47 @@ int pom_cli_doe_sens_cost(const pom_doe_study *study, const char *method, long r
             pom_cli_duration_text(how_long, sizeof how_long, seconds), n_threads, per_run * 1e3);
   fprintf(stderr, "\n");
   return 0;
+}
+
+int pom_cli_doe_sens_check(const char *cfg_path, const pom_doe_study *study,
+                           const pom_doe_sens *sens, int out_given, int plots, int threads,
+                           int quiet) {
+  char png[POM_DOE_PATH_LEN + 8]; /* the figure: the output without .h5, .png */
+  snprintf(png, sizeof png, "%s", sens->output);
+  char *dot = strrchr(png, '.');
+  if (dot && !strchr(dot, '/')) *dot = '\0';
+  strcat(png, ".png");
+  pom_cli_paths *p = pom_cli_doe_inputs("sensitivity", cfg_path, study);
+  pom_cli_paths_output(p, sens->output,
+                       out_given ? "the results file (--out)"
+                                 : "the results file (sensitivity.output)");
+  if (plots) pom_cli_paths_output(p, png, "the figure");
+  int rc = pom_cli_paths_check(p, 1);
+  pom_cli_paths_destroy(p);
+  if (rc) return rc;
+  int sobol = sens->method == POM_DOE_SENS_SOBOL;
+  long rows = sobol ? pom_sens_sobol_rows(&sens->sobol) : pom_sens_morris_rows(&sens->morris);
+  return sens_cost(study, sobol ? "sobol" : "morris", rows, sens->per_sample, study->uncertain.n,
+                   threads, quiet);
+}
+
+int pom_cli_doe_sens_failures(const pom_doe_study *study, const pom_doe_sens_result *r,
+                              const char *output) {
+  int usable = 0;
+  for (int c = 0; c < r->n_candidates; ++c) {
+    if (r->status[c] == POM_OK) {
+      ++usable;
+      continue;
+    }
+    fprintf(stderr, "pomlab sensitivity: candidate '%s': no indices: %s\n",
+            study->candidates[c].name, r->reason[c]);
+  }
+  if (usable == 0)
+    fprintf(stderr,
+            "pomlab sensitivity: no candidate has indices, so nothing was written to %s; `pomlab "
+            "study` of the same file gives each run's status and reason\n",
+            output);
+  return usable;
 }
 
 /* ---- run ------------------------------------------------------------------------------------ */

@@ -6,6 +6,7 @@
 
 #include "cli_outputs.h"
 #include "pom_doe.h"
+#include "pom_doe_sensitivity.h"
 
 #include <stdio.h>
 
@@ -54,13 +55,20 @@ int pom_cli_doe_check_memory(const char *command, const pom_doe_study *study,
 void pom_cli_doe_announce(const char *command, const pom_doe_study *study,
                           const pom_cli_doe_opts *o);
 
-/* The same for a sensitivity analysis of `rows` design points of `dim`
- * inputs, per_sample maneuvers each (method: "sobol" or "morris", which
- * names the key that sets rows): refuses what cannot fit in memory (exit 2,
- * with the keys), else announces a long or large one unless quiet; 0 when
- * it may run. */
-int pom_cli_doe_sens_cost(const pom_doe_study *study, const char *method, long rows,
-                          long per_sample, int dim, int threads, int quiet);
+/* Before a sensitivity analysis of study (sens loaded, its output set;
+ * out_given: the output came from --out; plots: the figure will be made):
+ * refuses an output that is the same file as an input or the other output
+ * (exit 2), a run whose tables cannot fit in memory (exit 2, with the keys
+ * that size it), and announces a long or large one unless quiet. Returns 0
+ * when it may run, else the exit code (the message printed). */
+int pom_cli_doe_sens_check(const char *cfg_path, const pom_doe_study *study,
+                           const pom_doe_sens *sens, int out_given, int plots, int threads,
+                           int quiet);
+
+/* Prints on stderr why each candidate of r has no indices; returns how many
+ * have them (0: nothing is to be written). */
+int pom_cli_doe_sens_failures(const pom_doe_study *study, const pom_doe_sens_result *r,
+                              const char *output);
 
 /* Prints the tables, comparisons and verdict as Markdown. */
 void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_doe_report *rep);

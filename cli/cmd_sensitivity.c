@@ -201,56 +201,25 @@ int pom_cmd_sensitivity(int argc, char **argv) {
     return loaded ? pom_cli_exit_code(st) : 2;
   }
   if (out_path) snprintf(sens.output, sizeof sens.output, "%s", out_path);
-  char png[POM_DOE_PATH_LEN + 8];
-  snprintf(png, sizeof png, "%s", sens.output);
-  char *dot = strrchr(png, '.');
-  if (dot && !strchr(dot, '/')) *dot = '\0';
-  strcat(png, ".png");
-  /* no output may overwrite an input or the other output (docs/results.md) */
-  pom_cli_paths *paths = pom_cli_doe_inputs("sensitivity", cfg_path, &study);
-  pom_cli_paths_output(paths, sens.output,
-                       out_path ? "the results file (--out)"
-                                : "the results file (sensitivity.output)");
-  if (plots) pom_cli_paths_output(paths, png, "the figure");
-  int path_rc = pom_cli_paths_check(paths, 1);
-  pom_cli_paths_destroy(paths);
-  if (path_rc) {
+  /* outputs that would overwrite an input refused, a run too large for
+     memory refused, a long one announced: before any work */
+  int pre =
+      pom_cli_doe_sens_check(cfg_path, &study, &sens, out_path != NULL, plots, threads, quiet);
+  if (pre) {
     pom_doe_study_clear(&study);
-    return path_rc;
+    return pre;
   }
   pom_progress bar;
-  long rows = sens.method == POM_DOE_SENS_SOBOL ? pom_sens_sobol_rows(&sens.sobol)
-                                                : pom_sens_morris_rows(&sens.morris);
-  /* refused when too large for memory, announced when long (docs/results.md) */
-  path_rc = pom_cli_doe_sens_cost(&study, sens.method == POM_DOE_SENS_SOBOL ? "sobol" : "morris",
-                                  rows, sens.per_sample, study.uncertain.n, threads, quiet);
-  if (path_rc) {
-    pom_doe_study_clear(&study);
-    return path_rc;
-  }
-  long total = rows * sens.per_sample * study.n_candidates;
+  long total = (sens.method == POM_DOE_SENS_SOBOL ? pom_sens_sobol_rows(&sens.sobol)
+                                                  : pom_sens_morris_rows(&sens.morris)) *
+               sens.per_sample * study.n_candidates;
   pom_progress_init(&bar, quiet ? NULL : stderr, "sensitivity", total, 0, 0);
   pom_doe_sens_result *r = NULL;
   st = pom_doe_sens_run(&r, &study, &sens, threads, on_progress, &bar, NULL, &err);
   pom_progress_finish(&bar, st == POM_OK ? total : 0);
   int code = 0;
-  /* a candidate without indices is an error, said on stderr; with none at
-     all, no file of NaN is written (docs/results.md section 11) */
-  int usable = 0;
-  for (int c = 0; st == POM_OK && c < r->n_candidates; ++c) {
-    if (r->status[c] == POM_OK) {
-      ++usable;
-      continue;
-    }
-    fprintf(stderr, "pomlab sensitivity: candidate '%s': no indices: %s\n",
-            study.candidates[c].name, r->reason[c]);
-    code = 1;
-  }
-  if (st == POM_OK && usable == 0) {
-    fprintf(stderr,
-            "pomlab sensitivity: no candidate has indices, so nothing was written to %s; `pomlab "
-            "study` of the same file gives each run's status and reason\n",
-            sens.output);
+  /* candidates without indices said on stderr; with none, no file of NaN */
+  if (st == POM_OK && pom_cli_doe_sens_failures(&study, r, sens.output) == 0) {
     pom_doe_sens_result_destroy(r);
     pom_doe_study_clear(&study);
     return 1;
@@ -264,7 +233,14 @@ int pom_cmd_sensitivity(int argc, char **argv) {
       print_json(stdout, &study, &sens, r);
     else
       print_text(stdout, &study, &sens, r);
+    for (int c = 0; c < r->n_candidates; ++c)
+      if (r->status[c] != POM_OK) code = 1;
     if (plots) {
+      char png[POM_DOE_PATH_LEN + 8];
+      snprintf(png, sizeof png, "%s", sens.output);
+      char *dot = strrchr(png, '.');
+      if (dot && !strchr(dot, '/')) *dot = '\0';
+      strcat(png, ".png");
       if (pom_cli_run_script("plot_sensitivity.py", sens.output, png) != 0)
         fprintf(stderr, "pomlab sensitivity: the figure was not drawn (needs /usr/bin/python3 "
                         "with h5py and matplotlib)\n");
