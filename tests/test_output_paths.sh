@@ -13,22 +13,28 @@ SRC=$2
 . "$(dirname "$0")/cli_lib.sh"
 
 cd "$TMP" || exit 1
-cp "$SRC/configs/3pss.cfg" cand.cfg
-printf 'montecarlo = { maneuvers = 2; seed = 3; };\n' >inc.cfg
-cat >S.cfg <<CFG
+# the inputs: a study with an @include, its candidate's config, a
+# sensitivity file (made again where a section must not depend on the ones
+# before it having held)
+make_inputs() {
+  cp "$SRC/configs/3pss.cfg" cand.cfg
+  printf 'montecarlo = { maneuvers = 2; seed = 3; };\n' >inc.cfg
+  cat >S.cfg <<CFG
 name = "paths";
 @include "inc.cfg"
 study = { threads = 1; override = { joints = { model = "rigid"; };
   scene = { coil_inductance = false; }; }; };
 candidates = ( { name = "A"; config = "cand.cfg"; } );
 CFG
-# a sensitivity file: the same study with one uncertain parameter, 4 samples
-cat >U.cfg <<CFG
+  # a sensitivity file: the same study with one uncertain parameter, 4 samples
+  cat >U.cfg <<CFG
 @include "S.cfg"
 uncertain = ( { key = "actuator.resistance_ohm"; dist = "uniform"; min = 9.0; max = 11.0;
   relative = false; } );
 sensitivity = { method = "sobol"; samples = 4; maneuvers = 1; bootstrap = 10; };
 CFG
+}
+make_inputs
 sums() { md5sum S.cfg inc.cfg cand.cfg U.cfg r.h5 2>/dev/null; }
 # refused DESCRIPTION TEXT CMD...: exit 2, TEXT on stderr, no file changed
 refused() {
@@ -119,6 +125,7 @@ expect_err "study.tabular 'T_candidates.csv': a name ending in _candidates.csv"
 check "nothing made by the refused runs" [ ! -e r2.h5 ] && [ ! -e r2.h5.partial ]
 
 # --- item 20: --tabular makes its folder, or is refused before the work -------
+make_inputs
 expect_rc 0 "${STUDY[@]}" --out r3.h5 --tabular new/deeper/t.csv
 check "--tabular made its folders" [ -s new/deeper/t.csv ] && [ -s new/deeper/t_candidates.csv ]
 touch afile
