@@ -35,9 +35,14 @@ struct pom_cli_paths {
 };
 
 /* ---- resolved paths --------------------------------------------------------------- */
+/* Missing path components resolved lexically, at most (each one a level of
+ * recursion with a few kB of stack); deeper paths are compared as given. */
+#define MISSING_DEPTH_MAX 64
+
 /* path made absolute, with symbolic links, "." and ".." resolved as far as
- * the path exists and the rest appended lexically; 0 on success. */
-static int resolve(const char *path, char *out, size_t cap) {
+ * the path exists and the rest appended lexically; 0 on success. depth
+ * counts the missing components already taken off. */
+static int resolve_at(const char *path, char *out, size_t cap, int depth) {
   char abs[PATH_CAP];
   if (path[0] == '/') {
     snprintf(abs, sizeof abs, "%s", path);
@@ -62,7 +67,7 @@ static int resolve(const char *path, char *out, size_t cap) {
     slash[1] = '\0'; /* the root */
   else
     *slash = '\0';
-  if (resolve(abs, out, cap) != 0) return -1;
+  if (depth >= MISSING_DEPTH_MAX || resolve_at(abs, out, cap, depth + 1) != 0) return -1;
   if (!base[0] || strcmp(base, ".") == 0) return 0;
   if (strcmp(base, "..") == 0) {
     char *up = strrchr(out, '/');
@@ -75,6 +80,10 @@ static int resolve(const char *path, char *out, size_t cap) {
   size_t k = strlen(out);
   snprintf(out + k, cap - k, "%s%s", k > 0 && out[k - 1] == '/' ? "" : "/", base);
   return 0;
+}
+
+static int resolve(const char *path, char *out, size_t cap) {
+  return resolve_at(path, out, cap, 0);
 }
 
 /* ---- lists -------------------------------------------------------------------------- */
