@@ -2,6 +2,7 @@
  * verdict, summary.md and figures (docs/results.md, "What you see"). */
 #define _POSIX_C_SOURCE 200809L
 #include "cli_doe.h"
+#include "pom_doe_estimate.h"
 #include "pom_version.h"
 #include "pom_cli.h"
 #include "pom_io.h"
@@ -18,6 +19,7 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
+#include <unistd.h>
 
 extern char **environ;
 
@@ -785,6 +787,208 @@ static pom_status write_summary(const pom_doe_study *study, const pom_doe_report
     }
   }
   return pom_io_commit(&w, err);
+}
+
+/* ---- paths ---------------------------------------------------------------------------------- */
+pom_cli_paths *pom_cli_doe_inputs(const char *command, const char *cfg_path,
+                                  const pom_doe_study *study) {
+  pom_cli_paths *p = pom_cli_paths_create(command);
+  if (!p) return NULL;
+  pom_cli_paths_config(p, cfg_path, "the config");
+  for (int c = 0; c < study->n_candidates; ++c) {
+    char what[POM_DOE_NAME_LEN + 32];
+    snprintf(what, sizeof what, "the config of candidate '%s'", study->candidates[c].name);
+    pom_cli_paths_config(p, study->candidates[c].source, what);
+  }
+  return p;
+}
+
+int pom_cli_doe_check_paths(const char *command, const char *cfg_path, const pom_doe_study *study,
+                            const pom_cli_doe_opts *o, int report) {
+  const char *output = o->run.output ? o->run.output : study->output;
+  const char *tabular = o->tabular ? o->tabular : study->tabular;
+  const char *tab_origin = o->tabular ? "--tabular" : "study.tabular";
+  if (tabular[0] && !output[0]) {
+    if (report)
+      fprintf(stderr,
+              "pomlab: tabular results '%s' need a results file (--out FILE.h5): the "
+              "maneuver rows are read back from it\n",
+              tabular);
+    return 2;
+  }
+  pom_cli_paths *p = pom_cli_doe_inputs(command, cfg_path, study);
+  char partial[POM_DOE_PATH_LEN + 16], summary[1200], cand[POM_DOE_PATH_LEN + 32], what[64];
+  snprintf(what, sizeof what, "the results file (%s)", o->run.output ? "--out" : "study.output");
+  pom_cli_paths_output(p, output, what);
+  if (output[0]) {
+    pom_doe_results_partial_path(partial, sizeof partial, output);
+    pom_cli_paths_output(p, partial, "the unfinished results file");
+    if (o->summary) {
+      pom_cli_doe_summary_dir(summary, sizeof summary - 12, output);
+      strcat(summary, "/summary.md");
+      pom_cli_paths_output(p, summary, "the summary");
+    }
+  }
+  if (tabular[0]) {
+    snprintf(what, sizeof what, "the tabular file (%s)", tab_origin);
+    pom_cli_paths_output(p, tabular, what);
+    pom_doe_tabular_candidates_path(cand, sizeof cand, tabular);
+    snprintf(what, sizeof what, "the candidates table (%s)", tab_origin);
+    pom_cli_paths_output(p, cand, what);
+  }
+  int rc = pom_cli_paths_check(p, report);
+  pom_cli_paths_destroy(p);
+  /* then the tabular file's name and folder (made now, as --out's is) */
+  return rc ? rc : pom_cli_tabular_check(command, tab_origin, tabular, report);
+}
+
+/* ---- cost ----------------------------------------------------------------------------------- */
+/* Runs at or above which the time is measured and announced when long. */
+#define ANNOUNCE_MIN_RUNS 64
+/* Announced: over 10 s, or over 1 GB of memory or of results file. */
+#define ANNOUNCE_SECONDS 10.0
+#define ANNOUNCE_BYTES   1e9
+
+int pom_cli_doe_check_memory(const char *command, const pom_doe_study *study,
+                             const pom_cli_doe_opts *o, int report) {
+  const char *output = o->run.output ? o->run.output : study->output;
+  pom_doe_cost cost;
+  pom_doe_cost_study(&cost, study, output[0] != '\0');
+  double limit = pom_doe_memory_limit();
+  if (!(cost.memory > limit)) return 0;
+  if (report) {
+    char need[32], have[32];
+    fprintf(stderr,
+            "pomlab %s: config: %s: %d candidate(s) x %ld maneuvers = %.4g runs need about %s of "
+            "memory (%.0f bytes per run), more than this machine's %s: lower "
+            "montecarlo.maneuvers%s or the number of candidates (the `candidates` list, the "
+            "levels of its sweep factors); nothing was run\n",
+            command, study->source, study->n_candidates, study->maneuvers.count, cost.runs,
+            pom_cli_bytes_text(need, sizeof need, cost.memory), cost.per_run,
+            pom_cli_bytes_text(have, sizeof have, limit),
+            strcmp(command, "montecarlo") == 0 ? " (--n)" : "");
+  }
+  return 2;
+}
+
+void pom_cli_doe_announce(const char *command, const pom_doe_study *study,
+                          const pom_cli_doe_opts *o) {
+  if (o->quiet) return;
+  const char *output = o->run.output ? o->run.output : study->output;
+  pom_doe_cost cost;
+  pom_doe_cost_study(&cost, study, output[0] != '\0');
+  double per_run = NAN;
+  pom_error err;
+  pom_error_clear(&err);
+  if (cost.runs >= ANNOUNCE_MIN_RUNS) pom_doe_calibrate(&per_run, study, &err);
+  long cores = sysconf(_SC_NPROCESSORS_ONLN);
+  int threads = o->run.threads > 0   ? o->run.threads
+                : study->threads > 0 ? study->threads
+                                     : (int)(cores > 0 ? cores : 1);
+  double seconds = per_run * cost.runs / threads;
+  if (!(seconds > ANNOUNCE_SECONDS) && !(cost.memory > ANNOUNCE_BYTES) &&
+      !(cost.file > ANNOUNCE_BYTES))
+    return;
+  char mem[32], file[32], how_long[48];
+  fprintf(stderr, "pomlab %s: %s: %d candidate(s) x %ld maneuvers = %.4g runs; memory about %s",
+          command, study->name, study->n_candidates, study->maneuvers.count, cost.runs,
+          pom_cli_bytes_text(mem, sizeof mem, cost.memory));
+  if (cost.file > 0)
+    fprintf(stderr, ", results file about %s", pom_cli_bytes_text(file, sizeof file, cost.file));
+  if (isfinite(seconds))
+    fprintf(stderr, "; %s on %d thread(s) (%.3g ms per run, measured on a few runs)",
+            pom_cli_duration_text(how_long, sizeof how_long, seconds), threads, per_run * 1e3);
+  fprintf(stderr, "\n");
+}
+
+/* The memory refusal and the announcement of pom_cli_doe_sens_check. */
+static int sens_cost(const pom_doe_study *study, const char *method, long rows, long per_sample,
+                     int dim, int threads, int quiet) {
+  pom_doe_cost cost;
+  pom_doe_cost_sensitivity(&cost, study, rows, per_sample, dim);
+  double limit = pom_doe_memory_limit();
+  char mem[32], have[32], file[32], how_long[48];
+  int sobol = strcmp(method, "sobol") == 0;
+  if (cost.memory > limit) {
+    fprintf(stderr,
+            "pomlab sensitivity: config: %s: %ld design rows (%s) x %ld maneuver(s) "
+            "(sensitivity.maneuvers) x %d candidate(s) = %.4g runs need about %s of memory (%.0f "
+            "bytes per run), more than this machine's %s: lower %s, sensitivity.maneuvers or the "
+            "candidates (--candidate runs one); nothing was run\n",
+            study->source, rows,
+            sobol ? "sensitivity.samples N x (inputs + 2)"
+                  : "sensitivity.trajectories r x (inputs + 1)",
+            per_sample, study->n_candidates, cost.runs,
+            pom_cli_bytes_text(mem, sizeof mem, cost.memory), cost.per_run,
+            pom_cli_bytes_text(have, sizeof have, limit),
+            sobol ? "sensitivity.samples" : "sensitivity.trajectories");
+    return 2;
+  }
+  if (quiet) return 0;
+  double per_run = NAN;
+  pom_error err;
+  pom_error_clear(&err);
+  if (cost.runs >= ANNOUNCE_MIN_RUNS) pom_doe_calibrate(&per_run, study, &err);
+  long cores = sysconf(_SC_NPROCESSORS_ONLN);
+  int n_threads = threads > 0          ? threads
+                  : study->threads > 0 ? study->threads
+                                       : (int)(cores > 0 ? cores : 1);
+  double seconds = per_run * cost.runs / n_threads;
+  if (!(seconds > ANNOUNCE_SECONDS) && !(cost.memory > ANNOUNCE_BYTES) &&
+      !(cost.file > ANNOUNCE_BYTES))
+    return 0;
+  fprintf(stderr,
+          "pomlab sensitivity: %s: %ld design rows x %ld maneuver(s) x %d candidate(s) = %.4g "
+          "runs; memory about %s, results file about %s",
+          study->name, rows, per_sample, study->n_candidates, cost.runs,
+          pom_cli_bytes_text(mem, sizeof mem, cost.memory),
+          pom_cli_bytes_text(file, sizeof file, cost.file));
+  if (isfinite(seconds))
+    fprintf(stderr, "; %s on %d thread(s) (%.3g ms per run, measured on a few runs)",
+            pom_cli_duration_text(how_long, sizeof how_long, seconds), n_threads, per_run * 1e3);
+  fprintf(stderr, "\n");
+  return 0;
+}
+
+int pom_cli_doe_sens_check(const char *cfg_path, const pom_doe_study *study,
+                           const pom_doe_sens *sens, int out_given, int plots, int threads,
+                           int quiet) {
+  char png[POM_DOE_PATH_LEN + 8]; /* the figure: the output without .h5, .png */
+  snprintf(png, sizeof png, "%s", sens->output);
+  char *dot = strrchr(png, '.');
+  if (dot && !strchr(dot, '/')) *dot = '\0';
+  strcat(png, ".png");
+  pom_cli_paths *p = pom_cli_doe_inputs("sensitivity", cfg_path, study);
+  pom_cli_paths_output(p, sens->output,
+                       out_given ? "the results file (--out)"
+                                 : "the results file (sensitivity.output)");
+  if (plots) pom_cli_paths_output(p, png, "the figure");
+  int rc = pom_cli_paths_check(p, 1);
+  pom_cli_paths_destroy(p);
+  if (rc) return rc;
+  int sobol = sens->method == POM_DOE_SENS_SOBOL;
+  long rows = sobol ? pom_sens_sobol_rows(&sens->sobol) : pom_sens_morris_rows(&sens->morris);
+  return sens_cost(study, sobol ? "sobol" : "morris", rows, sens->per_sample, study->uncertain.n,
+                   threads, quiet);
+}
+
+int pom_cli_doe_sens_failures(const pom_doe_study *study, const pom_doe_sens_result *r,
+                              const char *output) {
+  int usable = 0;
+  for (int c = 0; c < r->n_candidates; ++c) {
+    if (r->status[c] == POM_OK) {
+      ++usable;
+      continue;
+    }
+    fprintf(stderr, "pomlab sensitivity: candidate '%s': no indices: %s\n",
+            study->candidates[c].name, r->reason[c]);
+  }
+  if (usable == 0)
+    fprintf(stderr,
+            "pomlab sensitivity: no candidate has indices, so nothing was written to %s; `pomlab "
+            "study` of the same file gives each run's status and reason\n",
+            output);
+  return usable;
 }
 
 /* ---- run ------------------------------------------------------------------------------------ */

@@ -4,7 +4,9 @@
 #ifndef POM_CLI_DOE_H
 #define POM_CLI_DOE_H
 
+#include "cli_outputs.h"
 #include "pom_doe.h"
+#include "pom_doe_sensitivity.h"
 
 #include <stdio.h>
 
@@ -24,6 +26,49 @@ typedef struct {
 /* Runs the study and reports; returns the exit code (0 ok, 1 failure,
  * 130 interrupted). Only the root rank prints. */
 int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o);
+
+/* The study's inputs as a list for `command`: the config at cfg_path, every
+ * candidate's config and the files they include. NULL when out of memory;
+ * the caller adds the outputs, checks (pom_cli_paths_check) and destroys. */
+pom_cli_paths *pom_cli_doe_inputs(const char *command, const char *cfg_path,
+                                  const pom_doe_study *study);
+
+/* Checks a study's or Monte-Carlo run's output paths before any work: the
+ * tabular file's name rule and folder (pom_cli_tabular_check), and that no
+ * output (results file, its .partial, summary.md, the two tables) is an
+ * input or another output. Returns 0, else the exit code; prints only when
+ * `report` (the root rank). */
+int pom_cli_doe_check_paths(const char *command, const char *cfg_path, const pom_doe_study *study,
+                            const pom_cli_doe_opts *o, int report);
+
+/* Refuses a run whose tables cannot fit in this machine's memory: exit 2
+ * (a config error) with the size needed, the number of runs and the keys
+ * that set them, before any work; 0 when it fits. Prints only when
+ * `report`. */
+int pom_cli_doe_check_memory(const char *command, const pom_doe_study *study,
+                             const pom_cli_doe_opts *o, int report);
+
+/* Announces on stderr, before the work, a run expected to last over 10 s or
+ * to need over 1 GB of memory or of file: its runs, memory, file size and
+ * time, the time per run measured on a few runs first (pom_doe_calibrate).
+ * Nothing when quiet; a failed calibration only leaves the time out. */
+void pom_cli_doe_announce(const char *command, const pom_doe_study *study,
+                          const pom_cli_doe_opts *o);
+
+/* Before a sensitivity analysis of study (sens loaded, its output set;
+ * out_given: the output came from --out; plots: the figure will be made):
+ * refuses an output that is the same file as an input or the other output
+ * (exit 2), a run whose tables cannot fit in memory (exit 2, with the keys
+ * that size it), and announces a long or large one unless quiet. Returns 0
+ * when it may run, else the exit code (the message printed). */
+int pom_cli_doe_sens_check(const char *cfg_path, const pom_doe_study *study,
+                           const pom_doe_sens *sens, int out_given, int plots, int threads,
+                           int quiet);
+
+/* Prints on stderr why each candidate of r has no indices; returns how many
+ * have them (0: nothing is to be written). */
+int pom_cli_doe_sens_failures(const pom_doe_study *study, const pom_doe_sens_result *r,
+                              const char *output);
 
 /* Prints the tables, comparisons and verdict as Markdown. */
 void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_doe_report *rep);

@@ -102,7 +102,12 @@ int pom_cmd_montecarlo(int argc, char **argv) {
   o.tabular = tabular;
   o.summary = out[0] != '\0';
   o.plots = out[0] != '\0';
-  int code = pom_cli_doe_execute(&study, &o);
+  int code = pom_cli_doe_check_paths("montecarlo", cfg_path, &study, &o, 1);
+  if (code == 0) code = pom_cli_doe_check_memory("montecarlo", &study, &o, 1);
+  if (code == 0) {
+    pom_cli_doe_announce("montecarlo", &study, &o);
+    code = pom_cli_doe_execute(&study, &o);
+  }
   pom_doe_study_clear(&study);
   return code;
 }

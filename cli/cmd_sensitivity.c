@@ -225,6 +225,14 @@ int pom_cmd_sensitivity(int argc, char **argv) {
     return loaded ? pom_cli_exit_code(st) : 2;
   }
   if (out_path) snprintf(sens.output, sizeof sens.output, "%s", out_path);
+  /* outputs that would overwrite an input refused, a run too large for
+     memory refused, a long one announced: before any work */
+  int pre =
+      pom_cli_doe_sens_check(cfg_path, &study, &sens, out_path != NULL, plots, threads, quiet);
+  if (pre) {
+    pom_doe_study_clear(&study);
+    return pre;
+  }
   pom_progress bar;
   long total = (sens.method == POM_DOE_SENS_SOBOL ? pom_sens_sobol_rows(&sens.sobol)
                                                   : pom_sens_morris_rows(&sens.morris)) *
@@ -243,6 +251,13 @@ int pom_cmd_sensitivity(int argc, char **argv) {
   st = pom_doe_sens_run(&r, &study, &sens, &ro, &err);
   pom_progress_finish(&bar, r ? total : 0);
   int code = 0;
+  /* candidates without indices said on stderr; with none, nothing on stdout
+   * and no file of NaN (the runs stay in the .partial) */
+  if (r && st == POM_OK && pom_cli_doe_sens_failures(&study, r, sens.output) == 0) {
+    pom_doe_sens_result_destroy(r);
+    pom_doe_study_clear(&study);
+    return 1;
+  }
   /* the indices, even when the file could not be written */
   if (r) {
     if (json)

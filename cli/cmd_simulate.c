@@ -2,11 +2,13 @@
  * the configured mechanism; metrics on stdout, traces to HDF5 or CSV on
  * request (docs/dynamics.md section 10). */
 #include "cli_kin.h"
+#include "cli_outputs.h"
 #include "pom_version.h"
 #include "pom_cli.h"
 #include "pom_io.h"
 #include "pom_doe.h"
 #include "cli_dyn.h"
+#include "pom_doe_estimate.h"
 #include "pom_dyn_ctrl.h"
 #include "pom_dyn_metrics_schema.h"
 #include "pom_dynamics.h"
@@ -288,6 +290,46 @@ done:
   return st;
 }
 
+/* ---- cost of the traces ---------------------------------------------------- */
+/* Doubles kept per trace sample: the trace (t, 6 x 3 actuator columns,
+ * quaternion, deflection) and the maneuver's own q record. */
+#define TRACE_DOUBLES_PER_SAMPLE 27.0
+/* Bytes per sample in a CSV row (27 columns of up to 16 characters) and in
+ * HDF5 (24 doubles). */
+#define TRACE_CSV_BYTES 430.0
+#define TRACE_H5_BYTES  192.0
+/* Traces larger than this are announced before the simulation. */
+#define TRACE_ANNOUNCE_BYTES 1e8
+
+/* Refuses traces that cannot fit in memory (returns 2 after the message:
+ * the size, the samples and the keys that set them), announces large ones
+ * (samples, memory, file size); 0 when they may be made. */
+static int check_trace_cost(const char *cfg_path, const pom_dyn_params *p, const char *out) {
+  double samples = floor(p->maneuver.horizon / p->maneuver.output_dt) + 2.0;
+  double memory = samples * TRACE_DOUBLES_PER_SAMPLE * sizeof(double);
+  double file = samples * (ends_with(out, ".csv") ? TRACE_CSV_BYTES : TRACE_H5_BYTES);
+  double limit = pom_doe_memory_limit();
+  char mem[32], have[32], size[32];
+  if (memory > limit) {
+    fprintf(stderr,
+            "pomlab simulate: config: %s: traces of %.4g samples (maneuver.horizon_ms = %.10g / "
+            "maneuver.output_dt_ms = %.10g) need about %s of memory, more than this machine's %s: "
+            "raise maneuver.output_dt_ms or shorten the horizon; nothing was run\n",
+            cfg_path, samples, p->maneuver.horizon * 1e3, p->maneuver.output_dt * 1e3,
+            pom_cli_bytes_text(mem, sizeof mem, memory),
+            pom_cli_bytes_text(have, sizeof have, limit));
+    return 2;
+  }
+  if (file > TRACE_ANNOUNCE_BYTES || memory > TRACE_ANNOUNCE_BYTES)
+    fprintf(stderr,
+            "pomlab simulate: traces of %.4g samples (maneuver.horizon_ms = %.10g / "
+            "maneuver.output_dt_ms = %.10g): memory about %s, %s about %s\n",
+            samples, p->maneuver.horizon * 1e3, p->maneuver.output_dt * 1e3,
+            pom_cli_bytes_text(mem, sizeof mem, memory), out,
+            pom_cli_bytes_text(size, sizeof size, file));
+  return 0;
+}
+
 /* ---- command ------------------------------------------------------------- */
 /* Options that set a config value, checked by the config's own ranges. */
 typedef struct {
@@ -371,6 +413,12 @@ int pom_cmd_simulate(int argc, char **argv) {
   pom_cfg *cfg = pom_cli_load_config(cfg_path);
   if (!cfg) rc = 2; /* a config that cannot be read is a config error */
   if (!cfg || !mech) goto done;
+  /* the traces must not overwrite the config or a file it includes */
+  int path_rc = pom_cli_check_output("simulate", cfg_path, out_path, "the traces (--out)");
+  if (path_rc) {
+    rc = path_rc;
+    goto done;
+  }
   pom_status st = POM_OK;
   /* the controller's type and form through the config, checked like the file's values */
   if (controller) st = pom_cfg_set_string(cfg, "controller.type", controller, "--controller", &err);
@@ -415,6 +463,10 @@ int pom_cmd_simulate(int argc, char **argv) {
     }
   }
 
+  if (out_path && check_trace_cost(cfg_path, &par, out_path) != 0) {
+    rc = 2;
+    goto done;
+  }
   st = pom_dyn_model_create(&model, mech, &arch, &par, &err);
   if (st == POM_OK) st = pom_dyn_data_create(&data, model, &err);
   if (st == POM_OK && out_path) st = pom_dyn_trace_create(&trace, model, &err);

@@ -28,7 +28,8 @@ static void study_usage(FILE *out) {
                "  --out FILE       results file (default: study.output, else results/<name>.h5)\n"
                "  --stop-after N   stop after N more maneuvers (to test --resume)\n"
                "  --tabular FILE   also write FILE (.csv, one row per candidate x maneuver) and\n"
-               "                   FILE_candidates.csv (one row per candidate); study.tabular\n"
+               "                   FILE_candidates.csv (one row per candidate); study.tabular;\n"
+               "                   FILE ends in .csv, not in _candidates.csv\n"
                "  --json           JSON report on stdout instead of tables\n"
                "  --no-plots       skip the figures\n"
                "  --no-summary     skip summary.md\n"
@@ -38,7 +39,8 @@ static void study_usage(FILE *out) {
                "Config keys: docs/results.md. Times in ms and energies in J in the tables.\n"
                "Exit status: 0 done or stopped by --stop-after (failed maneuvers are counted\n"
                "in the tables, not an error); 130 stopped by Ctrl-C; 1 runtime failure (e.g.\n"
-               "the results file cannot be written); 2 usage or config error.\n");
+               "the results file cannot be written); 2 usage or config error (also an output\n"
+               "that is the same file as an input or as another output).\n");
 }
 
 /* Parses a non-negative integer option value. */
@@ -118,6 +120,15 @@ static int study_main(int argc, char **argv, int rank, int size) {
     /* a study file that cannot be read is a config error, as for every command */
     return loaded ? pom_cli_exit_code(st) : 2;
   }
+  /* no output may overwrite an input or another output: refused before any
+     work, the pipeline's included (docs/results.md, "Output paths") */
+  int path_rc = pom_cli_doe_check_paths("study", cfg_path, &study, &o, rank == 0);
+  /* and a study too large for memory is refused with the keys that size it */
+  if (!path_rc) path_rc = pom_cli_doe_check_memory("study", &study, &o, rank == 0);
+  if (path_rc) {
+    pom_doe_study_clear(&study);
+    return path_rc;
+  }
   /* the pipeline's files go with the summary: results/x.h5 -> results/x/ */
   const char *output = o.run.output ? o.run.output : study.output;
   char prefix[1200] = "results/pipeline_";
@@ -141,6 +152,8 @@ static int study_main(int argc, char **argv, int rank, int size) {
     return pom_cli_exit_code(st);
   }
   o.report_extra = pom_cli_pipeline_report;
+  /* runs, memory, file size and time, said before a long run starts */
+  if (rank == 0) pom_cli_doe_announce("study", &study, &o);
   int code = pom_cli_doe_execute(&study, &o);
   pom_doe_study_clear(&study);
   return code;

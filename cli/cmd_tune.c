@@ -2,6 +2,7 @@
  * every architecture (docs/optimize.md section 9). */
 #include "pom_dyn_ctrl.h"
 #include "cli_kin.h"
+#include "cli_outputs.h"
 #include "pom_cli.h"
 #include "pom_pipeline.h"
 #include "pom_progress.h"
@@ -125,6 +126,16 @@ int pom_cmd_tune(int argc, char **argv) {
         pom_cli_refuse_shared_output("tune", cfg_paths[d], cfg_paths[c], paths[c]);
         code = 2;
       }
+  }
+  /* no gains file may overwrite a config or a file it includes */
+  if (code == 0) {
+    pom_cli_paths *pp = pom_cli_paths_create("tune");
+    for (int c = 0; c < ncfg; ++c)
+      pom_cli_paths_config(pp, cfg_paths[c], "the config");
+    for (int c = 0; c < ncfg; ++c)
+      pom_cli_paths_output(pp, paths[c], "the gains file (--out PREFIX + name)");
+    code = pom_cli_paths_check(pp, 1);
+    pom_cli_paths_destroy(pp);
   }
   for (int c = 0; c < ncfg && code == 0; ++c) {
     pom_progress bar;

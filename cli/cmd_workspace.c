@@ -1,6 +1,7 @@
 /* cmd_workspace.c - pomlab workspace: regular dexterous workspace, global
  * conditioning index and an optional dexterity map (CSV). */
 #include "cli_kin.h"
+#include "cli_outputs.h"
 #include "pom_cli.h"
 #include "pom_io.h"
 #include "pom_math.h"
@@ -78,21 +79,6 @@ static double measured_rate(const pom_kin_arch *arch) {
   return dt > 0.0 ? 512.0 / dt : NAN;
 }
 
-/* "about 3.2 min" for a number of seconds. */
-static const char *duration_text(char *buf, size_t cap, double s) {
-  if (!isfinite(s))
-    snprintf(buf, cap, "unknown time");
-  else if (s < 120.0)
-    snprintf(buf, cap, "about %.2g s", s);
-  else if (s < 7200.0)
-    snprintf(buf, cap, "about %.2g min", s / 60.0);
-  else if (s < 2.0 * 86400.0)
-    snprintf(buf, cap, "about %.2g h", s / 3600.0);
-  else
-    snprintf(buf, cap, "about %.2g days", s / 86400.0);
-  return buf;
-}
-
 /* Refuses a grid of `poses` above the budget: exit status 2 with the config
  * file, the keys and their values; 0 when within it. */
 static int check_budget(const pom_cfg *cfg, const pom_kin_ws_opts *o, double poses, double rate,
@@ -107,7 +93,7 @@ static int check_budget(const pom_cfg *cfg, const pom_kin_ws_opts *o, double pos
                 "budget workspace.max_poses = %.3g; coarsen the step, shrink the region or raise "
                 "the budget",
                 width_key, width / POM_DEG, poses,
-                duration_text(how_long, sizeof how_long, poses / rate), o->max_poses);
+                pom_cli_duration_text(how_long, sizeof how_long, poses / rate), o->max_poses);
   pom_cli_report("workspace", &err);
   return 2;
 }
@@ -117,7 +103,7 @@ static void announce(int quiet, const char *what, double poses, double rate) {
   char how_long[48];
   if (quiet || !(poses / rate > 10.0)) return;
   fprintf(stderr, "pomlab workspace: %s: up to %.3g poses, %s at %.3g poses/s\n", what, poses,
-          duration_text(how_long, sizeof how_long, poses / rate), rate);
+          pom_cli_duration_text(how_long, sizeof how_long, poses / rate), rate);
 }
 
 /* The kinematics' progress callback drives a pom_progress bar. */
@@ -207,6 +193,12 @@ int pom_cmd_workspace(int argc, char **argv) {
   pom_kin_ws_opts o;
   int rc = pom_cli_kin_load(path, &cfg, &arch, &o, ws_scopes);
   if (rc) return rc;
+  /* the map must not overwrite the config or a file it includes */
+  rc = pom_cli_check_output("workspace", path, map, "the map (--map)");
+  if (rc) {
+    pom_cfg_destroy(cfg);
+    return rc;
+  }
   /* The grids whose size is known before the search: refused above the
    * budget before any work (the GCI over the RDW is never larger than the
    * search that found it). */

@@ -38,6 +38,12 @@ void pom_cli_refuse_shared_output(const char *command, const char *cfg_a, const 
 /* Every top-level config name any command understands (NULL-terminated). */
 extern const char *const pom_cli_known_top[];
 
+/* "about 3.2 min" for a number of seconds (NaN: "unknown time"). */
+const char *pom_cli_duration_text(char *buf, size_t cap, double s);
+
+/* "2.4 GB" for a number of bytes (powers of 1000). */
+const char *pom_cli_bytes_text(char *buf, size_t cap, double bytes);
+
 /* Loads a config file, reporting failures; returns NULL on error. */
 pom_cfg *pom_cli_load_config(const char *path);
 

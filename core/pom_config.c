@@ -9,11 +9,14 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #define MAX_INCLUDE_DEPTH 10 /* libconfig 1.5's own limit */
 #define MAX_RENAMED       32 /* absolute @includes of one main file */
 #define MAX_OVERRIDES     16 /* values set from the command line */
+#define MAX_FILES         64 /* files read for one config (main + @includes), listed */
 
 struct pom_cfg {
   config_t lc; /* parsed tree */
@@ -29,6 +32,9 @@ struct pom_cfg {
   int n_overrides;
   const config_setting_t *override_setting[MAX_OVERRIDES];
   char override_origin[MAX_OVERRIDES][32];
+  /* the main file and every @include read, as opened (owned) */
+  int n_files;
+  char *files[MAX_FILES];
 };
 
 /* ---- helpers ---------------------------------------------------------------- */
@@ -289,23 +295,73 @@ static char *rewrite_absolute_includes(pom_cfg *cfg, const char *text, const cha
   return out;
 }
 
-/* Reads a whole file (any size, any kind but a folder) into *text, malloc'ed
- * and NUL-terminated. `shown` names it in messages. */
+/* What a path that is not a regular file is, for messages. */
+static const char *file_kind(mode_t mode) {
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a regular file";
+}
+
+/* Opens a config file for reading: only a regular file of at most
+ * POM_CFG_MAX_BYTES. The open does not wait for a writer (a FIFO would block
+ * it), and *size gets the file's size. `shown` names it in messages. */
+static pom_status open_config_file(const char *path, const char *shown, int *fd_out, off_t *size,
+                                   pom_error *err) {
+  *fd_out = -1;
+  int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) POM_FAIL(err, POM_ERR_IO, "%s: cannot open config file: %s", shown, strerror(errno));
+  struct stat sb;
+  if (fstat(fd, &sb) != 0) {
+    int e = errno;
+    close(fd);
+    POM_FAIL(err, POM_ERR_IO, "%s: cannot open config file: %s", shown, strerror(e));
+  }
+  if (S_ISDIR(sb.st_mode)) {
+    close(fd);
+    POM_FAIL(err, POM_ERR_IO, "%s: is a directory, not a config file", shown);
+  }
+  if (!S_ISREG(sb.st_mode)) {
+    close(fd);
+    POM_FAIL(err, POM_ERR_CONFIG, "%s: is %s, not a config file: a config must be a regular file",
+             shown, file_kind(sb.st_mode));
+  }
+  if (sb.st_size > POM_CFG_MAX_BYTES) {
+    close(fd);
+    POM_FAIL(err, POM_ERR_CONFIG,
+             "%s: %lld bytes, larger than a config file may be (at most %d bytes, %d MiB)", shown,
+             (long long)sb.st_size, POM_CFG_MAX_BYTES, POM_CFG_MAX_BYTES >> 20);
+  }
+  /* reads block again, as for any regular file */
+  int flags = fcntl(fd, F_GETFL);
+  if (flags >= 0) (void)fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+  *fd_out = fd;
+  *size = sb.st_size;
+  return POM_OK;
+}
+
+/* Reads a whole config file (a regular file of at most POM_CFG_MAX_BYTES)
+ * into *text, malloc'ed and NUL-terminated. `shown` names it in messages. */
 static pom_status read_whole_file(const char *path, const char *shown, char **text,
                                   pom_error *err) {
   *text = NULL;
-  FILE *fp = fopen(path, "rb");
-  if (!fp) POM_FAIL(err, POM_ERR_IO, "%s: cannot open config file: %s", shown, strerror(errno));
-  struct stat sb;
-  if (fstat(fileno(fp), &sb) != 0 || S_ISDIR(sb.st_mode)) {
-    fclose(fp);
-    POM_FAIL(err, POM_ERR_IO, "%s: is a directory, not a config file", shown);
+  int fd = -1;
+  off_t size = 0;
+  POM_TRY(open_config_file(path, shown, &fd, &size, err));
+  FILE *fp = fdopen(fd, "rb");
+  if (!fp) {
+    int e = errno;
+    close(fd);
+    POM_FAIL(err, POM_ERR_IO, "%s: cannot open config file: %s", shown, strerror(e));
   }
-  size_t cap = 4096, n = 0;
+  /* the size from fstat, plus room to see a file that grew past the bound */
+  size_t cap = (size_t)size + 4096, n = 0;
   char *buf = malloc(cap);
   while (buf) {
     n += fread(buf + n, 1, cap - 1 - n, fp);
-    if (n < cap - 1) break;
+    if (n < cap - 1 || n > (size_t)POM_CFG_MAX_BYTES) break;
     char *grown = realloc(buf, 2 * cap);
     if (!grown) {
       free(buf);
@@ -322,9 +378,59 @@ static pom_status read_whole_file(const char *path, const char *shown, char **te
     free(buf);
     POM_FAIL(err, POM_ERR_IO, "%s: cannot read", shown);
   }
+  if (n > (size_t)POM_CFG_MAX_BYTES) {
+    free(buf);
+    POM_FAIL(err, POM_ERR_CONFIG,
+             "%s: larger than a config file may be (at most %d bytes, %d MiB; it grew while "
+             "read)",
+             shown, POM_CFG_MAX_BYTES, POM_CFG_MAX_BYTES >> 20);
+  }
   buf[n] = '\0';
   *text = buf;
   return POM_OK;
+}
+
+/* Adds a file read for this config to its list (pom_cfg_file). */
+static pom_status add_file(pom_cfg *cfg, const char *path, pom_error *err) {
+  if (cfg->n_files == MAX_FILES) return POM_OK; /* listed up to MAX_FILES */
+  cfg->files[cfg->n_files] = dup_string(path);
+  if (!cfg->files[cfg->n_files]) POM_FAIL(err, POM_ERR_NOMEM, "%s: out of memory", path);
+  ++cfg->n_files;
+  return POM_OK;
+}
+
+/* ---- nesting ------------------------------------------------------------------ */
+/* The line where groups, lists and arrays first nest deeper than
+ * POM_CFG_MAX_NESTING in text (strings and comments skipped), 0 when they
+ * never do. libconfig 1.5's parser gives up near 9000 levels with "memory
+ * exhausted", which names neither the line nor the rule. */
+static int too_deep_line(const char *text) {
+  int line = 1, depth = 0;
+  for (const char *p = text; *p; ++p) {
+    char c = *p;
+    if (c == '\n') {
+      ++line;
+    } else if (c == '"') {
+      for (++p; *p && *p != '"'; ++p) {
+        if (*p == '\\' && p[1]) ++p;
+        if (*p == '\n') ++line;
+      }
+      if (!*p) break;
+    } else if (c == '#' || (c == '/' && p[1] == '/')) {
+      while (p[1] && p[1] != '\n')
+        ++p;
+    } else if (c == '/' && p[1] == '*') {
+      for (p += 2; *p && !(*p == '*' && p[1] == '/'); ++p)
+        if (*p == '\n') ++line;
+      if (!*p) break;
+      ++p;
+    } else if (c == '{' || c == '(' || c == '[') {
+      if (++depth > POM_CFG_MAX_NESTING) return line;
+    } else if (c == '}' || c == ')' || c == ']') {
+      if (depth > 0) --depth;
+    }
+  }
+  return 0;
 }
 
 /* ---- integers that libconfig 1.5 would not keep ------------------------------ */
@@ -487,6 +593,12 @@ static pom_status report_int_problem(const pom_cfg *cfg, const int_problem *prob
  * user wrote it, and every included text is scanned for integers. */
 static pom_status scan_file(pom_cfg *cfg, const char *lc_file, const char *shown, const char *text,
                             int depth, int_problem *prob, pom_error *err) {
+  int deep = too_deep_line(text);
+  if (deep)
+    POM_FAIL(err, POM_ERR_CONFIG,
+             "%s:%d: groups, lists and arrays nested deeper than %d levels (a config needs a "
+             "few)",
+             shown, deep, POM_CFG_MAX_NESTING);
   if (!prob->found) {
     scan_integers(text, prob);
     if (prob->found) {
@@ -534,6 +646,11 @@ static pom_status scan_file(pom_cfg *cfg, const char *lc_file, const char *shown
       pom_error_prefix(err, "%s:%d: @include \"%s\"", shown, line, name);
       return st;
     }
+    st = add_file(cfg, resolved, err);
+    if (st != POM_OK) {
+      free(inc);
+      return st;
+    }
     /* the name libconfig will report for the included settings */
     const char *lc_name = NULL;
     for (int k = 0; k < cfg->n_renamed && !lc_name; ++k)
@@ -565,6 +682,7 @@ pom_status pom_cfg_load(pom_cfg **out, const char *path, pom_error *err) {
   pom_cfg *cfg = cfg_alloc(path);
   if (!cfg) POM_FAIL(err, POM_ERR_NOMEM, "loading config '%s'", path);
   POM_TRY_GOTO(read_whole_file(path, path, &cfg->text, err), fail);
+  POM_TRY_GOTO(add_file(cfg, path, err), fail);
   cfg->dir = dup_string(path);
   if (!cfg->dir) POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "%s: out of memory", path);
   char *slash = strrchr(cfg->dir, '/');
@@ -627,6 +745,8 @@ void pom_cfg_destroy(pom_cfg *cfg) {
     free(cfg->renamed_from[k]);
     free(cfg->renamed_to[k]);
   }
+  for (int k = 0; k < cfg->n_files; ++k)
+    free(cfg->files[k]);
   free(cfg);
 }
 
@@ -637,8 +757,21 @@ const char *pom_cfg_text(const pom_cfg *cfg) {
   return cfg->text ? cfg->text : "";
 }
 
+int pom_cfg_n_files(const pom_cfg *cfg) {
+  return cfg->n_files;
+}
+
+const char *pom_cfg_file(const pom_cfg *cfg, int k) {
+  return k >= 0 && k < cfg->n_files ? cfg->files[k] : NULL;
+}
+
 int pom_cfg_has(const pom_cfg *cfg, const char *key) {
   return lookup(cfg, key) != NULL;
+}
+
+int pom_cfg_is_list(const pom_cfg *cfg, const char *key) {
+  config_setting_t *s = lookup(cfg, key);
+  return s && config_setting_is_list(s);
 }
 
 int pom_cfg_length(const pom_cfg *cfg, const char *key) {

@@ -16,9 +16,19 @@
 
 typedef struct pom_cfg pom_cfg;
 
+/* Largest config file, main or included (bytes): the shipped ones are a few
+ * KB; a larger one is refused before it is read (docs/config.md). */
+#define POM_CFG_MAX_BYTES (16 << 20)
+
+/* Deepest nesting of groups, lists and arrays in one file: the shipped
+ * configs need four; deeper is refused before libconfig parses it. */
+#define POM_CFG_MAX_NESTING 64
+
 /* Loads and parses a config file (with @include resolved relative to the
- * file's folder). On failure *out is NULL and err names file, line and the
- * parse error. The caller owns *out. */
+ * file's folder). The file and every include must be regular files of at
+ * most POM_CFG_MAX_BYTES (a FIFO, a device, a folder are refused, naming the
+ * file). On failure *out is NULL and err names file, line and the parse
+ * error. The caller owns *out. */
 pom_status pom_cfg_load(pom_cfg **out, const char *path, pom_error *err);
 
 /* Same from a string; name is used in messages (e.g. "<test>"). */
@@ -33,8 +43,17 @@ const char *pom_cfg_path(const pom_cfg *cfg);
 /* The raw text of the main file, as read (for provenance in results files). */
 const char *pom_cfg_text(const pom_cfg *cfg);
 
+/* The files read for a config loaded with pom_cfg_load: k = 0 the main
+ * file, then every @include as opened (at most 64 listed); NULL past the
+ * end. For outputs that must not overwrite an input. */
+int pom_cfg_n_files(const pom_cfg *cfg);
+const char *pom_cfg_file(const pom_cfg *cfg, int k);
+
 /* 1 when the key exists (does not mark it used). */
 int pom_cfg_has(const pom_cfg *cfg, const char *key);
+
+/* 1 when the setting at key is a list ( ... ), 0 otherwise or when absent. */
+int pom_cfg_is_list(const pom_cfg *cfg, const char *key);
 
 /* Number of elements of a list/array/group at key, 0 when absent. */
 int pom_cfg_length(const pom_cfg *cfg, const char *key);

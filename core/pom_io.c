@@ -2,11 +2,48 @@
 #define _GNU_SOURCE /* copy_file_range (Linux, glibc 2.27) */
 #include "pom_io.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <signal.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
+
+/* Removes PATH.tmp.<pid> files that a process of this machine left when it
+ * was killed before its rename: <pid> is not this process and no longer
+ * runs (kill(pid, 0) fails with ESRCH). A temporary file of a running
+ * process, or one whose pid has been reused, is left alone. */
+static void remove_stale_temps(const char *path) {
+  char dir[1100];
+  snprintf(dir, sizeof dir, "%s", path);
+  char *slash = strrchr(dir, '/');
+  const char *base = slash ? slash + 1 : path;
+  if (slash == dir)
+    dir[1] = '\0';
+  else if (slash)
+    *slash = '\0';
+  else
+    snprintf(dir, sizeof dir, ".");
+  char prefix[1100];
+  int n_prefix = snprintf(prefix, sizeof prefix, "%s.tmp.", base);
+  if (n_prefix <= 0 || (size_t)n_prefix >= sizeof prefix) return;
+  DIR *d = opendir(dir);
+  if (!d) return;
+  for (struct dirent *e = readdir(d); e; e = readdir(d)) {
+    if (strncmp(e->d_name, prefix, (size_t)n_prefix) != 0) continue;
+    const char *digits = e->d_name + n_prefix;
+    char *end = NULL;
+    long pid = strtol(digits, &end, 10);
+    if (end == digits || *end || pid <= 0 || pid == (long)getpid()) continue;
+    if (kill((pid_t)pid, 0) == 0 || errno != ESRCH) continue;
+    char stale[2300];
+    snprintf(stale, sizeof stale, "%s/%s", dir, e->d_name);
+    unlink(stale);
+  }
+  closedir(d);
+}
 
 pom_status pom_io_create(pom_io_file *w, const char *path, pom_error *err) {
   memset(w, 0, sizeof *w);
@@ -18,7 +55,10 @@ pom_status pom_io_create(pom_io_file *w, const char *path, pom_error *err) {
   int special = stat(path, &sb) == 0 && !S_ISREG(sb.st_mode);
   if (special && S_ISDIR(sb.st_mode))
     POM_FAIL(err, POM_ERR_IO, "cannot write '%s': it is a directory", path);
-  if (!special) snprintf(w->tmp, sizeof w->tmp, "%s.tmp.%ld", path, (long)getpid());
+  if (!special) {
+    remove_stale_temps(path);
+    snprintf(w->tmp, sizeof w->tmp, "%s.tmp.%ld", path, (long)getpid());
+  }
   const char *open_path = special ? path : w->tmp;
   w->f = fopen(open_path, "w");
   if (!w->f) {

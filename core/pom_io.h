@@ -7,7 +7,8 @@
  * commit). pom_io_commit_all does the same for files that belong together:
  * every one is complete before any is renamed. A PATH that exists and is not
  * a regular file (/dev/stdout, a pipe, /dev/full) is written directly, with
- * the same checks. */
+ * the same checks. A run killed before its rename leaves PATH.tmp.<pid>; the
+ * next pom_io_create of PATH removes those whose process no longer runs. */
 #ifndef POM_IO_H
 #define POM_IO_H
 

@@ -25,10 +25,16 @@ pom_status pom_doe_tree_read_file(config_t *tree, const char *path, pom_error *e
     snprintf(dir, sizeof dir, ".");
   config_set_include_dir(tree, dir);
   config_set_auto_convert(tree, 0);
-  FILE *fp = fopen(path, "rb");
-  /* the path comes from a config (a candidate's `config`): a config error */
-  if (!fp) POM_FAIL(err, POM_ERR_CONFIG, "%s: cannot open config file", path);
-  fclose(fp);
+  /* the file and its @includes checked as every config is (regular files of
+   * bounded size: libconfig would wait on a FIFO or read a device forever);
+   * the path comes from a config (a candidate's `config`): a config error */
+  pom_cfg *check = NULL;
+  pom_status st = pom_cfg_load(&check, path, err);
+  pom_cfg_destroy(check);
+  if (st != POM_OK) {
+    if (err) err->status = POM_ERR_CONFIG;
+    return POM_ERR_CONFIG;
+  }
   if (!config_read_file(tree, path)) return tree_error(tree, path, err);
   return POM_OK;
 }

@@ -182,7 +182,11 @@ pom_status pom_doe_sens_run(pom_doe_sens_result **out, pom_doe_study *study, con
   study->uncertain = saved_unc;
   /* the indices stand whatever happens to the file: the caller shows them */
   *out = r;
-  if (output[0]) {
+  int usable = 0;
+  for (int c = 0; c < nc; ++c)
+    usable += r->status[c] == POM_OK;
+  /* no candidate with indices: no file of NaN (the caller says why) */
+  if (output[0] && usable > 0) {
     st = pom_doe_sens_write(output, study, s, r, err);
     if (st == POM_OK) st = pom_doe_run_rows_done(run, err);
     if (st != POM_OK)

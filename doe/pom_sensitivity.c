@@ -250,6 +250,14 @@ pom_status pom_sens_morris_effects(pom_sens_morris_result *r, const double *u, c
       ++r->n_effects[i];
     }
   }
+  long usable = 0;
+  for (int i = 0; i < d; ++i)
+    usable += r->n_effects[i];
+  if (usable == 0)
+    POM_FAIL(err, POM_ERR_ARG,
+             "morris: 0 usable elementary effects (every step of the %ld trajectories touches a "
+             "failed run)",
+             o->trajectories);
   for (int i = 0; i < d; ++i) {
     double n = (double)r->n_effects[i];
     r->mu[i] = n > 0 ? s[i] / n : NAN;

@@ -84,7 +84,11 @@ double pom_dist_u_from_bits(uint64_t bits) {
   return ((double)(bits >> 12) + 0.5) * 0x1.0p-52;
 }
 
-pom_status pom_dist_make(pom_dist *d, const char *name, const double p[4], pom_error *err) {
+/* pom_dist_make, and in *bad the index in p[] of the parameter a failure is
+ * about (the one whose key a config message names). */
+static pom_status dist_make(pom_dist *d, const char *name, const double p[4], int *bad,
+                            pom_error *err) {
+  *bad = 0;
   memset(d, 0, sizeof *d);
   for (int k = 0; pom_dist_kinds[k]; ++k)
     if (strcmp(pom_dist_kinds[k]->name, name) == 0) d->ops = pom_dist_kinds[k];
@@ -92,32 +96,41 @@ pom_status pom_dist_make(pom_dist *d, const char *name, const double p[4], pom_e
   for (int k = 0; k < 4; ++k)
     d->p[k] = p[k];
   if (d->ops == &uniform_ops) {
+    *bad = isfinite(p[0]) ? 1 : 0;
     if (!(p[0] < p[1]) || !isfinite(p[0]) || !isfinite(p[1]))
       POM_FAIL(err, POM_ERR_ARG, "uniform: needs finite min < max (found %g, %g)", p[0], p[1]);
     d->lo = p[0];
     d->hi = p[1];
     return POM_OK;
   }
+  const int logn = d->ops == &lognormal_ops;
+  *bad = isfinite(p[0]) ? 1 : 0;
   if (!(p[1] > 0) || !isfinite(p[0]) || !isfinite(p[1]))
-    POM_FAIL(err, POM_ERR_ARG, "%s: needs a finite centre and a spread > 0 (found %g, %g)", name,
-             p[0], p[1]);
+    POM_FAIL(err, POM_ERR_ARG, "%s: needs a finite %s and %s > 0 (found %s = %g, %s = %g)", name,
+             logn ? "median" : "mean", logn ? "sigma_ln" : "sd", logn ? "median" : "mean", p[0],
+             logn ? "sigma_ln" : "sd", p[1]);
   if (d->ops == &trunc_normal_ops) {
+    *bad = isfinite(p[2]) ? 3 : 2;
     if (!(p[2] < p[3]) || !isfinite(p[2]) || !isfinite(p[3]))
       POM_FAIL(err, POM_ERR_ARG, "truncated_normal: needs finite min < max (found %g, %g)", p[2],
                p[3]);
+    *bad = 2;
     if (!(mass((p[2] - p[0]) / p[1], (p[3] - p[0]) / p[1]) > MIN_MASS))
       POM_FAIL(err, POM_ERR_ARG,
                "truncated_normal: [min, max] = [%g, %g] holds no probability of normal(%g, %g)",
                p[2], p[3], p[0], p[1]);
   } else if (d->ops == &lognormal_ops) {
+    *bad = 0;
     if (!(p[0] > 0)) POM_FAIL(err, POM_ERR_ARG, "lognormal: median must be > 0 (found %g)", p[0]);
     if (isnan(d->p[2])) d->p[2] = 0.0;
     if (isnan(d->p[3])) d->p[3] = INFINITY;
+    *bad = d->p[2] >= 0 ? 3 : 2;
     if (!(d->p[2] >= 0) || !(d->p[2] < d->p[3]))
       POM_FAIL(err, POM_ERR_ARG, "lognormal: needs 0 <= min < max (found %g, %g)", d->p[2],
                d->p[3]);
     double za = d->p[2] > 0 ? log(d->p[2] / p[0]) / p[1] : -INFINITY;
     double zb = isfinite(d->p[3]) ? log(d->p[3] / p[0]) / p[1] : INFINITY;
+    *bad = 2;
     if (!(mass(za, zb) > MIN_MASS))
       POM_FAIL(err, POM_ERR_ARG, "lognormal: [min, max] = [%g, %g] holds no probability", d->p[2],
                d->p[3]);
@@ -125,6 +138,11 @@ pom_status pom_dist_make(pom_dist *d, const char *name, const double p[4], pom_e
   d->lo = pom_dist_quantile(d, POM_DIST_U_MIN);
   d->hi = pom_dist_quantile(d, POM_DIST_U_MAX);
   return POM_OK;
+}
+
+pom_status pom_dist_make(pom_dist *d, const char *name, const double p[4], pom_error *err) {
+  int bad = 0;
+  return dist_make(d, name, p, &bad, err);
 }
 
 /* ---- config ---------------------------------------------------------------- */
@@ -163,8 +181,11 @@ pom_status pom_dist_load(pom_dist *d, const pom_cfg *cfg, const char *key, pom_e
   }
   pom_error e;
   pom_error_clear(&e);
-  if (pom_dist_make(d, names[kind], p, &e) != POM_OK) {
-    snprintf(k, sizeof k, "%s.dist", key);
+  int bad = 0;
+  if (dist_make(d, names[kind], p, &bad, &e) != POM_OK) {
+    /* the message names the parameter that breaks the rule, not `dist` */
+    const char *pk = keys_of[kind].key[bad] ? keys_of[kind].key[bad] : "dist";
+    snprintf(k, sizeof k, "%s.%s", key, pk);
     return pom_cfg_error(cfg, k, NULL, err, "%s", e.message);
   }
   return POM_OK;
@@ -175,6 +196,12 @@ pom_status pom_unc_load(pom_unc *unc, const pom_cfg *cfg, uint64_t seed, pom_err
   unc->seed = seed;
   if (!pom_cfg_has(cfg, "uncertain")) return POM_OK;
   int n = pom_cfg_length(cfg, "uncertain");
+  /* a group { key = ...; } read as a list would say "uncertain.[0].key missing" */
+  if (!pom_cfg_is_list(cfg, "uncertain"))
+    return pom_cfg_error(cfg, "uncertain", NULL, err,
+                         "expected a list in parentheses, ( { key = \"group.key\"; dist = "
+                         "\"normal\"; mean = ...; sd = ...; }, ... ), of 1 to %d groups",
+                         POM_UNC_MAX);
   if (n < 1 || n > POM_UNC_MAX)
     return pom_cfg_error(cfg, "uncertain", NULL, err,
                          "expected a list of 1 to %d groups ( { key = \"group.key\"; dist = "

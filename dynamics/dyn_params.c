@@ -7,6 +7,12 @@
 #include <stdio.h>
 #include <string.h>
 
+/* Smallest positive solver.atol_scale: the states' relative rounding (an
+ * absolute tolerance below it cannot be met) (docs/dynamics.md section 9). */
+#define ATOL_SCALE_MIN 1e-15
+/* Smallest positive solver.max_step_ms (ms): 1 ns, 1e8 steps per 100 ms. */
+#define MAX_STEP_MS_MIN 1e-6
+
 /* ---- defaults ------------------------------------------------------------ */
 void pom_dyn_params_defaults(pom_dyn_params *p) {
   memset(p, 0, sizeof *p);
@@ -170,8 +176,23 @@ pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error 
   /* 0 = natural sizes (docs/dynamics.md section 7) */
   POM_TRY(pom_cfg_real_opt(cfg, "solver.atol_scale", 1.0, 0.0, 1.0, v->atol_scale, &v->atol_scale,
                            err));
+  /* 0 or at least ATOL_SCALE_MIN: below it the absolute tolerances are under
+   * the rounding of the states (or zero), and CVODE fails at t = 0 in its own
+   * words ("Initial ewt has component(s) equal to zero") */
+  if (v->atol_scale > 0.0 && v->atol_scale < ATOL_SCALE_MIN)
+    return pom_cfg_error(cfg, "solver.atol_scale", NULL, err,
+                         "expected 0 (natural sizes) or a value in [%g, 1]: below %g the absolute "
+                         "tolerances are under the rounding of the states",
+                         ATOL_SCALE_MIN, ATOL_SCALE_MIN);
   POM_TRY(
       pom_cfg_real_opt(cfg, "solver.max_step_ms", 1e-3, 0.0, 1e6, v->max_step, &v->max_step, err));
+  /* 0 (unlimited) or at least MAX_STEP_MS_MIN: a smaller bound needs more
+   * than 1e8 steps per 100 ms, and one near 1e-320 makes 1 / h overflow */
+  if (v->max_step > 0.0 && v->max_step < MAX_STEP_MS_MIN * 1e-3)
+    return pom_cfg_error(cfg, "solver.max_step_ms", NULL, err,
+                         "expected 0 (unlimited) or a value in [%g, 1e+06] ms: a smaller step "
+                         "bound cannot reach the horizon (more than 1e8 steps per 100 ms)",
+                         MAX_STEP_MS_MIN);
   POM_TRY(pom_cfg_int_opt(cfg, "solver.max_steps", 1, 1000000000L, v->max_steps, &lval, err));
   v->max_steps = lval;
   idx = (int)v->linear_solver;

@@ -85,11 +85,26 @@ static pom_status from_design(pom_kin_arch *arch, const pom_kin_design *d, pom_e
       POM_FAIL(err, POM_ERR_ARG, "leg %d: base and platform axes are parallel at home", i + 1);
     double a = (c1 - c2 * cuv) / s2, b = (c2 - c1 * cuv) / s2;
     double rest = 1.0 - (a * a + b * b + 2.0 * a * b * cuv);
-    if (!(rest >= 0.0))
+    if (!(rest >= 0.0)) {
+      /* the spherical triangle u, w, v with sides alpha1, alpha2 and the
+       * angle u-v exists when |alpha1 - alpha2| <= u-v <= alpha1 + alpha2 and
+       * alpha1 + alpha2 + u-v <= 360 deg (docs/kinematics-3rrr.md section 1) */
+      double uv = acos(cuv), lo = fabs(x[P_ALPHA1] - x[P_ALPHA2]);
+      double hi = fmin(x[P_ALPHA1] + x[P_ALPHA2], 2.0 * POM_PI - x[P_ALPHA1] - x[P_ALPHA2]);
+      const char *why = uv < lo   ? "shorter than |alpha1 - alpha2|: the leg would have to fold"
+                        : uv > hi ? (x[P_ALPHA1] + x[P_ALPHA2] <= POM_PI
+                                         ? "longer than alpha1 + alpha2: the links cannot reach"
+                                         : "longer than 360 deg - alpha1 - alpha2")
+                                  : "at a bound (a folded or stretched leg: singular)";
       POM_FAIL(err, POM_ERR_ARG,
-               "leg %d: the links cannot join u and v at home (angle u-v %.4g deg, alpha1 + "
-               "alpha2 = %.4g deg)",
-               i + 1, acos(cuv) / POM_DEG, (x[P_ALPHA1] + x[P_ALPHA2]) / POM_DEG);
+               "leg %d: the links cannot join u and v at home: the angle u-v = %.6g deg (set by "
+               "geometry.base_cone_deg, platform_cone_deg and platform_twist_deg) is %s; it must "
+               "lie in [|alpha1 - alpha2|, min(alpha1 + alpha2, 360 deg - alpha1 - alpha2)] = "
+               "[%.6g, %.6g] deg (alpha1 = geometry.proximal_angle_deg = %.6g, alpha2 = "
+               "geometry.distal_angle_deg = %.6g)",
+               i + 1, uv / POM_DEG, why, lo / POM_DEG, hi / POM_DEG, x[P_ALPHA1] / POM_DEG,
+               x[P_ALPHA2] / POM_DEG);
+    }
     double c = elbow * sqrt(rest / s2);
     pom_v3_cross(uxv, u, v);
     for (int k = 0; k < 3; ++k)

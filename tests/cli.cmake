@@ -7,6 +7,27 @@ add_test(NAME test_cli
 add_test(NAME test_inputs
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_inputs.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# What a config file may be: regular files of bounded size and nesting, as
+# the main config, an @include or a candidate's config (issue 22, items 7, 19).
+add_test(NAME test_config_files
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_config_files.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# Outputs never overwrite inputs or each other; the tabular name rule and its
+# folder, checked before the work (issue 22, items 2 and 20).
+add_test(NAME test_output_paths
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_output_paths.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# Failures that name the key, the value and the rule: solver bounds, a
+# sensitivity analysis without usable runs, the right key in messages
+# (issue 22, items 17, 18, 19).
+add_test(NAME test_messages
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_messages.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# Long or large work announced before it starts, what cannot fit in memory
+# refused with its keys, stale temporary files removed (issue 22, 15 and 16).
+add_test(NAME test_cost
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_cost.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 # Data safety: one run per results file, finished files replaced whole, write
 # failures reported, stored rows checked on resume (issue 12).
 add_test(NAME test_safety

@@ -44,11 +44,15 @@ code=0; "$POMLAB" montecarlo configs/3pss.cfg --n 2 --tabular "$WORK/m.csv" --qu
 [ "$code" -eq 2 ] || { echo "--tabular without --out: exit $code, want 2"; exit 1; }
 grep -q "need a results file" "$WORK/m.err"
 [ ! -e "$WORK/m.csv" ]
-# a table that cannot be written is a runtime failure that leaves nothing behind
+# a table that cannot be written is a runtime failure that leaves nothing
+# behind, found before the work (a missing folder is made, as for --out;
+# here "none" is a file, so it cannot be: tests/test_output_paths.sh)
+: > "$WORK/none"
 code=0; "$POMLAB" study $CFG --out "$WORK/x.h5" --no-plots --no-summary --quiet \
   --tabular "$WORK/none/x.csv" > /dev/null 2> "$WORK/x.err" || code=$?
 [ "$code" -eq 1 ] || { echo "unwritable tabular: exit $code, want 1"; exit 1; }
 grep -q "none/x.csv" "$WORK/x.err"
+[ ! -e "$WORK/x.h5" ] || { echo "unwritable tabular: the study ran"; exit 1; }
 # identical candidates tie: no "faster on 50 %", a tie in the verdict, the
 # comparison table and the ranking (item: ties are ties)
 printf 'name = "same"; montecarlo = { maneuvers = 4; seed = 5; };\n%s\n%s\n' \

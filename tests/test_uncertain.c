@@ -162,10 +162,16 @@ static void test_group(void) {
       "uncertain = ( { key = \"a.b\"; dist = \"uniform\"; min = 1.0; max = 2.0; },"
       " { key = \"a.b\"; dist = \"uniform\"; min = 1.0; max = 2.0; } );",
       "uncertain = ();",
+      "uncertain = { key = \"a.b\"; dist = \"uniform\"; min = 1.0; max = 2.0; };",
       NULL};
-  static const char *const want[] = {"uncertain.[0].sd",   "uncertain.[0].key",
-                                     "uncertain.[0].dist", "uncertain.[0].dist",
-                                     "uncertain.[1].key",  "'uncertain'"};
+  /* the key of the parameter that breaks the rule (min > max: max) */
+  static const char *const want[] = {"uncertain.[0].sd",
+                                     "uncertain.[0].key",
+                                     "uncertain.[0].max",
+                                     "uncertain.[0].dist",
+                                     "uncertain.[1].key",
+                                     "'uncertain'",
+                                     "expected a list in parentheses"};
   for (int b = 0; bad[b]; ++b) {
     check_true(pom_cfg_load_string(&cfg, bad[b], "<bad>", &err) == POM_OK);
     pom_status st = pom_unc_load(&unc, cfg, 1, &err);

@@ -1,0 +1,143 @@
+#!/usr/bin/env bash
+# test_output_paths.sh - outputs never overwrite inputs or each other (issue
+# 22, items 2 and 20): every command with an output flag refuses, with exit 2
+# and before any work, an output that is the same file as its config, a file
+# the config includes, a candidate's config or another output of the run (by
+# device and inode, or by resolved path where it does not exist yet); the
+# tabular file's name rule; --tabular makes its folder like --out, and a
+# folder it cannot write is refused before the work.
+# Usage: test_output_paths.sh PATH/TO/pomlab SOURCE_DIR
+set -u
+POMLAB=$1
+SRC=$2
+. "$(dirname "$0")/cli_lib.sh"
+
+cd "$TMP" || exit 1
+# the inputs: a study with an @include, its candidate's config, a
+# sensitivity file (made again where a section must not depend on the ones
+# before it having held)
+make_inputs() {
+  cp "$SRC/configs/3pss.cfg" cand.cfg
+  printf 'montecarlo = { maneuvers = 2; seed = 3; };\n' >inc.cfg
+  cat >S.cfg <<CFG
+name = "paths";
+@include "inc.cfg"
+study = { threads = 1; override = { joints = { model = "rigid"; };
+  scene = { coil_inductance = false; }; }; };
+candidates = ( { name = "A"; config = "cand.cfg"; } );
+CFG
+  # a sensitivity file: the same study with one uncertain parameter, 4 samples
+  cat >U.cfg <<CFG
+@include "S.cfg"
+uncertain = ( { key = "actuator.resistance_ohm"; dist = "uniform"; min = 9.0; max = 11.0;
+  relative = false; } );
+sensitivity = { method = "sobol"; samples = 4; maneuvers = 1; bootstrap = 10; };
+CFG
+}
+make_inputs
+sums() { md5sum S.cfg inc.cfg cand.cfg U.cfg r.h5 2>/dev/null; }
+# refused DESCRIPTION TEXT CMD...: exit 2, TEXT on stderr, no file changed
+refused() {
+  local what=$1 text=$2
+  shift 2
+  local before
+  before=$(sums)
+  expect_rc 2 "$@"
+  expect_err "$text"
+  check "$what: inputs and earlier results untouched" [ "$before" = "$(sums)" ]
+}
+STUDY=("$POMLAB" study S.cfg --quiet --no-plots --no-summary)
+
+# a first run leaves results r.h5 that a refused run must not replace
+expect_rc 0 "${STUDY[@]}" --out r.h5
+check "first run wrote r.h5" [ -s r.h5 ]
+
+# --- item 2: the issue's cases -------------------------------------------------
+refused "--tabular = --out" "the tabular file (--tabular) 'r.h5' is the same file as the results file (--out) 'r.h5'" \
+  "${STUDY[@]}" --out r.h5 --tabular r.h5
+refused "--out = config" "the results file (--out) 'S.cfg' is the same file as the config 'S.cfg'" \
+  "${STUDY[@]}" --out S.cfg
+refused "--tabular = config" "'S.cfg' is the same file as the config 'S.cfg'" \
+  "${STUDY[@]}" --out r2.h5 --tabular S.cfg
+refused "--tabular = candidate config" "is the same file as the config of candidate 'A' 'cand.cfg'" \
+  "${STUDY[@]}" --out r2.h5 --tabular cand.cfg
+refused "--out = included file" "is the same file as a file included by the config" \
+  "${STUDY[@]}" --out inc.cfg
+refused "sensitivity --out = config" "pomlab sensitivity: the results file (--out) 'U.cfg' is the same file as the config" \
+  "$POMLAB" sensitivity U.cfg --out U.cfg --quiet --no-plots
+refused "sensitivity --out = a file the config includes" "a file included by the config" \
+  "$POMLAB" sensitivity U.cfg --out S.cfg --quiet --no-plots
+check "nothing made beside the refused runs" [ ! -e r2.h5 ] && [ ! -e r2.h5.partial ]
+# links: the same inode, or the same file through a symbolic link
+ln -s S.cfg sym.h5
+ln cand.cfg hard.h5
+refused "--out is a symbolic link to the config" "'sym.h5' is the same file as the config" \
+  "${STUDY[@]}" --out sym.h5
+refused "--out is a hard link of the candidate's config" "'hard.h5' is the same file as the config of candidate 'A'" \
+  "${STUDY[@]}" --out hard.h5
+# two outputs that do not exist yet: the same resolved path
+refused "two new outputs, one path" "the tabular file (--tabular) 'new.csv' is the same file as the results file (--out) 'nosuch/../new.csv'" \
+  "${STUDY[@]}" --out nosuch/../new.csv --tabular new.csv
+refused "the candidates table = the results file" "the candidates table (--tabular) 'q_candidates.csv' is the same file as the results file" \
+  "${STUDY[@]}" --out q_candidates.csv --tabular q.csv
+refused "the results file = the summary" "is the same file as the summary 'o/summary.md'" \
+  "$POMLAB" study S.cfg --quiet --no-plots --out o.h5 --tabular o/summary.md
+# montecarlo, simulate, tradeoff, workspace, tune, synth
+refused "montecarlo --out = config" "pomlab montecarlo: the results file (--out) 'cand.cfg' is the same file as the config" \
+  "$POMLAB" montecarlo cand.cfg --n 1 --out cand.cfg --quiet
+refused "montecarlo --tabular = --out" "the tabular file (--tabular) 'm.csv' is the same file as the results file (--out) 'm.csv'" \
+  "$POMLAB" montecarlo cand.cfg --n 1 --out m.csv --tabular m.csv --quiet
+ln -s cand.cfg trace.csv
+refused "simulate --out = config" "pomlab simulate: the traces (--out) 'trace.csv' is the same file as the config" \
+  "$POMLAB" simulate cand.cfg --target 1,1,1 --out trace.csv
+refused "tradeoff --csv = config" "pomlab tradeoff: the table (--csv) 'cand.cfg' is the same file as the config" \
+  "$POMLAB" tradeoff cand.cfg --csv cand.cfg --quiet
+refused "workspace --map = config" "pomlab workspace: the map (--map) 'cand.cfg' is the same file as the config" \
+  "$POMLAB" workspace cand.cfg --map cand.cfg --quiet
+STEM=3PSS_reference_isotropic_at_home_sigma_15_mm
+cp cand.cfg "t_$STEM.controller.cfg"
+sums_t() { md5sum "t_$STEM.controller.cfg"; }
+before=$(sums_t)
+expect_rc 2 "$POMLAB" tune "t_$STEM.controller.cfg" --out t_ --quiet
+expect_err "pomlab tune: the gains file (--out PREFIX + name) 't_$STEM.controller.cfg' is the same file as the config"
+check "tune: config untouched" [ "$before" = "$(sums_t)" ]
+cp cand.cfg "s_$STEM.geometry.cfg"
+sed "s|@include \"3pss.cfg\"|@include \"s_$STEM.geometry.cfg\"|" "$SRC/configs/synth_3pss.cfg" >syn.cfg
+expect_rc 2 "$POMLAB" synth syn.cfg --out s_ --quiet
+expect_err "pomlab synth: the geometry file (--out PREFIX + name) 's_$STEM.geometry.cfg' is the same file as a file included by the config"
+
+# --- item 2: the tabular name rule -------------------------------------------
+refused "--tabular F_candidates.csv" "--tabular 'F_candidates.csv': a name ending in _candidates.csv is the candidates table of another name" \
+  "${STUDY[@]}" --out r2.h5 --tabular F_candidates.csv
+check "no F_candidates_candidates.csv" [ ! -e F_candidates_candidates.csv ]
+refused "--tabular /dev/stdout" "--tabular '/dev/stdout': expected a file name ending in .csv" \
+  "${STUDY[@]}" --out r2.h5 --tabular /dev/stdout
+check "no /dev/stdout_candidates.csv" [ ! -e /dev/stdout_candidates.csv ]
+mkfifo fifo.csv
+refused "--tabular a FIFO" "--tabular 'fifo.csv' is not a regular file" \
+  "${STUDY[@]}" --out r2.h5 --tabular fifo.csv
+refused "--tabular without .csv" "--tabular 'table.txt': expected a file name ending in .csv" \
+  "${STUDY[@]}" --out r2.h5 --tabular table.txt
+printf 'name = "paths";\n@include "inc.cfg"\nstudy = { tabular = "T_candidates.csv"; };\n%s\n' \
+  'candidates = ( { name = "A"; config = "cand.cfg"; } );' >ST.cfg
+expect_rc 2 "$POMLAB" study ST.cfg --out r2.h5 --quiet --no-plots
+expect_err "study.tabular 'T_candidates.csv': a name ending in _candidates.csv"
+check "nothing made by the refused runs" [ ! -e r2.h5 ] && [ ! -e r2.h5.partial ]
+
+# --- item 20: --tabular makes its folder, or is refused before the work -------
+make_inputs
+expect_rc 0 "${STUDY[@]}" --out r3.h5 --tabular new/deeper/t.csv
+check "--tabular made its folders" [ -s new/deeper/t.csv ] && [ -s new/deeper/t_candidates.csv ]
+touch afile
+expect_rc 1 "${STUDY[@]}" --out r4.h5 --tabular afile/t.csv
+expect_err "--tabular 'afile/t.csv': cannot create folder 'afile'"
+check "refused before the work: no results file" [ ! -e r4.h5 ] && [ ! -e r4.h5.partial ]
+mkdir ro && chmod 555 ro
+if [ ! -w ro ]; then # not as root: permissions hold
+  expect_rc 1 "${STUDY[@]}" --out r4.h5 --tabular ro/t.csv
+  expect_err "--tabular 'ro/t.csv': cannot write in folder 'ro'"
+  check "read-only folder: no results file" [ ! -e r4.h5 ] && [ ! -e r4.h5.partial ]
+fi
+chmod 755 ro
+
+finish test_output_paths
