@@ -69,3 +69,7 @@ foreach(part full_disk report tabular sensitivity)
     WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
   set_tests_properties(test_dataloss_${part} PROPERTIES SKIP_RETURN_CODE 77)
 endforeach()
+# the architectures x controllers report on a synthetic file with a known answer
+add_test(NAME test_arch_controller_report
+  COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/test_arch_controller_report.py
+          ${CMAKE_SOURCE_DIR} ${CMAKE_CURRENT_BINARY_DIR}/arch_controller_report)
