@@ -323,6 +323,19 @@ static pom_status read_whole_file(const char *path, const char *shown, char **te
     POM_FAIL(err, POM_ERR_IO, "%s: cannot read", shown);
   }
   buf[n] = '\0';
+  /* libconfig reads on past a NUL byte where pomlab's own scans of the text
+   * stop: an @include after one would skip the checks of scan_file (a folder
+   * named that way ends the process inside libconfig's scanner) */
+  const char *nul = memchr(buf, '\0', n);
+  if (nul) {
+    int line = 1;
+    for (const char *c = buf; c < nul; ++c)
+      line += *c == '\n';
+    size_t at = (size_t)(nul - buf);
+    free(buf);
+    POM_FAIL(err, POM_ERR_CONFIG, "%s:%d: byte %zu is a NUL: a config file is text", shown, line,
+             at);
+  }
   *text = buf;
   return POM_OK;
 }
