@@ -27,6 +27,14 @@
 #define FUZZ_MAX_UNITS     200000L
 /* Orientation-space maneuvers mapped to actuator targets per candidate. */
 #define FUZZ_IK_MANEUVERS 16L
+/* Candidate evaluators a study's load may build: a 4096-candidate sweep is
+ * valid and takes seconds under the sanitizers (more with uncertain
+ * parameters, each checked at both ends of its distribution), which would
+ * read as a hang and slow the search; the code is the same at 256. */
+#define FUZZ_MAX_BUILDS 256L
+/* The loader's own limit on candidates (doe/pom_doe_study.c): above it the
+ * study is refused before any candidate is built, so such inputs run. */
+#define FUZZ_LOADER_MAX_CANDIDATES 4096L
 
 int LLVMFuzzerInitialize(int *argc, char ***argv);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
@@ -106,6 +114,37 @@ static void check_draws(const pom_doe_study *study) {
   }
 }
 
+/* Evaluators the study's load would build: candidates x (1 + 2 per
+ * uncertain parameter); 0 when the numbers that set it are invalid or above
+ * the loader's limit, which the loader refuses before building any. */
+static long planned_builds(const pom_cfg *cfg) {
+  pom_error e;
+  long n = 0;
+  if (pom_cfg_has(cfg, "candidates.sweep")) {
+    long bases = pom_cfg_length(cfg, "candidates.base");
+    if (pom_cfg_has(cfg, "candidates.points")) {
+      if (pom_cfg_int(cfg, "candidates.points", 2, FUZZ_LOADER_MAX_CANDIDATES, &n, &e) != POM_OK)
+        return 0;
+    } else {
+      n = 1;
+      int nf = pom_cfg_length(cfg, "candidates.factors");
+      for (int f = 0; f < nf && f < POM_DOE_MAX_FACTORS; ++f) {
+        char k[64];
+        long levels = 0;
+        snprintf(k, sizeof k, "candidates.factors.[%d].levels", f);
+        if (pom_cfg_int(cfg, k, 2, 64, &levels, &e) != POM_OK) return 0;
+        n *= levels;
+        if (n * bases > FUZZ_LOADER_MAX_CANDIDATES) return 0;
+      }
+    }
+    n *= bases;
+  } else {
+    n = pom_cfg_length(cfg, "candidates");
+  }
+  if (n > FUZZ_LOADER_MAX_CANDIDATES) return 0;
+  return n * (1 + 2L * pom_cfg_length(cfg, "uncertain"));
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   if (pom_fuzz_refused(data, size)) return -1; /* not added to the corpus */
   if (pom_fuzz_write(input_path, data, size) != 0) abort();
@@ -117,6 +156,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   pom_status st = pom_cfg_load(&cfg, input_path, &err);
   pom_fuzz_check_failure(st, &err, "pom_cfg_load");
   if (st != POM_OK) return 0;
+  if (planned_builds(cfg) > FUZZ_MAX_BUILDS) {
+    pom_cfg_destroy(cfg);
+    return -1; /* not added to the corpus */
+  }
   /* as cli/cmd_study.c: candidates through the pipeline's factory */
   st = pom_doe_study_load(&study, cfg, pom_pipeline_evaluator_create, NULL, &err);
   pom_fuzz_check_failure(st, &err, "pom_doe_study_load");
