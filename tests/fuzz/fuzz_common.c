@@ -117,6 +117,9 @@ int pom_fuzz_write(const char *path, const uint8_t *data, size_t size) {
 /* ---- invariants ------------------------------------------------------------------ */
 void pom_fuzz_check_failure(pom_status st, const pom_error *err, const char *stage) {
   if (st == POM_OK) return;
+  /* POM_FUZZ_VERBOSE=1: say why an input stopped (for checking a seed) */
+  const char *verbose = getenv("POM_FUZZ_VERBOSE");
+  if (verbose && verbose[0] == '1') fprintf(stderr, "fuzz: %s: %s\n", stage, err->message);
   if ((int)st > 0 || strcmp(pom_status_name(st), "POM_UNKNOWN") == 0) {
     fprintf(stderr, "fuzz: %s returned %d, which is no pomlab error status\n", stage, (int)st);
     abort();

@@ -27,7 +27,8 @@ int pom_fuzz_write(const char *path, const uint8_t *data, size_t size);
 
 /* A failing status must come with a message naming what failed: aborts
  * (a finding) when st != POM_OK and err->message is empty, or when st is
- * positive (no pomlab function returns a positive status). */
+ * positive (no pomlab function returns a positive status). With the
+ * environment variable POM_FUZZ_VERBOSE=1 the message goes to stderr. */
 void pom_fuzz_check_failure(pom_status st, const pom_error *err, const char *stage);
 
 #endif
