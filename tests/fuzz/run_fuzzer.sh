@@ -12,7 +12,9 @@ set -euo pipefail
 fuzzer=$1 work=$2 seconds=$3 max_len=$4 dict=$5 seed_dir=$6
 shift 6
 rm -rf "$work"
-mkdir -p "$work/corpus" "$work/seeds"
+mkdir -p "$work/corpus" "$work/seeds" "$work/tmp"
+# the targets' copies of the configs (left behind only by a crash) stay here
+export TMPDIR="$work/tmp"
 n=0
 for f in "$seed_dir"/*; do
   [ -f "$f" ] || continue
