@@ -386,6 +386,19 @@ static pom_status read_whole_file(const char *path, const char *shown, char **te
              shown, POM_CFG_MAX_BYTES, POM_CFG_MAX_BYTES >> 20);
   }
   buf[n] = '\0';
+  /* libconfig reads on past a NUL byte where pomlab's own scans of the text
+   * stop: an @include after one would skip the checks of scan_file (a folder
+   * named that way ends the process inside libconfig's scanner) */
+  const char *nul = memchr(buf, '\0', n);
+  if (nul) {
+    int line = 1;
+    for (const char *c = buf; c < nul; ++c)
+      line += *c == '\n';
+    size_t at = (size_t)(nul - buf);
+    free(buf);
+    POM_FAIL(err, POM_ERR_CONFIG, "%s:%d: byte %zu is a NUL: a config file is text", shown, line,
+             at);
+  }
   *text = buf;
   return POM_OK;
 }
@@ -445,6 +458,7 @@ typedef struct {
   char lc_file[1024]; /* else the file as libconfig names it */
   char file[512];     /* file as the user wrote it */
   int line;
+  int index;        /* integer literals before it on its line (the settings' order) */
   char literal[64]; /* as written */
   int bits;         /* 32: needs the L suffix; 64: too large for any integer */
 } int_problem;
@@ -483,17 +497,21 @@ static int is_digit(char c) {
 
 /* Finds the first integer literal of text that overflows (fills prob). */
 static void scan_integers(const char *text, int_problem *prob) {
-  int line = 1;
+  int line = 1, on_line = 0;
   const char *p = text;
   while (*p && !prob->found) {
     char c = *p;
     if (c == '\n') {
       ++line;
+      on_line = 0;
       ++p;
     } else if (c == '"') { /* a string, with escapes */
       for (++p; *p && *p != '"'; ++p) {
         if (*p == '\\' && p[1]) ++p;
-        if (*p == '\n') ++line;
+        if (*p == '\n') {
+          ++line;
+          on_line = 0;
+        }
       }
       if (*p) ++p;
     } else if (c == '#' || (c == '/' && p[1] == '/') || c == '@') {
@@ -501,7 +519,10 @@ static void scan_integers(const char *text, int_problem *prob) {
         ++p;
     } else if (c == '/' && p[1] == '*') {
       for (p += 2; *p && !(*p == '*' && p[1] == '/'); ++p)
-        if (*p == '\n') ++line;
+        if (*p == '\n') {
+          ++line;
+          on_line = 0;
+        }
       if (*p) p += 2;
     } else if ((c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || c == '_' || c == '*') {
       while (is_ident_char(*p))
@@ -528,9 +549,12 @@ static void scan_integers(const char *text, int_problem *prob) {
       if (*p == 'L') ++p;
       if (*p == 'L') ++p;
       int bits = 0;
-      if (literal_overflows(start, p, &bits)) {
+      if (!literal_overflows(start, p, &bits)) {
+        ++on_line;
+      } else {
         prob->found = 1;
         prob->line = line;
+        prob->index = on_line;
         prob->bits = bits;
         size_t n = (size_t)(p - start);
         if (n >= sizeof prob->literal) n = sizeof prob->literal - 1;
@@ -543,21 +567,26 @@ static void scan_integers(const char *text, int_problem *prob) {
   }
 }
 
-/* The integer setting on prob's line of prob's file (depth first). */
+/* The integer setting of prob's literal: on prob's line of prob's file, the
+ * one after prob->index others there (depth first is the order of the text,
+ * so `b = 1; c = 5000000000;` names c, not b). *seen counts the integer
+ * settings of that line met so far. */
 static const config_setting_t *find_int_setting(const pom_cfg *cfg, const config_setting_t *s,
-                                                const int_problem *prob) {
+                                                const int_problem *prob, int *seen) {
   int t = config_setting_type(s);
   if ((t == CONFIG_TYPE_INT || t == CONFIG_TYPE_INT64) &&
       (int)config_setting_source_line(s) == prob->line) {
     const char *f = config_setting_source_file(s);
     int main_file = !f || strcmp(f, cfg->path) == 0;
-    if (prob->in_main ? main_file : (f && strcmp(f, prob->lc_file) == 0)) return s;
+    if ((prob->in_main ? main_file : (f && strcmp(f, prob->lc_file) == 0)) &&
+        (*seen)++ == prob->index)
+      return s;
   }
   if (config_setting_is_aggregate(s)) {
     int n = config_setting_length(s);
     for (int k = 0; k < n; ++k) {
       const config_setting_t *hit =
-          find_int_setting(cfg, config_setting_get_elem(s, (unsigned int)k), prob);
+          find_int_setting(cfg, config_setting_get_elem(s, (unsigned int)k), prob, seen);
       if (hit) return hit;
     }
   }
@@ -568,7 +597,8 @@ static void setting_path(const config_setting_t *s, char *buf, size_t cap);
 
 static pom_status report_int_problem(const pom_cfg *cfg, const int_problem *prob, pom_error *err) {
   char key[512] = "", what[600];
-  const config_setting_t *s = find_int_setting(cfg, config_root_setting(&cfg->lc), prob);
+  int seen = 0;
+  const config_setting_t *s = find_int_setting(cfg, config_root_setting(&cfg->lc), prob, &seen);
   if (s) {
     char path[480];
     setting_path(s, path, sizeof path);

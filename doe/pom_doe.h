@@ -392,9 +392,22 @@ void pom_doe_run_options_defaults(pom_doe_run_options *o);
 typedef struct pom_doe_run pom_doe_run;
 
 /* Starts a run: opens/creates the results file (on rank 0), works out what is
- * left to do, starts the workers. */
+ * left to do, starts the workers (pom_doe_run_prepare, then
+ * pom_doe_run_start). On failure *out is NULL. */
 pom_status pom_doe_run_begin(pom_doe_run **out, const pom_doe_study *study,
                              const pom_doe_run_options *opt, pom_error *err);
+
+/* Everything pom_doe_run_begin does before the first maneuver, without
+ * starting a worker: the results file opened or created on rank 0 (none when
+ * opt->output is ""), the finished units found, the work split, each
+ * worker's evaluator states created. The caller owns *out (NULL on failure):
+ * pom_doe_run_start sets it going, pom_doe_run_destroy frees it either way.
+ * The study fuzzer (tests/fuzz) checks a setup with it. */
+pom_status pom_doe_run_prepare(pom_doe_run **out, const pom_doe_study *study,
+                               const pom_doe_run_options *opt, pom_error *err);
+
+/* Starts the workers of a prepared run (once; POM_ERR_ARG the second time). */
+pom_status pom_doe_run_start(pom_doe_run *run, pom_error *err);
 
 /* Waits up to poll_interval for finished maneuvers, stores them (results file
  * flushed) and sets *finished = 1 once nothing is left to do (or the run was

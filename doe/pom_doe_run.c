@@ -312,8 +312,8 @@ static pom_status open_results(pom_doe_run *run, const char *path, pom_error *er
   return st;
 }
 
-pom_status pom_doe_run_begin(pom_doe_run **out, const pom_doe_study *study,
-                             const pom_doe_run_options *opt, pom_error *err) {
+pom_status pom_doe_run_prepare(pom_doe_run **out, const pom_doe_study *study,
+                               const pom_doe_run_options *opt, pom_error *err) {
   pom_status st = POM_OK;
   *out = NULL;
   pom_doe_run *run = calloc(1, sizeof *run);
@@ -399,21 +399,38 @@ pom_status pom_doe_run_begin(pom_doe_run **out, const pom_doe_study *study,
       pthread_cond_init(&run->not_full, NULL) != 0)
     POM_FAIL_GOTO(err, POM_ERR_INTERNAL, fail, "run: cannot create thread synchronization");
   run->sync_ready = 1;
-  run->alive = threads;
-  for (int t = 0; t < threads; ++t) {
-    if (pthread_create(&run->threads[t], NULL, worker_main, &run->workers[t]) != 0) {
-      pthread_mutex_lock(&run->mu);
-      run->alive -= threads - t;
-      run->cancel = 1;
-      pthread_mutex_unlock(&run->mu);
-      POM_FAIL_GOTO(err, POM_ERR_INTERNAL, fail, "run: cannot start worker thread %d", t);
-    }
-    ++run->n_started;
-  }
   *out = run;
   return POM_OK;
 fail:
   pom_doe_run_destroy(run);
+  return st;
+}
+
+pom_status pom_doe_run_start(pom_doe_run *run, pom_error *err) {
+  if (run->n_started > 0 || run->alive > 0)
+    POM_FAIL(err, POM_ERR_ARG, "run: the workers have already started");
+  run->alive = run->n_threads;
+  for (int t = 0; t < run->n_threads; ++t) {
+    if (pthread_create(&run->threads[t], NULL, worker_main, &run->workers[t]) != 0) {
+      pthread_mutex_lock(&run->mu);
+      run->alive -= run->n_threads - t;
+      run->cancel = 1;
+      pthread_mutex_unlock(&run->mu);
+      POM_FAIL(err, POM_ERR_INTERNAL, "run: cannot start worker thread %d", t);
+    }
+    ++run->n_started;
+  }
+  return POM_OK;
+}
+
+pom_status pom_doe_run_begin(pom_doe_run **out, const pom_doe_study *study,
+                             const pom_doe_run_options *opt, pom_error *err) {
+  POM_TRY(pom_doe_run_prepare(out, study, opt, err));
+  pom_status st = pom_doe_run_start(*out, err);
+  if (st != POM_OK) {
+    pom_doe_run_destroy(*out);
+    *out = NULL;
+  }
   return st;
 }
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Sets up pomlab on a fresh Debian machine and runs every check CI runs:
 # the formatting check, the ctest suite, the suite again under
-# AddressSanitizer + UndefinedBehaviorSanitizer, and the MPI build's
+# AddressSanitizer + UndefinedBehaviorSanitizer, the two fuzz targets for a
+# short fixed time (clang's libFuzzer, docs/fuzzing.md) and the MPI build's
 # 2-rank study compared with the threaded one.
 # Usage: bash scripts/run-tests.sh
 set -euo pipefail
@@ -22,6 +23,14 @@ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPOM_SANITIZE=ON -DP
 cmake --build build-asan -j"$(nproc)"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build-asan --output-on-failure -j2
+
+echo "== fuzz targets: config loading and a study's setup (libFuzzer, docs/fuzzing.md) =="
+# Only the fuzz targets and the libraries they use are built; each runs for
+# POM_FUZZ_TIME seconds (20) from the shipped and test configs.
+cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPOM_FUZZ=ON \
+  -DPOM_WERROR=ON >/dev/null
+cmake --build build-fuzz -j"$(nproc)" --target fuzz_config fuzz_study
+ctest --test-dir build-fuzz --output-on-failure -L fuzz -j2
 
 echo "== MPI build: 2-rank study against the threaded run =="
 cmake -S . -B build-mpi -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPOM_WITH_MPI=ON -DPOM_WERROR=ON >/dev/null

@@ -268,6 +268,72 @@ static void test_include(void) {
   rmdir(dir);
 }
 
+/* A NUL byte in a config or in a file it includes is refused with its line:
+ * libconfig reads past it, pomlab's checks of @include targets would not (an
+ * @include of the folder hidden behind one ended the process in libconfig's
+ * scanner; found by tests/fuzz). */
+static void test_nul_byte(void) {
+  char dir[256], path[320], inc[320];
+  snprintf(dir, sizeof dir, "/tmp/pom_test_core_nul_%ld", (long)getpid());
+  check_true(mkdir(dir, 0700) == 0);
+  snprintf(path, sizeof path, "%s/main.cfg", dir);
+  snprintf(inc, sizeof inc, "%s/inc.cfg", dir);
+  static const char hidden[] = "a = 1.5;\n@include \"\0.\"\nb = 2;\n";
+  FILE *f = fopen(path, "wb");
+  if (!check_true(f != NULL)) return;
+  fwrite(hidden, 1, sizeof hidden - 1, f);
+  fclose(f);
+  pom_error err;
+  pom_error_clear(&err);
+  pom_cfg *cfg = NULL;
+  check_true(pom_cfg_load(&cfg, path, &err) == POM_ERR_CONFIG && cfg == NULL);
+  check_true(strstr(err.message, "main.cfg:2: byte 19 is a NUL") != NULL);
+  /* the same inside an included file */
+  f = fopen(inc, "wb");
+  if (!check_true(f != NULL)) return;
+  fwrite(hidden, 1, sizeof hidden - 1, f);
+  fclose(f);
+  f = fopen(path, "w");
+  if (!check_true(f != NULL)) return;
+  fputs("c = 3.25;\n@include \"inc.cfg\"\n", f);
+  fclose(f);
+  pom_error_clear(&err);
+  check_true(pom_cfg_load(&cfg, path, &err) == POM_ERR_CONFIG && cfg == NULL);
+  check_true(strstr(err.message, "inc.cfg:2: byte 19 is a NUL") != NULL);
+  remove(path);
+  remove(inc);
+  rmdir(dir);
+}
+
+/* An integer literal libconfig would wrap is refused naming its own key,
+ * not the first integer of its line (found by tests/fuzz). */
+static void test_int_literal_key(void) {
+  static const struct {
+    const char *text, *want;
+  } cases[] = {
+      {"b = 1; c = 5000000000;\n", "<t>:1: key 'c' = 5000000000: "},
+      {"a = [2, 5000000000];\n", "<t>:1: key 'a.[1]' = 5000000000: "},
+      {"x = 1.5;\ng = { b = 1; c = ( 7, { d = 5000000000; } ); };\n",
+       "<t>:2: key 'g.c.[1].d' = 5000000000: "},
+      {"s = \"3 4\"; m = { n = 12; seed = -18446744073709551616L; };\n",
+       "<t>:1: key 'm.seed' = -18446744073709551616L: does not fit"},
+  };
+  for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+    pom_error err;
+    pom_error_clear(&err);
+    pom_cfg *cfg = NULL;
+    check_true(pom_cfg_load_string(&cfg, cases[k].text, "<t>", &err) == POM_ERR_CONFIG);
+    if (!check_true(strstr(err.message, cases[k].want) != NULL))
+      printf("  case %zu: %s\n", k, err.message);
+    pom_cfg_destroy(cfg);
+  }
+  /* the value libconfig would read is the wrapped one of that literal */
+  pom_error err;
+  pom_cfg *cfg = NULL;
+  check_true(pom_cfg_load_string(&cfg, "b = 1; c = 5000000000;\n", "<t>", &err) == POM_ERR_CONFIG);
+  check_true(strstr(err.message, "read as 705032704") != NULL);
+}
+
 /* Values from the command line pass the getters' checks; diffs name the key. */
 static void test_set_and_diff(void) {
   pom_error err;
@@ -360,6 +426,8 @@ int main(void) {
   test_rng();
   test_config();
   test_include();
+  test_nul_byte();
+  test_int_literal_key();
   test_set_and_diff();
   return check_summary("test_core");
 }

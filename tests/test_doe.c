@@ -538,6 +538,24 @@ static void test_runs(void) {
   check_true(pom_doe_run_all(&study, &o, &r1, &err) == POM_OK);
   check_true(worker_count == 2); /* one state per candidate for the single worker */
 
+  /* prepared without a file: worker states made, nothing run until started
+   * (the study fuzzer's setup check, tests/fuzz) */
+  pom_doe_run *prep = NULL;
+  o.output = "";
+  worker_count = 0;
+  check_true(pom_doe_run_prepare(&prep, &study, &o, &err) == POM_OK);
+  check_true(worker_count == 2 && pom_doe_run_total(prep) == 2 * m && pom_doe_run_done(prep) == 0);
+  pom_doe_run_destroy(prep); /* never started */
+  prep = NULL;
+  check_true(pom_doe_run_prepare(&prep, &study, &o, &err) == POM_OK);
+  check_true(pom_doe_run_start(prep, &err) == POM_OK);
+  check_true(pom_doe_run_start(prep, &err) == POM_ERR_ARG);
+  int prep_finished = 0;
+  while (!prep_finished)
+    check_true(pom_doe_run_step(prep, &prep_finished, &err) == POM_OK);
+  check_true(pom_doe_run_done(prep) == 2 * m);
+  pom_doe_run_destroy(prep);
+
   o.threads = 3;
   o.queue_capacity = 2; /* workers wait on a full queue */
   o.output = p2;
