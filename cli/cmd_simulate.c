@@ -9,6 +9,7 @@
 #include "cli_dyn.h"
 #include "pom_dyn_ctrl.h"
 #include "pom_dyn_metrics_schema.h"
+#include "pom_dyn_params_schema.h"
 #include "pom_dynamics.h"
 #include "pom_h5.h"
 #include "pom_kinematics.h"
@@ -257,9 +258,8 @@ static pom_status write_h5(const char *path, const pom_cfg *cfg, const char *nam
   g = -1;
   POM_TRY_GOTO(pom_h5_create_group(&g, file, "metrics", err), done);
   POM_TRY_GOTO(pom_h5_attr_string(g, "status", pom_status_name(mt->status), err), done);
-  POM_TRY_GOTO(pom_dyn_ctrl_h5_describe(g, &p->controller, err), done);
-  POM_TRY_GOTO(pom_h5_attr_string(g, "orientation", pom_dyn_orient_name(p->scene.orientation), err),
-               done);
+  /* every parameter of the run (controller_*, orientation, solver_*, ...) */
+  POM_TRY_GOTO(pom_dyn_params_h5_describe(g, p, err), done);
   if (mt->status != POM_OK) POM_TRY_GOTO(pom_h5_attr_string(g, "reason", mt->reason, err), done);
   /* every metric of the list, named by its JSON key (docs/results.md section
    * 9): float64 in SI (counts and flags exactly), [3] per actuator */

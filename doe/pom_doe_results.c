@@ -5,6 +5,7 @@
 #include "pom_doe_internal.h"
 #include "pom_version.h"
 #include "pom_dyn_ctrl.h"
+#include "pom_dyn_params_schema.h"
 #include "pom_h5.h"
 #include "pom_io.h"
 #include "pom_math.h"
@@ -167,25 +168,11 @@ static pom_status results_alloc(pom_doe_results **out, const pom_doe_study *stud
 
 /* ---- candidate provenance ------------------------------------------------------ */
 pom_status pom_doe_describe_dyn_params(hid_t g, const pom_dyn_params *par, pom_error *err) {
-  POM_TRY(pom_dyn_ctrl_h5_describe(g, &par->controller, err));
+  POM_TRY(pom_dyn_params_h5_describe(g, par, err));             /* every parameter of the list */
   if (pom_dyn_ctrl_of(&par->controller) == &pom_dyn_ctrl_pid) { /* the names before types */
     POM_TRY(pom_h5_attr_double(g, "controller_ki", par->controller.ki, err));
     POM_TRY(pom_h5_attr_double(g, "controller_kd", par->controller.kd, err));
   }
-  POM_TRY(pom_h5_attr_string(g, "orientation", pom_dyn_orient_name(par->scene.orientation), err));
-  POM_TRY(pom_h5_attr_string(g, "joints_model", pom_dyn_joint_model_name(par->joints.model), err));
-  POM_TRY(pom_h5_attr_int64(g, "scene_gravity", par->scene.gravity, err));
-  POM_TRY(pom_h5_attr_int64(g, "scene_bearing_friction", par->scene.bearing_friction, err));
-  POM_TRY(pom_h5_attr_int64(g, "scene_coil_inductance", par->scene.coil_inductance, err));
-  POM_TRY(pom_h5_attr_double(g, "solver_rtol", par->solver.rtol, err));
-  POM_TRY(pom_h5_attr_double(g, "solver_atol_scale", par->solver.atol_scale, err));
-  POM_TRY(pom_h5_attr_double(g, "solver_max_step_s", par->solver.max_step, err));
-  POM_TRY(pom_h5_attr_int64(g, "solver_max_steps", par->solver.max_steps, err));
-  POM_TRY(pom_h5_attr_double(g, "solver_max_wall_s", par->solver.max_wall, err));
-  POM_TRY(pom_h5_attr_string(g, "solver_linear_solver",
-                             pom_dyn_linsol_name(par->solver.linear_solver), err));
-  POM_TRY(pom_h5_attr_double(g, "maneuver_horizon_s", par->maneuver.horizon, err));
-  POM_TRY(pom_h5_attr_double(g, "maneuver_settle_band", par->maneuver.settle_band, err));
   return POM_OK;
 }
 
