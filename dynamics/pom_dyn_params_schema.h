@@ -62,7 +62,7 @@
     "voice coil on a prismatic joint (q in m) or a revolute one (q in rad): picks the unit keys; " \
     "must match the mechanism's actuators")                                                        \
   X(actuator, NULL, NULL, actuator.force_constant, KIND_REAL, 0, 1.0, NULL, 1e-6, 1e4, 3.8, NULL,  \
-    "force (linear, K_m) or torque (rotary, K_t) per current = back-EMF per velocity")             \
+    "coil constant (K_m, K_t): force or torque per current = back-EMF per velocity")               \
   X(actuator, "resistance_ohm", "resistance_ohm", actuator.resistance, REAL, 0, 1.0, "ohm", 1e-6,  \
     1e6, 10.0, "actuator_resistance_ohm", "coil resistance R_c")                                   \
   X(actuator, "inductance_H", "inductance_H", actuator.inductance, REAL, 0, 1.0, "H", 0.0, 10.0,   \
