@@ -33,6 +33,12 @@ typedef enum {
   POM_DOE_DIST_NORMAL = 1   /* normal(0, sigma) truncated to [-range, +range] */
 } pom_doe_dist;
 
+/* The config names of pom_doe_space ("joint", "orientation") and
+ * pom_doe_dist ("uniform", "normal") values, in enum order, NULL-terminated:
+ * pom_cfg_choice reads them, pom_cfg_choice_name writes them. */
+extern const char *const pom_doe_space_names[];
+extern const char *const pom_doe_dist_names[];
+
 /* How maneuvers are drawn: the `montecarlo` config group. */
 typedef struct {
   long count;                /* maneuvers per candidate */
