@@ -44,11 +44,6 @@ static void simulate_usage(FILE *out) {
           "2 usage or config error (also a target outside the stroke).\n");
 }
 
-/* Every group simulate reads; unknown keys there are errors. */
-static const char *const simulate_scopes[] = {"name",    "architecture", "geometry",   "limits",
-                                              "inertia", "actuator",     "controller", "joints",
-                                              "scene",   "solver",       "maneuver",   NULL};
-
 /* ---- output -------------------------------------------------------------- */
 static void json_num(FILE *f, const char *key, double v, const char *sep) {
   if (isfinite(v))
@@ -389,7 +384,9 @@ int pom_cmd_simulate(int argc, char **argv) {
   if (st == POM_OK) st = pom_kin_mechanism_build(mech, &arch, cfg, &err);
   pom_dyn_params_defaults(&par);
   if (st == POM_OK) st = pom_dyn_params_load(&par, cfg, &err);
-  if (st == POM_OK) st = pom_cfg_check_unknown(cfg, simulate_scopes, pom_cli_known_top, &err);
+  /* every group simulate reads: the model's; unknown keys there are errors */
+  const char *const *const scopes[] = {pom_kin_model_groups(), pom_dyn_param_groups(), NULL};
+  if (st == POM_OK) st = pom_cli_check_unknown(cfg, scopes, &err);
   pom_actuator_kind kind = POM_ACT_PRISMATIC;
   if (st == POM_OK) st = pom_doe_mech_actuator_kind(mech, &kind, &err);
   if (st != POM_OK) {

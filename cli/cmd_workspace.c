@@ -11,9 +11,6 @@
 #include <stdio.h>
 #include <string.h>
 
-static const char *const ws_scopes[] = {"name",   "architecture", "geometry",
-                                        "limits", "workspace",    NULL};
-
 static void ws_usage(FILE *out) {
   fprintf(out,
           "usage: pomlab workspace CONFIG [--json] [--map FILE.csv] [--quiet]\n\n"
@@ -205,7 +202,8 @@ int pom_cmd_workspace(int argc, char **argv) {
   pom_cfg *cfg = NULL;
   pom_kin_arch arch;
   pom_kin_ws_opts o;
-  int rc = pom_cli_kin_load(path, &cfg, &arch, &o, ws_scopes);
+  const char *const *const scopes[] = {pom_kin_arch_groups(), pom_kin_ws_groups(), NULL};
+  int rc = pom_cli_kin_load(path, &cfg, &arch, &o, scopes);
   if (rc) return rc;
   /* The grids whose size is known before the search: refused above the
    * budget before any work (the GCI over the RDW is never larger than the

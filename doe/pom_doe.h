@@ -63,6 +63,10 @@ void pom_doe_maneuvers_defaults(pom_doe_maneuvers *mv);
  * two sets is an error. */
 pom_status pom_doe_maneuvers_load(pom_doe_maneuvers *mv, const pom_cfg *cfg, pom_error *err);
 
+/* The config group pom_doe_maneuvers_load reads (`montecarlo`),
+ * NULL-terminated, static storage. */
+const char *const *pom_doe_montecarlo_groups(void);
+
 /* Checks the maneuvers against the actuator kinds of a study's candidates
  * (kinds[n]); cfg is the file that holds the `montecarlo` group (named in
  * messages). Joint space needs one kind for every candidate (the
@@ -233,6 +237,11 @@ typedef struct {
   double *uncertain_nominal;     /* [n_candidates][uncertain.n] each key's value in the
                                     candidate's config (NaN when absent), owned */
 } pom_doe_study;
+
+/* The top-level names a study file holds (`name`, `montecarlo`, `study`,
+ * `candidates`, `uncertain`: what pom_doe_study_load reads), NULL-terminated,
+ * static storage. */
+const char *const *pom_doe_study_groups(void);
 
 /* Loads a study file: `name`, `montecarlo`, `study` and `candidates`
  * (docs/results.md). Every candidate's config is resolved and handed to
