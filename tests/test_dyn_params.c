@@ -52,17 +52,53 @@ static void former_defaults(pom_dyn_params *p) {
   p->maneuver.output_dt = 1.0e-4;
 }
 
+/* bitwise equality of one field of a and b */
+#define SAME(field) check_true(memcmp(&a.field, &b.field, sizeof a.field) == 0)
+
 static void test_defaults(void) {
   pom_dyn_params a, b;
   pom_error err;
   pom_error_clear(&err);
   pom_dyn_params_defaults(&a);
   former_defaults(&b);
-  check_true(memcmp(&a.actuator, &b.actuator, sizeof a.actuator) == 0);
-  check_true(memcmp(&a.joints, &b.joints, sizeof a.joints) == 0);
-  check_true(memcmp(&a.scene, &b.scene, sizeof a.scene) == 0);
-  check_true(memcmp(&a.solver, &b.solver, sizeof a.solver) == 0);
-  check_true(memcmp(&a.maneuver, &b.maneuver, sizeof a.maneuver) == 0);
+  /* the fields that existed before the list (a later parameter has its own
+   * default, which the list declares) */
+  SAME(actuator.force_constant);
+  SAME(actuator.resistance);
+  SAME(actuator.inductance);
+  SAME(actuator.bearing_friction);
+  SAME(actuator.voltage_limit);
+  SAME(actuator.sensor_gain);
+  SAME(actuator.kind);
+  SAME(joints.stiffness);
+  SAME(joints.damping);
+  SAME(joints.angular_stiffness);
+  SAME(joints.angular_damping);
+  SAME(joints.model);
+  SAME(scene.gravity);
+  SAME(scene.bearing_friction);
+  SAME(scene.coil_inductance);
+  SAME(scene.orientation);
+  SAME(scene.euler_cos_min);
+  SAME(scene.limb_inertia);
+  SAME(scene.universal_joint);
+  SAME(solver.rtol);
+  SAME(solver.atol_scale);
+  SAME(solver.max_step);
+  SAME(solver.max_steps);
+  SAME(solver.linear_solver);
+  SAME(solver.jacobian);
+  SAME(solver.max_order);
+  SAME(solver.stability_limit_detection);
+  SAME(solver.max_wall);
+  SAME(solver.max_balance_error);
+  SAME(maneuver.horizon);
+  SAME(maneuver.settle_band);
+  SAME(maneuver.output_dt);
+  /* every declared default is the list's, and within its range */
+  const pom_dyn_param_info *s = pom_dyn_param_schema();
+  for (int k = 0; k < POM_DYN_N_PARAMS; ++k)
+    check_true(pom_dyn_param_value(&a, &s[k]) == s[k].def);
   check_true(pom_dyn_params_check(&a, &err) == POM_OK);
 }
 
