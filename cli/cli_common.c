@@ -1,15 +1,40 @@
 /* cli_common.c - helpers shared by the subcommands. */
 #include "pom_cli.h"
 
+#include "pom_doe.h"
+#include "pom_doe_sensitivity.h"
+#include "pom_dynamics.h"
+#include "pom_kinematics.h"
+#include "pom_synth.h"
+#include "pom_tradeoff.h"
+#include "pom_tune.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-const char *const pom_cli_known_top[] = {
-    "name",       "architecture", "geometry", "limits",   "workspace", "inertia",    "actuator",
-    "controller", "joints",       "scene",    "solver",   "maneuver",  "montecarlo", "study",
-    "candidates", "synthesis",    "tuning",   "tradeoff", NULL};
+/* ---- config groups ------------------------------------------------------- */
+pom_status pom_cli_known_top(pom_cfg_groups *g, pom_error *err) {
+  const char *const *const lists[] = {
+      pom_kin_model_groups(), pom_kin_ws_groups(),   pom_dyn_param_groups(),
+      pom_doe_study_groups(), pom_doe_sens_groups(), pom_tradeoff_groups(),
+      pom_syn_groups(),       pom_tune_groups(),     NULL};
+  pom_cfg_groups_init(g);
+  for (int k = 0; lists[k]; ++k)
+    POM_TRY(pom_cfg_groups_add(g, lists[k], err));
+  return POM_OK;
+}
+
+pom_status pom_cli_check_unknown(const pom_cfg *cfg, const char *const *const scopes[],
+                                 pom_error *err) {
+  pom_cfg_groups own, known;
+  pom_cfg_groups_init(&own);
+  for (int k = 0; scopes && scopes[k]; ++k)
+    POM_TRY(pom_cfg_groups_add(&own, scopes[k], err));
+  POM_TRY(pom_cli_known_top(&known, err));
+  return pom_cfg_check_unknown(cfg, own.name, known.name, err);
+}
 
 void pom_cli_report(const char *context, const pom_error *err) {
   if (err && err->message[0]) {

@@ -501,10 +501,10 @@ static void json_montecarlo(FILE *out, const pom_doe_study *study) {
   int mixed = 0;
   pom_actuator_kind kind = pom_cli_doe_study_kind(study, &mixed);
   fprintf(out, "  \"montecarlo\": {\"space\": \"%s\", ",
-          mv->space == POM_DOE_SPACE_JOINT ? "joint" : "orientation");
+          pom_cfg_choice_name(pom_doe_space_names, (int)mv->space));
   if (mv->space == POM_DOE_SPACE_JOINT) {
     fprintf(out, "\"distribution\": \"%s\", \"actuator_unit\": \"%s\", \"range\": ",
-            mv->distribution == POM_DOE_DIST_UNIFORM ? "uniform" : "normal",
+            pom_cfg_choice_name(pom_doe_dist_names, (int)mv->distribution),
             pom_act_kind_desc(kind)->si);
     json_double(out, mv->range);
     fprintf(out, ", \"sigma\": ");

@@ -7,13 +7,13 @@
 
 #include <stdio.h>
 
-/* The config groups the dynamics parameters come from (NULL-terminated). */
-extern const char *const pom_cli_dyn_groups[];
-
-/* Prints ",\n  \"actuator\": {...}, ..." (JSON members, SI units) to out. */
+/* Prints ",\n  \"actuator\": {...}, ..." (JSON members, SI units) to out:
+ * every group of pom_dyn_param_groups(), every parameter of the list by its
+ * json key (pom_dyn_params_schema.h), the controller by its type. */
 void pom_cli_dyn_params_json(FILE *out, const pom_dyn_params *p);
 
-/* Prints the groups as human-readable lines to out. */
+/* Prints the groups as human-readable lines to out: one line per group,
+ * each parameter by its config key with the value in the key's unit. */
 void pom_cli_dyn_params_text(FILE *out, const pom_dyn_params *p);
 
 /* Prints the members of the `controller` group of c, from its type's

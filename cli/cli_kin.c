@@ -8,12 +8,10 @@
 #include <math.h>
 #include <string.h>
 
-const char *const pom_cli_kin_scopes[] = {"name", "architecture", "geometry", "limits", NULL};
-
-int pom_cli_kin_check_unknown(const pom_cfg *cfg, const char *const scopes[]) {
+int pom_cli_kin_check_unknown(const pom_cfg *cfg, const char *const *const scopes[]) {
   pom_error err;
   pom_error_clear(&err);
-  if (pom_cfg_check_unknown(cfg, scopes, pom_cli_known_top, &err) != POM_OK) {
+  if (pom_cli_check_unknown(cfg, scopes, &err) != POM_OK) {
     pom_cli_report("config", &err);
     return 2;
   }
@@ -21,7 +19,7 @@ int pom_cli_kin_check_unknown(const pom_cfg *cfg, const char *const scopes[]) {
 }
 
 int pom_cli_kin_load(const char *path, pom_cfg **cfg_out, pom_kin_arch *arch, pom_kin_ws_opts *ws,
-                     const char *const check_scopes[]) {
+                     const char *const *const check_scopes[]) {
   pom_error err;
   pom_error_clear(&err);
   *cfg_out = NULL;

@@ -9,20 +9,18 @@
 
 #include <stdio.h>
 
-/* Top-level groups read by ik and fk (unknown-key scopes). */
-extern const char *const pom_cli_kin_scopes[];
-
 /* Loads the config at path and its architecture; reports errors on stderr.
  * When ws is not NULL the `workspace` group is read too. When check_scopes is
  * not NULL, unknown keys in those groups are rejected (and unknown top-level
  * names always). Returns the exit code (0 ok, 2 config error); on success
  * *cfg_out is owned by the caller. */
 int pom_cli_kin_load(const char *path, pom_cfg **cfg_out, pom_kin_arch *arch, pom_kin_ws_opts *ws,
-                     const char *const check_scopes[]);
+                     const char *const *const check_scopes[]);
 
-/* Rejects unknown keys in scopes (and unknown top-level names); returns 0 or
- * prints the error and returns 2. */
-int pom_cli_kin_check_unknown(const pom_cfg *cfg, const char *const scopes[]);
+/* Rejects unknown keys in the groups of scopes (the libraries' lists,
+ * pom_cli_check_unknown) and unknown top-level names; returns 0 or prints
+ * the error and returns 2. */
+int pom_cli_kin_check_unknown(const pom_cfg *cfg, const char *const *const scopes[]);
 
 /* JSON: a string with escapes, a number (null when not finite), arrays. */
 void pom_json_string(FILE *out, const char *s);

@@ -65,7 +65,8 @@ int pom_cmd_fk(int argc, char **argv) {
   }
   pom_cfg *cfg = NULL;
   pom_kin_arch arch;
-  int rc = pom_cli_kin_load(path, &cfg, &arch, NULL, pom_cli_kin_scopes);
+  const char *const *const scopes[] = {pom_kin_arch_groups(), NULL};
+  int rc = pom_cli_kin_load(path, &cfg, &arch, NULL, scopes);
   if (rc) return rc;
 
   const pom_act_desc *u = pom_act_kind_desc(pom_kin_type_actuator(arch.type));

@@ -73,7 +73,8 @@ int pom_cmd_ik(int argc, char **argv) {
   }
   pom_cfg *cfg = NULL;
   pom_kin_arch arch;
-  int rc = pom_cli_kin_load(path, &cfg, &arch, NULL, pom_cli_kin_scopes);
+  const char *const *const scopes[] = {pom_kin_arch_groups(), NULL};
+  int rc = pom_cli_kin_load(path, &cfg, &arch, NULL, scopes);
   if (rc) return rc;
 
   double e[3] = {e_deg[0] * POM_DEG, e_deg[1] * POM_DEG, e_deg[2] * POM_DEG}, R[9];

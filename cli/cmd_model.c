@@ -12,11 +12,6 @@
 #include <stdio.h>
 #include <string.h>
 
-/* groups validated by `model` (unknown keys rejected in these) */
-static const char *const model_scopes[] = {
-    "name",       "architecture", "geometry", "limits", "workspace", "inertia", "actuator",
-    "controller", "joints",       "scene",    "solver", "maneuver",  NULL};
-
 static void model_usage(FILE *out) {
   fprintf(out, "usage: pomlab model CONFIG [--json]\n"
                "       pomlab model --list-architectures [--json]\n"
@@ -324,7 +319,10 @@ int pom_cmd_model(int argc, char **argv) {
     pom_cfg_destroy(cfg);
     return pom_cli_exit_code(st);
   }
-  rc = pom_cli_kin_check_unknown(cfg, model_scopes);
+  /* unknown keys in every group model reads: the model's and the workspace's */
+  const char *const *const scopes[] = {pom_kin_model_groups(), pom_kin_ws_groups(),
+                                       pom_dyn_param_groups(), NULL};
+  rc = pom_cli_kin_check_unknown(cfg, scopes);
   pom_cfg_destroy(cfg);
   if (rc) return rc;
 

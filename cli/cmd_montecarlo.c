@@ -77,7 +77,7 @@ int pom_cmd_montecarlo(int argc, char **argv) {
     pom_cfg_destroy(cfg);
     return 2;
   }
-  static const char *const own[] = {"montecarlo", NULL};
+  const char *const *const own[] = {pom_doe_montecarlo_groups(), NULL};
   pom_doe_study study;
   memset(&study, 0, sizeof study);
   if (n_text) st = pom_cfg_set_number(cfg, "montecarlo.maneuvers", n_text, "--n", &err);
@@ -85,7 +85,7 @@ int pom_cmd_montecarlo(int argc, char **argv) {
     st = pom_cfg_set_number(cfg, "montecarlo.seed", seed_text, "--seed", &err);
   if (st == POM_OK)
     st = pom_doe_study_single(&study, cfg, pom_doe_dyn_evaluator_create, NULL, &err);
-  if (st == POM_OK) st = pom_cfg_check_unknown(cfg, own, pom_cli_known_top, &err);
+  if (st == POM_OK) st = pom_cli_check_unknown(cfg, own, &err);
   pom_cfg_destroy(cfg);
   if (st != POM_OK) {
     pom_cli_report("config", &err);

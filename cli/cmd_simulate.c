@@ -11,6 +11,7 @@
 #include "pom_doe_estimate.h"
 #include "pom_dyn_ctrl.h"
 #include "pom_dyn_metrics_schema.h"
+#include "pom_dyn_params_schema.h"
 #include "pom_dynamics.h"
 #include "pom_h5.h"
 #include "pom_kinematics.h"
@@ -44,11 +45,6 @@ static void simulate_usage(FILE *out) {
           "Exit status: 0 ok; 1 the maneuver failed or the traces cannot be written;\n"
           "2 usage or config error (also a target outside the stroke).\n");
 }
-
-/* Every group simulate reads; unknown keys there are errors. */
-static const char *const simulate_scopes[] = {"name",    "architecture", "geometry",   "limits",
-                                              "inertia", "actuator",     "controller", "joints",
-                                              "scene",   "solver",       "maneuver",   NULL};
 
 /* ---- output -------------------------------------------------------------- */
 static void json_num(FILE *f, const char *key, double v, const char *sep) {
@@ -259,9 +255,8 @@ static pom_status write_h5(const char *path, const pom_cfg *cfg, const char *nam
   g = -1;
   POM_TRY_GOTO(pom_h5_create_group(&g, file, "metrics", err), done);
   POM_TRY_GOTO(pom_h5_attr_string(g, "status", pom_status_name(mt->status), err), done);
-  POM_TRY_GOTO(pom_dyn_ctrl_h5_describe(g, &p->controller, err), done);
-  POM_TRY_GOTO(pom_h5_attr_string(g, "orientation", pom_dyn_orient_name(p->scene.orientation), err),
-               done);
+  /* every parameter of the run (controller_*, orientation, solver_*, ...) */
+  POM_TRY_GOTO(pom_dyn_params_h5_describe(g, p, err), done);
   if (mt->status != POM_OK) POM_TRY_GOTO(pom_h5_attr_string(g, "reason", mt->reason, err), done);
   /* every metric of the list, named by its JSON key (docs/results.md section
    * 9): float64 in SI (counts and flags exactly), [3] per actuator */
@@ -437,7 +432,9 @@ int pom_cmd_simulate(int argc, char **argv) {
   if (st == POM_OK) st = pom_kin_mechanism_build(mech, &arch, cfg, &err);
   pom_dyn_params_defaults(&par);
   if (st == POM_OK) st = pom_dyn_params_load(&par, cfg, &err);
-  if (st == POM_OK) st = pom_cfg_check_unknown(cfg, simulate_scopes, pom_cli_known_top, &err);
+  /* every group simulate reads: the model's; unknown keys there are errors */
+  const char *const *const scopes[] = {pom_kin_model_groups(), pom_dyn_param_groups(), NULL};
+  if (st == POM_OK) st = pom_cli_check_unknown(cfg, scopes, &err);
   pom_actuator_kind kind = POM_ACT_PRISMATIC;
   if (st == POM_OK) st = pom_doe_mech_actuator_kind(mech, &kind, &err);
   if (st != POM_OK) {

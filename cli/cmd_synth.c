@@ -297,8 +297,10 @@ int pom_cmd_synth(int argc, char **argv) {
     return 2;
   }
 
-  static const char *const scopes[] = {"architecture", "name",      "geometry", "limits",
-                                       "workspace",    "synthesis", NULL};
+  /* the geometry, the workspace and the synthesis; inertia etc. belong to
+   * other commands */
+  const char *const *const scopes[] = {pom_kin_arch_groups(), pom_kin_ws_groups(), pom_syn_groups(),
+                                       NULL};
   pom_cfg *cfgs[MAX_CFGS] = {NULL};
   pom_syn_problem *pbs = calloc(MAX_CFGS, sizeof *pbs);
   pom_syn_run *runs[MAX_CFGS] = {NULL};
@@ -319,7 +321,7 @@ int pom_cmd_synth(int argc, char **argv) {
     pom_status st = pom_syn_load(&pbs[c], cfgs[c], &err);
     if (st == POM_OK) {
       /* inertia etc. belong to other commands: accept but do not check them */
-      st = pom_cfg_check_unknown(cfgs[c], scopes, pom_cli_known_top, &err);
+      st = pom_cli_check_unknown(cfgs[c], scopes, &err);
     }
     if (st != POM_OK) {
       pom_cli_report("synth", &err);

@@ -41,10 +41,6 @@ static void tradeoff_usage(FILE *out) {
       "config error.\n");
 }
 
-static const char *const tradeoff_scopes[] = {
-    "name",   "architecture", "geometry", "limits",   "inertia",    "actuator", "controller",
-    "joints", "scene",        "solver",   "maneuver", "montecarlo", "tradeoff", NULL};
-
 static void progress(void *user, const pom_tradeoff_row *row, int done, int total) {
   (void)user;
   fprintf(stderr, "  [%2d/%2d] %-44s %9.3f ms  err %.2e  integ. %.2e%s\n", done, total, row->label,
@@ -162,6 +158,9 @@ int pom_cmd_tradeoff(int argc, char **argv) {
   pom_tradeoff_result *res = NULL;
   pom_status st = POM_OK;
   const char *stage = "config";
+  /* the model's groups, the maneuvers' and tradeoff's */
+  const char *const *const scopes[] = {pom_kin_model_groups(), pom_dyn_param_groups(),
+                                       pom_doe_montecarlo_groups(), pom_tradeoff_groups(), NULL};
   pom_dyn_params_defaults(&params);
   pom_tradeoff_defaults(&opts);
   if ((st = pom_kin_arch_load(&arch, cfg, &err)) != POM_OK ||
@@ -169,7 +168,7 @@ int pom_cmd_tradeoff(int argc, char **argv) {
       (st = pom_dyn_params_load(&params, cfg, &err)) != POM_OK ||
       (st = pom_doe_maneuvers_load(&mv, cfg, &err)) != POM_OK ||
       (st = pom_tradeoff_load(&opts, cfg, &err)) != POM_OK ||
-      (st = pom_cfg_check_unknown(cfg, tradeoff_scopes, pom_cli_known_top, &err)) != POM_OK)
+      (st = pom_cli_check_unknown(cfg, scopes, &err)) != POM_OK)
     goto done;
   if (accuracy > 0) opts.accuracy = accuracy;
   if (maneuvers > 0) {

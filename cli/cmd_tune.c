@@ -87,9 +87,9 @@ int pom_cmd_tune(int argc, char **argv) {
     usage(stderr);
     return 2;
   }
-  static const char *const scopes[] = {"name",     "architecture", "geometry", "limits", "inertia",
-                                       "actuator", "controller",   "joints",   "scene",  "solver",
-                                       "maneuver", "tuning",       NULL};
+  /* the model's groups and tuning's */
+  const char *const *const scopes[] = {pom_kin_model_groups(), pom_dyn_param_groups(),
+                                       pom_tune_groups(), NULL};
   pom_tune_problem *pbs = calloc(MAX_CFGS, sizeof *pbs);
   pom_tune_result *res = calloc(MAX_CFGS, sizeof *res);
   char paths[MAX_CFGS][512];
@@ -109,7 +109,7 @@ int pom_cmd_tune(int argc, char **argv) {
       break;
     }
     pom_status st = pom_tune_load(&pbs[c], cfg, &err);
-    if (st == POM_OK) st = pom_cfg_check_unknown(cfg, scopes, pom_cli_known_top, &err);
+    if (st == POM_OK) st = pom_cli_check_unknown(cfg, scopes, &err);
     pom_cfg_destroy(cfg);
     if (st != POM_OK) {
       pom_cli_report("tune", &err);

@@ -12,9 +12,6 @@
 #include <stdio.h>
 #include <string.h>
 
-static const char *const ws_scopes[] = {"name",   "architecture", "geometry",
-                                        "limits", "workspace",    NULL};
-
 static void ws_usage(FILE *out) {
   fprintf(out,
           "usage: pomlab workspace CONFIG [--json] [--map FILE.csv] [--quiet]\n\n"
@@ -191,7 +188,8 @@ int pom_cmd_workspace(int argc, char **argv) {
   pom_cfg *cfg = NULL;
   pom_kin_arch arch;
   pom_kin_ws_opts o;
-  int rc = pom_cli_kin_load(path, &cfg, &arch, &o, ws_scopes);
+  const char *const *const scopes[] = {pom_kin_arch_groups(), pom_kin_ws_groups(), NULL};
+  int rc = pom_cli_kin_load(path, &cfg, &arch, &o, scopes);
   if (rc) return rc;
   /* the map must not overwrite the config or a file it includes */
   rc = pom_cli_check_output("workspace", path, map, "the map (--map)");

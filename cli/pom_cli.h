@@ -35,8 +35,18 @@ int pom_cli_parse_threads(const char *command, const char *text, int *out);
 void pom_cli_refuse_shared_output(const char *command, const char *cfg_a, const char *cfg_b,
                                   const char *output);
 
-/* Every top-level config name any command understands (NULL-terminated). */
-extern const char *const pom_cli_known_top[];
+/* Every top-level config name any command understands, assembled from the
+ * lists the libraries export (pom_kin_model_groups, pom_kin_ws_groups,
+ * pom_dyn_param_groups, pom_doe_study_groups, pom_doe_sens_groups,
+ * pom_tradeoff_groups, pom_syn_groups, pom_tune_groups) into g. */
+pom_status pom_cli_known_top(pom_cfg_groups *g, pom_error *err);
+
+/* Rejects unknown keys in the groups of `scopes` (a NULL-terminated array of
+ * the libraries' NULL-terminated group lists: the groups the command's
+ * libraries read) and any top-level name no command understands
+ * (pom_cli_known_top). No command keeps a list of its own. */
+pom_status pom_cli_check_unknown(const pom_cfg *cfg, const char *const *const scopes[],
+                                 pom_error *err);
 
 /* "about 3.2 min" for a number of seconds (NaN: "unknown time"). */
 const char *pom_cli_duration_text(char *buf, size_t cap, double s);

@@ -1027,12 +1027,10 @@ static pom_status check_choice(const pom_cfg *cfg, const config_setting_t *s, co
   if (config_setting_type(s) != CONFIG_TYPE_STRING)
     return setting_error(cfg, s, key, err, "expected one of %s, found %s", list,
                          type_name(config_setting_type(s)));
-  const char *v = config_setting_get_string(s);
-  for (int k = 0; choices[k]; ++k) {
-    if (strcmp(v, choices[k]) == 0) {
-      *index = k;
-      return POM_OK;
-    }
+  int k = pom_cfg_choice_index(choices, config_setting_get_string(s));
+  if (k >= 0) {
+    *index = k;
+    return POM_OK;
   }
   return setting_error(cfg, s, key, err, "expected one of %s", list);
 }
@@ -1061,6 +1059,29 @@ const char *pom_cfg_choice_name(const char *const choices[], int index) {
   for (int k = 0; choices[k]; ++k)
     if (k == index) return choices[k];
   return "?";
+}
+
+int pom_cfg_choice_index(const char *const choices[], const char *name) {
+  if (!choices || !name) return -1;
+  for (int k = 0; choices[k]; ++k)
+    if (strcmp(choices[k], name) == 0) return k;
+  return -1;
+}
+
+/* ---- config groups ------------------------------------------------------ */
+void pom_cfg_groups_init(pom_cfg_groups *g) {
+  memset(g, 0, sizeof *g);
+}
+
+pom_status pom_cfg_groups_add(pom_cfg_groups *g, const char *const *names, pom_error *err) {
+  for (int k = 0; names && names[k]; ++k) {
+    if (pom_cfg_choice_index(g->name, names[k]) >= 0) continue;
+    if (g->n >= POM_CFG_MAX_GROUPS)
+      POM_FAIL(err, POM_ERR_INTERNAL, "more than %d config groups", POM_CFG_MAX_GROUPS);
+    g->name[g->n++] = names[k];
+    g->name[g->n] = NULL;
+  }
+  return POM_OK;
 }
 
 /* ---- unknown keys ------------------------------------------------------------- */

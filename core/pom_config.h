@@ -101,8 +101,38 @@ pom_status pom_cfg_choice_opt(const pom_cfg *cfg, const char *key, const char *c
                               int dflt, int *index, pom_error *err);
 
 /* Name of choice `index` of a NULL-terminated choices table (the inverse of
- * pom_cfg_choice), "?" when index is outside the table. */
+ * pom_cfg_choice), "?" when index is outside the table.
+ *
+ * The one parse/name pair of every enum read from a config: a table of its
+ * names in the order of its values (index = value, checked by a static
+ * assert beside the table), pom_cfg_choice / pom_cfg_choice_opt to read it
+ * and pom_cfg_choice_name to write it; pom_cfg_choice_index parses a name
+ * that does not come from a config (a command-line option). */
 const char *pom_cfg_choice_name(const char *const choices[], int index);
+
+/* Position of `name` in a NULL-terminated choices table, -1 when absent (or
+ * when name is NULL). */
+int pom_cfg_choice_index(const char *const choices[], const char *name);
+
+/* ---- config groups ------------------------------------------------------ */
+#define POM_CFG_MAX_GROUPS 32
+
+/* A NULL-terminated list of top-level config names assembled from the lists
+ * each library exports (pom_kin_model_groups(), pom_dyn_param_groups(),
+ * ...): a command checks unknown keys in the groups its libraries read
+ * without keeping a list of its own. Plain data; `name` is usable as the
+ * scopes or known_top argument of pom_cfg_check_unknown. */
+typedef struct {
+  const char *name[POM_CFG_MAX_GROUPS + 1]; /* static strings, NULL after the last */
+  int n;
+} pom_cfg_groups;
+
+/* Empties g. */
+void pom_cfg_groups_init(pom_cfg_groups *g);
+
+/* Appends the names of the NULL-terminated list `names` not yet in g (NULL
+ * adds nothing). POM_ERR_INTERNAL beyond POM_CFG_MAX_GROUPS names. */
+pom_status pom_cfg_groups_add(pom_cfg_groups *g, const char *const *names, pom_error *err);
 
 /* Rejects settings that nobody read. Only settings under the top-level names
  * listed in `scopes` (NULL-terminated; NULL pointer = everything) are

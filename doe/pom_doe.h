@@ -33,6 +33,12 @@ typedef enum {
   POM_DOE_DIST_NORMAL = 1   /* normal(0, sigma) truncated to [-range, +range] */
 } pom_doe_dist;
 
+/* The config names of pom_doe_space ("joint", "orientation") and
+ * pom_doe_dist ("uniform", "normal") values, in enum order, NULL-terminated:
+ * pom_cfg_choice reads them, pom_cfg_choice_name writes them. */
+extern const char *const pom_doe_space_names[];
+extern const char *const pom_doe_dist_names[];
+
 /* How maneuvers are drawn: the `montecarlo` config group. */
 typedef struct {
   long count;                /* maneuvers per candidate */
@@ -56,6 +62,10 @@ void pom_doe_maneuvers_defaults(pom_doe_maneuvers *mv);
  * range_mm/sigma_mm are stored in m, range_deg/sigma_deg in rad; mixing the
  * two sets is an error. */
 pom_status pom_doe_maneuvers_load(pom_doe_maneuvers *mv, const pom_cfg *cfg, pom_error *err);
+
+/* The config group pom_doe_maneuvers_load reads (`montecarlo`),
+ * NULL-terminated, static storage. */
+const char *const *pom_doe_montecarlo_groups(void);
 
 /* Checks the maneuvers against the actuator kinds of a study's candidates
  * (kinds[n]); cfg is the file that holds the `montecarlo` group (named in
@@ -227,6 +237,11 @@ typedef struct {
   double *uncertain_nominal;     /* [n_candidates][uncertain.n] each key's value in the
                                     candidate's config (NaN when absent), owned */
 } pom_doe_study;
+
+/* The top-level names a study file holds (`name`, `montecarlo`, `study`,
+ * `candidates`, `uncertain`: what pom_doe_study_load reads), NULL-terminated,
+ * static storage. */
+const char *const *pom_doe_study_groups(void);
 
 /* Loads a study file: `name`, `montecarlo`, `study` and `candidates`
  * (docs/results.md). Every candidate's config is resolved and handed to

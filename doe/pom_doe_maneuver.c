@@ -24,9 +24,15 @@ void pom_doe_maneuvers_defaults(pom_doe_maneuvers *mv) {
   mv->torsion_max = 5.0 * POM_DEG;
 }
 
+const char *const pom_doe_space_names[] = {"joint", "orientation", NULL};
+const char *const pom_doe_dist_names[] = {"uniform", "normal", NULL};
+_Static_assert(sizeof pom_doe_space_names / sizeof pom_doe_space_names[0] ==
+                   POM_DOE_SPACE_ORIENTATION + 2,
+               "pom_doe_space_names follows pom_doe_space");
+_Static_assert(sizeof pom_doe_dist_names / sizeof pom_doe_dist_names[0] == POM_DOE_DIST_NORMAL + 2,
+               "pom_doe_dist_names follows pom_doe_dist");
+
 pom_status pom_doe_maneuvers_load(pom_doe_maneuvers *mv, const pom_cfg *cfg, pom_error *err) {
-  static const char *const spaces[] = {"joint", "orientation", NULL};
-  static const char *const dists[] = {"uniform", "normal", NULL};
   pom_doe_maneuvers_defaults(mv);
   if (!pom_cfg_has(cfg, "montecarlo")) return POM_OK;
   long seed = 0;
@@ -35,8 +41,8 @@ pom_status pom_doe_maneuvers_load(pom_doe_maneuvers *mv, const pom_cfg *cfg, pom
   POM_TRY(
       pom_cfg_int_opt(cfg, "montecarlo.seed", 0, 9007199254740991L, (long)mv->seed, &seed, err));
   mv->seed = (uint64_t)seed;
-  POM_TRY(pom_cfg_choice_opt(cfg, "montecarlo.space", spaces, 0, &space, err));
-  POM_TRY(pom_cfg_choice_opt(cfg, "montecarlo.distribution", dists, 0, &dist, err));
+  POM_TRY(pom_cfg_choice_opt(cfg, "montecarlo.space", pom_doe_space_names, 0, &space, err));
+  POM_TRY(pom_cfg_choice_opt(cfg, "montecarlo.distribution", pom_doe_dist_names, 0, &dist, err));
   mv->space = (pom_doe_space)space;
   mv->distribution = (pom_doe_dist)dist;
   /* joint-space ranges in the display unit of an actuator kind: range_mm /

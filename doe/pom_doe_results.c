@@ -5,6 +5,7 @@
 #include "pom_doe_internal.h"
 #include "pom_version.h"
 #include "pom_dyn_ctrl.h"
+#include "pom_dyn_params_schema.h"
 #include "pom_h5.h"
 #include "pom_io.h"
 #include "pom_math.h"
@@ -167,25 +168,11 @@ static pom_status results_alloc(pom_doe_results **out, const pom_doe_study *stud
 
 /* ---- candidate provenance ------------------------------------------------------ */
 pom_status pom_doe_describe_dyn_params(hid_t g, const pom_dyn_params *par, pom_error *err) {
-  POM_TRY(pom_dyn_ctrl_h5_describe(g, &par->controller, err));
+  POM_TRY(pom_dyn_params_h5_describe(g, par, err));             /* every parameter of the list */
   if (pom_dyn_ctrl_of(&par->controller) == &pom_dyn_ctrl_pid) { /* the names before types */
     POM_TRY(pom_h5_attr_double(g, "controller_ki", par->controller.ki, err));
     POM_TRY(pom_h5_attr_double(g, "controller_kd", par->controller.kd, err));
   }
-  POM_TRY(pom_h5_attr_string(g, "orientation", pom_dyn_orient_name(par->scene.orientation), err));
-  POM_TRY(pom_h5_attr_string(g, "joints_model", pom_dyn_joint_model_name(par->joints.model), err));
-  POM_TRY(pom_h5_attr_int64(g, "scene_gravity", par->scene.gravity, err));
-  POM_TRY(pom_h5_attr_int64(g, "scene_bearing_friction", par->scene.bearing_friction, err));
-  POM_TRY(pom_h5_attr_int64(g, "scene_coil_inductance", par->scene.coil_inductance, err));
-  POM_TRY(pom_h5_attr_double(g, "solver_rtol", par->solver.rtol, err));
-  POM_TRY(pom_h5_attr_double(g, "solver_atol_scale", par->solver.atol_scale, err));
-  POM_TRY(pom_h5_attr_double(g, "solver_max_step_s", par->solver.max_step, err));
-  POM_TRY(pom_h5_attr_int64(g, "solver_max_steps", par->solver.max_steps, err));
-  POM_TRY(pom_h5_attr_double(g, "solver_max_wall_s", par->solver.max_wall, err));
-  POM_TRY(pom_h5_attr_string(g, "solver_linear_solver",
-                             pom_dyn_linsol_name(par->solver.linear_solver), err));
-  POM_TRY(pom_h5_attr_double(g, "maneuver_horizon_s", par->maneuver.horizon, err));
-  POM_TRY(pom_h5_attr_double(g, "maneuver_settle_band", par->maneuver.settle_band, err));
   return POM_OK;
 }
 
@@ -202,8 +189,6 @@ static int pom_doe_kinds_mixed_study(const pom_doe_study *study) {
   return 0;
 }
 static pom_status write_montecarlo(hid_t file, const pom_doe_study *study, pom_error *err) {
-  static const char *const spaces[] = {"joint", "orientation"};
-  static const char *const dists[] = {"uniform", "normal"};
   const pom_doe_maneuvers *mv = &study->maneuvers;
   pom_status st = POM_OK;
   hid_t g = -1;
@@ -211,8 +196,13 @@ static pom_status write_montecarlo(hid_t file, const pom_doe_study *study, pom_e
   POM_TRY(pom_h5_create_group(&g, file, "montecarlo", err));
   POM_TRY_GOTO(pom_h5_attr_int64(g, "count", mv->count, err), done);
   POM_TRY_GOTO(pom_h5_attr_int64(g, "seed", (int64_t)mv->seed, err), done);
-  POM_TRY_GOTO(pom_h5_attr_string(g, "space", spaces[mv->space], err), done);
-  POM_TRY_GOTO(pom_h5_attr_string(g, "distribution", dists[mv->distribution], err), done);
+  POM_TRY_GOTO(
+      pom_h5_attr_string(g, "space", pom_cfg_choice_name(pom_doe_space_names, (int)mv->space), err),
+      done);
+  POM_TRY_GOTO(pom_h5_attr_string(g, "distribution",
+                                  pom_cfg_choice_name(pom_doe_dist_names, (int)mv->distribution),
+                                  err),
+               done);
   /* range and sigma in the actuators' SI unit (joint space has one kind);
    * range_m and sigma_m kept for prismatic studies */
   pom_actuator_kind kind = study_kind(study);
@@ -473,8 +463,6 @@ fail:
  * resumed file would mix maneuvers of two protocols. */
 static pom_status check_protocol(hid_t file, const pom_doe_study *study, const char *path,
                                  pom_error *err) {
-  static const char *const spaces[] = {"joint", "orientation"};
-  static const char *const dists[] = {"uniform", "normal"};
   const pom_doe_maneuvers *mv = &study->maneuvers;
   pom_status st = POM_OK;
   hid_t mc = -1;
@@ -490,14 +478,16 @@ static pom_status check_protocol(hid_t file, const pom_doe_study *study, const c
       done);
   POM_TRY_GOTO(pom_h5_read_attr_double(mc, "tilt_max_rad", &tilt, err), done);
   POM_TRY_GOTO(pom_h5_read_attr_double(mc, "torsion_max_rad", &torsion, err), done);
-  if (strcmp(space, spaces[mv->space]) != 0 || strcmp(dist, dists[mv->distribution]) != 0 ||
+  if (strcmp(space, pom_cfg_choice_name(pom_doe_space_names, (int)mv->space)) != 0 ||
+      strcmp(dist, pom_cfg_choice_name(pom_doe_dist_names, (int)mv->distribution)) != 0 ||
       sigma != mv->sigma || tilt != mv->tilt_max || torsion != mv->torsion_max)
     POM_FAIL_GOTO(err, POM_ERR_ARG, done,
                   "'%s' holds another study (maneuvers drawn in %s space, %s, sigma %.6g mm, "
                   "tilt %.6g deg, torsion %.6g deg; this one: %s, %s, %.6g mm, %.6g deg, %.6g "
                   "deg): remove it or choose another output",
                   path, space, dist, sigma * 1e3, tilt / POM_DEG, torsion / POM_DEG,
-                  spaces[mv->space], dists[mv->distribution], mv->sigma * 1e3,
+                  pom_cfg_choice_name(pom_doe_space_names, (int)mv->space),
+                  pom_cfg_choice_name(pom_doe_dist_names, (int)mv->distribution), mv->sigma * 1e3,
                   mv->tilt_max / POM_DEG, mv->torsion_max / POM_DEG);
   /* the stored maneuvers are the ones this program draws (same generator) */
   size_t n = (size_t)mv->count * 3;

@@ -19,7 +19,7 @@ pom_status pom_doe_sens_load(pom_doe_sens *s, const pom_cfg *cfg, const pom_doe_
                              pom_error *err) {
   static const char *const methods[] = {"sobol", "morris", NULL};
   static const char *const samplings[] = {"qmc", "random", NULL};
-  static const char *const scopes[] = {"sensitivity", NULL};
+  const char *const *scopes = pom_doe_sens_groups();
   memset(s, 0, sizeof *s);
   int dim = study->uncertain.n;
   if (dim < 1)

@@ -20,6 +20,10 @@ typedef struct {
   char output[POM_DOE_PATH_LEN]; /* results file */
 } pom_doe_sens;
 
+/* The config group pom_doe_sens_load reads (`sensitivity`, in a study file),
+ * NULL-terminated, static storage. */
+const char *const *pom_doe_sens_groups(void);
+
 /* Reads the `sensitivity` group of a study file whose study (with an
  * `uncertain` group) is loaded; unknown keys in the group are errors. */
 pom_status pom_doe_sens_load(pom_doe_sens *s, const pom_cfg *cfg, const pom_doe_study *study,

@@ -1,6 +1,7 @@
 /* pom_doe_study.c - the `name`, `montecarlo`, `study` and `candidates` keys of
  * a study file, candidate resolution and sweeps (docs/results.md). */
 #include "pom_doe_internal.h"
+#include "pom_doe_sensitivity.h"
 #include "pom_rng.h"
 
 #include <math.h>
@@ -501,17 +502,17 @@ static pom_status check_kinds(const pom_doe_study *study, const pom_cfg *cfg, po
 pom_status pom_doe_study_load(pom_doe_study *study, const pom_cfg *cfg,
                               pom_doe_evaluator_factory factory, void *user, pom_error *err) {
   /* a study file holds these and nothing else (mechanism groups belong in the
-   * candidates' configs or in study.override) */
-  static const char *const scopes[] = {"name",       "montecarlo", "study",
-                                       "candidates", "uncertain",  NULL};
-  /* a sensitivity file is a study file with one more group
-   * (pomlab sensitivity reads it) */
-  static const char *const known_top[] = {"name",      "montecarlo",  "study", "candidates",
-                                          "uncertain", "sensitivity", NULL};
+   * candidates' configs or in study.override); a sensitivity file is a study
+   * file with one more group (pomlab sensitivity reads it) */
+  const char *const *scopes = pom_doe_study_groups();
+  pom_cfg_groups known_top;
   pom_status st = POM_OK;
   config_t tree;
   config_init(&tree);
   memset(study, 0, sizeof *study);
+  pom_cfg_groups_init(&known_top);
+  POM_TRY_GOTO(pom_cfg_groups_add(&known_top, scopes, err), fail);
+  POM_TRY_GOTO(pom_cfg_groups_add(&known_top, pom_doe_sens_groups(), err), fail);
   study_ctx sc;
   memset(&sc, 0, sizeof sc);
   sc.cfg = cfg;
@@ -571,7 +572,7 @@ pom_status pom_doe_study_load(pom_doe_study *study, const pom_cfg *cfg,
       snprintf(key, sizeof key, "candidates.[%d].override", c);
       if (pom_cfg_has(cfg, key)) pom_cfg_mark_used(cfg, key);
     }
-    POM_TRY_GOTO(pom_cfg_check_unknown(cfg, scopes, known_top, err), fail);
+    POM_TRY_GOTO(pom_cfg_check_unknown(cfg, scopes, known_top.name, err), fail);
     for (int c = 0; c < n; ++c) {
       char key[64];
       snprintf(key, sizeof key, "candidates.[%d]", c);
@@ -579,7 +580,7 @@ pom_status pom_doe_study_load(pom_doe_study *study, const pom_cfg *cfg,
     }
   }
   POM_TRY_GOTO(check_names(study, cfg, err), fail);
-  POM_TRY_GOTO(pom_cfg_check_unknown(cfg, scopes, known_top, err), fail);
+  POM_TRY_GOTO(pom_cfg_check_unknown(cfg, scopes, known_top.name, err), fail);
   for (int c = 0; c < study->n_candidates; ++c)
     if (study->maneuvers.space == POM_DOE_SPACE_ORIENTATION && !study->candidates[c].eval.targets)
       POM_FAIL_GOTO(err, POM_ERR_CONFIG, fail,
@@ -598,7 +599,7 @@ fail:
 
 pom_status pom_doe_study_single(pom_doe_study *study, const pom_cfg *cfg,
                                 pom_doe_evaluator_factory factory, void *user, pom_error *err) {
-  static const char *const scopes[] = {"montecarlo", NULL};
+  const char *const *scopes = pom_doe_montecarlo_groups();
   pom_status st = POM_OK;
   config_t tree;
   config_init(&tree);

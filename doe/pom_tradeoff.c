@@ -2,6 +2,8 @@
  * (docs/tradeoff.md). */
 #include "pom_tradeoff.h"
 
+#include "pom_dyn_params_schema.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -308,22 +310,21 @@ static void compare(const run_data *a, const run_data *ref, const pom_tradeoff_r
 }
 
 /* Two settings describe the same model when everything but the solver
- * agrees. Only joints and scene are compared: build_settings changes nothing
- * else (actuator, controller and maneuver are the config's in every row);
- * the rigid path ignores the parasitic elements. */
+ * agrees. Only joints and scene are compared, every parameter of those groups
+ * in the list (pom_dyn_params_schema.h): build_settings changes nothing else
+ * (actuator, controller and maneuver are the config's in every row); the
+ * rigid path ignores the parasitic elements (the joints group but its
+ * model). */
 static int same_model(const pom_dyn_params *a, const pom_dyn_params *b) {
-  const pom_dyn_joints *ja = &a->joints, *jb = &b->joints;
-  const pom_dyn_scene *sa = &a->scene, *sb = &b->scene;
-  if (ja->model != jb->model) return 0;
-  if (ja->model == POM_JOINTS_PARASITIC &&
-      (ja->stiffness != jb->stiffness || ja->damping != jb->damping ||
-       ja->angular_stiffness != jb->angular_stiffness ||
-       ja->angular_damping != jb->angular_damping))
-    return 0;
-  return sa->gravity == sb->gravity && sa->bearing_friction == sb->bearing_friction &&
-         sa->coil_inductance == sb->coil_inductance && sa->orientation == sb->orientation &&
-         sa->euler_cos_min == sb->euler_cos_min && sa->limb_inertia == sb->limb_inertia &&
-         sa->universal_joint == sb->universal_joint;
+  if (a->joints.model != b->joints.model) return 0;
+  const pom_dyn_param_info *s = pom_dyn_param_schema();
+  for (int k = 0; k < POM_DYN_N_PARAMS; ++k) {
+    int joints = strcmp(s[k].group, "joints") == 0;
+    if (!joints && strcmp(s[k].group, "scene") != 0) continue;
+    if (joints && a->joints.model != POM_JOINTS_PARASITIC) continue;
+    if (pom_dyn_param_value(a, &s[k]) != pom_dyn_param_value(b, &s[k])) return 0;
+  }
+  return 1;
 }
 
 /* A model integrated tightly: the reference of its rows' integration error. */

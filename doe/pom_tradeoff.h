@@ -45,6 +45,10 @@ typedef struct {
  * 1 %, 20 s per maneuver at most. */
 void pom_tradeoff_defaults(pom_tradeoff_opts *o);
 
+/* The config group pom_tradeoff_load reads (`tradeoff`), NULL-terminated,
+ * static storage. */
+const char *const *pom_tradeoff_groups(void);
+
 /* Reads the `tradeoff` group over the defaults (absent = defaults). */
 pom_status pom_tradeoff_load(pom_tradeoff_opts *o, const pom_cfg *cfg, pom_error *err);
 

@@ -24,58 +24,6 @@ static const pom_dyn_ctrl_engine ctrl_engine = {
     .exact_terms = pom_dyn_exact_terms,
 };
 
-/* ---- validation of the parameters ---------------------------------------- */
-static pom_status params_check(const pom_dyn_params *p, pom_error *err) {
-  const pom_dyn_actuator *a = &p->actuator;
-  const pom_act_desc *kind = pom_act_kind_desc(a->kind);
-  if (!kind) {
-    /* "neither linear nor rotary": the names of the kinds */
-    char names[128] = "";
-    size_t used = 0;
-    for (int k = 0; k < POM_ACT_KINDS && used < sizeof names; ++k) {
-      int w = snprintf(names + used, sizeof names - used, "%s%s", k ? " nor " : "",
-                       pom_act_kind_desc((pom_actuator_kind)k)->name);
-      used += w > 0 ? (size_t)w : 0;
-    }
-    POM_FAIL(err, POM_ERR_ARG, "actuator kind %d is neither %s", (int)a->kind, names);
-  }
-  if (!(a->force_constant > 0) || !(a->resistance > 0) || !(a->voltage_limit > 0) ||
-      !(a->sensor_gain > 0) || !(a->bearing_friction >= 0))
-    POM_FAIL(err, POM_ERR_ARG,
-             "actuator parameters must be positive (%s %g, R_c %g, limit %g, K_S %g) and "
-             "friction >= 0 (%g)",
-             kind->constant_symbol, a->force_constant, a->resistance, a->voltage_limit,
-             a->sensor_gain, a->bearing_friction);
-  if (p->scene.coil_inductance && !(a->inductance > 0))
-    POM_FAIL(err, POM_ERR_ARG, "coil inductance %g H must be > 0 when scene.coil_inductance is on",
-             a->inductance);
-  POM_TRY(pom_dyn_ctrl_check(&p->controller, err)); /* the type's ranges, as loading checks */
-  const pom_dyn_joints *j = &p->joints;
-  if (!(j->stiffness > 0) || !(j->angular_stiffness > 0) || !(j->damping >= 0) ||
-      !(j->angular_damping >= 0))
-    POM_FAIL(err, POM_ERR_ARG, "joint stiffness must be > 0 and damping >= 0");
-  const pom_dyn_solver *s = &p->solver;
-  if (!(s->rtol > 0) || !(s->atol_scale >= 0) || !(s->max_step >= 0) || s->max_steps < 1 ||
-      s->max_order < 1 || s->max_order > 5)
-    POM_FAIL(err, POM_ERR_ARG,
-             "solver: rtol %g must be > 0, atol_scale %g >= 0, max_step %g >= 0, "
-             "max_steps %ld >= 1, max_order %d in 1..5",
-             s->rtol, s->atol_scale, s->max_step, s->max_steps, s->max_order);
-  const pom_dyn_maneuver *m = &p->maneuver;
-  if (!(m->horizon > 0) || !(m->output_dt > 0) || !(m->output_dt <= m->horizon) ||
-      !(m->settle_band > 0) || !(m->horizon / m->output_dt <= 1e7))
-    POM_FAIL(err, POM_ERR_ARG,
-             "maneuver: horizon %g s, output_dt %g s (0 < dt <= horizon, <= 1e7 samples), band "
-             "%g must be > 0",
-             m->horizon, m->output_dt, m->settle_band);
-  if (!(s->max_wall >= 0) || !(s->max_balance_error >= 0))
-    POM_FAIL(err, POM_ERR_ARG, "solver: max_wall %g s and max_balance_error %g must be >= 0",
-             s->max_wall, s->max_balance_error);
-  if (!(p->scene.euler_cos_min > 0 && p->scene.euler_cos_min < 1))
-    POM_FAIL(err, POM_ERR_ARG, "scene.euler_cos_min %g outside (0, 1)", p->scene.euler_cos_min);
-  return POM_OK;
-}
-
 /* ---- create / destroy ---------------------------------------------------- */
 pom_status pom_dyn_model_create(pom_dyn_model **out, const pom_mechanism *mech,
                                 const pom_kin_arch *arch, const pom_dyn_params *p, pom_error *err) {
@@ -90,9 +38,7 @@ pom_status pom_dyn_model_create_ex(pom_dyn_model **out, const pom_mechanism *mec
   pom_dyn_model *m = NULL;
   if (!out || !mech || !p) POM_FAIL(err, POM_ERR_ARG, "pom_dyn_model_create: NULL argument");
   *out = NULL;
-  POM_TRY(params_check(p, err));
-  if ((int)p->joints.model < 0 || (int)p->joints.model > POM_JOINTS_RIGID)
-    POM_FAIL(err, POM_ERR_ARG, "joints.model %d is not a known joint model", (int)p->joints.model);
+  POM_TRY(pom_dyn_params_check(p, err)); /* the ranges loading checks (joints.model included) */
   if (mech->n_bodies < 2 || mech->n_bodies > POM_MECH_MAX_BODIES || mech->n_joints < 0 ||
       mech->n_joints > POM_MECH_MAX_JOINTS || mech->n_actuators < 0 || mech->n_actuators > 3)
     POM_FAIL(err, POM_ERR_ARG,

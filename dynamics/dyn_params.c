@@ -1,9 +1,12 @@
-/* dyn_params.c - defaults and config loading of the dynamics parameters
- * (keys: docs/dynamics.md section 9). */
-#include "pom_dynamics.h"
+/* dyn_params.c - the dynamics parameters from their one list
+ * (pom_dyn_params_schema.h): the table, the defaults, the config loading, the
+ * model's check of the same ranges and the accessors the outputs read
+ * (docs/config.md, "Dynamics parameters"). */
+#include "pom_dyn_params_schema.h"
 
 #include "pom_dyn_ctrl.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -13,72 +16,24 @@
 /* Smallest positive solver.max_step_ms (ms): 1 ns, 1e8 steps per 100 ms. */
 #define MAX_STEP_MS_MIN 1e-6
 
-/* ---- defaults ------------------------------------------------------------ */
-void pom_dyn_params_defaults(pom_dyn_params *p) {
-  memset(p, 0, sizeof *p);
-  /* reference actuator of docs/PARAMETERS.md (a) */
-  p->actuator.force_constant = 3.8;
-  p->actuator.resistance = 10.0;
-  p->actuator.inductance = 1.45e-4;
-  p->actuator.bearing_friction = 9.8e-2;
-  p->actuator.voltage_limit = 24.0;
-  p->actuator.sensor_gain = 833.33;
-  p->actuator.kind = POM_ACT_PRISMATIC; /* "linear"; a rotary actuator needs its own values */
-  /* the PID with the 3P-S-S/S reference gains, ideal form (its descriptors'
-   * defaults; docs/PARAMETERS.md controller-form note) */
-  pom_dyn_ctrl_set_defaults(&p->controller, &pom_dyn_ctrl_pid);
-  p->joints.stiffness = 1.0e6;
-  p->joints.damping = 200.0;
-  p->joints.angular_stiffness = 1.0e6;
-  p->joints.angular_damping = 200.0;
-  p->joints.model = POM_JOINTS_PARASITIC;
-  p->scene.gravity = 1;
-  p->scene.bearing_friction = 1;
-  p->scene.coil_inductance = 1;
-  p->scene.orientation = POM_ORIENT_EULER_ZYX;
-  p->scene.euler_cos_min = 1.0e-2;
-  p->scene.limb_inertia = POM_INERTIA_FULL;
-  p->scene.universal_joint = 1;
-  p->solver.rtol = 1.0e-6;
-  p->solver.atol_scale = 0.0; /* natural sizes: rtol alone sets the accuracy (docs 7) */
-  p->solver.max_step = 0.0;
-  p->solver.max_steps = 200000;
-  p->solver.linear_solver = POM_LINSOL_KLU;
-  p->solver.jacobian = POM_JAC_ANALYTIC;
-  p->solver.max_order = 5;
-  p->solver.stability_limit_detection = 1;
-  p->solver.max_wall = 60.0; /* generous: a maneuver takes milliseconds (docs 14) */
-  p->solver.max_balance_error = 0.05;
-  p->maneuver.horizon = 0.100;
-  p->maneuver.settle_band = 0.02;
-  p->maneuver.output_dt = 1.0e-4;
-}
-
 /* ---- names --------------------------------------------------------------- */
-static const char *const orient_kinds[] = {"euler", "quaternion", NULL};
-static const char *const linsol_kinds[] = {"dense", "klu", NULL};
-static const char *const jacobian_kinds[] = {"analytic", "finite-difference", NULL};
-static const char *const joint_models[] = {"parasitic", "rigid", NULL};
-static const char *const inertia_kinds[] = {"full", "lumped", NULL};
-/* each table lists its enum's values in order: the loader casts the index */
+const char *const pom_dyn_orient_names[] = {"euler", "quaternion", NULL};
+const char *const pom_dyn_linsol_names[] = {"dense", "klu", NULL};
+const char *const pom_dyn_jacobian_names[] = {"analytic", "finite-difference", NULL};
+const char *const pom_dyn_joint_model_names[] = {"parasitic", "rigid", NULL};
+const char *const pom_dyn_inertia_names[] = {"full", "lumped", NULL};
+/* each table lists its enum's values in order: the value is the index */
 #define TABLE_LEN(t) (sizeof(t) / sizeof((t)[0]) - 1)
-_Static_assert(TABLE_LEN(orient_kinds) == POM_ORIENT_QUATERNION + 1,
-               "orient_kinds follows pom_orient_kind");
-_Static_assert(TABLE_LEN(linsol_kinds) == POM_LINSOL_KLU + 1,
-               "linsol_kinds follows pom_linsol_kind");
-_Static_assert(TABLE_LEN(jacobian_kinds) == POM_JAC_FINITE_DIFFERENCE + 1,
-               "jacobian_kinds follows pom_jac_kind");
-_Static_assert(TABLE_LEN(joint_models) == POM_JOINTS_RIGID + 1,
-               "joint_models follows pom_joint_model");
-_Static_assert(TABLE_LEN(inertia_kinds) == POM_INERTIA_LUMPED + 1,
-               "inertia_kinds follows pom_inertia_kind");
-/* "actuator.<key>" of the constant (0), bearing friction (1) or sensor gain
- * (2) of an actuator kind */
-static const char *actuator_key(char *buf, size_t cap, const pom_act_desc *kind, int which) {
-  const char *key[3] = {kind->constant_key, kind->friction_key, kind->gain_key};
-  snprintf(buf, cap, "actuator.%s", key[which]);
-  return buf;
-}
+_Static_assert(TABLE_LEN(pom_dyn_orient_names) == POM_ORIENT_QUATERNION + 1,
+               "pom_dyn_orient_names follows pom_orient_kind");
+_Static_assert(TABLE_LEN(pom_dyn_linsol_names) == POM_LINSOL_KLU + 1,
+               "pom_dyn_linsol_names follows pom_linsol_kind");
+_Static_assert(TABLE_LEN(pom_dyn_jacobian_names) == POM_JAC_FINITE_DIFFERENCE + 1,
+               "pom_dyn_jacobian_names follows pom_jac_kind");
+_Static_assert(TABLE_LEN(pom_dyn_joint_model_names) == POM_JOINTS_RIGID + 1,
+               "pom_dyn_joint_model_names follows pom_joint_model");
+_Static_assert(TABLE_LEN(pom_dyn_inertia_names) == POM_INERTIA_LUMPED + 1,
+               "pom_dyn_inertia_names follows pom_inertia_kind");
 
 /* names from the tables above, indexed by the enum's value; "?" for a value
  * outside the table (never the first name by default) */
@@ -86,141 +41,390 @@ const char *pom_dyn_pid_form_name(pom_pid_form f) {
   return pom_cfg_choice_name(pom_dyn_ctrl_pid.options[0].names, (int)f); /* ctrl_pid.c */
 }
 const char *pom_dyn_orient_name(pom_orient_kind k) {
-  return pom_cfg_choice_name(orient_kinds, (int)k);
+  return pom_cfg_choice_name(pom_dyn_orient_names, (int)k);
 }
 const char *pom_dyn_linsol_name(pom_linsol_kind k) {
-  return pom_cfg_choice_name(linsol_kinds, (int)k);
+  return pom_cfg_choice_name(pom_dyn_linsol_names, (int)k);
 }
 const char *pom_dyn_jacobian_name(pom_jac_kind k) {
-  return pom_cfg_choice_name(jacobian_kinds, (int)k);
+  return pom_cfg_choice_name(pom_dyn_jacobian_names, (int)k);
 }
 const char *pom_dyn_joint_model_name(pom_joint_model k) {
-  return pom_cfg_choice_name(joint_models, (int)k);
+  return pom_cfg_choice_name(pom_dyn_joint_model_names, (int)k);
 }
 const char *pom_dyn_inertia_name(pom_inertia_kind k) {
-  return pom_cfg_choice_name(inertia_kinds, (int)k);
+  return pom_cfg_choice_name(pom_dyn_inertia_names, (int)k);
+}
+
+/* ---- the table ------------------------------------------------------------ */
+#define CTYPE_REAL         double
+#define CTYPE_KIND_REAL    double
+#define CTYPE_LONG         long
+#define CTYPE_INT          int
+#define CTYPE_BOOL         int
+#define CTYPE_ENUM         int /* an enum with small non-negative values */
+#define CTYPE_KIND         int
+#define NAMES_REAL(a)      NULL
+#define NAMES_KIND_REAL(a) NULL
+#define NAMES_LONG(a)      NULL
+#define NAMES_INT(a)       NULL
+#define NAMES_BOOL(a)      NULL
+#define NAMES_ENUM(a)      a
+#define NAMES_KIND(a)      NULL
+#define SLOT_REAL(a)       0
+#define SLOT_KIND_REAL(a)  a
+#define SLOT_LONG(a)       0
+#define SLOT_INT(a)        0
+#define SLOT_BOOL(a)       0
+#define SLOT_ENUM(a)       0
+#define SLOT_KIND(a)       0
+
+/* each declared member exists in pom_dyn_params with the size of its type */
+#define CHECK_FIELD(group, key, json, member, type, ...)                                           \
+  _Static_assert(sizeof(((pom_dyn_params *)0)->member) == sizeof(CTYPE_##type),                    \
+                 "parameter " #member ": type differs from pom_dyn_params");
+POM_DYN_PARAMS_LIST(CHECK_FIELD)
+#undef CHECK_FIELD
+
+#define ENTRY(group, key, json, member, type, arg, to_si, unit, lo, hi, def, h5, meaning)          \
+  {#group,                                                                                         \
+   key,                                                                                            \
+   json,                                                                                           \
+   offsetof(pom_dyn_params, member),                                                               \
+   POM_DYN_PARAM_##type,                                                                           \
+   NAMES_##type(arg),                                                                              \
+   SLOT_##type(arg),                                                                               \
+   to_si,                                                                                          \
+   unit,                                                                                           \
+   (double)(lo),                                                                                   \
+   (double)(hi),                                                                                   \
+   (double)(def),                                                                                  \
+   h5,                                                                                             \
+   meaning},
+static const pom_dyn_param_info schema[POM_DYN_N_PARAMS] = {POM_DYN_PARAMS_LIST(ENTRY)};
+#undef ENTRY
+
+const pom_dyn_param_info *pom_dyn_param_schema(void) {
+  return schema;
+}
+
+/* ---- values --------------------------------------------------------------- */
+/* The members are reached by offset; memcpy keeps the accesses typed. */
+static void *field(pom_dyn_params *p, const pom_dyn_param_info *pi) {
+  return (char *)p + pi->offset;
+}
+static const void *cfield(const pom_dyn_params *p, const pom_dyn_param_info *pi) {
+  return (const char *)p + pi->offset;
+}
+
+static int is_real(const pom_dyn_param_info *pi) {
+  return pi->type == POM_DYN_PARAM_REAL || pi->type == POM_DYN_PARAM_KIND_REAL;
+}
+
+double pom_dyn_param_value(const pom_dyn_params *p, const pom_dyn_param_info *pi) {
+  double d;
+  long l;
+  int i;
+  if (is_real(pi)) {
+    memcpy(&d, cfield(p, pi), sizeof d);
+    return d;
+  }
+  if (pi->type == POM_DYN_PARAM_LONG) {
+    memcpy(&l, cfield(p, pi), sizeof l);
+    return (double)l;
+  }
+  memcpy(&i, cfield(p, pi), sizeof i);
+  return (double)i;
+}
+
+static long long_value(const pom_dyn_params *p, const pom_dyn_param_info *pi) {
+  long l;
+  int i;
+  if (pi->type == POM_DYN_PARAM_LONG) {
+    memcpy(&l, cfield(p, pi), sizeof l);
+    return l;
+  }
+  memcpy(&i, cfield(p, pi), sizeof i);
+  return i;
+}
+
+static void set_real(pom_dyn_params *p, const pom_dyn_param_info *pi, double v) {
+  memcpy(field(p, pi), &v, sizeof v);
+}
+static void set_int(pom_dyn_params *p, const pom_dyn_param_info *pi, long v) {
+  if (pi->type == POM_DYN_PARAM_LONG) {
+    memcpy(field(p, pi), &v, sizeof v);
+  } else {
+    int i = (int)v;
+    memcpy(field(p, pi), &i, sizeof i);
+  }
+}
+
+/* ---- names of a parameter -------------------------------------------------- */
+/* the descriptor's key and unit of a KIND_REAL's slot */
+static const char *kind_key(const pom_act_desc *k, int slot) {
+  const char *key[3] = {k->constant_key, k->friction_key, k->gain_key};
+  return key[slot];
+}
+static const char *kind_unit(const pom_act_desc *k, int slot) {
+  const char *unit[3] = {k->constant_unit, k->friction_unit, k->gain_unit};
+  return unit[slot];
+}
+
+const char *pom_dyn_param_json_key(const pom_dyn_param_info *pi, pom_actuator_kind kind) {
+  if (pi->type != POM_DYN_PARAM_KIND_REAL) return pi->json;
+  const pom_act_desc *k = pom_act_kind_desc(kind);
+  return k ? kind_key(k, pi->slot) : NULL;
+}
+
+const char *pom_dyn_param_unit(const pom_dyn_param_info *pi, pom_actuator_kind kind) {
+  if (pi->type != POM_DYN_PARAM_KIND_REAL) return pi->unit;
+  const pom_act_desc *k = pom_act_kind_desc(kind);
+  return k ? kind_unit(k, pi->slot) : NULL;
+}
+
+const char *pom_dyn_param_key(const pom_dyn_param_info *pi, pom_actuator_kind kind, char *buf,
+                              size_t cap) {
+  const char *key =
+      pi->type == POM_DYN_PARAM_KIND_REAL ? pom_dyn_param_json_key(pi, kind) : pi->key;
+  if (!key) return NULL;
+  snprintf(buf, cap, "%s.%s", pi->group, key);
+  return buf;
+}
+
+const char *pom_dyn_param_h5_name(const pom_dyn_param_info *pi, pom_actuator_kind kind, char *buf,
+                                  size_t cap) {
+  if (pi->type != POM_DYN_PARAM_KIND_REAL) {
+    snprintf(buf, cap, "%s", pi->h5);
+    return buf;
+  }
+  const char *key = pom_dyn_param_json_key(pi, kind);
+  if (!key) return NULL;
+  snprintf(buf, cap, "%s_%s", pi->group, key);
+  return buf;
+}
+
+const char *pom_dyn_param_choice(const pom_dyn_params *p, const pom_dyn_param_info *pi) {
+  if (pi->type == POM_DYN_PARAM_ENUM) return pom_cfg_choice_name(pi->names, (int)long_value(p, pi));
+  if (pi->type == POM_DYN_PARAM_KIND) {
+    const pom_act_desc *k = pom_act_kind_desc((pom_actuator_kind)long_value(p, pi));
+    return k ? k->name : "?";
+  }
+  return NULL;
+}
+
+const char *pom_dyn_param_format(const pom_dyn_params *p, const pom_dyn_param_info *pi, char *buf,
+                                 size_t cap) {
+  switch (pi->type) {
+  case POM_DYN_PARAM_REAL:
+  case POM_DYN_PARAM_KIND_REAL:
+    snprintf(buf, cap, "%g", pom_dyn_param_value(p, pi) / pi->to_si);
+    break;
+  case POM_DYN_PARAM_LONG:
+  case POM_DYN_PARAM_INT:
+    snprintf(buf, cap, "%ld", long_value(p, pi));
+    break;
+  case POM_DYN_PARAM_BOOL:
+    snprintf(buf, cap, "%s", long_value(p, pi) ? "true" : "false");
+    break;
+  case POM_DYN_PARAM_ENUM:
+  case POM_DYN_PARAM_KIND:
+    snprintf(buf, cap, "%s", pom_dyn_param_choice(p, pi));
+    break;
+  }
+  return buf;
+}
+
+const char *pom_dyn_param_format_default(const pom_dyn_param_info *pi, char *buf, size_t cap) {
+  pom_dyn_params d;
+  pom_dyn_params_defaults(&d);
+  return pom_dyn_param_format(&d, pi, buf, cap);
+}
+
+/* ---- defaults ------------------------------------------------------------ */
+void pom_dyn_params_defaults(pom_dyn_params *p) {
+  memset(p, 0, sizeof *p);
+  /* the PID with the 3P-S-S/S reference gains, ideal form (its descriptors'
+   * defaults; docs/PARAMETERS.md controller-form note) */
+  pom_dyn_ctrl_set_defaults(&p->controller, &pom_dyn_ctrl_pid);
+  /* the list's defaults: the reference actuator of docs/PARAMETERS.md (a) */
+  for (int k = 0; k < POM_DYN_N_PARAMS; ++k) {
+    if (is_real(&schema[k]))
+      set_real(p, &schema[k], schema[k].def);
+    else
+      set_int(p, &schema[k], (long)schema[k].def);
+  }
+}
+
+/* ---- relations between parameters ------------------------------------------- */
+/* The checks that involve two parameters, shared by loading (with the file's
+ * line) and the model: the config key of the first broken one and why, or
+ * NULL when all hold. */
+static const char *relation_broken(const pom_dyn_params *p, char *why, size_t cap) {
+  const pom_dyn_maneuver *m = &p->maneuver;
+  if (p->scene.coil_inductance && !(p->actuator.inductance > 0)) {
+    snprintf(why, cap, "must be > 0 when scene.coil_inductance is on");
+    return "actuator.inductance_H";
+  }
+  if (m->output_dt > m->horizon) {
+    snprintf(why, cap, "must not exceed maneuver.horizon_ms (%g ms)", m->horizon * 1e3);
+    return "maneuver.output_dt_ms";
+  }
+  if (m->horizon / m->output_dt > 1e7) {
+    snprintf(why, cap, "more than 1e7 trace samples over the horizon; raise output_dt_ms");
+    return "maneuver.output_dt_ms";
+  }
+  return NULL;
 }
 
 /* ---- loading ------------------------------------------------------------- */
-pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error *err) {
-  pom_dyn_actuator *a = &p->actuator;
-  pom_dyn_controller *c = &p->controller;
-  pom_dyn_joints *j = &p->joints;
-  pom_dyn_scene *s = &p->scene;
-  pom_dyn_solver *v = &p->solver;
-  pom_dyn_maneuver *m = &p->maneuver;
-  int idx = 0;
-  long lval = 0;
-
-  /* actuator.kind chooses the units of the constant, friction and gain keys;
-   * the other kinds' keys are refused by name (docs/config.md) */
-  const char *kind_names[POM_ACT_KINDS + 1];
+/* actuator.kind chooses the units of the KIND_REAL keys; the other kinds'
+ * keys are refused by name (docs/config.md) */
+static pom_status load_kind(pom_dyn_params *p, const pom_dyn_param_info *pi, const pom_cfg *cfg,
+                            const char *key, pom_error *err) {
+  const char *names[POM_ACT_KINDS + 1];
   for (int k = 0; k < POM_ACT_KINDS; ++k)
-    kind_names[k] = pom_act_kind_desc((pom_actuator_kind)k)->name;
-  kind_names[POM_ACT_KINDS] = NULL;
-  idx = pom_act_kind_desc(a->kind) ? (int)a->kind : 0;
-  POM_TRY(pom_cfg_choice_opt(cfg, "actuator.kind", kind_names, idx, &idx, err));
-  a->kind = (pom_actuator_kind)idx;
-  const pom_act_desc *kind = pom_act_kind_desc(a->kind);
-  char keys[3][64], other[64];
-  for (int k = 0; k < 3; ++k)
-    actuator_key(keys[k], sizeof keys[k], kind, k);
+    names[k] = pom_act_kind_desc((pom_actuator_kind)k)->name;
+  names[POM_ACT_KINDS] = NULL;
+  int idx = pom_act_kind_desc(p->actuator.kind) ? (int)p->actuator.kind : 0;
+  POM_TRY(pom_cfg_choice_opt(cfg, key, names, idx, &idx, err));
+  set_int(p, pi, idx);
+  const pom_act_desc *kind = pom_act_kind_desc(p->actuator.kind);
+  char own[96], other[96];
   for (int o = 0; o < POM_ACT_KINDS; ++o)
-    for (int k = 0; k < 3 && o != idx; ++k)
-      if (pom_cfg_has(
-              cfg, actuator_key(other, sizeof other, pom_act_kind_desc((pom_actuator_kind)o), k)))
-        return pom_cfg_error(cfg, other, NULL, err,
-                             "is a key of a %s actuator but actuator.kind = \"%s\": use %s",
-                             kind_names[o], kind->name, keys[k]);
-  POM_TRY(
-      pom_cfg_real_opt(cfg, keys[0], 1.0, 1e-6, 1e4, a->force_constant, &a->force_constant, err));
-  POM_TRY(pom_cfg_real_opt(cfg, "actuator.resistance_ohm", 1.0, 1e-6, 1e6, a->resistance,
-                           &a->resistance, err));
-  POM_TRY(pom_cfg_real_opt(cfg, "actuator.inductance_H", 1.0, 1e-12, 10.0, a->inductance,
-                           &a->inductance, err));
-  POM_TRY(pom_cfg_real_opt(cfg, keys[1], 1.0, 0.0, 1e6, a->bearing_friction, &a->bearing_friction,
-                           err));
-  POM_TRY(pom_cfg_real_opt(cfg, "actuator.voltage_limit_V", 1.0, 1e-3, 1e5, a->voltage_limit,
-                           &a->voltage_limit, err));
-  POM_TRY(pom_cfg_real_opt(cfg, keys[2], 1.0, 1e-6, 1e9, a->sensor_gain, &a->sensor_gain, err));
+    for (int k = 0; k < POM_DYN_N_PARAMS && o != idx; ++k)
+      if (schema[k].type == POM_DYN_PARAM_KIND_REAL &&
+          pom_cfg_has(cfg,
+                      pom_dyn_param_key(&schema[k], (pom_actuator_kind)o, other, sizeof other)))
+        return pom_cfg_error(
+            cfg, other, NULL, err, "is a key of a %s actuator but actuator.kind = \"%s\": use %s",
+            names[o], kind->name, pom_dyn_param_key(&schema[k], kind->kind, own, sizeof own));
+  return POM_OK;
+}
 
-  POM_TRY(pom_dyn_ctrl_load(c, cfg, err)); /* the type, then its options and gains */
+static pom_status load_one(pom_dyn_params *p, const pom_dyn_param_info *pi, const pom_cfg *cfg,
+                           pom_error *err) {
+  char key[96];
+  double v = 0.0;
+  long l = 0;
+  int i = 0;
+  pom_dyn_param_key(pi, p->actuator.kind, key, sizeof key);
+  switch (pi->type) {
+  case POM_DYN_PARAM_REAL:
+  case POM_DYN_PARAM_KIND_REAL:
+    POM_TRY(
+        pom_cfg_real_opt(cfg, key, pi->to_si, pi->lo, pi->hi, pom_dyn_param_value(p, pi), &v, err));
+    set_real(p, pi, v);
+    break;
+  case POM_DYN_PARAM_LONG:
+  case POM_DYN_PARAM_INT:
+    POM_TRY(pom_cfg_int_opt(cfg, key, (long)pi->lo, (long)pi->hi, long_value(p, pi), &l, err));
+    set_int(p, pi, l);
+    break;
+  case POM_DYN_PARAM_BOOL:
+    POM_TRY(pom_cfg_bool_opt(cfg, key, (int)long_value(p, pi), &i, err));
+    set_int(p, pi, i);
+    break;
+  case POM_DYN_PARAM_ENUM:
+    POM_TRY(pom_cfg_choice_opt(cfg, key, pi->names, (int)long_value(p, pi), &i, err));
+    set_int(p, pi, i); /* the enum values are the table indices */
+    break;
+  case POM_DYN_PARAM_KIND:
+    POM_TRY(load_kind(p, pi, cfg, key, err));
+    break;
+  }
+  return POM_OK;
+}
 
-  POM_TRY(pom_cfg_real_opt(cfg, "joints.stiffness_N_per_m", 1.0, 1.0, 1e12, j->stiffness,
-                           &j->stiffness, err));
-  POM_TRY(pom_cfg_real_opt(cfg, "joints.damping_Ns_per_m", 1.0, 0.0, 1e9, j->damping, &j->damping,
-                           err));
-  POM_TRY(pom_cfg_real_opt(cfg, "joints.angular_stiffness_Nm_per_rad", 1.0, 1e-3, 1e12,
-                           j->angular_stiffness, &j->angular_stiffness, err));
-  POM_TRY(pom_cfg_real_opt(cfg, "joints.angular_damping_Nms_per_rad", 1.0, 0.0, 1e9,
-                           j->angular_damping, &j->angular_damping, err));
-  idx = (int)j->model;
-  POM_TRY(pom_cfg_choice_opt(cfg, "joints.model", joint_models, idx, &idx, err));
-  j->model = (pom_joint_model)idx; /* the enum values are the table indices */
-
-  POM_TRY(pom_cfg_bool_opt(cfg, "scene.gravity", s->gravity, &s->gravity, err));
-  POM_TRY(pom_cfg_bool_opt(cfg, "scene.bearing_friction", s->bearing_friction, &s->bearing_friction,
-                           err));
-  POM_TRY(
-      pom_cfg_bool_opt(cfg, "scene.coil_inductance", s->coil_inductance, &s->coil_inductance, err));
-  idx = (int)s->orientation;
-  POM_TRY(pom_cfg_choice_opt(cfg, "scene.orientation", orient_kinds, idx, &idx, err));
-  s->orientation = (pom_orient_kind)idx; /* the enum values are the table indices */
-  idx = (int)s->limb_inertia;
-  POM_TRY(pom_cfg_choice_opt(cfg, "scene.limb_inertia", inertia_kinds, idx, &idx, err));
-  s->limb_inertia = (pom_inertia_kind)idx; /* the enum values are the table indices */
-  POM_TRY(
-      pom_cfg_bool_opt(cfg, "scene.universal_joint", s->universal_joint, &s->universal_joint, err));
-
-  POM_TRY(pom_cfg_real_opt(cfg, "solver.rtol", 1.0, 1e-13, 1e-1, v->rtol, &v->rtol, err));
-  /* 0 = natural sizes (docs/dynamics.md section 7) */
-  POM_TRY(pom_cfg_real_opt(cfg, "solver.atol_scale", 1.0, 0.0, 1.0, v->atol_scale, &v->atol_scale,
-                           err));
+pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error *err) {
+  const char *const *groups = pom_dyn_param_groups();
+  for (int g = 0; groups[g]; ++g) {
+    if (strcmp(groups[g], "controller") == 0) {
+      POM_TRY(pom_dyn_ctrl_load(&p->controller, cfg, err)); /* the type, its options and gains */
+      continue;
+    }
+    for (int k = 0; k < POM_DYN_N_PARAMS; ++k)
+      if (strcmp(schema[k].group, groups[g]) == 0) POM_TRY(load_one(p, &schema[k], cfg, err));
+  }
+  char why[160];
+  const char *key = relation_broken(p, why, sizeof why);
+  if (key) return pom_cfg_error(cfg, key, NULL, err, "%s", why);
   /* 0 or at least ATOL_SCALE_MIN: below it the absolute tolerances are under
    * the rounding of the states (or zero), and CVODE fails at t = 0 in its own
    * words ("Initial ewt has component(s) equal to zero") */
-  if (v->atol_scale > 0.0 && v->atol_scale < ATOL_SCALE_MIN)
+  if (p->solver.atol_scale > 0.0 && p->solver.atol_scale < ATOL_SCALE_MIN)
     return pom_cfg_error(cfg, "solver.atol_scale", NULL, err,
                          "expected 0 (natural sizes) or a value in [%g, 1]: below %g the absolute "
                          "tolerances are under the rounding of the states",
                          ATOL_SCALE_MIN, ATOL_SCALE_MIN);
-  POM_TRY(
-      pom_cfg_real_opt(cfg, "solver.max_step_ms", 1e-3, 0.0, 1e6, v->max_step, &v->max_step, err));
   /* 0 (unlimited) or at least MAX_STEP_MS_MIN: a smaller bound needs more
    * than 1e8 steps per 100 ms, and one near 1e-320 makes 1 / h overflow */
-  if (v->max_step > 0.0 && v->max_step < MAX_STEP_MS_MIN * 1e-3)
+  if (p->solver.max_step > 0.0 && p->solver.max_step < MAX_STEP_MS_MIN * 1e-3)
     return pom_cfg_error(cfg, "solver.max_step_ms", NULL, err,
                          "expected 0 (unlimited) or a value in [%g, 1e+06] ms: a smaller step "
                          "bound cannot reach the horizon (more than 1e8 steps per 100 ms)",
                          MAX_STEP_MS_MIN);
-  POM_TRY(pom_cfg_int_opt(cfg, "solver.max_steps", 1, 1000000000L, v->max_steps, &lval, err));
-  v->max_steps = lval;
-  idx = (int)v->linear_solver;
-  POM_TRY(pom_cfg_choice_opt(cfg, "solver.linear_solver", linsol_kinds, idx, &idx, err));
-  v->linear_solver = (pom_linsol_kind)idx; /* the enum values are the table indices */
-  idx = (int)v->jacobian;
-  POM_TRY(pom_cfg_choice_opt(cfg, "solver.jacobian", jacobian_kinds, idx, &idx, err));
-  v->jacobian = (pom_jac_kind)idx; /* the enum values are the table indices */
-  POM_TRY(pom_cfg_int_opt(cfg, "solver.max_order", 1, 5, v->max_order, &lval, err));
-  v->max_order = (int)lval;
-  POM_TRY(pom_cfg_bool_opt(cfg, "solver.stability_limit_detection", v->stability_limit_detection,
-                           &v->stability_limit_detection, err));
-  POM_TRY(
-      pom_cfg_real_opt(cfg, "solver.max_wall_s", 1.0, 0.0, 1e6, v->max_wall, &v->max_wall, err));
-  POM_TRY(pom_cfg_real_opt(cfg, "solver.max_balance_error", 1.0, 0.0, 1e3, v->max_balance_error,
-                           &v->max_balance_error, err));
+  return POM_OK;
+}
 
-  POM_TRY(
-      pom_cfg_real_opt(cfg, "maneuver.horizon_ms", 1e-3, 1e-3, 1e7, m->horizon, &m->horizon, err));
-  POM_TRY(pom_cfg_real_opt(cfg, "maneuver.settle_band_percent", 1e-2, 1e-6, 100.0, m->settle_band,
-                           &m->settle_band, err));
-  POM_TRY(pom_cfg_real_opt(cfg, "maneuver.output_dt_ms", 1e-3, 1e-6, 1e6, m->output_dt,
-                           &m->output_dt, err));
-  if (m->output_dt > m->horizon)
-    return pom_cfg_error(cfg, "maneuver.output_dt_ms", NULL, err,
-                         "must not exceed maneuver.horizon_ms (%g ms)", m->horizon * 1e3);
-  if (m->horizon / m->output_dt > 1e7)
-    return pom_cfg_error(cfg, "maneuver.output_dt_ms", NULL, err,
-                         "more than 1e7 trace samples over the horizon; raise output_dt_ms");
+/* ---- the model's check ------------------------------------------------------ */
+static int names_count(const char *const *names) {
+  int n = 0;
+  while (names[n])
+    ++n;
+  return n;
+}
+
+pom_status pom_dyn_params_check(const pom_dyn_params *p, pom_error *err) {
+  const pom_act_desc *kind = pom_act_kind_desc(p->actuator.kind);
+  if (!kind) {
+    /* "neither linear nor rotary": the names of the kinds */
+    char names[128] = "";
+    size_t used = 0;
+    for (int k = 0; k < POM_ACT_KINDS && used < sizeof names; ++k) {
+      int w = snprintf(names + used, sizeof names - used, "%s%s", k ? " nor " : "",
+                       pom_act_kind_desc((pom_actuator_kind)k)->name);
+      used += w > 0 ? (size_t)w : 0;
+    }
+    POM_FAIL(err, POM_ERR_ARG, "actuator kind %d is neither %s", (int)p->actuator.kind, names);
+  }
+  /* every value in the range loading checks (in SI: the loader's value
+   * times to_si, so a value loading accepts is accepted here) */
+  for (int k = 0; k < POM_DYN_N_PARAMS; ++k) {
+    const pom_dyn_param_info *pi = &schema[k];
+    char key[96], text[64];
+    pom_dyn_param_key(pi, kind->kind, key, sizeof key);
+    double v = pom_dyn_param_value(p, pi);
+    int ok = 1;
+    switch (pi->type) {
+    case POM_DYN_PARAM_REAL:
+    case POM_DYN_PARAM_KIND_REAL:
+      ok = v >= pi->lo * pi->to_si && v <= pi->hi * pi->to_si; /* NaN refused */
+      break;
+    case POM_DYN_PARAM_LONG:
+    case POM_DYN_PARAM_INT:
+      ok = v >= pi->lo && v <= pi->hi;
+      break;
+    case POM_DYN_PARAM_BOOL:
+      ok = v == 0.0 || v == 1.0;
+      break;
+    case POM_DYN_PARAM_ENUM:
+      ok = v >= 0.0 && v < (double)names_count(pi->names);
+      break;
+    case POM_DYN_PARAM_KIND:
+      break; /* checked above */
+    }
+    if (!ok) {
+      if (pi->type == POM_DYN_PARAM_BOOL || pi->type == POM_DYN_PARAM_ENUM)
+        POM_FAIL(err, POM_ERR_ARG, "%s = %g is not one of its values", key, v);
+      POM_FAIL(err, POM_ERR_ARG, "%s = %s outside [%g, %g] %s", key,
+               pom_dyn_param_format(p, pi, text, sizeof text), pi->lo, pi->hi,
+               pom_dyn_param_unit(pi, kind->kind));
+    }
+  }
+  POM_TRY(pom_dyn_ctrl_check(&p->controller, err)); /* the type's ranges, as loading checks */
+  char why[160];
+  const char *key = relation_broken(p, why, sizeof why);
+  if (key) POM_FAIL(err, POM_ERR_ARG, "%s %s", key, why);
   return POM_OK;
 }

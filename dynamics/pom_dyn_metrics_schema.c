@@ -134,10 +134,18 @@ double pom_dyn_combine_values(pom_dyn_combine c, const double *v, int n) {
   return n > 0 ? v[0] : NAN;
 }
 
+/* names in enum order (pom_cfg_choice_name: "?" outside the table) */
+static const char *const reduce_names[] = {"none", "ok", "settled", NULL};
+static const char *const combine_names[] = {"none", "sum", "max", NULL};
+_Static_assert(sizeof reduce_names / sizeof reduce_names[0] == POM_DYN_REDUCE_SETTLED + 2,
+               "reduce_names follows pom_dyn_reduce");
+_Static_assert(sizeof combine_names / sizeof combine_names[0] == POM_DYN_COMBINE_MAX + 2,
+               "combine_names follows pom_dyn_combine");
+
 const char *pom_dyn_reduce_name(pom_dyn_reduce r) {
-  return r == POM_DYN_REDUCE_OK ? "ok" : r == POM_DYN_REDUCE_SETTLED ? "settled" : "none";
+  return pom_cfg_choice_name(reduce_names, (int)r);
 }
 
 const char *pom_dyn_combine_name(pom_dyn_combine c) {
-  return c == POM_DYN_COMBINE_SUM ? "sum" : c == POM_DYN_COMBINE_MAX ? "max" : "none";
+  return pom_cfg_choice_name(combine_names, (int)c);
 }

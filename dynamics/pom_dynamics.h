@@ -137,6 +137,14 @@ void pom_dyn_params_defaults(pom_dyn_params *p);
  * `maneuver` groups (docs/config.md) over the defaults. */
 pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error *err);
 
+/* Checks every parameter outside the controller against the range that
+ * loading checks (pom_dyn_params_schema.h: one range per parameter), the
+ * controller against its type's descriptors, and the relations between
+ * parameters (the coil's inductance when scene.coil_inductance is on, the
+ * trace grid within the horizon). POM_ERR_ARG naming the config key
+ * otherwise. pom_dyn_model_create calls it. */
+pom_status pom_dyn_params_check(const pom_dyn_params *p, pom_error *err);
+
 /* The config groups pom_dyn_params_load reads (`actuator`, `controller`,
  * `joints`, `scene`, `solver`, `maneuver`), NULL-terminated, static
  * storage: callers use it to refuse settings that the model never reads

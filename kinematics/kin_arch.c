@@ -223,9 +223,15 @@ const double *pom_kin_arch_points(const pom_kin_arch *arch, const char *key) {
 }
 
 /* ---- config groups ------------------------------------------------------------ */
-/* What pom_kin_arch_load and pom_kin_inertia_load read. */
+/* What pom_kin_arch_load reads (with the model's `name`), and with
+ * pom_kin_inertia_load. */
+static const char *const arch_groups[] = {"name", "architecture", "geometry", "limits", NULL};
 static const char *const model_groups[] = {"name",   "architecture", "geometry",
                                            "limits", "inertia",      NULL};
+
+const char *const *pom_kin_arch_groups(void) {
+  return arch_groups;
+}
 
 const char *const *pom_kin_model_groups(void) {
   return model_groups;

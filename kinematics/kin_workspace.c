@@ -22,6 +22,12 @@ void pom_kin_ws_defaults(pom_kin_ws_opts *o) {
   o->progress_user = NULL;
 }
 
+static const char *const ws_groups[] = {"workspace", NULL}; /* what pom_kin_ws_load reads */
+
+const char *const *pom_kin_ws_groups(void) {
+  return ws_groups;
+}
+
 pom_status pom_kin_ws_load(pom_kin_ws_opts *o, const pom_cfg *cfg, pom_error *err) {
   static const char *const keys[] = {
       "dexterity_min",      "resolution_deg",     "max_half_width_deg",

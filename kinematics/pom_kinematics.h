@@ -72,6 +72,15 @@ pom_status pom_kin_arch_load(pom_kin_arch *arch, const pom_cfg *cfg, pom_error *
  * model never reads (docs/config.md). */
 const char *const *pom_kin_model_groups(void);
 
+/* The geometry groups alone, what pom_kin_arch_load reads with the model's
+ * name (`name`, `architecture`, `geometry`, `limits`): the groups of the
+ * kinematic commands and of the synthesis. NULL-terminated, static storage. */
+const char *const *pom_kin_arch_groups(void);
+
+/* The group pom_kin_ws_load reads (`workspace`), NULL-terminated, static
+ * storage. */
+const char *const *pom_kin_ws_groups(void);
+
 /* Inverse kinematics in closed form on the home assembly branch: q (m) for
  * rotation R. POM_ERR_UNREACHABLE (q untouched, err says which limb) when a
  * limb cannot be assembled; POM_ERR_NONFINITE when R holds NaN or Inf. Does

@@ -110,9 +110,6 @@ static pom_status make_prefix_dirs(const char *prefix, pom_error *err) {
 /* ---- factory ---------------------------------------------------------------- */
 pom_status pom_pipeline_evaluator_create(pom_doe_evaluator *eval, const pom_cfg *cfg, void *user,
                                          pom_error *err) {
-  /* what the synthesis and the tuning read, when they run in the study */
-  static const char *const synth_groups[] = {"synthesis", NULL};
-  static const char *const tune_groups[] = {"tuning", NULL};
   (void)user;
   pom_status st = POM_OK;
   int do_synth = 0, do_tune = 0;
@@ -147,8 +144,8 @@ pom_status pom_pipeline_evaluator_create(pom_doe_evaluator *eval, const pom_cfg 
   /* every group the candidate's model reads; unknown keys there are errors */
   POM_TRY_GOTO(pom_doe_evaluator_add_groups(eval, pom_kin_model_groups(), err), fail);
   POM_TRY_GOTO(pom_doe_evaluator_add_groups(eval, pom_dyn_param_groups(), err), fail);
-  if (do_synth) POM_TRY_GOTO(pom_doe_evaluator_add_groups(eval, synth_groups, err), fail);
-  if (do_tune) POM_TRY_GOTO(pom_doe_evaluator_add_groups(eval, tune_groups, err), fail);
+  if (do_synth) POM_TRY_GOTO(pom_doe_evaluator_add_groups(eval, pom_syn_groups(), err), fail);
+  if (do_tune) POM_TRY_GOTO(pom_doe_evaluator_add_groups(eval, pom_tune_groups(), err), fail);
   POM_TRY_GOTO(pom_cfg_check_unknown(cfg, eval->groups, NULL, err), fail);
   POM_TRY_GOTO(pom_doe_mech_actuator_kind(&ctx->base.mech, &eval->actuator_kind, err), fail);
   ctx->rec.arch = ctx->base.arch;

@@ -91,6 +91,10 @@ double pom_syn_var_unit(const pom_syn_problem *pb, int i);
 /* Defaults (docs/optimize.md 7); base is left zero. */
 void pom_syn_defaults(pom_syn_problem *pb);
 
+/* The config group pom_syn_load reads (`synthesis`), NULL-terminated, static
+ * storage. */
+const char *const *pom_syn_groups(void);
+
 /* Loads `architecture`, `geometry` (mode "parameters"), `limits`,
  * `workspace` and `synthesis` (docs/optimize.md 7). */
 pom_status pom_syn_load(pom_syn_problem *pb, const pom_cfg *cfg, pom_error *err);

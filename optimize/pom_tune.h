@@ -64,6 +64,10 @@ typedef struct {
 /* Defaults (docs/optimize.md 9): the maneuver set, limits and optimizer. */
 void pom_tune_defaults(pom_tune_problem *pb);
 
+/* The config group pom_tune_load reads (`tuning`), NULL-terminated, static
+ * storage. */
+const char *const *pom_tune_groups(void);
+
 /* Loads the mechanism (`architecture`, `geometry`, `limits`, `inertia`), the
  * dynamics groups and `tuning` (docs/optimize.md 9). */
 pom_status pom_tune_load(pom_tune_problem *pb, const pom_cfg *cfg, pom_error *err);

@@ -41,3 +41,11 @@ target_link_libraries(test_ctrl_computed_torque PRIVATE pom_dynamics pom_kinemat
 # PID with inverse-dynamics feedforward along a minimum-jerk reference (docs/control.md)
 pom_add_test(test_ctrl_feedforward test_ctrl_feedforward.c)
 target_link_libraries(test_ctrl_feedforward PRIVATE pom_dynamics pom_kinematics pom_core)
+# the one list of dynamics parameters: its doc table (docs/config.md) and its checks
+add_executable(dyn_params_table dyn_params_table.c)
+target_link_libraries(dyn_params_table PRIVATE pom_dynamics pom_options)
+add_test(NAME test_params_doc
+  COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/test_params_doc.sh $<TARGET_FILE:dyn_params_table>
+          ${CMAKE_SOURCE_DIR}/docs/config.md)
+pom_add_test(test_dyn_params test_dyn_params.c)
+target_link_libraries(test_dyn_params PRIVATE pom_dynamics pom_kinematics pom_core)

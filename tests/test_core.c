@@ -419,9 +419,46 @@ static void test_progress_log(void) {
   fclose(f);
 }
 
+/* The enum parse/name pair and the assembled group lists. */
+static void test_choices_and_groups(void) {
+  static const char *const names[] = {"dense", "klu", "finite-difference", NULL};
+  check_true(pom_cfg_choice_index(names, "klu") == 1);
+  check_true(pom_cfg_choice_index(names, "finite-difference") == 2);
+  check_true(pom_cfg_choice_index(names, "KLU") == -1);
+  check_true(pom_cfg_choice_index(names, NULL) == -1);
+  for (int k = 0; names[k]; ++k)
+    check_true(pom_cfg_choice_index(names, pom_cfg_choice_name(names, k)) == k);
+  check_true(strcmp(pom_cfg_choice_name(names, 3), "?") == 0);
+
+  static const char *const a[] = {"name", "geometry", "limits", NULL};
+  static const char *const b[] = {"limits", "solver", "name", "maneuver", NULL};
+  pom_cfg_groups g;
+  pom_error err;
+  pom_error_clear(&err);
+  pom_cfg_groups_init(&g);
+  check_true(g.n == 0 && g.name[0] == NULL);
+  check_true(pom_cfg_groups_add(&g, a, &err) == POM_OK);
+  check_true(pom_cfg_groups_add(&g, b, &err) == POM_OK);
+  check_true(pom_cfg_groups_add(&g, NULL, &err) == POM_OK);
+  check_true(g.n == 5 && g.name[5] == NULL); /* duplicates kept once, in first-seen order */
+  check_true(strcmp(g.name[3], "solver") == 0 && strcmp(g.name[4], "maneuver") == 0);
+  /* full: the error path */
+  static const char *many[POM_CFG_MAX_GROUPS + 2];
+  static char text[POM_CFG_MAX_GROUPS + 1][8];
+  for (int k = 0; k <= POM_CFG_MAX_GROUPS; ++k) {
+    snprintf(text[k], sizeof text[k], "g%d", k);
+    many[k] = text[k];
+  }
+  many[POM_CFG_MAX_GROUPS + 1] = NULL;
+  pom_cfg_groups_init(&g);
+  check_true(pom_cfg_groups_add(&g, many, &err) == POM_ERR_INTERNAL);
+  check_true(g.n == POM_CFG_MAX_GROUPS && g.name[POM_CFG_MAX_GROUPS] == NULL);
+}
+
 int main(void) {
   test_progress_log();
   test_status();
+  test_choices_and_groups();
   test_rotations();
   test_rng();
   test_config();
