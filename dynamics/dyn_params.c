@@ -46,6 +46,8 @@ void pom_dyn_params_defaults(pom_dyn_params *p) {
   p->maneuver.horizon = 0.100;
   p->maneuver.settle_band = 0.02;
   p->maneuver.output_dt = 1.0e-4;
+  p->maneuver.pointing_band = 1.0e-3;
+  p->maneuver.pointing_band_rel = 0.0;
 }
 
 /* ---- names --------------------------------------------------------------- */
@@ -195,6 +197,10 @@ pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error 
                            &m->settle_band, err));
   POM_TRY(pom_cfg_real_opt(cfg, "maneuver.output_dt_ms", 1e-3, 1e-6, 1e6, m->output_dt,
                            &m->output_dt, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "maneuver.pointing_band_mrad", 1e-3, 1e-6, 1e3, m->pointing_band,
+                           &m->pointing_band, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "maneuver.pointing_band_percent", 1e-2, 0.0, 100.0,
+                           m->pointing_band_rel, &m->pointing_band_rel, err));
   if (m->output_dt > m->horizon)
     return pom_cfg_error(cfg, "maneuver.output_dt_ms", NULL, err,
                          "must not exceed maneuver.horizon_ms (%g ms)", m->horizon * 1e3);

@@ -41,3 +41,6 @@ target_link_libraries(test_ctrl_computed_torque PRIVATE pom_dynamics pom_kinemat
 # PID with inverse-dynamics feedforward along a minimum-jerk reference (docs/control.md)
 pom_add_test(test_ctrl_feedforward test_ctrl_feedforward.c)
 target_link_libraries(test_ctrl_feedforward PRIVATE pom_dynamics pom_kinematics pom_core)
+# platform-level metrics: pointing, peak rate and effort, tracking (docs/results.md section 1b)
+pom_add_test(test_dyn_platform_metrics test_dyn_platform_metrics.c)
+target_link_libraries(test_dyn_platform_metrics PRIVATE pom_dynamics pom_kinematics pom_core)
