@@ -491,9 +491,11 @@ void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_d
             "%s (%.0f %% interval [%.4g, %.4g] %s), Wilcoxon p%s = %s: %s at alpha = %g.\n",
             metric_label(study, (pom_doe_metric)m), study->candidates[a].name,
             m == 0 ? "is faster than" : "uses less energy than", study->candidates[b].name,
-            m == 0 ? "lower execution time" : "lower expended energy", 100 * t.win_fraction, t.n,
-            ties, t.mean_diff * scale, unit, 100 * study->confidence, t.ci_low * scale,
-            t.ci_high * scale, unit, several ? " (Holm-adjusted)" : "", p,
+            m == 0 ? (study->time_metric == POM_DOE_TIME_POINTING ? "lower pointing time"
+                                                                  : "lower execution time")
+                   : "lower expended energy",
+            100 * t.win_fraction, t.n, ties, t.mean_diff * scale, unit, 100 * study->confidence,
+            t.ci_low * scale, t.ci_high * scale, unit, several ? " (Holm-adjusted)" : "", p,
             significant ? "significant" : "NOT significant", study->alpha);
   }
 }

@@ -55,7 +55,7 @@ def main(h5, man_csv, cand_csv):
                     continue
                 v = rows[field][done]
                 per = v.ndim == 2
-                pattern = re.compile("^%s%s(_(s|J|V|m|rad))?$" % (re.escape(field),
+                pattern = re.compile("^%s%s(_(s|J|V|m|rad|rad_per_s))?$" % (re.escape(field),
                                                                     "_([123])" if per else ""))
                 cols = [col for col in man.columns if pattern.match(col)]
                 assert len(cols) == (3 if per else 1), (field, cols)
