@@ -872,7 +872,7 @@ static pom_status write_statistics(hid_t file, const pom_doe_report *rep, pom_er
   hid_t g = -1;
   size_t nc = (size_t)rep->n_candidates;
   double *buf = malloc(nc * POM_DOE_STATS_FIELDS * sizeof *buf);
-  int64_t *counts = malloc(nc * 4 * sizeof *counts);
+  int64_t *counts = malloc(nc * 5 * sizeof *counts);
   if (!buf || !counts) POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "results: out of memory");
   POM_TRY_GOTO(replace_group(&g, file, "statistics", err), done);
   /* one table per reduced metric of the schema */
@@ -906,18 +906,19 @@ static pom_status write_statistics(hid_t file, const pom_doe_report *rep, pom_er
     if (st != POM_OK) goto done;
   }
   for (size_t c = 0; c < nc; ++c) {
-    counts[4 * c + 0] = rep->cand[c].n_done;
-    counts[4 * c + 1] = rep->cand[c].n_done - rep->cand[c].n_failed;
-    counts[4 * c + 2] = rep->cand[c].n_failed;
-    counts[4 * c + 3] = rep->cand[c].n_unsettled;
+    counts[5 * c + 0] = rep->cand[c].n_done;
+    counts[5 * c + 1] = rep->cand[c].n_done - rep->cand[c].n_failed;
+    counts[5 * c + 2] = rep->cand[c].n_failed;
+    counts[5 * c + 3] = rep->cand[c].n_unsettled;
+    counts[5 * c + 4] = rep->cand[c].n_censored; /* of the primary time metric */
   }
-  POM_TRY_GOTO(pom_h5_write_int64_table(g, "counts", nc, 4, counts, err), done);
+  POM_TRY_GOTO(pom_h5_write_int64_table(g, "counts", nc, 5, counts, err), done);
   hid_t ds = H5Dopen2(g, "counts", H5P_DEFAULT);
   if (ds < 0) {
     st = pom_h5_fail(err, __FILE__, __LINE__, "annotating counts");
     goto done;
   }
-  st = pom_h5_attr_string(ds, "columns", "done,ok,failed,unsettled", err);
+  st = pom_h5_attr_string(ds, "columns", "done,ok,failed,unsettled,censored", err);
   H5Dclose(ds);
 done:
   if (g >= 0) H5Gclose(g);
@@ -1075,6 +1076,11 @@ static pom_status write_report(pom_doe_results *res, const pom_doe_study *study,
   /* a resumed study may use other levels than the run that created the file */
   POM_TRY(pom_h5_attr_double(res->file, "alpha", study->alpha, err));
   POM_TRY(pom_h5_attr_double(res->file, "confidence", study->confidence, err));
+  /* the primary time metric of the comparisons, Friedman, ranking, effects */
+  POM_TRY(pom_h5_attr_string(res->file, "time_metric",
+                             study->time_metric == POM_DOE_TIME_POINTING ? "pointing_settling_time"
+                                                                         : "execution_time",
+                             err));
   POM_TRY(write_statistics(res->file, rep, err));
   POM_TRY(write_comparisons(res->file, rep, err));
   hid_t g = -1;

@@ -68,7 +68,7 @@ def main(h5, man_csv, cand_csv):
         for stat in f["statistics"]:
             if stat == "counts":
                 counts = f["statistics/counts"][:]
-                for j, col in enumerate(("done", "ok", "failed", "unsettled")):
+                for j, col in enumerate(("done", "ok", "failed", "unsettled", "censored")):
                     same(cand[col], counts[:, j], "counts " + col)
                 continue
             table = f["statistics/" + stat][:]
