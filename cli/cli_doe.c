@@ -606,6 +606,11 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
   json_montecarlo(out, study);
   json_uncertain(out, study);
   json_metrics(out);
+  /* the primary time metric: the comparisons, Friedman and ranking of
+   * "execution_time" use it, unsettled times censored at the horizon */
+  fprintf(out, "  \"time_metric\": \"%s\",\n",
+          study->time_metric == POM_DOE_TIME_POINTING ? "pointing_settling_time"
+                                                      : "execution_time");
   /* the sweep factors (dotted config keys), one value per candidate below */
   fprintf(out, "  \"factors\": [");
   for (int f = 0; f < study->n_factors; ++f) {
@@ -621,8 +626,8 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
     const pom_act_desc *u = pom_act_kind_desc(study->candidates[c].eval.actuator_kind);
     fprintf(out,
             ", \"actuator_kind\": \"%s\", \"actuator_unit\": \"%s\", \"done\": %ld, "
-            "\"failed\": %ld, \"unsettled\": %ld",
-            u->kind_name, u->si, cs->n_done, cs->n_failed, cs->n_unsettled);
+            "\"failed\": %ld, \"unsettled\": %ld, \"censored\": %ld",
+            u->kind_name, u->si, cs->n_done, cs->n_failed, cs->n_unsettled, cs->n_censored);
     fprintf(out, ", \"factors\": {");
     for (int f = 0; f < study->candidates[c].n_factors; ++f) {
       fprintf(out, "%s", f ? ", " : "");
@@ -657,7 +662,8 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
     json_double(out, c->test.win_fraction);
     fprintf(out, ", \"tie_fraction\": ");
     json_double(out, c->test.tie_fraction);
-    fprintf(out, "}%s\n", j + 1 < rep->n_comparisons ? "," : "");
+    fprintf(out, ", \"censored_a\": %ld, \"censored_b\": %ld}%s\n", c->censored_a, c->censored_b,
+            j + 1 < rep->n_comparisons ? "," : "");
   }
   fprintf(out, "  ],\n  \"comparison_pairs\": \"%s\",\n  \"friedman\": {",
           rep->all_pairs ? "all" : "best_against_each");
@@ -668,6 +674,7 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
     json_double(out, f->statistic);
     fprintf(out, ", \"df\": %.0f, \"p\": ", f->df);
     json_double(out, f->p);
+    if (m == 0) fprintf(out, ", \"censored\": %ld", rep->friedman_censored);
     fprintf(out, "}");
   }
   fprintf(out, "},\n  \"ranking\": {");

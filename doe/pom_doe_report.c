@@ -22,7 +22,10 @@ void pom_doe_cell_from_row(pom_doe_cell *cell, const pom_doe_row *row,
   int settled =
       time_metric == POM_DOE_TIME_POINTING ? cell->ok && row->pointing_settled == 1 : cell->settled;
   cell->censored = (int8_t)(cell->ok && !(settled && isfinite(t)));
-  cell->time = !cell->ok ? NAN : cell->censored ? row->horizon : t;
+  /* a row without a horizon (an evaluator that does not set it) cannot be
+   * censored: its unsettled time stays out, as before the censoring */
+  double horizon = row->horizon > 0 ? row->horizon : NAN;
+  cell->time = !cell->ok ? NAN : cell->censored ? horizon : t;
   for (int s = 0; s < POM_DYN_N_STATS; ++s) {
     const pom_dyn_metric_info *mi = pom_dyn_stat_metric(s);
     int j = (int)(mi - pom_dyn_metric_schema());
