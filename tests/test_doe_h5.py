@@ -143,6 +143,10 @@ def main(argv):
         else:
             d = ra["energy_total"][both] - rb["energy_total"][both]
         check(p[3] == d.size, "pairs")
+        if metric == 0:
+            for col, r in ((13, ra), (14, rb)):
+                check(p[col] == np.sum(both & (censored_time(r) != r["execution_time"])),
+                      "censored count in the pairs")
         check(rel_close(p[4], d.mean(), 1e-12), "mean difference")
         check(rel_close(p[10], np.sum(d < 0) / d.size, 1e-15), "wins")
         check(rel_close(p[11], np.sum(d == 0) / d.size, 1e-15), "ties")
