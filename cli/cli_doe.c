@@ -113,12 +113,16 @@ static void stats_row(FILE *out, const pom_doe_study *study, int c, const pom_do
   fmt_num(p95, sizeof p95, s->p95, scale, prec);
   lead_cells(out, study, c);
   fprintf(out, "| %s | %s | %s | %s | %s | %s | %ld |", mx, mean, mn, sd, med, p95, s->n);
-  if (with_unsettled) fprintf(out, " %ld |", cs->n_unsettled);
+  if (with_unsettled)
+    fprintf(out, " %ld |", with_unsettled == 2 ? cs->n_censored : cs->n_unsettled);
   fprintf(out, " %ld |\n", cs->n_failed);
 }
 
-static const char *metric_label(pom_doe_metric m) {
-  return m == POM_DOE_METRIC_TIME ? "execution time" : "expended energy";
+/* The response's name: the primary time metric (study.time_metric) or
+ * energy. */
+static const char *metric_label(const pom_doe_study *study, pom_doe_metric m) {
+  if (m != POM_DOE_METRIC_TIME) return "expended energy";
+  return study->time_metric == POM_DOE_TIME_POINTING ? "pointing time" : "execution time";
 }
 
 /* ---- actuator kinds ------------------------------------------------------------------ */
@@ -186,14 +190,17 @@ static void print_comparisons(FILE *out, const pom_doe_study *study, const pom_d
   int nc = rep->n_candidates;
   if (nc >= 3) {
     fprintf(out, "\n### Friedman test (all %d candidates, maneuvers every one completed)\n\n", nc);
-    fprintf(out, "| response | maneuvers | chi-square | df | p |\n|---|---:|---:|---:|---:|\n");
+    fprintf(out, "| response | maneuvers | censored | chi-square | df | p |\n"
+                 "|---|---:|---:|---:|---:|---:|\n");
     for (int m = 0; m < 2; ++m) {
       const pom_doe_friedman_result *f = &rep->friedman[m];
       char q[32], p[32];
       fmt_num(q, sizeof q, f->statistic, 1.0, 2);
       fmt_p(p, sizeof p, f->p);
-      fprintf(out, "| %s | %ld | %s | %.0f | %s |\n", metric_label((pom_doe_metric)m), f->n_blocks,
-              q, f->df, p);
+      char cens[32] = "-";
+      if (m == POM_DOE_METRIC_TIME) snprintf(cens, sizeof cens, "%ld", rep->friedman_censored);
+      fprintf(out, "| %s | %ld | %s | %s | %.0f | %s |\n", metric_label(study, (pom_doe_metric)m),
+              f->n_blocks, cens, q, f->df, p);
     }
   }
   if (rep->n_comparisons == 0) return;
@@ -208,7 +215,8 @@ static void print_comparisons(FILE *out, const pom_doe_study *study, const pom_d
             nc, nc * (nc - 1));
   fprintf(out,
           "| response | A | B | pairs | mean A - B | %.0f %% interval | Wilcoxon p | Holm p | A "
-          "better | tie | B better |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+          "better | tie | B better | censored A / B |\n"
+          "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
           100 * study->confidence);
   for (int j = 0; j < rep->n_comparisons; ++j) {
     const pom_doe_comparison *c = &rep->cmp[j];
@@ -223,10 +231,14 @@ static void print_comparisons(FILE *out, const pom_doe_study *study, const pom_d
     fmt_num(hi, sizeof hi, c->test.ci_high, scale, prec);
     fmt_p(p, sizeof p, c->test.wilcoxon_p);
     fmt_p(ph, sizeof ph, c->p_holm);
-    fprintf(out, "| %s (%s) | %s | %s | %ld | %s | [%s, %s] | %s | %s | %s %% | %s %% | %s %% |\n",
-            metric_label(c->metric), c->metric == POM_DOE_METRIC_TIME ? "ms" : "J",
+    char cens[48] = "-";
+    if (c->metric == POM_DOE_METRIC_TIME)
+      snprintf(cens, sizeof cens, "%ld / %ld", c->censored_a, c->censored_b);
+    fprintf(out,
+            "| %s (%s) | %s | %s | %ld | %s | [%s, %s] | %s | %s | %s %% | %s %% | %s %% | %s |\n",
+            metric_label(study, c->metric), c->metric == POM_DOE_METRIC_TIME ? "ms" : "J",
             study->candidates[c->a].name, study->candidates[c->b].name, c->test.n, md, lo, hi, p,
-            ph, win, tie, lose);
+            ph, win, tie, lose, cens);
   }
 }
 
@@ -246,8 +258,9 @@ static void print_effects(FILE *out, const pom_doe_study *study, const pom_doe_r
           "%.0f %% interval)\n\n",
           100 * study->confidence);
   fprintf(out,
-          "| factor | level | candidates | execution time (ms) | interval | expended energy (J) "
-          "| interval |\n|---|---:|---:|---:|---:|---:|---:|\n");
+          "| factor | level | candidates | %s (ms) | interval | censored | expended energy (J) "
+          "| interval |\n|---|---:|---:|---:|---:|---:|---:|---:|\n",
+          metric_label(study, POM_DOE_METRIC_TIME));
   for (int j = 0; j < rep->n_effects; ++j) {
     const pom_doe_effect *t = &rep->effects[j];
     if (t->metric != POM_DOE_METRIC_TIME) continue;
@@ -264,8 +277,9 @@ static void print_effects(FILE *out, const pom_doe_study *study, const pom_doe_r
     fmt_num(em, sizeof em, e ? e->mean : NAN, 1.0, 4);
     fmt_num(el, sizeof el, e ? e->ci_low : NAN, 1.0, 4);
     fmt_num(eh, sizeof eh, e ? e->ci_high : NAN, 1.0, 4);
-    fprintf(out, "| %s | %s | %d | %s | [%s, %s] | %s | [%s, %s] |\n",
-            study->factor_label[t->factor], lv, t->n_candidates, tm, tl, th, em, el, eh);
+    fprintf(out, "| %s | %s | %d | %s | [%s, %s] | %ld | %s | [%s, %s] |\n",
+            study->factor_label[t->factor], lv, t->n_candidates, tm, tl, th, t->n_censored, em, el,
+            eh);
   }
 }
 
@@ -285,7 +299,7 @@ static void print_heat_map(FILE *out, const pom_doe_study *study, const pom_doe_
   for (int m = 0; m < 2 && n0 > 0 && n1 > 0; ++m) {
     const double *mean = m == 0 ? rep->mean_time : rep->mean_energy;
     fprintf(out, "\n### Heat map: mean %s (%s), %s (rows) x %s (columns)\n\n",
-            metric_label((pom_doe_metric)m), m == 0 ? "ms" : "J", study->factor_label[0],
+            metric_label(study, (pom_doe_metric)m), m == 0 ? "ms" : "J", study->factor_label[0],
             study->factor_label[1]);
     fprintf(out, "| %s \\ %s |", study->factor_label[0], study->factor_label[1]);
     for (int j = 0; j < n1; ++j) {
@@ -331,23 +345,26 @@ static void print_pareto(FILE *out, const pom_doe_study *study, const pom_doe_re
   if (nc < 3) return;
   for (int c = 0; c < nc; ++c)
     n += rep->pareto[c];
-  fprintf(out, "\n### Pareto front: execution time against energy (%d of %d candidates)\n\n", n,
-          nc);
+  fprintf(out, "\n### Pareto front: %s against energy (%d of %d candidates)\n\n",
+          metric_label(study, POM_DOE_METRIC_TIME), n, nc);
   if (n == 0) {
     fprintf(out, "No maneuver that every candidate completed: no front.\n");
     return;
   }
   fprintf(out, "Means over the maneuvers every candidate completed; no other candidate is as "
-               "fast and as frugal with one of them strictly better.\n\n");
+               "fast and as frugal with one of them strictly better; a time that did not settle "
+               "counts censored at the horizon (censored: how many).\n\n");
   lead_head(out, study, 0);
-  fprintf(out, "| execution time (ms) | expended energy (J) |\n");
+  fprintf(out, "| %s (ms) | censored | expended energy (J) |\n",
+          metric_label(study, POM_DOE_METRIC_TIME));
   lead_head(out, study, 1);
-  fprintf(out, "|---:|---:|\n");
+  fprintf(out, "|---:|---:|---:|\n");
   for (int r = 0; r < nc; ++r) {
     int c = rep->rank_time[r];
     if (!rep->pareto[c]) continue;
     lead_cells(out, study, c);
-    fprintf(out, "| %.3f | %.4f |\n", rep->mean_time[c] * 1e3, rep->mean_energy[c]);
+    fprintf(out, "| %.3f | %ld | %.4f |\n", rep->mean_time[c] * 1e3, rep->censored_common[c],
+            rep->mean_energy[c]);
   }
 }
 
@@ -366,9 +383,28 @@ void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_d
   stats_head(out, study, cols);
   for (int c = 0; c < nc; ++c)
     stats_row(out, study, c, &rep->cand[c].energy, 1.0, 4, &rep->cand[c], 0);
-  fprintf(out, "\nExecution time = largest settling time of the three actuators (2 %% band), over "
-               "maneuvers that settled within the horizon; energy = sum over the actuators of the "
-               "signed integral of u i over the horizon.\n");
+  fprintf(out,
+          "\nExecution time = largest settling time of the three actuators (2 %% band), over "
+          "maneuvers that settled within the horizon; energy = sum over the actuators of the "
+          "signed integral of u i over the horizon. %s\n",
+          study->time_metric == POM_DOE_TIME_POINTING
+              ? "unsettled: some actuator outside its band at the horizon; the comparisons use "
+                "the pointing time (Table 1p)."
+              : "unsettled: maneuvers whose time is right-censored at the horizon; the "
+                "comparisons and the ranking count them there (docs/results.md section 4).");
+  if (study->time_metric == POM_DOE_TIME_POINTING) {
+    static const char cols_censored[] =
+        "max | mean | min | sigma | median | p95 | n | censored | failed";
+    fprintf(out, "\n### Table 1p: pointing settling time (ms), the primary time metric\n\n");
+    stats_head(out, study, cols_censored);
+    for (int c = 0; c < nc; ++c)
+      stats_row(out, study, c, &rep->cand[c].pointing_time, 1e3, 2, &rep->cand[c], 2);
+    fprintf(out, "\nPointing settling time = last time the angle between the platform and the "
+                 "target orientation was outside the pointing band (maneuver.pointing_band_mrad); "
+                 "statistics over the maneuvers that settled, censored: those that did not within "
+                 "the horizon, which the comparisons and the ranking count there "
+                 "(docs/results.md section 4).\n");
+  }
   fprintf(out, "\n### Table 1b: execution time (ms), MATLAB stepinfo definition\n\n");
   stats_head(out, study, cols);
   for (int c = 0; c < nc; ++c)
@@ -392,7 +428,7 @@ void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_d
     int m = metrics[j];
     const int *order = m == 0 ? rep->rank_time : rep->rank_energy;
     const double *mean = m == 0 ? rep->mean_time : rep->mean_energy;
-    fprintf(out, "- %s%s: ", metric_label((pom_doe_metric)m), j == 0 ? " (primary)" : "");
+    fprintf(out, "- %s%s: ", metric_label(study, (pom_doe_metric)m), j == 0 ? " (primary)" : "");
     /* equal means share a place */
     int place = 1;
     for (int r = 0; r < nc; ++r) {
@@ -401,6 +437,14 @@ void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_d
                  (r + 1 < nc && mean[order[r]] == mean[order[r + 1]]);
       fprintf(out, "%s%d.%s %s", r ? ", " : "", place, tied ? "=" : "",
               study->candidates[order[r]].name);
+    }
+    if (m == POM_DOE_METRIC_TIME) {
+      fprintf(out, " (restricted mean: a time that did not settle counts at the horizon; "
+                   "censored among the common maneuvers:");
+      for (int r = 0; r < nc; ++r)
+        fprintf(out, "%s %s %ld", r ? "," : "", study->candidates[order[r]].name,
+                rep->censored_common[order[r]]);
+      fprintf(out, ")");
     }
     fprintf(out, "\n");
   }
@@ -414,7 +458,7 @@ void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_d
     double p_holm = NAN;
     if (!find_comparison(rep, a, b, (pom_doe_metric)m, &t, &p_holm) || t.n == 0) {
       fprintf(out, "- %s: no maneuver that both %s and %s completed.\n",
-              metric_label((pom_doe_metric)m), study->candidates[a].name,
+              metric_label(study, (pom_doe_metric)m), study->candidates[a].name,
               study->candidates[b].name);
       continue;
     }
@@ -422,8 +466,8 @@ void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_d
       fprintf(out,
               "- %s: %s and %s **tie**: the same %s on every one of the %ld common "
               "maneuvers.\n",
-              metric_label((pom_doe_metric)m), study->candidates[a].name, study->candidates[b].name,
-              metric_label((pom_doe_metric)m), t.n);
+              metric_label(study, (pom_doe_metric)m), study->candidates[a].name,
+              study->candidates[b].name, metric_label(study, (pom_doe_metric)m), t.n);
       continue;
     }
     double scale = m == 0 ? 1e3 : 1.0;
@@ -442,21 +486,23 @@ void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_d
               "- %s: mixed: **%s** has the lower mean (difference %.4g %s, %.0f %% interval "
               "[%.4g, %.4g] %s) but %s is %s on %.1f %% of %ld common maneuvers%s (Wilcoxon "
               "p%s = %s, %s at alpha = %g): neither is better on both counts.\n",
-              metric_label((pom_doe_metric)m), study->candidates[a].name, t.mean_diff * scale, unit,
-              100 * study->confidence, t.ci_low * scale, t.ci_high * scale, unit,
-              study->candidates[b].name, m == 0 ? "faster" : "more frugal", 100 * loss_fraction,
-              t.n, ties, several ? " (Holm-adjusted)" : "", p,
+              metric_label(study, (pom_doe_metric)m), study->candidates[a].name,
+              t.mean_diff * scale, unit, 100 * study->confidence, t.ci_low * scale,
+              t.ci_high * scale, unit, study->candidates[b].name, m == 0 ? "faster" : "more frugal",
+              100 * loss_fraction, t.n, ties, several ? " (Holm-adjusted)" : "", p,
               significant ? "significant" : "not significant", study->alpha);
       continue;
     }
     fprintf(out,
             "- %s: **%s** %s %s (%s) on %.1f %% of %ld common maneuvers%s; mean difference %.4g "
             "%s (%.0f %% interval [%.4g, %.4g] %s), Wilcoxon p%s = %s: %s at alpha = %g.\n",
-            metric_label((pom_doe_metric)m), study->candidates[a].name,
+            metric_label(study, (pom_doe_metric)m), study->candidates[a].name,
             m == 0 ? "is faster than" : "uses less energy than", study->candidates[b].name,
-            m == 0 ? "lower execution time" : "lower expended energy", 100 * t.win_fraction, t.n,
-            ties, t.mean_diff * scale, unit, 100 * study->confidence, t.ci_low * scale,
-            t.ci_high * scale, unit, several ? " (Holm-adjusted)" : "", p,
+            m == 0 ? (study->time_metric == POM_DOE_TIME_POINTING ? "lower pointing time"
+                                                                  : "lower execution time")
+                   : "lower expended energy",
+            100 * t.win_fraction, t.n, ties, t.mean_diff * scale, unit, 100 * study->confidence,
+            t.ci_low * scale, t.ci_high * scale, unit, several ? " (Holm-adjusted)" : "", p,
             significant ? "significant" : "NOT significant", study->alpha);
   }
 }
@@ -567,6 +613,11 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
   json_montecarlo(out, study);
   json_uncertain(out, study);
   json_metrics(out);
+  /* the primary time metric: the comparisons, Friedman and ranking of
+   * "execution_time" use it, unsettled times censored at the horizon */
+  fprintf(out, "  \"time_metric\": \"%s\",\n",
+          study->time_metric == POM_DOE_TIME_POINTING ? "pointing_settling_time"
+                                                      : "execution_time");
   /* the sweep factors (dotted config keys), one value per candidate below */
   fprintf(out, "  \"factors\": [");
   for (int f = 0; f < study->n_factors; ++f) {
@@ -582,8 +633,8 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
     const pom_act_desc *u = pom_act_kind_desc(study->candidates[c].eval.actuator_kind);
     fprintf(out,
             ", \"actuator_kind\": \"%s\", \"actuator_unit\": \"%s\", \"done\": %ld, "
-            "\"failed\": %ld, \"unsettled\": %ld",
-            u->kind_name, u->si, cs->n_done, cs->n_failed, cs->n_unsettled);
+            "\"failed\": %ld, \"unsettled\": %ld, \"censored\": %ld",
+            u->kind_name, u->si, cs->n_done, cs->n_failed, cs->n_unsettled, cs->n_censored);
     fprintf(out, ", \"factors\": {");
     for (int f = 0; f < study->candidates[c].n_factors; ++f) {
       fprintf(out, "%s", f ? ", " : "");
@@ -618,7 +669,8 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
     json_double(out, c->test.win_fraction);
     fprintf(out, ", \"tie_fraction\": ");
     json_double(out, c->test.tie_fraction);
-    fprintf(out, "}%s\n", j + 1 < rep->n_comparisons ? "," : "");
+    fprintf(out, ", \"censored_a\": %ld, \"censored_b\": %ld}%s\n", c->censored_a, c->censored_b,
+            j + 1 < rep->n_comparisons ? "," : "");
   }
   fprintf(out, "  ],\n  \"comparison_pairs\": \"%s\",\n  \"friedman\": {",
           rep->all_pairs ? "all" : "best_against_each");
@@ -629,6 +681,7 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
     json_double(out, f->statistic);
     fprintf(out, ", \"df\": %.0f, \"p\": ", f->df);
     json_double(out, f->p);
+    if (m == 0) fprintf(out, ", \"censored\": %ld", rep->friedman_censored);
     fprintf(out, "}");
   }
   fprintf(out, "},\n  \"ranking\": {");

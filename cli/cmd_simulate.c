@@ -108,7 +108,7 @@ static void print_json(const char *name, const pom_dyn_params *p, const pom_dyn_
           "  \"actuator_kind\": \"%s\",\n  \"actuator_unit\": \"%s\",\n",
           pom_dyn_orient_name(p->scene.orientation), pom_dyn_linsol_name(p->solver.linear_solver),
           pom_dyn_joint_model_name(p->joints.model), u->kind_name, u->si);
-  json_num(f, "horizon_s", p->maneuver.horizon, ",");
+  /* horizon_s comes with the metrics (the schema's `horizon`) */
   int out[3];
   stroke_excursions(mt, half_stroke, out);
   json_num(f, "half_stroke", half_stroke, ",");

@@ -215,16 +215,26 @@ typedef struct {
 
 typedef enum { POM_DOE_RANK_TIME = 0, POM_DOE_RANK_ENERGY = 1 } pom_doe_rank_by;
 
+/* The primary time metric of the paired comparisons, the Friedman test, the
+ * ranking, the main effects and the Pareto front (study.time_metric;
+ * docs/results.md section 4): the largest per-actuator settling time (the
+ * paper's execution time) or the platform's pointing settling time. */
+typedef enum {
+  POM_DOE_TIME_EXECUTION = 0, /* execution_time: joint-space studies by default */
+  POM_DOE_TIME_POINTING = 1   /* pointing_settling_time: orientation-space studies by default */
+} pom_doe_time_metric;
+
 typedef struct {
-  char name[POM_DOE_NAME_LEN];    /* study name (file stem) */
-  char source[POM_DOE_PATH_LEN];  /* study config path */
-  char output[POM_DOE_PATH_LEN];  /* results file path */
-  char *config_text;              /* the study file's text, owned */
-  int threads;                    /* 0 = all cores */
-  double alpha;                   /* significance level of the verdict (two-sided) */
-  double confidence;              /* level of the paired interval (default 0.95) */
-  pom_doe_rank_by rank_by;        /* primary ranking metric */
-  char tabular[POM_DOE_PATH_LEN]; /* study.tabular: CSV file of rows ("" = none) */
+  char name[POM_DOE_NAME_LEN];     /* study name (file stem) */
+  char source[POM_DOE_PATH_LEN];   /* study config path */
+  char output[POM_DOE_PATH_LEN];   /* results file path */
+  char *config_text;               /* the study file's text, owned */
+  int threads;                     /* 0 = all cores */
+  double alpha;                    /* significance level of the verdict (two-sided) */
+  double confidence;               /* level of the paired interval (default 0.95) */
+  pom_doe_rank_by rank_by;         /* primary ranking metric */
+  pom_doe_time_metric time_metric; /* primary time metric (resolved from "auto") */
+  char tabular[POM_DOE_PATH_LEN];  /* study.tabular: CSV file of rows ("" = none) */
   /* sweep factors, shared by every candidate of a sweep (0 for a list) */
   int n_factors;
   char factor_key[POM_DOE_MAX_FACTORS][POM_DOE_NAME_LEN];   /* dotted config keys */
@@ -323,6 +333,8 @@ typedef struct {
   long n_done;      /* maneuvers finished */
   long n_failed;    /* status != ok */
   long n_unsettled; /* ok but some actuator never settled */
+  long n_censored;  /* ok but the primary time metric did not settle within the horizon: its
+                       value is censored at the horizon (docs/results.md section 4) */
   union {
     pom_doe_stats stat[POM_DYN_N_STATS];
     struct {
@@ -337,7 +349,10 @@ typedef struct {
   int a, b;              /* candidate indices; differences are a - b (a < b when every pair is
                             compared, a = the metric's best candidate otherwise) */
   pom_doe_metric metric; /* which response */
-  pom_doe_paired test;   /* on maneuvers where both are ok (and settled, for time) */
+  pom_doe_paired test;   /* on maneuvers where both are ok; an unsettled time counts censored at
+                            its horizon */
+  long censored_a;       /* time: pairs in which a's value is censored (0 for energy) */
+  long censored_b;       /* time: pairs in which b's value is censored */
   double p_holm;         /* Wilcoxon p adjusted by Holm over the comparisons of this metric */
 } pom_doe_comparison;
 
@@ -351,6 +366,7 @@ typedef struct {
   int n_candidates;      /* candidates at this level */
   pom_doe_metric metric; /* response */
   long n;                /* maneuvers averaged */
+  long n_censored;       /* time: censored values among those averaged */
   double mean;           /* SI (s or J) */
   double ci_low, ci_high;
 } pom_doe_effect;
@@ -367,11 +383,14 @@ typedef struct {
   int n_comparisons;
   pom_doe_comparison *cmp;             /* [n_comparisons]: both metrics */
   pom_doe_friedman_result friedman[2]; /* per pom_doe_metric, over the common maneuvers */
-  int *rank_time;      /* [n_candidates] candidate indices, best (lowest mean) first */
-  int *rank_energy;    /* [n_candidates] */
-  double *mean_time;   /* [n_candidates] mean execution time over the common maneuvers (s) */
-  double *mean_energy; /* [n_candidates] mean expended energy over the common maneuvers (J) */
-  double alpha;        /* level used for "significant" */
+  long friedman_censored;              /* censored time values among the Friedman blocks */
+  int *rank_time;        /* [n_candidates] candidate indices, best (lowest mean) first */
+  int *rank_energy;      /* [n_candidates] */
+  double *mean_time;     /* [n_candidates] mean primary time over the common maneuvers, unsettled
+                            ones censored at the horizon: the restricted mean (s) */
+  long *censored_common; /* [n_candidates] censored times among the common maneuvers */
+  double *mean_energy;   /* [n_candidates] mean expended energy over the common maneuvers (J) */
+  double alpha;          /* level used for "significant" */
   int n_effects;
   pom_doe_effect *effects; /* [n_effects] main effects: factor-major, then metric, then level */
   int *pareto;             /* [n_candidates] 1 on the Pareto front of (mean_time, mean_energy) */

@@ -66,6 +66,7 @@ static void level_effect(pom_doe_effect *e, const pom_doe_cell *cells, size_t m,
       const pom_doe_cell *cell = &cells[(size_t)c * m + k];
       if (level_of[c] != e->level || !pom_doe_cell_usable(cell, e->metric)) continue;
       s += pom_doe_cell_value(cell, e->metric);
+      e->n_censored += e->metric == POM_DOE_METRIC_TIME && cell->censored;
       ++cnt;
     }
     if (!cnt) continue;

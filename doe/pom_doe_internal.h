@@ -115,17 +115,22 @@ pom_status pom_doe_uncertain_check(hid_t file, const pom_doe_study *study, const
 /* ---- report (pom_doe_report.c) ---- */
 /* Compact per-row values kept in memory for the statistics. */
 typedef struct {
-  int8_t done;                  /* 1 when finished */
-  int8_t ok;                    /* status == POM_OK */
-  int8_t settled;               /* every actuator settled */
+  int8_t done;     /* 1 when finished */
+  int8_t ok;       /* status == POM_OK */
+  int8_t settled;  /* every actuator settled */
+  int8_t censored; /* ok, and the primary time metric did not settle */
+  double time;     /* primary time metric (s); the horizon when censored; NaN when failed */
   double stat[POM_DYN_N_STATS]; /* per reduced metric (pom_dyn_stat_id): the value its statistics
                                    use (combined over actuators), NaN when it does not count */
 } pom_doe_cell;
 
-void pom_doe_cell_from_row(pom_doe_cell *cell, const pom_doe_row *row);
-/* 1 when the cell counts for the metric (time needs settling). */
+void pom_doe_cell_from_row(pom_doe_cell *cell, const pom_doe_row *row,
+                           pom_doe_time_metric time_metric);
+/* 1 when the cell counts for the metric: the maneuver did not fail (an
+ * unsettled time counts, censored at its horizon). */
 int pom_doe_cell_usable(const pom_doe_cell *cell, pom_doe_metric metric);
-/* The cell's value of a compared metric (execution time or energy). */
+/* The cell's value of a compared metric (the primary time, censored at the
+ * horizon, or energy). */
 double pom_doe_cell_value(const pom_doe_cell *cell, pom_doe_metric metric);
 /* Report from cells[c * count + k] (c candidates, count maneuvers each). */
 pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *study,

@@ -9,11 +9,23 @@
 /* The per-maneuver value of each statistic: its metric combined over the
  * actuators, kept when the maneuver counts for it (ok, or settled) and the
  * value is finite; NaN otherwise. */
-void pom_doe_cell_from_row(pom_doe_cell *cell, const pom_doe_row *row) {
+void pom_doe_cell_from_row(pom_doe_cell *cell, const pom_doe_row *row,
+                           pom_doe_time_metric time_metric) {
   cell->done = (int8_t)(row->done != 0);
   cell->ok = (int8_t)(row->done && row->status == POM_OK);
   cell->settled = (int8_t)(cell->ok && row->settled[0] && row->settled[1] && row->settled[2] &&
                            isfinite(row->execution_time));
+  /* the primary time: an unsettled maneuver is right-censored at its
+   * horizon, never dropped (docs/results.md section 4) */
+  double t =
+      time_metric == POM_DOE_TIME_POINTING ? row->pointing_settling_time : row->execution_time;
+  int settled =
+      time_metric == POM_DOE_TIME_POINTING ? cell->ok && row->pointing_settled == 1 : cell->settled;
+  cell->censored = (int8_t)(cell->ok && !(settled && isfinite(t)));
+  /* a row without a horizon (an evaluator that does not set it) cannot be
+   * censored: its unsettled time stays out, as before the censoring */
+  double horizon = row->horizon > 0 ? row->horizon : NAN;
+  cell->time = !cell->ok ? NAN : cell->censored ? horizon : t;
   for (int s = 0; s < POM_DYN_N_STATS; ++s) {
     const pom_dyn_metric_info *mi = pom_dyn_stat_metric(s);
     int j = (int)(mi - pom_dyn_metric_schema());
@@ -34,20 +46,20 @@ void pom_doe_report_destroy(pom_doe_report *r) {
   free(r->rank_energy);
   free(r->mean_time);
   free(r->mean_energy);
+  free(r->censored_common);
   free(r->effects);
   free(r->pareto);
   free(r);
 }
 
 int pom_doe_cell_usable(const pom_doe_cell *cell, pom_doe_metric metric) {
-  return metric == POM_DOE_METRIC_TIME ? cell->settled : cell->ok;
+  return metric == POM_DOE_METRIC_TIME ? cell->ok && isfinite(cell->time) : cell->ok;
 }
 
 /* The chosen metrics of the paired comparison and the ranking, read through
  * the schema's statistics. */
 double pom_doe_cell_value(const pom_doe_cell *cell, pom_doe_metric metric) {
-  return cell
-      ->stat[metric == POM_DOE_METRIC_TIME ? POM_DYN_STAT_execution_time : POM_DYN_STAT_energy];
+  return metric == POM_DOE_METRIC_TIME ? cell->time : cell->stat[POM_DYN_STAT_energy];
 }
 
 /* Ranking by the mean over the maneuvers usable for every candidate (the
@@ -55,7 +67,7 @@ double pom_doe_cell_value(const pom_doe_cell *cell, pom_doe_metric metric) {
 typedef struct {
   int index;
   double mean;
-  long bad; /* failed + unsettled: tie-break */
+  long bad; /* failed + censored: tie-break */
 } rank_item;
 
 static int cmp_rank(const void *a, const void *b) {
@@ -69,14 +81,16 @@ static int cmp_rank(const void *a, const void *b) {
   return x->index - y->index;
 }
 
-static void rank(int *order, double *means, const pom_doe_study *study, const pom_doe_report *rep,
-                 const pom_doe_cell *cells, pom_doe_metric metric, rank_item *items) {
+static void rank(int *order, double *means, long *censored, const pom_doe_study *study,
+                 const pom_doe_report *rep, const pom_doe_cell *cells, pom_doe_metric metric,
+                 rank_item *items) {
   int nc = study->n_candidates;
   long m = study->maneuvers.count;
   for (int c = 0; c < nc; ++c) {
     items[c].index = c;
-    items[c].bad = rep->cand[c].n_failed + rep->cand[c].n_unsettled;
+    items[c].bad = rep->cand[c].n_failed + rep->cand[c].n_censored;
     items[c].mean = 0;
+    if (censored) censored[c] = 0;
   }
   long n = 0;
   for (long k = 0; k < m; ++k) {
@@ -85,8 +99,11 @@ static void rank(int *order, double *means, const pom_doe_study *study, const po
       all = pom_doe_cell_usable(&cells[(size_t)c * (size_t)m + (size_t)k], metric);
     if (!all) continue;
     ++n;
-    for (int c = 0; c < nc; ++c)
-      items[c].mean += pom_doe_cell_value(&cells[(size_t)c * (size_t)m + (size_t)k], metric);
+    for (int c = 0; c < nc; ++c) {
+      const pom_doe_cell *cell = &cells[(size_t)c * (size_t)m + (size_t)k];
+      items[c].mean += pom_doe_cell_value(cell, metric);
+      if (censored) censored[c] += cell->censored;
+    }
   }
   for (int c = 0; c < nc; ++c) {
     items[c].mean = n ? items[c].mean / (double)n : NAN;
@@ -99,28 +116,34 @@ static void rank(int *order, double *means, const pom_doe_study *study, const po
 
 /* The paired comparison of candidates x and y (differences x - y) on the
  * maneuvers both can use; a, b: m values of scratch, scratch 3 m. */
-static void compare(pom_doe_paired *out, const pom_doe_cell *cells, size_t m, int x, int y,
+static void compare(pom_doe_comparison *out, const pom_doe_cell *cells, size_t m, int x, int y,
                     pom_doe_metric metric, double confidence, double *a, double *b,
                     double *scratch) {
   size_t n = 0;
+  out->censored_a = out->censored_b = 0;
   for (size_t k = 0; k < m; ++k) {
     const pom_doe_cell *u = &cells[(size_t)x * m + k], *v = &cells[(size_t)y * m + k];
     if (!pom_doe_cell_usable(u, metric) || !pom_doe_cell_usable(v, metric)) continue;
     a[n] = pom_doe_cell_value(u, metric);
     b[n] = pom_doe_cell_value(v, metric);
+    if (metric == POM_DOE_METRIC_TIME) {
+      out->censored_a += u->censored;
+      out->censored_b += v->censored;
+    }
     ++n;
   }
-  pom_doe_paired_compute(out, a, b, n, confidence, scratch);
+  pom_doe_paired_compute(&out->test, a, b, n, confidence, scratch);
 }
 
 /* Friedman's test over the maneuvers every candidate can use (blocks), one
  * maneuver at a time so nothing grows with their number; values, rank:
  * nc doubles each, scratch 4 nc. */
-static void friedman(pom_doe_friedman_result *out, const pom_doe_cell *cells, size_t m, int nc,
-                     pom_doe_metric metric, double *values, double *rank, double *scratch) {
+static void friedman(pom_doe_friedman_result *out, long *censored, const pom_doe_cell *cells,
+                     size_t m, int nc, pom_doe_metric metric, double *values, double *rank,
+                     double *scratch) {
   double *rank_sum = scratch, *pairs = scratch + nc;
   double tie_sum = 0;
-  long n = 0;
+  long n = 0, n_censored = 0;
   for (int c = 0; c < nc; ++c)
     rank_sum[c] = 0;
   for (size_t k = 0; k < m; ++k) {
@@ -131,12 +154,15 @@ static void friedman(pom_doe_friedman_result *out, const pom_doe_cell *cells, si
       values[c] = all ? pom_doe_cell_value(cell, metric) : NAN;
     }
     if (!all) continue;
+    for (int c = 0; c < nc; ++c)
+      n_censored += metric == POM_DOE_METRIC_TIME && cells[(size_t)c * m + k].censored;
     tie_sum += pom_doe_rank_average(rank, values, nc, pairs);
     for (int c = 0; c < nc; ++c)
       rank_sum[c] += rank[c];
     ++n;
   }
   pom_doe_friedman_from_ranks(out, rank_sum, nc, n, tie_sum);
+  if (metric == POM_DOE_METRIC_TIME) *censored = n_censored;
 }
 
 pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *study,
@@ -161,6 +187,7 @@ pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *stu
   rep->rank_energy = calloc((size_t)nc, sizeof *rep->rank_energy);
   rep->mean_time = calloc((size_t)nc, sizeof *rep->mean_time);
   rep->mean_energy = calloc((size_t)nc, sizeof *rep->mean_energy);
+  rep->censored_common = calloc((size_t)nc, sizeof *rep->censored_common);
   /* a, b: one value per maneuver, per comparison or per candidate */
   size_t len = m > (size_t)rep->n_comparisons ? m : (size_t)rep->n_comparisons;
   len = len > (size_t)nc ? len : (size_t)nc;
@@ -170,7 +197,8 @@ pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *stu
   order_scratch = malloc((len ? len : 1) * sizeof *order_scratch);
   items = malloc((size_t)nc * sizeof *items);
   if (!rep->cand || !rep->cmp || !rep->rank_time || !rep->rank_energy || !rep->mean_time ||
-      !rep->mean_energy || !a || !b || !scratch || !order_scratch || !items)
+      !rep->mean_energy || !rep->censored_common || !a || !b || !scratch || !order_scratch ||
+      !items)
     POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "report: out of memory");
 
   for (int c = 0; c < nc; ++c) {
@@ -183,6 +211,7 @@ pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *stu
         ++cs->n_failed;
       else if (!col[k].settled)
         ++cs->n_unsettled;
+      if (col[k].censored) ++cs->n_censored;
     }
     /* every reduced metric of the schema over the maneuvers that count */
     for (int s = 0; s < POM_DYN_N_STATS; ++s) {
@@ -193,8 +222,9 @@ pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *stu
     }
   }
 
-  rank(rep->rank_time, rep->mean_time, study, rep, cells, POM_DOE_METRIC_TIME, items);
-  rank(rep->rank_energy, rep->mean_energy, study, rep, cells, POM_DOE_METRIC_ENERGY, items);
+  rank(rep->rank_time, rep->mean_time, rep->censored_common, study, rep, cells, POM_DOE_METRIC_TIME,
+       items);
+  rank(rep->rank_energy, rep->mean_energy, NULL, study, rep, cells, POM_DOE_METRIC_ENERGY, items);
   POM_TRY_GOTO(pom_doe_effects_compute(rep, study, cells, err), fail);
   int j = 0;
   for (int metric = 0; metric < 2; ++metric) {
@@ -212,8 +242,7 @@ pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *stu
         cmp->a = x;
         cmp->b = y;
         cmp->metric = (pom_doe_metric)metric;
-        compare(&cmp->test, cells, m, x, y, (pom_doe_metric)metric, study->confidence, a, b,
-                scratch);
+        compare(cmp, cells, m, x, y, (pom_doe_metric)metric, study->confidence, a, b, scratch);
       }
     /* Holm over this metric's comparisons */
     for (int i = first; i < j; ++i)
@@ -221,7 +250,8 @@ pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *stu
     pom_doe_holm(b, a, (size_t)(j - first), order_scratch);
     for (int i = first; i < j; ++i)
       rep->cmp[i].p_holm = b[i - first];
-    friedman(&rep->friedman[metric], cells, m, nc, (pom_doe_metric)metric, a, b, scratch);
+    friedman(&rep->friedman[metric], &rep->friedman_censored, cells, m, nc, (pom_doe_metric)metric,
+             a, b, scratch);
   }
   *out = rep;
   goto done;

@@ -862,7 +862,7 @@ static pom_status write_statistics(hid_t file, const pom_doe_report *rep, pom_er
   hid_t g = -1;
   size_t nc = (size_t)rep->n_candidates;
   double *buf = malloc(nc * POM_DOE_STATS_FIELDS * sizeof *buf);
-  int64_t *counts = malloc(nc * 4 * sizeof *counts);
+  int64_t *counts = malloc(nc * 5 * sizeof *counts);
   if (!buf || !counts) POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "results: out of memory");
   POM_TRY_GOTO(replace_group(&g, file, "statistics", err), done);
   /* one table per reduced metric of the schema */
@@ -896,18 +896,19 @@ static pom_status write_statistics(hid_t file, const pom_doe_report *rep, pom_er
     if (st != POM_OK) goto done;
   }
   for (size_t c = 0; c < nc; ++c) {
-    counts[4 * c + 0] = rep->cand[c].n_done;
-    counts[4 * c + 1] = rep->cand[c].n_done - rep->cand[c].n_failed;
-    counts[4 * c + 2] = rep->cand[c].n_failed;
-    counts[4 * c + 3] = rep->cand[c].n_unsettled;
+    counts[5 * c + 0] = rep->cand[c].n_done;
+    counts[5 * c + 1] = rep->cand[c].n_done - rep->cand[c].n_failed;
+    counts[5 * c + 2] = rep->cand[c].n_failed;
+    counts[5 * c + 3] = rep->cand[c].n_unsettled;
+    counts[5 * c + 4] = rep->cand[c].n_censored; /* of the primary time metric */
   }
-  POM_TRY_GOTO(pom_h5_write_int64_table(g, "counts", nc, 4, counts, err), done);
+  POM_TRY_GOTO(pom_h5_write_int64_table(g, "counts", nc, 5, counts, err), done);
   hid_t ds = H5Dopen2(g, "counts", H5P_DEFAULT);
   if (ds < 0) {
     st = pom_h5_fail(err, __FILE__, __LINE__, "annotating counts");
     goto done;
   }
-  st = pom_h5_attr_string(ds, "columns", "done,ok,failed,unsettled", err);
+  st = pom_h5_attr_string(ds, "columns", "done,ok,failed,unsettled,censored", err);
   H5Dclose(ds);
 done:
   if (g >= 0) H5Gclose(g);
@@ -916,7 +917,7 @@ done:
   return st;
 }
 
-#define PAIRED_COLUMNS 13
+#define PAIRED_COLUMNS 15
 
 static pom_status write_comparisons(hid_t file, const pom_doe_report *rep, pom_error *err) {
   pom_status st = POM_OK;
@@ -941,36 +942,40 @@ static pom_status write_comparisons(hid_t file, const pom_doe_report *rep, pom_e
     r[10] = c->test.win_fraction;
     r[11] = c->test.tie_fraction;
     r[12] = c->p_holm;
+    r[13] = (double)c->censored_a; /* time: censored values of a among the pairs */
+    r[14] = (double)c->censored_b;
   }
   size_t dims[2] = {n, PAIRED_COLUMNS};
   POM_TRY_GOTO(pom_h5_write_doubles(g, "paired", 2, dims, buf, err), done);
-  POM_TRY_GOTO(pom_h5_attr_string(g, "columns",
-                                  "a,b,metric(0=execution_time s,1=energy J),n,mean_diff(a-b),"
-                                  "ci_low,ci_high,wilcoxon_w_plus,wilcoxon_p,n_nonzero,"
-                                  "win_fraction(a<b),tie_fraction(a==b),holm_p",
-                                  err),
-               done);
+  POM_TRY_GOTO(
+      pom_h5_attr_string(g, "columns",
+                         "a,b,metric(0=execution_time s,1=energy J),n,mean_diff(a-b),"
+                         "ci_low,ci_high,wilcoxon_w_plus,wilcoxon_p,n_nonzero,"
+                         "win_fraction(a<b),tie_fraction(a==b),holm_p,censored_a,censored_b",
+                         err),
+      done);
   POM_TRY_GOTO(pom_h5_attr_string(g, "pairs",
                                   rep->all_pairs ? "every pair"
                                                  : "the best candidate of each metric (a) against "
                                                    "each other one (b)",
                                   err),
                done);
-  double fr[2 * 4];
+  double fr[2 * 5];
   for (int m = 0; m < 2; ++m) {
-    fr[4 * m + 0] = (double)rep->friedman[m].n_blocks;
-    fr[4 * m + 1] = rep->friedman[m].k;
-    fr[4 * m + 2] = rep->friedman[m].statistic;
-    fr[4 * m + 3] = rep->friedman[m].p;
+    fr[5 * m + 0] = (double)rep->friedman[m].n_blocks;
+    fr[5 * m + 1] = rep->friedman[m].k;
+    fr[5 * m + 2] = rep->friedman[m].statistic;
+    fr[5 * m + 3] = rep->friedman[m].p;
+    fr[5 * m + 4] = m == POM_DOE_METRIC_TIME ? (double)rep->friedman_censored : 0.0;
   }
-  size_t fdims[2] = {2, 4};
+  size_t fdims[2] = {2, 5};
   POM_TRY_GOTO(pom_h5_write_doubles(g, "friedman", 2, fdims, fr, err), done);
   hid_t ds = H5Dopen2(g, "friedman", H5P_DEFAULT);
   if (ds < 0) {
     st = pom_h5_fail(err, __FILE__, __LINE__, "annotating friedman");
     goto done;
   }
-  st = pom_h5_attr_string(ds, "columns", "n_maneuvers,k_candidates,chi_square,p", err);
+  st = pom_h5_attr_string(ds, "columns", "n_maneuvers,k_candidates,chi_square,p,n_censored", err);
   if (st == POM_OK) st = pom_h5_attr_string(ds, "rows", "execution_time,energy", err);
   H5Dclose(ds);
 done:
@@ -1015,12 +1020,12 @@ static pom_status write_effects(hid_t file, const pom_doe_report *rep, pom_error
   pom_status st = POM_OK;
   hid_t g = -1;
   size_t n = (size_t)rep->n_effects, nc = (size_t)rep->n_candidates;
-  double *buf = malloc((n > nc ? n : nc) * 10 * sizeof *buf + sizeof *buf);
+  double *buf = malloc((n > nc ? n : nc) * 11 * sizeof *buf + sizeof *buf);
   if (!buf) POM_FAIL(err, POM_ERR_NOMEM, "results: out of memory");
   POM_TRY_GOTO(replace_group(&g, file, "effects", err), done);
   for (size_t j = 0; j < n; ++j) {
     const pom_doe_effect *e = &rep->effects[j];
-    double *r = buf + 10 * j;
+    double *r = buf + 11 * j;
     r[0] = e->factor;
     r[1] = e->level;
     r[2] = e->lo;
@@ -1031,27 +1036,29 @@ static pom_status write_effects(hid_t file, const pom_doe_report *rep, pom_error
     r[7] = e->mean;
     r[8] = e->ci_low;
     r[9] = e->ci_high;
+    r[10] = (double)e->n_censored;
   }
-  size_t dims[2] = {n, 10};
+  size_t dims[2] = {n, 11};
   POM_TRY_GOTO(pom_h5_write_doubles(g, "main", 2, dims, buf, err), done);
   POM_TRY_GOTO(pom_h5_attr_string(g, "columns",
                                   "factor,level,lo,hi,n_candidates,metric(0=execution_time s,"
-                                  "1=energy J),n_maneuvers,mean,ci_low,ci_high",
+                                  "1=energy J),n_maneuvers,mean,ci_low,ci_high,n_censored",
                                   err),
                done);
   for (size_t c = 0; c < nc; ++c) {
-    buf[3 * c + 0] = rep->mean_time[c];
-    buf[3 * c + 1] = rep->mean_energy[c];
-    buf[3 * c + 2] = rep->pareto[c];
+    buf[4 * c + 0] = rep->mean_time[c];
+    buf[4 * c + 1] = rep->mean_energy[c];
+    buf[4 * c + 2] = rep->pareto[c];
+    buf[4 * c + 3] = (double)rep->censored_common[c];
   }
-  size_t cdims[2] = {nc, 3};
+  size_t cdims[2] = {nc, 4};
   POM_TRY_GOTO(pom_h5_write_doubles(g, "common_means", 2, cdims, buf, err), done);
   hid_t ds = H5Dopen2(g, "common_means", H5P_DEFAULT);
   if (ds < 0) {
     st = pom_h5_fail(err, __FILE__, __LINE__, "annotating common_means");
     goto done;
   }
-  st = pom_h5_attr_string(ds, "columns", "execution_time_s,energy_J,pareto", err);
+  st = pom_h5_attr_string(ds, "columns", "execution_time_s,energy_J,pareto,censored", err);
   H5Dclose(ds);
 done:
   if (g >= 0) H5Gclose(g);
@@ -1065,6 +1072,11 @@ static pom_status write_report(pom_doe_results *res, const pom_doe_study *study,
   /* a resumed study may use other levels than the run that created the file */
   POM_TRY(pom_h5_attr_double(res->file, "alpha", study->alpha, err));
   POM_TRY(pom_h5_attr_double(res->file, "confidence", study->confidence, err));
+  /* the primary time metric of the comparisons, Friedman, ranking, effects */
+  POM_TRY(pom_h5_attr_string(res->file, "time_metric",
+                             study->time_metric == POM_DOE_TIME_POINTING ? "pointing_settling_time"
+                                                                         : "execution_time",
+                             err));
   POM_TRY(write_statistics(res->file, rep, err));
   POM_TRY(write_comparisons(res->file, rep, err));
   hid_t g = -1;

@@ -9,10 +9,13 @@
 #include <string.h>
 
 /* ---- ranges -------------------------------------------------------------------- */
-/* Metrics that are NaN by definition when an actuator did not settle. */
+/* Metrics that are NaN by definition when an actuator or the platform did
+ * not settle, when the target orientation is unknown (no architecture) or
+ * when the controller has no reference trajectory. */
 static int may_be_nan(int j) {
   return j == POM_DYN_METRIC_settling_time || j == POM_DYN_METRIC_settling_time_final ||
-         j == POM_DYN_METRIC_execution_time;
+         j == POM_DYN_METRIC_execution_time || j == POM_DYN_METRIC_pointing_settling_time ||
+         j == POM_DYN_METRIC_final_pointing_error || j == POM_DYN_METRIC_tracking_rms_error;
 }
 
 /* Energies with a sign (a source may take energy back, the stored energy may
@@ -45,6 +48,8 @@ static const char *out_of_range(int j, double v) {
   case POM_DYN_UNIT_LENGTH:
   case POM_DYN_UNIT_ANGLE:
   case POM_DYN_UNIT_RATIO:
+  case POM_DYN_UNIT_ANGULAR_RATE:
+  case POM_DYN_UNIT_EFFORT:
     return v >= 0.0 ? "" : "is negative";
   }
   return "";
@@ -79,6 +84,11 @@ static const char *broken_identity(const pom_doe_row *row, char *why, size_t cap
   if (!(row->execution_time == exec || (isnan(exec) && isnan(row->execution_time)))) {
     snprintf(why, cap, "field 'execution_time' = %.17g is not the largest settling time (%.17g)",
              row->execution_time, exec);
+    return why;
+  }
+  if ((row->pointing_settled == 1) != !isnan(row->pointing_settling_time)) {
+    snprintf(why, cap, "field 'pointing_settling_time' = %.17g contradicts 'pointing_settled' = %d",
+             row->pointing_settling_time, (int)row->pointing_settled);
     return why;
   }
   return "";

@@ -299,7 +299,8 @@ static pom_status open_results(pom_doe_run *run, const char *path, pom_error *er
                      n_bad > 1 ? "; " : "", c, k0 + j, why);
           continue;
         }
-        pom_doe_cell_from_row(&run->cells[(size_t)c * (size_t)m + (size_t)(k0 + j)], &block[j]);
+        pom_doe_cell_from_row(&run->cells[(size_t)c * (size_t)m + (size_t)(k0 + j)], &block[j],
+                              study->time_metric);
       }
     }
   free(block);
@@ -462,7 +463,7 @@ static pom_status store_units(pom_doe_run *run, const void *units, int n, pom_er
       for (int r = i; r < j; ++r) {
         run->rows[r - i] = run->sorted[r].row;
         pom_doe_cell_from_row(&run->cells[(size_t)c * (size_t)m + (size_t)(k0 + r - i)],
-                              &run->sorted[r].row);
+                              &run->sorted[r].row, run->study->time_metric);
       }
       if (run->res) POM_TRY(pom_doe_results_write_rows(run->res, c, k0, j - i, run->rows, err));
       run->done += j - i;

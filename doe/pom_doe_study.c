@@ -460,6 +460,8 @@ done:
 /* ---- the study file ------------------------------------------------------------ */
 static pom_status load_study_group(pom_doe_study *study, const pom_cfg *cfg, pom_error *err) {
   static const char *const ranks[] = {"execution_time", "energy", NULL};
+  static const char *const times[] = {"auto", "execution_time", "pointing_settling_time", NULL};
+  int time_metric = 0;
   char dflt[POM_DOE_PATH_LEN];
   long threads = 0;
   int rank_by = 0;
@@ -473,6 +475,13 @@ static pom_status load_study_group(pom_doe_study *study, const pom_cfg *cfg, pom
   POM_TRY(pom_cfg_choice_opt(cfg, "study.rank_by", ranks, 0, &rank_by, err));
   study->threads = (int)threads;
   study->rank_by = (pom_doe_rank_by)rank_by;
+  POM_TRY(pom_cfg_choice_opt(cfg, "study.time_metric", times, 0, &time_metric, err));
+  /* auto: the platform's pointing in orientation space, where the study
+   * asks for an orientation; the paper's per-actuator time in joint space */
+  study->time_metric = time_metric == 0 ? (study->maneuvers.space == POM_DOE_SPACE_ORIENTATION
+                                               ? POM_DOE_TIME_POINTING
+                                               : POM_DOE_TIME_EXECUTION)
+                                        : (pom_doe_time_metric)(time_metric - 1);
   return POM_OK;
 }
 
@@ -620,6 +629,8 @@ pom_status pom_doe_study_single(pom_doe_study *study, const pom_cfg *cfg,
   POM_TRY_GOTO(pom_cfg_string_opt(cfg, "name", stem, cand->name, sizeof cand->name, err), fail);
   snprintf(cand->source, sizeof cand->source, "%s", pom_cfg_path(cfg));
   POM_TRY_GOTO(pom_doe_maneuvers_load(&study->maneuvers, cfg, err), fail);
+  study->time_metric = study->maneuvers.space == POM_DOE_SPACE_ORIENTATION ? POM_DOE_TIME_POINTING
+                                                                           : POM_DOE_TIME_EXECUTION;
   POM_TRY_GOTO(pom_cfg_check_unknown(cfg, scopes, NULL, err), fail);
   char dir[POM_DOE_PATH_LEN];
   dir_of(dir, sizeof dir, pom_cfg_path(cfg));

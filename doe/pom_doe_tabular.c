@@ -161,7 +161,7 @@ static void write_candidates(FILE *f, const pom_doe_study *study, const pom_doe_
   static const char *const fields[POM_DOE_STATS_FIELDS] = {"n",      "max", "mean", "min", "sigma",
                                                            "median", "p05", "p25",  "p75", "p95"};
   lead_header(f, study);
-  fputs(",actuator_unit,done,ok,failed,unsettled", f);
+  fputs(",actuator_unit,done,ok,failed,unsettled,censored", f);
   for (int s = 0; s < POM_DYN_N_STATS; ++s)
     for (int j = 0; j < POM_DOE_STATS_FIELDS; ++j)
       fprintf(f, ",%s_%s", pom_dyn_stat_metric(s)->stat_key, fields[j]);
@@ -169,9 +169,9 @@ static void write_candidates(FILE *f, const pom_doe_study *study, const pom_doe_
   for (int c = 0; c < study->n_candidates; ++c) {
     const pom_doe_candidate_stats *cs = &rep->cand[c];
     lead_values(f, study, c);
-    fprintf(f, ",%s,%ld,%ld,%ld,%ld",
+    fprintf(f, ",%s,%ld,%ld,%ld,%ld,%ld",
             pom_act_kind_desc(study->candidates[c].eval.actuator_kind)->si, cs->n_done,
-            cs->n_done - cs->n_failed, cs->n_failed, cs->n_unsettled);
+            cs->n_done - cs->n_failed, cs->n_failed, cs->n_unsettled, cs->n_censored);
     for (int s = 0; s < POM_DYN_N_STATS; ++s) {
       double v[POM_DOE_STATS_FIELDS];
       pom_doe_stats_flatten(v, &cs->stat[s]);

@@ -65,12 +65,11 @@ static void profile(double out[3], int step, double t, double T) {
   out[2] = 60.0 * x * (1.0 - 3.0 * x + 2.0 * x2) / (T * T);
 }
 
-/* The reference at t: rotation, angular velocity and acceleration, and the
- * feedforward efforts F with q_ref, J there. 0 on failure. */
-static int reference_at(const dyn_ctrl_model *cm, dyn_ctrl_work *w, const pom_dyn_controller *c,
-                        double t, double R[9], double wr[3], double F[3], double q[3],
-                        double J[9]) {
-  double r[3], axis[3], s[3], alpha[3];
+/* The reference's rotation R at t (w->R_set set); r = rotvec(R_set) and the
+ * profile s into r, s. */
+static void reference_rotation_at(const dyn_ctrl_work *w, const pom_dyn_controller *c, double t,
+                                  double R[9], double r[3], double s[3]) {
+  double axis[3];
   pom_m3_rotvec(r, w->R_set);
   double angle = pom_v3_normalize(axis, r);
   profile(s, c->option[0] == 1, t, c->gain[3]);
@@ -78,6 +77,15 @@ static int reference_at(const dyn_ctrl_model *cm, dyn_ctrl_work *w, const pom_dy
     pom_m3_axis_angle(R, axis, s[0] * angle);
   else
     pom_m3_identity(R);
+}
+
+/* The reference at t: rotation, angular velocity and acceleration, and the
+ * feedforward efforts F with q_ref, J there. 0 on failure. */
+static int reference_at(const dyn_ctrl_model *cm, dyn_ctrl_work *w, const pom_dyn_controller *c,
+                        double t, double R[9], double wr[3], double F[3], double q[3],
+                        double J[9]) {
+  double r[3], s[3], alpha[3];
+  reference_rotation_at(w, c, t, R, r, s);
   pom_v3_scale(wr, s[1], r);
   pom_v3_scale(alpha, s[2], r);
   return pom_dyn_ctrl_inverse_dynamics(cm, w, R, wr, alpha, F, q, J);
@@ -132,6 +140,16 @@ static void ff_law_all(const pom_dyn_controller *c, const void *model, void *wor
   }
 }
 
+/* The minimum-jerk reference's rotation at t; 0 for the step reference
+ * (no trajectory: its tracking error would be the pointing error). */
+static int ff_reference_rotation(const pom_dyn_controller *c, const void *model, void *work,
+                                 double t, const double target[3], double R[9]) {
+  double r[3], s[3];
+  if (c->option[0] == 1 || !pom_dyn_ctrl_reference(model, work, target)) return 0;
+  reference_rotation_at(work, c, t, R, r, s);
+  return 1;
+}
+
 static int ff_describe(const pom_dyn_controller *c, char *buf, size_t cap) {
   return snprintf(buf, cap,
                   "PID on the tracking error of a %s reference (T %g s), feedforward %s, K_P %g, "
@@ -160,4 +178,5 @@ const pom_dyn_ctrl_type pom_dyn_ctrl_pid_feedforward = {
     .work_create = pom_dyn_ctrl_work_create,
     .work_destroy = pom_dyn_ctrl_work_destroy,
     .law_all = ff_law_all,
+    .reference_rotation = ff_reference_rotation,
 };

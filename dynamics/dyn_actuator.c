@@ -84,7 +84,8 @@ double pom_dyn_actuator_law(const pom_dyn_model *m, pom_dyn_data *d, int a, doub
     acc[DYN_ACC_COIL] = ap->resistance * i * i;
     acc[DYN_ACC_BEARING] = b * qd * qd;
   }
-  return ap->force_constant * i - b * qd;
+  o->effort[a] = ap->force_constant * i - b * qd;
+  return o->effort[a];
 }
 
 /* ---- its derivatives ------------------------------------------------------ */

@@ -477,6 +477,7 @@ static int exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, 
   state_rotation(m, y, R, trig);
   if (ex->n_ori == 3 && trig[2] < par->scene.euler_cos_min) o->euler_singular = 1;
   const double *w = y + ex->omega;
+  o->platform_rate = pom_v3_norm(w);
   pom_kin_twists *tw = &xw->tw;
   const int outputs_only = !ydot && !energy;
   if (outputs_only ? pom_kin_inverse_jacobian(&ex->arch, R, tw->q, tw->J, NULL) != POM_OK

@@ -115,6 +115,11 @@ struct pom_dyn_model {
   long *colptr; /* [n_states + 1] CSC column starts of the pattern */
   int *rowind;  /* [nnz] CSC row indices */
   long *diag;   /* [n_states] position of the diagonal entry of each column */
+  /* the architecture the mechanism was built from (a copy), for the target
+   * orientation FK(setpoints) of the pointing metrics; has_arch 0 when the
+   * caller gave none (the pointing metrics are then NaN) */
+  int has_arch;
+  pom_kin_arch arch;
 };
 
 /* Per-body kinematic quantities at one evaluation. */
@@ -136,6 +141,8 @@ typedef struct {
   double q_dot[POM_MECH_MAX_ACTUATORS];   /* m/s or rad/s */
   double current[POM_MECH_MAX_ACTUATORS]; /* A */
   double voltage[POM_MECH_MAX_ACTUATORS]; /* saturated u (V) */
+  double effort[POM_MECH_MAX_ACTUATORS];  /* K_m i - b q_dot on the moving side (N or N m) */
+  double platform_rate;                   /* |omega| of the platform (rad/s), 0 without one */
   double max_lin_deflection;              /* m */
   double max_ang_deflection;              /* rad */
   double spring_energy;                   /* J */
@@ -167,6 +174,9 @@ struct pom_dyn_data {
   char cvode_msg[256];       /* last CVODE error message (from its handler) */
   int n_samples;             /* output grid size */
   double *qs;                /* [n_samples][n_actuators] sampled positions for metrics */
+  double *pointing;          /* [n_samples] angle to the target orientation (rad) */
+  double R_target[9];        /* target orientation of the maneuver, FK(setpoints) */
+  int have_target_rotation;  /* 1 when R_target is known */
   double *yfinal;            /* [n_states] state at the end of the last run */
   int have_final;
   void *form_data; /* the formulation's per-worker scratch, owned (NULL if none) */

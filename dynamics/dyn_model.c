@@ -75,6 +75,10 @@ pom_status pom_dyn_model_create_ex(pom_dyn_model **out, const pom_mechanism *mec
   if (m->par.solver.atol_scale == 0.0 && !m->form->natural_tolerances)
     m->par.solver.atol_scale = fmin(1e-3, 1e3 * m->par.solver.rtol);
   POM_TRY_GOTO(m->form->init(m, mech, arch, err), fail);
+  if (arch) { /* the target orientation of a maneuver is FK(setpoints) */
+    m->arch = *arch;
+    m->has_arch = 1;
+  }
   for (int a = 0; a < m->n_actuators; ++a) /* targets checked against it (docs 14) */
     m->act[a].stroke = mech->actuator[a].stroke;
   /* the controller's own model: the nominal candidate unless told otherwise */

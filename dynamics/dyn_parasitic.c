@@ -150,6 +150,7 @@ static int parasitic_eval(const pom_dyn_model *m, pom_dyn_data *d, const double 
   const double ka = par->joints.angular_stiffness, ca = par->joints.angular_damping;
   dyn_outputs *o = &d->out;
   o->euler_singular = bodies_eval(m, d, y);
+  o->platform_rate = m->platform_slot >= 0 ? pom_v3_norm(d->be[m->platform_slot].w) : 0.0;
   o->nonfinite = 0;
   o->max_lin_deflection = 0.0;
   o->max_ang_deflection = 0.0;

@@ -134,7 +134,8 @@ pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_e
   d->qs = calloc((size_t)d->n_samples * 3, sizeof *d->qs);
   d->yfinal = calloc((size_t)n, sizeof *d->yfinal);
   d->jac = calloc((size_t)m->nnz, sizeof *d->jac);
-  if (!d->qs || !d->yfinal || !d->jac)
+  d->pointing = calloc((size_t)d->n_samples, sizeof *d->pointing);
+  if (!d->qs || !d->yfinal || !d->jac || !d->pointing)
     POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "allocating sample buffers");
   *out = d;
   return POM_OK;
@@ -154,6 +155,7 @@ void pom_dyn_data_destroy(pom_dyn_data *d) {
   if (d->ftmp) N_VDestroy(d->ftmp);
   if (d->ctx) SUNContext_Free(&d->ctx);
   free(d->qs);
+  free(d->pointing);
   free(d->yfinal);
   free(d->jac);
   if (d->m) d->m->form->data_free(d);
@@ -255,6 +257,50 @@ static void settle_metrics(const pom_dyn_model *m, const pom_dyn_data *d, pom_dy
   }
 }
 
+/* Angle (rad) of the rotation between A and B: |rotvec(A^T B)|. */
+static double rotation_angle(const double A[9], const double B[9]) {
+  double At[9], E[9], rv[3];
+  pom_m3_transpose(At, A);
+  pom_m3_mul(E, At, B);
+  pom_m3_rotvec(rv, E);
+  return pom_v3_norm(rv);
+}
+
+/* The platform at output sample k (time t, state y): its angle to the
+ * target orientation, and the squared angle to the controller's reference
+ * added to *track (*n_track counts the samples that have one). */
+static void sample_platform(const pom_dyn_model *m, pom_dyn_data *d, int k, double t,
+                            const double *y, double *track, int *n_track) {
+  double R[9], Rref[9];
+  m->form->platform_rotation(m, y, R);
+  d->pointing[k] = d->have_target_rotation ? rotation_angle(d->R_target, R) : NAN;
+  if (m->ctrl->reference_rotation &&
+      m->ctrl->reference_rotation(&m->par.controller, m->ctrl_model, d->ctrl_work, t, d->target,
+                                  Rref)) {
+    double e = rotation_angle(Rref, R);
+    *track += e * e;
+    ++*n_track;
+  }
+}
+
+/* Pointing metrics from the sampled angles (docs/results.md section 1b):
+ * the band is max(pointing_band, pointing_band_rel x the target's rotation
+ * angle); NaN without a target orientation. */
+static void pointing_metrics(const pom_dyn_model *m, const pom_dyn_data *d, double track,
+                             int n_track, pom_dyn_metrics *mt) {
+  const pom_dyn_params *p = &m->par;
+  int n = d->n_samples;
+  mt->tracking_rms_error = n_track == n ? sqrt(track / (double)n) : NAN;
+  if (!d->have_target_rotation) return;
+  double I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  double band = fmax(p->maneuver.pointing_band,
+                     p->maneuver.pointing_band_rel * rotation_angle(I, d->R_target));
+  double ts = last_exit_time(p, d->pointing, n, 1, 0.0, band);
+  mt->pointing_settled = ts >= 0.0;
+  mt->pointing_settling_time = ts >= 0.0 ? ts : NAN;
+  mt->final_pointing_error = d->pointing[n - 1];
+}
+
 /* ---- one maneuver -------------------------------------------------------- */
 /* Records output sample k from state y (outputs must be evaluated). */
 static void record_sample(const pom_dyn_model *m, pom_dyn_data *d, int k, double t, const double *y,
@@ -281,8 +327,11 @@ static void record_sample(const pom_dyn_model *m, pom_dyn_data *d, int k, double
 }
 
 static void track_extremes(const pom_dyn_model *m, const pom_dyn_data *d, pom_dyn_metrics *mt) {
-  for (int a = 0; a < m->n_actuators; ++a)
+  for (int a = 0; a < m->n_actuators; ++a) {
     mt->peak_voltage[a] = fmax(mt->peak_voltage[a], fabs(d->out.voltage[a]));
+    mt->peak_effort[a] = fmax(mt->peak_effort[a], fabs(d->out.effort[a]));
+  }
+  mt->peak_angular_rate = fmax(mt->peak_angular_rate, d->out.platform_rate);
   mt->max_deflection = fmax(mt->max_deflection, d->out.max_lin_deflection);
   mt->max_angular_deflection = fmax(mt->max_angular_deflection, d->out.max_ang_deflection);
 }
@@ -339,6 +388,8 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
   const pom_dyn_params *p = &m->par;
   double t0_wall = now_seconds();
   memset(mt, 0, sizeof *mt);
+  mt->horizon = p->maneuver.horizon;
+  mt->pointing_settling_time = mt->final_pointing_error = mt->tracking_rms_error = NAN;
   for (int a = 0; a < 3; ++a)
     mt->target[a] = target[a];
   for (int a = 0; a < 3; ++a)
@@ -383,6 +434,12 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
   d->cvode_msg[0] = '\0';
   d->have_final = 0;
   if (tr) tr->n = 0, tr->n_actuators = m->n_actuators;
+  /* the target orientation: FK of the setpoints on the home branch, where
+   * the architecture is known (docs/results.md section 1b) */
+  d->have_target_rotation = m->has_arch && pom_kin_forward(&m->arch, d->target, NULL, NULL,
+                                                           d->R_target, NULL, NULL) == POM_OK;
+  double track = 0.0;
+  int n_track = 0;
 
   double *y = N_VGetArrayPointer(d->y);
   double *ys = N_VGetArrayPointer(d->ytmp);
@@ -397,6 +454,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
   d->t = 0.0;
   pom_dyn_eval(m, d, y, NULL);
   record_sample(m, d, 0, 0.0, y, tr);
+  sample_platform(m, d, 0, 0.0, y, &track, &n_track);
   track_extremes(m, d, mt);
 
   int k = 1;
@@ -449,6 +507,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
         /* metrics need only q on the grid; extremes come from the steps */
         m->form->positions(m, ys, d->qs + 3 * k);
       }
+      sample_platform(m, d, k, tk, ys, &track, &n_track);
       ++k;
     }
   }
@@ -480,6 +539,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
     mt->energy_balance_error = scale > 0 ? fabs(imbalance) / scale : 0.0;
   }
   settle_metrics(m, d, mt);
+  pointing_metrics(m, d, track, n_track, mt);
   if (p->solver.max_balance_error > 0 &&
       !(mt->energy_balance_error <= p->solver.max_balance_error)) {
     /* the audit exposes an inaccurate (too loose) or unstable integration
@@ -505,6 +565,8 @@ finish:
   mt->wall_time = now_seconds() - t0_wall;
   if (st != POM_OK) {
     mt->execution_time = NAN;
+    mt->pointing_settled = 0;
+    mt->pointing_settling_time = NAN;
     for (int a = 0; a < 3; ++a) {
       mt->settled[a] = 0;
       mt->settling_time[a] = mt->settling_time_final[a] = NAN;

@@ -177,6 +177,14 @@ struct pom_dyn_ctrl_type {
   void (*law_all)(const pom_dyn_controller *c, const void *model, void *work,
                   const pom_dyn_ctrl_sensed *s, double sensor_gain, const double *z, double *u_raw,
                   double *zdot);
+  /* The platform rotation R (from home) that the controller's reference
+   * trajectory asks for at time t of the maneuver to the setpoints
+   * target[3], for the RMS tracking error (docs/results.md section 1b).
+   * Returns 1 with R set, or 0 when the type follows no trajectory (a step
+   * to the setpoint) or the reference is undefined. NULL: never a
+   * trajectory; the metric is then NaN. */
+  int (*reference_rotation)(const pom_dyn_controller *c, const void *model, void *work, double t,
+                            const double target[3], double R[9]);
 };
 
 /* ---- registry (dyn_ctrl_registry.c) ---------------------------------------- */

@@ -77,14 +77,23 @@ typedef struct {
 
 /* by pom_dyn_unit; the actuator entry is resolved from the kind. The display
  * units are the text convention of docs/conventions.md: ms, mm, deg, J, V. */
-static const unit_info units[] = {
-    {"", "", "", 1.0},    {"s", "s", "ms", 1e3}, {"J", "J", "J", 1.0},
-    {"V", "V", "V", 1.0}, {"m", "m", "mm", 1e3}, {"rad", "rad", "deg", 180.0 / POM_PI},
-    {"1", "", "", 1.0},   {"1", "", "", 1.0},    {"1", "", "", 1.0}};
-_Static_assert(sizeof units / sizeof units[0] == POM_DYN_UNIT_FLAG + 1, "one entry per unit class");
+static const unit_info units[] = {{"", "", "", 1.0},
+                                  {"s", "s", "ms", 1e3},
+                                  {"J", "J", "J", 1.0},
+                                  {"V", "V", "V", 1.0},
+                                  {"m", "m", "mm", 1e3},
+                                  {"rad", "rad", "deg", 180.0 / POM_PI},
+                                  {"1", "", "", 1.0},
+                                  {"1", "", "", 1.0},
+                                  {"1", "", "", 1.0},
+                                  {"rad/s", "rad_per_s", "deg/s", 180.0 / POM_PI},
+                                  {"N or N m", "", "N or N m", 1.0}};
+_Static_assert(sizeof units / sizeof units[0] == POM_DYN_UNIT_EFFORT + 1,
+               "one entry per unit class");
 
 const char *pom_dyn_metric_unit(const pom_dyn_metric_info *mi, pom_actuator_kind kind) {
   if (mi->unit == POM_DYN_UNIT_ACTUATOR) return pom_act_kind_desc(kind)->si;
+  if (mi->unit == POM_DYN_UNIT_EFFORT) return pom_act_kind_desc(kind)->effort;
   return units[mi->unit].si;
 }
 
@@ -94,6 +103,10 @@ const char *pom_dyn_metric_display_unit(const pom_dyn_metric_info *mi, pom_actua
     const pom_act_desc *u = pom_act_kind_desc(kind);
     if (factor) *factor = u->to_display;
     return u->display;
+  }
+  if (mi->unit == POM_DYN_UNIT_EFFORT) { /* N or N m, shown as such */
+    if (factor) *factor = 1.0;
+    return pom_act_kind_desc(kind)->effort;
   }
   if (factor) *factor = units[mi->unit].factor;
   return units[mi->unit].display;

@@ -17,7 +17,8 @@
  *   type     DOUBLE (double), INT (int; int32 in rows), LONG (long; int64);
  *   n        1 (scalar) or 3 (per actuator);
  *   unit     a unit class (pom_dyn_unit below): ACTUATOR is the actuator
- *            coordinate, m or rad, resolved per candidate from its actuators;
+ *            coordinate, m or rad, and EFFORT the actuator's effort, N or N m,
+ *            both resolved per candidate from its actuators;
  *   over     OK (maneuvers that did not fail, value finite) or SETTLED
  *            (maneuvers that settled);
  *   combine  NONE (scalar), SUM or MAX (per-actuator values combined first;
@@ -75,7 +76,19 @@
   M(jac_rhs_evals, LONG, 1, COUNT, "RHS evaluations inside Jacobians")                             \
   M(linsol_setups, LONG, 1, COUNT, "Newton matrix factorizations")                                 \
   M(nonlin_conv_fails, LONG, 1, COUNT, "Newton convergence failures")                              \
-  M(last_step, DOUBLE, 1, TIME, "last internal step size")
+  M(last_step, DOUBLE, 1, TIME, "last internal step size")                                       \
+  M(horizon, DOUBLE, 1, TIME, "the maneuver's horizon: unsettled times are censored there")       \
+  R(pointing_settling_time, DOUBLE, 1, TIME,                                                       \
+    "last time the platform was outside the pointing band about the target orientation "          \
+    "(NaN when unsettled or the target orientation is unknown)", OK, NONE, pointing_time,         \
+    "pointing_settling_time_s")                                                                    \
+  M(pointing_settled, INT, 1, FLAG, "1 when the pointing error is inside its band at the horizon") \
+  M(final_pointing_error, DOUBLE, 1, ANGLE,                                                        \
+    "angle between the platform and the target orientation at the horizon (NaN when unknown)")    \
+  M(peak_angular_rate, DOUBLE, 1, ANGULAR_RATE, "largest |omega| of the platform")                \
+  M(peak_effort, DOUBLE, 3, EFFORT, "largest |K_m i - b q_dot| of each actuator (force or torque)") \
+  M(tracking_rms_error, DOUBLE, 1, ANGLE,                                                          \
+    "RMS angle between the platform and the controller's reference (NaN without a trajectory)")
 /* clang-format on */
 
 /* Unit classes of metrics. */
@@ -88,7 +101,9 @@ typedef enum {
   POM_DYN_UNIT_ANGLE,        /* rad (not an actuator coordinate) */
   POM_DYN_UNIT_RATIO,        /* dimensionless */
   POM_DYN_UNIT_COUNT,        /* a count */
-  POM_DYN_UNIT_FLAG          /* 0 or 1 */
+  POM_DYN_UNIT_FLAG,         /* 0 or 1 */
+  POM_DYN_UNIT_ANGULAR_RATE, /* rad/s */
+  POM_DYN_UNIT_EFFORT        /* the actuator's effort: N (prismatic) or N m (revolute) */
 } pom_dyn_unit;
 
 typedef enum { POM_DYN_TYPE_DOUBLE = 0, POM_DYN_TYPE_INT, POM_DYN_TYPE_LONG } pom_dyn_metric_type;

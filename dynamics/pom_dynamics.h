@@ -119,6 +119,11 @@ typedef struct {
   double horizon;     /* s (default 0.100) */
   double settle_band; /* fraction of |step| (default 0.02) */
   double output_dt;   /* s, trace sampling period (default 1e-4) */
+  /* pointing band of the platform (docs/results.md section 1b): the angle
+   * between the platform's and the target orientation must stay within
+   * max(pointing_band, pointing_band_rel x rotation angle of the target) */
+  double pointing_band;     /* rad (default 1e-3) */
+  double pointing_band_rel; /* fraction of the target's rotation angle (default 0: off) */
 } pom_dyn_maneuver;
 
 typedef struct {
@@ -216,6 +221,17 @@ typedef struct {
   long linsol_setups;            /* Newton matrix factorizations */
   long nonlin_conv_fails;        /* Newton convergence failures */
   double last_step;              /* last internal step size (s) */
+  /* platform-level metrics (issue 18, docs/results.md section 1b) */
+  double horizon; /* the maneuver's horizon (s): the value an unsettled time is censored at */
+  double pointing_settling_time; /* time after which the angle between the platform's and the
+                                    target orientation stays within the pointing band (s); NaN
+                                    when unsettled or the target orientation is unknown */
+  int pointing_settled;          /* 1 when the pointing error is inside its band at the horizon */
+  double final_pointing_error;   /* that angle at the horizon (rad); NaN when unknown */
+  double peak_angular_rate;      /* largest |omega| of the platform (rad/s) */
+  double peak_effort[3];         /* largest |K_m i - b q_dot| of each actuator (N or N m) */
+  double tracking_rms_error;     /* RMS over the output grid of the angle between the platform and
+                                    the controller's reference (rad); NaN without a trajectory */
 } pom_dyn_metrics;
 
 /* Optional traces of a maneuver, sampled every output_dt. Owned by caller:

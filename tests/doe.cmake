@@ -10,6 +10,12 @@ add_test(NAME test_doe_study
   COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/test_doe_study.sh $<TARGET_FILE:pomlab>
           ${CMAKE_CURRENT_BINARY_DIR}/doe_study ${_pom_doe_mpirun}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# Unsettled maneuvers censored at the horizon, never dropped, through the
+# command line (docs/results.md section 4).
+add_test(NAME test_doe_censor
+  COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/test_doe_censor.sh $<TARGET_FILE:pomlab>
+          ${CMAKE_CURRENT_BINARY_DIR}/doe_censor
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 # The metric schema and actuator units through doe/ (unit level).
 pom_add_test(test_metrics_schema test_metrics_schema.c)
 target_link_libraries(test_metrics_schema PRIVATE pom_doe)

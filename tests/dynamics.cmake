@@ -49,3 +49,6 @@ add_test(NAME test_params_doc
           ${CMAKE_SOURCE_DIR}/docs/config.md)
 pom_add_test(test_dyn_params test_dyn_params.c)
 target_link_libraries(test_dyn_params PRIVATE pom_dynamics pom_kinematics pom_core)
+# platform-level metrics: pointing, peak rate and effort, tracking (docs/results.md section 1b)
+pom_add_test(test_dyn_platform_metrics test_dyn_platform_metrics.c)
+target_link_libraries(test_dyn_platform_metrics PRIVATE pom_dynamics pom_kinematics pom_core)

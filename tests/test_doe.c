@@ -69,6 +69,10 @@ static pom_status an_run(const void *p, void *w, const double q[3], pom_dyn_metr
     tmax = fmax(tmax, t);
   }
   m->execution_time = all ? tmax : NAN;
+  /* the platform: settles with the slowest actuator (the toy has no orientation) */
+  m->horizon = 0.1;
+  m->pointing_settled = all;
+  m->pointing_settling_time = all ? tmax : NAN;
   m->energy_supplied = m->energy_total; /* as the metric schema defines it */
   m->steps = 1;
   return POM_OK;
@@ -796,6 +800,122 @@ static void test_final_stroke(void) {
   check_true(m.status == POM_ERR_SOLVER && strcmp(m.reason, "solver") == 0);
 }
 
+/* ---- censoring (docs/results.md section 4) ---------------------------------------------
+ * Synthetic rows: B settles every maneuver at t_k; A takes the same time on
+ * the easiest 90 % and does not settle on B's hardest 10 % (right-censored
+ * at the 0.1 s horizon); C is B plus 1 ms everywhere, with more energy; A
+ * and B spend the same energy. With both primary time metrics: A never
+ * ranks above B (B first, A's restricted mean strictly above B's), every
+ * maneuver is compared (the censored ones included) and the censored
+ * counts are reported; B is the only Pareto candidate; A's main-effect
+ * level counts its 20 censored values. With A 1 % faster on the rest, B
+ * still ranks first (it would not if the censored maneuvers were
+ * dropped). */
+static void censor_row(pom_doe_row *row, double t, int settles, double energy) {
+  pom_dyn_metrics m;
+  memset(&m, 0, sizeof m);
+  m.horizon = 0.1;
+  for (int a = 0; a < 3; ++a) {
+    m.settled[a] = settles;
+    m.settling_time[a] = settles ? t : NAN;
+    m.settling_time_final[a] = t;
+    m.energy[a] = energy / 3.0;
+    m.energy_positive[a] = m.energy[a];
+  }
+  m.execution_time = settles ? t : NAN;
+  m.pointing_settled = settles;
+  m.pointing_settling_time = settles ? t : NAN;
+  m.energy_total = m.energy[0] + m.energy[1] + m.energy[2];
+  m.energy_supplied = m.energy_total;
+  pom_doe_row_from_metrics(row, &m);
+}
+
+static void censoring_case(pom_doe_time_metric tm, double a_speedup) {
+  enum { M = 200, NC = 3 };
+  static pom_doe_cell cells[NC * M];
+  pom_doe_candidate cand[NC];
+  pom_doe_study study;
+  memset(&study, 0, sizeof study);
+  memset(cand, 0, sizeof cand);
+  study.n_candidates = NC;
+  study.candidates = cand;
+  study.maneuvers.count = M;
+  study.alpha = 0.05;
+  study.confidence = 0.95;
+  study.time_metric = tm;
+  study.n_factors = 1;
+  snprintf(study.factor_key[0], sizeof study.factor_key[0], "controller.kp");
+  snprintf(study.factor_label[0], sizeof study.factor_label[0], "kp");
+  for (int c = 0; c < NC; ++c) {
+    snprintf(cand[c].name, sizeof cand[c].name, "%c", 'A' + c);
+    cand[c].n_factors = 1;
+    cand[c].factor_value[0] = 1.0 + c;
+  }
+  for (int k = 0; k < M; ++k) {
+    /* B's times in a scrambled order; its hardest 10 % are those with
+     * (37 k) mod M >= 180 */
+    int r = (37 * k) % M;
+    double t = 0.0101 + 4.7e-5 * r;
+    int hard = r >= M - M / 10;
+    pom_doe_row row;
+    censor_row(&row, t * (hard ? 1.0 : 1.0 - a_speedup), !hard, 0.23);
+    pom_doe_cell_from_row(&cells[0 * M + k], &row, tm);
+    censor_row(&row, t, 1, 0.23);
+    pom_doe_cell_from_row(&cells[1 * M + k], &row, tm);
+    censor_row(&row, t + 1e-3, 1, 0.31);
+    pom_doe_cell_from_row(&cells[2 * M + k], &row, tm);
+  }
+  pom_doe_report *rep = NULL;
+  pom_error err;
+  pom_error_clear(&err);
+  check_true(pom_doe_report_compute(&rep, &study, cells, &err) == POM_OK);
+  if (!rep) return;
+  printf("  censoring (%s, A %.0f %% faster on the rest): restricted means A %.4f B %.4f C %.4f "
+         "ms, ranking %s %s %s\n",
+         tm == POM_DOE_TIME_POINTING ? "pointing" : "execution", 100 * a_speedup,
+         rep->mean_time[0] * 1e3, rep->mean_time[1] * 1e3, rep->mean_time[2] * 1e3,
+         cand[rep->rank_time[0]].name, cand[rep->rank_time[1]].name, cand[rep->rank_time[2]].name);
+  check_true(rep->rank_time[0] == 1);
+  check_true(rep->mean_time[0] > rep->mean_time[1]);
+  check_true(rep->cand[0].n_censored == M / 10 && rep->cand[1].n_censored == 0);
+  check_true(rep->censored_common[0] == M / 10 && rep->censored_common[1] == 0);
+  /* every maneuver in the comparisons and the Friedman test */
+  for (int j = 0; j < rep->n_comparisons; ++j) {
+    const pom_doe_comparison *c = &rep->cmp[j];
+    if (c->metric != POM_DOE_METRIC_TIME) continue;
+    check_true(c->test.n == M);
+    if (c->a == 0 && c->b == 1) {
+      check_true(c->censored_a == M / 10 && c->censored_b == 0);
+      /* B is better exactly on the censored maneuvers */
+      check_abs(1.0 - c->test.win_fraction - c->test.tie_fraction, 0.1, 1e-12);
+      if (a_speedup == 0.0) {
+        check_abs(c->test.tie_fraction, 0.9, 1e-12);
+        check_true(c->test.wilcoxon_p < 1e-5); /* 20 positive differences: 2 / 2^20 */
+      }
+    }
+  }
+  check_true(rep->friedman[POM_DOE_METRIC_TIME].n_blocks == M);
+  check_true(rep->friedman_censored == M / 10);
+  check_true(rep->friedman[POM_DOE_METRIC_TIME].p < 1e-10);
+  /* Pareto: B dominates A (as fast or faster on the restricted mean, same
+   * energy) and C */
+  check_true(rep->pareto[1] == 1 && rep->pareto[0] == 0 && rep->pareto[2] == 0);
+  for (int j = 0; j < rep->n_effects; ++j) {
+    const pom_doe_effect *e = &rep->effects[j];
+    if (e->metric != POM_DOE_METRIC_TIME) continue;
+    check_true(e->n == M);
+    check_true(e->n_censored == (e->level == 0 ? M / 10 : 0));
+    if (e->level == 0) check_abs(e->mean, rep->mean_time[0], 1e-15);
+  }
+  pom_doe_report_destroy(rep);
+}
+
+static void test_censoring(void) {
+  censoring_case(POM_DOE_TIME_EXECUTION, 0.0);
+  censoring_case(POM_DOE_TIME_POINTING, 0.0);
+  censoring_case(POM_DOE_TIME_EXECUTION, 0.01);
+}
+
 int main(void) {
   snprintf(tmpdir, sizeof tmpdir, "/tmp/pom_test_doe_XXXXXX");
   if (!mkdtemp(tmpdir)) {
@@ -813,5 +933,6 @@ int main(void) {
   test_friedman_holm();
   test_runs();
   test_final_stroke();
+  test_censoring();
   return check_summary("test_doe");
 }

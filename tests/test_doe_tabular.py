@@ -55,7 +55,7 @@ def main(h5, man_csv, cand_csv):
                     continue
                 v = rows[field][done]
                 per = v.ndim == 2
-                pattern = re.compile("^%s%s(_(s|J|V|m|rad))?$" % (re.escape(field),
+                pattern = re.compile("^%s%s(_(s|J|V|m|rad|rad_per_s))?$" % (re.escape(field),
                                                                     "_([123])" if per else ""))
                 cols = [col for col in man.columns if pattern.match(col)]
                 assert len(cols) == (3 if per else 1), (field, cols)
@@ -68,7 +68,7 @@ def main(h5, man_csv, cand_csv):
         for stat in f["statistics"]:
             if stat == "counts":
                 counts = f["statistics/counts"][:]
-                for j, col in enumerate(("done", "ok", "failed", "unsettled")):
+                for j, col in enumerate(("done", "ok", "failed", "unsettled", "censored")):
                     same(cand[col], counts[:, j], "counts " + col)
                 continue
             table = f["statistics/" + stat][:]

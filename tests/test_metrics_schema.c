@@ -276,6 +276,50 @@ static void test_range_keys(void) {
     }
     pom_doe_study_clear(&study);
   }
+  /* study.time_metric (docs/results.md section 4): auto is the pointing time
+   * in orientation space, the per-actuator time in joint space */
+  static const struct {
+    const char *file, *text;
+    int want; /* pom_doe_time_metric, -1: a config error */
+  } times[] = {
+      {"tm_joint.cfg",
+       "montecarlo = { maneuvers = 5; range_mm = 2.5; };\n"
+       "candidates = ( { name = \"p\"; config = \"lin.cfg\"; } );\n",
+       POM_DOE_TIME_EXECUTION},
+      {"tm_orient.cfg",
+       "montecarlo = { maneuvers = 5; space = \"orientation\"; };\n"
+       "candidates = ( { name = \"p\"; config = \"lin.cfg\"; } );\n",
+       POM_DOE_TIME_POINTING},
+      {"tm_orient_exec.cfg",
+       "montecarlo = { maneuvers = 5; space = \"orientation\"; };\n"
+       "study = { time_metric = \"execution_time\"; };\n"
+       "candidates = ( { name = \"p\"; config = \"lin.cfg\"; } );\n",
+       POM_DOE_TIME_EXECUTION},
+      {"tm_joint_point.cfg",
+       "montecarlo = { maneuvers = 5; range_mm = 2.5; };\n"
+       "study = { time_metric = \"pointing_settling_time\"; };\n"
+       "candidates = ( { name = \"p\"; config = \"lin.cfg\"; } );\n",
+       POM_DOE_TIME_POINTING},
+      {"tm_bad.cfg",
+       "montecarlo = { maneuvers = 5; range_mm = 2.5; };\n"
+       "study = { time_metric = \"pointing\"; };\n"
+       "candidates = ( { name = \"p\"; config = \"lin.cfg\"; } );\n",
+       -1},
+  };
+  for (size_t i = 0; i < sizeof times / sizeof times[0]; ++i) {
+    pom_doe_study study;
+    pom_error err;
+    pom_error_clear(&err);
+    write_file(times[i].file, times[i].text);
+    pom_status st = load(&study, times[i].file, &err);
+    if (times[i].want < 0) {
+      check_true(st == POM_ERR_CONFIG && strstr(err.message, "study.time_metric") != NULL);
+    } else {
+      if (!check_true(st == POM_OK)) printf("  %s: %s\n", times[i].file, err.message);
+      check_true((int)study.time_metric == times[i].want);
+    }
+    pom_doe_study_clear(&study);
+  }
   /* pom_doe_kinds_mixed */
   const pom_actuator_kind same[2] = {POM_ACT_REVOLUTE, POM_ACT_REVOLUTE};
   const pom_actuator_kind mix[2] = {POM_ACT_PRISMATIC, POM_ACT_REVOLUTE};
