@@ -164,6 +164,13 @@ int pom_cmd_tradeoff(int argc, char **argv) {
       (st = pom_tradeoff_load(&opts, cfg, &err)) != POM_OK ||
       (st = pom_cfg_check_unknown(cfg, tradeoff_scopes, pom_cli_known_top, &err)) != POM_OK)
     goto done;
+  /* the maneuvers' range in the actuators' unit, as montecarlo and study
+   * check it (a mm range is no range for revolute actuators) */
+  pom_actuator_kind kind = POM_ACT_PRISMATIC;
+  if ((st = pom_doe_mech_actuator_kind(&mech, &kind, &err)) != POM_OK ||
+      (st = pom_doe_maneuvers_check_kinds(&mv, &kind, 1, cfg, &err)) != POM_OK)
+    goto done;
+  const pom_act_desc *unit = pom_act_kind_desc(kind);
   if (accuracy > 0) opts.accuracy = accuracy;
   if (maneuvers > 0) {
     if (maneuvers > 16) {
@@ -193,8 +200,9 @@ int pom_cmd_tradeoff(int argc, char **argv) {
          arch.name, res->n_maneuvers, (unsigned long long)mv.seed, opts.repeats,
          opts.reference_rtol, res->n_models);
   for (int k = 0; k < res->n_maneuvers; ++k)
-    printf("maneuver %d: targets %.4f, %.4f, %.4f mm\n", k, res->targets[k][0] * 1e3,
-           res->targets[k][1] * 1e3, res->targets[k][2] * 1e3);
+    printf("maneuver %d: targets %.4f, %.4f, %.4f %s\n", k, res->targets[k][0] * unit->to_display,
+           res->targets[k][1] * unit->to_display, res->targets[k][2] * unit->to_display,
+           unit->display);
   print_table(res, opts.accuracy);
   if (res->recommended >= 0) {
     const pom_tradeoff_row *w = &res->row[res->recommended];
