@@ -12,7 +12,8 @@ trap 'rm -rf "$TMP"' EXIT
 fail=0
 check() { if ! eval "$1"; then echo "FAIL: $1"; fail=1; fi; }
 SMALL='tradeoff = { maneuvers = 2; repeats = 1; rtol = [1e-4]; stiffness_N_per_m = [1e6];
-             linear_solvers = false; scenes = false; rigid = false; reference_rtol = 1e-8; };
+             linear_solvers = false; scenes = false; rigid = false; reference_rtol = 1e-8;
+             fidelity_maneuvers = 2; };
 maneuver = { horizon_ms = 20.0; };'
 
 # the shipped 3-RRR config has no montecarlo range: refused, naming the key
