@@ -766,6 +766,7 @@ static pom_status write_summary(const pom_doe_study *study, const pom_doe_report
   fprintf(f, "\n");
   if (o->report_extra) o->report_extra(f, study);
   pom_cli_doe_print_report(f, study, rep);
+  pom_cli_doe_fidelity_report(f, study, rep);
   write_metric_listing(f);
   if (plots_ok) {
     /* the figures scripts/plot_study.py made for this study (it removes the
@@ -868,6 +869,7 @@ int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o) {
              study->name, study->n_candidates, study->maneuvers.count, wall, threads, ranks);
     if (o->report_extra) o->report_extra(stdout, study);
     pom_cli_doe_print_report(stdout, study, rep);
+    pom_cli_doe_fidelity_report(stdout, study, rep);
   }
   if (tabular[0]) {
     char cand[POM_DOE_PATH_LEN + 32];

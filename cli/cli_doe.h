@@ -28,6 +28,11 @@ int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o);
 /* Prints the tables, comparisons and verdict as Markdown. */
 void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_doe_report *rep);
 
+/* Prints the fidelity each candidate earned (study.fidelity = "auto") as a
+ * Markdown table with the validated bound beside the means (rep may be
+ * NULL: no means); nothing otherwise. cli_fidelity.c. */
+void pom_cli_doe_fidelity_report(FILE *out, const pom_doe_study *study, const pom_doe_report *rep);
+
 /* Prints the report as JSON (SI units). */
 void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe_report *rep);
 

@@ -54,31 +54,6 @@ void pom_fidelity_defaults(pom_fidelity_opts *o) {
   o->reference_rtol = 1e-8;
 }
 
-/* ---- targets ------------------------------------------------------------------- */
-void pom_fidelity_targets(double (*q)[3], int *n_out, const pom_doe_maneuvers *mv, uint64_t seed,
-                          int n, const pom_kin_arch *arch) {
-  pom_doe_maneuvers m = *mv;
-  m.seed = seed;
-  int kept = 0;
-  for (int k = 0; k < n; ++k) {
-    pom_doe_maneuver man;
-    pom_doe_maneuver_draw(&man, &m, k);
-    double t[3];
-    memcpy(t, man.q, sizeof t);
-    if (m.space == POM_DOE_SPACE_ORIENTATION) {
-      pom_error e;
-      pom_error_clear(&e);
-      if (pom_kin_inverse(arch, man.R, t, &e) != POM_OK) continue;
-    }
-    int inside = 1;
-    for (int i = 0; i < 3; ++i)
-      inside &= fabs(t[i]) <= 0.5 * arch->stroke;
-    if (!inside) continue;
-    memcpy(q[kept++], t, sizeof t);
-  }
-  *n_out = kept;
-}
-
 /* ---- running a set ---------------------------------------------------------------- */
 static double now_s(void) {
   struct timespec t;

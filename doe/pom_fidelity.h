@@ -9,7 +9,6 @@
 #ifndef POM_FIDELITY_H
 #define POM_FIDELITY_H
 
-#include "pom_doe.h"
 #include "pom_dynamics.h"
 #include "pom_kinematics.h"
 #include "pom_mechanism.h"
@@ -93,12 +92,5 @@ pom_status pom_fidelity_measure(double e[2], int *n_used, const pom_kin_arch *ar
                                 const pom_mechanism *mech, const pom_dyn_params *p,
                                 const pom_dyn_params *ref, const double (*q)[3], int n,
                                 pom_error *err);
-
-/* Actuator targets of maneuvers 0 .. n-1 of protocol mv drawn with `seed`
- * (mv's space, range and distribution; orientation space mapped by arch's
- * inverse kinematics). Those arch cannot reach or outside its stroke are
- * left out: *n_out <= n gets the number kept in q. */
-void pom_fidelity_targets(double (*q)[3], int *n_out, const pom_doe_maneuvers *mv, uint64_t seed,
-                          int n, const pom_kin_arch *arch);
 
 #endif

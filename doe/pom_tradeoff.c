@@ -390,8 +390,8 @@ static pom_status recommend(pom_tradeoff_result *res, const pom_kin_arch *arch,
   pom_status st = POM_OK;
   if (!sel || !val) POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "tradeoff: out of memory");
   int n_sel = 0, n_val = 0;
-  pom_fidelity_targets(sel, &n_sel, mv, res->select_seed, n, arch);
-  pom_fidelity_targets(val, &n_val, mv, res->validation_seed, n, arch);
+  pom_doe_maneuver_targets(sel, &n_sel, mv, res->select_seed, n, arch);
+  pom_doe_maneuver_targets(val, &n_val, mv, res->validation_seed, n, arch);
   res->n_select_drawn = res->n_validation_drawn = n;
   if (n_sel < 1 || n_val < 1)
     POM_FAIL_GOTO(err, POM_ERR_LIMIT, done,

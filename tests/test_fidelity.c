@@ -8,6 +8,7 @@
  * designs and +-10 deg for the 3-RRR (its 15 mm/rad equivalent lever makes
  * +-3 mm about +-11 deg). */
 #include "check.h"
+#include "pom_doe.h"
 #include "pom_fidelity.h"
 #include "pom_kinematics.h"
 #include "pom_math.h"
@@ -54,9 +55,9 @@ static void test_architecture(const char *file) {
   double(*sel)[3] = calloc(20, sizeof *sel), (*val)[3] = calloc(20, sizeof *val);
   double(*unseen)[3] = calloc(N_UNSEEN, sizeof *unseen);
   int n_sel = 0, n_val = 0, n_unseen = 0;
-  pom_fidelity_targets(sel, &n_sel, &mv, SEED_SELECT, 20, &arch);
-  pom_fidelity_targets(val, &n_val, &mv, SEED_VALIDATE, 20, &arch);
-  pom_fidelity_targets(unseen, &n_unseen, &mv, SEED_UNSEEN, N_UNSEEN, &arch);
+  pom_doe_maneuver_targets(sel, &n_sel, &mv, SEED_SELECT, 20, &arch);
+  pom_doe_maneuver_targets(val, &n_val, &mv, SEED_VALIDATE, 20, &arch);
+  pom_doe_maneuver_targets(unseen, &n_unseen, &mv, SEED_UNSEEN, N_UNSEEN, &arch);
   check_true(n_sel == 20 && n_val == 20 && n_unseen == N_UNSEEN);
   pom_fidelity_result res;
   pom_status st = pom_fidelity_select(&res, &arch, mech, &p, (const double(*)[3])sel, n_sel,
