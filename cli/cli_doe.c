@@ -590,6 +590,7 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
       json_double(out, study->candidates[c].factor_value[f]);
     }
     fprintf(out, "}");
+    pom_cli_doe_fidelity_json(out, &study->candidates[c]);
     /* the statistics of every reduced metric of the schema */
     for (int s = 0; s < POM_DYN_N_STATS; ++s) {
       fprintf(out, ",\n     ");

@@ -33,6 +33,10 @@ void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_d
  * NULL: no means); nothing otherwise. cli_fidelity.c. */
 void pom_cli_doe_fidelity_report(FILE *out, const pom_doe_study *study, const pom_doe_report *rep);
 
+/* Appends `, "fidelity": {...}` (setting, met, errors, bound) to a
+ * candidate's JSON object when study.fidelity = "auto" chose its setting. */
+void pom_cli_doe_fidelity_json(FILE *out, const pom_doe_candidate *cand);
+
 /* Prints the report as JSON (SI units). */
 void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe_report *rep);
 

@@ -36,3 +36,15 @@ void pom_cli_doe_fidelity_report(FILE *out, const pom_doe_study *study, const po
             100.0 * f->bound_energy, f->wall);
   }
 }
+
+void pom_cli_doe_fidelity_json(FILE *out, const pom_doe_candidate *cand) {
+  if (!cand->fidelity_chosen) return;
+  const pom_fidelity_result *f = &cand->fidelity;
+  fprintf(out,
+          ", \"fidelity\": {\"setting\": \"%s\", \"met\": %s, \"accuracy\": %.6g, "
+          "\"margin\": %.6g, \"selection_error_time\": %.6g, \"selection_error_energy\": %.6g, "
+          "\"error_time\": %.6g, \"error_energy\": %.6g, \"selection_maneuvers\": %d, "
+          "\"validation_maneuvers\": %d}",
+          f->setting.label, f->met ? "true" : "false", f->accuracy, f->margin, f->select_time,
+          f->select_energy, f->bound_time, f->bound_energy, f->n_select, f->n_validate);
+}

@@ -55,6 +55,15 @@ done
 # the 3-RRR's coil lag (L/R = 0.1 ms) makes the inductive coil its choice
 check 'grep -q "^| 3-RRR | rigid, inductive coil" "$W/fid/summary.md"'
 
+# --json carries the same per candidate
+"$POMLAB" study "$W/fid.cfg" --json --no-plots --no-summary --quiet > "$W/fid.json" 2> /dev/null
+check '[ $? -eq 0 ]'
+check '/usr/bin/python3 -c "
+import json, sys
+d = json.load(open(\"$W/fid.json\"))
+f = [c[\"fidelity\"] for c in d[\"candidates\"]]
+sys.exit(not (len(f) == 3 and all(x[\"met\"] and max(x[\"error_time\"], x[\"error_energy\"]) <= 0.01 for x in f)))"'
+
 # wrong keys: exit 2, the key named
 bad() {
   study bad "$1"
