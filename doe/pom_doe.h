@@ -238,14 +238,14 @@ typedef struct {
   int n_candidates;
   pom_doe_candidate *candidates; /* [n_candidates], owned */
   pom_unc uncertain;             /* the `uncertain` group (n = 0: none) */
+  double *uncertain_nominal;     /* [n_candidates][uncertain.n] each key's value in the
+                                    candidate's config (NaN when absent), owned */
   /* study.fidelity = "auto" (docs/results.md section 12): each candidate's
    * setting chosen by the rule of pom_fidelity.h, selected on maneuvers of
    * fidelity_seed, validated on the study's own first maneuvers */
   int fidelity_auto;          /* 1: "auto"; 0: "config" (the candidates' settings as given) */
   pom_fidelity_opts fidelity; /* accuracy, margin, set sizes, reference rtol */
   uint64_t fidelity_seed;     /* seed of the selection set (not montecarlo.seed) */
-  double *uncertain_nominal;  /* [n_candidates][uncertain.n] each key's value in the
-                                 candidate's config (NaN when absent), owned */
 } pom_doe_study;
 
 /* Loads a study file: `name`, `montecarlo`, `study` and `candidates`
