@@ -643,6 +643,7 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
       json_double(out, study->candidates[c].factor_value[f]);
     }
     fprintf(out, "}");
+    pom_cli_doe_fidelity_json(out, &study->candidates[c]);
     /* the statistics of every reduced metric of the schema */
     for (int s = 0; s < POM_DYN_N_STATS; ++s) {
       fprintf(out, ",\n     ");
@@ -821,6 +822,7 @@ static pom_status write_summary(const pom_doe_study *study, const pom_doe_report
   fprintf(f, "\n");
   if (o->report_extra) o->report_extra(f, study);
   pom_cli_doe_print_report(f, study, rep);
+  pom_cli_doe_fidelity_report(f, study, rep);
   write_metric_listing(f);
   if (plots_ok) {
     /* the figures scripts/plot_study.py made for this study (it removes the
@@ -1125,6 +1127,7 @@ int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o) {
              study->name, study->n_candidates, study->maneuvers.count, wall, threads, ranks);
     if (o->report_extra) o->report_extra(stdout, study);
     pom_cli_doe_print_report(stdout, study, rep);
+    pom_cli_doe_fidelity_report(stdout, study, rep);
   }
   if (tabular[0]) {
     char cand[POM_DOE_PATH_LEN + 32];

@@ -73,6 +73,15 @@ int pom_cli_doe_sens_failures(const pom_doe_study *study, const pom_doe_sens_res
 /* Prints the tables, comparisons and verdict as Markdown. */
 void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_doe_report *rep);
 
+/* Prints the fidelity each candidate earned (study.fidelity = "auto") as a
+ * Markdown table with the validated bound beside the means (rep may be
+ * NULL: no means); nothing otherwise. cli_fidelity.c. */
+void pom_cli_doe_fidelity_report(FILE *out, const pom_doe_study *study, const pom_doe_report *rep);
+
+/* Appends `, "fidelity": {...}` (setting, met, errors, bound) to a
+ * candidate's JSON object when study.fidelity = "auto" chose its setting. */
+void pom_cli_doe_fidelity_json(FILE *out, const pom_doe_candidate *cand);
+
 /* Prints the report as JSON (SI units). */
 void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe_report *rep);
 

@@ -224,6 +224,13 @@ int pom_cmd_sensitivity(int argc, char **argv) {
     pom_doe_study_clear(&study);
     return loaded ? pom_cli_exit_code(st) : 2;
   }
+  /* study.fidelity = "auto": each candidate's earned setting, as in the
+     study (docs/results.md section 12) */
+  if ((st = pom_doe_fidelity_run(&study, NULL, NULL, &err)) != POM_OK) {
+    pom_cli_report("fidelity", &err);
+    pom_doe_study_clear(&study);
+    return pom_cli_exit_code(st);
+  }
   if (out_path) snprintf(sens.output, sizeof sens.output, "%s", out_path);
   /* outputs that would overwrite an input refused, a run too large for
      memory refused, a long one announced: before any work */

@@ -52,6 +52,16 @@ static int parse_count(const char *text, long *out) {
   return 0;
 }
 
+static void fidelity_progress(void *user, const pom_doe_candidate *cand, int done, int total) {
+  (void)user;
+  const pom_fidelity_result *f = &cand->fidelity;
+  fprintf(stderr,
+          "fidelity [%d/%d] %s: %s (%s; selected %.2e / %.2e, validated bound %.2e / %.2e in "
+          "time / energy; %.1f s)\n",
+          done, total, cand->name, f->setting.label, f->met ? "within the accuracy" : "NOT within",
+          f->select_time, f->select_energy, f->bound_time, f->bound_energy, f->wall);
+}
+
 static int study_main(int argc, char **argv, int rank, int size) {
   const char *cfg_path = NULL;
   pom_cli_doe_opts o;
@@ -150,6 +160,16 @@ static int study_main(int argc, char **argv, int rank, int size) {
     if (rank == 0) pom_cli_report("pipeline", &err);
     pom_doe_study_clear(&study);
     return pom_cli_exit_code(st);
+  }
+  /* study.fidelity = "auto": each candidate's setting, after its tuning
+     (docs/results.md section 12) */
+  if (study.fidelity_auto) {
+    st = pom_doe_fidelity_run(&study, rank == 0 && !o.quiet ? fidelity_progress : NULL, NULL, &err);
+    if (st != POM_OK) {
+      if (rank == 0) pom_cli_report("fidelity", &err);
+      pom_doe_study_clear(&study);
+      return pom_cli_exit_code(st);
+    }
   }
   o.report_extra = pom_cli_pipeline_report;
   /* runs, memory, file size and time, said before a long run starts */

@@ -25,8 +25,10 @@ static void tradeoff_usage(FILE *out) {
       "wall time per maneuver (median of repeats) against the worst relative error in\n"
       "execution (settling) time, expended energy and trajectory. Column integ.: the\n"
       "integration error alone, the worst of the three against the row's own model\n"
-      "integrated at tradeoff.reference_rtol. Recommends the cheapest setting within\n"
-      "the accuracy asked for (against the reference).\n\n"
+      "integrated at tradeoff.reference_rtol. Recommends the cheapest setting of a ladder\n"
+      "(rigid joints, quasi-static then inductive coil, rtol 1e-3 down) within the accuracy\n"
+      "divided by a margin on tradeoff.fidelity_maneuvers maneuvers of the montecarlo seed,\n"
+      "validated within the accuracy on as many of another seed (docs/tradeoff.md 9).\n\n"
       "  --accuracy X%%    accuracy for the recommendation (default tradeoff.accuracy_percent,\n"
       "                   1%%); the %% sign is optional\n"
       "  --maneuvers N    maneuvers (overrides tradeoff.maneuvers, 1..16)\n"
@@ -74,6 +76,47 @@ static void print_table(const pom_tradeoff_result *res, double accuracy) {
     if (w->failures) printf("    failed: %s\n", w->reason);
     if (w->int_reason[0]) printf("    integ. n/a: %s\n", w->int_reason);
   }
+}
+
+/* The recommendation by the rule of docs/tradeoff.md section 9, with both
+ * sets and their seeds named. */
+static void print_recommendation(const pom_tradeoff_result *res, const pom_tradeoff_opts *o,
+                                 uint64_t seed) {
+  const pom_fidelity_result *f = &res->fidelity;
+  if (!res->fidelity_ran) {
+    printf("no recommendation (tradeoff.fidelity_maneuvers = 0)\n");
+    return;
+  }
+  printf("recommendation rule: the cheapest rung of the ladder (rigid joints; quasi-static, then "
+         "inductive coil; rtol 1e-3 down) whose worst execution-time and energy errors against "
+         "the rigid reference (inductive coil, rtol %.0e) are <= %g %% / %g = %.3g %% on a "
+         "selection set (maneuvers 0..%d of seed %llu, %d reachable) and <= %g %% on a validation "
+         "set drawn from a different seed (maneuvers 0..%d of seed %llu, %d reachable)\n",
+         o->reference_rtol, o->accuracy * 100.0, f->margin, o->accuracy / f->margin * 100.0,
+         res->n_select_drawn - 1, (unsigned long long)seed, f->n_select, o->accuracy * 100.0,
+         res->n_validation_drawn - 1, (unsigned long long)res->validation_seed, f->n_validate);
+  if (f->met)
+    printf("recommended for %g %% accuracy: %s (rung %d of the ladder; %.0f steps per maneuver "
+           "against %.0f for the reference)\n",
+           o->accuracy * 100.0, f->setting.label, f->rung + 1, f->steps, f->reference_steps);
+  else
+    printf("no setting of the ladder meets %g %% accuracy on both sets; the most accurate rung, "
+           "%s, measured:\n",
+           o->accuracy * 100.0, f->setting.label);
+  printf("  selected on %d maneuvers: time error %.2e, energy error %.2e (<= %.2e asked)\n",
+         f->n_select, f->select_time, f->select_energy, o->accuracy / f->margin);
+  printf("  validated on %d other maneuvers (seed %llu): time error %.2e, energy error %.2e: "
+         "the bound it claims%s\n",
+         f->n_validate, (unsigned long long)res->validation_seed, f->bound_time, f->bound_energy,
+         f->met ? "" : " (above the accuracy asked)");
+  if (res->recommended >= 0) {
+    const pom_tradeoff_row *w = &res->row[res->recommended];
+    printf("  in the table: '%s', %.3f ms per maneuver (%.2fx the config's own setting); its "
+           "integration error there: settle %.2e, energy %.2e, trajectory %.2e\n",
+           w->label, w->time * 1e3, w->time / res->row[1].time, w->int_settle, w->int_energy,
+           w->int_traj);
+  }
+  if (f->failure[0]) printf("  a rejected rung failed a maneuver: %s\n", f->failure);
 }
 
 static pom_status write_csv(const char *path, const pom_tradeoff_result *res, pom_error *err) {
@@ -170,6 +213,13 @@ int pom_cmd_tradeoff(int argc, char **argv) {
       (st = pom_tradeoff_load(&opts, cfg, &err)) != POM_OK ||
       (st = pom_cli_check_unknown(cfg, scopes, &err)) != POM_OK)
     goto done;
+  /* the maneuvers' range in the actuators' unit, as montecarlo and study
+   * check it (a mm range is no range for revolute actuators) */
+  pom_actuator_kind kind = POM_ACT_PRISMATIC;
+  if ((st = pom_doe_mech_actuator_kind(&mech, &kind, &err)) != POM_OK ||
+      (st = pom_doe_maneuvers_check_kinds(&mv, &kind, 1, cfg, &err)) != POM_OK)
+    goto done;
+  const pom_act_desc *unit = pom_act_kind_desc(kind);
   if (accuracy > 0) opts.accuracy = accuracy;
   if (maneuvers > 0) {
     if (maneuvers > 16) {
@@ -199,22 +249,11 @@ int pom_cmd_tradeoff(int argc, char **argv) {
          arch.name, res->n_maneuvers, (unsigned long long)mv.seed, opts.repeats,
          opts.reference_rtol, res->n_models);
   for (int k = 0; k < res->n_maneuvers; ++k)
-    printf("maneuver %d: targets %.4f, %.4f, %.4f mm\n", k, res->targets[k][0] * 1e3,
-           res->targets[k][1] * 1e3, res->targets[k][2] * 1e3);
+    printf("maneuver %d: targets %.4f, %.4f, %.4f %s\n", k, res->targets[k][0] * unit->to_display,
+           res->targets[k][1] * unit->to_display, res->targets[k][2] * unit->to_display,
+           unit->display);
   print_table(res, opts.accuracy);
-  if (res->recommended >= 0) {
-    const pom_tradeoff_row *w = &res->row[res->recommended];
-    printf("recommended for %g %% accuracy: %s (%.3f ms per maneuver, %.2fx the time of the "
-           "config's own setting)\n",
-           opts.accuracy * 100.0, w->label, w->time * 1e3, w->time / res->row[1].time);
-    printf("  its integration error (against its own model at rtol %.0e): settle %.2e, energy "
-           "%.2e, trajectory %.2e; its model error is the rest of the errors above\n",
-           opts.reference_rtol, w->int_settle, w->int_energy, w->int_traj);
-  } else {
-    printf("no setting of the sweep meets %g %% accuracy; tighten the sweep (tradeoff.rtol, "
-           "tradeoff.stiffness_N_per_m)\n",
-           opts.accuracy * 100.0);
-  }
+  print_recommendation(res, &opts, mv.seed);
   if (csv) {
     stage = "csv";
     st = write_csv(csv, res, &err);

@@ -16,6 +16,7 @@
 #include "pom_doe_stats.h"
 #include "pom_dyn_metrics_schema.h"
 #include "pom_dynamics.h"
+#include "pom_fidelity.h"
 #include "pom_status.h"
 #include "pom_uncertain.h"
 
@@ -91,6 +92,14 @@ typedef struct {
 /* Draws maneuver k from a generator seeded by (mv->seed, k) only. */
 void pom_doe_maneuver_draw(pom_doe_maneuver *out, const pom_doe_maneuvers *mv, long k);
 
+/* Actuator targets (m or rad) of maneuvers 0 .. n-1 of protocol mv drawn
+ * with `seed` in place of mv->seed (mv's space, range and distribution; an
+ * orientation mapped by arch's inverse kinematics). Those arch cannot reach
+ * or that lie outside its stroke are left out: *n_out <= n gets the number
+ * kept in q[n]. */
+void pom_doe_maneuver_targets(double (*q)[3], int *n_out, const pom_doe_maneuvers *mv,
+                              uint64_t seed, int n, const pom_kin_arch *arch);
+
 /* ---- evaluators -------------------------------------------------------------- */
 #define POM_DOE_MAX_GROUPS 16 /* top-level config names one evaluator reads */
 
@@ -122,6 +131,9 @@ typedef struct {
    * key or an override group. groups[0] == NULL: the evaluator does not
    * say (no such check). */
   const char *groups[POM_DOE_MAX_GROUPS + 1];
+  /* 1: ctx starts with a pom_doe_dyn_base (the dynamics evaluators), so its
+   * fidelity can be set (pom_doe_fidelity_run); 0 otherwise */
+  int dyn_base;
 } pom_doe_evaluator;
 
 /* Appends the NULL-terminated names (e.g. pom_kin_model_groups()) to
@@ -211,6 +223,8 @@ typedef struct {
   char factor_key[POM_DOE_MAX_FACTORS][POM_DOE_NAME_LEN]; /* dotted keys */
   double factor_value[POM_DOE_MAX_FACTORS];               /* values set (config units) */
   pom_doe_evaluator eval;                                 /* owned */
+  int fidelity_chosen;          /* 1: study.fidelity = "auto" set this candidate's setting */
+  pom_fidelity_result fidelity; /* what it chose and measured (when fidelity_chosen) */
 } pom_doe_candidate;
 
 typedef enum { POM_DOE_RANK_TIME = 0, POM_DOE_RANK_ENERGY = 1 } pom_doe_rank_by;
@@ -246,6 +260,12 @@ typedef struct {
   pom_unc uncertain;             /* the `uncertain` group (n = 0: none) */
   double *uncertain_nominal;     /* [n_candidates][uncertain.n] each key's value in the
                                     candidate's config (NaN when absent), owned */
+  /* study.fidelity = "auto" (docs/results.md section 12): each candidate's
+   * setting chosen by the rule of pom_fidelity.h, selected on maneuvers of
+   * fidelity_seed, validated on the study's own first maneuvers */
+  int fidelity_auto;          /* 1: "auto"; 0: "config" (the candidates' settings as given) */
+  pom_fidelity_opts fidelity; /* accuracy, margin, set sizes, reference rtol */
+  uint64_t fidelity_seed;     /* seed of the selection set (not montecarlo.seed) */
 } pom_doe_study;
 
 /* The top-level names a study file holds (`name`, `montecarlo`, `study`,
@@ -272,6 +292,24 @@ pom_status pom_doe_study_single(pom_doe_study *study, const pom_cfg *cfg,
  * pom_doe_evaluator_clear. */
 pom_status pom_doe_uncertain_evaluator(pom_doe_evaluator *eval, const pom_doe_study *study, int c,
                                        const double *x, pom_error *err);
+
+/* study.fidelity = "auto": for each candidate, the rule of pom_fidelity.h on
+ * its nominal model (selection: maneuvers 0..n_select-1 of fidelity_seed;
+ * validation: the study's maneuvers 0..n_validate-1, those it reaches), then
+ * the choice applied: its model rebuilt with it, its resolved config
+ * (results file, uncertain draws) given the setting's keys, the result kept
+ * in the candidate. progress (may be NULL) is called after each candidate.
+ * Does nothing when fidelity_auto is 0. POM_ERR_CONFIG for a candidate whose
+ * evaluator is not a dynamics one. */
+pom_status pom_doe_fidelity_run(pom_doe_study *study,
+                                void (*progress)(void *user, const pom_doe_candidate *cand,
+                                                 int done, int total),
+                                void *user, pom_error *err);
+
+/* Writes the fidelity attributes of candidate c (fidelity_setting,
+ * fidelity_error_time, fidelity_error_energy, ...; docs/results.md section
+ * 5) to group g; nothing when the fidelity was not chosen. */
+pom_status pom_doe_fidelity_describe(const pom_doe_study *study, int c, hid_t g, pom_error *err);
 
 /* Frees everything a study owns (NULL allowed); leaves it zeroed. */
 void pom_doe_study_clear(pom_doe_study *study);

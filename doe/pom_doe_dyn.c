@@ -152,6 +152,7 @@ pom_status pom_doe_dyn_evaluator_create_ex(pom_doe_evaluator *eval, const pom_cf
   eval->targets = pom_doe_dyn_targets;
   eval->run = pom_doe_dyn_run;
   eval->describe = describe;
+  eval->dyn_base = 1;
   return POM_OK;
 fail:
   ctx_destroy(ctx);

@@ -1,6 +1,7 @@
 /* pom_doe_maneuver.c - maneuver sampling with common random numbers
  * (docs/results.md, "Maneuvers"). */
 #include "pom_doe.h"
+#include "pom_kinematics.h"
 #include "pom_math.h"
 #include "pom_rng.h"
 
@@ -186,4 +187,28 @@ void pom_doe_maneuver_draw(pom_doe_maneuver *out, const pom_doe_maneuvers *mv, l
   pom_m3_axis_angle(Rz2, ez, s - a);
   pom_m3_mul(tmp, Rz1, Ry);
   pom_m3_mul(out->R, tmp, Rz2);
+}
+
+void pom_doe_maneuver_targets(double (*q)[3], int *n_out, const pom_doe_maneuvers *mv,
+                              uint64_t seed, int n, const pom_kin_arch *arch) {
+  pom_doe_maneuvers m = *mv;
+  m.seed = seed;
+  int kept = 0;
+  for (int k = 0; k < n; ++k) {
+    pom_doe_maneuver man;
+    pom_doe_maneuver_draw(&man, &m, k);
+    double t[3];
+    memcpy(t, man.q, sizeof t);
+    if (m.space == POM_DOE_SPACE_ORIENTATION) {
+      pom_error e;
+      pom_error_clear(&e);
+      if (pom_kin_inverse(arch, man.R, t, &e) != POM_OK) continue;
+    }
+    int inside = 1;
+    for (int i = 0; i < 3; ++i)
+      inside &= fabs(t[i]) <= 0.5 * arch->stroke;
+    if (!inside) continue;
+    memcpy(q[kept++], t, sizeof t);
+  }
+  *n_out = kept;
 }

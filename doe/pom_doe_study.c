@@ -458,6 +458,41 @@ done:
 }
 
 /* ---- the study file ------------------------------------------------------------ */
+/* study.fidelity and its keys (docs/results.md section 12). */
+static pom_status load_fidelity(pom_doe_study *study, const pom_cfg *cfg, pom_error *err) {
+  static const char *const modes[] = {"config", "auto", NULL};
+  static const char *const keys[] = {"study.fidelity_accuracy_percent", "study.fidelity_margin",
+                                     "study.fidelity_maneuvers", "study.fidelity_seed",
+                                     "study.fidelity_reference_rtol"};
+  int mode = 0;
+  long n = 0, seed = 0;
+  POM_TRY(pom_cfg_choice_opt(cfg, "study.fidelity", modes, 0, &mode, err));
+  study->fidelity_auto = mode;
+  pom_fidelity_opts *o = &study->fidelity;
+  pom_fidelity_defaults(o);
+  study->fidelity_seed = study->maneuvers.seed + 1;
+  if (!mode) {
+    for (size_t k = 0; k < sizeof keys / sizeof keys[0]; ++k)
+      if (pom_cfg_has(cfg, keys[k]))
+        return pom_cfg_error(cfg, keys[k], NULL, err, "only with study.fidelity = \"auto\"");
+    return POM_OK;
+  }
+  POM_TRY(pom_cfg_real_opt(cfg, keys[0], 1e-2, 1e-4, 50.0, o->accuracy, &o->accuracy, err));
+  POM_TRY(pom_cfg_real_opt(cfg, keys[1], 1.0, 1.0, 100.0, o->margin, &o->margin, err));
+  POM_TRY(pom_cfg_int_opt(cfg, keys[2], 1, POM_FIDELITY_MAX_MANEUVERS, o->n_select, &n, err));
+  o->n_select = o->n_validate = (int)n;
+  POM_TRY(
+      pom_cfg_int_opt(cfg, keys[3], 0, 9007199254740991L, (long)study->fidelity_seed, &seed, err));
+  if ((uint64_t)seed == study->maneuvers.seed)
+    return pom_cfg_error(cfg, keys[3], NULL, err,
+                         "is montecarlo.seed: the selection set must come from a different seed "
+                         "than the maneuvers it is validated on");
+  study->fidelity_seed = (uint64_t)seed;
+  POM_TRY(
+      pom_cfg_real_opt(cfg, keys[4], 1.0, 1e-13, 1e-6, o->reference_rtol, &o->reference_rtol, err));
+  return POM_OK;
+}
+
 static pom_status load_study_group(pom_doe_study *study, const pom_cfg *cfg, pom_error *err) {
   static const char *const ranks[] = {"execution_time", "energy", NULL};
   static const char *const times[] = {"auto", "execution_time", "pointing_settling_time", NULL};
@@ -482,7 +517,7 @@ static pom_status load_study_group(pom_doe_study *study, const pom_cfg *cfg, pom
                                                ? POM_DOE_TIME_POINTING
                                                : POM_DOE_TIME_EXECUTION)
                                         : (pom_doe_time_metric)(time_metric - 1);
-  return POM_OK;
+  return load_fidelity(study, cfg, err);
 }
 
 /* Names must be unique: they label tables and results. */

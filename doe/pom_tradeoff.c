@@ -28,6 +28,9 @@ void pom_tradeoff_defaults(pom_tradeoff_opts *o) {
   o->rigid = 1;
   o->accuracy = 0.01;
   o->max_wall = 20.0;
+  o->fidelity_maneuvers = 20;
+  o->fidelity_margin = 2.0;
+  o->validation_seed = -1;
 }
 
 pom_status pom_tradeoff_load(pom_tradeoff_opts *o, const pom_cfg *cfg, pom_error *err) {
@@ -58,6 +61,13 @@ pom_status pom_tradeoff_load(pom_tradeoff_opts *o, const pom_cfg *cfg, pom_error
                            &o->accuracy, err));
   POM_TRY(
       pom_cfg_real_opt(cfg, "tradeoff.max_wall_s", 1.0, 1e-3, 1e5, o->max_wall, &o->max_wall, err));
+  POM_TRY(pom_cfg_int_opt(cfg, "tradeoff.fidelity_maneuvers", 0, POM_FIDELITY_MAX_MANEUVERS,
+                          o->fidelity_maneuvers, &l, err));
+  o->fidelity_maneuvers = (int)l;
+  POM_TRY(pom_cfg_real_opt(cfg, "tradeoff.fidelity_margin", 1.0, 1.0, 100.0, o->fidelity_margin,
+                           &o->fidelity_margin, err));
+  POM_TRY(pom_cfg_int_opt(cfg, "tradeoff.validation_seed", 0, 9007199254740991L, o->validation_seed,
+                          &o->validation_seed, err));
   return POM_OK;
 }
 
@@ -359,6 +369,63 @@ static pom_status model_reference(const sweep *c, model_ref *models, int *n_mode
   return POM_OK;
 }
 
+/* ---- the recommendation ------------------------------------------------------------- */
+/* The rule of docs/tradeoff.md section 9: selected on maneuvers 0..n-1 of
+ * the montecarlo seed, validated on as many of another seed; the row of the
+ * sweep with the chosen setting is marked. */
+static pom_status recommend(pom_tradeoff_result *res, const pom_kin_arch *arch,
+                            const pom_mechanism *mech, const pom_dyn_params *base,
+                            const pom_doe_maneuvers *mv, const pom_tradeoff_opts *o,
+                            pom_error *err) {
+  res->recommended = -1;
+  const int n = o->fidelity_maneuvers;
+  if (n < 1) return POM_OK;
+  res->select_seed = mv->seed;
+  res->validation_seed = o->validation_seed >= 0 ? (uint64_t)o->validation_seed : mv->seed + 1;
+  if (res->validation_seed == res->select_seed)
+    POM_FAIL(err, POM_ERR_CONFIG,
+             "tradeoff.validation_seed = %llu is the montecarlo seed: the validation set must "
+             "come from a different seed",
+             (unsigned long long)res->validation_seed);
+  double(*sel)[3] = calloc((size_t)n, sizeof *sel), (*val)[3] = calloc((size_t)n, sizeof *val);
+  pom_status st = POM_OK;
+  if (!sel || !val) POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "tradeoff: out of memory");
+  int n_sel = 0, n_val = 0;
+  pom_doe_maneuver_targets(sel, &n_sel, mv, res->select_seed, n, arch);
+  pom_doe_maneuver_targets(val, &n_val, mv, res->validation_seed, n, arch);
+  res->n_select_drawn = res->n_validation_drawn = n;
+  if (n_sel < 1 || n_val < 1)
+    POM_FAIL_GOTO(err, POM_ERR_LIMIT, done,
+                  "tradeoff: none of the %d maneuvers of a seed lies in the stroke", n);
+  pom_fidelity_opts fo;
+  pom_fidelity_defaults(&fo);
+  fo.accuracy = o->accuracy;
+  fo.margin = o->fidelity_margin;
+  fo.n_select = n_sel;
+  fo.n_validate = n_val;
+  fo.reference_rtol = o->reference_rtol;
+  POM_TRY_GOTO(pom_fidelity_select(&res->fidelity, arch, mech, base, (const double(*)[3])sel, n_sel,
+                                   (const double(*)[3])val, n_val, &fo, err),
+               done);
+  res->fidelity_ran = 1;
+  pom_dyn_params chosen = *base;
+  pom_fidelity_apply(&chosen, &res->fidelity.setting);
+  for (int r = 1; r < res->n_rows && res->recommended < 0; ++r) {
+    const pom_dyn_params *q = &res->row[r].params;
+    if (q->joints.model == chosen.joints.model &&
+        q->scene.coil_inductance == chosen.scene.coil_inductance &&
+        q->scene.limb_inertia == chosen.scene.limb_inertia &&
+        q->scene.universal_joint == chosen.scene.universal_joint &&
+        q->solver.rtol == chosen.solver.rtol && q->solver.atol_scale == chosen.solver.atol_scale &&
+        q->solver.linear_solver == chosen.solver.linear_solver && same_model(q, &chosen))
+      res->recommended = r;
+  }
+done:
+  free(sel);
+  free(val);
+  return st;
+}
+
 /* ---- the sweep ------------------------------------------------------------------ */
 pom_status pom_tradeoff_run(const pom_kin_arch *arch, const pom_mechanism *mech,
                             const pom_dyn_params *base, const pom_doe_maneuvers *mv,
@@ -424,7 +491,7 @@ pom_status pom_tradeoff_run(const pom_kin_arch *arch, const pom_mechanism *mech,
     if (progress) progress(user, w, r + 1, res->n_rows);
   }
   res->n_models = n_models;
-  res->recommended = pom_tradeoff_recommend(res, o->accuracy);
+  st = recommend(res, arch, mech, base, mv, o, err);
 done:
   if (models)
     for (int i = 0; i < POM_TRADEOFF_MAX_ROWS; ++i)

@@ -12,6 +12,7 @@
 #include "pom_config.h"
 #include "pom_doe.h"
 #include "pom_dynamics.h"
+#include "pom_fidelity.h"
 #include "pom_kinematics.h"
 #include "pom_mechanism.h"
 #include "pom_status.h"
@@ -35,6 +36,11 @@ typedef struct {
   int rigid;                  /* 1: rows of the rigid path (rtol sweep, quasi-static coil) */
   double reference_stiffness; /* k_p of the reference (N/m and N m/rad) */
   double accuracy;            /* relative accuracy asked for the recommendation */
+  int fidelity_maneuvers;     /* the recommendation's rule (docs/tradeoff.md section 9): maneuvers
+                                 of its selection set (montecarlo seed) and of its validation
+                                 set; 0: no recommendation */
+  double fidelity_margin;     /* the selection set must meet accuracy / margin */
+  long validation_seed;       /* seed of the validation set; -1: the montecarlo seed + 1 */
   double max_wall;            /* s: a setting whose maneuver takes longer is
                                  abandoned (counted as failed) */
 } pom_tradeoff_opts;
@@ -42,7 +48,8 @@ typedef struct {
 /* Defaults: 3 maneuvers, 3 repeats, rtol 1e-2..1e-8, k_p 1e3..1e9, both
  * linear solvers, scene rows on, rigid-path rows on, reference = the rigid
  * path at rtol 1e-10 (the parasitic one at k_p 1e9 if asked), accuracy
- * 1 %, 20 s per maneuver at most. */
+ * 1 %, 20 s per maneuver at most; the recommendation on 20 + 20 maneuvers
+ * with margin 2, validation seed = montecarlo seed + 1. */
 void pom_tradeoff_defaults(pom_tradeoff_opts *o);
 
 /* The config group pom_tradeoff_load reads (`tradeoff`), NULL-terminated,
@@ -81,8 +88,14 @@ typedef struct {
   pom_tradeoff_row row[POM_TRADEOFF_MAX_ROWS]; /* row 0: the reference, row 1: the config */
   double targets[16][3];                       /* the maneuvers' targets (m) */
   int n_maneuvers;
-  int recommended; /* row index of the cheapest setting within accuracy, -1 if none */
-  int n_models;    /* distinct models, each integrated once at reference_rtol */
+  int recommended;  /* row index of the rule's choice (fidelity), -1 if no row has its setting
+                       or the rule did not run */
+  int fidelity_ran; /* 1: fidelity holds the recommendation by the rule */
+  pom_fidelity_result fidelity; /* the rule's choice, selection errors and validated bound */
+  uint64_t select_seed, validation_seed;  /* the seeds of its two sets */
+  int n_select_drawn, n_validation_drawn; /* maneuvers drawn for each set (those the mechanism
+                                             reaches are used: fidelity.n_select, n_validate) */
+  int n_models; /* distinct models, each integrated once at reference_rtol */
 } pom_tradeoff_result;
 
 /* Progress callback (may be NULL): called after each setting with its row. */
@@ -97,8 +110,10 @@ pom_status pom_tradeoff_run(const pom_kin_arch *arch, const pom_mechanism *mech,
                             const pom_tradeoff_opts *o, pom_tradeoff_result *res,
                             pom_tradeoff_progress progress, void *user, pom_error *err);
 
-/* Index of the cheapest row (not the reference) whose err_max <= accuracy and
- * with no failure; -1 when none. */
+/* Index of the cheapest row (not the reference) whose err_max <= accuracy on
+ * the sweep's maneuvers and with no failure; -1 when none. These rows are
+ * marked "ok"; the recommendation is the rule's (fidelity), which also
+ * validates on maneuvers it did not select on. */
 int pom_tradeoff_recommend(const pom_tradeoff_result *res, double accuracy);
 
 #endif

@@ -162,6 +162,7 @@ pom_status pom_pipeline_evaluator_create(pom_doe_evaluator *eval, const pom_cfg 
   eval->targets = pom_doe_dyn_targets;
   eval->run = pom_doe_dyn_run;
   eval->describe = describe;
+  eval->dyn_base = 1; /* ctx starts with its pom_doe_dyn_base */
   return POM_OK;
 fail:
   ctx_destroy(ctx);

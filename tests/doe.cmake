@@ -16,6 +16,11 @@ add_test(NAME test_doe_censor
   COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/test_doe_censor.sh $<TARGET_FILE:pomlab>
           ${CMAKE_CURRENT_BINARY_DIR}/doe_censor
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# study.fidelity = "auto" on the three shipped architectures (docs/results.md 12).
+add_test(NAME test_fidelity_study
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_fidelity_study.sh $<TARGET_FILE:pomlab>
+          ${CMAKE_SOURCE_DIR} ${CMAKE_CURRENT_BINARY_DIR}/fidelity_study
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 # The metric schema and actuator units through doe/ (unit level).
 pom_add_test(test_metrics_schema test_metrics_schema.c)
 target_link_libraries(test_metrics_schema PRIVATE pom_doe)

@@ -61,6 +61,7 @@ static void test_sweep(void) {
   o.linear_solvers = 0;
   o.scenes = 0;
   o.reference_rtol = 1e-9;
+  o.fidelity_maneuvers = 2;
   pom_tradeoff_result *res = calloc(1, sizeof *res);
   if (!check_true(res != NULL)) return;
   pom_status st = pom_tradeoff_run(&arch, &mech, &p, &mv, &o, res, NULL, NULL, &err);
@@ -95,7 +96,18 @@ static void test_sweep(void) {
   if (r8) check_true(r8->params.solver.atol_scale == 0.0);
   /* the recommendation is the cheapest row within the accuracy */
   int best = pom_tradeoff_recommend(res, o.accuracy);
-  check_true(best == res->recommended);
+  /* the recommendation is the rule's (docs/tradeoff.md section 9), marked
+   * on the row with its setting; its two sets come from different seeds */
+  check_true(res->fidelity_ran && res->fidelity.met);
+  check_true(res->select_seed == mv.seed && res->validation_seed == mv.seed + 1);
+  check_true(res->fidelity.n_select == 2 && res->fidelity.n_validate == 2);
+  check_true(fmax(res->fidelity.bound_time, res->fidelity.bound_energy) <= o.accuracy);
+  if (res->recommended > 0) {
+    const pom_dyn_params *q = &res->row[res->recommended].params;
+    check_true(q->joints.model == POM_JOINTS_RIGID);
+    check_true(q->scene.coil_inductance == res->fidelity.setting.coil_inductance);
+    check_true(q->solver.rtol == res->fidelity.setting.rtol);
+  }
   if (check_true(best > 0)) {
     check_true(res->row[best].err_max <= o.accuracy);
     for (int r = 1; r < res->n_rows; ++r)
@@ -129,6 +141,7 @@ static void test_integration_error(void) {
   o.n_stiffness = 0;
   o.linear_solvers = 0;
   o.scenes = 0;
+  o.fidelity_maneuvers = 0;
   pom_tradeoff_result *res = calloc(1, sizeof *res);
   if (!check_true(res != NULL)) return;
   pom_status st = pom_tradeoff_run(&arch, &mech, &p, &mv, &o, res, NULL, NULL, &err);
@@ -188,10 +201,10 @@ static void test_keys(void) {
   check_true(o.reference_rigid == 0 && o.rigid == 0);
   pom_cfg_destroy(cfg);
   static const char *const bad[] = {
-      "tradeoff = { maneuvers = 0; };",
-      "tradeoff = { rtol = [1.0]; };",
-      "tradeoff = { reference = \"exact\"; };",
-      "tradeoff = { accuracy_percent = -1; };",
+      "tradeoff = { maneuvers = 0; };",           "tradeoff = { rtol = [1.0]; };",
+      "tradeoff = { reference = \"exact\"; };",   "tradeoff = { accuracy_percent = -1; };",
+      "tradeoff = { fidelity_maneuvers = -1; };", "tradeoff = { fidelity_margin = 0.5; };",
+      "tradeoff = { validation_seed = -3; };",
   };
   for (size_t k = 0; k < sizeof bad / sizeof bad[0]; ++k) {
     pom_tradeoff_defaults(&o);
