@@ -5,7 +5,9 @@
 # the library imports no exit/abort and nothing that prints to the standard
 # streams; examples/c, configured with find_package(pomlab) against that
 # prefix, builds and agrees with the program (IK digit for digit, the
-# maneuver's metrics as printed); a program built with pkg-config runs too.
+# maneuver's metrics as printed); a program built with pkg-config runs too;
+# the Python module imports from the installed tree with PYTHONPATH alone
+# and agrees with the program (docs/python.md).
 # Usage: test_lib_install.sh PATH/TO/pomlab SOURCE_DIR BUILD_DIR CMAKE
 set -u
 POMLAB=$1
@@ -91,6 +93,23 @@ CEOF
 expect_rc 0 cc -std=c11 -o "$TMP/pc" "$TMP/pc.c" $(pkg-config --cflags --libs pomlab) -Wl,-rpath,"$LIBDIR"
 expect_rc 0 "$TMP/pc"
 expect_in "$TMP/out" "3RRR"
+
+# the Python module from the installed tree: one path to set, the library
+# found relative to the package (no POMLAB_LIBRARY), run from elsewhere
+checks=$((checks + 1))
+[ -f "$P/lib/python3/dist-packages/pomlab/__init__.py" ] || fail "pomlab (Python) not installed"
+expect_rc 0 env -u POMLAB_LIBRARY PYTHONPATH="$P/lib/python3/dist-packages" sh -c "cd '$TMP' && $PY -c \"import pomlab; print(pomlab.simulate('$SRC/configs/3pss.cfg', target=(1e-3, 2e-3, 3e-3))['execution_time_s'])\""
+cp "$TMP/out" "$TMP/py.txt"
+expect_rc 0 env PYTHONPATH="$P/lib/python3/dist-packages" $PY -c "import pomlab; print(pomlab.__file__)"
+expect_in "$TMP/out" "$P/lib/python3/dist-packages/pomlab/__init__.py"
+expect_rc 0 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target 1,2,3 --json
+checks=$((checks + 1))
+"$PY" -c "
+import json, sys
+want = json.load(open('$TMP/out'))['execution_time_s']
+got = float(open('$TMP/py.txt').read())
+sys.exit(0 if float('%.9g' % got) == want else 'python %r, pomlab %r' % (got, want))
+" || fail "the installed Python module and pomlab simulate differ"
 
 echo "test_lib_install: $checks checks, $fails failed"
 [ "$fails" = 0 ]
