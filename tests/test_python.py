@@ -12,6 +12,7 @@ import json
 import math
 import os
 import subprocess
+import tempfile
 import threading
 
 import h5py
@@ -204,9 +205,11 @@ def test_errors(tmp_path):
     assert "no_such_key" in e.value.message
     with pytest.raises(pomlab.PomlabError):
         pomlab.load(CFG["3pss"], overrides={"controller.kp": [1, 2]})
+    before = set(os.listdir(tempfile.gettempdir()))
     with pytest.raises(pomlab.PomlabError) as e:
         pomlab.montecarlo(CFG["3pss"], n=0)
     assert "montecarlo.maneuvers" in e.value.message
+    assert not [d for d in set(os.listdir(tempfile.gettempdir())) - before if d.startswith("pomlab-")]
 
 
 # ---- threads --------------------------------------------------------------------------

@@ -17,6 +17,7 @@ not settle, a solver failure) are data in the returned dicts.
 import ctypes
 import math
 import os
+import shutil
 import tempfile
 import threading
 from collections import namedtuple
@@ -591,8 +592,10 @@ file."""
 def _run_study(cfg, montecarlo, output, threads, resume):
     import pandas as pd
 
+    made = None
     if output is None:
-        output = os.path.join(tempfile.mkdtemp(prefix="pomlab-"), "results.h5")
+        made = tempfile.mkdtemp(prefix="pomlab-")
+        output = os.path.join(made, "results.h5")
     output = os.fspath(output)
     stem = output[:-3] if output.endswith(".h5") else output
     tabular = stem + ".csv"
@@ -604,9 +607,14 @@ def _run_study(cfg, montecarlo, output, threads, resume):
     opts.output = output.encode()
     opts.tabular = tabular.encode()
     done, total, err = ctypes.c_long(), ctypes.c_long(), _Error()
-    with _Loaded(cfg) as L, _hdf5_lock:
-        st = _lib.pom_api_study_run(L.ptr, ctypes.byref(opts), ctypes.byref(done), ctypes.byref(total), err)
-    _check(st, err)
+    try:
+        with _Loaded(cfg) as L, _hdf5_lock:
+            st = _lib.pom_api_study_run(L.ptr, ctypes.byref(opts), ctypes.byref(done), ctypes.byref(total), err)
+        _check(st, err)
+    except BaseException:
+        if made:  # nothing worth keeping in a folder this call made
+            shutil.rmtree(made, ignore_errors=True)
+        raise
     rows = pd.read_csv(tabular)
     candidates = pd.read_csv(stem + "_candidates.csv")
     return StudyResult(rows, candidates, output)
