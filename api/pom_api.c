@@ -1,0 +1,309 @@
+/* pom_api.c - the flat entry layer: registries, kinematics, one maneuver and
+ * studies composed from the module calls (docs/api.md). */
+#include "pom_api.h"
+
+#include "pom_arch.h"
+#include "pom_doe.h"
+#include "pom_dyn_ctrl.h"
+#include "pom_dyn_metrics_schema.h"
+#include "pom_dynamics.h"
+#include "pom_h5.h"
+#include "pom_math.h"
+#include "pom_pipeline.h"
+#include "pom_version.h"
+
+#include <gsl/gsl_errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- version and sizes ------------------------------------------------------- */
+const char *pom_api_version(void) {
+  return pom_version();
+}
+
+const char *pom_api_git_commit(void) {
+  return pom_git_commit();
+}
+
+void pom_api_quiet_handlers(void) {
+  gsl_set_error_handler_off();
+  pom_h5_quiet();
+}
+
+size_t pom_api_struct_size(const char *name) {
+  if (!name) return 0;
+  if (strcmp(name, "pom_error") == 0) return sizeof(pom_error);
+  if (strcmp(name, "pom_kin_pose") == 0) return sizeof(pom_kin_pose);
+  if (strcmp(name, "pom_kin_fk_info") == 0) return sizeof(pom_kin_fk_info);
+  if (strcmp(name, "pom_kin_ws_result") == 0) return sizeof(pom_kin_ws_result);
+  if (strcmp(name, "pom_api_study_opts") == 0) return sizeof(pom_api_study_opts);
+  return 0;
+}
+
+/* ---- registries ---------------------------------------------------------------- */
+pom_status pom_api_arch_type_info(int k, const char **name, const char **label,
+                                  const char **actuator_kind) {
+  const pom_kin_arch_type *t = pom_kin_arch_type_at(k);
+  if (!t) return POM_ERR_ARG;
+  if (name) *name = pom_kin_type_name(t);
+  if (label) *label = pom_kin_type_label(t);
+  if (actuator_kind) *actuator_kind = pom_act_kind_desc(pom_kin_type_actuator(t))->kind_name;
+  return POM_OK;
+}
+
+pom_status pom_api_ctrl_type_info(int k, const char **name, const char **label,
+                                  const char **description) {
+  const pom_dyn_ctrl_type *t = pom_dyn_ctrl_type_at(k);
+  if (!t) return POM_ERR_ARG;
+  if (name) *name = t->name;
+  if (label) *label = t->label;
+  if (description) *description = t->description;
+  return POM_OK;
+}
+
+/* ---- kinematics ------------------------------------------------------------------ */
+/* The groups `pomlab ik` and `pomlab fk` read (cli/cli_kin.c). */
+static const char *const kin_scopes[] = {"name", "architecture", "geometry", "limits", NULL};
+
+pom_status pom_api_arch_create(pom_kin_arch **out, const pom_cfg *cfg, pom_error *err) {
+  if (!out || !cfg) POM_FAIL(err, POM_ERR_ARG, "pom_api_arch_create: NULL argument");
+  *out = NULL;
+  pom_kin_arch *arch = calloc(1, sizeof *arch);
+  if (!arch) POM_FAIL(err, POM_ERR_NOMEM, "pom_api_arch_create: out of memory");
+  pom_status st = pom_kin_arch_load(arch, cfg, err);
+  if (st == POM_OK) st = pom_cfg_check_unknown(cfg, kin_scopes, NULL, err);
+  if (st != POM_OK) {
+    free(arch);
+    return st;
+  }
+  *out = arch;
+  return POM_OK;
+}
+
+void pom_api_arch_destroy(pom_kin_arch *arch) {
+  free(arch);
+}
+
+const char *pom_api_arch_actuator_unit(const pom_kin_arch *arch, double *to_display) {
+  const pom_act_desc *u = pom_act_kind_desc(pom_kin_type_actuator(arch->type));
+  if (to_display) *to_display = u->to_display;
+  return u->si;
+}
+
+const char *pom_api_arch_limit_key(const pom_kin_arch *arch, int kind, double *to_display) {
+  if (kind < 1 || kind >= POM_KIN_LIM_KINDS) return NULL;
+  const pom_kin_limit_desc *ld = &arch->type->limits[kind];
+  if (!ld->name) return NULL;
+  if (to_display) *to_display = ld->to_display;
+  return ld->json;
+}
+
+pom_status pom_api_workspace(const pom_kin_arch *arch, const pom_cfg *cfg, pom_kin_ws_result *res,
+                             double out[3], pom_error *err) {
+  if (!arch || !cfg || !res || !out) POM_FAIL(err, POM_ERR_ARG, "pom_api_workspace: NULL argument");
+  pom_kin_ws_opts o;
+  pom_kin_ws_defaults(&o);
+  POM_TRY(pom_kin_ws_load(&o, cfg, err));
+  POM_TRY(pom_kin_workspace(arch, &o, res, err));
+  if (res->half_width < 0.0)
+    POM_FAIL(err, POM_ERR_UNREACHABLE, "workspace: the home pose itself fails (%s)",
+             pom_strerror(res->fail_status));
+  double region = o.gci_half_width > 0.0 ? o.gci_half_width : res->half_width;
+  out[2] = region;
+  return pom_kin_gci(arch, region, o.resolution, o.check_limits, &out[0], &out[1], err);
+}
+
+/* ---- one maneuver ------------------------------------------------------------------ */
+struct pom_api_sim {
+  pom_kin_arch arch;       /* the geometry */
+  pom_mechanism mech;      /* bodies, joints, actuators at home */
+  pom_dyn_params par;      /* the dynamics groups of the config */
+  pom_dyn_model *model;    /* built once */
+  pom_dyn_data *data;      /* state and scratch of the runs */
+  pom_dyn_trace *trace;    /* traces of the last run; NULL when not asked */
+  pom_dyn_metrics metrics; /* metrics of the last run */
+  int ran;                 /* 1 once a maneuver ran */
+};
+
+/* Every group `pomlab simulate` reads (cli/cmd_simulate.c). */
+static const char *const sim_scopes[] = {"name",    "architecture", "geometry",   "limits",
+                                         "inertia", "actuator",     "controller", "joints",
+                                         "scene",   "solver",       "maneuver",   NULL};
+
+pom_status pom_api_sim_create(pom_api_sim **out, const pom_cfg *cfg, int traces, pom_error *err) {
+  if (!out || !cfg) POM_FAIL(err, POM_ERR_ARG, "pom_api_sim_create: NULL argument");
+  *out = NULL;
+  pom_status st = POM_OK;
+  pom_api_sim *s = calloc(1, sizeof *s);
+  if (!s) POM_FAIL(err, POM_ERR_NOMEM, "pom_api_sim_create: out of memory");
+  POM_TRY_GOTO(pom_kin_arch_load(&s->arch, cfg, err), fail);
+  POM_TRY_GOTO(pom_kin_mechanism_build(&s->mech, &s->arch, cfg, err), fail);
+  pom_dyn_params_defaults(&s->par);
+  POM_TRY_GOTO(pom_dyn_params_load(&s->par, cfg, err), fail);
+  POM_TRY_GOTO(pom_cfg_check_unknown(cfg, sim_scopes, NULL, err), fail);
+  POM_TRY_GOTO(pom_dyn_model_create(&s->model, &s->mech, &s->arch, &s->par, err), fail);
+  POM_TRY_GOTO(pom_dyn_data_create(&s->data, s->model, err), fail);
+  if (traces) POM_TRY_GOTO(pom_dyn_trace_create(&s->trace, s->model, err), fail);
+  *out = s;
+  return POM_OK;
+fail:
+  pom_api_sim_destroy(s);
+  return st;
+}
+
+void pom_api_sim_destroy(pom_api_sim *sim) {
+  if (!sim) return;
+  pom_dyn_trace_destroy(sim->trace);
+  pom_dyn_data_destroy(sim->data);
+  pom_dyn_model_destroy(sim->model);
+  free(sim);
+}
+
+pom_status pom_api_sim_run(pom_api_sim *sim, const double target[3], pom_error *err) {
+  if (!sim || !target) POM_FAIL(err, POM_ERR_ARG, "pom_api_sim_run: NULL argument");
+  const pom_act_desc *u = pom_act_kind_desc(pom_kin_type_actuator(sim->arch.type));
+  double half = 0.5 * sim->arch.stroke;
+  for (int a = 0; a < 3; ++a)
+    if (!isfinite(target[a]) || (half > 0 && !(fabs(target[a]) <= half)))
+      POM_FAIL(err, POM_ERR_ARG,
+               "target q%d = %.10g %s is outside the stroke +-%.10g %s (limits.%s%s = %.10g)",
+               a + 1, target[a], u->si, half, u->si, u->range_word, u->key_suffix,
+               sim->arch.stroke * u->to_display);
+  sim->ran = 1;
+  return pom_dyn_simulate(sim->model, sim->data, target, &sim->metrics, sim->trace, err);
+}
+
+const char *pom_api_sim_name(const pom_api_sim *sim) {
+  return sim->arch.name;
+}
+
+double pom_api_sim_half_stroke(const pom_api_sim *sim) {
+  return 0.5 * sim->arch.stroke;
+}
+
+pom_status pom_api_sim_status(const pom_api_sim *sim, const char **reason) {
+  if (reason) *reason = sim->ran ? sim->metrics.reason : "no maneuver run";
+  return sim->ran ? sim->metrics.status : POM_ERR_ARG;
+}
+
+int pom_api_metric_count(void) {
+  return POM_DYN_N_METRICS;
+}
+
+const char *pom_api_metric_key(int j, char *buf, size_t cap) {
+  if (j < 0 || j >= POM_DYN_N_METRICS || !buf || cap == 0) return NULL;
+  return pom_dyn_metric_json_key(pom_dyn_metric(j), buf, cap);
+}
+
+int pom_api_metric_width(int j) {
+  return j < 0 || j >= POM_DYN_N_METRICS ? 0 : pom_dyn_metric(j)->count;
+}
+
+int pom_api_metric_is_integer(int j) {
+  return j >= 0 && j < POM_DYN_N_METRICS && pom_dyn_metric(j)->type != POM_DYN_TYPE_DOUBLE;
+}
+
+int pom_api_sim_metric(const pom_api_sim *sim, int j, double v[3]) {
+  if (!sim || j < 0 || j >= POM_DYN_N_METRICS) return 0;
+  const pom_dyn_metric_info *mi = pom_dyn_metric(j);
+  for (int k = 0; k < mi->count; ++k)
+    v[k] = sim->ran ? pom_dyn_metric_value(&sim->metrics, mi, k) : NAN;
+  return mi->count;
+}
+
+int pom_api_sim_samples(const pom_api_sim *sim) {
+  return sim && sim->trace && sim->ran ? sim->trace->n : 0;
+}
+
+const double *pom_api_sim_trace(const pom_api_sim *sim, const char *name, int *width) {
+  if (!sim || !sim->trace || !name) return NULL;
+  const pom_dyn_trace *tr = sim->trace;
+  const struct {
+    const char *name;
+    const double *data;
+    int width;
+  } cols[] = {{"t", tr->t, 1},
+              {"q", tr->q, 3},
+              {"q_dot", tr->q_dot, 3},
+              {"current", tr->current, 3},
+              {"voltage", tr->voltage, 3},
+              {"energy", tr->energy, 3},
+              {"euler_zyx", tr->euler_zyx, 3},
+              {"quat", tr->quat, 4},
+              {"deflection", tr->deflection, 1}};
+  for (size_t k = 0; k < sizeof cols / sizeof cols[0]; ++k)
+    if (strcmp(cols[k].name, name) == 0) {
+      if (width) *width = cols[k].width;
+      return cols[k].data;
+    }
+  return NULL;
+}
+
+/* ---- Monte-Carlo runs and studies ---------------------------------------------------- */
+void pom_api_study_defaults(pom_api_study_opts *o) {
+  memset(o, 0, sizeof *o);
+  o->output = "";
+  o->tabular = "";
+}
+
+/* The folder of the pipeline's files: results/x.h5 -> "results/x/", as
+ * `pomlab study` does. */
+static void pipeline_prefix(char *out, size_t cap, const char *output) {
+  snprintf(out, cap, "%s", output);
+  char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
+  size_t n = strlen(out);
+  if (dot && (!slash || dot > slash + 1) && dot > out) {
+    *dot = '\0';
+    n = strlen(out);
+  }
+  if (n + 1 < cap) {
+    out[n] = '/';
+    out[n + 1] = '\0';
+  }
+}
+
+pom_status pom_api_study_run(const pom_cfg *cfg, const pom_api_study_opts *o, long *done,
+                             long *total, pom_error *err) {
+  if (!cfg || !o) POM_FAIL(err, POM_ERR_ARG, "pom_api_study_run: NULL argument");
+  if (!o->output || !o->output[0])
+    POM_FAIL(err, POM_ERR_ARG, "pom_api_study_run: a results file (output) is required");
+  pom_status st = POM_OK;
+  pom_doe_study study;
+  memset(&study, 0, sizeof study);
+  pom_doe_run *run = NULL;
+  pom_doe_report *rep = NULL;
+  if (o->montecarlo) {
+    static const char *const own[] = {"montecarlo", NULL};
+    if (pom_cfg_has(cfg, "candidates") || pom_cfg_has(cfg, "study"))
+      POM_FAIL(err, POM_ERR_CONFIG, "%s is a study file: run it as a study", pom_cfg_path(cfg));
+    POM_TRY_GOTO(pom_doe_study_single(&study, cfg, pom_doe_dyn_evaluator_create, NULL, err), done);
+    POM_TRY_GOTO(pom_cfg_check_unknown(cfg, own, NULL, err), done);
+  } else {
+    POM_TRY_GOTO(pom_doe_study_load(&study, cfg, pom_pipeline_evaluator_create, NULL, err), done);
+    char prefix[POM_DOE_PATH_LEN + 2];
+    pipeline_prefix(prefix, sizeof prefix, o->output);
+    pom_pipeline_options po;
+    memset(&po, 0, sizeof po);
+    po.output_prefix = prefix;
+    POM_TRY_GOTO(pom_pipeline_run(&study, &po, err), done);
+  }
+  pom_doe_run_options ro;
+  pom_doe_run_options_defaults(&ro);
+  ro.threads = o->threads;
+  ro.resume = o->resume;
+  ro.output = o->output;
+  POM_TRY_GOTO(pom_doe_run_begin(&run, &study, &ro, err), done);
+  for (int finished = 0; !finished;)
+    POM_TRY_GOTO(pom_doe_run_step(run, &finished, err), done);
+  POM_TRY_GOTO(pom_doe_run_end(run, &rep, err), done);
+  if (done) *done = pom_doe_run_done(run);
+  if (total) *total = pom_doe_run_total(run);
+  if (o->tabular && o->tabular[0])
+    POM_TRY_GOTO(pom_doe_tabular_write(&study, rep, o->output, o->tabular, err), done);
+done:
+  pom_doe_report_destroy(rep);
+  pom_doe_run_destroy(run);
+  pom_doe_study_clear(&study);
+  return st;
+}

@@ -1,0 +1,157 @@
+/* pom_api.h - a flat entry layer over the pomlab modules for bindings
+ * (python/pomlab, through ctypes) and small programs: opaque handles, plain
+ * arrays of doubles in SI units, and the module's pom_error for failures
+ * (docs/api.md section 3).
+ *
+ * Everything here composes the public module calls (pom_config.h,
+ * pom_kinematics.h, pom_dynamics.h, pom_doe.h, pom_pipeline.h) the way the
+ * `pomlab` commands do, without printing and without a process exit. No
+ * function keeps state between calls: handles are owned by the caller, one
+ * handle per thread. */
+#ifndef POM_API_H
+#define POM_API_H
+
+#include "pom_config.h"
+#include "pom_kinematics.h"
+#include "pom_status.h"
+
+#include <stddef.h>
+
+/* Version of the library ("0.1.0") and the git commit it was built from;
+ * static strings. */
+const char *pom_api_version(void);
+const char *pom_api_git_commit(void);
+
+/* Makes the third-party libraries report instead of ending or printing:
+ * GSL's default error handler (which aborts the process) off, HDF5's
+ * automatic error printing off (pom_h5_quiet). Process-wide settings of
+ * those libraries, idempotent; call it once before the first call from a
+ * host that must survive any failure (the Python module does at import). */
+void pom_api_quiet_handlers(void);
+
+/* Size in bytes of the public struct called `name` ("pom_error",
+ * "pom_kin_pose", "pom_kin_fk_info", "pom_kin_ws_result",
+ * "pom_api_study_opts"); 0 for any other name. Bindings that mirror a struct
+ * compare its size with this before using it. */
+size_t pom_api_struct_size(const char *name);
+
+/* ---- registries ------------------------------------------------------------ */
+
+/* Registered architecture k (0-based, pom_kin_arch_type_at): its config name
+ * ("3PSS"), label ("3P-S-S/S") and actuator kind ("prismatic" or "revolute") into
+ * the pointers (static strings; any may be NULL). POM_ERR_ARG when k is out
+ * of range. */
+pom_status pom_api_arch_type_info(int k, const char **name, const char **label,
+                                  const char **actuator_kind);
+
+/* Registered controller type k (pom_dyn_ctrl_type_at): its `controller.type`
+ * value ("pid"), label and one-line description (static strings; any may be
+ * NULL). POM_ERR_ARG when k is out of range. */
+pom_status pom_api_ctrl_type_info(int k, const char **name, const char **label,
+                                  const char **description);
+
+/* ---- kinematics ------------------------------------------------------------ */
+
+/* Loads the architecture of cfg (pom_kin_arch_load) into a new heap copy the
+ * caller frees with pom_api_arch_destroy. Unknown keys in the groups the
+ * kinematics reads (name, architecture, geometry, limits) are errors, as in
+ * `pomlab ik`. */
+pom_status pom_api_arch_create(pom_kin_arch **out, const pom_cfg *cfg, pom_error *err);
+
+/* Frees an architecture from pom_api_arch_create; NULL allowed. */
+void pom_api_arch_destroy(pom_kin_arch *arch);
+
+/* The SI unit of the actuator coordinate of arch ("m" or "rad"), and the
+ * factor from it to the display unit of the commands (1000 for mm, 180/pi for
+ * deg) when to_display is not NULL. Static string. */
+const char *pom_api_arch_actuator_unit(const pom_kin_arch *arch, double *to_display);
+
+/* The JSON key of limit kind `kind` (1..3) of arch's type (as in `pomlab ik
+ * --json`) and the factor from SI to the unit that JSON uses (to_display may
+ * be NULL); NULL when the type has no such limit. */
+const char *pom_api_arch_limit_key(const pom_kin_arch *arch, int kind, double *to_display);
+
+/* The regular dexterous workspace and global conditioning index as `pomlab
+ * workspace` computes them: the `workspace` group of cfg over the defaults,
+ * then pom_kin_workspace into *res and pom_kin_gci over the cube of
+ * workspace.gci_half_width_deg (0 = the workspace found). out[0] = GCI,
+ * out[1] = usable measure fraction, out[2] = the GCI cube's half-width (rad).
+ * POM_ERR_UNREACHABLE when the home pose itself fails. */
+pom_status pom_api_workspace(const pom_kin_arch *arch, const pom_cfg *cfg, pom_kin_ws_result *res,
+                             double out[3], pom_error *err);
+
+/* ---- one maneuver ----------------------------------------------------------- */
+
+/* A mechanism ready to simulate: architecture, mechanism, dynamics
+ * parameters, model and data (and traces when asked), built once from a
+ * config. One per thread. */
+typedef struct pom_api_sim pom_api_sim;
+
+/* Builds the simulation of cfg as `pomlab simulate` does (unknown keys in the
+ * groups it reads are errors). traces = 1 also allocates the traces of every
+ * run. The caller frees *out with pom_api_sim_destroy. */
+pom_status pom_api_sim_create(pom_api_sim **out, const pom_cfg *cfg, int traces, pom_error *err);
+
+/* Frees a simulation; NULL allowed. */
+void pom_api_sim_destroy(pom_api_sim *sim);
+
+/* Runs one maneuver from rest at mid-stroke to target (SI: m or rad per
+ * actuator). POM_ERR_ARG (nothing run) when a target lies outside the
+ * stroke. A numerical failure is returned and also kept with the metrics
+ * (pom_api_sim_status); the metrics and traces of the run stay readable
+ * either way. */
+pom_status pom_api_sim_run(pom_api_sim *sim, const double target[3], pom_error *err);
+
+/* Name of the mechanism (config `name`), half the stroke (SI), and the status
+ * and reason of the last run (reason "" when it succeeded); static or owned
+ * by sim. */
+const char *pom_api_sim_name(const pom_api_sim *sim);
+double pom_api_sim_half_stroke(const pom_api_sim *sim);
+pom_status pom_api_sim_status(const pom_api_sim *sim, const char **reason);
+
+/* Number of metrics of the schema (pom_dyn_metrics_schema.h), the JSON key
+ * of metric j ("execution_time_s") into buf, its width (1 or 3) and whether
+ * it is a count or a flag (1) rather than a real (0). Key NULL and width 0
+ * when j is out of range. */
+int pom_api_metric_count(void);
+const char *pom_api_metric_key(int j, char *buf, size_t cap);
+int pom_api_metric_width(int j);
+int pom_api_metric_is_integer(int j);
+
+/* Values of metric j after the last run into v (width doubles, SI; NaN when
+ * undefined). Returns the width, 0 for a bad j. */
+int pom_api_sim_metric(const pom_api_sim *sim, int j, double v[3]);
+
+/* Samples in the traces of the last run (0 without traces), and the column
+ * `name` of them ("t", "q", "q_dot", "current", "voltage", "energy",
+ * "euler_zyx", "quat", "deflection"): row-major [samples][*width], owned by
+ * sim and valid until its next run. NULL for an unknown name or without
+ * traces. */
+int pom_api_sim_samples(const pom_api_sim *sim);
+const double *pom_api_sim_trace(const pom_api_sim *sim, const char *name, int *width);
+
+/* ---- Monte-Carlo runs and studies ------------------------------------------------ */
+
+/* Options of pom_api_study_run. */
+typedef struct {
+  int montecarlo;      /* 1: cfg describes one mechanism (`pomlab montecarlo`); 0: a study file */
+  int threads;         /* worker threads; 0 = study.threads, else every core */
+  int resume;          /* 1: continue an interrupted results file of the same study */
+  const char *output;  /* HDF5 results file to write (required) */
+  const char *tabular; /* CSV of the rows, one per candidate x maneuver, and its
+                          _candidates.csv (NULL or "" = none) */
+} pom_api_study_opts;
+
+/* Defaults: a study, every core, no resume, no files. */
+void pom_api_study_defaults(pom_api_study_opts *o);
+
+/* Runs a Monte-Carlo run or a whole study (synthesis and tuning first when
+ * candidates ask for them, their files beside the results in the folder of
+ * `output` without .h5) into the results file and the tabular files
+ * (docs/results.md). No summary and no figures (those are the command's).
+ * *done and *total (may be NULL) receive the candidate-maneuvers finished
+ * and planned. */
+pom_status pom_api_study_run(const pom_cfg *cfg, const pom_api_study_opts *o, long *done,
+                             long *total, pom_error *err);
+
+#endif

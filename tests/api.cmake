@@ -1,0 +1,14 @@
+# The flat entry layer (api/pom_api.h) that libpomlab and python/pomlab use.
+pom_add_test(test_api test_api.c)
+target_link_libraries(test_api PRIVATE pom_api)
+# python/pomlab against the program's JSON (pytest). Not in the sanitizer
+# build: Debian's python3 cannot load a library built with -fsanitize unless
+# the sanitizer runtime is preloaded, and the library's code runs under the
+# sanitizers through test_api and the programs' tests there.
+if(NOT POM_SANITIZE)
+  add_test(NAME test_python
+    COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider ${CMAKE_CURRENT_SOURCE_DIR}/test_python.py
+    WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+  set_tests_properties(test_python PROPERTIES ENVIRONMENT
+    "POMLAB_LIBRARY=$<TARGET_FILE:libpomlab>;PYTHONPATH=${CMAKE_SOURCE_DIR}/python;POMLAB_PROGRAM=$<TARGET_FILE:pomlab>")
+endif()

@@ -1,0 +1,272 @@
+"""test_python.py - python/pomlab (ctypes over libpomlab) against the program's
+JSON: IK, FK, workspace and maneuvers equal to the printed digits, the
+registries, a Monte-Carlo run row for row, errors carrying the library's
+message, several threads at once, and a reduced run of docs/python.md's
+three-architecture table.
+
+Run by ctest (tests/api.cmake) with POMLAB_LIBRARY (the built libpomlab),
+PYTHONPATH (python/) and POMLAB_PROGRAM (the built pomlab) set.
+"""
+
+import json
+import math
+import os
+import subprocess
+import tempfile
+import threading
+
+import h5py
+import numpy as np
+import pandas as pd
+import pytest
+
+import pomlab
+
+SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+PROGRAM = os.environ.get("POMLAB_PROGRAM", os.path.join(SRC, "build", "cli", "pomlab"))
+CFG = {a: os.path.join(SRC, "configs", a + ".cfg") for a in ("3pss", "3sps", "3rrr")}
+DEG = math.pi / 180.0
+
+
+def run_json(*args, ok=(0,)):
+    p = subprocess.run([PROGRAM, *args, "--json"], capture_output=True, text=True, timeout=120)
+    assert p.returncode in ok, p.stderr
+    return json.loads(p.stdout)
+
+
+def same(got, want):
+    """Exactly the doubles the program printed with %.17g (null = None/NaN)."""
+    if want is None:
+        return got is None or (isinstance(got, float) and math.isnan(got))
+    if isinstance(want, list):
+        g = np.asarray(got, dtype=float).ravel()
+        w = np.asarray(want, dtype=float).ravel()
+        return g.shape == w.shape and all(a == b for a, b in zip(g, w))
+    return got == want
+
+
+def printed(got, want):
+    """A metric as `pomlab simulate --json` prints it: %.9g for reals, the
+    integer for counts, null for NaN."""
+    if isinstance(want, list):
+        return len(want) == len(got) and all(printed(g, w) for g, w in zip(list(got), want))
+    if want is None:
+        return isinstance(got, float) and math.isnan(got)
+    if isinstance(want, bool) or isinstance(want, str):
+        return got == want
+    if isinstance(want, int) and not isinstance(got, float):
+        return int(got) == want
+    return float("%.9g" % got) == float(want)
+
+
+# ---- registries ---------------------------------------------------------------
+
+
+def test_registries():
+    want = run_json("model", "--list-architectures")["architectures"]
+    got = pomlab.architectures()
+    assert [a["name"] for a in got] == [a["name"] for a in want]
+    assert [a["label"] for a in got] == [a["label"] for a in want]
+    assert [a["actuator_kind"] for a in got] == [a["actuator_kind"] for a in want]
+    ctrl = run_json("model", "--list-controllers")
+    names = [c["name"] for c in (ctrl["controllers"] if isinstance(ctrl, dict) else ctrl)]
+    assert [c["name"] for c in pomlab.controllers()] == names
+    assert "pid" in names
+    assert pomlab.version()["version"]
+
+
+# ---- kinematics ------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "arch,angles",
+    [("3pss", (2.385, -1.5, 1.0)), ("3sps", (-4.0, 3.25, 0.5)), ("3rrr", (5.0, -2.5, 7.75)), ("3pss", (30, 25, -20))],
+)
+def test_ik_equals_program(arch, angles):
+    want = run_json("ik", CFG[arch], "--euler-zyx", ",".join(repr(a) for a in angles), ok=(0, 1))
+    got = pomlab.ik(CFG[arch], angles, degrees=True)
+    for key in ("reachable", "unreachable_limb", "within_limits", "violations", "message", "architecture"):
+        assert got[key] == want[key], key
+    for key in ("q", "jacobian", "singular_values", "kappa", "dexterity"):
+        assert same(got[key], want[key]), key
+    for key in want:
+        if key.endswith(("_deg", "_mm")) and key != "euler_zyx_deg":
+            assert same(got[key], want[key]), key
+    if got["reachable"]:
+        J = pomlab.jacobian(CFG[arch], [a * DEG for a in angles])
+        assert same(J, want["jacobian"])
+
+
+def test_fk_equals_program():
+    for arch, q_mm in (("3pss", (1.5, -2.0, 0.5)), ("3sps", (-0.75, 1.25, 2.0))):
+        want = run_json("fk", CFG[arch], "--q", ",".join(repr(v) for v in q_mm))
+        got = pomlab.fk(CFG[arch], [v / 1e3 for v in q_mm])
+        assert got["solved"] and want["solved"]
+        for key in ("rotation", "euler_zyx_deg", "quaternion_wxyz", "q", "dexterity", "kappa", "residual"):
+            assert same(got[key], want[key]), (arch, key)
+        assert got["iterations"] == want["iterations"]
+    # a rotary architecture: q in rad, back to the orientation IK started from
+    pose = pomlab.ik(CFG["3rrr"], (3.0, -2.0, 4.5), degrees=True)
+    back = pomlab.fk(CFG["3rrr"], pose["q"])
+    assert np.allclose(back["euler_zyx_deg"], (3.0, -2.0, 4.5), rtol=0, atol=1e-9)
+
+
+def test_workspace_equals_program():
+    want = run_json("workspace", CFG["3pss"], "--quiet")
+    got = pomlab.workspace(CFG["3pss"])
+    for key in ("half_width_deg", "capped", "budget_reached", "min_dexterity", "gci", "gci_half_width_deg",
+                "gci_usable_fraction", "poses_evaluated"):
+        assert same(got[key], want[key]), key
+    assert same(got["first_failure"]["euler_zyx_deg"], want["first_failure"]["euler_zyx_deg"])
+
+
+def test_limits_are_data():
+    want = run_json("ik", CFG["3pss"], "--euler-zyx", "80,60,0", ok=(1,))
+    got = pomlab.ik(CFG["3pss"], (80.0, 60.0, 0.0), degrees=True)
+    assert got["reachable"] and not got["within_limits"]
+    assert got["violations"] == want["violations"] and "stroke limb 1" in got["violations"]
+    assert got["message"] == want["message"]
+    assert same(pomlab.jacobian(CFG["3pss"], (80.0, 60.0, 0.0), degrees=True), want["jacobian"])
+
+
+# ---- one maneuver ---------------------------------------------------------------------
+
+
+def check_maneuver(got, want):
+    assert got["status"] == want["status"] and got["reason"] == want["reason"]
+    assert got["name"] == want["name"]
+    assert printed(got["half_stroke"], want["half_stroke"])
+    keys = [k for k, _, _ in pomlab.metric_keys()]
+    assert set(keys) <= set(want), set(keys) - set(want)
+    for key in keys:
+        if key == "wall_time_s":
+            continue
+        assert printed(got[key], want[key]), (key, got[key], want[key])
+
+
+@pytest.mark.parametrize(
+    "arch,target,options,overrides",
+    [
+        ("3pss", (1, 2, 3), [], {}),  # the issue's example
+        ("3sps", (1.5, -2, 0.5), ["--joints", "rigid", "--kp", "5000"], {"joints.model": "rigid", "controller.kp": 5000}),
+        ("3rrr", (4, -3, 2.5), [], {}),
+    ],
+)
+def test_simulate_equals_program(arch, target, options, overrides, tmp_path):
+    h5 = str(tmp_path / "m.h5")
+    want = run_json("simulate", CFG[arch], "--target", ",".join(str(v) for v in target), "--out", h5, *options)
+    unit = want["actuator_unit"]
+    to_si = 1e3 if unit == "m" else 180.0 / math.pi  # the program's display -> SI divisor
+    got = pomlab.simulate(CFG[arch], target=[v / to_si for v in target], overrides=overrides)
+    check_maneuver(got, want)
+    # the traces: the very doubles the program wrote
+    with h5py.File(h5, "r") as f:
+        for name in ("t", "q", "q_dot", "current", "voltage", "energy", "euler_zyx", "quat", "deflection"):
+            assert np.array_equal(got["traces"][name], f["trace"][name][()]), name
+
+
+def test_issue_example():
+    got = pomlab.simulate(CFG["3pss"], target=(1e-3, 2e-3, 3e-3))["execution_time_s"]
+    want = run_json("simulate", CFG["3pss"], "--target", "1,2,3")["execution_time_s"]
+    assert float("%.9g" % got) == want
+
+
+def test_config_text_and_overrides():
+    text = open(CFG["3pss"]).read()
+    cfg = pomlab.load(text=text, name="inline.cfg", overrides={"controller": {"kd_s": 0.0025}})
+    a = pomlab.simulate(cfg, (1e-3, -1e-3, 0.5e-3), traces=False)
+    b = pomlab.simulate(CFG["3pss"], (1e-3, -1e-3, 0.5e-3), traces=False, overrides={"controller.kd_s": 0.0025})
+    assert a["execution_time_s"] == b["execution_time_s"] and "traces" not in a
+    c = pomlab.simulate(CFG["3pss"], (1e-3, -1e-3, 0.5e-3), traces=False)
+    assert c["execution_time_s"] != a["execution_time_s"]
+
+
+# ---- errors ---------------------------------------------------------------------------
+
+
+def test_errors(tmp_path):
+    with pytest.raises(pomlab.PomlabError) as e:
+        pomlab.simulate(CFG["3pss"], (1e-3, 0, 0), overrides={"controller.kp": -3.5})
+    assert e.value.status == "POM_ERR_CONFIG"
+    assert "controller.kp" in e.value.message and "-3.5" in e.value.message
+    with pytest.raises(pomlab.PomlabError) as e:
+        pomlab.ik(str(tmp_path / "missing.cfg"), (0, 0, 0))
+    assert e.value.status == "POM_ERR_IO" and "missing.cfg" in e.value.message
+    bad = tmp_path / "bad.cfg"
+    bad.write_text('name = "x";\narchitecture = "3PSS";\ngeometry = { mode = 12 ;\n')
+    with pytest.raises(pomlab.PomlabError) as e:
+        pomlab.load(bad)
+    assert "bad.cfg" in e.value.message
+    with pytest.raises(pomlab.PomlabError) as e:
+        pomlab.simulate(CFG["3pss"], (7e-3, 0, 0))
+    assert e.value.status == "POM_ERR_ARG" and "stroke" in e.value.message
+    with pytest.raises(pomlab.PomlabError) as e:
+        pomlab.ik(CFG["3pss"], (0, 0, 0), overrides={"geometry.no_such_key": 2.385})
+    assert "no_such_key" in e.value.message
+    with pytest.raises(pomlab.PomlabError):
+        pomlab.load(CFG["3pss"], overrides={"controller.kp": [1, 2]})
+    before = set(os.listdir(tempfile.gettempdir()))
+    with pytest.raises(pomlab.PomlabError) as e:
+        pomlab.montecarlo(CFG["3pss"], n=0)
+    assert "montecarlo.maneuvers" in e.value.message
+    assert not [d for d in set(os.listdir(tempfile.gettempdir())) - before if d.startswith("pomlab-")]
+
+
+# ---- threads --------------------------------------------------------------------------
+
+
+def test_threads_give_the_sequential_results():
+    targets = [(1e-3 * (k % 3 - 1), 0.7e-3 * (k % 4 - 1.5), 0.45e-3 * k) for k in range(6)]
+    opts = {"joints.model": "rigid"}
+    alone = [pomlab.simulate(CFG["3pss"], t, traces=False, overrides=opts) for t in targets]
+    together = [None] * len(targets)
+
+    def work(k):
+        together[k] = pomlab.simulate(CFG["3pss"], targets[k], traces=False, overrides=opts)
+        pomlab.ik(CFG["3rrr"], (k, -k, 0.5 * k), degrees=True)
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(len(targets))]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for a, b in zip(alone, together):
+        for key, _, _ in pomlab.metric_keys():
+            if key != "wall_time_s":
+                assert np.array_equal(np.asarray(a[key]), np.asarray(b[key]), equal_nan=True), key
+
+
+# ---- Monte-Carlo runs and studies ----------------------------------------------------
+
+
+def test_montecarlo_equals_program(tmp_path):
+    out = str(tmp_path / "cli.h5")
+    args = ["montecarlo", CFG["3pss"], "--n", "10", "--seed", "7", "--out", out,
+            "--tabular", str(tmp_path / "cli.csv"), "--quiet"]
+    p = subprocess.run([PROGRAM, *args], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr
+    want = pd.read_csv(tmp_path / "cli.csv")
+    r = pomlab.montecarlo(CFG["3pss"], n=10, seed=7, output=tmp_path / "py.h5")
+    assert r.results == str(tmp_path / "py.h5") and os.path.exists(r.results)
+    assert list(r.rows.columns) == list(want.columns) and len(r.rows) == 10
+    cols = [c for c in want.columns if not c.startswith("wall_time")]
+    pd.testing.assert_frame_equal(r.rows[cols], want[cols], check_exact=True)
+    with h5py.File(r.results, "r") as f:
+        assert f["candidates/0/maneuvers"].shape[0] == 10
+    assert int(r.candidates["done"][0]) == 10
+
+
+def test_three_architectures_reduced(tmp_path):
+    """docs/python.md's example on 24 maneuvers instead of 500."""
+    r = pomlab.study(os.path.join(SRC, "configs", "architectures.cfg"), n=24, output=tmp_path / "arch.h5")
+    table = r.rows.groupby("candidate", sort=False).agg(
+        execution_time_ms=("execution_time_s", lambda s: 1e3 * s.mean()),
+        energy_J=("energy_total_J", "mean"))
+    order = list(table.sort_values("execution_time_ms").index)
+    assert order == ["3P-S-S/S", "3-RRR", "3S-P-S/S"]
+    # the per-candidate statistics of the results agree with the rows
+    stats = r.candidates.set_index("candidate")
+    for name in order:
+        settled = r.rows[(r.rows.candidate == name) & (r.rows.status == 0)]  # POM_OK
+        assert np.isclose(stats.loc[name, "execution_time_s_mean"], settled.execution_time_s.mean(), rtol=1e-9)
+    assert os.path.isdir(tmp_path / "arch")  # the tuned gains beside the results
