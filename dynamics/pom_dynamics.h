@@ -86,7 +86,8 @@ typedef struct {
   int coil_inductance;  /* 1: L di/dt dynamics; 0: quasi-static current */
   pom_orient_kind orientation;
   double euler_cos_min; /* |cos pitch| of any body below which the Euler path stops with
-                           POM_ERR_EULER_SINGULAR (default 1e-2, pitch beyond 89.4 deg) */
+                           POM_ERR_EULER_SINGULAR (default 1e-2, pitch beyond 89.4 deg; the
+                           config key scene.euler_cos_min since the parameter list) */
   /* added by the scene options (issue 6, docs/dynamics.md section 13) */
   pom_inertia_kind limb_inertia; /* full: every body as given; lumped: binary S-S links become
                                     massless distance constraints with their mass at the two
