@@ -108,7 +108,17 @@ int pom_fuzz_refused(const uint8_t *data, size_t size) {
 
 int pom_fuzz_write(const char *path, const uint8_t *data, size_t size) {
   FILE *f = fopen(path, "wb");
-  if (!f) return -1;
+  if (!f && errno == ENOENT && path == fuzz_input) {
+    /* the folder was removed under a long run (a cleaner of /tmp): the
+     * copies are made again, in a new folder that path then names */
+    fprintf(stderr, "fuzz: %s has gone; copying the configs again\n", fuzz_root);
+    fuzz_input[0] = '\0';
+    if (pom_fuzz_setup()) f = fopen(path, "wb");
+  }
+  if (!f) {
+    fprintf(stderr, "fuzz: cannot write the input to %s: %s\n", path, strerror(errno));
+    return -1;
+  }
   int rc = size > 0 && fwrite(data, 1, size, f) != size ? -1 : 0;
   if (fclose(f) != 0) rc = -1;
   return rc;

@@ -22,7 +22,9 @@ const char *pom_fuzz_setup(void);
  * string hex escape that could spell one. */
 int pom_fuzz_refused(const uint8_t *data, size_t size);
 
-/* Writes the input to path (the bytes as they are). 0 on success. */
+/* Writes the input to path (the bytes as they are). 0 on success. When the
+ * folder of pom_fuzz_setup's path has been removed, it is made again first
+ * (path, its static buffer, then names the new one). */
 int pom_fuzz_write(const char *path, const uint8_t *data, size_t size);
 
 /* A failing status must come with a message naming what failed: aborts
