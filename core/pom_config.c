@@ -334,9 +334,9 @@ static pom_status open_config_file(const char *path, const char *shown, int *fd_
              "%s: %lld bytes, larger than a config file may be (at most %d bytes, %d MiB)", shown,
              (long long)sb.st_size, POM_CFG_MAX_BYTES, POM_CFG_MAX_BYTES >> 20);
   }
-  /* reads block again, as for any regular file */
-  int flags = fcntl(fd, F_GETFL);
-  if (flags >= 0) (void)fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+  /* reads stay non-blocking: a plain file ignores it, and a "regular" file of
+   * the kernel's that would block (/proc/kmsg) fails its read with EAGAIN
+   * instead of hanging (found by the fuzz targets, docs/fuzzing.md) */
   *fd_out = fd;
   *size = sb.st_size;
   return POM_OK;
@@ -371,12 +371,15 @@ static pom_status read_whole_file(const char *path, const char *shown, char **te
       cap *= 2;
     }
   }
-  int bad = buf && ferror(fp);
+  int bad = buf && ferror(fp), read_errno = errno;
   fclose(fp);
   if (!buf) POM_FAIL(err, POM_ERR_NOMEM, "%s: out of memory", shown);
   if (bad) {
     free(buf);
-    POM_FAIL(err, POM_ERR_IO, "%s: cannot read", shown);
+    if (read_errno == EAGAIN || read_errno == EWOULDBLOCK)
+      POM_FAIL(err, POM_ERR_CONFIG,
+               "%s: reading it would block (a file of the kernel's, not a config file)", shown);
+    POM_FAIL(err, POM_ERR_IO, "%s: cannot read: %s", shown, strerror(read_errno));
   }
   if (n > (size_t)POM_CFG_MAX_BYTES) {
     free(buf);
