@@ -42,6 +42,8 @@ static void view_usage(FILE *out) {
           "                        FILE.h5`: time slider, play, actuator positions, voltages\n"
           "                        and pointing error plotted beside\n"
           "  --frame N             frame of the trace shown first (default 0; -1 = last)\n"
+          "  --frames N            frames of the trace kept, evenly spread (2 to 400,\n"
+          "                        default 400): the film's length at --fps\n"
           "  --workspace           pointing directions coloured by dexterity, the regular\n"
           "                        dexterous workspace outlined (workspace group of CONFIG)\n"
           "  --compare CFG2 ...    more configs drawn side by side at the same orientation\n"
@@ -77,7 +79,8 @@ static int load_model(const char *path, view_model *vm) {
     pom_cli_report("view: config", &err);
     return pom_cli_exit_code(st);
   }
-  snprintf(vm->label, sizeof vm->label, "%s", vm->arch.name[0] ? vm->arch.name : path);
+  const char *slash = strrchr(path, '/');
+  snprintf(vm->label, sizeof vm->label, "%s", slash ? slash + 1 : path);
   return 0;
 }
 
@@ -195,8 +198,8 @@ typedef struct {
 } trace_frames;
 
 static void sample_trace(trace_frames *fr, const trace_file *tf, const pom_kin_arch *arch,
-                         pom_view_trace *vt, const char *source) {
-  int m = tf->n < POM_VIEW_MAX_FRAMES ? tf->n : POM_VIEW_MAX_FRAMES;
+                         int max_frames, pom_view_trace *vt, const char *source) {
+  int m = tf->n < max_frames ? tf->n : max_frames;
   fr->n = m;
   double Rlast[9], Rt[9];
   double qn[4];
@@ -506,7 +509,7 @@ int pom_cmd_view(int argc, char **argv) {
   const char *cfg_path = NULL, *out = NULL, *pose_text = NULL, *trace_path = NULL;
   const char *png = NULL, *mp4 = NULL, *size_text = NULL;
   const char *compare[POM_VIEW_MAX_MECHS];
-  int n_compare = 0, workspace = 0, frame = 0, fps = 25;
+  int n_compare = 0, workspace = 0, frame = 0, fps = 25, max_frames = POM_VIEW_MAX_FRAMES;
   for (int k = 1; k < argc; ++k) {
     const char *a = argv[k];
     int has = k + 1 < argc;
@@ -527,6 +530,15 @@ int pom_cmd_view(int argc, char **argv) {
         return 2;
       }
       frame = (int)v;
+    } else if (strcmp(a, "--frames") == 0 && has) {
+      char *end;
+      long v = strtol(argv[++k], &end, 10);
+      if (*end || v < 2 || v > POM_VIEW_MAX_FRAMES) {
+        fprintf(stderr, "pomlab view: --frames expects a whole number in [2, %d], got '%s'\n",
+                POM_VIEW_MAX_FRAMES, argv[k]);
+        return 2;
+      }
+      max_frames = (int)v;
     } else if (strcmp(a, "--workspace") == 0) {
       workspace = 1;
     } else if (strcmp(a, "--compare") == 0 && has) {
@@ -647,7 +659,7 @@ int pom_cmd_view(int argc, char **argv) {
   for (int k = 0; k <= n_compare && rc == 0; ++k)
     rc = load_model(k ? compare[k - 1] : cfg_path, &models[k]);
   if (rc) goto done;
-  page.title = models[0].label;
+  page.title = models[0].arch.name[0] ? models[0].arch.name : models[0].label;
   page.n_mechs = 1 + n_compare;
   for (int k = 0; k < page.n_mechs; ++k) {
     page.mech[k].label = models[k].label;
@@ -666,7 +678,7 @@ int pom_cmd_view(int argc, char **argv) {
     }
     rc = read_trace(trace_path, &tf);
     if (rc) goto done;
-    sample_trace(frames, &tf, &models[0].arch, &vtrace, trace_path);
+    sample_trace(frames, &tf, &models[0].arch, max_frames, &vtrace, trace_path);
     page.trace = &vtrace;
     page.frame = frame < 0 || frame >= vtrace.n ? vtrace.n - 1 : frame;
     if (frame >= vtrace.n)

@@ -93,3 +93,8 @@ add_test(NAME test_view_browser_radial
   COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/test_view_browser.py --radial
           $<TARGET_FILE:test_arch_registry> ${CMAKE_CURRENT_BINARY_DIR}/view_radial)
 set_tests_properties(test_view_browser_radial PROPERTIES SKIP_RETURN_CODE 77 LABELS browser)
+# pomlab view without a browser: the page's scene, self-containment, refusals
+add_test(NAME test_view_cli
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_view_cli.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+set_tests_properties(test_view_cli PROPERTIES SKIP_RETURN_CODE 77)

@@ -221,6 +221,20 @@ def main():
             png = os.path.join(work, name.replace(" ", "_") + ".png")
             page_ok(status(proc), "%s %s" % (cfg, name), bodies, frames)
             shots[name] = drawn(png, "%s %s" % (cfg, name), side)
+    if cfg == "3pss.cfg":
+        # pictures for papers: the page by headless Chromium, the film by ffmpeg
+        pic = os.path.join(work, "picture.png")
+        r = pomlab([pom, "view", cfg_path, "--pose", "8,-6,10", "--png", pic, "--size", "480x320"])
+        if check(r.returncode == 0 and os.path.exists(pic), cfg + ": view --png"):
+            drawn(pic, cfg + " --png")
+        if shutil.which("ffmpeg"):
+            film = os.path.join(work, "maneuver.mp4")
+            r = pomlab([pom, "view", cfg_path, "--trace", h5, "--frames", "12", "--fps", "12",
+                        "--size", "160x120", "--mp4", film])
+            ok = r.returncode == 0 and os.path.exists(film)
+            check(ok and open(film, "rb").read(12)[4:8] == b"ftyp", cfg + ": view --mp4")
+        else:
+            print("     (no ffmpeg: --mp4 not tried; test_view_cli checks its message)")
     d = differing(shots["home"], shots["pose"])
     check(d > 0.002, cfg + ": the pose differs from home (%.2f%% of pixels)" % (100 * d))
     d = differing(shots["frame 0"], shots["last frame"])

@@ -82,7 +82,7 @@
       return (+x).toFixed(2);
     }).join(', ') + ') deg';
   }
-  el('span', bar, 'drag: orbit, right-drag: pan, wheel: zoom, r: reset', 'hint');
+  el('span', bar, 'drag: orbit, right-drag: pan, wheel: zoom', 'hint');
   void title;
 
   /* ---- three.js scene -------------------------------------------------------- */
@@ -226,7 +226,7 @@
     if (k > 0) slotX += half;
     root.position.x = slotX;
     slotX += half + 0.6 * sc;
-    var lab = el('div', labels, M.label + ' (' + M.arch_label + ')', 'label');
+    var lab = el('div', labels, M.arch_label + ' \u00b7 ' + M.label, 'label');
     mechs.push({M: M, root: root, groups: groups, label: lab, top: box.max.z});
   });
 
@@ -290,7 +290,7 @@
     pointer = new THREE.ArrowHelper(new THREE.Vector3(0, 0, 1), new THREE.Vector3(0, 0, 0),
                                     1.3 * wsRadius, 0x000000, 0.12 * wsRadius, 0.06 * wsRadius);
     wroot.add(pointer);
-    var wl = el('div', labels, 'pointing directions R e_z (torsion 0), colour 1/kappa', 'label');
+    var wl = el('div', labels, 'pointing directions, 1/kappa', 'label');
     mechs.push({M: null, root: wroot, groups: [], label: wl, top: 1.3 * wsRadius});
   }
 
@@ -418,7 +418,10 @@
       var c = cmap(x);
       return 'rgb(' + c.map(function (v) { return Math.round(255 * v); }).join(',') + ')';
     }).join(',') + ')';
-    el('div', side, '0                 1/kappa                 1', 'cbl');
+    var cbl = el('div', side, '', 'cbl');
+    el('span', cbl, '0');
+    el('span', cbl, 'dexterity 1/kappa');
+    el('span', cbl, '1');
     el('div', side, W2.rdw_half_width >= 0
       ? 'red outline: regular dexterous workspace, Euler cube +-' +
         (W2.rdw_half_width * 180 / Math.PI).toFixed(1) + ' deg at 1/kappa >= ' +
