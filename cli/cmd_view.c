@@ -455,6 +455,9 @@ static int make_mp4(const char *chromium, const char *ffmpeg, const char *html, 
   if (rows < 1) rows = 1;
   if (cols > 8) cols = 8;
   if (rows > 8) rows = 8;
+  /* no larger than the frames need: software WebGL pays for every pixel */
+  if (cols > n_frames) cols = n_frames;
+  if (rows > (n_frames + cols - 1) / cols) rows = (n_frames + cols - 1) / cols;
   int per = cols * rows, batches = (n_frames + per - 1) / per;
   for (int b = 0; b < batches; ++b) {
     int start = b * per, count = n_frames - start < per ? n_frames - start : per;
