@@ -117,7 +117,9 @@ static long dataset_rows(hid_t g, const char *name, int cols) {
   return -1;
 }
 
-static int read_trace(const char *path, trace_file *tf) {
+/* Reads the trace of `pomlab simulate --out FILE.h5`; warns when the file
+ * names another mechanism than `name` (the config's). */
+static int read_trace(const char *path, const char *name, trace_file *tf) {
   pom_error err;
   pom_error_clear(&err);
   hid_t file = -1, g = -1, m = -1;
@@ -134,6 +136,15 @@ static int read_trace(const char *path, trace_file *tf) {
             path);
     goto done;
   }
+  char stored[256];
+  pom_error nerr;
+  pom_error_clear(&nerr);
+  if (pom_h5_read_attr_string(file, "name", stored, sizeof stored, &nerr) == POM_OK &&
+      strcmp(stored, name) != 0)
+    fprintf(stderr,
+            "pomlab view: warning: the trace '%s' was simulated for '%s', the config is '%s': "
+            "the bodies follow the config's kinematics\n",
+            path, stored, name);
   long n = dataset_rows(g, "t", 1);
   if (n < 1 || dataset_rows(g, "q", 3) != n || dataset_rows(g, "voltage", 3) != n ||
       dataset_rows(g, "quat", 4) != n) {
@@ -679,7 +690,7 @@ int pom_cmd_view(int argc, char **argv) {
       rc = 1;
       goto done;
     }
-    rc = read_trace(trace_path, &tf);
+    rc = read_trace(trace_path, models[0].arch.name, &tf);
     if (rc) goto done;
     sample_trace(frames, &tf, &models[0].arch, max_frames, &vtrace, trace_path);
     page.trace = &vtrace;

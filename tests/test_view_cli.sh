@@ -55,6 +55,10 @@ scene "$TMP/m.html" "len(s['trace']['t']) == 50 and len(s['mechs'][0]['frames'])
 scene "$TMP/m.html" "s['trace']['err'][0] > 1e-3 and s['trace']['err'][-1] < 1e-2 * s['trace']['err'][0]"
 scene "$TMP/m.html" "abs(s['trace']['target'][2] - 0.003) < 1e-12"
 
+# a trace of another mechanism is drawn with the config's kinematics, with a warning
+expect_rc 0 "$POMLAB" view "$C/3sps.cfg" --trace "$TMP/m.h5" --frames 10 -o "$TMP/other.html"
+expect_err "warning: the trace"
+
 # --- refusals --------------------------------------------------------------------------------
 expect_rc 2 "$POMLAB" view "$C/3pss.cfg"
 expect_err "missing -o FILE.html"
