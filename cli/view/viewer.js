@@ -55,7 +55,6 @@
   var errBox = document.createElement('pre');
   errBox.id = 'errors';
   stage.appendChild(errBox);
-  if (errors.length) noteError(errors.pop());
   var side = null;
   if ((S.trace || S.workspace) && !tiles) {
     side = document.createElement('div');
@@ -72,7 +71,7 @@
     return e;
   }
 
-  var title = el('div', bar, S.title, 'title');
+  el('div', bar, S.title, 'title');
   var resetBtn = el('button', bar, 'reset view');
   resetBtn.id = 'reset';
   var info = el('span', bar, '', 'info');
@@ -83,7 +82,6 @@
     }).join(', ') + ') deg';
   }
   el('span', bar, 'drag: orbit, right-drag: pan, wheel: zoom', 'hint');
-  void title;
 
   /* ---- three.js scene -------------------------------------------------------- */
   var renderer = new THREE.WebGLRenderer({canvas: canvas, antialias: true,
