@@ -222,6 +222,10 @@ def main():
             page_ok(status(proc), "%s %s" % (cfg, name), bodies, frames)
             shots[name] = drawn(png, "%s %s" % (cfg, name), side)
     if cfg == "3pss.cfg":
+        # the play button's loop runs without error and moves the frame
+        attrs = render(exe, man, "play", os.path.join(work, "playing.png"))
+        check(attrs.get("errors") == "0" and int(attrs.get("frame", "0")) > 0,
+              cfg + ": #play animates (frame %s after the time budget)" % attrs.get("frame"))
         # pictures for papers: the page by headless Chromium, the film by ffmpeg
         pic = os.path.join(work, "picture.png")
         r = pomlab([pom, "view", cfg_path, "--pose", "8,-6,10", "--png", pic, "--size", "480x320"])

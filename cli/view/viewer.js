@@ -5,8 +5,8 @@
  * THREE.MathUtils). Reports in #status, after the first render, the bodies
  * drawn (data-bodies), the script errors (data-errors), whether WebGL ran
  * (data-webgl), the frames and the frame shown. URL fragment: #frame=N shows
- * frame N; #tiles=START,COUNT,COLS,W,H draws frames START.. as a grid of
- * W x H tiles (pomlab view --mp4). */
+ * frame N; #play starts the animation; #tiles=START,COUNT,COLS,W,H draws
+ * frames START.. as a grid of W x H tiles (pomlab view --mp4). */
 (function () {
   'use strict';
   var statusEl = document.getElementById('status');
@@ -587,4 +587,5 @@
   statusEl.setAttribute('data-failed-frames', String(S.failed_frames || 0));
   statusEl.setAttribute('data-errors', String(errors.length));
   statusEl.setAttribute('data-ready', '1');
+  if (hash.play && playBtn) togglePlay(); /* #play: start the animation at once */
 })();
