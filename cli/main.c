@@ -51,6 +51,7 @@ static const command commands[] = {
      "Sobol indices / Morris effects of uncertain parameters"},
     {"tradeoff", HEAVY(pom_cmd_tradeoff),
      "speed against accuracy: solver and model fidelity sweep"},
+    {"view", HEAVY(pom_cmd_view), "the mechanism in 3-D in a browser page; --png, --mp4"},
     {NULL, NULL, NULL} /* end */
 };
 

@@ -238,6 +238,39 @@ static pom_status mechanism(pom_mechanism *mech, const pom_kin_arch *arch,
   return POM_OK;
 }
 
+/* ---- shapes (docs/view.md section 3) ------------------------------------------------ */
+/* The piston a square bar along its slider axis ending at B_i (the linear
+ * voice coil's moving part), the link a rod B_i -> C_i; the platform is the
+ * derived disc through the C_i. */
+static int shapes(const pom_kin_arch *arch, const pom_mechanism *mech, pom_kin_shape *shape,
+                  int cap) {
+  const pss *g = POM_KIN_CDATA(pss, arch);
+  const double r = arch->design.scale > 0.0 ? arch->design.scale : g->link_length[0];
+  if (cap < 6 || mech->n_bodies < 8) return -1;
+  int n = 0;
+  for (int i = 0; i < 3; ++i) {
+    const double *B = g->slider_mid[i], *d = g->slider_axis[i];
+    double bar = 0.45 * r + 0.5 * arch->stroke;
+    pom_kin_shape *s = &shape[n++];
+    memset(s, 0, sizeof *s);
+    s->kind = POM_SHAPE_BOX;
+    s->body = 2 + 2 * i;
+    pom_v3_axpy(s->center, B, -0.5 * bar, d);
+    pom_v3_copy(s->axis, d);
+    pom_v3_cross(s->axis2, d, g->radial_dir[i]);
+    if (!(pom_v3_normalize(s->axis2, s->axis2) > 0.0)) pom_v3_set(s->axis2, 0.0, 0.0, 1.0);
+    pom_v3_set(s->size, bar, 0.14 * r, 0.14 * r);
+    s = &shape[n++];
+    memset(s, 0, sizeof *s);
+    s->kind = POM_SHAPE_SEGMENT;
+    s->body = 3 + 2 * i;
+    pom_v3_copy(s->from, B);
+    pom_v3_copy(s->to, g->platform_point[i]);
+    s->radius = 0.04 * r;
+  }
+  return n;
+}
+
 const pom_kin_arch_type pom_kin_arch_3pss = {
     .name = "3PSS",
     .label = "3P-S-S/S",
@@ -264,4 +297,5 @@ const pom_kin_arch_type pom_kin_arch_3pss = {
     .limit_values = limit_values,
     .footprint = footprint,
     .mechanism = mechanism,
+    .shapes = shapes,
 };

@@ -387,6 +387,64 @@ static pom_status mechanism(pom_mechanism *mech, const pom_kin_arch *arch,
   return POM_OK;
 }
 
+/* ---- shapes (docs/view.md section 3) ------------------------------------------------ */
+/* The arc links on the sphere of the link radius r, the rotor of each motor
+ * on its base axis just outside it, and the platform: a disc through the
+ * platform axes' points r v_i on a stem from O. */
+static int shapes(const pom_kin_arch *arch, const pom_mechanism *mech, pom_kin_shape *shape,
+                  int cap) {
+  const rrr *g = POM_KIN_CDATA(rrr, arch);
+  const double r = arch->design.scale;
+  if (cap < 16 || mech->n_bodies < 8) return -1;
+  int n = 0;
+  for (int i = 0; i < 3; ++i) {
+    const double *u = g->base_axis[i], *w = g->elbow_axis[i], *v = g->platform_axis[i];
+    pom_kin_shape *s = &shape[n++];
+    memset(s, 0, sizeof *s);
+    s->kind = POM_SHAPE_ARC; /* proximal arc u -> w */
+    s->body = 2 + 2 * i;
+    pom_v3_scale(s->from, r, u);
+    pom_v3_scale(s->to, r, w);
+    s->radius = 0.05 * r;
+    s = &shape[n++];
+    memset(s, 0, sizeof *s);
+    s->kind = POM_SHAPE_SEGMENT; /* its rotor */
+    s->body = 2 + 2 * i;
+    pom_v3_scale(s->from, 1.02 * r, u);
+    pom_v3_scale(s->to, 1.3 * r, u);
+    s->radius = 0.16 * r;
+    s = &shape[n++];
+    memset(s, 0, sizeof *s);
+    s->kind = POM_SHAPE_ARC; /* distal arc w -> v */
+    s->body = 3 + 2 * i;
+    pom_v3_scale(s->from, r, w);
+    pom_v3_scale(s->to, r, v);
+    s->radius = 0.05 * r;
+  }
+  pom_kin_shape *d = &shape[n++];
+  memset(d, 0, sizeof *d);
+  d->kind = POM_SHAPE_DISC;
+  d->body = mech->platform;
+  for (int i = 0; i < 3; ++i)
+    pom_v3_axpy(d->center, d->center, r / 3.0, g->platform_axis[i]);
+  double nrm = pom_v3_normalize(d->axis, d->center);
+  if (!(nrm > 0.0)) pom_v3_set(d->axis, 0.0, 0.0, 1.0);
+  for (int i = 0; i < 3; ++i) {
+    double p[3];
+    pom_v3_scale(p, r, g->platform_axis[i]);
+    pom_v3_sub(p, p, d->center);
+    d->radius = fmax(d->radius, pom_v3_norm(p));
+  }
+  d->thickness = 0.06 * r;
+  pom_kin_shape *stem = &shape[n++];
+  memset(stem, 0, sizeof *stem);
+  stem->kind = POM_SHAPE_SEGMENT;
+  stem->body = mech->platform;
+  pom_v3_copy(stem->to, d->center);
+  stem->radius = 0.04 * r;
+  return n;
+}
+
 const pom_kin_arch_type pom_kin_arch_3rrr = {
     .name = "3RRR",
     .label = "3-RRR",
@@ -422,4 +480,5 @@ const pom_kin_arch_type pom_kin_arch_3rrr = {
     .limit_values = limit_values,
     .footprint = footprint,
     .mechanism = mechanism,
+    .shapes = shapes,
 };

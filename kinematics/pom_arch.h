@@ -17,6 +17,7 @@
 #include "pom_config.h"
 #include "pom_kinematics.h"
 #include "pom_mechanism.h"
+#include "pom_shape.h"
 #include "pom_status.h"
 
 #include <stddef.h>
@@ -140,6 +141,13 @@ struct pom_kin_arch_type {
    * mass properties `in` (loaded by the inertia tables). */
   pom_status (*mechanism)(pom_mechanism *mech, const pom_kin_arch *arch, const pom_kin_inertia *in,
                           pom_error *err);
+
+  /* optional (NULL: every body drawn from its joint points, pom_shape.h) */
+  /* What the bodies of `mech` (built by `mechanism`) look like at home:
+   * writes up to cap shapes (fixed frame, SI) and returns how many (-1 when
+   * cap is too small). Bodies it gives no shape get the derived one
+   * (pom_kin_body_shapes; docs/view.md section 3). */
+  int (*shapes)(const pom_kin_arch *arch, const pom_mechanism *mech, pom_kin_shape *shape, int cap);
 };
 
 /* Private geometry of arch as the implementation's struct (data_size bytes,

@@ -16,13 +16,16 @@ clang-format --dry-run --Werror "${sources[@]}"
 echo "formatting ok (${#sources[@]} files)"
 
 echo "== test suite =="
+# the pomlab view tests open pages in headless Chromium (installed by setup.sh)
+export POM_REQUIRE_BROWSER=1
 ctest --test-dir build --output-on-failure -j2
 
 echo "== test suite under -fsanitize=address,undefined =="
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPOM_SANITIZE=ON -DPOM_WERROR=ON >/dev/null
 cmake --build build-asan -j"$(nproc)"
+# (the browser tests once is enough: test_view_cli runs pomlab view here)
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  ctest --test-dir build-asan --output-on-failure -j2
+  ctest --test-dir build-asan --output-on-failure -j2 -LE browser
 
 echo "== fuzz targets: config loading and a study's setup (libFuzzer, docs/fuzzing.md) =="
 # Only the fuzz targets and the libraries they use are built; each runs for

@@ -84,3 +84,28 @@ if(NOT POM_SANITIZE)
             ${CMAKE_SOURCE_DIR} ${CMAKE_BINARY_DIR} ${CMAKE_COMMAND}
     WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 endif()
+# pomlab view in headless Chromium: every shipped architecture at home, at a
+# pose and along a maneuver, and the test-only architecture of
+# test_arch_registry (docs/view.md section 5); skipped without Chromium
+# unless POM_REQUIRE_BROWSER=1 (CI).
+foreach(arch 3pss 3sps 3rrr)
+  if(arch STREQUAL "3rrr")
+    set(target "5,-3,4")
+  else()
+    set(target "1,2,3")
+  endif()
+  add_test(NAME test_view_browser_${arch}
+    COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/test_view_browser.py
+            $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR} ${CMAKE_CURRENT_BINARY_DIR}/view_${arch}
+            ${arch}.cfg ${target})
+  set_tests_properties(test_view_browser_${arch} PROPERTIES SKIP_RETURN_CODE 77 LABELS browser)
+endforeach()
+add_test(NAME test_view_browser_radial
+  COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/test_view_browser.py --radial
+          $<TARGET_FILE:test_arch_registry> ${CMAKE_CURRENT_BINARY_DIR}/view_radial)
+set_tests_properties(test_view_browser_radial PROPERTIES SKIP_RETURN_CODE 77 LABELS browser)
+# pomlab view without a browser: the page's scene, self-containment, refusals
+add_test(NAME test_view_cli
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_view_cli.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+set_tests_properties(test_view_cli PROPERTIES SKIP_RETURN_CODE 77)

@@ -18,6 +18,8 @@ target_link_libraries(test_dyn_rotary PRIVATE pom_dynamics pom_kinematics pom_co
 # a program's own architecture through the public API (docs/extending.md)
 pom_add_test(test_arch_registry test_arch_registry.c)
 target_link_libraries(test_arch_registry PRIVATE pom_dynamics pom_kinematics pom_core)
+# pom_view: --view-html writes its pomlab view page (tests/test_view_browser.py --radial)
+target_link_libraries(test_arch_registry PRIVATE pom_view)
 pom_add_test(test_dyn_tolerances test_dyn_tolerances.c)
 target_include_directories(test_dyn_tolerances PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
 target_link_libraries(test_dyn_tolerances PRIVATE pom_dynamics pom_kinematics pom_core)

@@ -18,11 +18,13 @@
  * With the link leaning inward (l . e_r < 0) the sliders sit outside and
  * below the platform. */
 #include "check.h"
+#include "cli_view.h"
 #include "pom_arch.h"
 #include "pom_config.h"
 #include "pom_dynamics.h"
 #include "pom_kinematics.h"
 #include "pom_math.h"
+#include "pom_shape.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -453,12 +455,60 @@ static void test_dynamics(const pom_kin_arch *a, const pom_mechanism *mech, pom_
   printf("dynamics: parasitic vs rigid settling times %.3g relative\n", worst);
 }
 
-int main(void) {
+/* ---- 5. drawn without drawing code (docs/view.md section 3) ------------------------ */
+/* The type has no `shapes`: every moving body gets one derived from its joint
+ * points: the platform a disc through C_i, the rods B_i -> C_i, the sliders
+ * rods along their axes ending at B_i. */
+static void test_shapes(const pom_kin_arch *a, const pom_mechanism *m) {
+  pom_kin_shape s[POM_KIN_MAX_SHAPES];
+  int n = 0;
+  pom_error err;
+  pom_error_clear(&err);
+  check_true(pom_kin_body_shapes(a, m, s, POM_KIN_MAX_SHAPES, &n, &err) == POM_OK);
+  check_true(n == m->n_bodies - 1);
+  for (int k = 0; k < n; ++k) {
+    check_true(s[k].body == k + 1);
+    if (s[k].body == m->platform) {
+      check_true(s[k].kind == POM_SHAPE_DISC);
+      check_rel(s[k].radius, 12.385e-3, 1e-12);
+    } else {
+      double d[3];
+      pom_v3_sub(d, s[k].to, s[k].from);
+      check_true(s[k].kind == POM_SHAPE_SEGMENT && pom_v3_norm(d) > 1e-3 && s[k].radius > 0.0);
+    }
+  }
+  check_true(pom_kin_body_shapes(a, m, s, 3, &n, &err) == POM_ERR_ARG);
+}
+
+/* Writes the pomlab view page of the radial architecture (tests/
+ * test_view_browser.py --radial opens it in Chromium). */
+static int view_html(const pom_kin_arch *a, const pom_mechanism *m, const char *path) {
+  pom_view_page page;
+  memset(&page, 0, sizeof page);
+  page.title = "3PSS-radial (test architecture)";
+  page.n_mechs = 1;
+  page.mech[0].label = "radial test";
+  page.mech[0].arch = a;
+  page.mech[0].mech = m;
+  double e[3] = {4.0 * POM_DEG, -3.0 * POM_DEG, 5.0 * POM_DEG};
+  pom_euler_zyx_to_matrix(page.R, e);
+  FILE *f = fopen(path, "w");
+  pom_error err;
+  pom_error_clear(&err);
+  pom_status st = f ? pom_view_write(f, &page, &err) : POM_ERR_IO;
+  if (f && fclose(f) != 0) st = POM_ERR_IO;
+  if (st != POM_OK) printf("view: %s\n", f ? err.message : path);
+  return st == POM_OK ? 0 : 1;
+}
+
+int main(int argc, char **argv) {
   test_register();
   pom_kin_arch arch;
   pom_mechanism mech;
   pom_dyn_params p;
   if (!check_true(load_radial(&arch, &mech, &p))) return check_summary("test_arch_registry");
+  if (argc == 3 && strcmp(argv[1], "--view-html") == 0) return view_html(&arch, &mech, argv[2]);
+  test_shapes(&arch, &mech);
   test_kinematics(&arch);
   test_mechanism(&mech);
   test_dynamics(&arch, &mech, p);
