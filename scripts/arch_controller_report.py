@@ -88,7 +88,8 @@ def main():
            "maneuvers (every pair ran them without a failure); an unsettled maneuver counts at "
            "the horizon (censored).", ""]
     answers = {}
-    for metric, unit, label in (("time", "ms", "execution time"), ("energy", "J", "energy")):
+    tlabel = "pointing time" if cands[0]["field"] == "pointing_settling_time" else "execution time"
+    for metric, unit, label in (("time", "ms", tlabel), ("energy", "J", "energy")):
         out += [f"## {label.capitalize()} ({unit})", "",
                 "| architecture | " + " | ".join(ctrls) + " | spread across controllers |",
                 "|---|" + "---:|" * (len(ctrls) + 1)]
