@@ -8,7 +8,7 @@
 #      inductive coil), about 20 s on 2 idle cores (38 s of CPU time);
 #   3. configs/architectures.cfg: the two against the 3-RRR spherical wrist
 #      (rotary voice coils) in orientation space, gains tuned by one
-#      criterion, seconds.
+#      criterion, each at the fidelity it earns, about a minute.
 # Results: results/paper-exact.h5, results/paper.h5 and results/<study>/summary.md
 # with PNG figures.
 # Usage: bash scripts/run-main.sh [extra `pomlab study` options, e.g. --threads 2]
