@@ -4,9 +4,9 @@
  * section 8). Registering a controller of the library = one line in
  * `builtin` below. */
 #include "pom_dyn_ctrl.h"
+#include "pom_registry.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -15,34 +15,19 @@ static const pom_dyn_ctrl_type *const builtin[] = {
     &pom_dyn_ctrl_computed_torque,
     &pom_dyn_ctrl_pid_feedforward,
 };
-#define N_BUILTIN ((int)(sizeof builtin / sizeof builtin[0]))
-#define MAX_USER  16
-
-/* Types registered at run time; written only under the lock, before any
- * reader thread starts (pom_dyn_ctrl_register's contract). */
-static const pom_dyn_ctrl_type *user[MAX_USER];
-static int n_user = 0;
-static pthread_mutex_t user_lock = PTHREAD_MUTEX_INITIALIZER;
+static pom_registry registry = POM_REGISTRY_INIT(builtin, offsetof(pom_dyn_ctrl_type, name));
 
 /* ---- registry -------------------------------------------------------------- */
 int pom_dyn_ctrl_type_count(void) {
-  return N_BUILTIN + n_user;
+  return pom_registry_count(&registry);
 }
 
 const pom_dyn_ctrl_type *pom_dyn_ctrl_type_at(int k) {
-  if (k < 0) return NULL;
-  if (k < N_BUILTIN) return builtin[k];
-  k -= N_BUILTIN;
-  return k < n_user ? user[k] : NULL;
+  return pom_registry_at(&registry, k);
 }
 
 const pom_dyn_ctrl_type *pom_dyn_ctrl_type_find(const char *name) {
-  if (!name) return NULL;
-  for (int k = 0; k < pom_dyn_ctrl_type_count(); ++k) {
-    const pom_dyn_ctrl_type *t = pom_dyn_ctrl_type_at(k);
-    if (strcmp(t->name, name) == 0) return t;
-  }
-  return NULL;
+  return pom_registry_find(&registry, name);
 }
 
 /* The descriptors of t fit pom_dyn_controller: every offset inside it, the
@@ -81,20 +66,7 @@ static pom_status type_check(const pom_dyn_ctrl_type *t, pom_error *err) {
 
 pom_status pom_dyn_ctrl_register(const pom_dyn_ctrl_type *t, pom_error *err) {
   POM_TRY(type_check(t, err));
-  pthread_mutex_lock(&user_lock);
-  pom_status st = POM_OK;
-  if (pom_dyn_ctrl_type_find(t->name)) {
-    st = POM_ERR_ARG;
-  } else if (n_user >= MAX_USER) {
-    st = POM_ERR_NOMEM;
-  } else {
-    user[n_user++] = t;
-  }
-  pthread_mutex_unlock(&user_lock);
-  if (st == POM_ERR_ARG) POM_FAIL(err, st, "controller %s is registered already", t->name);
-  if (st != POM_OK)
-    POM_FAIL(err, st, "controller %s: the registry holds %d user types at most", t->name, MAX_USER);
-  return POM_OK;
+  return pom_registry_add(&registry, t, "controller", err);
 }
 
 /* ---- values through the descriptors ----------------------------------------- */

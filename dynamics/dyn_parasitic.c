@@ -97,6 +97,28 @@ static void apply_torque(pom_dyn_data *d, const dyn_joint *jt, int s, double sca
 static const double identity3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
 static const double zero3[3] = {0, 0, 0};
 
+/* ---- one joint's two sides -------------------------------------------------- */
+/* The two points of joint jt at the current evaluation: lever arms r0, r1
+ * (fixed frame), relative position dd = p1 - p0 and velocity dv = v1 - v0,
+ * and each side's rotation and angular velocity (the ground: I and 0). */
+typedef struct {
+  double r0[3], r1[3], dd[3], dv[3];
+  const double *R0, *R1, *w0, *w1;
+} joint_state;
+
+static void joint_state_eval(const pom_dyn_model *m, const pom_dyn_data *d, const dyn_joint *jt,
+                             joint_state *js) {
+  double p0[3], v0[3], p1[3], v1[3];
+  point_eval(m, d, jt, 0, p0, v0, js->r0);
+  point_eval(m, d, jt, 1, p1, v1, js->r1);
+  pom_v3_sub(js->dd, p1, p0);
+  pom_v3_sub(js->dv, v1, v0);
+  js->R0 = jt->slot[0] >= 0 ? d->be[jt->slot[0]].R : identity3;
+  js->R1 = jt->slot[1] >= 0 ? d->be[jt->slot[1]].R : identity3;
+  js->w0 = jt->slot[0] >= 0 ? d->be[jt->slot[0]].w : zero3;
+  js->w1 = jt->slot[1] >= 0 ? d->be[jt->slot[1]].w : zero3;
+}
+
 /* ---- actuator sensors ------------------------------------------------------ */
 /* The coordinate q and rate qd of joint jt's actuator from its sides'
  * rotations, angular velocities and the relative point position dd and
@@ -129,16 +151,11 @@ static void controller_pass(const pom_dyn_model *m, pom_dyn_data *d, const doubl
   for (int j = 0; j < m->n_joints; ++j) {
     const dyn_joint *jt = &m->joint[j];
     if (jt->actuator < 0) continue;
-    double p0[3], v0[3], r0[3], p1[3], v1[3], r1[3], dd[3], dv[3], n[3], nxd[3];
-    point_eval(m, d, jt, 0, p0, v0, r0);
-    point_eval(m, d, jt, 1, p1, v1, r1);
-    pom_v3_sub(dd, p1, p0);
-    pom_v3_sub(dv, v1, v0);
-    const double *R0 = jt->slot[0] >= 0 ? d->be[jt->slot[0]].R : identity3;
-    const double *R1 = jt->slot[1] >= 0 ? d->be[jt->slot[1]].R : identity3;
-    const double *w0 = jt->slot[0] >= 0 ? d->be[jt->slot[0]].w : zero3;
-    const double *w1 = jt->slot[1] >= 0 ? d->be[jt->slot[1]].w : zero3;
-    actuator_coordinate(jt, R0, R1, w0, w1, dd, dv, n, nxd, &q[jt->actuator], &qd[jt->actuator]);
+    joint_state js;
+    double n[3], nxd[3];
+    joint_state_eval(m, d, jt, &js);
+    actuator_coordinate(jt, js.R0, js.R1, js.w0, js.w1, js.dd, js.dv, n, nxd, &q[jt->actuator],
+                        &qd[jt->actuator]);
   }
   pom_dyn_controller_pass(m, d, q, qd, y, ydot);
 }
@@ -160,15 +177,10 @@ static int parasitic_eval(const pom_dyn_model *m, pom_dyn_data *d, const double 
 
   for (int j = 0; j < m->n_joints; ++j) {
     const dyn_joint *jt = &m->joint[j];
-    double p0[3], v0[3], r0[3], p1[3], v1[3], r1[3], dd[3], dv[3];
-    point_eval(m, d, jt, 0, p0, v0, r0);
-    point_eval(m, d, jt, 1, p1, v1, r1);
-    pom_v3_sub(dd, p1, p0);
-    pom_v3_sub(dv, v1, v0);
-    const double *R0 = jt->slot[0] >= 0 ? d->be[jt->slot[0]].R : identity3;
-    const double *R1 = jt->slot[1] >= 0 ? d->be[jt->slot[1]].R : identity3;
-    const double *w0 = jt->slot[0] >= 0 ? d->be[jt->slot[0]].w : zero3;
-    const double *w1 = jt->slot[1] >= 0 ? d->be[jt->slot[1]].w : zero3;
+    joint_state js;
+    joint_state_eval(m, d, jt, &js);
+    const double *r0 = js.r0, *r1 = js.r1, *dd = js.dd, *dv = js.dv;
+    const double *R0 = js.R0, *R1 = js.R1, *w0 = js.w0, *w1 = js.w1;
 
     /* massless rod of a lumped link: C and R on the rate of its length */
     if (jt->distance) {

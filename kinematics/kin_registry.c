@@ -4,8 +4,9 @@
 #include "pom_kinematics.h"
 
 #include "kin_internal.h"
+#include "pom_registry.h"
 
-#include <pthread.h>
+#include <stddef.h>
 #include <string.h>
 
 static const pom_kin_arch_type *const builtin[] = {
@@ -13,33 +14,18 @@ static const pom_kin_arch_type *const builtin[] = {
     &pom_kin_arch_3sps,
     &pom_kin_arch_3rrr,
 };
-#define N_BUILTIN ((int)(sizeof builtin / sizeof builtin[0]))
-#define MAX_USER  16
-
-/* Types registered at run time; written only under the lock, before any
- * reader thread starts (pom_kin_arch_register's contract). */
-static const pom_kin_arch_type *user[MAX_USER];
-static int n_user = 0;
-static pthread_mutex_t user_lock = PTHREAD_MUTEX_INITIALIZER;
+static pom_registry registry = POM_REGISTRY_INIT(builtin, offsetof(pom_kin_arch_type, name));
 
 int pom_kin_arch_type_count(void) {
-  return N_BUILTIN + n_user;
+  return pom_registry_count(&registry);
 }
 
 const pom_kin_arch_type *pom_kin_arch_type_at(int k) {
-  if (k < 0) return NULL;
-  if (k < N_BUILTIN) return builtin[k];
-  k -= N_BUILTIN;
-  return k < n_user ? user[k] : NULL;
+  return pom_registry_at(&registry, k);
 }
 
 const pom_kin_arch_type *pom_kin_arch_type_find(const char *name) {
-  if (!name) return NULL;
-  for (int k = 0; k < pom_kin_arch_type_count(); ++k) {
-    const pom_kin_arch_type *t = pom_kin_arch_type_at(k);
-    if (strcmp(t->name, name) == 0) return t;
-  }
-  return NULL;
+  return pom_registry_find(&registry, name);
 }
 
 pom_status pom_kin_arch_register(const pom_kin_arch_type *t, pom_error *err) {
@@ -58,21 +44,7 @@ pom_status pom_kin_arch_register(const pom_kin_arch_type *t, pom_error *err) {
       t->n_inertia_bodies > POM_KIN_MAX_INERTIA_BODIES ||
       t->n_inertia_values > POM_KIN_MAX_INERTIA_VALUES)
     POM_FAIL(err, POM_ERR_ARG, "architecture %s: too many parameters or inertia groups", t->name);
-  pthread_mutex_lock(&user_lock);
-  pom_status st = POM_OK;
-  if (pom_kin_arch_type_find(t->name)) {
-    st = POM_ERR_ARG;
-  } else if (n_user >= MAX_USER) {
-    st = POM_ERR_NOMEM;
-  } else {
-    user[n_user++] = t;
-  }
-  pthread_mutex_unlock(&user_lock);
-  if (st == POM_ERR_ARG) POM_FAIL(err, st, "architecture %s is registered already", t->name);
-  if (st != POM_OK)
-    POM_FAIL(err, st, "architecture %s: the registry holds %d user types at most", t->name,
-             MAX_USER);
-  return POM_OK;
+  return pom_registry_add(&registry, t, "architecture", err);
 }
 
 const char *pom_kin_type_name(const pom_kin_arch_type *t) {
