@@ -54,20 +54,6 @@ static void json_vec(FILE *f, const double *v, int n) {
   fputc(']', f);
 }
 
-static const char *joint_type(pom_joint_type t) {
-  switch (t) {
-  case POM_JOINT_SPHERICAL:
-    return "spherical";
-  case POM_JOINT_PRISMATIC:
-    return "prismatic";
-  case POM_JOINT_UNIVERSAL:
-    return "universal";
-  case POM_JOINT_REVOLUTE:
-    return "revolute";
-  }
-  return "?";
-}
-
 /* ---- body poses -------------------------------------------------------------- */
 /* Body poses at platform rotation R: pose[12 b ..] = R_b (row-major), t_b
  * with x = R_b x_home + t_b. Bodies the kinematics does not cover stay at
@@ -169,9 +155,8 @@ static pom_status write_mech(FILE *f, const pom_view_page *pg, int k, double *po
     if (j) fputs(",\n", f);
     fputs("{\"name\":", f);
     json_str(f, jt->name);
-    fprintf(f,
-            ",\"type\":\"%s\",\"bodies\":[%d,%d],\"actuator\":%d,\"point\":", joint_type(jt->type),
-            jt->body[0], jt->body[1], jt->actuator);
+    fprintf(f, ",\"type\":\"%s\",\"bodies\":[%d,%d],\"actuator\":%d,\"point\":",
+            pom_joint_type_name(jt->type), jt->body[0], jt->body[1], jt->actuator);
     json_vec(f, jt->point, 3);
     fputs(",\"axis\":", f);
     json_vec(f, jt->axis, 3);

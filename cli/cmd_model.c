@@ -34,20 +34,6 @@ static void model_usage(FILE *out) {
                "error.\n");
 }
 
-static const char *joint_type_name(pom_joint_type t) {
-  switch (t) {
-  case POM_JOINT_SPHERICAL:
-    return "spherical";
-  case POM_JOINT_PRISMATIC:
-    return "prismatic";
-  case POM_JOINT_UNIVERSAL:
-    return "universal";
-  case POM_JOINT_REVOLUTE:
-    return "revolute";
-  }
-  return "?";
-}
-
 /* ---- kinematic part: JSON ---------------------------------------------------- */
 static void points_json(const char *key, const double p[3][3], int last) {
   printf("    \"%s\": [", key);
@@ -110,8 +96,8 @@ static void model_mechanism_json(const pom_kin_arch *a, const pom_mechanism *m) 
     const pom_mech_joint *jt = &m->joint[j];
     printf("      {\"index\": %d, \"name\": ", j);
     pom_json_string(stdout, jt->name);
-    printf(", \"type\": \"%s\", \"bodies\": [%d, %d], \"body_names\": [", joint_type_name(jt->type),
-           jt->body[0], jt->body[1]);
+    printf(", \"type\": \"%s\", \"bodies\": [%d, %d], \"body_names\": [",
+           pom_joint_type_name(jt->type), jt->body[0], jt->body[1]);
     pom_json_string(stdout, m->body[jt->body[0]].name);
     printf(", ");
     pom_json_string(stdout, m->body[jt->body[1]].name);
@@ -196,7 +182,7 @@ static void model_mechanism_text(const pom_kin_arch *a, const pom_mechanism *m) 
   for (int j = 0; j < m->n_joints; ++j) {
     const pom_mech_joint *jt = &m->joint[j];
     printf("  %2d %-4s %-10s %-10s - %-10s at (%8.3f %8.3f %8.3f)", j, jt->name,
-           joint_type_name(jt->type), m->body[jt->body[0]].name, m->body[jt->body[1]].name,
+           pom_joint_type_name(jt->type), m->body[jt->body[0]].name, m->body[jt->body[1]].name,
            jt->point[0] * 1e3, jt->point[1] * 1e3, jt->point[2] * 1e3);
     if (jt->type != POM_JOINT_SPHERICAL)
       printf("  axis (%6.3f %6.3f %6.3f)", jt->axis[0], jt->axis[1], jt->axis[2]);

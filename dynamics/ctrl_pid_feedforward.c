@@ -65,12 +65,12 @@ static void profile(double out[3], int step, double t, double T) {
   out[2] = 60.0 * x * (1.0 - 3.0 * x + 2.0 * x2) / (T * T);
 }
 
-/* The reference's rotation R at t (w->R_set set); r = rotvec(R_set) and the
+/* The reference's rotation R at t (w->R_set, r_set set); r = rotvec(R_set) and the
  * profile s into r, s. */
 static void reference_rotation_at(const dyn_ctrl_work *w, const pom_dyn_controller *c, double t,
                                   double R[9], double r[3], double s[3]) {
   double axis[3];
-  pom_m3_rotvec(r, w->R_set);
+  pom_v3_copy(r, w->r_set); /* rotvec(R_set), computed once per maneuver */
   double angle = pom_v3_normalize(axis, r);
   profile(s, c->option[0] == 1, t, c->gain[3]);
   if (angle > 0.0)

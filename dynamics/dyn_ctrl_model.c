@@ -69,6 +69,7 @@ void pom_dyn_ctrl_work_destroy(void *work) {
 int pom_dyn_ctrl_reference(const dyn_ctrl_model *cm, dyn_ctrl_work *w, const double target[3]) {
   if (w->have_ref && memcmp(w->target, target, sizeof w->target) == 0) return 1;
   if (pom_kin_forward(&cm->arch, target, NULL, &w->fk, w->R_set, NULL, NULL) != POM_OK) return 0;
+  pom_m3_rotvec(w->r_set, w->R_set);
   memcpy(w->target, target, sizeof w->target);
   pom_m3_identity(w->R_last); /* every maneuver starts at home */
   w->have_ref = 1;

@@ -22,6 +22,7 @@ typedef struct {
   pom_dyn_data *dd;   /* scratch of the controller's model */
   double target[3];   /* setpoints the reference belongs to */
   double R_set[9];    /* forward kinematics of the setpoints */
+  double r_set[3];    /* its rotation vector (fixed frame, rad) */
   double R_last[9];   /* last measured rotation: the next forward kinematics' start */
   int have_ref;       /* 1 once R_set belongs to target */
   pom_kin_fk_opts fk; /* forward-kinematics options */

@@ -192,3 +192,18 @@ pom_status pom_kin_mechanism_build(pom_mechanism *mech, const pom_kin_arch *arch
   POM_TRY(pom_kin_inertia_load(&in, arch, cfg, err));
   return pom_kin_mechanism_from(mech, arch, &in, err);
 }
+
+/* ---- names -------------------------------------------------------------------- */
+const char *pom_joint_type_name(pom_joint_type t) {
+  switch (t) {
+  case POM_JOINT_SPHERICAL:
+    return "spherical";
+  case POM_JOINT_PRISMATIC:
+    return "prismatic";
+  case POM_JOINT_UNIVERSAL:
+    return "universal";
+  case POM_JOINT_REVOLUTE:
+    return "revolute";
+  }
+  return "?";
+}

@@ -21,6 +21,10 @@ typedef enum {
   POM_JOINT_REVOLUTE = 3   /* spherical + relative rotation only about axis */
 } pom_joint_type;
 
+/* Name of a joint type ("spherical", "prismatic", "universal", "revolute"),
+ * "?" for a value that is not one (kin_mechanism.c). */
+const char *pom_joint_type_name(pom_joint_type t);
+
 typedef struct {
   char name[POM_MECH_NAME_LEN]; /* e.g. "platform", "link2" */
   double mass;                  /* kg (0 for the ground) */
