@@ -142,6 +142,12 @@ struct pom_kin_arch_type {
   pom_status (*mechanism)(pom_mechanism *mech, const pom_kin_arch *arch, const pom_kin_inertia *in,
                           pom_error *err);
 
+  /* optional (NULL: the exact path differences the orientation and omega
+   * columns of its Jacobian). Limb i as limb_twist (fills *out alike, same
+   * return) and the first derivatives of its fields with respect to a
+   * platform rotation increment and to omega (pom_kin_twists_diff). */
+  int (*limb_twist_diff)(const pom_kin_arch *arch, int i, const double R[9], const double w[3],
+                         pom_kin_twists *out, pom_kin_twists_diff *dout);
   /* optional (NULL: every body drawn from its joint points, pom_shape.h) */
   /* What the bodies of `mech` (built by `mechanism`) look like at home:
    * writes up to cap shapes (fixed frame, SI) and returns how many (-1 when

@@ -380,6 +380,21 @@ typedef struct {
   pom_kin_body_twist body[POM_KIN_TWIST_MAX_BODIES];
 } pom_kin_twists;
 
+/* First derivatives of a limb's twists (second-order kinematics, for the
+ * exact path's analytic Jacobian; docs/dynamics-exact.md section 5). With
+ * R(theta) = exp([theta]x) R, a rotation increment theta (rad, fixed frame)
+ * applied to the platform, d_theta[k] holds d/d theta_k at theta = 0 of the
+ * fields of pom_kin_twists that limb i fills (q[i], row i of J, q_bias[i] and
+ * its two bodies' A, B, a_bias, alpha_bias); d_omega[k] holds d/d omega_k of
+ * the same fields at fixed R (only the biases, quadratic in omega, are
+ * non-zero). Poses need no entry: d ref / d theta = A e_k and
+ * d R_body / d theta_k = [B e_k]x R_body. Fields a limb does not fill are
+ * left as they were (the caller zeroes the struct). */
+typedef struct {
+  pom_kin_twists d_theta[3]; /* per platform rotation increment about fixed axis k */
+  pom_kin_twists d_omega[3]; /* per platform angular velocity component k */
+} pom_kin_twists_diff;
+
 /* Poses, twist maps and velocity-product accelerations of every body at
  * platform rotation R and angular velocity omega (rad/s, fixed frame; NULL =
  * 0: then the biases are zero). The 3PSS link spin about B_i C_i is set to
