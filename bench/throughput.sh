@@ -1,11 +1,14 @@
 #!/bin/bash
 # throughput.sh OLD_BUILD NEW_BUILD [N] - maneuvers per CPU-second of two
 # builds in one session (bench/README.md, "Throughput"): each architecture x
-# path x setting as `pomlab montecarlo CFG --n N --threads 1` (user CPU of the
-# whole process, start-up included), then the paper study's wall time at 1 and
-# 2 threads (skipped when THROUGHPUT_NO_STUDY is set). Each build runs its own source tree's configs (from its
-# CMakeCache.txt); the two builds alternate, twice, and the table keeps the
-# best of the two rounds (the machine may be shared). Exit 2 on bad usage.
+# path x setting as `pomlab montecarlo CFG --n N --threads 1` (user + system
+# CPU of the whole process, start-up included; the exact-path settings run
+# 10 N maneuvers, they are ~10x cheaper), then the wall time of the paper
+# studies on 2 threads (skipped when THROUGHPUT_NO_STUDY is set). Each build
+# runs its own source tree's configs (from its CMakeCache.txt); the two builds
+# alternate, THROUGHPUT_ROUNDS times (default 2), and the table keeps the best
+# round of each (the machine may be shared). THROUGHPUT_ARCHS overrides the
+# architectures ("3pss 3sps 3rrr"). Exit 2 on bad usage.
 set -euo pipefail
 if [ $# -lt 2 ] || [ ! -x "$1/cli/pomlab" ] || [ ! -x "$2/cli/pomlab" ]; then
   echo "usage: $0 OLD_BUILD NEW_BUILD [N maneuvers, default 100]" >&2
@@ -13,52 +16,77 @@ if [ $# -lt 2 ] || [ ! -x "$1/cli/pomlab" ] || [ ! -x "$2/cli/pomlab" ]; then
   exit 2
 fi
 N=${3:-100}
+ROUNDS=${THROUGHPUT_ROUNDS:-2}
+read -r -a archs <<<"${THROUGHPUT_ARCHS:-3pss 3sps 3rrr}"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 src_of() { sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$1/CMakeCache.txt"; }
 
-# setting name -> sed expression applied to the architecture's config
-settings=("parasitic" "rigid" "parasitic-quasi-static")
-edit_of() {
-  case "$1" in
-  parasitic) echo 's/^joints = {/joints = {\n  model = "parasitic";/' ;;
-  rigid) echo 's/^joints = {/joints = {\n  model = "rigid";/' ;;
-  parasitic-quasi-static) echo 's/^  coil_inductance = true;/  coil_inductance = false;/' ;;
+# settings: paper = the shipped config (parasitic joints, inductive coil,
+# rtol 1e-6, atol_scale 1e-3: the paper's model); exact-qs-1e-3 = the exact
+# path at the setting issues 10 and 20 measured (rigid, quasi-static coil,
+# rtol 1e-3, natural tolerances); exact-recommended = what `pomlab tradeoff`
+# recommends at 1 % (docs/tradeoff.md section 9: 3PSS and 3RRR inductive coil
+# at rtol 1e-3, 3SPS quasi-static coil at rtol 1e-4).
+settings=("paper" "parasitic-quasi-static" "rigid-1e-6" "exact-qs-1e-3" "exact-recommended")
+RIGID='s/^joints = {/joints = {\n  model = "rigid";/'
+QS='s/^  coil_inductance = true;.*/  coil_inductance = false;/'
+NATURAL='s/^  atol_scale = 1.0e-3;.*/  atol_scale = 0;/'
+rtol_edit() { echo "s/^  rtol = 1.0e-6;.*/  rtol = $1;/"; }
+edits_of() { # arch setting -> a sed script, one expression per line
+  case "$2" in
+  paper) echo "" ;;
+  parasitic-quasi-static) echo "$QS" ;;
+  rigid-1e-6) echo "$RIGID" ;;
+  exact-qs-1e-3) printf '%s\n' "$RIGID" "$QS" "$NATURAL" "$(rtol_edit 1.0e-3)" ;;
+  exact-recommended)
+    if [ "$1" = 3sps ]; then
+      printf '%s\n' "$RIGID" "$QS" "$NATURAL" "$(rtol_edit 1.0e-4)"
+    else
+      printf '%s\n' "$RIGID" "$NATURAL" "$(rtol_edit 1.0e-3)"
+    fi
+    ;;
   esac
 }
+n_of() { case "$1" in exact-*) echo $((10 * N)) ;; *) echo "$N" ;; esac }
 
-# cpu_of BUILD ARCH SETTING -> user+system CPU seconds of N maneuvers
+# cpu_of BUILD ARCH SETTING -> user+system CPU seconds of n_of(SETTING) maneuvers
 cpu_of() {
   local build=$1 arch=$2 setting=$3 src cfg
   src=$(src_of "$build")
   cfg="$work/${arch}_${setting}.cfg"
-  sed -e "$(edit_of "$setting")" "$src/configs/$arch.cfg" >"$cfg"
-  /usr/bin/time -f "%U %S" -o "$work/t" "$build/cli/pomlab" montecarlo "$cfg" --n "$N" \
-    --threads 1 --quiet >/dev/null
+  edits_of "$arch" "$setting" >"$work/edit.sed"
+  sed -f "$work/edit.sed" "$src/configs/$arch.cfg" >"$cfg"
+  # the 3-RRR's montecarlo draw needs a revolute range (docs/results.md)
+  [ "$arch" = 3rrr ] && printf 'montecarlo = {\n  range_deg = 10.0;\n};\n' >>"$cfg"
+  /usr/bin/time -f "%U %S" -o "$work/t" "$build/cli/pomlab" montecarlo "$cfg" \
+    --n "$(n_of "$setting")" --threads 1 --quiet >/dev/null
   awk '{print $1 + $2}' "$work/t"
 }
 
-# wall_of BUILD THREADS -> wall seconds of the paper study
+# wall_of BUILD CONFIG THREADS -> wall seconds of a study
 wall_of() {
-  local build=$1 threads=$2 src
+  local build=$1 cfg=$2 threads=$3 src
   src=$(src_of "$build")
-  (cd "$src" && /usr/bin/time -f "%e %U" -o "$work/t" "$build/cli/pomlab" study configs/paper.cfg \
-    --threads "$threads" --quiet --no-plots --no-summary --out "$work/paper.h5" >/dev/null)
-  awk '{print $1 " (CPU " $2 " s)"}' "$work/t"
+  (cd "$src" && /usr/bin/time -f "%e %U" -o "$work/t" "$build/cli/pomlab" study "$cfg" \
+    --threads "$threads" --quiet --no-plots --no-summary --out "$work/study.h5" >/dev/null)
+  rm -f "$work/study.h5"
+  awk '{print $1, $2}' "$work/t"
 }
 
 declare -A best
-better() { # keeps the smaller of two CPU figures
+better() { # keeps the smaller of two figures (the first field)
   local k=$1 v=$2
-  if [ -z "${best[$k]:-}" ] || awk -v a="$v" -v b="${best[$k]}" 'BEGIN{exit !(a < b)}'; then
+  if [ -z "${best[$k]:-}" ] || awk -v a="${v%% *}" -v b="${best[$k]%% *}" 'BEGIN{exit !(a < b)}'; then
     best[$k]=$v
   fi
 }
 echo "machine: $(nproc) cores, $(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1); load $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "old: $1 ($(git -C "$(src_of "$1")" rev-parse --short HEAD 2>/dev/null || echo '?'))"
 echo "new: $2 ($(git -C "$(src_of "$2")" rev-parse --short HEAD 2>/dev/null || echo '?'))"
-for round in 1 2; do
-  for arch in 3pss 3sps; do
+studies=("configs/paper.cfg" "configs/paper-exact.cfg")
+for round in $(seq "$ROUNDS"); do
+  for arch in "${archs[@]}"; do
     for s in "${settings[@]}"; do
       for which in old new; do
         b=$1
@@ -67,21 +95,33 @@ for round in 1 2; do
       done
     done
   done
+  if [ -z "${THROUGHPUT_NO_STUDY:-}" ]; then
+    for cfg in "${studies[@]}"; do
+      for which in old new; do
+        b=$1
+        [ "$which" = new ] && b=$2
+        better "$which/$cfg" "$(wall_of "$b" "$cfg" 2)"
+      done
+    done
+  fi
+  echo "round $round done: load $(cut -d' ' -f1-3 /proc/loadavg)" >&2
 done
+echo "load at the end: $(cut -d' ' -f1-3 /proc/loadavg)"
 echo
-echo "maneuvers per CPU-second ($N maneuvers of the montecarlo seed, 1 thread, best of 2 rounds)"
-printf "| %-6s | %-24s | %8s | %8s | %6s |\n" arch setting old new new/old
-printf "|%s|\n" "--------|--------------------------|----------|----------|--------"
-for arch in 3pss 3sps; do
+echo "CPU per maneuver (ms) and maneuvers per CPU-second (montecarlo seed, 1 thread, best of $ROUNDS rounds;"
+echo "$N maneuvers per parasitic setting, $((10 * N)) per exact-path setting)"
+printf "| %-6s | %-22s | %9s | %9s | %8s | %8s | %7s |\n" arch setting "old ms" "new ms" "old /s" "new /s" new/old
+printf "|%s|\n" "--------|------------------------|-----------|-----------|----------|----------|---------"
+for arch in "${archs[@]}"; do
   for s in "${settings[@]}"; do
-    o=${best[old/$arch/$s]} n=${best[new/$arch/$s]}
-    awk -v a="$arch" -v s="$s" -v o="$o" -v n="$n" -v N="$N" \
-      'BEGIN{printf "| %-6s | %-24s | %8.1f | %8.1f | %6.2f |\n", a, s, N/o, N/n, o/n}'
+    o=${best[old/$arch/$s]} n=${best[new/$arch/$s]} k=$(n_of "$s")
+    awk -v a="$arch" -v s="$s" -v o="$o" -v n="$n" -v N="$k" \
+      'BEGIN{printf "| %-6s | %-22s | %9.3f | %9.3f | %8.1f | %8.1f | %7.2f |\n", a, s, 1e3*o/N, 1e3*n/N, N/o, N/n, o/n}'
   done
 done
 echo
 [ -n "${THROUGHPUT_NO_STUDY:-}" ] && exit 0
-echo "paper study (configs/paper.cfg, 2 x 1000 maneuvers), wall seconds"
-for t in 1 2; do
-  echo "threads $t: old $(wall_of "$1" "$t"), new $(wall_of "$2" "$t")"
+echo "studies on 2 threads, wall seconds (user CPU), best of $ROUNDS rounds"
+for cfg in "${studies[@]}"; do
+  echo "$cfg: old ${best[old/$cfg]% *} s (${best[old/$cfg]#* } s), new ${best[new/$cfg]% *} s (${best[new/$cfg]#* } s)"
 done
