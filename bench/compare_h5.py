@@ -14,7 +14,8 @@ import sys
 import h5py
 import numpy as np
 
-METRICS = ["execution_time", "settling_time", "settling_time_final", "energy", "energy_positive",
+METRICS = ["execution_time", "settling_time", "settling_time_final", "pointing_settling_time",
+           "final_pointing_error", "tracking_rms_error", "energy", "energy_positive",
            "energy_total", "peak_voltage", "saturation_time", "final_q", "max_abs_q"]
 TOL = 1e-4
 

@@ -22,43 +22,16 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 src_of() { sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$1/CMakeCache.txt"; }
 
-# settings: paper = the shipped config (parasitic joints, inductive coil,
-# rtol 1e-6, atol_scale 1e-3: the paper's model); exact-qs-1e-3 = the exact
-# path at the setting issues 10 and 20 measured (rigid, quasi-static coil,
-# rtol 1e-3, natural tolerances); exact-recommended = what `pomlab tradeoff`
-# recommends at 1 % (docs/tradeoff.md section 9: 3PSS and 3RRR inductive coil
-# at rtol 1e-3, 3SPS quasi-static coil at rtol 1e-4).
-settings=("paper" "parasitic-quasi-static" "rigid-1e-6" "exact-qs-1e-3" "exact-recommended")
-RIGID='s/^joints = {/joints = {\n  model = "rigid";/'
-QS='s/^  coil_inductance = true;.*/  coil_inductance = false;/'
-NATURAL='s/^  atol_scale = 1.0e-3;.*/  atol_scale = 0;/'
-rtol_edit() { echo "s/^  rtol = 1.0e-6;.*/  rtol = $1;/"; }
-edits_of() { # arch setting -> a sed script, one expression per line
-  case "$2" in
-  paper) echo "" ;;
-  parasitic-quasi-static) echo "$QS" ;;
-  rigid-1e-6) echo "$RIGID" ;;
-  exact-qs-1e-3) printf '%s\n' "$RIGID" "$QS" "$NATURAL" "$(rtol_edit 1.0e-3)" ;;
-  exact-recommended)
-    if [ "$1" = 3sps ]; then
-      printf '%s\n' "$RIGID" "$QS" "$NATURAL" "$(rtol_edit 1.0e-4)"
-    else
-      printf '%s\n' "$RIGID" "$NATURAL" "$(rtol_edit 1.0e-3)"
-    fi
-    ;;
-  esac
-}
-n_of() { case "$1" in exact-*) echo $((10 * N)) ;; *) echo "$N" ;; esac }
+# the settings and their config edits (shared with bench/accuracy.sh)
+# shellcheck source=bench/settings.sh
+. "$(dirname "$0")/settings.sh"
 
 # cpu_of BUILD ARCH SETTING -> user+system CPU seconds of n_of(SETTING) maneuvers
 cpu_of() {
   local build=$1 arch=$2 setting=$3 src cfg
   src=$(src_of "$build")
   cfg="$work/${arch}_${setting}.cfg"
-  edits_of "$arch" "$setting" >"$work/edit.sed"
-  sed -f "$work/edit.sed" "$src/configs/$arch.cfg" >"$cfg"
-  # the 3-RRR's montecarlo draw needs a revolute range (docs/results.md)
-  [ "$arch" = 3rrr ] && printf 'montecarlo = {\n  range_deg = 10.0;\n};\n' >>"$cfg"
+  setting_config "$src" "$arch" "$setting" >"$cfg"
   /usr/bin/time -f "%U %S" -o "$work/t" "$build/cli/pomlab" montecarlo "$cfg" \
     --n "$(n_of "$setting")" --threads 1 --quiet >/dev/null
   awk '{print $1 + $2}' "$work/t"
