@@ -1,7 +1,7 @@
 /* bench_dynamics.c - time one 100 ms maneuver of a shipped configuration
  * (issue 3 goal: under 5 ms on one core at k_p = 1e6 N/m, rtol = 1e-6).
  *
- * usage: bench_dynamics CONFIG [q1,q2,q3 mm] [repeats] [dense|klu] [euler|quaternion]
+ * usage: bench_dynamics CONFIG [q1,q2,q3 mm] [repeats] [dense|klu|structured] [euler|quaternion]
  *                       [parasitic|rigid] [analytic|finite-difference]
  * Prints the median and minimum wall time of `repeats` runs of the same
  * maneuver (model and data built once, as a Monte-Carlo worker does) and the
@@ -34,7 +34,7 @@ static int cmp_double(const void *a, const void *b) {
 int main(int argc, char **argv) {
   if (argc < 2) {
     fprintf(stderr,
-            "usage: %s CONFIG [q1,q2,q3 mm] [repeats] [dense|klu] [euler|quaternion] "
+            "usage: %s CONFIG [q1,q2,q3 mm] [repeats] [dense|klu|structured] [euler|quaternion] "
             "[parasitic|rigid] [analytic|finite-difference]\n",
             argv[0]);
     return 2;
@@ -66,7 +66,9 @@ int main(int argc, char **argv) {
   pom_dyn_params_defaults(&par);
   if (pom_dyn_params_load(&par, cfg, &err) != POM_OK) goto fail;
   if (argc > 4)
-    par.solver.linear_solver = strcmp(argv[4], "klu") == 0 ? POM_LINSOL_KLU : POM_LINSOL_DENSE;
+    par.solver.linear_solver = strcmp(argv[4], "klu") == 0          ? POM_LINSOL_KLU
+                               : strcmp(argv[4], "structured") == 0 ? POM_LINSOL_STRUCTURED
+                                                                    : POM_LINSOL_DENSE;
   if (argc > 5)
     par.scene.orientation =
         strcmp(argv[5], "quaternion") == 0 ? POM_ORIENT_QUATERNION : POM_ORIENT_EULER_ZYX;

@@ -35,7 +35,7 @@ static void simulate_usage(FILE *out) {
           "  --form ideal|parallel override controller.form (the PID)\n"
           "  --kp X --ki X --kd X  override controller.kp (V/V), ki_per_s (1/s), kd_s (s)\n"
           "  --orientation euler|quaternion   override scene.orientation\n"
-          "  --linsol dense|klu    override solver.linear_solver\n"
+          "  --linsol dense|klu|structured  override solver.linear_solver\n"
           "  --joints parasitic|rigid   override joints.model\n"
           "  --rtol X              override solver.rtol, in [1e-13, 0.1]\n"
           "  --help                this text\n\n"

@@ -367,6 +367,23 @@ int pom_dyn_cvode_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, su
 double pom_dyn_structure_check(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *f0,
                                double *yp, double *fp, int *worst_i, int *worst_j);
 
+/* dyn_structured_ls.c: the structured Newton solve (docs/dynamics.md section
+ * 7): a block LU of the CSC Newton matrix over the bond graph's groups (per
+ * body u, orientation, (p, h'); per actuator its flux and controller states;
+ * every other state alone), u and orientation first, then minimum degree.
+ * Its structure, order and scatter map are built here from m's pattern. */
+typedef struct {
+  int groups;         /* diagonal blocks */
+  long blocks;        /* dense blocks of L + U (fill included) */
+  long values;        /* their entries */
+  double setup_flops; /* floating-point operations of one factorization (dense blocks) */
+  double solve_flops; /* of one solve */
+} pom_dyn_sls_stats;
+pom_status pom_dyn_structured_ls_create(SUNLinearSolver *out, const pom_dyn_model *m,
+                                        SUNContext ctx, pom_error *err);
+/* The counts of a structured solver; 0 (stats untouched) for another solver. */
+int pom_dyn_structured_ls_stats(SUNLinearSolver S, pom_dyn_sls_stats *stats);
+
 /* ---- exact formulation queries (dyn_exact.c; tests and diagnostics) ------- */
 /* State layout of an exact model: first orientation state, their number (3
  * or 4) and first state of omega; returns 0 (and leaves them) for a model of

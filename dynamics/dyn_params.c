@@ -18,7 +18,7 @@
 
 /* ---- names --------------------------------------------------------------- */
 const char *const pom_dyn_orient_names[] = {"euler", "quaternion", NULL};
-const char *const pom_dyn_linsol_names[] = {"dense", "klu", NULL};
+const char *const pom_dyn_linsol_names[] = {"dense", "klu", "structured", NULL};
 const char *const pom_dyn_jacobian_names[] = {"analytic", "finite-difference", NULL};
 const char *const pom_dyn_joint_model_names[] = {"parasitic", "rigid", NULL};
 const char *const pom_dyn_inertia_names[] = {"full", "lumped", NULL};
@@ -26,7 +26,7 @@ const char *const pom_dyn_inertia_names[] = {"full", "lumped", NULL};
 #define TABLE_LEN(t) (sizeof(t) / sizeof((t)[0]) - 1)
 _Static_assert(TABLE_LEN(pom_dyn_orient_names) == POM_ORIENT_QUATERNION + 1,
                "pom_dyn_orient_names follows pom_orient_kind");
-_Static_assert(TABLE_LEN(pom_dyn_linsol_names) == POM_LINSOL_KLU + 1,
+_Static_assert(TABLE_LEN(pom_dyn_linsol_names) == POM_LINSOL_STRUCTURED + 1,
                "pom_dyn_linsol_names follows pom_linsol_kind");
 _Static_assert(TABLE_LEN(pom_dyn_jacobian_names) == POM_JAC_FINITE_DIFFERENCE + 1,
                "pom_dyn_jacobian_names follows pom_jac_kind");

@@ -452,7 +452,14 @@ static pom_status parasitic_solver_failure(const pom_dyn_model *m, pom_dyn_data 
 static pom_status parasitic_data_init(const pom_dyn_model *m, pom_dyn_data *d, pom_error *err) {
   const sunindextype n = m->n_states;
   POM_TRY(pom_dyn_parasitic_jac_data(m, d, err));
-  if (m->par.solver.linear_solver == POM_LINSOL_KLU) {
+  if (m->par.solver.linear_solver == POM_LINSOL_STRUCTURED) {
+    /* the block LU over the bond graph's groups (dyn_structured_ls.c) reads
+     * the CSC matrix the linear-system callback fills */
+    d->A = SUNSparseMatrix(n, n, (sunindextype)m->nnz, CSC_MAT, d->ctx);
+    if (!d->A) POM_FAIL(err, POM_ERR_NOMEM, "allocating the Newton matrix");
+    pom_dyn_pattern_to_matrix(m, d->A);
+    POM_TRY(pom_dyn_structured_ls_create(&d->LS, m, d->ctx, err));
+  } else if (m->par.solver.linear_solver == POM_LINSOL_KLU) {
     d->A = SUNSparseMatrix(n, n, (sunindextype)m->nnz, CSC_MAT, d->ctx);
     if (d->A) pom_dyn_pattern_to_matrix(m, d->A);
     if (d->A) d->LS = SUNLinSol_KLU(d->y, d->A, d->ctx);

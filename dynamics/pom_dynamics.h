@@ -18,7 +18,13 @@
 
 typedef enum { POM_PID_IDEAL = 0, POM_PID_PARALLEL = 1 } pom_pid_form;
 typedef enum { POM_ORIENT_EULER_ZYX = 0, POM_ORIENT_QUATERNION = 1 } pom_orient_kind;
-typedef enum { POM_LINSOL_DENSE = 0, POM_LINSOL_KLU = 1 } pom_linsol_kind;
+/* Newton linear solver of the parasitic path: SUNDIALS' dense LU, KLU, or the block LU over
+ * the bond graph's groups (docs/dynamics.md section 7, "Structured Newton solve"). */
+typedef enum {
+  POM_LINSOL_DENSE = 0,
+  POM_LINSOL_KLU = 1,
+  POM_LINSOL_STRUCTURED = 2
+} pom_linsol_kind;
 /* Newton Jacobian: the formulation's analytic one (finite differences where it has none) or
  * coloured finite differences (docs/dynamics.md section 7). */
 typedef enum { POM_JAC_ANALYTIC = 0, POM_JAC_FINITE_DIFFERENCE = 1 } pom_jac_kind;

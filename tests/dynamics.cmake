@@ -54,3 +54,7 @@ target_link_libraries(test_dyn_params PRIVATE pom_dynamics pom_kinematics pom_co
 # platform-level metrics: pointing, peak rate and effort, tracking (docs/results.md section 1b)
 pom_add_test(test_dyn_platform_metrics test_dyn_platform_metrics.c)
 target_link_libraries(test_dyn_platform_metrics PRIVATE pom_dynamics pom_kinematics pom_core)
+
+pom_add_test(test_dyn_structured_ls test_dyn_structured_ls.c)
+target_include_directories(test_dyn_structured_ls PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
+target_link_libraries(test_dyn_structured_ls PRIVATE pom_dynamics pom_kinematics pom_core)
