@@ -97,7 +97,7 @@ pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_e
   if (!d->y || !d->atol || !d->ytmp || !d->ftmp)
     POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "allocating CVODE vectors (%ld states)", (long)n);
   /* CVODE clones its vectors from y (and atol): they inherit the kernels;
-   * ytmp receives CVodeGetDky's interpolation at every output sample, which
+   * ytmp receives CVodeGetDky's interpolation at the settling nodes and trace samples, which
    * runs on its own operations */
   pom_dyn_nvec_fast_ops(d->y);
   pom_dyn_nvec_fast_ops(d->atol);
