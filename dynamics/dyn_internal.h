@@ -152,6 +152,43 @@ typedef struct {
   int kin_fail;                           /* exact path: the rigid mechanism cannot be assembled */
 } dyn_outputs;
 
+/* ---- settling on the integrator's dense output (dyn_settle.c) ------------
+ * docs/dynamics.md section 8: every band function g(t) = |e(t)| - band is
+ * watched on CVODE's interpolant over each accepted step, at the step end and
+ * at the step's two Gauss-Legendre nodes; a return inside the band is located
+ * by the Illinois method on the interpolant. */
+typedef struct {
+  double ref;      /* value the error is taken from (m, rad; 0 for the pointing angle) */
+  double band;     /* half-width of the band (same unit) */
+  double t_settle; /* last crossing back inside found so far (s); 0 when never outside */
+  int outside;     /* 1 when the last step end is outside the band */
+  int active;      /* 0: no band (zero step, unknown target orientation) */
+} dyn_band;
+
+/* Columns of one row of the per-step record: step end time, step size, then
+ * q at the two interior nodes and at the step end ([3][POM_MECH_MAX_ACTUATORS]). */
+enum {
+  DYN_REC_T = 0,
+  DYN_REC_H = 1,
+  DYN_REC_Q = 2,
+  DYN_REC_WIDTH = 2 + 3 * POM_MECH_MAX_ACTUATORS
+};
+
+typedef struct {
+  dyn_band act[POM_MECH_MAX_ACTUATORS];  /* per-actuator band about the setpoint */
+  dyn_band point;                        /* pointing band about the target orientation */
+  double t_prev;                         /* end of the previous step (s) */
+  double q_prev[POM_MECH_MAX_ACTUATORS]; /* q there (m or rad) */
+  double theta_prev;                     /* pointing angle there (rad) */
+  double theta_end;                      /* pointing angle at the last step end (rad) */
+  double track_int;                      /* integral of the squared tracking angle (rad^2 s) */
+  int track_ok;                          /* 1 while every node had a reference rotation */
+  double *rec;  /* [rec_cap][DYN_REC_WIDTH] per-step record for the final-value variant */
+  long rec_n;   /* rows used (row 0: t = 0) */
+  long rec_cap; /* rows allocated (grows geometrically, kept across maneuvers) */
+  long evals;   /* interpolant evaluations of the last maneuver (nodes + root finding) */
+} dyn_settle;
+
 struct pom_dyn_data {
   const pom_dyn_model *m;
   SUNContext ctx;
@@ -172,9 +209,8 @@ struct pom_dyn_data {
   long euler_singular_count; /* RHS calls of this run that met the Euler singularity */
   long nonfinite_count;      /* RHS calls of this run with a non-finite derivative */
   char cvode_msg[256];       /* last CVODE error message (from its handler) */
-  int n_samples;             /* output grid size */
-  double *qs;                /* [n_samples][n_actuators] sampled positions for metrics */
-  double *pointing;          /* [n_samples] angle to the target orientation (rad) */
+  int n_samples;             /* output grid size (traces only) */
+  dyn_settle settle;         /* settling on the dense output (dyn_settle.c) */
   double R_target[9];        /* target orientation of the maneuver, FK(setpoints) */
   int have_target_rotation;  /* 1 when R_target is known */
   double *yfinal;            /* [n_states] state at the end of the last run */
@@ -234,6 +270,24 @@ struct dyn_formulation {
   /* Records why CVODE failed at t (after the generic causes were ruled out). */
   pom_status (*solver_failure)(const pom_dyn_model *m, pom_dyn_data *d, double t, pom_error *err);
 };
+
+/* dyn_settle.c (docs/dynamics.md section 8). A root of g in [a, b] by the
+ * Illinois method, g(a) and g(b) of opposite signs (ga = g(a), gb = g(b)),
+ * to a bracket of width <= xtol (at most 200 evaluations); NaN from g ends
+ * the search at the point that gave it. */
+double pom_dyn_illinois(double (*g)(double t, void *ctx), void *ctx, double a, double ga, double b,
+                        double gb, double xtol);
+/* Bracket width of the crossing search (s). */
+#define POM_DYN_SETTLE_XTOL 1e-12
+/* The settling watch: begin at t = 0 (outputs of y0 evaluated), one call
+ * per accepted step (outputs of the step end evaluated; uses d->ytmp), and
+ * the settling and pointing metrics at the end. step returns POM_ERR_NOMEM
+ * when the record cannot grow, POM_ERR_SOLVER when CVodeGetDky refuses. */
+pom_status pom_dyn_settle_data(pom_dyn_data *d, pom_error *err);
+void pom_dyn_settle_begin(const pom_dyn_model *m, pom_dyn_data *d, const double *y0);
+pom_status pom_dyn_settle_step(const pom_dyn_model *m, pom_dyn_data *d, double t, const double *y,
+                               pom_error *err);
+void pom_dyn_settle_metrics(const pom_dyn_model *m, const pom_dyn_data *d, pom_dyn_metrics *mt);
 
 /* dyn_parasitic.c: the parasitic bond-graph formulation (docs/dynamics.md). */
 extern const dyn_formulation pom_dyn_form_parasitic;

@@ -97,7 +97,7 @@ pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_e
   if (!d->y || !d->atol || !d->ytmp || !d->ftmp)
     POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "allocating CVODE vectors (%ld states)", (long)n);
   /* CVODE clones its vectors from y (and atol): they inherit the kernels;
-   * ytmp receives CVodeGetDky's interpolation at every output sample, which
+   * ytmp receives CVodeGetDky's interpolation at the settling nodes and trace samples, which
    * runs on its own operations */
   pom_dyn_nvec_fast_ops(d->y);
   pom_dyn_nvec_fast_ops(d->atol);
@@ -131,12 +131,11 @@ pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_e
     POM_FAIL_GOTO(err, POM_ERR_SOLVER, fail, "attaching the linear solver: %s", d->cvode_msg);
 
   d->n_samples = sample_count(p);
-  d->qs = calloc((size_t)d->n_samples * 3, sizeof *d->qs);
   d->yfinal = calloc((size_t)n, sizeof *d->yfinal);
   d->jac = calloc((size_t)m->nnz, sizeof *d->jac);
-  d->pointing = calloc((size_t)d->n_samples, sizeof *d->pointing);
-  if (!d->qs || !d->yfinal || !d->jac || !d->pointing)
-    POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "allocating sample buffers");
+  if (!d->yfinal || !d->jac)
+    POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "allocating final-state buffers");
+  POM_TRY_GOTO(pom_dyn_settle_data(d, err), fail);
   *out = d;
   return POM_OK;
 fail:
@@ -154,8 +153,7 @@ void pom_dyn_data_destroy(pom_dyn_data *d) {
   if (d->ytmp) N_VDestroy(d->ytmp);
   if (d->ftmp) N_VDestroy(d->ftmp);
   if (d->ctx) SUNContext_Free(&d->ctx);
-  free(d->qs);
-  free(d->pointing);
+  free(d->settle.rec);
   free(d->yfinal);
   free(d->jac);
   if (d->m) d->m->form->data_free(d);
@@ -205,110 +203,12 @@ void pom_dyn_trace_destroy(pom_dyn_trace *tr) {
   free(tr);
 }
 
-/* ---- metrics ------------------------------------------------------------- */
-/* Time after which |x(t) - ref| stays <= band, with linear interpolation of
- * the last crossing between samples; returns -1 when the last sample is
- * outside the band. */
-static double last_exit_time(const pom_dyn_params *p, const double *qs, int n, int stride,
-                             double ref, double band) {
-  int last = -1;
-  for (int k = 0; k < n; ++k)
-    if (fabs(qs[k * stride] - ref) > band) last = k;
-  if (last < 0) return 0.0;
-  if (last == n - 1) return -1.0;
-  double e0 = qs[last * stride] - ref, e1 = qs[(last + 1) * stride] - ref;
-  double edge = e0 > 0 ? band : -band;
-  double tau = (e0 - edge) / (e0 - e1);
-  tau = fmin(fmax(tau, 0.0), 1.0);
-  double t0 = sample_time(p, last), t1 = sample_time(p, last + 1);
-  return t0 + tau * (t1 - t0);
-}
-
-static void settle_metrics(const pom_dyn_model *m, const pom_dyn_data *d, pom_dyn_metrics *mt) {
-  const pom_dyn_params *p = &m->par;
-  int n = d->n_samples;
-  mt->execution_time = 0.0;
-  for (int a = 0; a < 3; ++a) {
-    mt->settling_time[a] = mt->settling_time_final[a] = 0.0;
-    mt->settled[a] = 1;
-  }
-  for (int a = 0; a < m->n_actuators; ++a) {
-    const double *qa = d->qs + a;
-    double r = d->target[a];
-    double band = p->maneuver.settle_band * fabs(r);
-    /* a zero step has no band: it is settled from the start (docs 8) */
-    double ts = (r == 0.0) ? 0.0 : last_exit_time(p, qa, n, 3, r, band);
-    mt->settled[a] = ts >= 0.0;
-    mt->settling_time[a] = ts >= 0.0 ? ts : NAN;
-    /* stepinfo variant: band = settle_band * max |q - q_final| */
-    double yf = qa[(n - 1) * 3], peak = 0.0, qmax = 0.0;
-    for (int k = 0; k < n; ++k) {
-      peak = fmax(peak, fabs(qa[k * 3] - yf));
-      qmax = fmax(qmax, fabs(qa[k * 3]));
-    }
-    mt->max_abs_q[a] = qmax;
-    double tf = peak > 0 ? last_exit_time(p, qa, n, 3, yf, p->maneuver.settle_band * peak) : 0.0;
-    mt->settling_time_final[a] = tf >= 0 ? tf : NAN;
-    mt->final_q[a] = yf;
-    if (!mt->settled[a])
-      mt->execution_time = NAN;
-    else if (!isnan(mt->execution_time))
-      mt->execution_time = fmax(mt->execution_time, ts);
-  }
-}
-
-/* Angle (rad) of the rotation between A and B: |rotvec(A^T B)|. */
-static double rotation_angle(const double A[9], const double B[9]) {
-  double At[9], E[9], rv[3];
-  pom_m3_transpose(At, A);
-  pom_m3_mul(E, At, B);
-  pom_m3_rotvec(rv, E);
-  return pom_v3_norm(rv);
-}
-
-/* The platform at output sample k (time t, state y): its angle to the
- * target orientation, and the squared angle to the controller's reference
- * added to *track (*n_track counts the samples that have one). */
-static void sample_platform(const pom_dyn_model *m, pom_dyn_data *d, int k, double t,
-                            const double *y, double *track, int *n_track) {
-  double R[9], Rref[9];
-  m->form->platform_rotation(m, y, R);
-  d->pointing[k] = d->have_target_rotation ? rotation_angle(d->R_target, R) : NAN;
-  if (m->ctrl->reference_rotation &&
-      m->ctrl->reference_rotation(&m->par.controller, m->ctrl_model, d->ctrl_work, t, d->target,
-                                  Rref)) {
-    double e = rotation_angle(Rref, R);
-    *track += e * e;
-    ++*n_track;
-  }
-}
-
-/* Pointing metrics from the sampled angles (docs/results.md section 1b):
- * the band is max(pointing_band, pointing_band_rel x the target's rotation
- * angle); NaN without a target orientation. */
-static void pointing_metrics(const pom_dyn_model *m, const pom_dyn_data *d, double track,
-                             int n_track, pom_dyn_metrics *mt) {
-  const pom_dyn_params *p = &m->par;
-  int n = d->n_samples;
-  mt->tracking_rms_error = n_track == n ? sqrt(track / (double)n) : NAN;
-  if (!d->have_target_rotation) return;
-  double I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-  double band = fmax(p->maneuver.pointing_band,
-                     p->maneuver.pointing_band_rel * rotation_angle(I, d->R_target));
-  double ts = last_exit_time(p, d->pointing, n, 1, 0.0, band);
-  mt->pointing_settled = ts >= 0.0;
-  mt->pointing_settling_time = ts >= 0.0 ? ts : NAN;
-  mt->final_pointing_error = d->pointing[n - 1];
-}
-
 /* ---- one maneuver -------------------------------------------------------- */
-/* Records output sample k from state y (outputs must be evaluated). */
+/* Records trace sample k from state y (outputs must be evaluated). */
 static void record_sample(const pom_dyn_model *m, pom_dyn_data *d, int k, double t, const double *y,
                           pom_dyn_trace *tr) {
   const dyn_outputs *o = &d->out;
-  for (int a = 0; a < m->n_actuators; ++a)
-    d->qs[k * 3 + a] = o->q[a];
-  if (!tr || k >= tr->capacity) return;
+  if (k >= tr->capacity) return;
   tr->t[k] = t;
   for (int a = 0; a < 3; ++a) {
     int on = a < m->n_actuators;
@@ -438,9 +338,6 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
    * the architecture is known (docs/results.md section 1b) */
   d->have_target_rotation = m->has_arch && pom_kin_forward(&m->arch, d->target, NULL, NULL,
                                                            d->R_target, NULL, NULL) == POM_OK;
-  double track = 0.0;
-  int n_track = 0;
-
   double *y = N_VGetArrayPointer(d->y);
   double *ys = N_VGetArrayPointer(d->ytmp);
   m->form->initial(m, y, init);
@@ -453,14 +350,16 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
   }
   d->t = 0.0;
   pom_dyn_eval(m, d, y, NULL);
-  record_sample(m, d, 0, 0.0, y, tr);
-  sample_platform(m, d, 0, 0.0, y, &track, &n_track);
+  if (tr) record_sample(m, d, 0, 0.0, y, tr);
+  pom_dyn_settle_begin(m, d, y);
   track_extremes(m, d, mt);
 
+  /* the trace's grid, sampled from the interpolant only when a trace is
+   * kept; the metrics come from the steps (docs/dynamics.md section 8) */
   int k = 1;
   long n_steps = 0;
   double t = 0.0;
-  while (k < d->n_samples) {
+  while (t < p->maneuver.horizon) {
     /* one internal step at a time: CVODE's own mxstep counts per call, so
      * solver.max_steps is enforced here over the whole maneuver */
     if (n_steps++ >= p->solver.max_steps) {
@@ -492,22 +391,22 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
     d->t = t;
     pom_dyn_eval(m, d, y, NULL); /* extremes at every internal step */
     track_extremes(m, d, mt);
-    while (k < d->n_samples && sample_time(p, k) <= t) {
+    st = pom_dyn_settle_step(m, d, t, y, err);
+    if (st != POM_OK) {
+      mt->status = st;
+      snprintf(mt->reason, sizeof mt->reason, "%s", err ? err->message : pom_strerror(st));
+      goto finish;
+    }
+    while (tr && k < d->n_samples && sample_time(p, k) <= t) {
       double tk = sample_time(p, k);
       if (CVodeGetDky(d->cvode, tk, 0, d->ytmp) != CV_SUCCESS) {
         st = fail_status(d, CV_BAD_T, tk, mt, err);
         goto finish;
       }
-      if (tr) {
-        d->t = tk;
-        pom_dyn_eval(m, d, ys, NULL);
-        track_extremes(m, d, mt);
-        record_sample(m, d, k, tk, ys, tr);
-      } else {
-        /* metrics need only q on the grid; extremes come from the steps */
-        m->form->positions(m, ys, d->qs + 3 * k);
-      }
-      sample_platform(m, d, k, tk, ys, &track, &n_track);
+      d->t = tk;
+      pom_dyn_eval(m, d, ys, NULL);
+      track_extremes(m, d, mt);
+      record_sample(m, d, k, tk, ys, tr);
       ++k;
     }
   }
@@ -538,8 +437,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
     double imbalance = mt->energy_supplied - mt->energy_dissipated - mt->energy_stored_change;
     mt->energy_balance_error = scale > 0 ? fabs(imbalance) / scale : 0.0;
   }
-  settle_metrics(m, d, mt);
-  pointing_metrics(m, d, track, n_track, mt);
+  pom_dyn_settle_metrics(m, d, mt);
   if (p->solver.max_balance_error > 0 &&
       !(mt->energy_balance_error <= p->solver.max_balance_error)) {
     /* the audit exposes an inaccurate (too loose) or unstable integration

@@ -64,7 +64,7 @@
   M(newton_iters, LONG, 1, COUNT, "Newton iterations")                                             \
   M(error_test_fails, LONG, 1, COUNT, "error-test failures")                                       \
   M(wall_time, DOUBLE, 1, TIME, "wall-clock time (differs between identical runs)")                \
-  M(max_abs_q, DOUBLE, 3, ACTUATOR, "largest |q| over the output grid")                            \
+  M(max_abs_q, DOUBLE, 3, ACTUATOR, "largest |q| over the integrator's steps")                            \
   M(max_angular_deflection, DOUBLE, 1, ANGLE, "largest angular parasitic deflection")              \
   M(energy_supplied, DOUBLE, 1, ENERGY, "sum over the sources of int u i dt")                      \
   M(energy_dissipated, DOUBLE, 1, ENERGY, "coil + bearing + parasitic dampers")                    \

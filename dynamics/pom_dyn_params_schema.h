@@ -139,7 +139,7 @@
     1e-6, 100.0, 0.02, "maneuver_settle_band", "settling band, percent of the step")               \
   X(maneuver, "output_dt_ms", "output_dt_s", maneuver.output_dt, REAL, 0, 1e-3, "ms", 1e-6, 1e6,   \
     1.0e-4, "maneuver_output_dt_s",                                                                \
-    "metric and trace grid; at most the horizon and 1e7 samples over it")                          \
+    "trace grid (not the metrics); at most the horizon and 1e7 samples over it")                          \
   X(maneuver, "pointing_band_mrad", "pointing_band_rad", maneuver.pointing_band, REAL, 0, 1e-3,    \
     "mrad", 1e-6, 1e3, 1.0e-3, "maneuver_pointing_band_rad",                                       \
     "pointing settling band, absolute (docs/results.md section 1b)")                               \

@@ -125,7 +125,7 @@ typedef struct {
 typedef struct {
   double horizon;     /* s (default 0.100) */
   double settle_band; /* fraction of |step| (default 0.02) */
-  double output_dt;   /* s, trace sampling period (default 1e-4) */
+  double output_dt;   /* s, trace sampling period (default 1e-4); the metrics do not use it */
   /* pointing band of the platform (docs/results.md section 1b): the angle
    * between the platform's and the target orientation must stay within
    * max(pointing_band, pointing_band_rel x rotation angle of the target) */
@@ -210,7 +210,7 @@ typedef struct {
   double peak_voltage[3];        /* max |u| (V) */
   double saturation_time[3];     /* time with |u| at the limit (s) */
   double final_q[3];             /* q at the horizon (m or rad) */
-  double max_abs_q[3];           /* largest |q| over the output grid, every output_dt (m or rad) */
+  double max_abs_q[3];           /* largest |q| over the integrator's steps (m or rad) */
   double max_deflection;         /* largest parasitic deflection (m) */
   double energy_balance_error; /* |supplied - dissipated - stored change| / energy_balance_scale */
   long steps, rhs_evals, jac_evals, newton_iters, error_test_fails;
@@ -237,8 +237,9 @@ typedef struct {
   double final_pointing_error;   /* that angle at the horizon (rad); NaN when unknown */
   double peak_angular_rate;      /* largest |omega| of the platform (rad/s) */
   double peak_effort[3];         /* largest |K_m i - b q_dot| of each actuator (N or N m) */
-  double tracking_rms_error;     /* RMS over the output grid of the angle between the platform and
-                                    the controller's reference (rad); NaN without a trajectory */
+  double tracking_rms_error;     /* time-averaged RMS over the horizon of the angle between the
+                                    platform and the controller's reference (rad); NaN without a
+                                    trajectory */
 } pom_dyn_metrics;
 
 /* Optional traces of a maneuver, sampled every output_dt. Owned by caller:

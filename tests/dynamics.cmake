@@ -58,3 +58,8 @@ target_link_libraries(test_dyn_platform_metrics PRIVATE pom_dynamics pom_kinemat
 pom_add_test(test_dyn_structured_ls test_dyn_structured_ls.c)
 target_include_directories(test_dyn_structured_ls PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
 target_link_libraries(test_dyn_structured_ls PRIVATE pom_dynamics pom_kinematics pom_core)
+# settling times on the integrator's dense output: the locator, output_dt
+# independence, agreement with a 1 us grid (docs/dynamics.md section 8)
+pom_add_test(test_dyn_settle test_dyn_settle.c)
+target_include_directories(test_dyn_settle PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
+target_link_libraries(test_dyn_settle PRIVATE pom_dynamics pom_kinematics pom_core)

@@ -559,12 +559,16 @@ static void test_shipped(const char *file) {
       for (int a = 0; a < 3; ++a)
         worst_q = fmax(worst_q, fabs(re.tr->q[3 * k + a] - rq.tr->q[3 * k + a]));
     check_abs(worst_q, 0.0, 1e-7);
-    /* the largest |q| is the largest of the recorded trace, at least |final q| */
+    /* the largest |q| (over the steps' nodes, docs/dynamics.md section 8)
+     * is the trace's largest (every 0.1 ms) but for sampling the same
+     * interpolant at other times: measured <= 9e-13 m here (the largest |q|
+     * is reached with q' ~ 0); bound 1e-9 m, 1e-6 of these steps, far below
+     * the 2 % band and the stroke check's needs; at least |final q| */
     for (int a = 0; a < 3; ++a) {
       double qmax = 0.0;
       for (int k = 0; k < re.tr->n; ++k)
         qmax = fmax(qmax, fabs(re.tr->q[3 * k + a]));
-      check_abs(re.mt.max_abs_q[a], qmax, 0.0);
+      check_abs(re.mt.max_abs_q[a], qmax, 1e-9);
       check_true(re.mt.max_abs_q[a] >= fabs(re.mt.final_q[a]));
     }
     /* the maneuver settles and the audit closes (measured < 4e-7) */

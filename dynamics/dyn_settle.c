@@ -1,0 +1,339 @@
+/* dyn_settle.c - settling times located on the integrator's dense output
+ * (docs/dynamics.md section 8, docs/results.md sections 1 and 1b): the band
+ * functions of every actuator and of the platform's pointing angle watched
+ * on CVODE's interpolant over each accepted step, the last return inside a
+ * band found by the Illinois method, the stepinfo variant from a per-step
+ * record after the run, and the tracking error as a time average by
+ * Gauss-Legendre quadrature. Independent of maneuver.output_dt. */
+#include "dyn_internal.h"
+#include "pom_math.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+/* Two-point Gauss-Legendre nodes on [0, 1] (weights 1/2 each): the
+ * interior points where every step is looked at (section 8). */
+static const double gl_node[2] = {0.21132486540518711775, 0.78867513459481288225};
+
+/* Rows the per-step record starts with (grown geometrically when a
+ * maneuver takes more steps; the shipped configs take 140-2500). */
+#define DYN_REC_INITIAL 1024
+
+/* ---- root finding -------------------------------------------------------- */
+double pom_dyn_illinois(double (*g)(double t, void *ctx), void *ctx, double a, double ga, double b,
+                        double gb, double xtol) {
+  if (ga == 0.0) return a;
+  if (gb == 0.0) return b;
+  int side = 0;
+  for (int it = 0; it < 200 && fabs(b - a) > xtol; ++it) {
+    double c = (a * gb - b * ga) / (gb - ga);
+    /* the secant point of a bracket stays inside it but for rounding */
+    if (!(c > fmin(a, b) && c < fmax(a, b))) c = 0.5 * (a + b);
+    double gc = g(c, ctx);
+    if (isnan(gc) || gc == 0.0) return c;
+    if ((gc > 0.0) == (gb > 0.0)) {
+      b = c, gb = gc;
+      if (side == -1) ga *= 0.5; /* a stuck twice: halve its value (Illinois) */
+      side = -1;
+    } else {
+      a = c, ga = gc;
+      if (side == +1) gb *= 0.5;
+      side = +1;
+    }
+  }
+  double c = (a * gb - b * ga) / (gb - ga);
+  return (c >= fmin(a, b) && c <= fmax(a, b)) ? c : 0.5 * (a + b);
+}
+
+/* ---- the platform's angles ----------------------------------------------- */
+/* Angle (rad) of the rotation between A and B: |rotvec(A^T B)|. */
+static double rotation_angle(const double A[9], const double B[9]) {
+  double At[9], E[9], rv[3];
+  pom_m3_transpose(At, A);
+  pom_m3_mul(E, At, B);
+  pom_m3_rotvec(rv, E);
+  return pom_v3_norm(rv);
+}
+
+/* Pointing angle of state y (R receives its platform rotation). */
+static double pointing_angle(const pom_dyn_model *m, const pom_dyn_data *d, const double *y,
+                             double R[9]) {
+  m->form->platform_rotation(m, y, R);
+  return d->have_target_rotation ? rotation_angle(d->R_target, R) : NAN;
+}
+
+/* ---- band functions on the interpolant ----------------------------------- */
+typedef struct {
+  const pom_dyn_model *m;
+  pom_dyn_data *d;
+  int actuator; /* 0..n-1, or -1 for the pointing angle */
+  double ref, band;
+} band_ctx;
+
+/* g(t) = |e(t)| - band on CVODE's interpolant of the last step. */
+static double band_on_interpolant(double t, void *vctx) {
+  band_ctx *c = vctx;
+  pom_dyn_data *d = c->d;
+  if (CVodeGetDky(d->cvode, t, 0, d->ytmp) != CV_SUCCESS) return NAN;
+  ++d->settle.evals;
+  const double *ys = N_VGetArrayPointer(d->ytmp);
+  if (c->actuator >= 0) {
+    double q[POM_MECH_MAX_ACTUATORS];
+    c->m->form->positions(c->m, ys, q);
+    return fabs(q[c->actuator] - c->ref) - c->band;
+  }
+  double R[9];
+  return pointing_angle(c->m, d, ys, R) - c->band;
+}
+
+/* One step of one band: g at the step start, the two nodes and the step end
+ * (times tn). Outside at the end: the band is left open; outside somewhere
+ * before: the last return inside is located on the interpolant between the
+ * last node outside and the next one. */
+static void band_step(dyn_band *b, const double tn[4], const double g[4], band_ctx *c) {
+  int j = -1;
+  for (int i = 0; i < 4; ++i)
+    if (g[i] > 0.0) j = i;
+  if (j < 0) {
+    b->outside = 0;
+    return;
+  }
+  if (j == 3) {
+    b->outside = 1;
+    return;
+  }
+  double ga = g[j];
+  if (j == 0) {
+    /* the start value came from the previous step's interpolant: take this
+     * step's own (they differ by the local error) */
+    ga = band_on_interpolant(tn[0], c);
+    if (!(ga > 0.0)) {
+      b->t_settle = tn[0];
+      b->outside = 0;
+      return;
+    }
+  }
+  b->t_settle =
+      pom_dyn_illinois(band_on_interpolant, c, tn[j], ga, tn[j + 1], g[j + 1], POM_DYN_SETTLE_XTOL);
+  b->outside = 0;
+}
+
+/* ---- the watch ----------------------------------------------------------- */
+pom_status pom_dyn_settle_data(pom_dyn_data *d, pom_error *err) {
+  pom_status st = POM_OK;
+  d->settle.rec = calloc((size_t)DYN_REC_INITIAL * DYN_REC_WIDTH, sizeof(double));
+  if (!d->settle.rec) POM_FAIL(err, POM_ERR_NOMEM, "allocating the settling record");
+  d->settle.rec_cap = DYN_REC_INITIAL;
+  return st;
+}
+
+void pom_dyn_settle_begin(const pom_dyn_model *m, pom_dyn_data *d, const double *y0) {
+  const pom_dyn_params *p = &m->par;
+  dyn_settle *s = &d->settle;
+  s->t_prev = 0.0;
+  s->track_int = 0.0;
+  s->track_ok = m->ctrl->reference_rotation != NULL;
+  s->evals = 0;
+  double *row = s->rec;
+  row[DYN_REC_T] = row[DYN_REC_H] = 0.0;
+  for (int a = 0; a < m->n_actuators; ++a) {
+    dyn_band *b = &s->act[a];
+    double q0 = d->out.q[a];
+    b->ref = d->target[a];
+    b->band = p->maneuver.settle_band * fabs(b->ref);
+    b->active = b->ref != 0.0; /* a zero step has no band: settled from the start */
+    b->t_settle = 0.0;
+    b->outside = b->active && fabs(q0 - b->ref) > b->band;
+    s->q_prev[a] = q0;
+    for (int i = 0; i < 3; ++i)
+      row[DYN_REC_Q + i * POM_MECH_MAX_ACTUATORS + a] = q0;
+  }
+  s->rec_n = 1;
+  double R[9], I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  s->theta_prev = s->theta_end = pointing_angle(m, d, y0, R);
+  dyn_band *b = &s->point;
+  b->ref = 0.0;
+  b->active = d->have_target_rotation;
+  b->band = b->active ? fmax(p->maneuver.pointing_band,
+                             p->maneuver.pointing_band_rel * rotation_angle(I, d->R_target))
+                      : 0.0;
+  b->t_settle = 0.0;
+  b->outside = b->active && s->theta_prev > b->band;
+}
+
+pom_status pom_dyn_settle_step(const pom_dyn_model *m, pom_dyn_data *d, double t, const double *y,
+                               pom_error *err) {
+  pom_status st = POM_OK;
+  dyn_settle *s = &d->settle;
+  const int na = m->n_actuators;
+  const int need_rotation = s->point.active || s->track_ok;
+  const double t0 = s->t_prev, h = t - t0;
+  double tn[4] = {t0, t0 + gl_node[0] * h, t0 + gl_node[1] * h, t};
+  double qn[4][POM_MECH_MAX_ACTUATORS], theta[4] = {s->theta_prev, NAN, NAN, NAN};
+  double R[9], Rref[9];
+  for (int a = 0; a < na; ++a) {
+    qn[0][a] = s->q_prev[a];
+    qn[3][a] = d->out.q[a];
+  }
+  /* the two interior nodes on the interpolant: positions, pointing angle
+   * and the tracking integrand (Gauss-Legendre, weight h/2 each) */
+  for (int j = 1; j <= 2; ++j) {
+    if (CVodeGetDky(d->cvode, tn[j], 0, d->ytmp) != CV_SUCCESS)
+      POM_FAIL(err, POM_ERR_SOLVER, "CVodeGetDky refused t = %.9g s in the step [%.9g, %.9g] s",
+               tn[j], t0, t);
+    ++s->evals;
+    const double *ys = N_VGetArrayPointer(d->ytmp);
+    m->form->positions(m, ys, qn[j]);
+    if (!need_rotation) continue;
+    theta[j] = pointing_angle(m, d, ys, R);
+    if (s->track_ok) {
+      if (m->ctrl->reference_rotation(&m->par.controller, m->ctrl_model, d->ctrl_work, tn[j],
+                                      d->target, Rref)) {
+        double e = rotation_angle(Rref, R);
+        s->track_int += 0.5 * h * e * e;
+      } else {
+        s->track_ok = 0;
+      }
+    }
+  }
+  if (s->point.active) theta[3] = pointing_angle(m, d, y, R);
+
+  for (int a = 0; a < na; ++a) {
+    dyn_band *b = &s->act[a];
+    if (!b->active) continue;
+    double g[4];
+    for (int i = 0; i < 4; ++i)
+      g[i] = fabs(qn[i][a] - b->ref) - b->band;
+    band_ctx c = {m, d, a, b->ref, b->band};
+    band_step(b, tn, g, &c);
+  }
+  if (s->point.active) {
+    double g[4];
+    for (int i = 0; i < 4; ++i)
+      g[i] = theta[i] - s->point.band;
+    band_ctx c = {m, d, -1, 0.0, s->point.band};
+    band_step(&s->point, tn, g, &c);
+  }
+
+  /* the record row of this step (the final-value variant, max |q|) */
+  if (s->rec_n >= s->rec_cap) {
+    long cap = 2 * s->rec_cap;
+    double *r = realloc(s->rec, (size_t)cap * DYN_REC_WIDTH * sizeof(double));
+    if (!r) POM_FAIL(err, POM_ERR_NOMEM, "growing the settling record to %ld steps", cap);
+    s->rec = r;
+    s->rec_cap = cap;
+  }
+  double *row = s->rec + s->rec_n * DYN_REC_WIDTH;
+  row[DYN_REC_T] = t;
+  row[DYN_REC_H] = h;
+  for (int i = 0; i < 3; ++i)
+    for (int a = 0; a < na; ++a)
+      row[DYN_REC_Q + i * POM_MECH_MAX_ACTUATORS + a] = qn[i + 1][a];
+  ++s->rec_n;
+  s->t_prev = t;
+  for (int a = 0; a < na; ++a)
+    s->q_prev[a] = qn[3][a];
+  s->theta_prev = s->theta_end = theta[3];
+  return st;
+}
+
+/* ---- the final-value variant from the record ----------------------------- */
+/* q of actuator a at node i (0 = the step start, 1-2 interior, 3 the end) of
+ * record row r >= 1, and the node's time. */
+static double rec_q(const dyn_settle *s, long r, int i, int a, double *t) {
+  const double *row = s->rec + r * DYN_REC_WIDTH;
+  if (i == 0) {
+    const double *prev = row - DYN_REC_WIDTH;
+    *t = prev[DYN_REC_T];
+    return prev[DYN_REC_Q + 2 * POM_MECH_MAX_ACTUATORS + a];
+  }
+  *t = i == 3 ? row[DYN_REC_T] : row[DYN_REC_T] - row[DYN_REC_H] + gl_node[i - 1] * row[DYN_REC_H];
+  return row[DYN_REC_Q + (i - 1) * POM_MECH_MAX_ACTUATORS + a];
+}
+
+/* g(t) = |P(t) - ref| - band with P the cubic through a step's 4 nodes. */
+typedef struct {
+  double t[4], q[4], ref, band;
+} cubic_ctx;
+
+static double band_on_cubic(double t, void *vctx) {
+  const cubic_ctx *c = vctx;
+  double P = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    double L = 1.0;
+    for (int k = 0; k < 4; ++k)
+      if (k != i) L *= (t - c->t[k]) / (c->t[i] - c->t[k]);
+    P += L * c->q[i];
+  }
+  return fabs(P - c->ref) - c->band;
+}
+
+/* Last time |q_a - yf| > band over the record (0 when never), located on
+ * the cubic through the step's four nodes (O(h^4), section 8). */
+static double record_last_exit(const dyn_settle *s, int a, double yf, double band) {
+  double t;
+  for (long r = s->rec_n - 1; r >= 1; --r)
+    for (int i = 3; i >= 1; --i) {
+      if (!(fabs(rec_q(s, r, i, a, &t) - yf) > band)) continue;
+      /* outside at node i of row r: the crossing lies before the next node,
+       * on row r (i < 3) or on row r + 1 (i = 3) */
+      long rr = i < 3 ? r : r + 1;
+      int ia = i < 3 ? i : 0;
+      if (rr >= s->rec_n) return -1.0;
+      cubic_ctx c = {.ref = yf, .band = band};
+      for (int k = 0; k < 4; ++k)
+        c.q[k] = rec_q(s, rr, k, a, &c.t[k]);
+      return pom_dyn_illinois(band_on_cubic, &c, c.t[ia], band_on_cubic(c.t[ia], &c), c.t[ia + 1],
+                              band_on_cubic(c.t[ia + 1], &c), POM_DYN_SETTLE_XTOL);
+    }
+  /* only the start (row 0) is outside: the crossing lies in the first step */
+  if (s->rec_n > 1 && fabs(s->rec[DYN_REC_Q + a] - yf) > band) {
+    cubic_ctx c = {.ref = yf, .band = band};
+    for (int k = 0; k < 4; ++k)
+      c.q[k] = rec_q(s, 1, k, a, &c.t[k]);
+    return pom_dyn_illinois(band_on_cubic, &c, c.t[0], band_on_cubic(c.t[0], &c), c.t[1],
+                            band_on_cubic(c.t[1], &c), POM_DYN_SETTLE_XTOL);
+  }
+  return 0.0;
+}
+
+/* ---- metrics ------------------------------------------------------------- */
+void pom_dyn_settle_metrics(const pom_dyn_model *m, const pom_dyn_data *d, pom_dyn_metrics *mt) {
+  const pom_dyn_params *p = &m->par;
+  const dyn_settle *s = &d->settle;
+  mt->execution_time = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    mt->settling_time[a] = mt->settling_time_final[a] = 0.0;
+    mt->settled[a] = 1;
+  }
+  for (int a = 0; a < m->n_actuators; ++a) {
+    const dyn_band *b = &s->act[a];
+    double ts = !b->active ? 0.0 : b->outside ? -1.0 : b->t_settle;
+    mt->settled[a] = ts >= 0.0;
+    mt->settling_time[a] = ts >= 0.0 ? ts : NAN;
+    /* stepinfo variant: band = settle_band * max |q - q_final| over every
+     * node of every step */
+    double yf = s->q_prev[a], peak = 0.0, qmax = 0.0, t;
+    for (long r = 0; r < s->rec_n; ++r)
+      for (int i = 1; i <= 3; ++i) {
+        double q = r == 0 ? s->rec[DYN_REC_Q + a] : rec_q(s, r, i, a, &t);
+        peak = fmax(peak, fabs(q - yf));
+        qmax = fmax(qmax, fabs(q));
+      }
+    mt->max_abs_q[a] = qmax;
+    double tf = peak > 0 ? record_last_exit(s, a, yf, p->maneuver.settle_band * peak) : 0.0;
+    mt->settling_time_final[a] = tf >= 0 ? tf : NAN;
+    mt->final_q[a] = yf;
+    if (!mt->settled[a])
+      mt->execution_time = NAN;
+    else if (!isnan(mt->execution_time))
+      mt->execution_time = fmax(mt->execution_time, ts);
+  }
+  /* the tracking error: a time average over the horizon (docs/results.md 1b) */
+  mt->tracking_rms_error = s->track_ok && s->t_prev > 0 ? sqrt(s->track_int / s->t_prev) : NAN;
+  if (!s->point.active) return;
+  double tp = s->point.outside ? -1.0 : s->point.t_settle;
+  mt->pointing_settled = tp >= 0.0;
+  mt->pointing_settling_time = tp >= 0.0 ? tp : NAN;
+  mt->final_pointing_error = s->theta_end;
+}
