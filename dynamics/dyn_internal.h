@@ -175,18 +175,20 @@ enum {
 };
 
 typedef struct {
-  dyn_band act[POM_MECH_MAX_ACTUATORS];  /* per-actuator band about the setpoint */
-  dyn_band point;                        /* pointing band about the target orientation */
-  double t_prev;                         /* end of the previous step (s) */
-  double q_prev[POM_MECH_MAX_ACTUATORS]; /* q there (m or rad) */
-  double theta_prev;                     /* pointing angle there (rad) */
-  double theta_end;                      /* pointing angle at the last step end (rad) */
-  double track_int;                      /* integral of the squared tracking angle (rad^2 s) */
-  int track_ok;                          /* 1 while every node had a reference rotation */
-  double *rec;  /* [rec_cap][DYN_REC_WIDTH] per-step record for the final-value variant */
-  long rec_n;   /* rows used (row 0: t = 0) */
-  long rec_cap; /* rows allocated (grows geometrically, kept across maneuvers) */
-  long evals;   /* interpolant evaluations of the last maneuver (nodes + root finding) */
+  dyn_band act[POM_MECH_MAX_ACTUATORS];   /* per-actuator band about the setpoint */
+  dyn_band point;                         /* pointing band about the target orientation */
+  double t_prev;                          /* end of the previous step (s) */
+  double q_prev[POM_MECH_MAX_ACTUATORS];  /* q there (m or rad) */
+  double qd_prev[POM_MECH_MAX_ACTUATORS]; /* q_dot there (m/s or rad/s) */
+  long interior_steps; /* steps whose interior nodes were evaluated on the interpolant */
+  double theta_prev;   /* pointing angle there (rad) */
+  double theta_end;    /* pointing angle at the last step end (rad) */
+  double track_int;    /* integral of the squared tracking angle (rad^2 s) */
+  int track_ok;        /* 1 while every node had a reference rotation */
+  double *rec;         /* [rec_cap][DYN_REC_WIDTH] per-step record for the final-value variant */
+  long rec_n;          /* rows used (row 0: t = 0) */
+  long rec_cap;        /* rows allocated (grows geometrically, kept across maneuvers) */
+  long evals;          /* interpolant evaluations of the last maneuver (nodes + root finding) */
 } dyn_settle;
 
 struct pom_dyn_data {
