@@ -116,7 +116,7 @@
   X(solver, "max_steps", "max_steps", solver.max_steps, LONG, 0, 1.0, "1", 1, 1000000000L, 200000, \
     "solver_max_steps", "steps per maneuver")                                                      \
   X(solver, "linear_solver", "linear_solver", solver.linear_solver, ENUM, pom_dyn_linsol_names,    \
-    1.0, "-", 0, 0, POM_LINSOL_KLU, "solver_linear_solver",                                        \
+    1.0, "-", 0, 0, POM_LINSOL_STRUCTURED, "solver_linear_solver",                                        \
     "Newton linear solver of the parasitic path: SUNDIALS dense LU, KLU, or the block LU over the "\
     "bond graph's groups (docs/dynamics.md section 7)")                                            \
   X(solver, "jacobian", "jacobian", solver.jacobian, ENUM, pom_dyn_jacobian_names, 1.0, "-", 0, 0, \

@@ -41,7 +41,7 @@ static void former_defaults(pom_dyn_params *p) {
   p->solver.atol_scale = 0.0;
   p->solver.max_step = 0.0;
   p->solver.max_steps = 200000;
-  p->solver.linear_solver = POM_LINSOL_KLU;
+  p->solver.linear_solver = POM_LINSOL_STRUCTURED; /* KLU until issue 20 */
   p->solver.jacobian = POM_JAC_ANALYTIC;
   p->solver.max_order = 5;
   p->solver.stability_limit_detection = 1;
