@@ -2,8 +2,9 @@
  * (pom_dyn_form_exact) in minimal coordinates: the state is the platform orientation and angular
  * velocity (plus the coils, PID integrals and energy accumulators); every body's pose and twist
  * follow from pom_kin_body_twists; the equations of motion are Kane's M(R) omega_dot = f(R, omega,
- * i) (docs/dynamics-exact.md). Model set-up, the right-hand side, the Jacobian pattern (dense
- * mechanical and electrical columns, differenced by dyn_fdjac.c), the block linear solver and the
+ * i) (docs/dynamics-exact.md). Model set-up, the right-hand side, the Jacobian (dense mechanical
+ * and electrical columns, analytic from the second-order kinematics where the architecture has
+ * them, else the mechanical ones differenced by dyn_fdjac.c), the block linear solver and the
  * state queries of the shared driver (dyn_simulate.c). */
 #include "dyn_internal.h"
 #include "pom_math.h"
@@ -65,10 +66,11 @@ typedef struct {
 
 /* Per-worker scratch of the exact formulation (d->form_data). */
 typedef struct {
-  pom_kin_twists tw; /* body poses and twists of the last evaluation */
-  double M[9];       /* mass matrix of the last evaluation (kg m^2) */
-  double kinetic;    /* 1/2 omega^T M omega of the last evaluation (J) */
-  double potential;  /* gravitational energy relative to home (J) */
+  pom_kin_twists tw;       /* body poses and twists of the last evaluation */
+  pom_kin_twists_diff dtw; /* their derivatives at the last analytic Jacobian */
+  double M[9];             /* mass matrix of the last evaluation (kg m^2) */
+  double kinetic;          /* 1/2 omega^T M omega of the last evaluation (J) */
+  double potential;        /* gravitational energy relative to home (J) */
 } dyn_exact_work;
 
 static inline const dyn_exact *exact_of(const pom_dyn_model *m) {
@@ -306,13 +308,16 @@ static pom_status exact_init(pom_dyn_model *m, const pom_mechanism *mech, const 
   m->n_states = next;
 
   /* Jacobian pattern: the mechanical and electrical columns are dense (every
-   * state feeds M(R) omega_dot = f); the accumulator columns are zero. Only
-   * the mechanical columns (orientation, then omega: the last differenced
-   * column is an omega one, exact_jacobian relies on it) are differenced, each
-   * its own colour; the electrical ones are analytic (colour -1 for both
-   * kinds: never differenced), unless the controller has no analytic
-   * partials (m->ctrl_analytic 0): then they are differenced too, after the
-   * mechanical ones (docs/dynamics-exact.md section 5) */
+   * state feeds M(R) omega_dot = f); the accumulator columns are zero. The
+   * mechanical columns (orientation, then omega) are analytic when the
+   * architecture has second-order kinematics and the controller analytic
+   * partials (pom_dyn_exact_jacobian; the colours below then go unused);
+   * otherwise they are differenced (the last differenced column is an omega
+   * one, exact_jacobian relies on it), each its own colour; the electrical
+   * ones are analytic (colour -1 for both kinds: never differenced), unless
+   * the controller has no analytic partials (m->ctrl_analytic 0): then they
+   * are differenced too, after the mechanical ones (docs/dynamics-exact.md
+   * section 5) */
   const size_t n = (size_t)m->n_states;
   m->atol = calloc(n, sizeof *m->atol);
   m->scale = calloc(n, sizeof *m->scale);
@@ -599,8 +604,350 @@ static void electrical_columns(const pom_dyn_model *m, pom_dyn_data *d, const do
   }
 }
 
+/* ---- analytic mechanical columns ----------------------------------------------- */
+/* Directional derivatives of body_terms' M and f (docs/dynamics-exact.md
+ * section 5): along a platform rotation increment t (theta, fixed frame;
+ * the omega derivative wdir = 0) or along omega (t = 0, wdir = e_k), with D
+ * the derivatives of the twists in that direction (pom_kin_twists_diff).
+ * Adds to dM and df. */
+typedef struct {
+  double rho[3], Acm[9], wb[3], F[3]; /* as body_terms */
+  double If[9];                       /* fixed-frame inertia R_b I_home R_b^T */
+  double Ifwb[3], Tq[3];              /* I_f w_b and the torque -(I_f alpha0 + w_b x I_f w_b) */
+  int rot;                            /* 0: the body only translates (B = 0) */
+} body_pre;
+
+static void body_pre_eval(const pom_dyn_model *m, const pom_kin_twists *tw, const double *w,
+                          body_pre *bp) {
+  const dyn_exact *ex = exact_of(m);
+  for (int b = 0; b < m->n_bodies; ++b) {
+    const dyn_body *bd = &m->body[b];
+    const pom_kin_body_twist *t = &tw->body[bd->mech_index];
+    body_pre *p = &bp[b];
+    double d0[3], a0[3], tmp[3], x[3], S[9];
+    pom_v3_sub(d0, bd->cm_home, t->ref_home);
+    mv(p->rho, t->R, d0);
+    pom_m3_skew(S, p->rho);
+    mm(p->Acm, S, t->B);
+    for (int k = 0; k < 9; ++k)
+      p->Acm[k] = t->A[k] - p->Acm[k];
+    mv(p->wb, t->B, w);
+    pom_v3_cross(a0, t->alpha_bias, p->rho);
+    pom_v3_add(a0, a0, t->a_bias);
+    pom_v3_cross(tmp, p->wb, p->rho);
+    pom_v3_cross(x, p->wb, tmp);
+    pom_v3_add(a0, a0, x);
+    for (int k = 0; k < 3; ++k)
+      p->F[k] = bd->mass * (m->gravity[k] - a0[k]);
+    p->rot = 0;
+    for (int k = 0; k < 9; ++k)
+      p->rot |= t->B[k] != 0.0;
+    if (!p->rot) continue;
+    if (ex->spin_free[b]) {
+      /* axisymmetric equivalent: I_f = I_t on every w_b, alpha0 met */
+      pom_v3_scale(p->Tq, -ex->transverse[b], t->alpha_bias);
+    } else {
+      double RI[9], Ia[3], g[3];
+      mm(RI, t->R, ex->inertia[b]);
+      for (int r = 0; r < 3; ++r) /* If = RI R^T */
+        for (int c = 0; c < 3; ++c)
+          p->If[3 * r + c] = RI[3 * r] * t->R[3 * c] + RI[3 * r + 1] * t->R[3 * c + 1] +
+                             RI[3 * r + 2] * t->R[3 * c + 2];
+      mv(p->Ifwb, p->If, p->wb);
+      mv(Ia, p->If, t->alpha_bias);
+      pom_v3_cross(g, p->wb, p->Ifwb);
+      for (int k = 0; k < 3; ++k)
+        p->Tq[k] = -Ia[k] - g[k];
+    }
+  }
+}
+
+static void body_terms_diff(const pom_dyn_model *m, const pom_kin_twists *tw,
+                            const pom_kin_twists *D, const body_pre *bp, const double *w,
+                            const double t[3], const double wdir[3], double dM[9], double df[3]) {
+  const dyn_exact *ex = exact_of(m);
+  for (int b = 0; b < m->n_bodies; ++b) {
+    const dyn_body *bd = &m->body[b];
+    const pom_kin_body_twist *tb = &tw->body[bd->mech_index], *Db = &D->body[bd->mech_index];
+    const body_pre *p = &bp[b];
+    double beta[3], drho[3], dAcm[9], S[9], SB[9], dwb[3], tmp[3], tmp2[3], da0[3], dF[3];
+    /* the body turns by beta = B t: rho' = beta x rho */
+    mv(beta, tb->B, t);
+    pom_v3_cross(drho, beta, p->rho);
+    /* Acm' = A' - [rho']x B - [rho]x B' */
+    pom_m3_skew(S, drho);
+    mm(dAcm, S, tb->B);
+    pom_m3_skew(S, p->rho);
+    mm(SB, S, Db->B);
+    for (int k = 0; k < 9; ++k)
+      dAcm[k] = Db->A[k] - dAcm[k] - SB[k];
+    /* w_b' = B' w + B wdir */
+    mv(dwb, Db->B, w);
+    mv(tmp, tb->B, wdir);
+    pom_v3_add(dwb, dwb, tmp);
+    /* a0' = alpha0' x rho + alpha0 x rho' + a0_bias' + w_b' x (w_b x rho)
+     *       + w_b x (w_b' x rho + w_b x rho') */
+    double wr[3], x[3];
+    pom_v3_cross(da0, Db->alpha_bias, p->rho);
+    pom_v3_cross(tmp, tb->alpha_bias, drho);
+    pom_v3_add(da0, da0, tmp);
+    pom_v3_add(da0, da0, Db->a_bias);
+    pom_v3_cross(wr, p->wb, p->rho);
+    pom_v3_cross(tmp, dwb, wr);
+    pom_v3_add(da0, da0, tmp);
+    pom_v3_cross(tmp, dwb, p->rho);
+    pom_v3_cross(tmp2, p->wb, drho);
+    pom_v3_add(tmp, tmp, tmp2);
+    pom_v3_cross(x, p->wb, tmp);
+    pom_v3_add(da0, da0, x);
+    for (int k = 0; k < 3; ++k)
+      dF[k] = -bd->mass * da0[k];
+    /* M' += m (Acm'^T Acm + Acm^T Acm'), f' += Acm'^T F + Acm^T F' */
+    add_tmul(dM, bd->mass, dAcm, p->Acm);
+    add_tmul(dM, bd->mass, p->Acm, dAcm);
+    mtv(tmp, dAcm, p->F);
+    pom_v3_add(df, df, tmp);
+    mtv(tmp, p->Acm, dF);
+    pom_v3_add(df, df, tmp);
+    if (!p->rot) continue;
+    double dTq[3];
+    if (ex->spin_free[b]) {
+      const double It = ex->transverse[b];
+      add_tmul(dM, It, Db->B, tb->B);
+      add_tmul(dM, It, tb->B, Db->B);
+      pom_v3_scale(dTq, -It, Db->alpha_bias);
+    } else {
+      /* I_f' = [beta]x I_f - I_f [beta]x */
+      double Bx[9], dIf[9], IB[9], dIB[9], a1[3], a2[3];
+      pom_m3_skew(Bx, beta);
+      mm(dIf, Bx, p->If);
+      mm(IB, p->If, Bx);
+      for (int k = 0; k < 9; ++k)
+        dIf[k] -= IB[k];
+      mm(IB, p->If, tb->B);
+      mm(dIB, dIf, tb->B);
+      add_tmul(dM, 1.0, Db->B, IB);
+      mtm(S, tb->B, dIB);
+      for (int k = 0; k < 9; ++k)
+        dM[k] += S[k];
+      mm(dIB, p->If, Db->B);
+      add_tmul(dM, 1.0, tb->B, dIB);
+      /* Tq' = -(I_f' alpha0 + I_f alpha0' + w_b' x I_f w_b + w_b x (I_f' w_b + I_f w_b')) */
+      mv(a1, dIf, tb->alpha_bias);
+      mv(a2, p->If, Db->alpha_bias);
+      pom_v3_add(dTq, a1, a2);
+      pom_v3_cross(tmp, dwb, p->Ifwb);
+      pom_v3_add(dTq, dTq, tmp);
+      mv(a1, dIf, p->wb);
+      mv(a2, p->If, dwb);
+      pom_v3_add(a1, a1, a2);
+      pom_v3_cross(tmp, p->wb, a1);
+      pom_v3_add(dTq, dTq, tmp);
+      pom_v3_scale(dTq, -1.0, dTq);
+    }
+    /* f' += B'^T Tq + B^T Tq' */
+    mtv(tmp, Db->B, p->Tq);
+    pom_v3_add(df, df, tmp);
+    mtv(tmp, tb->B, dTq);
+    pom_v3_add(df, df, tmp);
+  }
+}
+
+/* Rotation increment per orientation state (docs/dynamics-exact.md section
+ * 5): column j of G is d theta / d o_j, with dR = [d theta]x R. ZYX Euler
+ * (psi, theta, phi): z, Rz(psi) y, Rz(psi) Ry(theta) x; quaternion (the
+ * state q, normalized inside): 2 (e_j (x) q^*)_vec / |q| with q^* the
+ * normalized conjugate. G is 3 x n_ori, row-major with 4 columns. */
+static void orientation_map(const dyn_exact *ex, const double *o, const double trig[4],
+                            double G[12]) {
+  memset(G, 0, 12 * sizeof *G);
+  if (ex->n_ori == 4) {
+    double n = sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2] + o[3] * o[3]);
+    double s = o[0] / n, v[3] = {o[1] / n, o[2] / n, o[3] / n}, f = 2.0 / n;
+    for (int r = 0; r < 3; ++r)
+      G[4 * r] = -f * v[r];
+    for (int c = 0; c < 3; ++c) { /* s e_c - e_c x v */
+      double e[3] = {0.0, 0.0, 0.0}, x[3];
+      e[c] = 1.0;
+      pom_v3_cross(x, e, v);
+      for (int r = 0; r < 3; ++r)
+        G[4 * r + 1 + c] = f * (s * e[r] - x[r]);
+    }
+    return;
+  }
+  const double cps = trig[0], sps = trig[1], cth = trig[2], sth = trig[3];
+  G[4 * 2 + 0] = 1.0;
+  G[4 * 0 + 1] = -sps;
+  G[4 * 1 + 1] = cps;
+  G[4 * 0 + 2] = cps * cth;
+  G[4 * 1 + 2] = sps * cth;
+  G[4 * 2 + 2] = -sth;
+}
+
+/* Partials of the orientation rates: dod[r][j] against o_j (j < n_ori) and
+ * against omega_k (j = n_ori + k), row-major with 7 columns. */
+static void orientation_rate_partials(const dyn_exact *ex, const double *o, const double *w,
+                                      const double trig[4], double dod[28]) {
+  memset(dod, 0, 28 * sizeof *dod);
+  if (ex->n_ori == 4) {
+    /* q_dot = 1/2 (0, w) (x) q: linear in q and in w */
+    const double wq[4] = {0.0, w[0], w[1], w[2]};
+    for (int j = 0; j < 4; ++j) {
+      double e[4] = {0.0, 0.0, 0.0, 0.0}, r[4];
+      e[j] = 1.0;
+      pom_quat_mul(r, wq, e);
+      for (int i = 0; i < 4; ++i)
+        dod[7 * i + j] = 0.5 * r[i];
+    }
+    for (int k = 0; k < 3; ++k) {
+      double ek[4] = {0.0, 0.0, 0.0, 0.0}, r[4];
+      ek[1 + k] = 1.0;
+      pom_quat_mul(r, ek, o);
+      for (int i = 0; i < 4; ++i)
+        dod[7 * i + 4 + k] = 0.5 * r[i];
+    }
+    return;
+  }
+  /* psi_dot = tan(theta) a + w_z, theta_dot = b, phi_dot = a / cos(theta) with
+   * a = c_psi w_x + s_psi w_y, b = -s_psi w_x + c_psi w_y */
+  const double cps = trig[0], sps = trig[1], cth = trig[2], sth = trig[3], tth = sth / cth;
+  const double a = cps * w[0] + sps * w[1], b = -sps * w[0] + cps * w[1];
+  dod[7 * 0 + 0] = tth * b;
+  dod[7 * 0 + 1] = a / (cth * cth);
+  dod[7 * 1 + 0] = -a;
+  dod[7 * 2 + 0] = b / cth;
+  dod[7 * 2 + 1] = a * sth / (cth * cth);
+  const double E[9] = {cps * tth, sps * tth, 1.0, -sps, cps, 0.0, cps / cth, sps / cth, 0.0};
+  for (int r = 0; r < 3; ++r)
+    for (int k = 0; k < 3; ++k)
+      dod[7 * r + 3 + k] = E[3 * r + k];
+}
+
+/* The orientation and omega columns (docs/dynamics-exact.md section 5), from
+ * the second-order kinematics at y: omega_dot = M^-1 f moves by
+ * M^-1 (f' - M' omega_dot) with f' and M' from body_terms_diff and the
+ * actuators' J_a' F_a + J_a (F_q q_a' + F_qd qd_a'); the actuator and
+ * accumulator rows by the law's partials against q_a, qd_a; the orientation
+ * rows by the rate map's. Also leaves xw->tw and xw->M at y for
+ * electrical_columns. f0 is the right-hand side at y. Returns 0, or 1
+ * (recoverable) where the evaluation at y fails. */
+static int mechanical_columns(const pom_dyn_model *m, pom_dyn_data *d, const double *y,
+                              const double *f0) {
+  const dyn_exact *ex = exact_of(m);
+  dyn_exact_work *xw = work_of(d);
+  const pom_dyn_actuator *ap = &m->par.actuator;
+  const double Rc = ap->resistance;
+  double R[9], trig[4] = {1.0, 0.0, 1.0, 0.0};
+  state_rotation(m, y, R, trig);
+  if (ex->n_ori == 3 && trig[2] < m->par.scene.euler_cos_min) return 1;
+  const double *w = y + ex->omega, *wd = f0 + ex->omega;
+  if (pom_kin_body_twists_diff(&ex->arch, R, w, &xw->tw, &xw->dtw, NULL) != POM_OK) return 1;
+  const pom_kin_twists *tw = &xw->tw;
+  double M[9] = {0}, f[3] = {0}, pe = 0.0;
+  body_terms(m, tw, w, M, f, &pe);
+  memcpy(xw->M, M, sizeof M);
+  body_pre bp[POM_MECH_MAX_BODIES];
+  body_pre_eval(m, tw, w, bp);
+
+  /* per direction (theta_0..2, omega_0..2): omega_dot', q_a', qd_a' */
+  dyn_law_partials lp[POM_MECH_MAX_ACTUATORS];
+  double dwd[6][3], dq[POM_MECH_MAX_ACTUATORS][6], dqd[POM_MECH_MAX_ACTUATORS][6];
+  for (int a = 0; a < m->n_actuators; ++a) {
+    const int limb = ex->act_limb[a];
+    pom_dyn_actuator_law_partials(m, d, a, tw->q[limb], pom_v3_dot(tw->J + 3 * limb, w), y, &lp[a]);
+  }
+  for (int dir = 0; dir < 6; ++dir) {
+    const int k = dir % 3, rot = dir < 3;
+    double t[3] = {0.0, 0.0, 0.0}, wdir[3] = {0.0, 0.0, 0.0}, dM[9] = {0}, df[3] = {0}, rhs[3];
+    const pom_kin_twists *D = rot ? &xw->dtw.d_theta[k] : &xw->dtw.d_omega[k];
+    (rot ? t : wdir)[k] = 1.0;
+    body_terms_diff(m, tw, D, bp, w, t, wdir, dM, df);
+    for (int a = 0; a < m->n_actuators; ++a) {
+      const int limb = ex->act_limb[a];
+      const double *Jr = tw->J + 3 * limb, *dJ = D->J + 3 * limb;
+      dq[a][dir] = rot ? Jr[k] : 0.0;
+      dqd[a][dir] = rot ? pom_v3_dot(dJ, w) : Jr[k];
+      double dF = lp[a].dF_dq * dq[a][dir] + lp[a].dF_dqd * dqd[a][dir];
+      for (int r = 0; r < 3; ++r)
+        df[r] += dJ[r] * lp[a].effort + Jr[r] * dF;
+    }
+    mv(rhs, dM, wd);
+    pom_v3_sub(rhs, df, rhs);
+    if (!spd_solve(dwd[dir], M, rhs)) return 1;
+  }
+
+  /* the columns: orientation states through G, then omega */
+  double G[12], dod[28];
+  orientation_map(ex, y + ex->ori, trig, G);
+  orientation_rate_partials(ex, y + ex->ori, w, trig, dod);
+  const int n_mech = ex->n_ori + 3;
+  for (int j = 0; j < n_mech; ++j) {
+    const int col = ex->ori + j;
+    double c[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}; /* weights of the six directions */
+    if (j < ex->n_ori)
+      for (int r = 0; r < 3; ++r)
+        c[r] = G[4 * r + j];
+    else
+      c[3 + j - ex->n_ori] = 1.0;
+    double dw[3] = {0.0, 0.0, 0.0};
+    for (int e = 0; e < 6; ++e)
+      if (c[e] != 0.0)
+        for (int r = 0; r < 3; ++r)
+          dw[r] += c[e] * dwd[e][r];
+    for (long kk = m->colptr[col]; kk < m->colptr[col + 1]; ++kk)
+      d->jac[kk] = 0.0;
+    for (long kk = m->colptr[col]; kk < m->colptr[col + 1]; ++kk) {
+      const int i = m->rowind[kk];
+      if (i >= ex->ori && i < ex->ori + ex->n_ori)
+        d->jac[kk] = dod[7 * (i - ex->ori) + j];
+      else if (i >= ex->omega && i < ex->omega + 3)
+        d->jac[kk] = dw[i - ex->omega];
+    }
+    for (int a = 0; a < m->n_actuators; ++a) {
+      const dyn_actuator *ac = &m->act[a];
+      const dyn_law_partials *g = &lp[a];
+      double sq = 0.0, sqd = 0.0;
+      for (int e = 0; e < 6; ++e) {
+        sq += c[e] * dq[a][e];
+        sqd += c[e] * dqd[a][e];
+      }
+      const double du = g->du_dq * sq + g->du_dqd * sqd, di = g->di_dq * sq + g->di_dqd * sqd;
+      const double dpw = du * g->i + g->u * di, pw = g->u * g->i;
+      for (long kk = m->colptr[col]; kk < m->colptr[col + 1]; ++kk) {
+        const int i = m->rowind[kk], r = i - ac->acc_state;
+        if (i == ac->flux_state)
+          d->jac[kk] = g->dflux_dq * sq + g->dflux_dqd * sqd;
+        else if (i == ac->ctrl_state)
+          d->jac[kk] = g->dzd_dq * sq + g->dzd_dqd * sqd;
+        else if (r == DYN_ACC_SOURCE)
+          d->jac[kk] = dpw;
+        else if (r == DYN_ACC_SOURCE_POS)
+          d->jac[kk] = pw > 0 ? dpw : 0.0;
+        else if (r == DYN_ACC_COIL)
+          d->jac[kk] = 2.0 * Rc * g->i * di;
+        else if (r == DYN_ACC_BEARING)
+          d->jac[kk] = g->dbearing_dqd * sqd;
+      }
+    }
+  }
+  return 0;
+}
+
+/* 1 when the orientation and omega columns go analytically: a controller
+ * with analytic partials and an architecture with second-order kinematics. */
+static int analytic_mechanical(const pom_dyn_model *m) {
+  return m->ctrl_analytic && pom_kin_has_twists_diff(&exact_of(m)->arch);
+}
+
 int pom_dyn_exact_jacobian(pom_dyn_data *d, const double *y, const double *f0, double *yp,
                            double *fp) {
+  if (analytic_mechanical(d->m)) {
+    ++d->jac_count;
+    int r = mechanical_columns(d->m, d, y, f0);
+    if (r != 0) return r;
+    electrical_columns(d->m, d, y);
+    return 0;
+  }
   /* the mechanical columns by differences; the last one differenced is an
    * omega column, whose evaluation leaves M, q and J at the rotation of y
    * (they do not depend on omega) */
