@@ -605,151 +605,176 @@ static void electrical_columns(const pom_dyn_model *m, pom_dyn_data *d, const do
 }
 
 /* ---- analytic mechanical columns ----------------------------------------------- */
-/* Directional derivatives of body_terms' M and f (docs/dynamics-exact.md
- * section 5): along a platform rotation increment t (theta, fixed frame;
- * the omega derivative wdir = 0) or along omega (t = 0, wdir = e_k), with D
- * the derivatives of the twists in that direction (pom_kin_twists_diff).
- * Adds to dM and df. */
+/* Per body, what every direction's derivative reuses (docs/dynamics-exact.md
+ * section 5): with the angular acceleration omega_dot of the evaluation,
+ * G = F - m Acm omega_dot and H = T - I B omega_dot (the residual of each
+ * body's share of M omega_dot = f), so that f' - M' omega_dot groups into
+ * matrix-vector products and no 3x3 product is formed per direction. */
 typedef struct {
-  double rho[3], Acm[9], wb[3], F[3]; /* as body_terms */
-  double If[9];                       /* fixed-frame inertia R_b I_home R_b^T */
-  double Ifwb[3], Tq[3];              /* I_f w_b and the torque -(I_f alpha0 + w_b x I_f w_b) */
-  int rot;                            /* 0: the body only translates (B = 0) */
+  double rho[3], Acm[9], wb[3]; /* as body_terms */
+  double Bwd[3];                /* B omega_dot */
+  double G[3], rG[3];           /* F - m Acm omega_dot, rho x G */
+  double If[9];                 /* fixed-frame inertia R_b I_home R_b^T (not for idle spin) */
+  double Iwb[3], Iat[3];        /* I w_b, I (alpha0 + B omega_dot) */
+  double at[3];                 /* alpha0 + B omega_dot */
+  double H[3];                  /* T - I B omega_dot = -(I at + w_b x I w_b) */
+  int rot;                      /* 0: the body only translates (B = B' = 0) */
 } body_pre;
 
-static void body_pre_eval(const pom_dyn_model *m, const pom_kin_twists *tw, const double *w,
+static void body_pre_eval(const pom_dyn_model *m, const pom_kin_twists *tw,
+                          const pom_kin_twists_diff *dtw, const double *w, const double *wd,
                           body_pre *bp) {
   const dyn_exact *ex = exact_of(m);
   for (int b = 0; b < m->n_bodies; ++b) {
     const dyn_body *bd = &m->body[b];
-    const pom_kin_body_twist *t = &tw->body[bd->mech_index];
+    const int k = bd->mech_index;
+    const pom_kin_body_twist *t = &tw->body[k];
     body_pre *p = &bp[b];
-    double d0[3], a0[3], tmp[3], x[3], S[9];
+    double d0[3], a0[3], tmp[3], x[3], S[9], Aw[3];
     pom_v3_sub(d0, bd->cm_home, t->ref_home);
     mv(p->rho, t->R, d0);
     pom_m3_skew(S, p->rho);
     mm(p->Acm, S, t->B);
-    for (int k = 0; k < 9; ++k)
-      p->Acm[k] = t->A[k] - p->Acm[k];
+    for (int e = 0; e < 9; ++e)
+      p->Acm[e] = t->A[e] - p->Acm[e];
     mv(p->wb, t->B, w);
+    mv(p->Bwd, t->B, wd);
     pom_v3_cross(a0, t->alpha_bias, p->rho);
     pom_v3_add(a0, a0, t->a_bias);
     pom_v3_cross(tmp, p->wb, p->rho);
     pom_v3_cross(x, p->wb, tmp);
     pom_v3_add(a0, a0, x);
-    for (int k = 0; k < 3; ++k)
-      p->F[k] = bd->mass * (m->gravity[k] - a0[k]);
+    mv(Aw, p->Acm, wd);
+    for (int e = 0; e < 3; ++e)
+      p->G[e] = bd->mass * (m->gravity[e] - a0[e] - Aw[e]);
+    pom_v3_cross(p->rG, p->rho, p->G);
     p->rot = 0;
-    for (int k = 0; k < 9; ++k)
-      p->rot |= t->B[k] != 0.0;
+    for (int e = 0; e < 9; ++e)
+      p->rot |= t->B[e] != 0.0 || dtw->d_theta[0].body[k].B[e] != 0.0 ||
+                dtw->d_theta[1].body[k].B[e] != 0.0 || dtw->d_theta[2].body[k].B[e] != 0.0;
     if (!p->rot) continue;
+    pom_v3_add(p->at, t->alpha_bias, p->Bwd);
     if (ex->spin_free[b]) {
-      /* axisymmetric equivalent: I_f = I_t on every w_b, alpha0 met */
-      pom_v3_scale(p->Tq, -ex->transverse[b], t->alpha_bias);
+      /* axisymmetric equivalent: I = I_t on every w_b, no gyroscopic term */
+      const double It = ex->transverse[b];
+      pom_v3_scale(p->Iwb, It, p->wb);
+      pom_v3_scale(p->Iat, It, p->at);
+      pom_v3_scale(p->H, -1.0, p->Iat);
     } else {
-      double RI[9], Ia[3], g[3];
+      double RI[9], g[3];
       mm(RI, t->R, ex->inertia[b]);
       for (int r = 0; r < 3; ++r) /* If = RI R^T */
         for (int c = 0; c < 3; ++c)
           p->If[3 * r + c] = RI[3 * r] * t->R[3 * c] + RI[3 * r + 1] * t->R[3 * c + 1] +
                              RI[3 * r + 2] * t->R[3 * c + 2];
-      mv(p->Ifwb, p->If, p->wb);
-      mv(Ia, p->If, t->alpha_bias);
-      pom_v3_cross(g, p->wb, p->Ifwb);
-      for (int k = 0; k < 3; ++k)
-        p->Tq[k] = -Ia[k] - g[k];
+      mv(p->Iwb, p->If, p->wb);
+      mv(p->Iat, p->If, p->at);
+      pom_v3_cross(g, p->wb, p->Iwb);
+      for (int e = 0; e < 3; ++e)
+        p->H[e] = -p->Iat[e] - g[e];
     }
   }
 }
 
+/* I' v = beta x (I v) - I (beta x v), the fixed-frame inertia turning by beta;
+ * Iv = I v given. */
+static void inertia_turn(double out[3], const body_pre *p, int spin_free, const double beta[3],
+                         const double v[3], const double Iv[3]) {
+  double bv[3], Ibv[3];
+  pom_v3_cross(out, beta, Iv);
+  if (spin_free) return; /* I = I_t on the body's angular velocities: I' v = 0 */
+  pom_v3_cross(bv, beta, v);
+  mv(Ibv, p->If, bv);
+  pom_v3_sub(out, out, Ibv);
+}
+
+/* r = f' - M' omega_dot over the bodies along one direction: a platform
+ * rotation increment t (fixed frame; wdir = 0) or omega's wdir (t = NULL),
+ * with D the twists' derivatives in that direction (pom_kin_twists_diff). */
 static void body_terms_diff(const pom_dyn_model *m, const pom_kin_twists *tw,
                             const pom_kin_twists *D, const body_pre *bp, const double *w,
-                            const double t[3], const double wdir[3], double dM[9], double df[3]) {
+                            const double *wd, const double *t, const double wdir[3], double r[3]) {
   const dyn_exact *ex = exact_of(m);
   for (int b = 0; b < m->n_bodies; ++b) {
     const dyn_body *bd = &m->body[b];
     const pom_kin_body_twist *tb = &tw->body[bd->mech_index], *Db = &D->body[bd->mech_index];
     const body_pre *p = &bp[b];
-    double beta[3], drho[3], dAcm[9], S[9], SB[9], dwb[3], tmp[3], tmp2[3], da0[3], dF[3];
-    /* the body turns by beta = B t: rho' = beta x rho */
-    mv(beta, tb->B, t);
-    pom_v3_cross(drho, beta, p->rho);
-    /* Acm' = A' - [rho']x B - [rho]x B' */
-    pom_m3_skew(S, drho);
-    mm(dAcm, S, tb->B);
-    pom_m3_skew(S, p->rho);
-    mm(SB, S, Db->B);
-    for (int k = 0; k < 9; ++k)
-      dAcm[k] = Db->A[k] - dAcm[k] - SB[k];
-    /* w_b' = B' w + B wdir */
-    mv(dwb, Db->B, w);
-    mv(tmp, tb->B, wdir);
-    pom_v3_add(dwb, dwb, tmp);
-    /* a0' = alpha0' x rho + alpha0 x rho' + a0_bias' + w_b' x (w_b x rho)
-     *       + w_b x (w_b' x rho + w_b x rho') */
-    double wr[3], x[3];
-    pom_v3_cross(da0, Db->alpha_bias, p->rho);
-    pom_v3_cross(tmp, tb->alpha_bias, drho);
-    pom_v3_add(da0, da0, tmp);
-    pom_v3_add(da0, da0, Db->a_bias);
-    pom_v3_cross(wr, p->wb, p->rho);
-    pom_v3_cross(tmp, dwb, wr);
-    pom_v3_add(da0, da0, tmp);
-    pom_v3_cross(tmp, dwb, p->rho);
-    pom_v3_cross(tmp2, p->wb, drho);
-    pom_v3_add(tmp, tmp, tmp2);
-    pom_v3_cross(x, p->wb, tmp);
-    pom_v3_add(da0, da0, x);
-    for (int k = 0; k < 3; ++k)
-      dF[k] = -bd->mass * da0[k];
-    /* M' += m (Acm'^T Acm + Acm^T Acm'), f' += Acm'^T F + Acm^T F' */
-    add_tmul(dM, bd->mass, dAcm, p->Acm);
-    add_tmul(dM, bd->mass, p->Acm, dAcm);
-    mtv(tmp, dAcm, p->F);
-    pom_v3_add(df, df, tmp);
-    mtv(tmp, p->Acm, dF);
-    pom_v3_add(df, df, tmp);
-    if (!p->rot) continue;
-    double dTq[3];
-    if (ex->spin_free[b]) {
-      const double It = ex->transverse[b];
-      add_tmul(dM, It, Db->B, tb->B);
-      add_tmul(dM, It, tb->B, Db->B);
-      pom_v3_scale(dTq, -It, Db->alpha_bias);
+    double tmp[3], tmp2[3], acc[3];
+    /* translation: Acm'^T G + Acm^T (F' - m Acm' omega_dot), with
+     * Acm'^T G = A'^T G + B^T (rho' x G) + B'^T (rho x G) and
+     * -F'/m + Acm' omega_dot = a_cm0' + A' omega_dot - rho' x B omega_dot - rho x B' omega_dot */
+    const int turn = t != NULL; /* along omega A' = B' = 0 and the body does not turn */
+    if (turn) {
+      mtv(tmp, Db->A, p->G);
+      pom_v3_add(r, r, tmp);
+      mv(acc, Db->A, wd);
+      pom_v3_add(acc, acc, Db->a_bias);
     } else {
-      /* I_f' = [beta]x I_f - I_f [beta]x */
-      double Bx[9], dIf[9], IB[9], dIB[9], a1[3], a2[3];
-      pom_m3_skew(Bx, beta);
-      mm(dIf, Bx, p->If);
-      mm(IB, p->If, Bx);
-      for (int k = 0; k < 9; ++k)
-        dIf[k] -= IB[k];
-      mm(IB, p->If, tb->B);
-      mm(dIB, dIf, tb->B);
-      add_tmul(dM, 1.0, Db->B, IB);
-      mtm(S, tb->B, dIB);
-      for (int k = 0; k < 9; ++k)
-        dM[k] += S[k];
-      mm(dIB, p->If, Db->B);
-      add_tmul(dM, 1.0, tb->B, dIB);
-      /* Tq' = -(I_f' alpha0 + I_f alpha0' + w_b' x I_f w_b + w_b x (I_f' w_b + I_f w_b')) */
-      mv(a1, dIf, tb->alpha_bias);
-      mv(a2, p->If, Db->alpha_bias);
-      pom_v3_add(dTq, a1, a2);
-      pom_v3_cross(tmp, dwb, p->Ifwb);
-      pom_v3_add(dTq, dTq, tmp);
-      mv(a1, dIf, p->wb);
-      mv(a2, p->If, dwb);
-      pom_v3_add(a1, a1, a2);
-      pom_v3_cross(tmp, p->wb, a1);
-      pom_v3_add(dTq, dTq, tmp);
-      pom_v3_scale(dTq, -1.0, dTq);
+      pom_v3_copy(acc, Db->a_bias);
     }
-    /* f' += B'^T Tq + B^T Tq' */
-    mtv(tmp, Db->B, p->Tq);
-    pom_v3_add(df, df, tmp);
-    mtv(tmp, tb->B, dTq);
-    pom_v3_add(df, df, tmp);
+    if (p->rot) {
+      /* the body turns by beta = B t: rho' = beta x rho; w_b' = B' w + B wdir */
+      double beta[3] = {0.0, 0.0, 0.0}, drho[3] = {0.0, 0.0, 0.0}, dwb[3], wr[3], x[3];
+      double Bpwd[3] = {0.0, 0.0, 0.0};
+      if (turn) {
+        mv(beta, tb->B, t);
+        pom_v3_cross(drho, beta, p->rho);
+        pom_v3_cross(tmp, drho, p->G);
+        mtv(tmp2, tb->B, tmp);
+        pom_v3_add(r, r, tmp2);
+        mtv(tmp, Db->B, p->rG);
+        pom_v3_add(r, r, tmp);
+        mv(dwb, Db->B, w);
+        mv(Bpwd, Db->B, wd);
+      } else {
+        mv(dwb, tb->B, wdir);
+      }
+      /* a_cm0' = alpha0' x rho + alpha0 x rho' + a0' + w_b' x (w_b x rho)
+       *          + w_b x (w_b' x rho + w_b x rho') (a0' added above) */
+      pom_v3_cross(tmp, Db->alpha_bias, p->rho);
+      pom_v3_add(acc, acc, tmp);
+      pom_v3_cross(tmp, p->at, drho); /* alpha0 x rho' - rho' x B omega_dot */
+      pom_v3_add(acc, acc, tmp);
+      pom_v3_cross(tmp, p->rho, Bpwd);
+      pom_v3_sub(acc, acc, tmp);
+      pom_v3_cross(wr, p->wb, p->rho);
+      pom_v3_cross(tmp, dwb, wr);
+      pom_v3_add(acc, acc, tmp);
+      pom_v3_cross(tmp, dwb, p->rho);
+      pom_v3_cross(tmp2, p->wb, drho);
+      pom_v3_add(tmp, tmp, tmp2);
+      pom_v3_cross(x, p->wb, tmp);
+      pom_v3_add(acc, acc, x);
+      /* rotation: B'^T H + B^T (T' - I' B omega_dot - I B' omega_dot), that is
+       * -B^T (I' at + I (alpha0' + B' omega_dot) + w_b' x I w_b
+       *       + w_b x (I' w_b + I w_b')) */
+      const int sf = ex->spin_free[b];
+      double s[3], Iv[3];
+      if (turn) {
+        mtv(tmp, Db->B, p->H);
+        pom_v3_add(r, r, tmp);
+      }
+      inertia_turn(s, p, sf, beta, p->at, p->Iat);
+      pom_v3_add(x, Db->alpha_bias, Bpwd);
+      if (sf)
+        pom_v3_scale(Iv, ex->transverse[b], x);
+      else
+        mv(Iv, p->If, x);
+      pom_v3_add(s, s, Iv);
+      if (!sf) {
+        pom_v3_cross(tmp, dwb, p->Iwb);
+        pom_v3_add(s, s, tmp);
+        inertia_turn(tmp, p, sf, beta, p->wb, p->Iwb);
+        mv(Iv, p->If, dwb);
+        pom_v3_add(tmp, tmp, Iv);
+        pom_v3_cross(x, p->wb, tmp);
+        pom_v3_add(s, s, x);
+      }
+      mtv(tmp, tb->B, s);
+      pom_v3_sub(r, r, tmp);
+    }
+    mtv(tmp, p->Acm, acc);
+    pom_v3_axpy(r, r, -bd->mass, tmp);
   }
 }
 
@@ -847,7 +872,7 @@ static int mechanical_columns(const pom_dyn_model *m, pom_dyn_data *d, const dou
   body_terms(m, tw, w, M, f, &pe);
   memcpy(xw->M, M, sizeof M);
   body_pre bp[POM_MECH_MAX_BODIES];
-  body_pre_eval(m, tw, w, bp);
+  body_pre_eval(m, tw, &xw->dtw, w, wd, bp);
 
   /* per direction (theta_0..2, omega_0..2): omega_dot', q_a', qd_a' */
   dyn_law_partials lp[POM_MECH_MAX_ACTUATORS];
@@ -858,10 +883,10 @@ static int mechanical_columns(const pom_dyn_model *m, pom_dyn_data *d, const dou
   }
   for (int dir = 0; dir < 6; ++dir) {
     const int k = dir % 3, rot = dir < 3;
-    double t[3] = {0.0, 0.0, 0.0}, wdir[3] = {0.0, 0.0, 0.0}, dM[9] = {0}, df[3] = {0}, rhs[3];
+    double t[3] = {0.0, 0.0, 0.0}, wdir[3] = {0.0, 0.0, 0.0}, df[3] = {0.0, 0.0, 0.0};
     const pom_kin_twists *D = rot ? &xw->dtw.d_theta[k] : &xw->dtw.d_omega[k];
     (rot ? t : wdir)[k] = 1.0;
-    body_terms_diff(m, tw, D, bp, w, t, wdir, dM, df);
+    body_terms_diff(m, tw, D, bp, w, wd, rot ? t : NULL, wdir, df); /* f' - M' omega_dot */
     for (int a = 0; a < m->n_actuators; ++a) {
       const int limb = ex->act_limb[a];
       const double *Jr = tw->J + 3 * limb, *dJ = D->J + 3 * limb;
@@ -871,9 +896,7 @@ static int mechanical_columns(const pom_dyn_model *m, pom_dyn_data *d, const dou
       for (int r = 0; r < 3; ++r)
         df[r] += dJ[r] * lp[a].effort + Jr[r] * dF;
     }
-    mv(rhs, dM, wd);
-    pom_v3_sub(rhs, df, rhs);
-    if (!spd_solve(dwd[dir], M, rhs)) return 1;
+    if (!spd_solve(dwd[dir], M, df)) return 1;
   }
 
   /* the columns: orientation states through G, then omega */

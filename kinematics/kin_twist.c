@@ -88,11 +88,26 @@ pom_status pom_kin_body_twists_diff(const pom_kin_arch *arch, const double R[9],
              "kinematics (limb_twist_diff)",
              arch->type ? arch->type->name : "without a type");
   platform_twist(out, R);
-  /* the platform's A = 0, B = I and zero biases are constants: zero derivatives,
-   * as are the ground's; every limb field is overwritten below */
-  memset(dout, 0, sizeof *dout);
-  for (int k = 0; k < 3; ++k)
-    dout->d_theta[k].n_bodies = dout->d_omega[k].n_bodies = out->n_bodies;
+  /* the platform's A = 0, B = I and zero biases are constants: zero
+   * derivatives, as are the ground's; the fields a limb op leaves alone (the
+   * omega derivatives of q, J, A, B) are zero too. The pose fields are not
+   * written (no entry: section 2.1); zeroing the whole 17 kB would cost more
+   * than the derivatives themselves. */
+  for (int k = 0; k < 6; ++k) {
+    pom_kin_twists *t = k < 3 ? &dout->d_theta[k] : &dout->d_omega[k - 3];
+    t->n_bodies = out->n_bodies;
+    for (int i = 0; i < 3; ++i)
+      t->q[i] = t->q_bias[i] = 0.0;
+    for (int i = 0; i < 9; ++i)
+      t->J[i] = 0.0;
+    for (int b = 0; b < out->n_bodies; ++b) {
+      pom_kin_body_twist *x = &t->body[b];
+      for (int i = 0; i < 9; ++i)
+        x->A[i] = x->B[i] = 0.0;
+      for (int i = 0; i < 3; ++i)
+        x->a_bias[i] = x->alpha_bias[i] = 0.0;
+    }
+  }
   for (int i = 0; i < 3; ++i)
     if (!arch->type->limb_twist_diff(arch, i, R, w, out, dout))
       return limb_failure(arch, i, R, err);
