@@ -8,6 +8,7 @@
 #include "pom_math.h"
 
 #include <math.h>
+#include <string.h>
 
 /* ---- the controller --------------------------------------------------------- */
 /* What the sensors give (q, qd), the setpoint and the controller's states:
@@ -99,26 +100,41 @@ void pom_dyn_actuator_law_partials(const pom_dyn_model *m, const pom_dyn_data *d
   const pom_dyn_actuator *ap = &m->par.actuator;
   const dyn_actuator *ac = &m->act[a];
   pom_dyn_ctrl_partials cp;
+  memset(&cp, 0, sizeof cp); /* a controller without a state leaves its z entries */
   double u_raw = pom_dyn_controller_law(m, d, a, q, qd, y, NULL, &cp);
   double g_z = cp.du_dz[0];
   lp->dzd_dz = cp.dzd_dz[0][0];
+  lp->dzd_dq = cp.dzd_dq[0];
+  lp->dzd_dqd = cp.dzd_dqd[0];
   double lim = ap->voltage_limit;
   int saturated = u_raw > lim || u_raw < -lim;
+  double K = ap->force_constant, Rc = ap->resistance;
+  double b = m->par.scene.bearing_friction ? ap->bearing_friction : 0.0;
   lp->u = u_raw > lim ? lim : (u_raw < -lim ? -lim : u_raw);
   lp->du_dz = saturated ? 0.0 : g_z;
+  lp->du_dq = saturated ? 0.0 : cp.du_dq;
+  lp->du_dqd = saturated ? 0.0 : cp.du_dqd;
   if (ac->flux_state >= 0) {
     lp->i = y[ac->flux_state] / ap->inductance;
-    lp->di_dz = 0.0;
+    lp->di_dz = lp->di_dq = lp->di_dqd = 0.0;
     lp->di_dflux = 1.0 / ap->inductance;
   } else {
-    lp->i = (lp->u - ap->force_constant * qd) / ap->resistance;
-    lp->di_dz = lp->du_dz / ap->resistance;
+    lp->i = (lp->u - K * qd) / Rc;
+    lp->di_dz = lp->du_dz / Rc;
+    lp->di_dq = lp->du_dq / Rc;
+    lp->di_dqd = (lp->du_dqd - K) / Rc;
     lp->di_dflux = 0.0;
   }
-  lp->dF_dz = ap->force_constant * lp->di_dz;
-  lp->dF_dflux = ap->force_constant * lp->di_dflux;
-  lp->dflux_dz = lp->du_dz - ap->resistance * lp->di_dz;
-  lp->dflux_dflux = -ap->resistance * lp->di_dflux;
+  lp->effort = K * lp->i - b * qd;
+  lp->dF_dz = K * lp->di_dz;
+  lp->dF_dflux = K * lp->di_dflux;
+  lp->dF_dq = K * lp->di_dq;
+  lp->dF_dqd = K * lp->di_dqd - b;
+  lp->dflux_dz = lp->du_dz - Rc * lp->di_dz;
+  lp->dflux_dflux = -Rc * lp->di_dflux;
+  lp->dflux_dq = lp->du_dq - Rc * lp->di_dq;
+  lp->dflux_dqd = lp->du_dqd - Rc * lp->di_dqd - K;
+  lp->dbearing_dqd = 2.0 * b * qd;
 }
 
 /* ---- stored energy of the coils ------------------------------------------ */

@@ -2,8 +2,9 @@
  * (pom_dyn_form_exact) in minimal coordinates: the state is the platform orientation and angular
  * velocity (plus the coils, PID integrals and energy accumulators); every body's pose and twist
  * follow from pom_kin_body_twists; the equations of motion are Kane's M(R) omega_dot = f(R, omega,
- * i) (docs/dynamics-exact.md). Model set-up, the right-hand side, the Jacobian pattern (dense
- * mechanical and electrical columns, differenced by dyn_fdjac.c), the block linear solver and the
+ * i) (docs/dynamics-exact.md). Model set-up, the right-hand side, the Jacobian (dense mechanical
+ * and electrical columns, analytic from the second-order kinematics where the architecture has
+ * them, else the mechanical ones differenced by dyn_fdjac.c), the block linear solver and the
  * state queries of the shared driver (dyn_simulate.c). */
 #include "dyn_internal.h"
 #include "pom_math.h"
@@ -65,10 +66,11 @@ typedef struct {
 
 /* Per-worker scratch of the exact formulation (d->form_data). */
 typedef struct {
-  pom_kin_twists tw; /* body poses and twists of the last evaluation */
-  double M[9];       /* mass matrix of the last evaluation (kg m^2) */
-  double kinetic;    /* 1/2 omega^T M omega of the last evaluation (J) */
-  double potential;  /* gravitational energy relative to home (J) */
+  pom_kin_twists tw;       /* body poses and twists of the last evaluation */
+  pom_kin_twists_diff dtw; /* their derivatives at the last analytic Jacobian */
+  double M[9];             /* mass matrix of the last evaluation (kg m^2) */
+  double kinetic;          /* 1/2 omega^T M omega of the last evaluation (J) */
+  double potential;        /* gravitational energy relative to home (J) */
 } dyn_exact_work;
 
 static inline const dyn_exact *exact_of(const pom_dyn_model *m) {
@@ -306,13 +308,16 @@ static pom_status exact_init(pom_dyn_model *m, const pom_mechanism *mech, const 
   m->n_states = next;
 
   /* Jacobian pattern: the mechanical and electrical columns are dense (every
-   * state feeds M(R) omega_dot = f); the accumulator columns are zero. Only
-   * the mechanical columns (orientation, then omega: the last differenced
-   * column is an omega one, exact_jacobian relies on it) are differenced, each
-   * its own colour; the electrical ones are analytic (colour -1 for both
-   * kinds: never differenced), unless the controller has no analytic
-   * partials (m->ctrl_analytic 0): then they are differenced too, after the
-   * mechanical ones (docs/dynamics-exact.md section 5) */
+   * state feeds M(R) omega_dot = f); the accumulator columns are zero. The
+   * mechanical columns (orientation, then omega) are analytic when the
+   * architecture has second-order kinematics and the controller analytic
+   * partials (pom_dyn_exact_jacobian; the colours below then go unused);
+   * otherwise they are differenced (the last differenced column is an omega
+   * one, exact_jacobian relies on it), each its own colour; the electrical
+   * ones are analytic (colour -1 for both kinds: never differenced), unless
+   * the controller has no analytic partials (m->ctrl_analytic 0): then they
+   * are differenced too, after the mechanical ones (docs/dynamics-exact.md
+   * section 5) */
   const size_t n = (size_t)m->n_states;
   m->atol = calloc(n, sizeof *m->atol);
   m->scale = calloc(n, sizeof *m->scale);
@@ -599,8 +604,373 @@ static void electrical_columns(const pom_dyn_model *m, pom_dyn_data *d, const do
   }
 }
 
+/* ---- analytic mechanical columns ----------------------------------------------- */
+/* Per body, what every direction's derivative reuses (docs/dynamics-exact.md
+ * section 5): with the angular acceleration omega_dot of the evaluation,
+ * G = F - m Acm omega_dot and H = T - I B omega_dot (the residual of each
+ * body's share of M omega_dot = f), so that f' - M' omega_dot groups into
+ * matrix-vector products and no 3x3 product is formed per direction. */
+typedef struct {
+  double rho[3], Acm[9], wb[3]; /* as body_terms */
+  double Bwd[3];                /* B omega_dot */
+  double G[3], rG[3];           /* F - m Acm omega_dot, rho x G */
+  double If[9];                 /* fixed-frame inertia R_b I_home R_b^T (not for idle spin) */
+  double Iwb[3], Iat[3];        /* I w_b, I (alpha0 + B omega_dot) */
+  double at[3];                 /* alpha0 + B omega_dot */
+  double H[3];                  /* T - I B omega_dot = -(I at + w_b x I w_b) */
+  int rot;                      /* 0: the body only translates (B = B' = 0) */
+} body_pre;
+
+static void body_pre_eval(const pom_dyn_model *m, const pom_kin_twists *tw,
+                          const pom_kin_twists_diff *dtw, const double *w, const double *wd,
+                          body_pre *bp) {
+  const dyn_exact *ex = exact_of(m);
+  for (int b = 0; b < m->n_bodies; ++b) {
+    const dyn_body *bd = &m->body[b];
+    const int k = bd->mech_index;
+    const pom_kin_body_twist *t = &tw->body[k];
+    body_pre *p = &bp[b];
+    double d0[3], a0[3], tmp[3], x[3], S[9], Aw[3];
+    pom_v3_sub(d0, bd->cm_home, t->ref_home);
+    mv(p->rho, t->R, d0);
+    pom_m3_skew(S, p->rho);
+    mm(p->Acm, S, t->B);
+    for (int e = 0; e < 9; ++e)
+      p->Acm[e] = t->A[e] - p->Acm[e];
+    mv(p->wb, t->B, w);
+    mv(p->Bwd, t->B, wd);
+    pom_v3_cross(a0, t->alpha_bias, p->rho);
+    pom_v3_add(a0, a0, t->a_bias);
+    pom_v3_cross(tmp, p->wb, p->rho);
+    pom_v3_cross(x, p->wb, tmp);
+    pom_v3_add(a0, a0, x);
+    mv(Aw, p->Acm, wd);
+    for (int e = 0; e < 3; ++e)
+      p->G[e] = bd->mass * (m->gravity[e] - a0[e] - Aw[e]);
+    pom_v3_cross(p->rG, p->rho, p->G);
+    p->rot = 0;
+    for (int e = 0; e < 9; ++e)
+      p->rot |= t->B[e] != 0.0 || dtw->d_theta[0].body[k].B[e] != 0.0 ||
+                dtw->d_theta[1].body[k].B[e] != 0.0 || dtw->d_theta[2].body[k].B[e] != 0.0;
+    if (!p->rot) continue;
+    pom_v3_add(p->at, t->alpha_bias, p->Bwd);
+    if (ex->spin_free[b]) {
+      /* axisymmetric equivalent: I = I_t on every w_b, no gyroscopic term */
+      const double It = ex->transverse[b];
+      pom_v3_scale(p->Iwb, It, p->wb);
+      pom_v3_scale(p->Iat, It, p->at);
+      pom_v3_scale(p->H, -1.0, p->Iat);
+    } else {
+      double RI[9], g[3];
+      mm(RI, t->R, ex->inertia[b]);
+      for (int r = 0; r < 3; ++r) /* If = RI R^T */
+        for (int c = 0; c < 3; ++c)
+          p->If[3 * r + c] = RI[3 * r] * t->R[3 * c] + RI[3 * r + 1] * t->R[3 * c + 1] +
+                             RI[3 * r + 2] * t->R[3 * c + 2];
+      mv(p->Iwb, p->If, p->wb);
+      mv(p->Iat, p->If, p->at);
+      pom_v3_cross(g, p->wb, p->Iwb);
+      for (int e = 0; e < 3; ++e)
+        p->H[e] = -p->Iat[e] - g[e];
+    }
+  }
+}
+
+/* I' v = beta x (I v) - I (beta x v), the fixed-frame inertia turning by beta;
+ * Iv = I v given. */
+static void inertia_turn(double out[3], const body_pre *p, int spin_free, const double beta[3],
+                         const double v[3], const double Iv[3]) {
+  double bv[3], Ibv[3];
+  pom_v3_cross(out, beta, Iv);
+  if (spin_free) return; /* I = I_t on the body's angular velocities: I' v = 0 */
+  pom_v3_cross(bv, beta, v);
+  mv(Ibv, p->If, bv);
+  pom_v3_sub(out, out, Ibv);
+}
+
+/* r = f' - M' omega_dot over the bodies along one direction: a platform
+ * rotation increment t (fixed frame; wdir = 0) or omega's wdir (t = NULL),
+ * with D the twists' derivatives in that direction (pom_kin_twists_diff). */
+static void body_terms_diff(const pom_dyn_model *m, const pom_kin_twists *tw,
+                            const pom_kin_twists *D, const body_pre *bp, const double *w,
+                            const double *wd, const double *t, const double wdir[3], double r[3]) {
+  const dyn_exact *ex = exact_of(m);
+  for (int b = 0; b < m->n_bodies; ++b) {
+    const dyn_body *bd = &m->body[b];
+    const pom_kin_body_twist *tb = &tw->body[bd->mech_index], *Db = &D->body[bd->mech_index];
+    const body_pre *p = &bp[b];
+    double tmp[3], tmp2[3], acc[3];
+    /* translation: Acm'^T G + Acm^T (F' - m Acm' omega_dot), with
+     * Acm'^T G = A'^T G + B^T (rho' x G) + B'^T (rho x G) and
+     * -F'/m + Acm' omega_dot = a_cm0' + A' omega_dot - rho' x B omega_dot - rho x B' omega_dot */
+    const int turn = t != NULL; /* along omega A' = B' = 0 and the body does not turn */
+    if (turn) {
+      mtv(tmp, Db->A, p->G);
+      pom_v3_add(r, r, tmp);
+      mv(acc, Db->A, wd);
+      pom_v3_add(acc, acc, Db->a_bias);
+    } else {
+      pom_v3_copy(acc, Db->a_bias);
+    }
+    if (p->rot) {
+      /* the body turns by beta = B t: rho' = beta x rho; w_b' = B' w + B wdir */
+      double beta[3] = {0.0, 0.0, 0.0}, drho[3] = {0.0, 0.0, 0.0}, dwb[3], wr[3], x[3];
+      double Bpwd[3] = {0.0, 0.0, 0.0};
+      if (turn) {
+        mv(beta, tb->B, t);
+        pom_v3_cross(drho, beta, p->rho);
+        pom_v3_cross(tmp, drho, p->G);
+        mtv(tmp2, tb->B, tmp);
+        pom_v3_add(r, r, tmp2);
+        mtv(tmp, Db->B, p->rG);
+        pom_v3_add(r, r, tmp);
+        mv(dwb, Db->B, w);
+        mv(Bpwd, Db->B, wd);
+      } else {
+        mv(dwb, tb->B, wdir);
+      }
+      /* a_cm0' = alpha0' x rho + alpha0 x rho' + a0' + w_b' x (w_b x rho)
+       *          + w_b x (w_b' x rho + w_b x rho') (a0' added above) */
+      pom_v3_cross(tmp, Db->alpha_bias, p->rho);
+      pom_v3_add(acc, acc, tmp);
+      pom_v3_cross(tmp, p->at, drho); /* alpha0 x rho' - rho' x B omega_dot */
+      pom_v3_add(acc, acc, tmp);
+      pom_v3_cross(tmp, p->rho, Bpwd);
+      pom_v3_sub(acc, acc, tmp);
+      pom_v3_cross(wr, p->wb, p->rho);
+      pom_v3_cross(tmp, dwb, wr);
+      pom_v3_add(acc, acc, tmp);
+      pom_v3_cross(tmp, dwb, p->rho);
+      pom_v3_cross(tmp2, p->wb, drho);
+      pom_v3_add(tmp, tmp, tmp2);
+      pom_v3_cross(x, p->wb, tmp);
+      pom_v3_add(acc, acc, x);
+      /* rotation: B'^T H + B^T (T' - I' B omega_dot - I B' omega_dot), that is
+       * -B^T (I' at + I (alpha0' + B' omega_dot) + w_b' x I w_b
+       *       + w_b x (I' w_b + I w_b')) */
+      const int sf = ex->spin_free[b];
+      double s[3], Iv[3];
+      if (turn) {
+        mtv(tmp, Db->B, p->H);
+        pom_v3_add(r, r, tmp);
+      }
+      inertia_turn(s, p, sf, beta, p->at, p->Iat);
+      pom_v3_add(x, Db->alpha_bias, Bpwd);
+      if (sf)
+        pom_v3_scale(Iv, ex->transverse[b], x);
+      else
+        mv(Iv, p->If, x);
+      pom_v3_add(s, s, Iv);
+      if (!sf) {
+        pom_v3_cross(tmp, dwb, p->Iwb);
+        pom_v3_add(s, s, tmp);
+        inertia_turn(tmp, p, sf, beta, p->wb, p->Iwb);
+        mv(Iv, p->If, dwb);
+        pom_v3_add(tmp, tmp, Iv);
+        pom_v3_cross(x, p->wb, tmp);
+        pom_v3_add(s, s, x);
+      }
+      mtv(tmp, tb->B, s);
+      pom_v3_sub(r, r, tmp);
+    }
+    mtv(tmp, p->Acm, acc);
+    pom_v3_axpy(r, r, -bd->mass, tmp);
+  }
+}
+
+/* Rotation increment per orientation state (docs/dynamics-exact.md section
+ * 5): column j of G is d theta / d o_j, with dR = [d theta]x R. ZYX Euler
+ * (psi, theta, phi): z, Rz(psi) y, Rz(psi) Ry(theta) x; quaternion (the
+ * state q, normalized inside): 2 (e_j (x) q^*)_vec / |q| with q^* the
+ * normalized conjugate. G is 3 x n_ori, row-major with 4 columns. */
+static void orientation_map(const dyn_exact *ex, const double *o, const double trig[4],
+                            double G[12]) {
+  memset(G, 0, 12 * sizeof *G);
+  if (ex->n_ori == 4) {
+    double n = sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2] + o[3] * o[3]);
+    double s = o[0] / n, v[3] = {o[1] / n, o[2] / n, o[3] / n}, f = 2.0 / n;
+    for (int r = 0; r < 3; ++r)
+      G[4 * r] = -f * v[r];
+    for (int c = 0; c < 3; ++c) { /* s e_c - e_c x v */
+      double e[3] = {0.0, 0.0, 0.0}, x[3];
+      e[c] = 1.0;
+      pom_v3_cross(x, e, v);
+      for (int r = 0; r < 3; ++r)
+        G[4 * r + 1 + c] = f * (s * e[r] - x[r]);
+    }
+    return;
+  }
+  const double cps = trig[0], sps = trig[1], cth = trig[2], sth = trig[3];
+  G[4 * 2 + 0] = 1.0;
+  G[4 * 0 + 1] = -sps;
+  G[4 * 1 + 1] = cps;
+  G[4 * 0 + 2] = cps * cth;
+  G[4 * 1 + 2] = sps * cth;
+  G[4 * 2 + 2] = -sth;
+}
+
+/* Partials of the orientation rates: dod[r][j] against o_j (j < n_ori) and
+ * against omega_k (j = n_ori + k), row-major with 7 columns. */
+static void orientation_rate_partials(const dyn_exact *ex, const double *o, const double *w,
+                                      const double trig[4], double dod[28]) {
+  memset(dod, 0, 28 * sizeof *dod);
+  if (ex->n_ori == 4) {
+    /* q_dot = 1/2 (0, w) (x) q: linear in q and in w */
+    const double wq[4] = {0.0, w[0], w[1], w[2]};
+    for (int j = 0; j < 4; ++j) {
+      double e[4] = {0.0, 0.0, 0.0, 0.0}, r[4];
+      e[j] = 1.0;
+      pom_quat_mul(r, wq, e);
+      for (int i = 0; i < 4; ++i)
+        dod[7 * i + j] = 0.5 * r[i];
+    }
+    for (int k = 0; k < 3; ++k) {
+      double ek[4] = {0.0, 0.0, 0.0, 0.0}, r[4];
+      ek[1 + k] = 1.0;
+      pom_quat_mul(r, ek, o);
+      for (int i = 0; i < 4; ++i)
+        dod[7 * i + 4 + k] = 0.5 * r[i];
+    }
+    return;
+  }
+  /* psi_dot = tan(theta) a + w_z, theta_dot = b, phi_dot = a / cos(theta) with
+   * a = c_psi w_x + s_psi w_y, b = -s_psi w_x + c_psi w_y */
+  const double cps = trig[0], sps = trig[1], cth = trig[2], sth = trig[3], tth = sth / cth;
+  const double a = cps * w[0] + sps * w[1], b = -sps * w[0] + cps * w[1];
+  dod[7 * 0 + 0] = tth * b;
+  dod[7 * 0 + 1] = a / (cth * cth);
+  dod[7 * 1 + 0] = -a;
+  dod[7 * 2 + 0] = b / cth;
+  dod[7 * 2 + 1] = a * sth / (cth * cth);
+  const double E[9] = {cps * tth, sps * tth, 1.0, -sps, cps, 0.0, cps / cth, sps / cth, 0.0};
+  for (int r = 0; r < 3; ++r)
+    for (int k = 0; k < 3; ++k)
+      dod[7 * r + 3 + k] = E[3 * r + k];
+}
+
+/* The orientation and omega columns (docs/dynamics-exact.md section 5), from
+ * the second-order kinematics at y: omega_dot = M^-1 f moves by
+ * M^-1 (f' - M' omega_dot) with f' and M' from body_terms_diff and the
+ * actuators' J_a' F_a + J_a (F_q q_a' + F_qd qd_a'); the actuator and
+ * accumulator rows by the law's partials against q_a, qd_a; the orientation
+ * rows by the rate map's. Also leaves xw->tw and xw->M at y for
+ * electrical_columns. f0 is the right-hand side at y. Returns 0, or 1
+ * (recoverable) where the evaluation at y fails. */
+static int mechanical_columns(const pom_dyn_model *m, pom_dyn_data *d, const double *y,
+                              const double *f0) {
+  const dyn_exact *ex = exact_of(m);
+  dyn_exact_work *xw = work_of(d);
+  const pom_dyn_actuator *ap = &m->par.actuator;
+  const double Rc = ap->resistance;
+  double R[9], trig[4] = {1.0, 0.0, 1.0, 0.0};
+  state_rotation(m, y, R, trig);
+  if (ex->n_ori == 3 && trig[2] < m->par.scene.euler_cos_min) return 1;
+  const double *w = y + ex->omega, *wd = f0 + ex->omega;
+  if (pom_kin_body_twists_diff(&ex->arch, R, w, &xw->tw, &xw->dtw, NULL) != POM_OK) return 1;
+  const pom_kin_twists *tw = &xw->tw;
+  double M[9] = {0}, f[3] = {0}, pe = 0.0;
+  body_terms(m, tw, w, M, f, &pe);
+  memcpy(xw->M, M, sizeof M);
+  body_pre bp[POM_MECH_MAX_BODIES];
+  body_pre_eval(m, tw, &xw->dtw, w, wd, bp);
+
+  /* per direction (theta_0..2, omega_0..2): omega_dot', q_a', qd_a' */
+  dyn_law_partials lp[POM_MECH_MAX_ACTUATORS];
+  double dwd[6][3], dq[POM_MECH_MAX_ACTUATORS][6], dqd[POM_MECH_MAX_ACTUATORS][6];
+  for (int a = 0; a < m->n_actuators; ++a) {
+    const int limb = ex->act_limb[a];
+    pom_dyn_actuator_law_partials(m, d, a, tw->q[limb], pom_v3_dot(tw->J + 3 * limb, w), y, &lp[a]);
+  }
+  for (int dir = 0; dir < 6; ++dir) {
+    const int k = dir % 3, rot = dir < 3;
+    double t[3] = {0.0, 0.0, 0.0}, wdir[3] = {0.0, 0.0, 0.0}, df[3] = {0.0, 0.0, 0.0};
+    const pom_kin_twists *D = rot ? &xw->dtw.d_theta[k] : &xw->dtw.d_omega[k];
+    (rot ? t : wdir)[k] = 1.0;
+    body_terms_diff(m, tw, D, bp, w, wd, rot ? t : NULL, wdir, df); /* f' - M' omega_dot */
+    for (int a = 0; a < m->n_actuators; ++a) {
+      const int limb = ex->act_limb[a];
+      const double *Jr = tw->J + 3 * limb, *dJ = D->J + 3 * limb;
+      dq[a][dir] = rot ? Jr[k] : 0.0;
+      dqd[a][dir] = rot ? pom_v3_dot(dJ, w) : Jr[k];
+      double dF = lp[a].dF_dq * dq[a][dir] + lp[a].dF_dqd * dqd[a][dir];
+      for (int r = 0; r < 3; ++r)
+        df[r] += dJ[r] * lp[a].effort + Jr[r] * dF;
+    }
+    if (!spd_solve(dwd[dir], M, df)) return 1;
+  }
+
+  /* the columns: orientation states through G, then omega */
+  double G[12], dod[28];
+  orientation_map(ex, y + ex->ori, trig, G);
+  orientation_rate_partials(ex, y + ex->ori, w, trig, dod);
+  const int n_mech = ex->n_ori + 3;
+  for (int j = 0; j < n_mech; ++j) {
+    const int col = ex->ori + j;
+    double c[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}; /* weights of the six directions */
+    if (j < ex->n_ori)
+      for (int r = 0; r < 3; ++r)
+        c[r] = G[4 * r + j];
+    else
+      c[3 + j - ex->n_ori] = 1.0;
+    double dw[3] = {0.0, 0.0, 0.0};
+    for (int e = 0; e < 6; ++e)
+      if (c[e] != 0.0)
+        for (int r = 0; r < 3; ++r)
+          dw[r] += c[e] * dwd[e][r];
+    for (long kk = m->colptr[col]; kk < m->colptr[col + 1]; ++kk)
+      d->jac[kk] = 0.0;
+    for (long kk = m->colptr[col]; kk < m->colptr[col + 1]; ++kk) {
+      const int i = m->rowind[kk];
+      if (i >= ex->ori && i < ex->ori + ex->n_ori)
+        d->jac[kk] = dod[7 * (i - ex->ori) + j];
+      else if (i >= ex->omega && i < ex->omega + 3)
+        d->jac[kk] = dw[i - ex->omega];
+    }
+    for (int a = 0; a < m->n_actuators; ++a) {
+      const dyn_actuator *ac = &m->act[a];
+      const dyn_law_partials *g = &lp[a];
+      double sq = 0.0, sqd = 0.0;
+      for (int e = 0; e < 6; ++e) {
+        sq += c[e] * dq[a][e];
+        sqd += c[e] * dqd[a][e];
+      }
+      const double du = g->du_dq * sq + g->du_dqd * sqd, di = g->di_dq * sq + g->di_dqd * sqd;
+      const double dpw = du * g->i + g->u * di, pw = g->u * g->i;
+      for (long kk = m->colptr[col]; kk < m->colptr[col + 1]; ++kk) {
+        const int i = m->rowind[kk], r = i - ac->acc_state;
+        if (i == ac->flux_state)
+          d->jac[kk] = g->dflux_dq * sq + g->dflux_dqd * sqd;
+        else if (i == ac->ctrl_state)
+          d->jac[kk] = g->dzd_dq * sq + g->dzd_dqd * sqd;
+        else if (r == DYN_ACC_SOURCE)
+          d->jac[kk] = dpw;
+        else if (r == DYN_ACC_SOURCE_POS)
+          d->jac[kk] = pw > 0 ? dpw : 0.0;
+        else if (r == DYN_ACC_COIL)
+          d->jac[kk] = 2.0 * Rc * g->i * di;
+        else if (r == DYN_ACC_BEARING)
+          d->jac[kk] = g->dbearing_dqd * sqd;
+      }
+    }
+  }
+  return 0;
+}
+
+/* 1 when the orientation and omega columns go analytically: a controller
+ * with analytic partials and an architecture with second-order kinematics. */
+static int analytic_mechanical(const pom_dyn_model *m) {
+  return m->ctrl_analytic && pom_kin_has_twists_diff(&exact_of(m)->arch);
+}
+
 int pom_dyn_exact_jacobian(pom_dyn_data *d, const double *y, const double *f0, double *yp,
                            double *fp) {
+  if (analytic_mechanical(d->m)) {
+    ++d->jac_count;
+    int r = mechanical_columns(d->m, d, y, f0);
+    if (r != 0) return r;
+    electrical_columns(d->m, d, y);
+    return 0;
+  }
   /* the mechanical columns by differences; the last one differenced is an
    * omega column, whose evaluation leaves M, q and J at the rotation of y
    * (they do not depend on omega) */

@@ -335,17 +335,25 @@ double pom_dyn_actuator_law(const pom_dyn_model *m, pom_dyn_data *d, int a, doub
 /* Partial derivatives of one actuator's law (pom_dyn_actuator_law) with
  * respect to its own states, the controller state z (m s or rad s for the
  * PID integral; a controller with an analytic Jacobian has at most one) and
- * the coil flux linkage (V s; zero derivatives for a quasi-static coil), at
- * fixed q and rate. The saturation is the law's: a saturated voltage has
- * du/dz = 0. */
+ * the coil flux linkage (V s; zero derivatives for a quasi-static coil), and
+ * with respect to its coordinate q and rate qd (the exact path's mechanical
+ * columns). The saturation is the law's: a saturated voltage has
+ * du/dz = du/dq = du/dqd = 0. */
 typedef struct {
   double u;                     /* saturated voltage (V) */
   double i;                     /* coil current (A) */
+  double effort;                /* K i - b qd (N or N m) */
   double du_dz;                 /* V per unit of z */
   double di_dz, di_dflux;       /* A per unit of z, A per V s */
   double dF_dz, dF_dflux;       /* effort (N or N m) per unit of z, per V s */
   double dflux_dz, dflux_dflux; /* coil equation d(flux_dot)/dz, d(flux_dot)/d flux (1/s) */
   double dzd_dz;                /* the controller state's rate against z (1/s) */
+  double du_dq, du_dqd;         /* V per m (rad), per m/s (rad/s) */
+  double di_dq, di_dqd;         /* A per m (rad), per m/s (rad/s) */
+  double dF_dq, dF_dqd;         /* effort per m (rad), per m/s (rad/s) */
+  double dflux_dq, dflux_dqd;   /* coil equation against q, qd */
+  double dzd_dq, dzd_dqd;       /* the controller state's rate against q, qd */
+  double dbearing_dqd;          /* bearing dissipation rate b qd^2 against qd */
 } dyn_law_partials;
 
 /* dyn_actuator.c: a coupled controller (law_all) at one evaluation: every
@@ -450,9 +458,11 @@ int pom_dyn_exact_layout(const pom_dyn_model *m, int *ori, int *n_ori, int *omeg
  * evaluation). */
 const double *pom_dyn_exact_mass_matrix(const pom_dyn_model *m, pom_dyn_data *d, const double *y);
 /* The exact path's Jacobian at y into d->jac (CSC over the model's pattern):
- * forward differences over the orientation and omega columns, the coil and
- * PID columns analytic (docs/dynamics-exact.md section 5); f0 = f(y), yp, fp
- * scratch of n_states. Returns the RHS status (0 ok). */
+ * the orientation and omega columns analytic when the architecture has
+ * second-order kinematics (pom_kin_has_twists_diff) and the controller
+ * analytic partials (no RHS evaluation then), else forward differences; the
+ * coil and PID columns analytic (docs/dynamics-exact.md section 5); f0 =
+ * f(y), yp, fp scratch of n_states. Returns the RHS status (0 ok). */
 int pom_dyn_exact_jacobian(pom_dyn_data *d, const double *y, const double *f0, double *yp,
                            double *fp);
 

@@ -187,6 +187,95 @@ static int limb_twist(const pom_kin_arch *arch, int i, const double R[9], const 
   return 1;
 }
 
+/* Second-order kinematics of limb i (docs/dynamics-exact.md section 2.1):
+ * limb_twist, then its closed forms differentiated along a platform rotation
+ * increment about e_k (C' = e_k x C, the slider point fixed) and along
+ * omega_k (C fixed). */
+static int limb_twist_diff(const pom_kin_arch *arch, int i, const double R[9], const double w[3],
+                           pom_kin_twists *out, pom_kin_twists_diff *dout) {
+  if (!limb_twist(arch, i, R, w, out)) return 0;
+  const pss *g = POM_KIN_CDATA(pss, arch);
+  const double *u = g->slider_axis[i], *Jr = out->J + 3 * i;
+  const double iL2 = 1.0 / (g->link_length[i] * g->link_length[i]);
+  const double q = out->q[i], qb = out->q_bias[i];
+  double C[3], l[3], wC[3], wwC[3], ldot[3], lb[3], lxu[3];
+  pom_m3_apply(C, R, g->platform_point[i]);
+  pom_v3_sub(l, C, g->slider_mid[i]);
+  pom_v3_axpy(l, l, -q, u);
+  const double lu = pom_v3_dot(l, u);
+  pom_v3_cross(wC, w, C);
+  pom_v3_cross(wwC, w, wC);
+  pom_v3_axpy(ldot, wC, -pom_v3_dot(Jr, w), u);
+  pom_v3_axpy(lb, wwC, -qb, u);
+  pom_v3_cross(lxu, l, u);
+  for (int k = 0; k < 3; ++k) {
+    double e[3] = {0.0, 0.0, 0.0};
+    e[k] = 1.0;
+    /* rotation increment: q' = J_k, l' = C' - q' u, (l.u)' = l'.u,
+     * J' = (C' x l + C x l' - J (l.u)') / (l.u) */
+    double Cp[3], lp[3], Jp[3], a[3], b[3];
+    pom_v3_cross(Cp, e, C);
+    const double qp = Jr[k];
+    pom_v3_axpy(lp, Cp, -qp, u);
+    const double lup = pom_v3_dot(lp, u);
+    pom_v3_cross(a, Cp, l);
+    pom_v3_cross(b, C, lp);
+    for (int r = 0; r < 3; ++r)
+      Jp[r] = (a[r] + b[r] - Jr[r] * lup) / lu;
+    /* q_bias' = (l'.wwC + l.wwC' + 2 l_dot.l_dot' - q_bias (l.u)') / (l.u),
+     * wwC' = w x (w x C'), l_dot' = w x C' - (J'.w) u */
+    double wCp[3], wwCp[3], ldp[3], lbp[3], lxup[3];
+    pom_v3_cross(wCp, w, Cp);
+    pom_v3_cross(wwCp, w, wCp);
+    pom_v3_axpy(ldp, wCp, -pom_v3_dot(Jp, w), u);
+    const double qbp =
+        (pom_v3_dot(lp, wwC) + pom_v3_dot(l, wwCp) + 2.0 * pom_v3_dot(ldot, ldp) - qb * lup) / lu;
+    pom_kin_twists *dt = &dout->d_theta[k];
+    pom_kin_body_twist *pis = &dt->body[2 + 2 * i], *lnk = &dt->body[3 + 2 * i];
+    dt->q[i] = qp;
+    pom_v3_copy(dt->J + 3 * i, Jp);
+    dt->q_bias[i] = qbp;
+    pom_kin_outer(pis->A, u, Jp);
+    pom_v3_scale(pis->a_bias, qbp, u);
+    pom_m3_copy(lnk->A, pis->A);
+    pom_v3_copy(lnk->a_bias, pis->a_bias);
+    /* B = ((l.C) I - C l^T - (l x u) J^T) / L^2, term by term */
+    const double lCp = pom_v3_dot(lp, C) + pom_v3_dot(l, Cp);
+    pom_v3_cross(lxup, lp, u);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c)
+        lnk->B[3 * r + c] = ((r == c ? lCp : 0.0) - Cp[r] * l[c] - C[r] * lp[c] - lxup[r] * Jr[c] -
+                             lxu[r] * Jp[c]) *
+                            iL2;
+    /* alpha_bias = l x l_b / L^2, l_b = wwC - q_bias u */
+    pom_v3_axpy(lbp, wwCp, -qbp, u);
+    pom_v3_cross(a, lp, lb);
+    pom_v3_cross(b, l, lbp);
+    for (int r = 0; r < 3; ++r)
+      lnk->alpha_bias[r] = (a[r] + b[r]) * iL2;
+
+    /* omega_k: (w x C)_k = e x C, wwC_k = e x (w x C) + w x (e x C),
+     * l_dot_k = e x C - J_k u; only the biases move */
+    double eC[3], wwCw[3], ldw[3], lbw[3];
+    pom_v3_cross(eC, e, C);
+    pom_v3_cross(a, e, wC);
+    pom_v3_cross(b, w, eC);
+    pom_v3_add(wwCw, a, b);
+    pom_v3_axpy(ldw, eC, -Jr[k], u);
+    const double qbw = (pom_v3_dot(l, wwCw) + 2.0 * pom_v3_dot(ldot, ldw)) / lu;
+    pom_kin_twists *dw = &dout->d_omega[k];
+    pis = &dw->body[2 + 2 * i];
+    lnk = &dw->body[3 + 2 * i];
+    dw->q_bias[i] = qbw;
+    pom_v3_scale(pis->a_bias, qbw, u);
+    pom_v3_copy(lnk->a_bias, pis->a_bias);
+    pom_v3_axpy(lbw, wwCw, -qbw, u);
+    pom_v3_cross(a, l, lbw);
+    pom_v3_scale(lnk->alpha_bias, iL2, a);
+  }
+  return 1;
+}
+
 /* ---- limits, footprint, mechanism --------------------------------------------- */
 static void limit_values(const pom_kin_arch *arch, const double R[9], const double q[3],
                          double value[9]) {
@@ -294,6 +383,7 @@ const pom_kin_arch_type pom_kin_arch_3pss = {
     .finish = finish,
     .limb = limb,
     .limb_twist = limb_twist,
+    .limb_twist_diff = limb_twist_diff,
     .limit_values = limit_values,
     .footprint = footprint,
     .mechanism = mechanism,

@@ -43,26 +43,73 @@ void pom_kin_twist_rest(pom_kin_body_twist *b) {
 }
 
 /* ---- public ---------------------------------------------------------------- */
-pom_status pom_kin_body_twists(const pom_kin_arch *arch, const double R[9], const double omega[3],
-                               pom_kin_twists *out, pom_error *err) {
-  static const double zero[3] = {0.0, 0.0, 0.0};
-  const double *w = omega ? omega : zero;
-  if (!arch->type) POM_FAIL(err, POM_ERR_ARG, "pom_kin_body_twists: architecture without a type");
+/* The platform (body 1) and the ground (body 0) at rotation R. */
+static void platform_twist(pom_kin_twists *out, const double R[9]) {
   out->n_bodies = 8;
   pom_kin_twist_rest(&out->body[0]);
   pom_kin_body_twist *pf = &out->body[1];
   pom_kin_twist_rest(pf);
   pom_m3_copy(pf->R, R);
   pom_m3_identity(pf->B);
-  for (int i = 0; i < 3; ++i) {
-    int ok = arch->type->limb_twist(arch, i, R, w, out);
-    if (!ok) {
-      if (!err) return POM_ERR_UNREACHABLE; /* no formatting in the hot path */
-      for (int k = 0; k < 9; ++k)
-        if (!isfinite(R[k]))
-          POM_FAIL(err, POM_ERR_NONFINITE, "body twists: rotation entry R[%d] = %g", k, R[k]);
-      POM_FAIL(err, POM_ERR_UNREACHABLE, "limb %d: %s", i + 1, arch->type->unreachable);
+}
+
+/* The failure of limb i (err non-NULL: with its message). */
+static pom_status limb_failure(const pom_kin_arch *arch, int i, const double R[9], pom_error *err) {
+  if (!err) return POM_ERR_UNREACHABLE; /* no formatting in the hot path */
+  for (int k = 0; k < 9; ++k)
+    if (!isfinite(R[k]))
+      POM_FAIL(err, POM_ERR_NONFINITE, "body twists: rotation entry R[%d] = %g", k, R[k]);
+  POM_FAIL(err, POM_ERR_UNREACHABLE, "limb %d: %s", i + 1, arch->type->unreachable);
+}
+
+pom_status pom_kin_body_twists(const pom_kin_arch *arch, const double R[9], const double omega[3],
+                               pom_kin_twists *out, pom_error *err) {
+  static const double zero[3] = {0.0, 0.0, 0.0};
+  const double *w = omega ? omega : zero;
+  if (!arch->type) POM_FAIL(err, POM_ERR_ARG, "pom_kin_body_twists: architecture without a type");
+  platform_twist(out, R);
+  for (int i = 0; i < 3; ++i)
+    if (!arch->type->limb_twist(arch, i, R, w, out)) return limb_failure(arch, i, R, err);
+  return POM_OK;
+}
+
+int pom_kin_has_twists_diff(const pom_kin_arch *arch) {
+  return arch->type && arch->type->limb_twist_diff ? 1 : 0;
+}
+
+pom_status pom_kin_body_twists_diff(const pom_kin_arch *arch, const double R[9],
+                                    const double omega[3], pom_kin_twists *out,
+                                    pom_kin_twists_diff *dout, pom_error *err) {
+  static const double zero[3] = {0.0, 0.0, 0.0};
+  const double *w = omega ? omega : zero;
+  if (!pom_kin_has_twists_diff(arch))
+    POM_FAIL(err, POM_ERR_ARG,
+             "pom_kin_body_twists_diff: architecture %s has no second-order "
+             "kinematics (limb_twist_diff)",
+             arch->type ? arch->type->name : "without a type");
+  platform_twist(out, R);
+  /* the platform's A = 0, B = I and zero biases are constants: zero
+   * derivatives, as are the ground's; the fields a limb op leaves alone (the
+   * omega derivatives of q, J, A, B) are zero too. The pose fields are not
+   * written (no entry: section 2.1); zeroing the whole 17 kB would cost more
+   * than the derivatives themselves. */
+  for (int k = 0; k < 6; ++k) {
+    pom_kin_twists *t = k < 3 ? &dout->d_theta[k] : &dout->d_omega[k - 3];
+    t->n_bodies = out->n_bodies;
+    for (int i = 0; i < 3; ++i)
+      t->q[i] = t->q_bias[i] = 0.0;
+    for (int i = 0; i < 9; ++i)
+      t->J[i] = 0.0;
+    for (int b = 0; b < out->n_bodies; ++b) {
+      pom_kin_body_twist *x = &t->body[b];
+      for (int i = 0; i < 9; ++i)
+        x->A[i] = x->B[i] = 0.0;
+      for (int i = 0; i < 3; ++i)
+        x->a_bias[i] = x->alpha_bias[i] = 0.0;
     }
   }
+  for (int i = 0; i < 3; ++i)
+    if (!arch->type->limb_twist_diff(arch, i, R, w, out, dout))
+      return limb_failure(arch, i, R, err);
   return POM_OK;
 }

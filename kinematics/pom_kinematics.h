@@ -404,4 +404,20 @@ typedef struct {
 pom_status pom_kin_body_twists(const pom_kin_arch *arch, const double R[9], const double omega[3],
                                pom_kin_twists *out, pom_error *err);
 
+/* Whether arch's type provides second-order kinematics (limb_twist_diff):
+ * 1 or 0. Without it pom_kin_body_twists_diff returns POM_ERR_ARG. */
+int pom_kin_has_twists_diff(const pom_kin_arch *arch);
+
+/* pom_kin_body_twists (same *out, same failures) and the first derivatives
+ * of every field it fills (pom_kin_twists_diff) for all bodies: the limbs by
+ * the type's limb_twist_diff, the platform's own entries zero (A = 0, B = I
+ * and no bias at every R and omega: docs/dynamics-exact.md section 2.1).
+ * omega NULL = 0. The derivative structs' pose fields (R, ref, ref_home,
+ * spin) are not written: poses follow from A and B. A type without
+ * limb_twist_diff: POM_ERR_ARG with *out and *dout untouched (the "not provided" status; test first
+ * with pom_kin_has_twists_diff). err may be NULL (no message formatting). */
+pom_status pom_kin_body_twists_diff(const pom_kin_arch *arch, const double R[9],
+                                    const double omega[3], pom_kin_twists *out,
+                                    pom_kin_twists_diff *dout, pom_error *err);
+
 #endif

@@ -1,12 +1,16 @@
 /* test_dyn_exact_jac.c - the exact path's Jacobian (docs/dynamics-exact.md
- * section 5): forward differences over the orientation and omega columns,
- * analytic coil-flux and PID-integral columns. Compared with central
- * differences of the right-hand side over random states of the 3PSS, 3SPS
- * and 3RRR, inductive and quasi-static coils, Euler angles and quaternions,
- * with saturated and unsaturated actuators. */
+ * section 5): analytic orientation and omega columns where the architecture
+ * has second-order kinematics (limb_twist_diff: the 3PSS, and whichever
+ * others provide it), forward differences over them otherwise; analytic
+ * coil-flux and PID-integral columns. Compared with central differences of
+ * the right-hand side over random states of the 3PSS, 3SPS and 3RRR,
+ * inductive and quasi-static coils, Euler angles and quaternions, with
+ * saturated and unsaturated actuators; an analytic Jacobian must not
+ * evaluate the right-hand side at all (d->jac_rhs_count). */
 #include "check.h"
 #include "dyn_internal.h"
 #include "dyn_test_util.h"
+#include "pom_kinematics.h"
 #include "pom_math.h"
 #include "pom_rng.h"
 
@@ -18,8 +22,10 @@
 #define N_STATES_TESTED 12
 
 /* Largest error of the Jacobian's entry (i, j) found so far, relative to its
- * tolerance, per column kind (0 mechanical, 1 electrical). */
-static double worst[2];
+ * tolerance, per column kind (0 mechanical, 1 electrical, 2 mechanical
+ * analytic). */
+static double worst[3];
+static int analytic_models;
 static int saturated_seen, linear_seen, kinks_skipped;
 
 /* Random state: orientation within 0.08 rad of home, omega +-2 rad/s, coil
@@ -123,7 +129,10 @@ static void check_model(const char *label, const pom_kin_arch *arch, const pom_m
   pom_rng rng;
   pom_rng_seed(&rng, 2385, (uint64_t)(100 * inductive + (int)orient));
   const double lim = p.actuator.voltage_limit;
-  double local[2] = {0.0, 0.0};
+  double local[3] = {0.0, 0.0, 0.0};
+  double *col2 = calloc((size_t)n, sizeof *col2);
+  const int analytic = pom_kin_has_twists_diff(arch);
+  analytic_models += analytic;
   for (int s = 0; s < N_STATES_TESTED; ++s) {
     random_state(m, &rng, y);
     /* actuator 0 inside the linear band, the others saturated or not by turns */
@@ -139,10 +148,45 @@ static void check_model(const char *label, const pom_kin_arch *arch, const pom_m
       else
         ++saturated_seen;
     }
+    const long rhs_before = d->jac_rhs_count;
     check_true(pom_dyn_exact_jacobian(d, y, f0, yp, fp) == 0);
+    /* analytic: no right-hand side evaluated (forward differences: one per
+     * mechanical column) */
+    check_true(d->jac_rhs_count - rhs_before == (analytic ? 0 : n_mech));
     memcpy(jac, d->jac, (size_t)m->nnz * sizeof *jac);
     for (int j = 0; j < n; ++j) {
-      int kind = j < n_mech ? 0 : 1;
+      int kind = j < n_mech ? (analytic ? 2 : 0) : 1;
+      if (kind == 2) {
+        /* analytic mechanical column: central differences at h and 2h,
+         * h = 1e-6 of the state's size (a 5e-8 rad step moves q by ~1.5 nm
+         * and u by ~15 mV: inside one branch of the loop). Their difference
+         * bounds the error of the one at h: the truncation c h^2 of D(h)
+         * is a third of D(2h) - D(h), and the rounding eps |f| / h of both
+         * (the IK's q carries a rounding of ~eps L, which the loop's gain
+         * makes ~1e-7 of these columns at this h) enters it at its own
+         * size; a wrong analytic entry does not depend on h and is not in
+         * it. Tolerance: 1e-6 relative plus twice that difference plus the
+         * rounding of f itself. */
+        double h = 1e-5 * fmax(fabs(y[j]), m->scale[j]);
+        central_column(m, d, y, j, 2.0 * h, yp, fp, fm, col2);
+        central_column(m, d, y, j, h, yp, fp, fm, col);
+        for (long k = m->colptr[j]; k < m->colptr[j + 1]; ++k) {
+          int i = m->rowind[k];
+          if (kink_row(m, i) && !(same_branch(f0[i], fp[i]) && same_branch(f0[i], fm[i]))) {
+            ++kinks_skipped;
+            continue;
+          }
+          double ref = col[i];
+          double tol = 1e-6 * fabs(ref) + 2.0 * fabs(col2[i] - col[i]) +
+                       100.0 * 2.220446049250313e-16 * (fabs(fp[i]) + fabs(fm[i])) / h + 1e-300;
+          double e = fabs(jac[k] - ref) / tol;
+          if (e > local[2]) local[2] = e;
+          if (e > 1.0)
+            printf("  %s state %d: J[%d][%d] = %.9g, central %.9g (tol %.2g)\n", label, s, i, j,
+                   jac[k], ref, tol);
+        }
+        continue;
+      }
       /* reference step: central differences are exact for the electrical
        * columns up to rounding (omega_dot, coil and PID rows are affine in z
        * and the flux, the accumulators quadratic: 1e-4 of the scale); for the
@@ -179,11 +223,12 @@ static void check_model(const char *label, const pom_kin_arch *arch, const pom_m
       }
     }
   }
-  printf("%s: worst error / tolerance: mechanical columns %.3g, electrical columns %.3g\n", label,
-         local[0], local[1]);
-  check_true(local[0] <= 1.0 && local[1] <= 1.0);
-  worst[0] = fmax(worst[0], local[0]);
-  worst[1] = fmax(worst[1], local[1]);
+  printf("%s: worst error / tolerance: mechanical columns %.3g (%s), electrical columns %.3g\n",
+         label, analytic ? local[2] : local[0], analytic ? "analytic" : "differenced", local[1]);
+  check_true(local[0] <= 1.0 && local[1] <= 1.0 && local[2] <= 1.0);
+  for (int k = 0; k < 3; ++k)
+    worst[k] = fmax(worst[k], local[k]);
+  free(col2);
   free(y);
   free(f0);
   free(yp);
@@ -215,9 +260,11 @@ int main(void) {
       }
     free(mech);
   }
-  printf("worst: mechanical %.3g, electrical %.3g; actuator states linear %d, saturated %d; "
-         "entries across a kink skipped %d\n",
-         worst[0], worst[1], linear_seen, saturated_seen, kinks_skipped);
+  printf("worst: mechanical differenced %.3g, analytic %.3g, electrical %.3g; actuator states "
+         "linear %d, saturated %d; entries across a kink skipped %d\n",
+         worst[0], worst[2], worst[1], linear_seen, saturated_seen, kinks_skipped);
   check_true(linear_seen > 0 && saturated_seen > 0);
+  /* the 3PSS has second-order kinematics: its four models went analytically */
+  check_true(analytic_models >= 4);
   return check_summary("test_dyn_exact_jac");
 }

@@ -528,14 +528,24 @@ static void test_errors(const setup_t *s3, const setup_t *u3) {
     check_true(pom_kin_mechanism_from(&z.mech, &z.arch, &z.in, &err) == POM_OK);
     pom_dyn_params pz = p;
     pz.maneuver.horizon = 0.03;
+    /* with the analytic Jacobian (3PSS) the integrator creeps toward the
+     * singular pose in ever smaller steps instead of failing its Newton
+     * iteration there (docs/dynamics-exact.md section 3): bound the steps */
+    pz.solver.max_steps = 10000;
     double ends[3] = {6e-3, -6e-3, 6e-3};
     run_t rz;
     if (run_build(&rz, &z, &pz) == POM_OK) {
       pom_status st = pom_dyn_simulate(rz.m, rz.d, ends, &rz.mt, NULL, &rz.err);
       check_true(st != POM_OK && rz.mt.status == st && isnan(rz.mt.execution_time));
-      check_true(strstr(rz.mt.reason, "rigid joints") != NULL);
+      /* 1.8 r with the analytic Jacobian (docs/dynamics-exact.md section 3):
+       * no differenced probe beyond the reach boundary stops the run, it
+       * goes on to the horizon near that boundary and the energy audit
+       * flags it */
+      check_true(strstr(rz.mt.reason, "rigid joints") != NULL ||
+                 (cz == 0 && strstr(rz.mt.reason, "energy audit does not close") != NULL));
       check_true(rz.mt.wall_time < 10.0);
-      printf("singular pose: %s\n", rz.mt.reason);
+      printf("singular pose: %s (%.3g s wall, %ld steps)\n", rz.mt.reason, rz.mt.wall_time,
+             (long)rz.mt.steps);
     }
     run_free(&rz);
   }
