@@ -47,9 +47,17 @@ static int load_arch(const char *file, pom_kin_arch *arch) {
 /* q[i], J row i, q_bias[i], then per body (2 + 2i, 3 + 2i) A, B, a_bias,
  * alpha_bias: the fields limb_twist_diff differentiates. */
 enum { F_Q, F_J, F_QBIAS, F_A, F_B, F_ABIAS, F_ALBIAS, F_COUNT = 3 + 4 * 2 };
-static const char *const field_names[F_COUNT] = {
-    "q", "J row", "q_bias", "A body 1", "B body 1", "a_bias body 1", "alpha_bias body 1",
-    "A body 2", "B body 2", "a_bias body 2", "alpha_bias body 2"};
+static const char *const field_names[F_COUNT] = {"q",
+                                                 "J row",
+                                                 "q_bias",
+                                                 "A body 1",
+                                                 "B body 1",
+                                                 "a_bias body 1",
+                                                 "alpha_bias body 1",
+                                                 "A body 2",
+                                                 "B body 2",
+                                                 "a_bias body 2",
+                                                 "alpha_bias body 2"};
 
 /* Pointer and length of field f of limb i in t. */
 static double *field(pom_kin_twists *t, int i, int f, int *len) {
@@ -58,10 +66,14 @@ static double *field(pom_kin_twists *t, int i, int f, int *len) {
   if (f == F_QBIAS) return *len = 1, &t->q_bias[i];
   pom_kin_body_twist *b = &t->body[2 + 2 * i + (f - F_A) / 4];
   switch ((f - F_A) % 4) {
-  case 0: return *len = 9, b->A;
-  case 1: return *len = 9, b->B;
-  case 2: return *len = 3, b->a_bias;
-  default: return *len = 3, b->alpha_bias;
+  case 0:
+    return *len = 9, b->A;
+  case 1:
+    return *len = 9, b->B;
+  case 2:
+    return *len = 3, b->a_bias;
+  default:
+    return *len = 3, b->alpha_bias;
   }
 }
 
