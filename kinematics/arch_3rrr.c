@@ -219,28 +219,42 @@ static void pair_frame(double F[9], const double a[3], const double b[3]) {
   }
 }
 
-static int limb_twist(const pom_kin_arch *arch, int i, const double R[9], const double om[3],
-                      pom_kin_twists *out) {
+/* The quantities of limb_twist that limb_twist_diff differentiates (names as
+ * in docs/kinematics-3rrr.md section 4). */
+typedef struct {
+  const double *u;                 /* base axis */
+  double v[3], w[3], n[3], nv;     /* platform and elbow axes, n = u x w, n . v */
+  double Jr[3];                    /* Jacobian row (w x v) / (n . v) */
+  double om[3], td, tb;            /* platform angular velocity, theta_dot, theta_ddot bias */
+  double uxn[3], omv[3], omomv[3]; /* u x n, om x v, om x (om x v) */
+  double beta, ndot[3], betad;     /* distal: omega_d = omega + beta v; n_dot; beta_dot */
+} rrr_twist;
+
+/* Fills limb i of *out and the intermediate quantities *k; 0 when the leg
+ * cannot be assembled or is at a leg singularity. */
+static int twist_eval(const pom_kin_arch *arch, int i, const double R[9], const double om[3],
+                      pom_kin_twists *out, rrr_twist *k) {
   const rrr *g = POM_KIN_CDATA(rrr, arch);
-  const double *u = g->base_axis[i];
-  double v[3], w[3], theta;
+  const double *u = k->u = g->base_axis[i];
+  double *v = k->v, *w = k->w, theta;
   pom_m3_apply(v, R, g->platform_axis[i]);
   if (!leg_angle(g, i, v, &theta, w)) return 0;
-  double n[3], wxv[3];
+  double *n = k->n, wxv[3];
   pom_v3_cross(n, u, w); /* n = u x w */
-  double nv = pom_v3_dot(n, v);
+  double nv = k->nv = pom_v3_dot(n, v);
   if (nv == 0.0) return 0;
   pom_v3_cross(wxv, w, v);
-  double Jr[3];
+  double *Jr = k->Jr;
   pom_v3_scale(Jr, 1.0 / nv, wxv);
-  double td = pom_v3_dot(Jr, om);
+  pom_v3_copy(k->om, om);
+  double td = k->td = pom_v3_dot(Jr, om);
   /* theta_ddot at omega_dot = 0: from d2/dt2 (w . v) = 0 with
    * w_dot = theta_dot n, n_dot = theta_dot u x n, v_dot = om x v */
-  double uxn[3], omv[3], omomv[3];
+  double *uxn = k->uxn, *omv = k->omv, *omomv = k->omomv;
   pom_v3_cross(uxn, u, n);
   pom_v3_cross(omv, om, v);
   pom_v3_cross(omomv, om, omv);
-  double tb =
+  double tb = k->tb =
       -(td * td * pom_v3_dot(uxn, v) + 2.0 * td * pom_v3_dot(n, omv) + pom_v3_dot(w, omomv)) / nv;
   out->q[i] = theta;
   pom_v3_copy(out->J + 3 * i, Jr);
@@ -262,13 +276,111 @@ static int limb_twist(const pom_kin_arch *arch, int i, const double R[9], const 
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c)
       ds->B[3 * r + c] = (r == c ? 1.0 : 0.0) - v[r] * n[c] / nv;
-  double beta = -pom_v3_dot(om, n) / nv, ndot[3];
+  double beta = k->beta = -pom_v3_dot(om, n) / nv, *ndot = k->ndot;
   pom_v3_scale(ndot, td, uxn);
-  double betad = -(pom_v3_dot(om, ndot) * nv -
-                   pom_v3_dot(om, n) * (pom_v3_dot(omv, n) + pom_v3_dot(v, ndot))) /
-                 (nv * nv);
-  for (int k = 0; k < 3; ++k)
-    ds->alpha_bias[k] = betad * v[k] + beta * omv[k];
+  double betad = k->betad = -(pom_v3_dot(om, ndot) * nv -
+                              pom_v3_dot(om, n) * (pom_v3_dot(omv, n) + pom_v3_dot(v, ndot))) /
+                            (nv * nv);
+  for (int c = 0; c < 3; ++c)
+    ds->alpha_bias[c] = betad * v[c] + beta * omv[c];
+  return 1;
+}
+
+static int limb_twist(const pom_kin_arch *arch, int i, const double R[9], const double om[3],
+                      pom_kin_twists *out) {
+  rrr_twist k;
+  return twist_eval(arch, i, R, om, out, &k);
+}
+
+/* ---- second-order kinematics (docs/dynamics-exact.md section 2) ---------------- */
+/* Derivative of limb i's fields (forward mode) into *d along a platform
+ * rotation increment th (dom = 0) or, th NULL, along an angular velocity
+ * increment dom at fixed R (then the fields that depend on R alone have a
+ * zero derivative and their terms are skipped). */
+static void twist_tangent(const rrr_twist *k, int i, const double *th, const double dom[3],
+                          pom_kin_twists *d) {
+  const double *u = k->u, *v = k->v, *w = k->w, *n = k->n, *om = k->om, *Jr = k->Jr;
+  const double nv = k->nv, td = k->td;
+  pom_kin_body_twist *px = &d->body[2 + 2 * i], *ds = &d->body[3 + 2 * i];
+  /* axes, q and the Jacobian row: d(w . v) = 0 gives dtheta = Jr . th */
+  double dv[3] = {0.0, 0.0, 0.0}, dw[3] = {0.0, 0.0, 0.0}, dn[3] = {0.0, 0.0, 0.0};
+  double dJr[3] = {0.0, 0.0, 0.0}, duxn[3] = {0.0, 0.0, 0.0}, dnv = 0.0, t0[3], t1[3];
+  if (th) {
+    pom_v3_cross(dv, th, v);
+    double dtheta = pom_v3_dot(Jr, th);
+    d->q[i] = dtheta;
+    pom_v3_scale(dw, dtheta, n);
+    pom_v3_scale(dn, dtheta, k->uxn);
+    dnv = pom_v3_dot(dn, v) + pom_v3_dot(n, dv);
+    pom_v3_cross(t0, dw, v);
+    pom_v3_cross(t1, w, dv);
+    for (int c = 0; c < 3; ++c)
+      dJr[c] = (t0[c] + t1[c] - Jr[c] * dnv) / nv;
+    pom_v3_cross(duxn, u, dn);
+  } else {
+    d->q[i] = 0.0;
+  }
+  pom_v3_copy(d->J + 3 * i, dJr);
+
+  /* theta_dot and the theta_ddot bias */
+  double dtd = pom_v3_dot(dJr, om) + pom_v3_dot(Jr, dom);
+  double domv[3], domomv[3];
+  pom_v3_cross(t0, dom, v);
+  pom_v3_cross(t1, om, dv);
+  pom_v3_add(domv, t0, t1);
+  pom_v3_cross(t0, dom, k->omv);
+  pom_v3_cross(t1, om, domv);
+  pom_v3_add(domomv, t0, t1);
+  double dN = 2.0 * td * dtd * pom_v3_dot(k->uxn, v) +
+              td * td * (pom_v3_dot(duxn, v) + pom_v3_dot(k->uxn, dv)) +
+              2.0 * dtd * pom_v3_dot(n, k->omv) +
+              2.0 * td * (pom_v3_dot(dn, k->omv) + pom_v3_dot(n, domv)) + pom_v3_dot(dw, k->omomv) +
+              pom_v3_dot(w, domomv);
+  double dtb = -(dN + k->tb * dnv) / nv;
+  d->q_bias[i] = dtb;
+
+  /* proximal: B = u Jr^T, alpha_bias = tb u */
+  pom_kin_outer(px->B, u, dJr);
+  pom_v3_scale(px->alpha_bias, dtb, u);
+  memset(px->A, 0, sizeof px->A);
+  memset(px->a_bias, 0, sizeof px->a_bias);
+
+  /* distal: B = I - v n^T / nv, alpha_bias = beta_dot v + beta om x v */
+  if (th) {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c)
+        ds->B[3 * r + c] = -(dv[r] * n[c] + v[r] * dn[c]) / nv + v[r] * n[c] * dnv / (nv * nv);
+  } else {
+    memset(ds->B, 0, sizeof ds->B);
+  }
+  double dbeta = -(pom_v3_dot(dom, n) + pom_v3_dot(om, dn) + k->beta * dnv) / nv;
+  double dndot[3];
+  for (int c = 0; c < 3; ++c)
+    dndot[c] = dtd * k->uxn[c] + td * duxn[c];
+  double P1 = pom_v3_dot(om, k->ndot), P2 = pom_v3_dot(om, n);
+  double P3 = pom_v3_dot(k->omv, n) + pom_v3_dot(v, k->ndot);
+  double dP1 = pom_v3_dot(dom, k->ndot) + pom_v3_dot(om, dndot);
+  double dP2 = pom_v3_dot(dom, n) + pom_v3_dot(om, dn);
+  double dP3 =
+      pom_v3_dot(domv, n) + pom_v3_dot(k->omv, dn) + pom_v3_dot(dv, k->ndot) + pom_v3_dot(v, dndot);
+  double dbetad =
+      -(dP1 * nv + P1 * dnv - dP2 * P3 - P2 * dP3) / (nv * nv) - 2.0 * k->betad * dnv / nv;
+  for (int c = 0; c < 3; ++c)
+    ds->alpha_bias[c] = dbetad * v[c] + k->betad * dv[c] + dbeta * k->omv[c] + k->beta * domv[c];
+  memset(ds->A, 0, sizeof ds->A);
+  memset(ds->a_bias, 0, sizeof ds->a_bias);
+}
+
+static int limb_twist_diff(const pom_kin_arch *arch, int i, const double R[9], const double om[3],
+                           pom_kin_twists *out, pom_kin_twists_diff *dout) {
+  static const double e[3][3] = {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}};
+  static const double zero[3] = {0.0, 0.0, 0.0};
+  rrr_twist k;
+  if (!twist_eval(arch, i, R, om, out, &k)) return 0;
+  for (int c = 0; c < 3; ++c) {
+    twist_tangent(&k, i, e[c], zero, &dout->d_theta[c]);
+    twist_tangent(&k, i, NULL, e[c], &dout->d_omega[c]);
+  }
   return 1;
 }
 
@@ -477,6 +589,7 @@ const pom_kin_arch_type pom_kin_arch_3rrr = {
     .finish = finish,
     .limb = limb,
     .limb_twist = limb_twist,
+    .limb_twist_diff = limb_twist_diff,
     .limit_values = limit_values,
     .footprint = footprint,
     .mechanism = mechanism,
