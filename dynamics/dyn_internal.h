@@ -265,6 +265,13 @@ int pom_dyn_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, doubl
 /* dyn_simulate.c: m->form->stored, the stored energy of a state (J). */
 double pom_dyn_stored(const pom_dyn_model *m, pom_dyn_data *d, const double *y);
 
+/* dyn_simulate.c: settling times, execution time, final and largest |q| of
+ * mt from the output grid d->qs (d->n_samples samples of the actuator
+ * positions) and the setpoints d->target (docs/dynamics.md section 8); the
+ * driver calls it at the end of a maneuver, bench/bench_integrators.c on the
+ * grid of another integrator. */
+void pom_dyn_settle_metrics(const pom_dyn_model *m, const pom_dyn_data *d, pom_dyn_metrics *mt);
+
 /* dyn_simulate.c: the CVODE RHS callback (counts and flags, then eval). */
 int pom_dyn_cvode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data);
 

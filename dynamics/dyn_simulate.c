@@ -224,7 +224,7 @@ static double last_exit_time(const pom_dyn_params *p, const double *qs, int n, i
   return t0 + tau * (t1 - t0);
 }
 
-static void settle_metrics(const pom_dyn_model *m, const pom_dyn_data *d, pom_dyn_metrics *mt) {
+void pom_dyn_settle_metrics(const pom_dyn_model *m, const pom_dyn_data *d, pom_dyn_metrics *mt) {
   const pom_dyn_params *p = &m->par;
   int n = d->n_samples;
   mt->execution_time = 0.0;
@@ -538,7 +538,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
     double imbalance = mt->energy_supplied - mt->energy_dissipated - mt->energy_stored_change;
     mt->energy_balance_error = scale > 0 ? fabs(imbalance) / scale : 0.0;
   }
-  settle_metrics(m, d, mt);
+  pom_dyn_settle_metrics(m, d, mt);
   pointing_metrics(m, d, track, n_track, mt);
   if (p->solver.max_balance_error > 0 &&
       !(mt->energy_balance_error <= p->solver.max_balance_error)) {
