@@ -956,10 +956,12 @@ static int mechanical_columns(const pom_dyn_model *m, pom_dyn_data *d, const dou
   return 0;
 }
 
-/* 1 when the orientation and omega columns go analytically: a controller
- * with analytic partials and an architecture with second-order kinematics. */
+/* 1 when the orientation and omega columns go analytically: solver.jacobian
+ * analytic (the default), a controller with analytic partials and an
+ * architecture with second-order kinematics. */
 static int analytic_mechanical(const pom_dyn_model *m) {
-  return m->ctrl_analytic && pom_kin_has_twists_diff(&exact_of(m)->arch);
+  return m->par.solver.jacobian == POM_JAC_ANALYTIC && m->ctrl_analytic &&
+         pom_kin_has_twists_diff(&exact_of(m)->arch);
 }
 
 int pom_dyn_exact_jacobian(pom_dyn_data *d, const double *y, const double *f0, double *yp,

@@ -121,8 +121,8 @@
     "bond graph's groups (docs/dynamics.md section 7)")                                            \
   X(solver, "jacobian", "jacobian", solver.jacobian, ENUM, pom_dyn_jacobian_names, 1.0, "-", 0, 0, \
     POM_JAC_ANALYTIC, "solver_jacobian",                                                           \
-    "Newton Jacobian of the parasitic path: analytic or coloured finite differences "              \
-    "(docs/dynamics.md section 7)")                                                                \
+    "Newton Jacobian: analytic, or finite differences (parasitic path: coloured, docs/dynamics.md " \
+    "section 7; exact path: its orientation and omega columns, docs/dynamics-exact.md section 5)")                                                                \
   X(solver, "max_order", "max_order", solver.max_order, INT, 0, 1.0, "1", 1, 5, 5,                 \
     "solver_max_order", "largest BDF order")                                                       \
   X(solver, "stability_limit_detection", "stability_limit_detection",                              \
