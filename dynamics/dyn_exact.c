@@ -478,6 +478,7 @@ static int exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, 
   const pom_dyn_params *par = &m->par;
   dyn_outputs *o = &d->out;
   memset(o, 0, sizeof *o);
+  o->dexterity_bound = NAN;
   double R[9], trig[4] = {1.0, 0.0, 1.0, 0.0};
   state_rotation(m, y, R, trig);
   if (ex->n_ori == 3 && trig[2] < par->scene.euler_cos_min) o->euler_singular = 1;
@@ -490,6 +491,9 @@ static int exact_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, 
     o->kin_fail = 1;
     return 1;
   }
+  /* the dexterity floor's measure from the J at hand, on the outputs
+   * evaluations only (the driver's per step): docs/dynamics-exact.md section 3 */
+  if (!ydot) o->dexterity_bound = pom_kin_dexterity_bound(tw->J);
 
   /* Kane: M = sum m Acm^T Acm + B^T I B; f = sum Acm^T (F - m a0) - B^T (I al0 + w x I w) */
   double M[9] = {0}, f[3] = {0}, pe = 0.0;

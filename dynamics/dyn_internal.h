@@ -150,6 +150,11 @@ typedef struct {
   int euler_singular;                     /* 1 when a body was too close to pitch 90 deg */
   int nonfinite;                          /* 1 when a derivative was not finite */
   int kin_fail;                           /* exact path: the rigid mechanism cannot be assembled */
+  /* exact path, outputs-only evaluations (ydot NULL): 3/kappa_F(J) of the
+   * kinematic Jacobian, an upper bound on the dexterity 1/kappa_2(J) within a
+   * factor 3 (pom_kin_dexterity_bound); NaN where not measured (the parasitic
+   * path, the RHS evaluations, an unassemblable pose) */
+  double dexterity_bound;
 } dyn_outputs;
 
 /* ---- settling on the integrator's dense output (dyn_settle.c) ------------
@@ -222,7 +227,8 @@ struct pom_dyn_data {
   double t;        /* time of the evaluation under way (s): the controller's clock */
   double ctrl_u[POM_MECH_MAX_ACTUATORS]; /* a coupled controller's raw voltages of this
                                             evaluation (V), set by pom_dyn_controller_pass */
-  long kin_fail_count; /* exact path: RHS calls of this run at an unassemblable pose */
+  long kin_fail_count;     /* exact path: RHS calls of this run at an unassemblable pose */
+  int below_min_dexterity; /* 1 when this run stopped at out.dexterity_bound < min_dexterity */
 };
 
 /* ---- formulations --------------------------------------------------------

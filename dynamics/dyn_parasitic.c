@@ -173,6 +173,7 @@ static int parasitic_eval(const pom_dyn_model *m, pom_dyn_data *d, const double 
   o->max_ang_deflection = 0.0;
   o->spring_energy = 0.0;
   o->parasitic_power = 0.0;
+  o->dexterity_bound = NAN; /* springs stretch instead: no floor */
   if (m->ctrl->law_all) controller_pass(m, d, y, ydot);
 
   for (int j = 0; j < m->n_joints; ++j) {

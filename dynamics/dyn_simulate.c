@@ -239,7 +239,12 @@ static void track_extremes(const pom_dyn_model *m, const pom_dyn_data *d, pom_dy
 static pom_status fail_status(pom_dyn_data *d, int flag, double t, pom_dyn_metrics *mt,
                               pom_error *err) {
   pom_status st;
-  if (d->last_euler_singular || d->euler_singular_count > 0)
+  if (d->below_min_dexterity)
+    st = pom_error_set(err, POM_ERR_SINGULAR, __FILE__, __LINE__,
+                       "rigid joints: the platform reached a near-singular pose at t = %.6g s "
+                       "(1/kappa(J) <= 3/kappa_F(J) = %.3g < solver.min_dexterity = %g)",
+                       t, d->out.dexterity_bound, d->m->par.solver.min_dexterity);
+  else if (d->last_euler_singular || d->euler_singular_count > 0)
     st = pom_error_set(err, POM_ERR_EULER_SINGULAR, __FILE__, __LINE__,
                        "a body reached |cos pitch| < %g at t = %.6g s; use scene.orientation = "
                        "\"quaternion\"",
@@ -264,6 +269,15 @@ static pom_status fail_status(pom_dyn_data *d, int flag, double t, pom_dyn_metri
   else
     snprintf(mt->reason, sizeof mt->reason, "%s at t = %.6g s", pom_strerror(st), t);
   return st;
+}
+
+/* The dexterity floor (docs/dynamics-exact.md section 3): 1 when the outputs
+ * just evaluated put the pose below solver.min_dexterity. A formulation that
+ * does not measure it leaves NaN, which never trips it; 0 turns it off. */
+static int below_dexterity_floor(const pom_dyn_model *m, pom_dyn_data *d) {
+  const double dex_min = m->par.solver.min_dexterity;
+  d->below_min_dexterity = dex_min > 0.0 && d->out.dexterity_bound < dex_min;
+  return d->below_min_dexterity;
 }
 
 static void solver_stats(pom_dyn_data *d, pom_dyn_metrics *mt) {
@@ -331,6 +345,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
   d->last_euler_singular = d->last_nonfinite = 0;
   d->euler_singular_count = d->nonfinite_count = 0;
   d->kin_fail_count = 0;
+  d->below_min_dexterity = 0;
   d->cvode_msg[0] = '\0';
   d->have_final = 0;
   if (tr) tr->n = 0, tr->n_actuators = m->n_actuators;
@@ -350,6 +365,10 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
   }
   d->t = 0.0;
   pom_dyn_eval(m, d, y, NULL);
+  if (below_dexterity_floor(m, d)) { /* a design singular at home */
+    st = fail_status(d, CV_SUCCESS, 0.0, mt, err);
+    goto finish;
+  }
   if (tr) record_sample(m, d, 0, 0.0, y, tr);
   pom_dyn_settle_begin(m, d, y);
   track_extremes(m, d, mt);
@@ -390,6 +409,10 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
     }
     d->t = t;
     pom_dyn_eval(m, d, y, NULL); /* extremes at every internal step */
+    if (below_dexterity_floor(m, d)) {
+      st = fail_status(d, CV_SUCCESS, t, mt, err);
+      goto finish;
+    }
     track_extremes(m, d, mt);
     st = pom_dyn_settle_step(m, d, t, y, err);
     if (st != POM_OK) {

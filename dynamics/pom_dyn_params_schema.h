@@ -133,6 +133,10 @@
   X(solver, "max_balance_error", "max_balance_error", solver.max_balance_error, REAL, 0, 1.0, "1", \
     0.0, 1e3, 0.05, "solver_max_balance_error",                                                    \
     "a maneuver whose energy audit is off by more fails (POM_ERR_UNSTABLE); 0 = no check")         \
+  X(solver, "min_dexterity", "min_dexterity", solver.min_dexterity, REAL, 0, 1.0, "1", 0.0, 0.99,  \
+    1.0e-3, "solver_min_dexterity",                                                                \
+    "rigid joints: stop at a near-singular pose, 3/kappa_F(J) below it (POM_ERR_SINGULAR; "       \
+    "docs/dynamics-exact.md section 3); 0 = off")                                                  \
   X(maneuver, "horizon_ms", "horizon_s", maneuver.horizon, REAL, 0, 1e-3, "ms", 1e-3, 1e7, 0.100,  \
     "maneuver_horizon_s", "simulated time (and energy horizon)")                                   \
   X(maneuver, "settle_band_percent", "settle_band", maneuver.settle_band, REAL, 0, 1e-2, "%",      \

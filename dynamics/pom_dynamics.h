@@ -119,6 +119,9 @@ typedef struct {
   double max_balance_error; /* a finished maneuver whose energy_balance_error exceeds this is
                                a failure (POM_ERR_UNSTABLE); 0 = no check (default 0.05) */
   pom_jac_kind jacobian;    /* analytic (default) or finite-difference (issue 10) */
+  double min_dexterity;     /* rigid joints: a maneuver whose platform pose has 3/kappa_F(J) below
+                               this stops (POM_ERR_SINGULAR), in [0, 0.99], 0 = off (default
+                               1e-3; docs/dynamics-exact.md section 3) */
 } pom_dyn_solver;
 
 /* Maneuver definition. */

@@ -83,6 +83,22 @@ void pom_kin_dexterity(const double J[9], double sv[3], double *kappa, double *d
   if (kappa) *kappa = dex > 0.0 ? s[0] / s[2] : INFINITY;
 }
 
+double pom_kin_dexterity_bound(const double J[9]) {
+  /* cofactors C (adj J = C^T), det J along the first row */
+  const double c[9] = {
+      J[4] * J[8] - J[5] * J[7], J[5] * J[6] - J[3] * J[8], J[3] * J[7] - J[4] * J[6],
+      J[2] * J[7] - J[1] * J[8], J[0] * J[8] - J[2] * J[6], J[1] * J[6] - J[0] * J[7],
+      J[1] * J[5] - J[2] * J[4], J[2] * J[3] - J[0] * J[5], J[0] * J[4] - J[1] * J[3]};
+  const double det = J[0] * c[0] + J[1] * c[1] + J[2] * c[2];
+  double nj = 0.0, nc = 0.0;
+  for (int k = 0; k < 9; ++k) {
+    nj += J[k] * J[k];
+    nc += c[k] * c[k];
+  }
+  const double den = sqrt(nj * nc); /* 0 when rank J <= 1 */
+  return den > 0.0 ? 3.0 * fabs(det) / den : 0.0;
+}
+
 /* ---- geometry helpers ------------------------------------------------------ */
 static double clamp01(double x) {
   return x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x;

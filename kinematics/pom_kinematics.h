@@ -155,6 +155,14 @@ pom_status pom_kin_inverse_jacobian(const pom_kin_arch *arch, const double R[9],
  * be NULL. */
 void pom_kin_dexterity(const double J[9], double sv[3], double *kappa, double *dexterity);
 
+/* A cheap bound on the dexterity of J: 3/kappa_F(J) with the Frobenius
+ * condition number kappa_F = |J|_F |J^-1|_F = |J|_F |adj J|_F / |det J|
+ * (cofactors, one square root, no SVD). kappa_2 <= kappa_F <= 3 kappa_2, so
+ * 1/kappa_2(J) <= the result <= 3/kappa_2(J); 1 exactly when J is a
+ * multiple of an orthogonal matrix, 0 when J is singular, as
+ * pom_kin_dexterity's (docs/dynamics-exact.md section 3). */
+double pom_kin_dexterity_bound(const double J[9]);
+
 /* Limit bits of pom_kin_pose.violations: bit 3 kind + member, kind 0 the
  * actuator range of limb member, kinds 1..3 the architecture's own limits
  * (pom_arch.h), each per limb or per limb pair (member 0: limbs 1-2, 1: 2-3,

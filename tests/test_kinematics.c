@@ -244,6 +244,58 @@ static void test_dexterity_closed_form(pom_rng *rng) {
   check_true(isinf(kappa) && dex == 0.0);
 }
 
+/* The dexterity floor's bound 3/kappa_F (docs/dynamics-exact.md section 3)
+ * on J = U D V^T with known singular values a >= c >= b: kappa_F^2 =
+ * (a^2 + b^2 + c^2)(1/a^2 + 1/b^2 + 1/c^2) exactly, and b/a <= 3/kappa_F <=
+ * 3 b/a. Rounding: det and the cofactors are differences of products of
+ * O(a) entries, so the relative error is ~eps a^2 / (b c) <= eps kappa_2^2:
+ * 2e-6 at the b = 1e-5 a drawn here (the floor is 1e-3 by default). Own
+ * stream, so the other tests' draws are unchanged. */
+static void test_dexterity_bound(void) {
+  pom_rng r;
+  pom_rng *rng = &r;
+  pom_rng_seed(rng, 2385, 7);
+  double worst = 0.0, lo_ratio = INFINITY, hi_ratio = 0.0;
+  for (int n = 0; n < 2000; ++n) {
+    double U[9], V[9], D[9] = {0}, T[9], J[9], e[3];
+    for (int k = 0; k < 3; ++k)
+      e[k] = pom_rng_range(rng, -POM_PI, POM_PI);
+    pom_euler_zyx_to_matrix(U, e);
+    for (int k = 0; k < 3; ++k)
+      e[k] = pom_rng_range(rng, -POM_PI, POM_PI);
+    pom_euler_zyx_to_matrix(V, e);
+    double a = pom_rng_range(rng, 0.01, 0.02), b = a * pow(10.0, pom_rng_range(rng, -5.0, 0.0));
+    double c = pom_rng_range(rng, b, a);
+    D[0] = a;
+    D[4] = c;
+    D[8] = b;
+    pom_m3_mul(T, U, D);
+    pom_m3_mult(J, T, V);
+    double kf = sqrt((a * a + b * b + c * c) * (1 / (a * a) + 1 / (b * b) + 1 / (c * c)));
+    double bound = pom_kin_dexterity_bound(J);
+    worst = fmax(worst, fabs(bound * kf / 3.0 - 1.0));
+    lo_ratio = fmin(lo_ratio, bound / (b / a));
+    hi_ratio = fmax(hi_ratio, bound / (b / a));
+  }
+  check_abs(worst, 0.0, 1e-5);
+  check_true(lo_ratio >= 1.0 - 1e-5 && hi_ratio <= 3.0 + 1e-5);
+  /* the factor is 3 a / sqrt(a^2 + c^2) >= 3/sqrt(2) near a singularity
+   * (b << c), 1 at isotropy: the draws span most of [1, 3] */
+  check_true(lo_ratio < 1.1 && hi_ratio > 2.9);
+  /* isotropic (a multiple of a rotation): exactly 1 up to rounding */
+  double R[9], J[9], e[3] = {0.3817, -0.2385, 1.1731};
+  pom_euler_zyx_to_matrix(R, e);
+  for (int k = 0; k < 9; ++k)
+    J[k] = 0.015 * R[k];
+  check_abs(pom_kin_dexterity_bound(J), 1.0, 1e-14);
+  /* singular: rank 2, rank 1, zero */
+  double S2[9] = {0.01, 0.002, 0.0, 0.003, 0.012, 0.0, 0.004, 0.005, 0.0};
+  double S1[9] = {0.01, 0.02, 0.03, 0.02, 0.04, 0.06, -0.01, -0.02, -0.03}, Z[9] = {0};
+  check_true(pom_kin_dexterity_bound(S2) == 0.0);
+  check_true(pom_kin_dexterity_bound(S1) == 0.0);
+  check_true(pom_kin_dexterity_bound(Z) == 0.0);
+}
+
 /* ---- random designs: the formulas hold beyond the reference ----------------- */
 /* Designs drawn over the ranges synthesis explores, tilted sliders and raised
  * platform points included; at poses within 8 deg of home that are
@@ -1225,6 +1277,7 @@ int main(void) {
   test_jacobian_fd(&p3, &rng);
   test_jacobian_fd(&s3, &rng);
   test_dexterity_closed_form(&rng);
+  test_dexterity_bound();
   test_random_designs(&rng);
   test_round_trips(&p3, &rng, 3000);
   test_round_trips(&s3, &rng, 3000);
