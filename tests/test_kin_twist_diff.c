@@ -203,9 +203,9 @@ static void check_type(const pom_kin_arch_type *type) {
 }
 
 int main(void) {
-  /* the architectures whose second-order kinematics the exact path needs;
-   * the 3SPS and 3RRR join this list when their limb_twist_diff lands */
-  static const char *required[] = {"3PSS"};
+  /* the architectures whose second-order kinematics the exact path needs:
+   * every shipped one (a user's may go without: its columns are differenced) */
+  static const char *required[] = {"3PSS", "3SPS", "3RRR"}; /* every shipped type */
   for (size_t r = 0; r < sizeof required / sizeof required[0]; ++r) {
     const pom_kin_arch_type *t = pom_kin_arch_type_find(required[r]);
     check_true(t != NULL && t->limb_twist_diff != NULL);
