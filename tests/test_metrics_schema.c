@@ -6,7 +6,7 @@
  * test_metric_outputs.sh. */
 #define _POSIX_C_SOURCE 200809L
 #include "check.h"
-#include "pom_doe.h"
+#include "pom_run.h"
 #include "pom_dyn_metrics_schema.h"
 #include "pom_math.h"
 

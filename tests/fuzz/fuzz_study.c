@@ -8,10 +8,10 @@
  * evaluator. Nothing is simulated or written (docs/fuzzing.md). */
 #include "fuzz_common.h"
 #include "pom_config.h"
-#include "pom_doe.h"
-#include "pom_doe_sensitivity.h"
+#include "pom_run.h"
+#include "pom_explore.h"
 #include "pom_pipeline.h"
-#include "pom_uncertain.h"
+#include "pom_study.h"
 
 #include <math.h>
 #include <stdint.h>
