@@ -18,7 +18,7 @@
 #include <stdint.h>
 
 /* ==== sensitivity indices (pom_sensitivity.c) ================================
- * global sensitivity of a scalar model output to its
+ * Global sensitivity of a scalar model output to its
  * inputs: Sobol first-order and total indices (Saltelli sampling,
  * Saltelli-2010 and Jansen estimators, bootstrap confidence intervals) and
  * Morris elementary effects (mu*, mu, sigma) (docs/results.md, section 11).
@@ -118,7 +118,7 @@ pom_status pom_sens_morris_run(pom_sens_morris_result *r, pom_sens_fn f, void *u
                                const pom_sens_morris_opts *o, pom_error *err);
 
 /* ==== sensitivity of a study (pom_doe_sensitivity.c) ============================
- * global sensitivity of a study's candidates to its
+ * Global sensitivity of a study's candidates to its
  * uncertain parameters: the `sensitivity` group, the design run through
  * the batch runner (threads), the indices and their results file
  * (docs/results.md, section 11). */
@@ -195,7 +195,7 @@ pom_status pom_doe_sens_write(const char *path, const pom_doe_study *study, cons
                               const pom_doe_sens_result *r, pom_error *err);
 
 /* ==== speed against accuracy (pom_tradeoff.c) ==================================
- * speed against accuracy of the dynamics engine
+ * Speed against accuracy of the dynamics engine
  * (docs/tradeoff.md): a sweep over formulation, scene options, rtol,
  * parasitic stiffness and linear solver, each setting run on a fixed set of
  * maneuvers (drawn from the study seed) and compared with a tight reference

@@ -4,7 +4,6 @@
  * fidelity each candidate earns (docs/results.md). Nothing here runs a study
  * (run/pom_run.h) or reduces its rows (stats/pom_stats.h).
  *
- *
  * A study = candidates x maneuvers. Maneuver k draws its targets from a
  * generator seeded by (study seed, k) alone, so every candidate sees the same
  * targets (common random numbers) and the result of a maneuver does not
@@ -27,7 +26,7 @@
 #include <stdint.h>
 
 /* ==== uncertain inputs (pom_uncertain.c) ======================================
- * probability distributions of uncertain inputs and the
+ * Probability distributions of uncertain inputs and the
  * per-maneuver draws of a study's `uncertain` group (docs/results.md,
  * section 10).
  *
@@ -120,7 +119,7 @@ void pom_unc_unit(const pom_unc *unc, long k, long *maneuver, double *u);
 void pom_unc_draws(const pom_unc *unc, long k, double *x);
 
 /* ==== fidelity earned per candidate (pom_fidelity.c) ===========================
- * fidelity earned per candidate (docs/tradeoff.md section 9,
+ * The fidelity earned per candidate (docs/tradeoff.md section 9,
  * docs/results.md section 12): the cheapest setting of the dynamics engine
  * (joint model, coil model, tolerance) whose execution time and expended
  * energy stay within an accuracy of a tight reference, chosen on one set of
