@@ -3,7 +3,7 @@
 #include "pom_api.h"
 
 #include "pom_arch.h"
-#include "pom_doe.h"
+#include "pom_run.h"
 #include "pom_dyn_ctrl.h"
 #include "pom_dyn_metrics_schema.h"
 #include "pom_dynamics.h"

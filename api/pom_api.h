@@ -4,7 +4,7 @@
  * (docs/api.md section 3).
  *
  * Everything here composes the public module calls (pom_config.h,
- * pom_kinematics.h, pom_dynamics.h, pom_doe.h, pom_pipeline.h) the way the
+ * pom_kinematics.h, pom_dynamics.h, pom_run.h, pom_pipeline.h) the way the
  * `pomlab` commands do, without printing and without a process exit. No
  * function keeps state between calls: handles are owned by the caller, one
  * handle per thread. */

@@ -6,7 +6,7 @@
  *
  * usage: bench_doe [iterations_per_maneuver (default 20000)] */
 #define _DEFAULT_SOURCE
-#include "pom_doe.h"
+#include "pom_run.h"
 #include "pom_progress.h"
 
 #include <math.h>

@@ -42,7 +42,7 @@
  * are per maneuver (exact); CPU is the minimum over the passes of the processor time per maneuver.
  * bench/README.md, "Issue 20 item 2", has the measured tables. */
 #include "dyn_internal.h"
-#include "pom_doe.h"
+#include "pom_run.h"
 #include "pom_dynamics.h"
 #include "pom_kinematics.h"
 

@@ -8,7 +8,7 @@ target_link_libraries(bench_exact_maneuver PRIVATE pom_dynamics pom_kinematics p
 find_package(SUNDIALS REQUIRED PATHS /usr/lib/x86_64-linux-gnu/cmake/sundials)
 pom_add_bench(bench_integrators bench_integrators.c)
 target_include_directories(bench_integrators PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
-target_link_libraries(bench_integrators PRIVATE pom_doe pom_dynamics pom_kinematics pom_core
+target_link_libraries(bench_integrators PRIVATE pom_run pom_dynamics pom_kinematics pom_core
   SUNDIALS::arkode_shared SUNDIALS::cvode_shared SUNDIALS::nvecserial_shared)
 # The harness checks itself (on the maneuver (3, -3, 3) mm: maneuver 0 of
 # the draw is settled by chance within 1e-6 at rtol 1e-4, a single-maneuver

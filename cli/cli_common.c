@@ -1,12 +1,10 @@
 /* cli_common.c - helpers shared by the subcommands. */
 #include "pom_cli.h"
 
-#include "pom_doe.h"
-#include "pom_doe_sensitivity.h"
+#include "pom_study.h"
 #include "pom_dynamics.h"
 #include "pom_kinematics.h"
 #include "pom_synth.h"
-#include "pom_tradeoff.h"
 #include "pom_tune.h"
 
 #include <errno.h>

@@ -2,7 +2,7 @@
  * verdict, summary.md and figures (docs/results.md, "What you see"). */
 #define _POSIX_C_SOURCE 200809L
 #include "cli_doe.h"
-#include "pom_doe_estimate.h"
+#include "pom_run.h"
 #include "pom_version.h"
 #include "pom_cli.h"
 #include "pom_io.h"

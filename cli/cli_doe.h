@@ -5,8 +5,8 @@
 #define POM_CLI_DOE_H
 
 #include "cli_outputs.h"
-#include "pom_doe.h"
-#include "pom_doe_sensitivity.h"
+#include "pom_run.h"
+#include "pom_explore.h"
 
 #include <stdio.h>
 

@@ -4,7 +4,7 @@
 #ifndef POM_CLI_PIPELINE_H
 #define POM_CLI_PIPELINE_H
 
-#include "pom_doe.h"
+#include "pom_run.h"
 #include "pom_progress.h"
 
 #include <stdio.h>

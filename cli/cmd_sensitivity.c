@@ -3,7 +3,7 @@
  * table or JSON, HDF5 file and bar plot (docs/results.md, section 11). */
 #include "cli_doe.h"
 #include "pom_cli.h"
-#include "pom_doe_sensitivity.h"
+#include "pom_explore.h"
 #include "pom_pipeline.h"
 #include "pom_progress.h"
 

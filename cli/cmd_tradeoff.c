@@ -5,9 +5,9 @@
 #include "cli_outputs.h"
 #include "pom_cli.h"
 #include "pom_io.h"
-#include "pom_doe.h"
+#include "pom_run.h"
 #include "pom_kinematics.h"
-#include "pom_tradeoff.h"
+#include "pom_explore.h"
 
 #include <math.h>
 #include <stdio.h>

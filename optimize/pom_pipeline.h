@@ -10,7 +10,7 @@
 #ifndef POM_PIPELINE_H
 #define POM_PIPELINE_H
 
-#include "pom_doe.h"
+#include "pom_study.h"
 #include "pom_status.h"
 #include "pom_synth.h"
 #include "pom_tune.h"

@@ -1,5 +1,5 @@
 pom_add_test(test_doe test_doe.c)
-target_link_libraries(test_doe PRIVATE pom_doe)
+target_link_libraries(test_doe PRIVATE pom_run)
 # The command line on a small real study, read back with h5py.
 set(_pom_doe_mpirun "")
 if(POM_WITH_MPI)
@@ -21,9 +21,9 @@ add_test(NAME test_fidelity_study
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_fidelity_study.sh $<TARGET_FILE:pomlab>
           ${CMAKE_SOURCE_DIR} ${CMAKE_CURRENT_BINARY_DIR}/fidelity_study
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
-# The metric schema and actuator units through doe/ (unit level).
+# The metric schema and actuator units through rows/ and study/ (unit level).
 pom_add_test(test_metrics_schema test_metrics_schema.c)
-target_link_libraries(test_metrics_schema PRIVATE pom_doe)
+target_link_libraries(test_metrics_schema PRIVATE pom_run)
 # Every declared metric in every output: HDF5 rows and statistics, simulate
 # and study JSON, summary.md (the schema dumped by a helper program).
 add_executable(metric_schema_dump metric_schema_dump.c)
@@ -34,14 +34,14 @@ add_test(NAME test_metric_outputs
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 # Distributions of uncertain parameters and the `uncertain` group.
 pom_add_test(test_uncertain test_uncertain.c)
-target_link_libraries(test_uncertain PRIVATE pom_doe)
+target_link_libraries(test_uncertain PRIVATE pom_run)
 add_test(NAME test_uncertain_cli
   COMMAND sh ${CMAKE_CURRENT_SOURCE_DIR}/test_uncertain_cli.sh $<TARGET_FILE:pomlab>
           ${CMAKE_SOURCE_DIR} ${CMAKE_CURRENT_BINARY_DIR}/uncertain_cli
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 # Sobol indices (Ishigami, Sobol g) and Morris effects on analytic functions.
 pom_add_test(test_sensitivity test_sensitivity.c)
-target_link_libraries(test_sensitivity PRIVATE pom_doe)
+target_link_libraries(test_sensitivity PRIVATE pom_explore)
 add_test(NAME test_sensitivity_cli
   COMMAND sh ${CMAKE_CURRENT_SOURCE_DIR}/test_sensitivity_cli.sh $<TARGET_FILE:pomlab>
           ${CMAKE_SOURCE_DIR} ${CMAKE_CURRENT_BINARY_DIR}/sensitivity_cli

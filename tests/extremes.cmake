@@ -4,9 +4,9 @@ target_link_libraries(test_scene PRIVATE pom_dynamics pom_kinematics pom_core)
 pom_add_test(test_extremes test_extremes.c)
 target_link_libraries(test_extremes PRIVATE pom_dynamics pom_kinematics pom_core)
 pom_add_test(test_tradeoff test_tradeoff.c)
-target_link_libraries(test_tradeoff PRIVATE pom_doe pom_dynamics pom_kinematics pom_core)
+target_link_libraries(test_tradeoff PRIVATE pom_explore pom_dynamics pom_kinematics pom_core)
 pom_add_test(test_fidelity test_fidelity.c)
-target_link_libraries(test_fidelity PRIVATE pom_doe pom_dynamics pom_kinematics pom_core)
+target_link_libraries(test_fidelity PRIVATE pom_run pom_dynamics pom_kinematics pom_core)
 set_tests_properties(test_fidelity PROPERTIES TIMEOUT 300)
 add_test(NAME test_tradeoff_units
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_tradeoff_units.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}

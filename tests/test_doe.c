@@ -4,8 +4,8 @@
  * recorded, config validation, sweeps. */
 #define _POSIX_C_SOURCE 200809L
 #include "check.h"
-#include "pom_doe.h"
-#include "pom_doe_internal.h"
+#include "pom_run.h"
+#include "study_internal.h"
 #include "pom_math.h"
 #include "pom_progress.h"
 

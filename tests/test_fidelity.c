@@ -8,8 +8,8 @@
  * designs and +-10 deg for the 3-RRR (its 15 mm/rad equivalent lever makes
  * +-3 mm about +-11 deg). */
 #include "check.h"
-#include "pom_doe.h"
-#include "pom_fidelity.h"
+#include "pom_run.h"
+#include "pom_study.h"
 #include "pom_kinematics.h"
 #include "pom_math.h"
 

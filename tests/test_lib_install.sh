@@ -23,11 +23,14 @@ checks=$((checks + 1))
 [ -n "$LIB" ] || fail "libpomlab.so not installed under $P/lib*"
 LIBDIR=$(dirname "${LIB:-$P/lib/x}")
 for f in include/pomlab/pom_api.h include/pomlab/pom_config.h include/pomlab/pom_kinematics.h \
-  include/pomlab/pom_dynamics.h include/pomlab/pom_doe.h include/pomlab/pom_pipeline.h; do
+  include/pomlab/pom_dynamics.h include/pomlab/pom_rows.h include/pomlab/pom_study.h \
+  include/pomlab/pom_stats.h include/pomlab/pom_run.h include/pomlab/pom_explore.h \
+  include/pomlab/pom_design.h include/pomlab/pom_pipeline.h; do
   checks=$((checks + 1))
   [ -f "$P/$f" ] || fail "not installed: $f"
 done
-for f in kin_internal.h dyn_internal.h dyn_ctrl_model.h pom_doe_internal.h pom_doe_mpi.h; do
+for f in kin_internal.h dyn_internal.h dyn_ctrl_model.h study_internal.h stats_internal.h \
+  run_internal.h pom_doe_mpi.h; do
   checks=$((checks + 1))
   [ ! -e "$P/include/pomlab/$f" ] || fail "internal header installed: $f"
 done

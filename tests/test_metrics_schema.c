@@ -1,12 +1,12 @@
 /* test_metrics_schema.c - the metric schema (dynamics/pom_dyn_metrics_schema.h)
- * and the actuator units through doe/: every declared metric reaches the doe
- * row, units resolve per actuator kind, joint-space range keys follow the
+ * and the actuator units through rows/ and study/: every declared metric
+ * reaches the row, units resolve per actuator kind, joint-space range keys follow the
  * candidates' actuator kind and mixed kinds are refused in joint space. The
  * outputs themselves (HDF5, JSON, summary.md) are checked by
  * test_metric_outputs.sh. */
 #define _POSIX_C_SOURCE 200809L
 #include "check.h"
-#include "pom_doe.h"
+#include "pom_run.h"
 #include "pom_dyn_metrics_schema.h"
 #include "pom_math.h"
 

@@ -4,8 +4,8 @@
  * function with a linear, a nonlinear and an irrelevant input; bad
  * options refused. */
 #include "check.h"
-#include "pom_sensitivity.h"
-#include "pom_uncertain.h"
+#include "pom_explore.h"
+#include "pom_study.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -5,7 +5,7 @@
  * the recommendation obeys its definition, and the config keys are checked. */
 #include "check.h"
 #include "pom_kinematics.h"
-#include "pom_tradeoff.h"
+#include "pom_explore.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -2,8 +2,8 @@
  * against closed forms), the `uncertain` group's validation, and draws that
  * depend on (seed, k) only. */
 #include "check.h"
-#include "pom_doe.h"
-#include "pom_uncertain.h"
+#include "pom_run.h"
+#include "pom_study.h"
 
 #include <gsl/gsl_cdf.h>
 #include <math.h>

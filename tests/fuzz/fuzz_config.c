@@ -6,11 +6,11 @@
  * check. Nothing is simulated or written (docs/fuzzing.md). */
 #include "fuzz_common.h"
 #include "pom_config.h"
-#include "pom_doe.h"
+#include "pom_run.h"
 #include "pom_dynamics.h"
 #include "pom_kinematics.h"
 #include "pom_synth.h"
-#include "pom_tradeoff.h"
+#include "pom_explore.h"
 #include "pom_tune.h"
 
 #include <math.h>

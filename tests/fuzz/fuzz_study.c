@@ -8,10 +8,10 @@
  * evaluator. Nothing is simulated or written (docs/fuzzing.md). */
 #include "fuzz_common.h"
 #include "pom_config.h"
-#include "pom_doe.h"
-#include "pom_doe_sensitivity.h"
+#include "pom_run.h"
+#include "pom_explore.h"
 #include "pom_pipeline.h"
-#include "pom_uncertain.h"
+#include "pom_study.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -32,7 +32,7 @@
  * parameters, each checked at both ends of its distribution), which would
  * read as a hang and slow the search; the code is the same at 256. */
 #define FUZZ_MAX_BUILDS 256L
-/* The loader's own limit on candidates (doe/pom_doe_study.c): above it the
+/* The loader's own limit on candidates (study/pom_doe_study.c): above it the
  * study is refused before any candidate is built, so such inputs run. */
 #define FUZZ_LOADER_MAX_CANDIDATES 4096L
 
@@ -83,7 +83,7 @@ static void check_maneuvers(const pom_doe_study *study) {
 }
 
 /* What a worker does with maneuver 0's uncertain draws before simulating it
- * (doe/pom_doe_run.c, run_unit): a drawn value that breaks a candidate is a
+ * (run/pom_doe_run.c, run_unit): a drawn value that breaks a candidate is a
  * recorded failure, never a crash. */
 static void check_draws(const pom_doe_study *study) {
   const pom_unc *unc = &study->uncertain;
