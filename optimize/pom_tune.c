@@ -74,6 +74,7 @@ void pom_tune_defaults(pom_tune_problem *pb) {
   pom_dyn_params_defaults(&pb->params);
   default_variables(pb); /* the PID's: kp in [1e2, 1e5] and kd_s in [5e-4, 2e-2], in log */
   pb->n_maneuvers = N_DEFAULT_MANEUVERS;
+  snprintf(pb->maneuvers_where, sizeof pb->maneuvers_where, "the tuning maneuvers");
   for (int m = 0; m < N_DEFAULT_MANEUVERS; ++m)
     for (int i = 0; i < 3; ++i)
       pb->target[m][i] = default_targets_mm[m][i] * 1e-3;
