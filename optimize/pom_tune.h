@@ -46,7 +46,7 @@ typedef struct {
   double penalty_weight;      /* s per unit of relative excess (default: the horizon) */
   pom_opt_options opt;
   char maneuvers_where[320];    /* where the maneuvers come from, for messages: "FILE:LINE: key
-                                   'tuning.maneuvers_mm'" or "FILE: the default maneuvers" */
+                                   'tuning.maneuvers_mm'" or "FILE: the default tuning ..." */
   pom_opt_progress_fn progress; /* phase "tune", one unit per criterion evaluation; may be NULL */
   void *progress_user;          /* passed to progress */
 } pom_tune_problem;
