@@ -223,15 +223,15 @@ const double *pom_api_sim_trace(const pom_api_sim *sim, const char *name, int *w
     const char *name;
     const double *data;
     int width;
-  } cols[] = {{"t", tr->t, 1},
-              {"q", tr->q, 3},
-              {"q_dot", tr->q_dot, 3},
-              {"current", tr->current, 3},
-              {"voltage", tr->voltage, 3},
-              {"energy", tr->energy, 3},
-              {"euler_zyx", tr->euler_zyx, 3},
-              {"quat", tr->quat, 4},
-              {"deflection", tr->deflection, 1}};
+  } cols[] = {{.name = "t", .data = tr->t, .width = 1},
+              {.name = "q", .data = tr->q, .width = 3},
+              {.name = "q_dot", .data = tr->q_dot, .width = 3},
+              {.name = "current", .data = tr->current, .width = 3},
+              {.name = "voltage", .data = tr->voltage, .width = 3},
+              {.name = "energy", .data = tr->energy, .width = 3},
+              {.name = "euler_zyx", .data = tr->euler_zyx, .width = 3},
+              {.name = "quat", .data = tr->quat, .width = 4},
+              {.name = "deflection", .data = tr->deflection, .width = 1}};
   for (size_t k = 0; k < sizeof cols / sizeof cols[0]; ++k)
     if (strcmp(cols[k].name, name) == 0) {
       if (width) *width = cols[k].width;

@@ -13,21 +13,59 @@ static const char *const pid_forms[] = {"ideal", "parallel", NULL};
 _Static_assert(POM_PID_IDEAL == 0 && POM_PID_PARALLEL == 1, "pid_forms follows pom_pid_form");
 
 static const pom_dyn_ctrl_state_desc pid_states[] = {
-    {"integral", "integral of the error e = q_set - q (m s or rad s)", POM_DYN_CTRL_STATE_Q_TIME},
+    {.name = "integral",
+     .meaning = "integral of the error e = q_set - q (m s or rad s)",
+     .kind = POM_DYN_CTRL_STATE_Q_TIME},
 };
 
 static const pom_dyn_gain_desc pid_gains[] = {
-    {"kp", "K_P", "V/V", "proportional gain (on K_S e)", 0.0, 1e12, 1.2e4, 1, 1,
-     offsetof(pom_dyn_controller, kp), 1, 1e2, 1e5},
-    {"ki_per_s", "K_I", "1/s", "integral gain: ideal, factor of int e; parallel, K_I", 0.0, 1e9,
-     1.0e-3, 1, 1, offsetof(pom_dyn_controller, ki), 0, 1e-4, 1e2},
-    {"kd_s", "tau_D", "s", "derivative time: ideal, tau_D; parallel, K_D", 0.0, 1e3, 3.0e-3, 1, 1,
-     offsetof(pom_dyn_controller, kd), 1, 5e-4, 2e-2},
+    {.key = "kp",
+     .symbol = "K_P",
+     .unit = "V/V",
+     .meaning = "proportional gain (on K_S e)",
+     .lo = 0.0,
+     .hi = 1e12,
+     .def = 1.2e4,
+     .tunable = 1,
+     .log_search = 1,
+     .offset = offsetof(pom_dyn_controller, kp),
+     .search_default = 1,
+     .search_lo = 1e2,
+     .search_hi = 1e5},
+    {.key = "ki_per_s",
+     .symbol = "K_I",
+     .unit = "1/s",
+     .meaning = "integral gain: ideal, factor of int e; parallel, K_I",
+     .lo = 0.0,
+     .hi = 1e9,
+     .def = 1.0e-3,
+     .tunable = 1,
+     .log_search = 1,
+     .offset = offsetof(pom_dyn_controller, ki),
+     .search_default = 0,
+     .search_lo = 1e-4,
+     .search_hi = 1e2},
+    {.key = "kd_s",
+     .symbol = "tau_D",
+     .unit = "s",
+     .meaning = "derivative time: ideal, tau_D; parallel, K_D",
+     .lo = 0.0,
+     .hi = 1e3,
+     .def = 3.0e-3,
+     .tunable = 1,
+     .log_search = 1,
+     .offset = offsetof(pom_dyn_controller, kd),
+     .search_default = 1,
+     .search_lo = 5e-4,
+     .search_hi = 2e-2},
 };
 
 static const pom_dyn_ctrl_option_desc pid_options[] = {
-    {"form", "ideal: K_S K_P (e + K_I z - tau_D q_dot); parallel: K_S (K_P e + K_I z - K_D q_dot)",
-     pid_forms, offsetof(pom_dyn_controller, form)},
+    {.key = "form",
+     .meaning =
+         "ideal: K_S K_P (e + K_I z - tau_D q_dot); parallel: K_S (K_P e + K_I z - K_D q_dot)",
+     .names = pid_forms,
+     .offset = offsetof(pom_dyn_controller, form)},
 };
 
 /* ---- the law ------------------------------------------------------------------ */

@@ -86,21 +86,22 @@ const char *pom_dyn_inertia_name(pom_inertia_kind k) {
 POM_DYN_PARAMS_LIST(CHECK_FIELD)
 #undef CHECK_FIELD
 
-#define ENTRY(group, key, json, member, type, arg, to_si, unit, lo, hi, def, h5, meaning)          \
-  {#group,                                                                                         \
-   key,                                                                                            \
-   json,                                                                                           \
-   offsetof(pom_dyn_params, member),                                                               \
-   POM_DYN_PARAM_##type,                                                                           \
-   NAMES_##type(arg),                                                                              \
-   SLOT_##type(arg),                                                                               \
-   to_si,                                                                                          \
-   unit,                                                                                           \
-   (double)(lo),                                                                                   \
-   (double)(hi),                                                                                   \
-   (double)(def),                                                                                  \
-   h5,                                                                                             \
-   meaning},
+#define ENTRY(group_, key_, json_, member, type_, arg, to_si_, unit_, lo_, hi_, def_, h5_,         \
+              meaning_)                                                                            \
+  {.group = #group_,                                                                               \
+   .key = key_,                                                                                    \
+   .json = json_,                                                                                  \
+   .offset = offsetof(pom_dyn_params, member),                                                     \
+   .type = POM_DYN_PARAM_##type_,                                                                  \
+   .names = NAMES_##type_(arg),                                                                    \
+   .slot = SLOT_##type_(arg),                                                                      \
+   .to_si = to_si_,                                                                                \
+   .unit = unit_,                                                                                  \
+   .lo = (double)(lo_),                                                                            \
+   .hi = (double)(hi_),                                                                            \
+   .def = (double)(def_),                                                                          \
+   .h5 = h5_,                                                                                      \
+   .meaning = meaning_},
 static const pom_dyn_param_info schema[POM_DYN_N_PARAMS] = {POM_DYN_PARAMS_LIST(ENTRY)};
 #undef ENTRY
 

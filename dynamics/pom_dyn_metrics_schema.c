@@ -19,30 +19,30 @@
 POM_DYN_METRICS_LIST(CHECK_FIELD, CHECK_FIELD)
 #undef CHECK_FIELD
 
-#define ENTRY_M(name, type, n, unit, descr)                                                        \
-  {#name,                                                                                          \
-   POM_DYN_TYPE_##type,                                                                            \
-   n,                                                                                              \
-   POM_DYN_UNIT_##unit,                                                                            \
-   descr,                                                                                          \
-   offsetof(pom_dyn_metrics, name),                                                                \
-   POM_DYN_REDUCE_NONE,                                                                            \
-   POM_DYN_COMBINE_NONE,                                                                           \
-   -1,                                                                                             \
-   NULL,                                                                                           \
-   NULL},
-#define ENTRY_R(name, type, n, unit, descr, over, combine, stat, key)                              \
-  {#name,                                                                                          \
-   POM_DYN_TYPE_##type,                                                                            \
-   n,                                                                                              \
-   POM_DYN_UNIT_##unit,                                                                            \
-   descr,                                                                                          \
-   offsetof(pom_dyn_metrics, name),                                                                \
-   POM_DYN_REDUCE_##over,                                                                          \
-   POM_DYN_COMBINE_##combine,                                                                      \
-   POM_DYN_STAT_##stat,                                                                            \
-   #stat,                                                                                          \
-   key},
+#define ENTRY_M(name_, type_, n_, unit_, descr_)                                                   \
+  {.name = #name_,                                                                                 \
+   .type = POM_DYN_TYPE_##type_,                                                                   \
+   .count = n_,                                                                                    \
+   .unit = POM_DYN_UNIT_##unit_,                                                                   \
+   .description = descr_,                                                                          \
+   .offset = offsetof(pom_dyn_metrics, name_),                                                     \
+   .reduce = POM_DYN_REDUCE_NONE,                                                                  \
+   .combine = POM_DYN_COMBINE_NONE,                                                                \
+   .stat = -1,                                                                                     \
+   .stat_name = NULL,                                                                              \
+   .stat_key = NULL},
+#define ENTRY_R(name_, type_, n_, unit_, descr_, over_, combine_, stat_, key_)                     \
+  {.name = #name_,                                                                                 \
+   .type = POM_DYN_TYPE_##type_,                                                                   \
+   .count = n_,                                                                                    \
+   .unit = POM_DYN_UNIT_##unit_,                                                                   \
+   .description = descr_,                                                                          \
+   .offset = offsetof(pom_dyn_metrics, name_),                                                     \
+   .reduce = POM_DYN_REDUCE_##over_,                                                               \
+   .combine = POM_DYN_COMBINE_##combine_,                                                          \
+   .stat = POM_DYN_STAT_##stat_,                                                                   \
+   .stat_name = #stat_,                                                                            \
+   .stat_key = key_},
 static const pom_dyn_metric_info schema[POM_DYN_N_METRICS] = {
     POM_DYN_METRICS_LIST(ENTRY_M, ENTRY_R)};
 #undef ENTRY_M
@@ -77,17 +77,25 @@ typedef struct {
 
 /* by pom_dyn_unit; the actuator entry is resolved from the kind. The display
  * units are the text convention of docs/conventions.md: ms, mm, deg, J, V. */
-static const unit_info units[] = {{"", "", "", 1.0},
-                                  {"s", "s", "ms", 1e3},
-                                  {"J", "J", "J", 1.0},
-                                  {"V", "V", "V", 1.0},
-                                  {"m", "m", "mm", 1e3},
-                                  {"rad", "rad", "deg", 180.0 / POM_PI},
-                                  {"1", "", "", 1.0},
-                                  {"1", "", "", 1.0},
-                                  {"1", "", "", 1.0},
-                                  {"rad/s", "rad_per_s", "deg/s", 180.0 / POM_PI},
-                                  {"N or N m", "", "N or N m", 1.0}};
+static const unit_info units[] = {
+    [POM_DYN_UNIT_ACTUATOR] = {.si = "", .suffix = "", .display = "", .factor = 1.0},
+    [POM_DYN_UNIT_TIME] = {.si = "s", .suffix = "s", .display = "ms", .factor = 1e3},
+    [POM_DYN_UNIT_ENERGY] = {.si = "J", .suffix = "J", .display = "J", .factor = 1.0},
+    [POM_DYN_UNIT_VOLTAGE] = {.si = "V", .suffix = "V", .display = "V", .factor = 1.0},
+    [POM_DYN_UNIT_LENGTH] = {.si = "m", .suffix = "m", .display = "mm", .factor = 1e3},
+    [POM_DYN_UNIT_ANGLE] = {.si = "rad",
+                            .suffix = "rad",
+                            .display = "deg",
+                            .factor = 180.0 / POM_PI},
+    [POM_DYN_UNIT_RATIO] = {.si = "1", .suffix = "", .display = "", .factor = 1.0},
+    [POM_DYN_UNIT_COUNT] = {.si = "1", .suffix = "", .display = "", .factor = 1.0},
+    [POM_DYN_UNIT_FLAG] = {.si = "1", .suffix = "", .display = "", .factor = 1.0},
+    [POM_DYN_UNIT_ANGULAR_RATE] = {.si = "rad/s",
+                                   .suffix = "rad_per_s",
+                                   .display = "deg/s",
+                                   .factor = 180.0 / POM_PI},
+    [POM_DYN_UNIT_EFFORT] = {.si = "N or N m", .suffix = "", .display = "N or N m", .factor = 1.0},
+};
 _Static_assert(sizeof units / sizeof units[0] == POM_DYN_UNIT_EFFORT + 1,
                "one entry per unit class");
 

@@ -29,22 +29,40 @@ extern const pom_kin_arch_type pom_kin_arch_3rrr;
  * not binding), 3 limb distance per pair (a lower bound, default 0). */
 #define POM_KIN_SEGMENT_LIMIT_KINDS                                                                \
   {                                                                                                \
-    {0}, {"base cone",   0,   0,     "cone_base_max_deg", "cone_base_deg",      "deg",             \
-          1.0 / POM_DEG, 0.0, 180.0, 0.5 * POM_PI,        POM_KIN_LIMCLASS_CONE},                  \
-        {"platform cone",                                                                          \
-         0,                                                                                        \
-         0,                                                                                        \
-         "cone_platform_max_deg",                                                                  \
-         "cone_platform_deg",                                                                      \
-         "deg",                                                                                    \
-         1.0 / POM_DEG,                                                                            \
-         0.0,                                                                                      \
-         180.0,                                                                                    \
-         0.5 * POM_PI,                                                                             \
-         POM_KIN_LIMCLASS_CONE},                                                                   \
-    {                                                                                              \
-      "distance", 1, 1, "min_limb_distance_mm", "limb_distance_mm", "mm", 1e3, 0.0, 1e4, 0.0,      \
-          POM_KIN_LIMCLASS_INTERFERENCE                                                            \
+    [1] = {.name = "base cone",                                                                    \
+           .per_pair = 0,                                                                          \
+           .lower = 0,                                                                             \
+           .key = "cone_base_max_deg",                                                             \
+           .json = "cone_base_deg",                                                                \
+           .unit = "deg",                                                                          \
+           .to_display = 1.0 / POM_DEG,                                                            \
+           .lo = 0.0,                                                                              \
+           .hi = 180.0,                                                                            \
+           .def = 0.5 * POM_PI,                                                                    \
+           .cls = POM_KIN_LIMCLASS_CONE},                                                          \
+    [2] = {.name = "platform cone",                                                                \
+           .per_pair = 0,                                                                          \
+           .lower = 0,                                                                             \
+           .key = "cone_platform_max_deg",                                                         \
+           .json = "cone_platform_deg",                                                            \
+           .unit = "deg",                                                                          \
+           .to_display = 1.0 / POM_DEG,                                                            \
+           .lo = 0.0,                                                                              \
+           .hi = 180.0,                                                                            \
+           .def = 0.5 * POM_PI,                                                                    \
+           .cls = POM_KIN_LIMCLASS_CONE},                                                          \
+    [3] = {                                                                                        \
+      .name = "distance",                                                                          \
+      .per_pair = 1,                                                                               \
+      .lower = 1,                                                                                  \
+      .key = "min_limb_distance_mm",                                                               \
+      .json = "limb_distance_mm",                                                                  \
+      .unit = "mm",                                                                                \
+      .to_display = 1e3,                                                                           \
+      .lo = 0.0,                                                                                   \
+      .hi = 1e4,                                                                                   \
+      .def = 0.0,                                                                                  \
+      .cls = POM_KIN_LIMCLASS_INTERFERENCE                                                         \
     }                                                                                              \
   }
 

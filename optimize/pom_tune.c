@@ -13,6 +13,13 @@
 #include <string.h>
 #include <time.h>
 
+/* A setpoint within this fraction of the stroke of mid-stroke is no step (an
+ * orientation of zero turns into setpoints of rounding size through the IK). */
+#define TUNE_ZERO_STEP 1e-12
+/* Criterion values within this relative spread are one value: the rounding of
+ * a sum of a few settling times, far below any real difference between gains. */
+#define TUNE_FLAT_REL 1e-12
+
 const char *pom_tune_var_name(pom_tune_var v) {
   return ((int)v >= 0 && (int)v < pom_dyn_ctrl_pid.n_gains) ? pom_dyn_ctrl_pid.gains[v].key : "?";
 }
@@ -67,6 +74,7 @@ void pom_tune_defaults(pom_tune_problem *pb) {
   pom_dyn_params_defaults(&pb->params);
   default_variables(pb); /* the PID's: kp in [1e2, 1e5] and kd_s in [5e-4, 2e-2], in log */
   pb->n_maneuvers = N_DEFAULT_MANEUVERS;
+  snprintf(pb->maneuvers_where, sizeof pb->maneuvers_where, "the tuning maneuvers");
   for (int m = 0; m < N_DEFAULT_MANEUVERS; ++m)
     for (int i = 0; i < 3; ++i)
       pb->target[m][i] = default_targets_mm[m][i] * 1e-3;
@@ -108,7 +116,9 @@ pom_status pom_tune_load(pom_tune_problem *pb, const pom_cfg *cfg, pom_error *er
   POM_TRY(pom_kin_mechanism_build(&pb->mech, &pb->arch, cfg, err));
   POM_TRY(pom_dyn_params_load(&pb->params, cfg, err));
   pb->penalty_weight = pb->params.maneuver.horizon;
-  default_variables(pb);                          /* the loaded controller type's */
+  default_variables(pb); /* the loaded controller type's */
+  snprintf(pb->maneuvers_where, sizeof pb->maneuvers_where,
+           "%s: the default tuning maneuvers (no tuning.maneuvers_* key)", pom_cfg_path(cfg));
   if (!pom_cfg_has(cfg, "tuning")) return POM_OK; /* every tuning key has a default */
 
   /* the names tuning.variables may use: the type's tunable gains */
@@ -213,6 +223,20 @@ pom_status pom_tune_load(pom_tune_problem *pb, const pom_cfg *cfg, pom_error *er
         POM_TRY(pom_cfg_reals(cfg, key, 3, 1.0 / u->to_display, -half, half, pb->target[m], err));
       }
     }
+    snprintf(pb->maneuvers_where, sizeof pb->maneuvers_where, "%s:%d: key '%s'", pom_cfg_path(cfg),
+             pom_cfg_line(cfg, mkey), mkey);
+    /* a set of zero steps has the same criterion at every gain set (nothing
+     * moves, nothing settles later): the search would return an arbitrary
+     * point of the box as "tuned" gains */
+    int moves = 0;
+    for (int m = 0; m < nm; ++m)
+      for (int i = 0; i < 3; ++i)
+        moves |= fabs(pb->target[m][i]) > TUNE_ZERO_STEP * pb->arch.stroke;
+    if (!moves)
+      return pom_cfg_error(cfg, mkey, NULL, err,
+                           "no maneuver moves an actuator (every setpoint is mid-stroke): the "
+                           "criterion is the same for every gain set, so tuning cannot tell gains "
+                           "apart; give maneuvers that move the actuators");
   }
   POM_TRY(pom_cfg_real_opt(cfg, "tuning.overshoot_max_percent", 1e-2, 0.0, 1000.0,
                            pb->overshoot_max, &pb->overshoot_max, err));
@@ -227,6 +251,7 @@ pom_status pom_tune_load(pom_tune_problem *pb, const pom_cfg *cfg, pom_error *er
 }
 
 /* ---- criterion ------------------------------------------------------------ */
+
 /* Largest overshoot of actuator a beyond its setpoint, as a fraction of its
  * step from mid-stroke; 0 for a zero step (no relative overshoot defined). */
 static double overshoot(const pom_dyn_trace *tr, int a, double target) {
@@ -300,7 +325,9 @@ typedef struct {
   const pom_tune_problem *pb;
   long simulations;
   pom_tune_eval last;
-  long evals; /* criterion evaluations so far (progress) */
+  long evals;                /* criterion evaluations so far (progress) */
+  long searched;             /* criterion evaluations of the search */
+  double crit_min, crit_max; /* the criterion's range over them (s) */
 } tune_ctx;
 
 /* Criterion evaluations of a run at most: the config's gains, the global
@@ -330,6 +357,9 @@ static pom_status objective(void *vctx, const double z[], double *f, pom_error *
   search_to_controller(c->pb, z, &ctl);
   POM_TRY(pom_tune_evaluate(c->pb, &ctl, &c->last, err));
   c->simulations += c->pb->n_maneuvers;
+  c->crit_min = c->searched ? fmin(c->crit_min, c->last.criterion) : c->last.criterion;
+  c->crit_max = c->searched ? fmax(c->crit_max, c->last.criterion) : c->last.criterion;
+  c->searched++;
   report(c);
   *f = -c->last.criterion; /* the driver maximizes */
   return POM_OK;
@@ -354,6 +384,15 @@ pom_status pom_tune_run(const pom_tune_problem *pb, pom_tune_result *res, pom_er
   pom_status st = pom_opt_maximize(pb->n_vars, lo, hi, z0, objective, &c, &pb->opt, &res->opt, err);
   res->simulations = c.simulations;
   if (st != POM_OK) return pom_error_prefix(err, "gain tuning");
+  /* the same criterion everywhere the search looked: it cannot tell gains
+   * apart, and its "optimum" is wherever it stopped */
+  if (c.searched >= 2 && c.crit_max - c.crit_min <= TUNE_FLAT_REL * fabs(c.crit_max))
+    POM_FAIL(err, POM_ERR_CONFIG,
+             "%s: the tuning criterion is %.6g ms at every one of the %ld gain sets the search "
+             "tried: it cannot tell gains apart (no maneuver moves, or none settles within "
+             "maneuver.horizon_ms and no limit is exceeded), so nothing is tuned; give "
+             "maneuvers that move the actuators and settle",
+             pb->maneuvers_where, c.crit_max * 1e3, c.searched);
   search_to_controller(pb, res->opt.x, &res->best);
   POM_TRY(pom_tune_evaluate(pb, &res->best, &res->best_eval, err));
   res->simulations += pb->n_maneuvers;

@@ -45,6 +45,8 @@ typedef struct {
   double saturation_time_max; /* allowed time at the voltage limit per actuator (s, default 0.02) */
   double penalty_weight;      /* s per unit of relative excess (default: the horizon) */
   pom_opt_options opt;
+  char maneuvers_where[320];    /* where the maneuvers come from, for messages: "FILE:LINE: key
+                                   'tuning.maneuvers_mm'" or "FILE: the default tuning ..." */
   pom_opt_progress_fn progress; /* phase "tune", one unit per criterion evaluation; may be NULL */
   void *progress_user;          /* passed to progress */
 } pom_tune_problem;
@@ -87,7 +89,10 @@ typedef struct {
   long simulations;           /* maneuvers simulated in all */
 } pom_tune_result;
 
-/* Minimizes the criterion with NLopt. */
+/* Minimizes the criterion with NLopt. A criterion that cannot tell gains
+ * apart (the same value at every gain set the search tries: no maneuver
+ * moves, or none settles and nothing is penalised) is refused with
+ * POM_ERR_CONFIG naming pb->maneuvers_where: no gains are tuned. */
 pom_status pom_tune_run(const pom_tune_problem *pb, pom_tune_result *res, pom_error *err);
 
 /* Writes the tuned gains as a libconfig `controller` group to path. */

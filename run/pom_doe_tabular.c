@@ -49,9 +49,9 @@ static double torsion(const pom_doe_study *s, int c, const pom_doe_maneuver *mv,
 }
 
 static const tabular_column maneuver_columns[] = {
-    {"tilt_azimuth_rad", orientation_space, tilt_azimuth},
-    {"tilt_rad", orientation_space, tilt},
-    {"torsion_rad", orientation_space, torsion},
+    {.name = "tilt_azimuth_rad", .applies = orientation_space, .value = tilt_azimuth},
+    {.name = "tilt_rad", .applies = orientation_space, .value = tilt},
+    {.name = "torsion_rad", .applies = orientation_space, .value = torsion},
 };
 #define N_MANEUVER_COLUMNS ((int)(sizeof maneuver_columns / sizeof maneuver_columns[0]))
 

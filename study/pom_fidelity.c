@@ -15,15 +15,15 @@
  * Only the rigid path: the parasitic one is both slower and further from
  * the rigid reference at every k_p (docs/tradeoff.md section 5). */
 static const pom_fidelity_setting ladder[] = {
-    {"rigid, quasi-static coil, rtol 1e-3", 0, 1e-3},
-    {"rigid, quasi-static coil, rtol 1e-4", 0, 1e-4},
-    {"rigid, quasi-static coil, rtol 1e-5", 0, 1e-5},
-    {"rigid, quasi-static coil, rtol 1e-6", 0, 1e-6},
-    {"rigid, inductive coil, rtol 1e-3", 1, 1e-3},
-    {"rigid, inductive coil, rtol 1e-4", 1, 1e-4},
-    {"rigid, inductive coil, rtol 1e-5", 1, 1e-5},
-    {"rigid, inductive coil, rtol 1e-6", 1, 1e-6},
-    {"rigid, inductive coil, rtol 1e-7", 1, 1e-7},
+    {.label = "rigid, quasi-static coil, rtol 1e-3", .coil_inductance = 0, .rtol = 1e-3},
+    {.label = "rigid, quasi-static coil, rtol 1e-4", .coil_inductance = 0, .rtol = 1e-4},
+    {.label = "rigid, quasi-static coil, rtol 1e-5", .coil_inductance = 0, .rtol = 1e-5},
+    {.label = "rigid, quasi-static coil, rtol 1e-6", .coil_inductance = 0, .rtol = 1e-6},
+    {.label = "rigid, inductive coil, rtol 1e-3", .coil_inductance = 1, .rtol = 1e-3},
+    {.label = "rigid, inductive coil, rtol 1e-4", .coil_inductance = 1, .rtol = 1e-4},
+    {.label = "rigid, inductive coil, rtol 1e-5", .coil_inductance = 1, .rtol = 1e-5},
+    {.label = "rigid, inductive coil, rtol 1e-6", .coil_inductance = 1, .rtol = 1e-6},
+    {.label = "rigid, inductive coil, rtol 1e-7", .coil_inductance = 1, .rtol = 1e-7},
 };
 
 const pom_fidelity_setting *pom_fidelity_ladder(int *n) {
@@ -41,7 +41,7 @@ void pom_fidelity_apply(pom_dyn_params *p, const pom_fidelity_setting *s) {
 }
 
 void pom_fidelity_reference(pom_dyn_params *p, double rtol) {
-  const pom_fidelity_setting ref = {"reference", 1, rtol};
+  const pom_fidelity_setting ref = {.label = "reference", .coil_inductance = 1, .rtol = rtol};
   pom_fidelity_apply(p, &ref);
 }
 

@@ -66,10 +66,11 @@ static double q_lognormal(const pom_dist *d, double u) {
   return x < d->p[2] ? d->p[2] : (x > d->p[3] ? d->p[3] : x);
 }
 
-static const pom_dist_ops uniform_ops = {"uniform", q_uniform};
-static const pom_dist_ops normal_ops = {"normal", q_normal};
-static const pom_dist_ops trunc_normal_ops = {"truncated_normal", q_trunc_normal};
-static const pom_dist_ops lognormal_ops = {"lognormal", q_lognormal};
+static const pom_dist_ops uniform_ops = {.name = "uniform", .quantile = q_uniform};
+static const pom_dist_ops normal_ops = {.name = "normal", .quantile = q_normal};
+static const pom_dist_ops trunc_normal_ops = {.name = "truncated_normal",
+                                              .quantile = q_trunc_normal};
+static const pom_dist_ops lognormal_ops = {.name = "lognormal", .quantile = q_lognormal};
 
 const pom_dist_ops *const pom_dist_kinds[] = {&uniform_ops, &normal_ops, &trunc_normal_ops,
                                               &lognormal_ops, NULL};
@@ -154,10 +155,10 @@ typedef struct {
 } kind_keys;
 
 static const kind_keys keys_of[] = {
-    {{"min", "max", NULL, NULL}, {0, 0, 0, 0}},
-    {{"mean", "sd", NULL, NULL}, {0, 0, 0, 0}},
-    {{"mean", "sd", "min", "max"}, {0, 0, 0, 0}},
-    {{"median", "sigma_ln", "min", "max"}, {0, 0, 1, 1}},
+    {.key = {"min", "max", NULL, NULL}, .optional = {0, 0, 0, 0}},
+    {.key = {"mean", "sd", NULL, NULL}, .optional = {0, 0, 0, 0}},
+    {.key = {"mean", "sd", "min", "max"}, .optional = {0, 0, 0, 0}},
+    {.key = {"median", "sigma_ln", "min", "max"}, .optional = {0, 0, 1, 1}},
 };
 
 pom_status pom_dist_load(pom_dist *d, const pom_cfg *cfg, const char *key, pom_error *err) {

@@ -89,6 +89,31 @@ expect_rc 0 "$POMLAB" tune "$TMP/tune_long.cfg" --quiet --out "$TMP/l_"
 [ -s "$TMP/l_a_configuration_name_well_beyond_twenty_four_characters.controller.cfg" ] ||
   { echo "FAIL: a long name is cut in the tune fragment's file name"; ls "$TMP"; fail=1; }
 
+# A criterion that cannot tell gains apart is refused (issue 31 item 8), in
+# the library, naming file, line and key; no gains file is written. Zero
+# steps (in mm, or orientations of zero through the IK) are refused at load;
+# a horizon no maneuver settles in gives the same criterion at every gain set
+# the search tries and is refused after the search.
+no_motion() { # no_motion NAME KEY-LINE [SED]
+  sed "${3:-}" "$TMP/tune.cfg" | sed "s|^  maneuvers_mm = .*|  $2|" > "$TMP/$1.cfg"
+  rm -f "$TMP"/n_*
+  expect_rc 2 "$POMLAB" tune "$TMP/$1.cfg" --quiet --out "$TMP/n_"
+  line=$(grep -n '^  maneuvers_' "$TMP/$1.cfg" | cut -d: -f1)
+  key=$(sed -n "${line}p" "$TMP/$1.cfg" | sed 's/^ *\([a-z_]*\) =.*/\1/')
+  grep -qF "$1.cfg:$line: key 'tuning.$key'" "$TMP/err" ||
+    { echo "FAIL: $1: no file, line and key"; cat "$TMP/err"; fail=1; }
+  grep -qF "cannot tell gains apart" "$TMP/err" || { echo "FAIL: $1: no reason"; cat "$TMP/err"; fail=1; }
+  ! ls "$TMP"/n_* > /dev/null 2>&1 || { echo "FAIL: $1: a gains file was written"; fail=1; }
+}
+no_motion zero 'maneuvers_mm = ( [0.0, 0.0, 0.0] );'
+no_motion zero2 'maneuvers_mm = ( [0.0, 0.0, 0.0], [0.0, -0.0, 0.0] );'
+no_motion euler0 'maneuvers_euler_deg = ( [0.0, 0.0, 0.0] );'
+no_motion unsettled 'maneuvers_mm = ( [1.0, -0.5, 0.5] );' 's/^\( *horizon_ms = \)[0-9.]*;/\10.2;/'
+grep -qF "at every one of the" "$TMP/err" || { echo "FAIL: unsettled: not the search's check"; fail=1; }
+# one zero step among moving ones is fine
+sed 's|^  maneuvers_mm = .*|  maneuvers_mm = ( [0.0, 0.0, 0.0], [1.0, -0.5, 0.5] );|' "$TMP/tune.cfg" > "$TMP/mixed.cfg"
+expect_rc 0 "$POMLAB" tune "$TMP/mixed.cfg" --quiet --out "$TMP/m_"
+
 # Diagnostics in human text: the one-centre-run CCD has no replicates, so the
 # lack-of-fit column says so (no "nan" anywhere); the 3SPS workspace surface
 # of configs/synth_3sps.cfg predicts left-out runs worse than their mean

@@ -106,6 +106,30 @@ study k6 "" "" 'uncertain = ( { key = "geometry.actuator_tilt_deg"; dist = "unif
 WANT=2 run k6
 expect_err "key 'uncertain.[0].key' = \"geometry.actuator_tilt_deg\""
 expect_err "nominal value, which is 0"
+# a key of another controller type is in a group the model reads, yet the
+# candidates' controller never reads it (issue 31 item 6): a computed-torque
+# gain on PID candidates is refused as a factor and as an uncertain key,
+# naming the type; on computed-torque candidates the same factor is a sweep
+for key in controller.omega_n_rad_per_s controller.trajectory_duration_s controller.feedforward; do
+  study c1 "" "$(sweep "{ key = \"$key\"; min = 1.0; max = 2.0; levels = 2; }")"
+  WANT=2 run c1
+  expect_err "c1.cfg:6: key 'candidates.factors.[0].key' = \"$key\""
+  expect_err "the PID controller (controller.type = \"pid\") of candidate 'A "
+  expect_err "never reads it, so the key would change nothing (its keys: kp, ki_per_s, kd_s, form)"
+  study c2 "" "" "uncertain = ( { key = \"$key\"; dist = \"uniform\"; min = 1.0; max = 2.0; } );"
+  WANT=2 run c2
+  expect_err "c2.cfg:6: key 'uncertain.[0].key' = \"$key\""
+  expect_err "the PID controller (controller.type = \"pid\") of candidate 'A' never reads it"
+done
+M=2 study c3 'controller = { type = "computed_torque"; };' \
+  "$(sweep '{ key = "controller.omega_n_rad_per_s"; min = 200.0; max = 400.0; levels = 2; }')"
+run c3
+M=2 study c4 'controller = { type = "computed_torque"; };' "" \
+  'uncertain = ( { key = "controller.zeta"; dist = "uniform"; min = 0.8; max = 1.0; } );'
+run c4
+# the PID's own gains and its type stay fine
+M=2 study c5 "" "$(sweep '{ key = "controller.kd_s"; min = 2.0e-3; max = 3.0e-3; levels = 2; }')"
+run c5
 
 # --- item 9: --resume compares every setting that changes a row --------------
 M=40 study r1 "" "" 'uncertain = ( { key = "actuator.resistance_ohm"; dist = "uniform"; min = 0.9;
