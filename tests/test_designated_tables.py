@@ -17,7 +17,18 @@ import sys
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 if len(sys.argv) > 1 and not sys.argv[-1].startswith("-"):
     ROOT = sys.argv[-1]  # another source tree
-FOLDERS = ["core", "kinematics", "dynamics", "doe", "optimize", "api", "cli", "job", "view"]
+# The library folders as docs/layers.txt declares them (one place), plus cli.
+def _folders():
+    out = []
+    with open(os.path.join(ROOT, "docs", "layers.txt")) as f:
+        for line in f:
+            line = line.split("#")[0].strip()
+            if line and not line.startswith("any:"):
+                out.append(line.split()[0])
+    return out
+
+
+FOLDERS = _folders()
 
 # The descriptor types: what a table row describes (keys, ranges, defaults,
 # flags, offsets, callbacks).
