@@ -2,6 +2,7 @@
  * the configured mechanism; metrics on stdout, traces to HDF5 or CSV on
  * request (docs/dynamics.md section 10). */
 #include "cli_kin.h"
+#include "cli_opts.h"
 #include "cli_outputs.h"
 #include "pom_version.h"
 #include "pom_cli.h"
@@ -21,30 +22,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-static void simulate_usage(FILE *out) {
-  fprintf(out,
-          "usage: pomlab simulate CONFIG --target q1,q2,q3 [options]\n\n"
-          "One maneuver from rest at home (mid-stroke) to the three actuator setpoints.\n\n"
-          "  --target q1,q2,q3     setpoints from mid-stroke in the display unit of the\n"
-          "                        mechanism's actuators (required): MILLIMETRES for\n"
-          "                        prismatic actuators, DEGREES for revolute ones\n"
-          "  --json                machine-readable metrics on stdout\n"
-          "  --out FILE            write traces: FILE.h5 (HDF5) or FILE.csv (SI units)\n"
-          "  --controller NAME     override controller.type (pomlab model --list-controllers)\n"
-          "  --form ideal|parallel override controller.form (the PID)\n"
-          "  --kp X --ki X --kd X  override controller.kp (V/V), ki_per_s (1/s), kd_s (s)\n"
-          "  --orientation euler|quaternion   override scene.orientation\n"
-          "  --linsol dense|klu|structured  override solver.linear_solver\n"
-          "  --joints parasitic|rigid   override joints.model\n"
-          "  --rtol X              override solver.rtol, in [1e-13, 0.1]\n"
-          "  --help                this text\n\n"
-          "Text in the units of docs/conventions.md: times in ms, energies in J, lengths in\n"
-          "mm, angles in deg, actuator coordinates in mm or deg (SI in --json and traces:\n"
-          "m or rad, named by actuator_unit).\n"
-          "Exit status: 0 ok; 1 the maneuver failed or the traces cannot be written;\n"
-          "2 usage or config error (also a target outside the stroke).\n");
-}
 
 /* ---- output -------------------------------------------------------------- */
 static void json_num(FILE *f, const char *key, double v, const char *sep) {
@@ -326,63 +303,107 @@ static int check_trace_cost(const char *cfg_path, const pom_dyn_params *p, const
 }
 
 /* ---- command ------------------------------------------------------------- */
-/* Options that set a config value, checked by the config's own ranges. */
-typedef struct {
-  const char *option; /* "--kp" */
-  const char *key;    /* "controller.kp" */
-  const char *text;   /* the value given, NULL when absent */
-} simulate_setting;
-
-static int setting_index(const simulate_setting *s, int n, const char *option) {
-  for (int k = 0; k < n; ++k)
-    if (strcmp(s[k].option, option) == 0) return k;
-  return -1;
-}
-
 int pom_cmd_simulate(int argc, char **argv) {
   const char *cfg_path = NULL, *out_path = NULL, *target_text = NULL;
   const char *form = NULL, *orient = NULL, *linsol = NULL, *joints = NULL, *controller = NULL;
-  simulate_setting settings[] = {{"--kp", "controller.kp", NULL},
-                                 {"--ki", "controller.ki_per_s", NULL},
-                                 {"--kd", "controller.kd_s", NULL},
-                                 {"--rtol", "solver.rtol", NULL}};
-  const int n_settings = (int)(sizeof settings / sizeof settings[0]);
+  const char *kp = NULL, *ki = NULL, *kd = NULL, *rtol = NULL;
   int json = 0;
-  for (int k = 1; k < argc; ++k) {
-    const char *a = argv[k];
-    int has_val = k + 1 < argc;
-    if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-      simulate_usage(stdout);
-      return 0;
-    } else if (strcmp(a, "--json") == 0) {
-      json = 1;
-    } else if (strcmp(a, "--target") == 0 && has_val) {
-      target_text = argv[++k];
-    } else if (strcmp(a, "--out") == 0 && has_val) {
-      out_path = argv[++k];
-    } else if (strcmp(a, "--form") == 0 && has_val) {
-      form = argv[++k];
-    } else if (strcmp(a, "--controller") == 0 && has_val) {
-      controller = argv[++k];
-    } else if (strcmp(a, "--orientation") == 0 && has_val) {
-      orient = argv[++k];
-    } else if (strcmp(a, "--linsol") == 0 && has_val) {
-      linsol = argv[++k];
-    } else if (strcmp(a, "--joints") == 0 && has_val) {
-      joints = argv[++k];
-    } else if (a[0] == '-' && has_val && setting_index(settings, n_settings, a) >= 0) {
-      settings[setting_index(settings, n_settings, a)].text = argv[++k];
-    } else if (a[0] != '-' && !cfg_path) {
-      cfg_path = a;
-    } else {
-      fprintf(stderr, "pomlab simulate: unknown or incomplete option '%s'\n\n", a);
-      simulate_usage(stderr);
-      return 2;
-    }
-  }
+  /* the options that set a config value go through the config's own checks,
+   * in this order (pom_cli_opts_apply) */
+  const pom_opt opts[] = {
+      {.name = "--target",
+       .kind = POM_OPT_TEXT,
+       .arg = "q1,q2,q3",
+       .unit = "mm or deg",
+       .help = "setpoints from mid-stroke in the display unit of the mechanism's actuators "
+               "(required): MILLIMETRES for prismatic actuators, DEGREES for revolute ones",
+       .text = &target_text},
+      {.name = "--json",
+       .kind = POM_OPT_FLAG,
+       .help = "machine-readable metrics on stdout",
+       .flag = &json,
+       .set = 1},
+      {.name = "--out",
+       .kind = POM_OPT_TEXT,
+       .arg = "FILE",
+       .help = "write traces: FILE.h5 (HDF5) or FILE.csv (SI units)",
+       .text = &out_path},
+      {.name = "--controller",
+       .kind = POM_OPT_CHOICE,
+       .arg = "NAME",
+       .key = "controller.type",
+       .help = "the controller (pomlab model --list-controllers)",
+       .text = &controller},
+      {.name = "--form",
+       .kind = POM_OPT_CHOICE,
+       .arg = "ideal|parallel",
+       .key = "controller.form",
+       .help = "the PID's form",
+       .text = &form},
+      {.name = "--joints",
+       .kind = POM_OPT_CHOICE,
+       .arg = "parasitic|rigid",
+       .key = "joints.model",
+       .help = "the joints' model",
+       .text = &joints},
+      {.name = "--orientation",
+       .kind = POM_OPT_CHOICE,
+       .arg = "euler|quaternion",
+       .key = "scene.orientation",
+       .help = "the platform's orientation coordinates",
+       .text = &orient},
+      {.name = "--linsol",
+       .kind = POM_OPT_CHOICE,
+       .arg = "dense|klu|structured",
+       .key = "solver.linear_solver",
+       .help = "the linear solver",
+       .text = &linsol},
+      {.name = "--kp",
+       .kind = POM_OPT_NUMBER,
+       .arg = "X",
+       .unit = "V/V",
+       .key = "controller.kp",
+       .help = "proportional gain",
+       .text = &kp},
+      {.name = "--ki",
+       .kind = POM_OPT_NUMBER,
+       .arg = "X",
+       .unit = "1/s",
+       .key = "controller.ki_per_s",
+       .help = "integral gain",
+       .text = &ki},
+      {.name = "--kd",
+       .kind = POM_OPT_NUMBER,
+       .arg = "X",
+       .unit = "s",
+       .key = "controller.kd_s",
+       .help = "derivative gain",
+       .text = &kd},
+      {.name = "--rtol",
+       .kind = POM_OPT_NUMBER,
+       .arg = "X",
+       .key = "solver.rtol",
+       .help = "the solver's relative tolerance, in [1e-13, 0.1]",
+       .text = &rtol},
+  };
+  const pom_cli_spec spec = {
+      .name = "simulate",
+      .usage = "CONFIG --target q1,q2,q3 [options]",
+      .about = "One maneuver from rest at home (mid-stroke) to the three actuator setpoints.",
+      .notes = "Text in the units of docs/conventions.md: times in ms, energies in J, lengths in\n"
+               "mm, angles in deg, actuator coordinates in mm or deg (SI in --json and traces:\n"
+               "m or rad, named by actuator_unit).\n"
+               "Exit status: 0 ok; 1 the maneuver failed or the traces cannot be written;\n"
+               "2 usage or config error (also a target outside the stroke).",
+      .opts = opts,
+      .n_opts = POM_CLI_N(opts),
+      .args = &cfg_path,
+      .max_args = 1};
+  int prc = pom_cli_opts_parse(&spec, argc, argv, 0);
+  if (prc >= 0) return prc;
   double target[3];
   if (!cfg_path || !target_text) {
-    simulate_usage(stderr);
+    pom_cli_opts_usage(&spec, stderr);
     return 2;
   }
   if (pom_cli_parse_list(target_text, 3, target) != 0) {
@@ -414,20 +435,8 @@ int pom_cmd_simulate(int argc, char **argv) {
     rc = path_rc;
     goto done;
   }
-  pom_status st = POM_OK;
-  /* the controller's type and form through the config, checked like the file's values */
-  if (controller) st = pom_cfg_set_string(cfg, "controller.type", controller, "--controller", &err);
-  if (form && st == POM_OK) st = pom_cfg_set_string(cfg, "controller.form", form, "--form", &err);
-  /* the choices likewise: the loader's tables name them, one parser */
-  if (joints && st == POM_OK)
-    st = pom_cfg_set_string(cfg, "joints.model", joints, "--joints", &err);
-  if (orient && st == POM_OK)
-    st = pom_cfg_set_string(cfg, "scene.orientation", orient, "--orientation", &err);
-  if (linsol && st == POM_OK)
-    st = pom_cfg_set_string(cfg, "solver.linear_solver", linsol, "--linsol", &err);
-  for (int j = 0; j < n_settings && st == POM_OK; ++j)
-    if (settings[j].text)
-      st = pom_cfg_set_number(cfg, settings[j].key, settings[j].text, settings[j].option, &err);
+  /* the options that set config keys, checked like the file's values */
+  pom_status st = pom_cli_opts_apply(&spec, cfg, &err);
   if (st == POM_OK) st = pom_kin_arch_load(&arch, cfg, &err);
   if (st == POM_OK) st = pom_kin_mechanism_build(mech, &arch, cfg, &err);
   pom_dyn_params_defaults(&par);
