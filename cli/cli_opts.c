@@ -5,6 +5,7 @@
 #include "pom_cli.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -46,12 +47,19 @@ static int store(const pom_cli_spec *spec, const pom_opt *o, const char *v, int 
     errno = 0;
     long n = strtol(v, &end, 10);
     if (end == v || *end || errno || n < o->lo || n > o->hi) {
-      if (!quiet)
+      if (quiet) return 2;
+      if (o->hi == LONG_MAX)
+        fprintf(stderr, "pomlab %s: %s expects a whole number >= %ld, got '%s'\n", spec->name,
+                o->name, o->lo, v);
+      else
         fprintf(stderr, "pomlab %s: %s expects a whole number in [%ld, %ld], got '%s'\n",
                 spec->name, o->name, o->lo, o->hi, v);
       return 2;
     }
-    *o->ival = (int)n;
+    if (o->ival)
+      *o->ival = (int)n;
+    else
+      *o->lval = n;
     return 0;
   }
   default:
@@ -68,6 +76,10 @@ int pom_cli_opts_parse(const pom_cli_spec *spec, int argc, char **argv, int quie
       return 0;
     }
     if (a[0] != '-' || a[1] == '\0') {
+      if (n_args >= spec->max_args && spec->max_args > 1) {
+        if (!quiet) fprintf(stderr, "pomlab %s: at most %d configs\n", spec->name, spec->max_args);
+        return 2;
+      }
       if (n_args >= spec->max_args) return usage_error(spec, quiet, "unexpected argument", a);
       spec->args[n_args++] = a;
       if (spec->n_args) *spec->n_args = n_args;

@@ -17,7 +17,7 @@
 typedef enum {
   POM_OPT_FLAG,    /* no value: *flag = .set */
   POM_OPT_TEXT,    /* a string: *text = the value */
-  POM_OPT_INT,     /* a whole number in [.lo, .hi]: *ival */
+  POM_OPT_INT,     /* a whole number in [.lo, .hi] (.hi LONG_MAX: no limit): *ival or *lval */
   POM_OPT_THREADS, /* worker threads in [1, POM_CLI_THREADS_MAX] (study.threads' range): *ival */
   POM_OPT_NUMBER,  /* a config key's number: set by pom_cli_opts_apply (.key) */
   POM_OPT_CHOICE,  /* a config key's choice: set by pom_cli_opts_apply (.key) */
@@ -34,7 +34,8 @@ typedef struct {
   int *flag;         /* POM_OPT_FLAG */
   int set;           /* POM_OPT_FLAG: the value stored (1 for --json, 0 for --no-plots) */
   const char **text; /* POM_OPT_TEXT, NUMBER, CHOICE: the value as given (NULL when absent) */
-  int *ival;         /* POM_OPT_INT, POM_OPT_THREADS */
+  int *ival;         /* POM_OPT_INT (or lval), POM_OPT_THREADS */
+  long *lval;        /* POM_OPT_INT when ival is NULL */
   long lo, hi;       /* POM_OPT_INT */
   const char **list; /* POM_OPT_LIST, at most .hi entries */
   int *count;        /* POM_OPT_LIST */

@@ -1,4 +1,5 @@
 /* cmd_fk.c - pomlab fk: forward kinematics of three actuator displacements. */
+#include "cli_opts.h"
 #include "cli_kin.h"
 #include "pom_arch.h"
 #include "pom_cli.h"
@@ -8,50 +9,43 @@
 #include <stdio.h>
 #include <string.h>
 
-static void fk_usage(FILE *out) {
-  fprintf(out,
-          "usage: pomlab fk CONFIG --q Q1,Q2,Q3 [--json]\n\n"
-          "Forward kinematics: the platform orientation on the home assembly branch for\n"
-          "actuator displacements Q1,Q2,Q3 in MILLIMETRES from mid-stroke (positive =\n"
-          "extension). Newton with the analytic Jacobian from home, continued along\n"
-          "q(t) = t q when direct Newton fails. Prints the rotation matrix, the ZYX Euler\n"
-          "angles (degrees) and the unit quaternion (w, x, y, z), the iterations, the\n"
-          "residual max|q(R) - q| (m or rad), the dexterity and the limits at that pose.\n\n"
-          "  --q Q1,Q2,Q3  actuator coordinates: mm (linear actuators) or deg (rotary) (required)\n"
-          "  --json        machine-readable output on stdout\n"
-          "  --help        this text\n\n"
-          "Reads the config groups name, architecture, geometry, limits.\n"
-          "Exit status: 0 solved and within limits; 1 no solution, or a limit violated at\n"
-          "the solution (the report is still printed); 2 usage or config error.\n");
-}
-
 int pom_cmd_fk(int argc, char **argv) {
   const char *path = NULL, *qtext = NULL;
   int json = 0;
-  for (int k = 1; k < argc; ++k) {
-    if (strcmp(argv[k], "--help") == 0 || strcmp(argv[k], "-h") == 0) {
-      fk_usage(stdout);
-      return 0;
-    } else if (strcmp(argv[k], "--json") == 0) {
-      json = 1;
-    } else if (strcmp(argv[k], "--q") == 0 && k + 1 < argc) {
-      qtext = argv[++k];
-    } else if (strncmp(argv[k], "--q=", 4) == 0) {
-      qtext = argv[k] + 4;
-    } else if (argv[k][0] == '-' && argv[k][1] != '\0') {
-      fprintf(stderr, "pomlab fk: unknown or incomplete option '%s'\n", argv[k]);
-      fk_usage(stderr);
-      return 2;
-    } else if (!path) {
-      path = argv[k];
-    } else {
-      fprintf(stderr, "pomlab fk: unexpected argument '%s'\n", argv[k]);
-      return 2;
-    }
-  }
+  const pom_opt opts[] = {
+      {.name = "--q",
+       .kind = POM_OPT_TEXT,
+       .arg = "Q1,Q2,Q3",
+       .unit = "mm for linear actuators, deg for rotary ones",
+       .help = "actuator coordinates from mid-stroke (required)",
+       .text = &qtext},
+      {.name = "--json",
+       .kind = POM_OPT_FLAG,
+       .help = "machine-readable output on stdout",
+       .flag = &json,
+       .set = 1},
+  };
+  const pom_cli_spec spec = {
+      .name = "fk",
+      .usage = "CONFIG --q Q1,Q2,Q3 [--json]",
+      .about = "Forward kinematics: the platform orientation on the home assembly branch for\n"
+               "actuator displacements Q1,Q2,Q3 in MILLIMETRES from mid-stroke (positive =\n"
+               "extension). Newton with the analytic Jacobian from home, continued along\n"
+               "q(t) = t q when direct Newton fails. Prints the rotation matrix, the ZYX Euler\n"
+               "angles (degrees) and the unit quaternion (w, x, y, z), the iterations, the\n"
+               "residual max|q(R) - q| (m or rad), the dexterity and the limits at that pose.",
+      .notes = "Reads the config groups name, architecture, geometry, limits.\n"
+               "Exit status: 0 solved and within limits; 1 no solution, or a limit violated at\n"
+               "the solution (the report is still printed); 2 usage or config error.",
+      .opts = opts,
+      .n_opts = POM_CLI_N(opts),
+      .args = &path,
+      .max_args = 1};
+  int prc = pom_cli_opts_parse(&spec, argc, argv, 0);
+  if (prc >= 0) return prc;
   if (!path || !qtext) {
     fprintf(stderr, "pomlab fk: %s\n", !path ? "missing CONFIG" : "missing --q Q1,Q2,Q3");
-    fk_usage(stderr);
+    pom_cli_opts_usage(&spec, stderr);
     return 2;
   }
   double q_disp[3];

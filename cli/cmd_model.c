@@ -3,6 +3,7 @@
  * actuator axes) is printed by model_mechanism_*; the dynamics groups
  * (actuator electrics, controller gains, joints, scene) are added by the
  * dynamics module in the marked places. */
+#include "cli_opts.h"
 #include "cli_dyn.h"
 #include "cli_kin.h"
 #include "pom_arch.h"
@@ -11,28 +12,6 @@
 
 #include <stdio.h>
 #include <string.h>
-
-static void model_usage(FILE *out) {
-  fprintf(out, "usage: pomlab model CONFIG [--json]\n"
-               "       pomlab model --list-architectures [--json]\n"
-               "       pomlab model --list-controllers [--json]\n\n"
-               "The resolved mechanism at the home pose (R = I, actuators at mid-stroke), in\n"
-               "the fixed frame (text: lengths in mm, angles in deg, masses in kg, inertias in\n"
-               "kg m^2; --json: SI, m and rad): geometry and limits, every body\n"
-               "with mass, centre of mass and inertia tensor about the CM, every joint with\n"
-               "type, bodies, location and axes, every actuator with axis and stroke. Complete\n"
-               "enough for another program to rebuild the mechanism.\n\n"
-               "  --json   machine-readable output on stdout\n"
-               "  --list-architectures  the registered architectures: name, actuator kind,\n"
-               "           scale, design parameters and limits (docs/extending.md)\n"
-               "  --list-controllers  the registered controllers: states, options and gains\n"
-               "           with unit, range, default and whether tuning searches them\n"
-               "  --help   this text\n\n"
-               "Validates the config groups name, architecture, geometry, limits, workspace,\n"
-               "inertia, and the dynamics groups actuator, controller, joints, scene, solver,\n"
-               "maneuver (printed after the mechanism). Exit status: 0 ok; 2 usage or config\n"
-               "error.\n");
-}
 
 /* ---- kinematic part: JSON ---------------------------------------------------- */
 static void points_json(const char *key, const double p[3][3], int last) {
@@ -254,32 +233,51 @@ int pom_cmd_model(int argc, char **argv) {
   int list = 0;
   const char *path = NULL;
   int json = 0;
-  for (int k = 1; k < argc; ++k) {
-    if (strcmp(argv[k], "--help") == 0 || strcmp(argv[k], "-h") == 0) {
-      model_usage(stdout);
-      return 0;
-    } else if (strcmp(argv[k], "--json") == 0) {
-      json = 1;
-    } else if (strcmp(argv[k], "--list-architectures") == 0) {
-      list = 1;
-    } else if (strcmp(argv[k], "--list-controllers") == 0) {
-      list = 2;
-    } else if (argv[k][0] == '-' && argv[k][1] != '\0') {
-      fprintf(stderr, "pomlab model: unknown option '%s'\n", argv[k]);
-      model_usage(stderr);
-      return 2;
-    } else if (!path) {
-      path = argv[k];
-    } else {
-      fprintf(stderr, "pomlab model: unexpected argument '%s'\n", argv[k]);
-      return 2;
-    }
-  }
+  const pom_opt opts[] = {
+      {.name = "--json",
+       .kind = POM_OPT_FLAG,
+       .help = "machine-readable output on stdout",
+       .flag = &json,
+       .set = 1},
+      {.name = "--list-architectures",
+       .kind = POM_OPT_FLAG,
+       .help = "the registered architectures: name, actuator kind, scale, design parameters and "
+               "limits (docs/extending.md)",
+       .flag = &list,
+       .set = 1},
+      {.name = "--list-controllers",
+       .kind = POM_OPT_FLAG,
+       .help = "the registered controllers: states, options and gains with unit, range, default "
+               "and whether tuning searches them",
+       .flag = &list,
+       .set = 2},
+  };
+  const pom_cli_spec spec = {
+      .name = "model",
+      .usage = "CONFIG [--json]\n"
+               "       pomlab model --list-architectures [--json]\n"
+               "       pomlab model --list-controllers [--json]",
+      .about = "The resolved mechanism at the home pose (R = I, actuators at mid-stroke), in\n"
+               "the fixed frame (text: lengths in mm, angles in deg, masses in kg, inertias in\n"
+               "kg m^2; --json: SI, m and rad): geometry and limits, every body\n"
+               "with mass, centre of mass and inertia tensor about the CM, every joint with\n"
+               "type, bodies, location and axes, every actuator with axis and stroke. Complete\n"
+               "enough for another program to rebuild the mechanism.",
+      .notes = "Validates the config groups name, architecture, geometry, limits, workspace,\n"
+               "inertia, and the dynamics groups actuator, controller, joints, scene, solver,\n"
+               "maneuver (printed after the mechanism). Exit status: 0 ok; 2 usage or config\n"
+               "error.",
+      .opts = opts,
+      .n_opts = POM_CLI_N(opts),
+      .args = &path,
+      .max_args = 1};
+  int prc = pom_cli_opts_parse(&spec, argc, argv, 0);
+  if (prc >= 0) return prc;
   if (list == 2) return pom_cli_list_controllers(stdout, json);
   if (list) return list_architectures(json);
   if (!path) {
     fprintf(stderr, "pomlab model: missing CONFIG\n");
-    model_usage(stderr);
+    pom_cli_opts_usage(&spec, stderr);
     return 2;
   }
   pom_cfg *cfg = NULL;

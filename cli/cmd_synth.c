@@ -1,5 +1,6 @@
 /* cmd_synth.c - `pomlab synth CFG [CFG ...]`: kinematic synthesis of one or
  * more architectures (docs/optimize.md), side by side when several. */
+#include "cli_opts.h"
 #include "cli_kin.h"
 #include "cli_outputs.h"
 #include "pom_cli.h"
@@ -13,24 +14,6 @@
 #include <string.h>
 
 #define MAX_CFGS 4
-
-static void usage(FILE *out) {
-  fprintf(out,
-          "usage: pomlab synth CFG [CFG ...] [--out PREFIX] [--no-direct] [--json] [--quiet]\n\n"
-          "Kinematic synthesis by response surfaces and desirability (docs/optimize.md).\n"
-          "Each CFG needs architecture, geometry (mode = \"parameters\"), limits, workspace\n"
-          "and synthesis groups. Writes PREFIX<name>.geometry.cfg (the scaled geometry, a\n"
-          "`geometry` group for simulate/montecarlo/study) and PREFIX<name>.h5 (design,\n"
-          "fits, optimum, confirmation). PREFIX defaults to results/synth_.\n\n"
-          "  --out PREFIX  output path prefix (its folder must exist)\n"
-          "  --no-direct   skip the direct NLopt search on the true kinematics\n"
-          "                (synthesis.direct.enabled = false)\n"
-          "  --json        JSON on stdout (variables and responses in their config units)\n"
-          "  --quiet       no progress bar\n"
-          "  --help        this text\n\n"
-          "Exit status: 0 ok; 1 a run failed or a file cannot be written; 2 usage or\n"
-          "config error.\n");
-}
 
 static const char *const anova_names[POM_RSM_N_ROWS] = {
     "model", "linear", "square", "interaction", "residual", "lack of fit", "pure error", "total"};
@@ -269,31 +252,48 @@ int pom_cmd_synth(int argc, char **argv) {
   const char *cfg_paths[MAX_CFGS];
   int ncfg = 0, json = 0, no_direct = 0, quiet = 0;
   const char *prefix = "results/synth_";
-  for (int a = 1; a < argc; ++a) {
-    if (strcmp(argv[a], "--help") == 0 || strcmp(argv[a], "-h") == 0) {
-      usage(stdout);
-      return 0;
-    } else if (strcmp(argv[a], "--json") == 0) {
-      json = 1;
-    } else if (strcmp(argv[a], "--no-direct") == 0) {
-      no_direct = 1;
-    } else if (strcmp(argv[a], "--quiet") == 0) {
-      quiet = 1;
-    } else if (strcmp(argv[a], "--out") == 0 && a + 1 < argc) {
-      prefix = argv[++a];
-    } else if (argv[a][0] == '-') {
-      fprintf(stderr, "pomlab synth: unknown option '%s'\n", argv[a]);
-      usage(stderr);
-      return 2;
-    } else if (ncfg < MAX_CFGS) {
-      cfg_paths[ncfg++] = argv[a];
-    } else {
-      fprintf(stderr, "pomlab synth: at most %d configs\n", MAX_CFGS);
-      return 2;
-    }
-  }
+  const pom_opt opts[] = {
+      {.name = "--out",
+       .kind = POM_OPT_TEXT,
+       .arg = "PREFIX",
+       .help = "output path prefix (its folder must exist)",
+       .text = &prefix},
+      {.name = "--no-direct",
+       .kind = POM_OPT_FLAG,
+       .help = "skip the direct NLopt search on the true kinematics "
+               "(synthesis.direct.enabled = false)",
+       .flag = &no_direct,
+       .set = 1},
+      {.name = "--json",
+       .kind = POM_OPT_FLAG,
+       .help = "JSON on stdout (variables and responses in their config units)",
+       .flag = &json,
+       .set = 1},
+      {.name = "--quiet",
+       .kind = POM_OPT_FLAG,
+       .help = "no progress bar",
+       .flag = &quiet,
+       .set = 1},
+  };
+  const pom_cli_spec spec = {
+      .name = "synth",
+      .usage = "CFG [CFG ...] [--out PREFIX] [--no-direct] [--json] [--quiet]",
+      .about = "Kinematic synthesis by response surfaces and desirability (docs/optimize.md).\n"
+               "Each CFG needs architecture, geometry (mode = \"parameters\"), limits, workspace\n"
+               "and synthesis groups. Writes PREFIX<name>.geometry.cfg (the scaled geometry, a\n"
+               "`geometry` group for simulate/montecarlo/study) and PREFIX<name>.h5 (design,\n"
+               "fits, optimum, confirmation). PREFIX defaults to results/synth_.",
+      .notes = "Exit status: 0 ok; 1 a run failed or a file cannot be written; 2 usage or\n"
+               "config error.",
+      .opts = opts,
+      .n_opts = POM_CLI_N(opts),
+      .args = cfg_paths,
+      .max_args = MAX_CFGS,
+      .n_args = &ncfg};
+  int prc = pom_cli_opts_parse(&spec, argc, argv, 0);
+  if (prc >= 0) return prc;
   if (ncfg == 0) {
-    usage(stderr);
+    pom_cli_opts_usage(&spec, stderr);
     return 2;
   }
 

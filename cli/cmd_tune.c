@@ -1,5 +1,6 @@
 /* cmd_tune.c - `pomlab tune CFG [CFG ...]`: PID gains by one criterion for
  * every architecture (docs/optimize.md section 9). */
+#include "cli_opts.h"
 #include "pom_dyn_ctrl.h"
 #include "cli_kin.h"
 #include "cli_outputs.h"
@@ -13,23 +14,6 @@
 #include <string.h>
 
 #define MAX_CFGS 4
-
-static void usage(FILE *out) {
-  fprintf(out, "usage: pomlab tune CFG [CFG ...] [--out PREFIX] [--json] [--quiet]\n\n"
-               "Tunes the PID gains of each config by the same criterion: mean execution time\n"
-               "over a fixed maneuver set, with penalties beyond the overshoot and saturation\n"
-               "limits (docs/optimize.md). Writes PREFIX<name>.controller.cfg, a `controller`\n"
-               "group for simulate/montecarlo/study. PREFIX defaults to results/tune_.\n\n"
-               "  --out PREFIX  output path prefix (its folder must exist)\n"
-               "  --json        JSON on stdout (SI: gains kp V/V, ki_per_s 1/s, kd_s s;\n"
-               "                times s)\n"
-               "  --quiet       no progress on stderr (criterion evaluations done, at most\n"
-               "                the stages' evaluation limits)\n"
-               "  --help        this text\n\n"
-               "Config keys: the `tuning` group (docs/optimize.md section 9). Exit status:\n"
-               "0 ok; 1 a simulation failed or the file cannot be written; 2 usage or\n"
-               "config error.\n");
-}
 
 static const char *jn(char *buf, double v) {
   if (isfinite(v))
@@ -62,29 +46,43 @@ int pom_cmd_tune(int argc, char **argv) {
   const char *cfg_paths[MAX_CFGS];
   int ncfg = 0, json = 0, quiet = 0;
   const char *prefix = "results/tune_";
-  for (int a = 1; a < argc; ++a) {
-    if (strcmp(argv[a], "--help") == 0 || strcmp(argv[a], "-h") == 0) {
-      usage(stdout);
-      return 0;
-    } else if (strcmp(argv[a], "--quiet") == 0) {
-      quiet = 1;
-    } else if (strcmp(argv[a], "--json") == 0) {
-      json = 1;
-    } else if (strcmp(argv[a], "--out") == 0 && a + 1 < argc) {
-      prefix = argv[++a];
-    } else if (argv[a][0] == '-') {
-      fprintf(stderr, "pomlab tune: unknown option '%s'\n", argv[a]);
-      usage(stderr);
-      return 2;
-    } else if (ncfg < MAX_CFGS) {
-      cfg_paths[ncfg++] = argv[a];
-    } else {
-      fprintf(stderr, "pomlab tune: at most %d configs\n", MAX_CFGS);
-      return 2;
-    }
-  }
+  const pom_opt opts[] = {
+      {.name = "--out",
+       .kind = POM_OPT_TEXT,
+       .arg = "PREFIX",
+       .help = "output path prefix (its folder must exist)",
+       .text = &prefix},
+      {.name = "--json",
+       .kind = POM_OPT_FLAG,
+       .help = "JSON on stdout (SI: gains kp V/V, ki_per_s 1/s, kd_s s; times s)",
+       .flag = &json,
+       .set = 1},
+      {.name = "--quiet",
+       .kind = POM_OPT_FLAG,
+       .help = "no progress on stderr (criterion evaluations done, at most the stages' "
+               "evaluation limits)",
+       .flag = &quiet,
+       .set = 1},
+  };
+  const pom_cli_spec spec = {
+      .name = "tune",
+      .usage = "CFG [CFG ...] [--out PREFIX] [--json] [--quiet]",
+      .about = "Tunes the PID gains of each config by the same criterion: mean execution time\n"
+               "over a fixed maneuver set, with penalties beyond the overshoot and saturation\n"
+               "limits (docs/optimize.md). Writes PREFIX<name>.controller.cfg, a `controller`\n"
+               "group for simulate/montecarlo/study. PREFIX defaults to results/tune_.",
+      .notes = "Config keys: the `tuning` group (docs/optimize.md section 9). Exit status:\n"
+               "0 ok; 1 a simulation failed or the file cannot be written; 2 usage or\n"
+               "config error.",
+      .opts = opts,
+      .n_opts = POM_CLI_N(opts),
+      .args = cfg_paths,
+      .max_args = MAX_CFGS,
+      .n_args = &ncfg};
+  int prc = pom_cli_opts_parse(&spec, argc, argv, 0);
+  if (prc >= 0) return prc;
   if (ncfg == 0) {
-    usage(stderr);
+    pom_cli_opts_usage(&spec, stderr);
     return 2;
   }
   /* the model's groups and tuning's */

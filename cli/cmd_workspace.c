@@ -1,5 +1,6 @@
 /* cmd_workspace.c - pomlab workspace: regular dexterous workspace, global
  * conditioning index and an optional dexterity map (CSV). */
+#include "cli_opts.h"
 #include "cli_kin.h"
 #include "cli_outputs.h"
 #include "pom_cli.h"
@@ -11,34 +12,6 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-
-static void ws_usage(FILE *out) {
-  fprintf(out,
-          "usage: pomlab workspace CONFIG [--json] [--map FILE.csv] [--quiet]\n\n"
-          "Regular dexterous workspace (RDW): the largest cube [-a, a]^3 of ZYX Euler\n"
-          "angles (psi, theta, phi) about home whose grid poses (step workspace.resolution_deg)\n"
-          "are all assemblable on the home branch, within the limits (when\n"
-          "workspace.check_limits) and have dexterity 1/kappa >= workspace.dexterity_min\n"
-          "(docs/kinematics.md section 6). Also the minimum dexterity inside it and the\n"
-          "global conditioning index (mean 1/kappa, measure cos(theta) dpsi dtheta dphi)\n"
-          "over the cube of half-width workspace.gci_half_width_deg (0 = the RDW).\n\n"
-          "  --map FILE.csv  write the dexterity map over the cube of half-width\n"
-          "                  workspace.map_half_width_deg, step workspace.map_resolution_deg:\n"
-          "                  psi_deg,theta_deg,phi_deg,reachable,within_limits,dexterity,\n"
-          "                  q1_mm,q2_mm,q3_mm (or _deg for rotary actuators),violations;\n"
-          "                  figure: python3 scripts/plot_workspace.py FILE.csv OUT.png\n"
-          "  --json          machine-readable output on stdout\n"
-          "  --quiet         no progress on stderr\n\n"
-          "Cost: each grid (the RDW search, the GCI, the map) may evaluate at most\n"
-          "workspace.max_poses poses (default 1e8, a minute or two on one core). The\n"
-          "search stops before a shell that would pass it (the half-width is then a\n"
-          "lower bound); a GCI region or map that would pass it is refused up front.\n"
-          "Work expected to last over 10 s is announced with its estimate.\n"
-          "  --help          this text\n\n"
-          "Reads the config groups name, architecture, geometry, limits, workspace.\n"
-          "Exit status: 0 ok; 1 home pose fails or the map cannot be written; 2 usage or\n"
-          "config error (a grid above the budget included).\n");
-}
 
 static const char *reason_text(const pom_kin_arch *arch, const pom_kin_ws_result *r,
                                const pom_kin_ws_opts *o, char *buf, size_t cap) {
@@ -157,32 +130,54 @@ static int write_map(const char *file, const pom_kin_arch *arch, const pom_kin_w
 int pom_cmd_workspace(int argc, char **argv) {
   const char *path = NULL, *map = NULL;
   int json = 0, quiet = 0;
-  for (int k = 1; k < argc; ++k) {
-    if (strcmp(argv[k], "--help") == 0 || strcmp(argv[k], "-h") == 0) {
-      ws_usage(stdout);
-      return 0;
-    } else if (strcmp(argv[k], "--json") == 0) {
-      json = 1;
-    } else if (strcmp(argv[k], "--quiet") == 0) {
-      quiet = 1;
-    } else if (strcmp(argv[k], "--map") == 0 && k + 1 < argc) {
-      map = argv[++k];
-    } else if (strncmp(argv[k], "--map=", 6) == 0) {
-      map = argv[k] + 6;
-    } else if (argv[k][0] == '-' && argv[k][1] != '\0') {
-      fprintf(stderr, "pomlab workspace: unknown or incomplete option '%s'\n", argv[k]);
-      ws_usage(stderr);
-      return 2;
-    } else if (!path) {
-      path = argv[k];
-    } else {
-      fprintf(stderr, "pomlab workspace: unexpected argument '%s'\n", argv[k]);
-      return 2;
-    }
-  }
+  const pom_opt opts[] = {
+      {.name = "--map",
+       .kind = POM_OPT_TEXT,
+       .arg = "FILE.csv",
+       .help = "write the dexterity map over the cube of half-width workspace.map_half_width_deg, "
+               "step workspace.map_resolution_deg: psi_deg,theta_deg,phi_deg,reachable,"
+               "within_limits,dexterity, q1_mm,q2_mm,q3_mm (or _deg for rotary actuators),"
+               "violations; figure: python3 scripts/plot_workspace.py FILE.csv OUT.png",
+       .text = &map},
+      {.name = "--json",
+       .kind = POM_OPT_FLAG,
+       .help = "machine-readable output on stdout",
+       .flag = &json,
+       .set = 1},
+      {.name = "--quiet",
+       .kind = POM_OPT_FLAG,
+       .help = "no progress on stderr",
+       .flag = &quiet,
+       .set = 1},
+  };
+  const pom_cli_spec spec = {
+      .name = "workspace",
+      .usage = "CONFIG [--json] [--map FILE.csv] [--quiet]",
+      .about =
+          "Regular dexterous workspace (RDW): the largest cube [-a, a]^3 of ZYX Euler\n"
+          "angles (psi, theta, phi) about home whose grid poses (step workspace.resolution_deg)\n"
+          "are all assemblable on the home branch, within the limits (when\n"
+          "workspace.check_limits) and have dexterity 1/kappa >= workspace.dexterity_min\n"
+          "(docs/kinematics.md section 6). Also the minimum dexterity inside it and the\n"
+          "global conditioning index (mean 1/kappa, measure cos(theta) dpsi dtheta dphi)\n"
+          "over the cube of half-width workspace.gci_half_width_deg (0 = the RDW).",
+      .notes = "Cost: each grid (the RDW search, the GCI, the map) may evaluate at most\n"
+               "workspace.max_poses poses (default 1e8, a minute or two on one core). The\n"
+               "search stops before a shell that would pass it (the half-width is then a\n"
+               "lower bound); a GCI region or map that would pass it is refused up front.\n"
+               "Work expected to last over 10 s is announced with its estimate.\n\n"
+               "Reads the config groups name, architecture, geometry, limits, workspace.\n"
+               "Exit status: 0 ok; 1 home pose fails or the map cannot be written; 2 usage or\n"
+               "config error (a grid above the budget included).",
+      .opts = opts,
+      .n_opts = POM_CLI_N(opts),
+      .args = &path,
+      .max_args = 1};
+  int prc = pom_cli_opts_parse(&spec, argc, argv, 0);
+  if (prc >= 0) return prc;
   if (!path) {
     fprintf(stderr, "pomlab workspace: missing CONFIG\n");
-    ws_usage(stderr);
+    pom_cli_opts_usage(&spec, stderr);
     return 2;
   }
   pom_cfg *cfg = NULL;
