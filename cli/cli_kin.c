@@ -43,47 +43,6 @@ int pom_cli_kin_load(const char *path, pom_cfg **cfg_out, pom_kin_arch *arch, po
   return 0;
 }
 
-/* ---- JSON ------------------------------------------------------------------ */
-void pom_json_string(FILE *out, const char *s) {
-  fputc('"', out);
-  for (const unsigned char *p = (const unsigned char *)s; *p; ++p) {
-    if (*p == '"' || *p == '\\') {
-      fprintf(out, "\\%c", *p);
-    } else if (*p < 0x20) {
-      fprintf(out, "\\u%04x", *p);
-    } else {
-      fputc(*p, out);
-    }
-  }
-  fputc('"', out);
-}
-
-void pom_json_number(FILE *out, double v) {
-  if (isfinite(v)) {
-    fprintf(out, "%.17g", v);
-  } else {
-    fputs("null", out);
-  }
-}
-
-void pom_json_vec(FILE *out, const double *v, int n, double scale) {
-  fputc('[', out);
-  for (int k = 0; k < n; ++k) {
-    if (k) fputs(", ", out);
-    pom_json_number(out, v[k] * scale);
-  }
-  fputc(']', out);
-}
-
-void pom_json_mat3(FILE *out, const double M[9], double scale) {
-  fputc('[', out);
-  for (int r = 0; r < 3; ++r) {
-    if (r) fputs(", ", out);
-    pom_json_vec(out, M + 3 * r, 3, scale);
-  }
-  fputc(']', out);
-}
-
 /* ---- pose reports ------------------------------------------------------------ */
 void pom_cli_kin_print_limits(FILE *out, const pom_kin_arch *arch, const pom_kin_pose *p) {
   const pom_act_desc *u = pom_act_kind_desc(pom_kin_type_actuator(arch->type));

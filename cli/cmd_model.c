@@ -4,7 +4,7 @@
  * (actuator electrics, controller gains, joints, scene) are added by the
  * dynamics module in the marked places. */
 #include "cli_opts.h"
-#include "cli_dyn.h"
+#include "pom_dyn_print.h"
 #include "cli_kin.h"
 #include "pom_arch.h"
 #include "pom_cli.h"
@@ -273,7 +273,10 @@ int pom_cmd_model(int argc, char **argv) {
       .max_args = 1};
   int prc = pom_cli_opts_parse(&spec, argc, argv, 0);
   if (prc >= 0) return prc;
-  if (list == 2) return pom_cli_list_controllers(stdout, json);
+  if (list == 2) {
+    pom_dyn_ctrl_list(stdout, json);
+    return 0;
+  }
   if (list) return list_architectures(json);
   if (!path) {
     fprintf(stderr, "pomlab model: missing CONFIG\n");
@@ -318,12 +321,12 @@ int pom_cmd_model(int argc, char **argv) {
     printf(",\n  \"architecture\": \"%s\",\n", pom_kin_arch_name(&arch));
     printf("  \"units\": \"SI (m, kg, kg m^2, rad, m/s^2); fixed frame at the home pose\",\n");
     model_mechanism_json(&arch, &mech);
-    pom_cli_dyn_params_json(stdout, &dyn);
+    pom_dyn_params_json(stdout, &dyn);
     printf("\n}\n");
   } else {
     printf("%s (%s), config %s\n", arch.name, pom_kin_arch_name(&arch), path);
     model_mechanism_text(&arch, &mech);
-    pom_cli_dyn_params_text(stdout, &dyn);
+    pom_dyn_params_text(stdout, &dyn);
   }
   return 0;
 }
