@@ -23,11 +23,4 @@ int pom_cli_kin_load(const char *path, pom_cfg **cfg_out, pom_kin_arch *arch, po
  * the error and returns 2. */
 int pom_cli_kin_check_unknown(const pom_cfg *cfg, const char *const *const scopes[]);
 
-/* Prints limb-wise limit details (human form) of an evaluated pose. */
-void pom_cli_kin_print_limits(FILE *out, const pom_kin_arch *arch, const pom_kin_pose *p);
-
-/* Writes the limit/pose fields of p as JSON members (no braces, leading
- * comma-free; caller adds separators). */
-void pom_cli_kin_pose_json(FILE *out, const pom_kin_arch *arch, const pom_kin_pose *p);
-
 #endif

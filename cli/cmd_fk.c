@@ -1,6 +1,7 @@
 /* cmd_fk.c - pomlab fk: forward kinematics of three actuator displacements. */
 #include "cli_opts.h"
 #include "cli_kin.h"
+#include "pom_kin_print.h"
 #include "pom_arch.h"
 #include "pom_cli.h"
 #include "pom_math.h"
@@ -110,7 +111,7 @@ int pom_cmd_fk(int argc, char **argv) {
            info.iterations, info.continuation_steps);
     pom_json_number(stdout, info.residual);
     printf(",\n  ");
-    pom_cli_kin_pose_json(stdout, &arch, &p);
+    pom_kin_pose_json(stdout, &arch, &p);
     printf("\n}\n");
   } else {
     printf("%s (%s), config %s\n", arch.name, pom_kin_arch_name(&arch), path);
@@ -127,7 +128,7 @@ int pom_cmd_fk(int argc, char **argv) {
            info.continuation_steps, info.continuation_steps ? "" : " (direct)",
            info.residual * u->to_display, u->display);
     printf("dexterity 1/kappa: %.6f (kappa %.6f)\n", p.dexterity, p.kappa);
-    pom_cli_kin_print_limits(stdout, &arch, &p);
+    pom_kin_print_limits(stdout, &arch, &p);
     printf("limit check: %s%s\n", lst == POM_OK ? "ok" : "FAILED - ",
            lst == POM_OK ? "" : lerr.message);
   }

@@ -2,6 +2,7 @@
  * one orientation. */
 #include "cli_opts.h"
 #include "cli_kin.h"
+#include "pom_kin_print.h"
 #include "pom_arch.h"
 #include "pom_cli.h"
 #include "pom_math.h"
@@ -86,7 +87,7 @@ int pom_cmd_ik(int argc, char **argv) {
     printf(",\n  \"architecture\": \"%s\",\n  \"euler_zyx_deg\": ", pom_kin_arch_name(&arch));
     pom_json_vec(stdout, e_deg, 3, 1.0);
     printf(",\n  ");
-    pom_cli_kin_pose_json(stdout, &arch, &p);
+    pom_kin_pose_json(stdout, &arch, &p);
     printf(",\n  \"message\": ");
     pom_json_string(stdout, st == POM_OK ? "" : err.message);
     printf("\n}\n");
@@ -112,7 +113,7 @@ int pom_cmd_ik(int argc, char **argv) {
       printf("singular values (%s): %.6f %.6f %.6f\n", ju, p.sv[0] * fj, p.sv[1] * fj,
              p.sv[2] * fj);
       printf("condition number kappa: %.6f   dexterity 1/kappa: %.6f\n", p.kappa, p.dexterity);
-      pom_cli_kin_print_limits(stdout, &arch, &p);
+      pom_kin_print_limits(stdout, &arch, &p);
       if (st == POM_ERR_LIMIT) printf("limit check: FAILED - %s\n", err.message);
       if (st == POM_OK) printf("limit check: ok\n");
     }
