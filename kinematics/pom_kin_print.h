@@ -8,6 +8,7 @@
 
 #include "pom_kinematics.h"
 #include "pom_mechanism.h"
+#include "pom_progress.h"
 
 #include <stdio.h>
 
@@ -26,5 +27,36 @@ void pom_kin_print_limits(FILE *out, const pom_kin_arch *arch, const pom_kin_pos
 /* The limit/pose fields of p as JSON members (no braces, leading comma-free;
  * the caller adds separators). */
 void pom_kin_pose_json(FILE *out, const pom_kin_arch *arch, const pom_kin_pose *p);
+
+/* ---- the workspace (kin_ws_print.c) ---------------------------------------------- */
+/* Why the regular dexterous workspace ends where it does: the search cap or
+ * budget, "not assemblable", the limit violated, or the dexterity there. */
+const char *pom_kin_ws_reason_text(const pom_kin_arch *arch, const pom_kin_ws_result *r,
+                                   const pom_kin_ws_opts *o, char *buf, size_t cap);
+
+/* Poses per second of this machine on this architecture, from a 8^3 grid of
+ * poses within 4 deg of home (a few milliseconds). */
+double pom_kin_pose_rate(const pom_kin_arch *arch);
+
+/* The dexterity map over the cube of half-width o->map_half_width, step
+ * o->map_resolution, as CSV (psi_deg, theta_deg, phi_deg, reachable,
+ * within_limits, dexterity, q1..q3 in the display unit, violations); bar
+ * counts the poses. */
+pom_status pom_kin_ws_map_write(const char *file, const pom_kin_arch *arch,
+                                const pom_kin_ws_opts *o, pom_progress *bar, pom_error *err);
+
+/* What `pomlab workspace` reports besides the search's result. */
+typedef struct {
+  const char *config;    /* the config's path, shown */
+  const char *map;       /* the map written, or NULL */
+  double gci;            /* global conditioning index */
+  double gci_half_width; /* over this cube (rad) */
+  double gci_usable;     /* the fraction of its poses that are usable */
+} pom_kin_ws_report;
+
+/* The workspace report as JSON (SI angles in deg as keyed) or text. */
+void pom_kin_ws_report_print(FILE *out, int json, const pom_kin_arch *arch,
+                             const pom_kin_ws_opts *o, const pom_kin_ws_result *r,
+                             const pom_kin_ws_report *rep);
 
 #endif
