@@ -7,7 +7,7 @@
 #include "pom_pipeline.h"
 #include "pom_math.h"
 #include "pom_progress.h"
-#include "pom_syn_print.h"
+#include "pom_opt_print.h"
 #include "pom_synth.h"
 
 #include <math.h>

@@ -7,6 +7,7 @@
 #include "pom_cli.h"
 #include "pom_pipeline.h"
 #include "pom_progress.h"
+#include "pom_opt_print.h"
 #include "pom_tune.h"
 
 #include <math.h>
@@ -14,25 +15,6 @@
 #include <string.h>
 
 #define MAX_CFGS 4
-
-static const char *jn(char *buf, double v) {
-  if (isfinite(v))
-    snprintf(buf, 32, "%.10g", v);
-  else
-    snprintf(buf, 32, "null");
-  return buf;
-}
-
-static void print_eval(const char *what, const pom_dyn_controller *c, const pom_tune_eval *e) {
-  const pom_dyn_ctrl_type *t = pom_dyn_ctrl_of(c);
-  printf("  %-8s", what);
-  for (int k = 0; k < t->n_gains; ++k)
-    printf(" %s %-10.5g %s", t->gains[k].key, pom_dyn_ctrl_gain(c, k), t->gains[k].unit);
-  printf(" | criterion %8.3f ms  mean exec %7.3f ms  max exec %7.3f ms  overshoot %6.2f %%  "
-         "saturation %6.3f ms  unsettled %d  energy %.4g J\n",
-         e->criterion * 1e3, e->mean_execution * 1e3, e->max_execution * 1e3,
-         e->max_overshoot * 100.0, e->max_saturation * 1e3, e->unsettled, e->mean_energy);
-}
 
 /* The progress bar (or log lines) on stderr, in criterion evaluations. */
 static void on_progress(void *user, const char *phase, long done, long total) {
@@ -150,48 +132,9 @@ int pom_cmd_tune(int argc, char **argv) {
       code = pom_cli_exit_code(st);
       break;
     }
-    if (!json) {
-      printf("== %s (%s): %d maneuvers, overshoot limit %.3g %%, saturation limit %.4g ms\n",
-             pbs[c].arch.name, pom_kin_arch_name(&pbs[c].arch), pbs[c].n_maneuvers,
-             pbs[c].overshoot_max * 100.0, pbs[c].saturation_time_max * 1e3);
-      print_eval("config", &res[c].initial, &res[c].initial_eval);
-      print_eval("tuned", &res[c].best, &res[c].best_eval);
-      printf("  %ld criterion evaluations (%ld global %s, %ld local %s), %ld simulations, "
-             "%.2f s\n  wrote %s\n\n",
-             res[c].opt.evals_global + res[c].opt.evals_local, res[c].opt.evals_global,
-             pom_opt_result_name(res[c].opt.result_global), res[c].opt.evals_local,
-             pom_opt_result_name(res[c].opt.result_local), res[c].simulations, res[c].opt.wall_time,
-             paths[c]);
-    }
+    if (!json) pom_tune_report_text(stdout, &pbs[c], &res[c], paths[c]);
   }
-  if (code == 0 && json) {
-    char b[8][32], g[32];
-    printf("{\"tune\": [");
-    for (int c = 0; c < ncfg; ++c) {
-      const pom_tune_eval *e = &res[c].best_eval;
-      /* name (from the config) and file escaped: a quote made invalid JSON */
-      printf("%s{\"name\": ", c ? ", " : "");
-      pom_json_string(stdout, pbs[c].arch.name);
-      /* the gains by their config keys (the PID: kp, ki_per_s, kd_s) */
-      const pom_dyn_ctrl_type *t = pom_dyn_ctrl_of(&res[c].best);
-      printf(", \"architecture\": \"%s\", \"controller\": ", pom_kin_arch_name(&pbs[c].arch));
-      pom_json_string(stdout, t->name);
-      for (int k = 0; k < t->n_gains; ++k) {
-        printf(", ");
-        pom_json_string(stdout, t->gains[k].key);
-        printf(": %s", jn(g, pom_dyn_ctrl_gain(&res[c].best, k)));
-      }
-      printf(", \"criterion_s\": %s, \"mean_execution_s\": %s, \"max_overshoot\": %s, "
-             "\"max_saturation_s\": %s, \"unsettled\": %d, \"initial_criterion_s\": %s, "
-             "\"evaluations\": %ld, \"simulations\": %ld, \"file\": ",
-             jn(b[3], e->criterion), jn(b[4], e->mean_execution), jn(b[5], e->max_overshoot),
-             jn(b[6], e->max_saturation), e->unsettled, jn(b[7], res[c].initial_eval.criterion),
-             res[c].opt.evals_global + res[c].opt.evals_local, res[c].simulations);
-      pom_json_string(stdout, paths[c]);
-      printf("}");
-    }
-    printf("]}\n");
-  }
+  if (code == 0 && json) pom_tune_report_json(stdout, pbs, res, ncfg, paths);
   free(pbs);
   free(res);
   return code;

@@ -1,6 +1,6 @@
-/* syn_print.c - a kinematic synthesis as text and JSON (pom_syn_print.h;
+/* syn_print.c - a kinematic synthesis as text and JSON (pom_opt_print.h;
  * what `pomlab synth` prints, docs/optimize.md). */
-#include "pom_syn_print.h"
+#include "pom_opt_print.h"
 
 #include "pom_json.h"
 #include "pom_math.h"
