@@ -85,53 +85,12 @@ int pom_cmd_fk(int argc, char **argv) {
     pom_cfg_destroy(cfg);
     return 1;
   }
-  double e[3], quat[4];
-  pom_status est = pom_euler_zyx_from_matrix(e, R);
-  pom_quat_from_matrix(quat, R);
   pom_kin_pose p;
   pom_error lerr;
   pom_error_clear(&lerr);
   pom_status lst = pom_kin_pose_evaluate(&arch, R, &p, &lerr);
 
-  if (json) {
-    printf("{\n  \"config\": ");
-    pom_json_string(stdout, path);
-    printf(",\n  \"name\": ");
-    pom_json_string(stdout, arch.name);
-    printf(",\n  \"architecture\": \"%s\",\n  \"q_target\": ", pom_kin_arch_name(&arch));
-    pom_json_vec(stdout, q, 3, 1.0);
-    printf(",\n  \"solved\": true,\n  \"rotation\": ");
-    pom_json_mat3(stdout, R, 1.0);
-    printf(",\n  \"euler_zyx_deg\": ");
-    pom_json_vec(stdout, e, 3, 1.0 / POM_DEG);
-    printf(",\n  \"euler_singular\": %s,\n  \"quaternion_wxyz\": ",
-           est == POM_OK ? "false" : "true");
-    pom_json_vec(stdout, quat, 4, 1.0);
-    printf(",\n  \"iterations\": %d,\n  \"continuation_steps\": %d,\n  \"residual\": ",
-           info.iterations, info.continuation_steps);
-    pom_json_number(stdout, info.residual);
-    printf(",\n  ");
-    pom_kin_pose_json(stdout, &arch, &p);
-    printf("\n}\n");
-  } else {
-    printf("%s (%s), config %s\n", arch.name, pom_kin_arch_name(&arch), path);
-    printf("q (%s): %g %g %g\n", u->display, q_disp[0], q_disp[1], q_disp[2]);
-    printf("rotation R (platform -> fixed frame):\n");
-    for (int i = 0; i < 3; ++i)
-      printf("  [%12.9f %12.9f %12.9f]\n", R[3 * i], R[3 * i + 1], R[3 * i + 2]);
-    printf("ZYX Euler (deg): psi = %.6f, theta = %.6f, phi = %.6f%s\n", e[0] / POM_DEG,
-           e[1] / POM_DEG, e[2] / POM_DEG,
-           est == POM_OK ? "" : "  (gimbal lock: only psi -+ phi is defined)");
-    printf("quaternion (w, x, y, z): %.12f %.12f %.12f %.12f\n", quat[0], quat[1], quat[2],
-           quat[3]);
-    printf("Newton: %d iterations, %d continuation steps%s, residual %.3e %s\n", info.iterations,
-           info.continuation_steps, info.continuation_steps ? "" : " (direct)",
-           info.residual * u->to_display, u->display);
-    printf("dexterity 1/kappa: %.6f (kappa %.6f)\n", p.dexterity, p.kappa);
-    pom_kin_print_limits(stdout, &arch, &p);
-    printf("limit check: %s%s\n", lst == POM_OK ? "ok" : "FAILED - ",
-           lst == POM_OK ? "" : lerr.message);
-  }
+  pom_kin_fk_report(stdout, json, path, &arch, q_disp, R, &info, &p, lst, lerr.message);
   pom_cfg_destroy(cfg);
   return lst == POM_OK ? 0 : 1;
 }

@@ -79,45 +79,7 @@ int pom_cmd_ik(int argc, char **argv) {
   pom_error_clear(&err);
   pom_status st = pom_kin_pose_evaluate(&arch, R, &p, &err);
 
-  if (json) {
-    printf("{\n  \"config\": ");
-    pom_json_string(stdout, path);
-    printf(",\n  \"name\": ");
-    pom_json_string(stdout, arch.name);
-    printf(",\n  \"architecture\": \"%s\",\n  \"euler_zyx_deg\": ", pom_kin_arch_name(&arch));
-    pom_json_vec(stdout, e_deg, 3, 1.0);
-    printf(",\n  ");
-    pom_kin_pose_json(stdout, &arch, &p);
-    printf(",\n  \"message\": ");
-    pom_json_string(stdout, st == POM_OK ? "" : err.message);
-    printf("\n}\n");
-  } else {
-    printf("%s (%s), config %s\n", arch.name, pom_kin_arch_name(&arch), path);
-    printf("orientation: ZYX Euler psi = %g deg, theta = %g deg, phi = %g deg\n", e_deg[0],
-           e_deg[1], e_deg[2]);
-    if (!p.reachable) {
-      printf("reachable: NO - %s\n", err.message);
-    } else {
-      printf("reachable: yes\n");
-      const pom_act_desc *u = pom_act_kind_desc(pom_kin_type_actuator(arch.type));
-      const double f = u->to_display;
-      printf("q (%s):  %12.6f %12.6f %12.6f\n", u->display, p.q[0] * f, p.q[1] * f, p.q[2] * f);
-      /* a lever arm in mm/rad, or for a rotary actuator a plain ratio
-       * (rad/rad): docs/conventions.md */
-      const double fj = u->lever_to_display;
-      const char *ju = u->lever_unit;
-      printf("J (%s), q_dot = J omega (omega in the fixed frame):\n", ju);
-      for (int i = 0; i < 3; ++i)
-        printf("  [%12.6f %12.6f %12.6f]\n", p.J[3 * i] * fj, p.J[3 * i + 1] * fj,
-               p.J[3 * i + 2] * fj);
-      printf("singular values (%s): %.6f %.6f %.6f\n", ju, p.sv[0] * fj, p.sv[1] * fj,
-             p.sv[2] * fj);
-      printf("condition number kappa: %.6f   dexterity 1/kappa: %.6f\n", p.kappa, p.dexterity);
-      pom_kin_print_limits(stdout, &arch, &p);
-      if (st == POM_ERR_LIMIT) printf("limit check: FAILED - %s\n", err.message);
-      if (st == POM_OK) printf("limit check: ok\n");
-    }
-  }
+  pom_kin_ik_report(stdout, json, path, &arch, e_deg, &p, st, err.message);
   pom_cfg_destroy(cfg);
   return st == POM_OK ? 0 : 1;
 }

@@ -304,3 +304,100 @@ void pom_kin_pose_json(FILE *out, const pom_kin_arch *arch, const pom_kin_pose *
   }
   fputc(']', out);
 }
+
+/* ---- ik and fk ------------------------------------------------------------------ */
+void pom_kin_ik_report(FILE *out, int json, const char *config, const pom_kin_arch *arch,
+                       const double e_deg[3], const pom_kin_pose *p, pom_status st,
+                       const char *message) {
+  if (json) {
+    fprintf(out, "{\n  \"config\": ");
+    pom_json_string(out, config);
+    fprintf(out, ",\n  \"name\": ");
+    pom_json_string(out, arch->name);
+    fprintf(out, ",\n  \"architecture\": \"%s\",\n  \"euler_zyx_deg\": ", pom_kin_arch_name(arch));
+    pom_json_vec(out, e_deg, 3, 1.0);
+    fprintf(out, ",\n  ");
+    pom_kin_pose_json(out, arch, p);
+    fprintf(out, ",\n  \"message\": ");
+    pom_json_string(out, st == POM_OK ? "" : message);
+    fprintf(out, "\n}\n");
+  } else {
+    fprintf(out, "%s (%s), config %s\n", arch->name, pom_kin_arch_name(arch), config);
+    fprintf(out, "orientation: ZYX Euler psi = %g deg, theta = %g deg, phi = %g deg\n", e_deg[0],
+            e_deg[1], e_deg[2]);
+    if (!p->reachable) {
+      fprintf(out, "reachable: NO - %s\n", message);
+    } else {
+      fprintf(out, "reachable: yes\n");
+      const pom_act_desc *u = pom_act_kind_desc(pom_kin_type_actuator(arch->type));
+      const double f = u->to_display;
+      fprintf(out, "q (%s):  %12.6f %12.6f %12.6f\n", u->display, p->q[0] * f, p->q[1] * f,
+              p->q[2] * f);
+      /* a lever arm in mm/rad, or for a rotary actuator a plain ratio
+       * (rad/rad): docs/conventions.md */
+      const double fj = u->lever_to_display;
+      const char *ju = u->lever_unit;
+      fprintf(out, "J (%s), q_dot = J omega (omega in the fixed frame):\n", ju);
+      for (int i = 0; i < 3; ++i)
+        fprintf(out, "  [%12.6f %12.6f %12.6f]\n", p->J[3 * i] * fj, p->J[3 * i + 1] * fj,
+                p->J[3 * i + 2] * fj);
+      fprintf(out, "singular values (%s): %.6f %.6f %.6f\n", ju, p->sv[0] * fj, p->sv[1] * fj,
+              p->sv[2] * fj);
+      fprintf(out, "condition number kappa: %.6f   dexterity 1/kappa: %.6f\n", p->kappa,
+              p->dexterity);
+      pom_kin_print_limits(out, arch, p);
+      if (st == POM_ERR_LIMIT) fprintf(out, "limit check: FAILED - %s\n", message);
+      if (st == POM_OK) fprintf(out, "limit check: ok\n");
+    }
+  }
+}
+
+void pom_kin_fk_report(FILE *out, int json, const char *config, const pom_kin_arch *arch,
+                       const double q_disp[3], const double R[9], const pom_kin_fk_info *info,
+                       const pom_kin_pose *p, pom_status lst, const char *message) {
+  const pom_act_desc *u = pom_act_kind_desc(pom_kin_type_actuator(arch->type));
+  const double q[3] = {q_disp[0] / u->to_display, q_disp[1] / u->to_display,
+                       q_disp[2] / u->to_display};
+  double e[3], quat[4];
+  pom_status est = pom_euler_zyx_from_matrix(e, R);
+  pom_quat_from_matrix(quat, R);
+  if (json) {
+    fprintf(out, "{\n  \"config\": ");
+    pom_json_string(out, config);
+    fprintf(out, ",\n  \"name\": ");
+    pom_json_string(out, arch->name);
+    fprintf(out, ",\n  \"architecture\": \"%s\",\n  \"q_target\": ", pom_kin_arch_name(arch));
+    pom_json_vec(out, q, 3, 1.0);
+    fprintf(out, ",\n  \"solved\": true,\n  \"rotation\": ");
+    pom_json_mat3(out, R, 1.0);
+    fprintf(out, ",\n  \"euler_zyx_deg\": ");
+    pom_json_vec(out, e, 3, 1.0 / POM_DEG);
+    fprintf(out, ",\n  \"euler_singular\": %s,\n  \"quaternion_wxyz\": ",
+            est == POM_OK ? "false" : "true");
+    pom_json_vec(out, quat, 4, 1.0);
+    fprintf(out, ",\n  \"iterations\": %d,\n  \"continuation_steps\": %d,\n  \"residual\": ",
+            info->iterations, info->continuation_steps);
+    pom_json_number(out, info->residual);
+    fprintf(out, ",\n  ");
+    pom_kin_pose_json(out, arch, p);
+    fprintf(out, "\n}\n");
+  } else {
+    fprintf(out, "%s (%s), config %s\n", arch->name, pom_kin_arch_name(arch), config);
+    fprintf(out, "q (%s): %g %g %g\n", u->display, q_disp[0], q_disp[1], q_disp[2]);
+    fprintf(out, "rotation R (platform -> fixed frame):\n");
+    for (int i = 0; i < 3; ++i)
+      fprintf(out, "  [%12.9f %12.9f %12.9f]\n", R[3 * i], R[3 * i + 1], R[3 * i + 2]);
+    fprintf(out, "ZYX Euler (deg): psi = %.6f, theta = %.6f, phi = %.6f%s\n", e[0] / POM_DEG,
+            e[1] / POM_DEG, e[2] / POM_DEG,
+            est == POM_OK ? "" : "  (gimbal lock: only psi -+ phi is defined)");
+    fprintf(out, "quaternion (w, x, y, z): %.12f %.12f %.12f %.12f\n", quat[0], quat[1], quat[2],
+            quat[3]);
+    fprintf(out, "Newton: %d iterations, %d continuation steps%s, residual %.3e %s\n",
+            info->iterations, info->continuation_steps, info->continuation_steps ? "" : " (direct)",
+            info->residual * u->to_display, u->display);
+    fprintf(out, "dexterity 1/kappa: %.6f (kappa %.6f)\n", p->dexterity, p->kappa);
+    pom_kin_print_limits(out, arch, p);
+    fprintf(out, "limit check: %s%s\n", lst == POM_OK ? "ok" : "FAILED - ",
+            lst == POM_OK ? "" : message);
+  }
+}

@@ -28,6 +28,19 @@ void pom_kin_print_limits(FILE *out, const pom_kin_arch *arch, const pom_kin_pos
  * the caller adds separators). */
 void pom_kin_pose_json(FILE *out, const pom_kin_arch *arch, const pom_kin_pose *p);
 
+/* `pomlab ik`: the pose p evaluated at ZYX Euler angles e_deg (deg), st and
+ * message its evaluation's status, as JSON (SI) or text (display units). */
+void pom_kin_ik_report(FILE *out, int json, const char *config, const pom_kin_arch *arch,
+                       const double e_deg[3], const pom_kin_pose *p, pom_status st,
+                       const char *message);
+
+/* `pomlab fk`: the orientation R solved from the actuator coordinates q_disp
+ * (display units) with info, the pose p there and its limit status lst
+ * (message), as JSON (SI) or text. */
+void pom_kin_fk_report(FILE *out, int json, const char *config, const pom_kin_arch *arch,
+                       const double q_disp[3], const double R[9], const pom_kin_fk_info *info,
+                       const pom_kin_pose *p, pom_status lst, const char *message);
+
 /* ---- the workspace (kin_ws_print.c) ---------------------------------------------- */
 /* Why the regular dexterous workspace ends where it does: the search cap or
  * budget, "not assemblable", the limit violated, or the dexterity there. */
