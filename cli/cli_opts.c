@@ -143,13 +143,14 @@ void pom_cli_opts_usage(const pom_cli_spec *spec, FILE *out) {
     const pom_opt *o = &spec->opts[k];
     char left[128], help[1024];
     snprintf(left, sizeof left, "%s%s%s", o->name, o->arg ? " " : "", o->arg ? o->arg : "");
-    int n = snprintf(help, sizeof help, "%s", o->help);
-    if (o->unit && n < (int)sizeof help)
-      n += snprintf(help + n, sizeof help - (size_t)n, " (%s)", o->unit);
+    int n = snprintf(help, sizeof help, "%s%s%s%s", o->unit ? "[" : "", o->unit ? o->unit : "",
+                     o->unit ? "] " : "", o->help);
     if (o->key && n < (int)sizeof help)
       snprintf(help + n, sizeof help - (size_t)n, "; sets %s, checked as in the file", o->key);
-    fprintf(out, "  %-*s ", width, left);
-    if ((int)strlen(left) > width) fprintf(out, "\n%*s", width + 3, "");
+    if ((int)strlen(left) > width)
+      fprintf(out, "  %s\n%*s", left, width + 3, "");
+    else
+      fprintf(out, "  %-*s ", width, left);
     wrap(out, help, width + 3, width + 3);
   }
   fprintf(out, "  %-*s this text\n", width, "--help");
