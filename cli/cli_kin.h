@@ -5,6 +5,7 @@
 #define POM_CLI_KIN_H
 
 #include "pom_config.h"
+#include "pom_json.h" /* the JSON writers, once in core */
 #include "pom_kinematics.h"
 
 #include <stdio.h>
@@ -21,18 +22,5 @@ int pom_cli_kin_load(const char *path, pom_cfg **cfg_out, pom_kin_arch *arch, po
  * pom_cli_check_unknown) and unknown top-level names; returns 0 or prints
  * the error and returns 2. */
 int pom_cli_kin_check_unknown(const pom_cfg *cfg, const char *const *const scopes[]);
-
-/* JSON: a string with escapes, a number (null when not finite), arrays. */
-void pom_json_string(FILE *out, const char *s);
-void pom_json_number(FILE *out, double v);
-void pom_json_vec(FILE *out, const double *v, int n, double scale);
-void pom_json_mat3(FILE *out, const double M[9], double scale);
-
-/* Prints limb-wise limit details (human form) of an evaluated pose. */
-void pom_cli_kin_print_limits(FILE *out, const pom_kin_arch *arch, const pom_kin_pose *p);
-
-/* Writes the limit/pose fields of p as JSON members (no braces, leading
- * comma-free; caller adds separators). */
-void pom_cli_kin_pose_json(FILE *out, const pom_kin_arch *arch, const pom_kin_pose *p);
 
 #endif

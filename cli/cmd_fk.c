@@ -1,5 +1,7 @@
 /* cmd_fk.c - pomlab fk: forward kinematics of three actuator displacements. */
+#include "cli_opts.h"
 #include "cli_kin.h"
+#include "pom_kin_print.h"
 #include "pom_arch.h"
 #include "pom_cli.h"
 #include "pom_math.h"
@@ -8,50 +10,43 @@
 #include <stdio.h>
 #include <string.h>
 
-static void fk_usage(FILE *out) {
-  fprintf(out,
-          "usage: pomlab fk CONFIG --q Q1,Q2,Q3 [--json]\n\n"
-          "Forward kinematics: the platform orientation on the home assembly branch for\n"
-          "actuator displacements Q1,Q2,Q3 in MILLIMETRES from mid-stroke (positive =\n"
-          "extension). Newton with the analytic Jacobian from home, continued along\n"
-          "q(t) = t q when direct Newton fails. Prints the rotation matrix, the ZYX Euler\n"
-          "angles (degrees) and the unit quaternion (w, x, y, z), the iterations, the\n"
-          "residual max|q(R) - q| (m or rad), the dexterity and the limits at that pose.\n\n"
-          "  --q Q1,Q2,Q3  actuator coordinates: mm (linear actuators) or deg (rotary) (required)\n"
-          "  --json        machine-readable output on stdout\n"
-          "  --help        this text\n\n"
-          "Reads the config groups name, architecture, geometry, limits.\n"
-          "Exit status: 0 solved and within limits; 1 no solution, or a limit violated at\n"
-          "the solution (the report is still printed); 2 usage or config error.\n");
-}
-
 int pom_cmd_fk(int argc, char **argv) {
   const char *path = NULL, *qtext = NULL;
   int json = 0;
-  for (int k = 1; k < argc; ++k) {
-    if (strcmp(argv[k], "--help") == 0 || strcmp(argv[k], "-h") == 0) {
-      fk_usage(stdout);
-      return 0;
-    } else if (strcmp(argv[k], "--json") == 0) {
-      json = 1;
-    } else if (strcmp(argv[k], "--q") == 0 && k + 1 < argc) {
-      qtext = argv[++k];
-    } else if (strncmp(argv[k], "--q=", 4) == 0) {
-      qtext = argv[k] + 4;
-    } else if (argv[k][0] == '-' && argv[k][1] != '\0') {
-      fprintf(stderr, "pomlab fk: unknown or incomplete option '%s'\n", argv[k]);
-      fk_usage(stderr);
-      return 2;
-    } else if (!path) {
-      path = argv[k];
-    } else {
-      fprintf(stderr, "pomlab fk: unexpected argument '%s'\n", argv[k]);
-      return 2;
-    }
-  }
+  const pom_opt opts[] = {
+      {.name = "--q",
+       .kind = POM_OPT_TEXT,
+       .arg = "Q1,Q2,Q3",
+       .unit = "mm for linear actuators, deg for rotary ones",
+       .help = "actuator coordinates from mid-stroke (required)",
+       .text = &qtext},
+      {.name = "--json",
+       .kind = POM_OPT_FLAG,
+       .help = "machine-readable output on stdout",
+       .flag = &json,
+       .set = 1},
+  };
+  const pom_cli_spec spec = {
+      .name = "fk",
+      .usage = "CONFIG --q Q1,Q2,Q3 [--json]",
+      .about = "Forward kinematics: the platform orientation on the home assembly branch for\n"
+               "actuator displacements Q1,Q2,Q3 in MILLIMETRES from mid-stroke (positive =\n"
+               "extension). Newton with the analytic Jacobian from home, continued along\n"
+               "q(t) = t q when direct Newton fails. Prints the rotation matrix, the ZYX Euler\n"
+               "angles (degrees) and the unit quaternion (w, x, y, z), the iterations, the\n"
+               "residual max|q(R) - q| (m or rad), the dexterity and the limits at that pose.",
+      .notes = "Reads the config groups name, architecture, geometry, limits.\n"
+               "Exit status: 0 solved and within limits; 1 no solution, or a limit violated at\n"
+               "the solution (the report is still printed); 2 usage or config error.",
+      .opts = opts,
+      .n_opts = POM_CLI_N(opts),
+      .args = &path,
+      .max_args = 1};
+  int prc = pom_cli_opts_parse(&spec, argc, argv, 0);
+  if (prc >= 0) return prc;
   if (!path || !qtext) {
     fprintf(stderr, "pomlab fk: %s\n", !path ? "missing CONFIG" : "missing --q Q1,Q2,Q3");
-    fk_usage(stderr);
+    pom_cli_opts_usage(&spec, stderr);
     return 2;
   }
   double q_disp[3];
@@ -90,53 +85,12 @@ int pom_cmd_fk(int argc, char **argv) {
     pom_cfg_destroy(cfg);
     return 1;
   }
-  double e[3], quat[4];
-  pom_status est = pom_euler_zyx_from_matrix(e, R);
-  pom_quat_from_matrix(quat, R);
   pom_kin_pose p;
   pom_error lerr;
   pom_error_clear(&lerr);
   pom_status lst = pom_kin_pose_evaluate(&arch, R, &p, &lerr);
 
-  if (json) {
-    printf("{\n  \"config\": ");
-    pom_json_string(stdout, path);
-    printf(",\n  \"name\": ");
-    pom_json_string(stdout, arch.name);
-    printf(",\n  \"architecture\": \"%s\",\n  \"q_target\": ", pom_kin_arch_name(&arch));
-    pom_json_vec(stdout, q, 3, 1.0);
-    printf(",\n  \"solved\": true,\n  \"rotation\": ");
-    pom_json_mat3(stdout, R, 1.0);
-    printf(",\n  \"euler_zyx_deg\": ");
-    pom_json_vec(stdout, e, 3, 1.0 / POM_DEG);
-    printf(",\n  \"euler_singular\": %s,\n  \"quaternion_wxyz\": ",
-           est == POM_OK ? "false" : "true");
-    pom_json_vec(stdout, quat, 4, 1.0);
-    printf(",\n  \"iterations\": %d,\n  \"continuation_steps\": %d,\n  \"residual\": ",
-           info.iterations, info.continuation_steps);
-    pom_json_number(stdout, info.residual);
-    printf(",\n  ");
-    pom_cli_kin_pose_json(stdout, &arch, &p);
-    printf("\n}\n");
-  } else {
-    printf("%s (%s), config %s\n", arch.name, pom_kin_arch_name(&arch), path);
-    printf("q (%s): %g %g %g\n", u->display, q_disp[0], q_disp[1], q_disp[2]);
-    printf("rotation R (platform -> fixed frame):\n");
-    for (int i = 0; i < 3; ++i)
-      printf("  [%12.9f %12.9f %12.9f]\n", R[3 * i], R[3 * i + 1], R[3 * i + 2]);
-    printf("ZYX Euler (deg): psi = %.6f, theta = %.6f, phi = %.6f%s\n", e[0] / POM_DEG,
-           e[1] / POM_DEG, e[2] / POM_DEG,
-           est == POM_OK ? "" : "  (gimbal lock: only psi -+ phi is defined)");
-    printf("quaternion (w, x, y, z): %.12f %.12f %.12f %.12f\n", quat[0], quat[1], quat[2],
-           quat[3]);
-    printf("Newton: %d iterations, %d continuation steps%s, residual %.3e %s\n", info.iterations,
-           info.continuation_steps, info.continuation_steps ? "" : " (direct)",
-           info.residual * u->to_display, u->display);
-    printf("dexterity 1/kappa: %.6f (kappa %.6f)\n", p.dexterity, p.kappa);
-    pom_cli_kin_print_limits(stdout, &arch, &p);
-    printf("limit check: %s%s\n", lst == POM_OK ? "ok" : "FAILED - ",
-           lst == POM_OK ? "" : lerr.message);
-  }
+  pom_kin_fk_report(stdout, json, path, &arch, q_disp, R, &info, &p, lst, lerr.message);
   pom_cfg_destroy(cfg);
   return lst == POM_OK ? 0 : 1;
 }

@@ -1,6 +1,8 @@
 /* cmd_ik.c - pomlab ik: inverse kinematics, Jacobian, dexterity and limits of
  * one orientation. */
+#include "cli_opts.h"
 #include "cli_kin.h"
+#include "pom_kin_print.h"
 #include "pom_arch.h"
 #include "pom_cli.h"
 #include "pom_math.h"
@@ -9,52 +11,45 @@
 #include <stdio.h>
 #include <string.h>
 
-static void ik_usage(FILE *out) {
-  fprintf(out, "usage: pomlab ik CONFIG --euler-zyx PSI,THETA,PHI [--json]\n\n"
-               "Inverse kinematics of the platform orientation R = Rz(PSI) Ry(THETA) Rx(PHI),\n"
+int pom_cmd_ik(int argc, char **argv) {
+  const char *path = NULL, *angles = NULL;
+  int json = 0;
+  const pom_opt opts[] = {
+      {.name = "--euler-zyx",
+       .kind = POM_OPT_TEXT,
+       .arg = "P,T,R",
+       .unit = "deg",
+       .help = "orientation (required)",
+       .text = &angles},
+      {.name = "--json",
+       .kind = POM_OPT_FLAG,
+       .help = "machine-readable output on stdout",
+       .flag = &json,
+       .set = 1},
+  };
+  const pom_cli_spec spec = {
+      .name = "ik",
+      .usage = "CONFIG --euler-zyx PSI,THETA,PHI [--json]",
+      .about = "Inverse kinematics of the platform orientation R = Rz(PSI) Ry(THETA) Rx(PHI),\n"
                "ZYX Euler angles in DEGREES (yaw, pitch, roll), on the home assembly branch.\n"
                "Prints the actuator coordinates q from mid-stroke (mm for linear actuators, deg\n"
                "for rotary ones; JSON in SI), the Jacobian J (q_dot = J omega, omega in the\n"
                "fixed frame; mm/rad or deg/rad, JSON m/rad or rad/rad), its singular values, the\n"
                "condition number kappa, the dexterity 1/kappa, reachability and every limit\n"
-               "(stroke, joint cones, limb distance) with the ones that fail.\n\n"
-               "  --euler-zyx P,T,R  orientation in degrees (required)\n"
-               "  --json             machine-readable output on stdout\n"
-               "  --help             this text\n\n"
-               "Reads the config groups name, architecture, geometry, limits.\n"
+               "(stroke, joint cones, limb distance) with the ones that fail.",
+      .notes = "Reads the config groups name, architecture, geometry, limits.\n"
                "Exit status: 0 reachable and within limits; 1 unreachable or a limit violated\n"
-               "(the report is still printed); 2 usage or config error.\n");
-}
-
-int pom_cmd_ik(int argc, char **argv) {
-  const char *path = NULL, *angles = NULL;
-  int json = 0;
-  for (int k = 1; k < argc; ++k) {
-    if (strcmp(argv[k], "--help") == 0 || strcmp(argv[k], "-h") == 0) {
-      ik_usage(stdout);
-      return 0;
-    } else if (strcmp(argv[k], "--json") == 0) {
-      json = 1;
-    } else if (strcmp(argv[k], "--euler-zyx") == 0 && k + 1 < argc) {
-      angles = argv[++k];
-    } else if (strncmp(argv[k], "--euler-zyx=", 12) == 0) {
-      angles = argv[k] + 12;
-    } else if (argv[k][0] == '-' && argv[k][1] != '\0' &&
-               !(argv[k][1] >= '0' && argv[k][1] <= '9')) {
-      fprintf(stderr, "pomlab ik: unknown or incomplete option '%s'\n", argv[k]);
-      ik_usage(stderr);
-      return 2;
-    } else if (!path) {
-      path = argv[k];
-    } else {
-      fprintf(stderr, "pomlab ik: unexpected argument '%s'\n", argv[k]);
-      return 2;
-    }
-  }
+               "(the report is still printed); 2 usage or config error.",
+      .opts = opts,
+      .n_opts = POM_CLI_N(opts),
+      .args = &path,
+      .max_args = 1};
+  int prc = pom_cli_opts_parse(&spec, argc, argv, 0);
+  if (prc >= 0) return prc;
   if (!path || !angles) {
     fprintf(stderr, "pomlab ik: %s\n",
             !path ? "missing CONFIG" : "missing --euler-zyx PSI,THETA,PHI");
-    ik_usage(stderr);
+    pom_cli_opts_usage(&spec, stderr);
     return 2;
   }
   double e_deg[3];
@@ -84,45 +79,7 @@ int pom_cmd_ik(int argc, char **argv) {
   pom_error_clear(&err);
   pom_status st = pom_kin_pose_evaluate(&arch, R, &p, &err);
 
-  if (json) {
-    printf("{\n  \"config\": ");
-    pom_json_string(stdout, path);
-    printf(",\n  \"name\": ");
-    pom_json_string(stdout, arch.name);
-    printf(",\n  \"architecture\": \"%s\",\n  \"euler_zyx_deg\": ", pom_kin_arch_name(&arch));
-    pom_json_vec(stdout, e_deg, 3, 1.0);
-    printf(",\n  ");
-    pom_cli_kin_pose_json(stdout, &arch, &p);
-    printf(",\n  \"message\": ");
-    pom_json_string(stdout, st == POM_OK ? "" : err.message);
-    printf("\n}\n");
-  } else {
-    printf("%s (%s), config %s\n", arch.name, pom_kin_arch_name(&arch), path);
-    printf("orientation: ZYX Euler psi = %g deg, theta = %g deg, phi = %g deg\n", e_deg[0],
-           e_deg[1], e_deg[2]);
-    if (!p.reachable) {
-      printf("reachable: NO - %s\n", err.message);
-    } else {
-      printf("reachable: yes\n");
-      const pom_act_desc *u = pom_act_kind_desc(pom_kin_type_actuator(arch.type));
-      const double f = u->to_display;
-      printf("q (%s):  %12.6f %12.6f %12.6f\n", u->display, p.q[0] * f, p.q[1] * f, p.q[2] * f);
-      /* a lever arm in mm/rad, or for a rotary actuator a plain ratio
-       * (rad/rad): docs/conventions.md */
-      const double fj = u->lever_to_display;
-      const char *ju = u->lever_unit;
-      printf("J (%s), q_dot = J omega (omega in the fixed frame):\n", ju);
-      for (int i = 0; i < 3; ++i)
-        printf("  [%12.6f %12.6f %12.6f]\n", p.J[3 * i] * fj, p.J[3 * i + 1] * fj,
-               p.J[3 * i + 2] * fj);
-      printf("singular values (%s): %.6f %.6f %.6f\n", ju, p.sv[0] * fj, p.sv[1] * fj,
-             p.sv[2] * fj);
-      printf("condition number kappa: %.6f   dexterity 1/kappa: %.6f\n", p.kappa, p.dexterity);
-      pom_cli_kin_print_limits(stdout, &arch, &p);
-      if (st == POM_ERR_LIMIT) printf("limit check: FAILED - %s\n", err.message);
-      if (st == POM_OK) printf("limit check: ok\n");
-    }
-  }
+  pom_kin_ik_report(stdout, json, path, &arch, e_deg, &p, st, err.message);
   pom_cfg_destroy(cfg);
   return st == POM_OK ? 0 : 1;
 }

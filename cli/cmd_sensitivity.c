@@ -1,6 +1,7 @@
 /* cmd_sensitivity.c - `pomlab sensitivity CFG`: Sobol indices or Morris
  * effects of every candidate of a study file over its uncertain parameters;
  * table or JSON, HDF5 file and bar plot (docs/results.md, section 11). */
+#include "cli_opts.h"
 #include "cli_doe.h"
 #include "pom_cli.h"
 #include "pom_explore.h"
@@ -8,38 +9,12 @@
 #include "pom_progress.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-
-static void usage(FILE *out) {
-  fprintf(out, "usage: pomlab sensitivity CONFIG [options]\n\n"
-               "Global sensitivity of every candidate of a study file to the parameters of its\n"
-               "`uncertain` group: Sobol first-order and total indices with bootstrap intervals\n"
-               "(sensitivity.method = \"sobol\", Saltelli design, N (d + 2) runs) or Morris\n"
-               "elementary effects (\"morris\", r (d + 1) runs), for one metric of each run\n"
-               "(sensitivity.metric, default execution_time). Writes an HDF5 file\n"
-               "(sensitivity.output, default results/<name>-sensitivity.h5) and a bar plot\n"
-               "beside it (.png).\n\n"
-               "  --candidate C only this candidate of the study (its name as printed, or its\n"
-               "                position 1..n): e.g. the winner of a sweep\n"
-               "  --threads N   worker threads (default: study.threads, else all cores)\n"
-               "  --out FILE    results file (replaced only once complete; taken before the\n"
-               "                first run: FILE.lock, and FILE.partial keeps every run)\n"
-               "  --resume      continue FILE.partial of an interrupted run (or one whose\n"
-               "                file could not be written: then nothing runs again)\n"
-               "  --stop-after N stop after N more runs (to test --resume)\n"
-               "  --json        JSON on stdout instead of tables\n"
-               "  --no-plots    skip the figure\n"
-               "  --quiet       no progress bar\n"
-               "  --help        this text\n\n"
-               "Config keys: docs/results.md sections 10 and 11.\n"
-               "Exit status: 0 done; 1 runtime failure (e.g. the output cannot be written: the\n"
-               "indices are printed all the same; or too few runs succeeded for the indices);\n"
-               "2 usage or config error. Stopped by --stop-after: 0 (continue with --resume).\n");
-}
 
 static void on_progress(long done, long total, void *user) {
   pom_progress_update(user, done);
@@ -151,55 +126,80 @@ static void print_json(FILE *out, const pom_doe_study *study, const pom_doe_sens
   fprintf(out, "  ]\n}\n");
 }
 
-/* A positive count for --stop-after; -1 when text is not one. */
-static long parse_positive(const char *text) {
-  char *end = NULL;
-  errno = 0;
-  long v = strtol(text, &end, 10);
-  return text[0] && !*end && errno == 0 && v >= 1 ? v : -1;
-}
-
 int pom_cmd_sensitivity(int argc, char **argv) {
   const char *cfg_path = NULL, *out_path = NULL, *only = NULL;
   int json = 0, plots = 1, quiet = 0;
   int threads = 0, resume = 0;
   long stop_after = 0;
-  for (int k = 1; k < argc; ++k) {
-    const char *a = argv[k];
-    if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-      usage(stdout);
-      return 0;
-    } else if (strcmp(a, "--threads") == 0 && k + 1 < argc) {
-      if (pom_cli_parse_threads("sensitivity", argv[++k], &threads) != 0) return 2;
-    } else if (strcmp(a, "--out") == 0 && k + 1 < argc) {
-      out_path = argv[++k];
-    } else if (strcmp(a, "--resume") == 0) {
-      resume = 1;
-    } else if (strcmp(a, "--stop-after") == 0 && k + 1 < argc) {
-      stop_after = parse_positive(argv[++k]);
-      if (stop_after < 1) {
-        fprintf(stderr, "pomlab sensitivity: --stop-after needs a positive integer, not '%s'\n",
-                argv[k]);
-        return 2;
-      }
-    } else if (strcmp(a, "--candidate") == 0 && k + 1 < argc) {
-      only = argv[++k];
-    } else if (strcmp(a, "--json") == 0) {
-      json = 1;
-    } else if (strcmp(a, "--no-plots") == 0) {
-      plots = 0;
-    } else if (strcmp(a, "--quiet") == 0) {
-      quiet = 1;
-    } else if (a[0] == '-' || cfg_path) {
-      fprintf(stderr, "pomlab sensitivity: unexpected argument '%s'\n\n", a);
-      usage(stderr);
-      return 2;
-    } else {
-      cfg_path = a;
-    }
-  }
+  const pom_opt opts[] = {
+      {.name = "--candidate",
+       .kind = POM_OPT_TEXT,
+       .arg = "C",
+       .help = "only this candidate of the study (its name as printed, or its position 1..n): "
+               "e.g. the winner of a sweep",
+       .text = &only},
+      {.name = "--threads",
+       .kind = POM_OPT_THREADS,
+       .arg = "N",
+       .help = "worker threads (default: study.threads, else all cores)",
+       .ival = &threads},
+      {.name = "--out",
+       .kind = POM_OPT_TEXT,
+       .arg = "FILE",
+       .help = "results file (replaced only once complete; taken before the first run: "
+               "FILE.lock, and FILE.partial keeps every run)",
+       .text = &out_path},
+      {.name = "--resume",
+       .kind = POM_OPT_FLAG,
+       .help = "continue FILE.partial of an interrupted run (or one whose file could not be "
+               "written: then nothing runs again)",
+       .flag = &resume,
+       .set = 1},
+      {.name = "--stop-after",
+       .kind = POM_OPT_INT,
+       .arg = "N",
+       .help = "stop after N more runs (to test --resume)",
+       .lval = &stop_after,
+       .lo = 1,
+       .hi = LONG_MAX},
+      {.name = "--json",
+       .kind = POM_OPT_FLAG,
+       .help = "JSON on stdout instead of tables",
+       .flag = &json,
+       .set = 1},
+      {.name = "--no-plots",
+       .kind = POM_OPT_FLAG,
+       .help = "skip the figure",
+       .flag = &plots,
+       .set = 0},
+      {.name = "--quiet",
+       .kind = POM_OPT_FLAG,
+       .help = "no progress bar",
+       .flag = &quiet,
+       .set = 1},
+  };
+  const pom_cli_spec spec = {
+      .name = "sensitivity",
+      .usage = "CONFIG [options]",
+      .about = "Global sensitivity of every candidate of a study file to the parameters of its\n"
+               "`uncertain` group: Sobol first-order and total indices with bootstrap intervals\n"
+               "(sensitivity.method = \"sobol\", Saltelli design, N (d + 2) runs) or Morris\n"
+               "elementary effects (\"morris\", r (d + 1) runs), for one metric of each run\n"
+               "(sensitivity.metric, default execution_time). Writes an HDF5 file\n"
+               "(sensitivity.output, default results/<name>-sensitivity.h5) and a bar plot\n"
+               "beside it (.png).",
+      .notes = "Config keys: docs/results.md sections 10 and 11.\n"
+               "Exit status: 0 done; 1 runtime failure (e.g. the output cannot be written: the\n"
+               "indices are printed all the same; or too few runs succeeded for the indices);\n"
+               "2 usage or config error. Stopped by --stop-after: 0 (continue with --resume).",
+      .opts = opts,
+      .n_opts = POM_CLI_N(opts),
+      .args = &cfg_path,
+      .max_args = 1};
+  int prc = pom_cli_opts_parse(&spec, argc, argv, 0);
+  if (prc >= 0) return prc;
   if (!cfg_path) {
-    usage(stderr);
+    pom_cli_opts_usage(&spec, stderr);
     return 2;
   }
   pom_error err;

@@ -2,55 +2,20 @@
  * same maneuvers; results file, tables, verdict, summary and figures
  * (docs/results.md). Under mpirun (built with POM_WITH_MPI) the maneuvers are
  * split over the ranks and rank 0 writes the same file one process would. */
+#include "cli_opts.h"
 #include "cli_doe.h"
 #include "cli_pipeline.h"
 #include "pom_cli.h"
 #include "pom_pipeline.h"
 #include "pom_progress.h"
 
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #ifdef POM_WITH_MPI
 #include <mpi.h>
 #endif
-
-static void study_usage(FILE *out) {
-  fprintf(out, "usage: pomlab study CONFIG [options]\n\n"
-               "Runs every candidate of the study file on the same Monte-Carlo maneuvers, writes\n"
-               "the HDF5 results file, prints the execution-time and energy tables, the paired\n"
-               "comparison and the ranking, and writes DIR/summary.md with PNG figures, where\n"
-               "DIR is the results file's path without .h5 (e.g. results/paper/). Candidates\n"
-               "that ask for synthesis or tuning (run_in_study) go through them first, with a\n"
-               "progress bar per phase; their geometry, gains and records go to DIR too.\n\n"
-               "  --threads N      worker threads (default: study.threads, else all cores)\n"
-               "  --resume         continue an interrupted results file (same study only)\n"
-               "  --out FILE       results file (default: study.output, else results/<name>.h5)\n"
-               "  --stop-after N   stop after N more maneuvers (to test --resume)\n"
-               "  --tabular FILE   also write FILE (.csv, one row per candidate x maneuver) and\n"
-               "                   FILE_candidates.csv (one row per candidate); study.tabular;\n"
-               "                   FILE ends in .csv, not in _candidates.csv\n"
-               "  --json           JSON report on stdout instead of tables\n"
-               "  --no-plots       skip the figures\n"
-               "  --no-summary     skip summary.md\n"
-               "  --quiet          no progress bar\n"
-               "  --help           this text\n\n"
-               "Ctrl-C stops after the running maneuvers; everything finished is kept.\n"
-               "Config keys: docs/results.md. Times in ms and energies in J in the tables.\n"
-               "Exit status: 0 done or stopped by --stop-after (failed maneuvers are counted\n"
-               "in the tables, not an error); 130 stopped by Ctrl-C; 1 runtime failure (e.g.\n"
-               "the results file cannot be written); 2 usage or config error (also an output\n"
-               "that is the same file as an input or as another output).\n");
-}
-
-/* Parses a non-negative integer option value. */
-static int parse_count(const char *text, long *out) {
-  char *end = NULL;
-  long v = strtol(text, &end, 10);
-  if (!text[0] || *end || v < 0) return -1;
-  *out = v;
-  return 0;
-}
 
 static void fidelity_progress(void *user, const pom_doe_candidate *cand, int done, int total) {
   (void)user;
@@ -69,47 +34,79 @@ static int study_main(int argc, char **argv, int rank, int size) {
   pom_doe_run_options_defaults(&o.run);
   o.summary = 1;
   o.plots = 1;
-  for (int k = 1; k < argc; ++k) {
-    const char *a = argv[k];
-    long v = 0;
-    if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-      if (rank == 0) study_usage(stdout);
-      return 0;
-    } else if (strcmp(a, "--threads") == 0 && k + 1 < argc) {
-      if (pom_cli_parse_threads(rank == 0 ? "study" : NULL, argv[++k], &o.run.threads) != 0)
-        return 2;
-    } else if (strcmp(a, "--stop-after") == 0 && k + 1 < argc) {
-      if (parse_count(argv[++k], &v) != 0 || v < 1) {
-        if (rank == 0) fprintf(stderr, "pomlab study: --stop-after needs a positive integer\n");
-        return 2;
-      }
-      o.run.stop_after = v;
-    } else if (strcmp(a, "--out") == 0 && k + 1 < argc) {
-      o.run.output = argv[++k];
-    } else if (strcmp(a, "--tabular") == 0 && k + 1 < argc) {
-      o.tabular = argv[++k];
-    } else if (strcmp(a, "--resume") == 0) {
-      o.run.resume = 1;
-    } else if (strcmp(a, "--json") == 0) {
-      o.json = 1;
-    } else if (strcmp(a, "--no-plots") == 0) {
-      o.plots = 0;
-    } else if (strcmp(a, "--no-summary") == 0) {
-      o.summary = 0;
-    } else if (strcmp(a, "--quiet") == 0) {
-      o.quiet = 1;
-    } else if (a[0] == '-' || cfg_path) {
-      if (rank == 0) {
-        fprintf(stderr, "pomlab study: unexpected argument '%s'\n\n", a);
-        study_usage(stderr);
-      }
-      return 2;
-    } else {
-      cfg_path = a;
-    }
-  }
+  const pom_opt opts[] = {
+      {.name = "--threads",
+       .kind = POM_OPT_THREADS,
+       .arg = "N",
+       .help = "worker threads (default: study.threads, else all cores)",
+       .ival = &o.run.threads},
+      {.name = "--resume",
+       .kind = POM_OPT_FLAG,
+       .help = "continue an interrupted results file (same study only)",
+       .flag = &o.run.resume,
+       .set = 1},
+      {.name = "--out",
+       .kind = POM_OPT_TEXT,
+       .arg = "FILE",
+       .help = "results file (default: study.output, else results/<name>.h5)",
+       .text = &o.run.output},
+      {.name = "--stop-after",
+       .kind = POM_OPT_INT,
+       .arg = "N",
+       .help = "stop after N more maneuvers (to test --resume)",
+       .lval = &o.run.stop_after,
+       .lo = 1,
+       .hi = LONG_MAX},
+      {.name = "--tabular",
+       .kind = POM_OPT_TEXT,
+       .arg = "FILE",
+       .help = "also write FILE (.csv, one row per candidate x maneuver) and FILE_candidates.csv "
+               "(one row per candidate); study.tabular; FILE ends in .csv, not in _candidates.csv",
+       .text = &o.tabular},
+      {.name = "--json",
+       .kind = POM_OPT_FLAG,
+       .help = "JSON report on stdout instead of tables",
+       .flag = &o.json,
+       .set = 1},
+      {.name = "--no-plots",
+       .kind = POM_OPT_FLAG,
+       .help = "skip the figures",
+       .flag = &o.plots,
+       .set = 0},
+      {.name = "--no-summary",
+       .kind = POM_OPT_FLAG,
+       .help = "skip summary.md",
+       .flag = &o.summary,
+       .set = 0},
+      {.name = "--quiet",
+       .kind = POM_OPT_FLAG,
+       .help = "no progress bar",
+       .flag = &o.quiet,
+       .set = 1},
+  };
+  const pom_cli_spec spec = {
+      .name = "study",
+      .usage = "CONFIG [options]",
+      .about = "Runs every candidate of the study file on the same Monte-Carlo maneuvers, writes\n"
+               "the HDF5 results file, prints the execution-time and energy tables, the paired\n"
+               "comparison and the ranking, and writes DIR/summary.md with PNG figures, where\n"
+               "DIR is the results file's path without .h5 (e.g. results/paper/). Candidates\n"
+               "that ask for synthesis or tuning (run_in_study) go through them first, with a\n"
+               "progress bar per phase; their geometry, gains and records go to DIR too.",
+      .notes = "Ctrl-C stops after the running maneuvers; everything finished is kept.\n"
+               "Config keys: docs/results.md. Times in ms and energies in J in the tables.\n"
+               "Exit status: 0 done or stopped by --stop-after (failed maneuvers are counted\n"
+               "in the tables, not an error); 130 stopped by Ctrl-C; 1 runtime failure (e.g.\n"
+               "the results file cannot be written); 2 usage or config error (also an output\n"
+               "that is the same file as an input or as another output).",
+      .opts = opts,
+      .n_opts = POM_CLI_N(opts),
+      .args = &cfg_path,
+      .max_args = 1};
+  int prc = pom_cli_opts_parse(&spec, argc, argv, rank != 0);
+  if (prc >= 0) return prc;
   if (!cfg_path) {
-    if (rank == 0) study_usage(stderr);
+    if (rank == 0) pom_cli_opts_usage(&spec, stderr);
     return 2;
   }
   o.run.use_mpi = size > 1;

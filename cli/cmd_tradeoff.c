@@ -2,6 +2,7 @@
  * dynamics engine across formulation, scene options, rtol, parasitic
  * stiffness and linear solver; table, CSV for the work-precision plot and a
  * recommendation (docs/tradeoff.md). */
+#include "cli_opts.h"
 #include "cli_outputs.h"
 #include "pom_cli.h"
 #include "pom_io.h"
@@ -13,35 +14,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-static void tradeoff_usage(FILE *out) {
-  fprintf(
-      out,
-      "usage: pomlab tradeoff CONFIG [options]\n\n"
-      "Runs the configured mechanism over a fixed set of maneuvers (montecarlo seed,\n"
-      "maneuvers 0..n-1) at many settings - rtol, parasitic stiffness, linear solver,\n"
-      "scene options - and compares each with a tight reference (tradeoff.reference:\n"
-      "rigid joints at rtol 1e-10 by default, or parasitic joints at k_p 1e9 N/m):\n"
-      "wall time per maneuver (median of repeats) against the worst relative error in\n"
-      "execution (settling) time, expended energy and trajectory. Column integ.: the\n"
-      "integration error alone, the worst of the three against the row's own model\n"
-      "integrated at tradeoff.reference_rtol. Recommends the cheapest setting of a ladder\n"
-      "(rigid joints, quasi-static then inductive coil, rtol 1e-3 down) within the accuracy\n"
-      "divided by a margin on tradeoff.fidelity_maneuvers maneuvers of the montecarlo seed,\n"
-      "validated within the accuracy on as many of another seed (docs/tradeoff.md 9).\n\n"
-      "  --accuracy X%%    accuracy for the recommendation (default tradeoff.accuracy_percent,\n"
-      "                   1%%); the %% sign is optional\n"
-      "  --maneuvers N    maneuvers (overrides tradeoff.maneuvers, 1..16)\n"
-      "  --repeats N      timing repeats (overrides tradeoff.repeats)\n"
-      "  --csv FILE       write the table as CSV (for scripts/plot_tradeoff.py)\n"
-      "  --quiet          no progress lines on stderr\n"
-      "  --help           this text\n\n"
-      "Wall times in ms per maneuver; errors are relative (1 = 100 %%). There is no\n"
-      "--json: the CSV is the machine-readable output (docs/tradeoff.md).\n"
-      "Plot: /usr/bin/python3 scripts/plot_tradeoff.py OUT.png NAME=FILE.csv [...]\n"
-      "Exit status: 0 ok; 1 a run failed or the CSV cannot be written; 2 usage or\n"
-      "config error.\n");
-}
 
 static void progress(void *user, const pom_tradeoff_row *row, int done, int total) {
   (void)user;
@@ -136,51 +108,82 @@ static pom_status write_csv(const char *path, const pom_tradeoff_result *res, po
 }
 
 int pom_cmd_tradeoff(int argc, char **argv) {
-  const char *cfg_path = NULL, *csv = NULL;
+  const char *cfg_path = NULL, *csv = NULL, *accuracy_text = NULL;
+  const char *maneuvers = NULL, *repeats = NULL;
   double accuracy = -1.0;
-  long maneuvers = -1, repeats = -1;
   int quiet = 0;
-  for (int k = 1; k < argc; ++k) {
-    const char *a = argv[k];
-    if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-      tradeoff_usage(stdout);
-      return 0;
-    } else if (strcmp(a, "--accuracy") == 0 && k + 1 < argc) {
-      char *end = NULL;
-      accuracy = strtod(argv[++k], &end);
-      if (end == argv[k] || (*end && strcmp(end, "%") != 0) || !(accuracy > 0 && accuracy <= 100)) {
-        fprintf(stderr, "pomlab tradeoff: --accuracy '%s': expected a percentage in (0, 100]\n",
-                argv[k]);
-        return 2;
-      }
-      accuracy *= 1e-2;
-    } else if ((strcmp(a, "--maneuvers") == 0 || strcmp(a, "--repeats") == 0) && k + 1 < argc) {
-      char *end = NULL;
-      long v = strtol(argv[k + 1], &end, 10);
-      if (*end || end == argv[k + 1] || v < 1 || v > 100) {
-        fprintf(stderr, "pomlab tradeoff: %s '%s': expected an integer in 1..100\n", a,
-                argv[k + 1]);
-        return 2;
-      }
-      if (a[2] == 'm')
-        maneuvers = v;
-      else
-        repeats = v;
-      ++k;
-    } else if (strcmp(a, "--csv") == 0 && k + 1 < argc) {
-      csv = argv[++k];
-    } else if (strcmp(a, "--quiet") == 0) {
-      quiet = 1;
-    } else if (a[0] == '-' || cfg_path) {
-      fprintf(stderr, "pomlab tradeoff: unexpected argument '%s'\n\n", a);
-      tradeoff_usage(stderr);
+  /* --accuracy is not tradeoff.accuracy_percent's value: it takes a '%' sign
+   * and any percentage in (0, 100] (the key's range starts at 1e-6 %) */
+  const pom_opt options[] = {
+      {.name = "--accuracy",
+       .kind = POM_OPT_TEXT,
+       .arg = "X%",
+       .unit = "%",
+       .help = "accuracy for the recommendation (default tradeoff.accuracy_percent, 1 %); the % "
+               "sign is optional",
+       .text = &accuracy_text},
+      {.name = "--maneuvers",
+       .kind = POM_OPT_NUMBER,
+       .arg = "N",
+       .key = "tradeoff.maneuvers",
+       .help = "maneuvers, 1..16",
+       .text = &maneuvers},
+      {.name = "--repeats",
+       .kind = POM_OPT_NUMBER,
+       .arg = "N",
+       .key = "tradeoff.repeats",
+       .help = "timing repeats",
+       .text = &repeats},
+      {.name = "--csv",
+       .kind = POM_OPT_TEXT,
+       .arg = "FILE",
+       .help = "write the table as CSV (for scripts/plot_tradeoff.py)",
+       .text = &csv},
+      {.name = "--quiet",
+       .kind = POM_OPT_FLAG,
+       .help = "no progress lines on stderr",
+       .flag = &quiet,
+       .set = 1},
+  };
+  const pom_cli_spec spec = {
+      .name = "tradeoff",
+      .usage = "CONFIG [options]",
+      .about =
+          "Runs the configured mechanism over a fixed set of maneuvers (montecarlo seed,\n"
+          "maneuvers 0..n-1) at many settings - rtol, parasitic stiffness, linear solver,\n"
+          "scene options - and compares each with a tight reference (tradeoff.reference:\n"
+          "rigid joints at rtol 1e-10 by default, or parasitic joints at k_p 1e9 N/m):\n"
+          "wall time per maneuver (median of repeats) against the worst relative error in\n"
+          "execution (settling) time, expended energy and trajectory. Column integ.: the\n"
+          "integration error alone, the worst of the three against the row's own model\n"
+          "integrated at tradeoff.reference_rtol. Recommends the cheapest setting of a ladder\n"
+          "(rigid joints, quasi-static then inductive coil, rtol 1e-3 down) within the accuracy\n"
+          "divided by a margin on tradeoff.fidelity_maneuvers maneuvers of the montecarlo seed,\n"
+          "validated within the accuracy on as many of another seed (docs/tradeoff.md 9).",
+      .notes = "Wall times in ms per maneuver; errors are relative (1 = 100 %). There is no\n"
+               "--json: the CSV is the machine-readable output (docs/tradeoff.md).\n"
+               "Plot: /usr/bin/python3 scripts/plot_tradeoff.py OUT.png NAME=FILE.csv [...]\n"
+               "Exit status: 0 ok; 1 a run failed or the CSV cannot be written; 2 usage or\n"
+               "config error.",
+      .opts = options,
+      .n_opts = POM_CLI_N(options),
+      .args = &cfg_path,
+      .max_args = 1};
+  int prc = pom_cli_opts_parse(&spec, argc, argv, 0);
+  if (prc >= 0) return prc;
+  if (accuracy_text) {
+    char *end = NULL;
+    accuracy = strtod(accuracy_text, &end);
+    if (end == accuracy_text || (*end && strcmp(end, "%") != 0) ||
+        !(accuracy > 0 && accuracy <= 100)) {
+      fprintf(stderr, "pomlab tradeoff: --accuracy '%s': expected a percentage in (0, 100]\n",
+              accuracy_text);
       return 2;
-    } else {
-      cfg_path = a;
     }
+    accuracy *= 1e-2;
   }
   if (!cfg_path) {
-    tradeoff_usage(stderr);
+    pom_cli_opts_usage(&spec, stderr);
     return 2;
   }
   pom_cfg *cfg = pom_cli_load_config(cfg_path);
@@ -206,7 +209,8 @@ int pom_cmd_tradeoff(int argc, char **argv) {
                                        pom_doe_montecarlo_groups(), pom_tradeoff_groups(), NULL};
   pom_dyn_params_defaults(&params);
   pom_tradeoff_defaults(&opts);
-  if ((st = pom_kin_arch_load(&arch, cfg, &err)) != POM_OK ||
+  if ((st = pom_cli_opts_apply(&spec, cfg, &err)) != POM_OK || /* --maneuvers, --repeats */
+      (st = pom_kin_arch_load(&arch, cfg, &err)) != POM_OK ||
       (st = pom_kin_mechanism_build(&mech, &arch, cfg, &err)) != POM_OK ||
       (st = pom_dyn_params_load(&params, cfg, &err)) != POM_OK ||
       (st = pom_doe_maneuvers_load(&mv, cfg, &err)) != POM_OK ||
@@ -221,15 +225,6 @@ int pom_cmd_tradeoff(int argc, char **argv) {
     goto done;
   const pom_act_desc *unit = pom_act_kind_desc(kind);
   if (accuracy > 0) opts.accuracy = accuracy;
-  if (maneuvers > 0) {
-    if (maneuvers > 16) {
-      fprintf(stderr, "pomlab tradeoff: --maneuvers %ld: at most 16\n", maneuvers);
-      st = POM_ERR_ARG;
-      goto done_quiet;
-    }
-    opts.maneuvers = (int)maneuvers;
-  }
-  if (repeats > 0) opts.repeats = (int)repeats;
   res = calloc(1, sizeof *res);
   if (!res) {
     st = pom_error_set(&err, POM_ERR_NOMEM, __FILE__, __LINE__, "allocating the result");
@@ -260,7 +255,6 @@ int pom_cmd_tradeoff(int argc, char **argv) {
   }
 done:
   if (st != POM_OK) pom_cli_report(stage, &err);
-done_quiet:
   free(res);
   pom_cfg_destroy(cfg);
   return pom_cli_exit_code(st);

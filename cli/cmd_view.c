@@ -2,57 +2,24 @@
  * self-contained HTML page, at home or a pose, a simulated maneuver
  * (--trace), the workspace (--workspace), several architectures side by side
  * (--compare); pictures of it by headless Chromium (--png) and a film by
- * ffmpeg (--mp4). docs/view.md. */
+ * ffmpeg (--mp4). The program parses and reports; the page, its scene and
+ * the pictures are the library view/ (pom_view.h). docs/view.md. */
 #define _DEFAULT_SOURCE /* mkdtemp */
 #include "cli_kin.h"
+#include "cli_opts.h"
 #include "cli_outputs.h"
-#include "cli_view.h"
-#include "cli_view_shot.h"
-#include "pom_arch.h"
 #include "pom_cli.h"
-#include "pom_dyn_metrics_schema.h"
-#include "pom_h5.h"
 #include "pom_io.h"
 #include "pom_kinematics.h"
 #include "pom_math.h"
+#include "pom_view.h"
 
 #include <errno.h>
 #include <limits.h>
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-
-static void view_usage(FILE *out) {
-  fprintf(out,
-          "usage: pomlab view CONFIG [options] -o FILE.html\n\n"
-          "One self-contained HTML page (three.js inlined, no network needed) showing the\n"
-          "resolved mechanism in 3-D: every body drawn from its architecture's shapes,\n"
-          "joints marked by type, actuator axes, the base frame and O; orbit, zoom, reset.\n\n"
-          "  -o FILE.html          the page (optional with --png or --mp4)\n"
-          "  --pose psi,theta,phi  platform orientation, ZYX Euler angles in degrees\n"
-          "                        (default: home)\n"
-          "  --trace FILE.h5       animate a maneuver written by `pomlab simulate ... --out\n"
-          "                        FILE.h5`: time slider, play, actuator positions, voltages\n"
-          "                        and pointing error plotted beside\n"
-          "  --frame N             frame of the trace shown first (default 0; -1 = last)\n"
-          "  --frames N            frames of the trace kept, evenly spread (2 to 400,\n"
-          "                        default 400): the film's length at --fps\n"
-          "  --workspace           pointing directions coloured by dexterity, the regular\n"
-          "                        dexterous workspace outlined (workspace group of CONFIG)\n"
-          "  --compare CFG2 ...    more configs drawn side by side at the same orientation\n"
-          "  --png FILE.png        a picture of the page by headless Chromium\n"
-          "  --mp4 FILE.mp4        the maneuver as a film (needs --trace, Chromium, ffmpeg)\n"
-          "  --size WxH            picture or film size in pixels (default 1200x800;\n"
-          "                        640x480 for --mp4)\n"
-          "  --fps N               film frame rate (default 25)\n"
-          "  --help                this text\n\n"
-          "Chromium: $POM_CHROMIUM, else chromium in PATH (Debian package chromium);\n"
-          "three.js: $POM_THREE_JS, else /usr/share/javascript/three/three.min.js (libjs-three).\n"
-          "Exit status: 0 ok; 1 a pose that cannot be assembled, a trace that cannot be\n"
-          "read, Chromium or ffmpeg missing or failing; 2 usage or config error.\n");
-}
 
 /* ---- one config ----------------------------------------------------------------- */
 typedef struct {
@@ -79,249 +46,17 @@ static int load_model(const char *path, view_model *vm) {
   return 0;
 }
 
-/* ---- the trace ------------------------------------------------------------------ */
-typedef struct {
-  int n; /* samples in the file */
-  double *t, *q, *voltage, *quat;
-  double target[3];
-  int has_target;
-} trace_file;
-
-static void trace_free(trace_file *tf) {
-  free(tf->t);
-  free(tf->q);
-  free(tf->voltage);
-  free(tf->quat);
-  memset(tf, 0, sizeof *tf);
-}
-
-/* Rows of dataset `name` of g with `cols` columns; -1 when absent or shaped
- * otherwise. */
-static long dataset_rows(hid_t g, const char *name, int cols) {
-  if (!pom_h5_exists(g, name)) return -1;
-  hid_t d = H5Dopen2(g, name, H5P_DEFAULT);
-  if (d < 0) return -1;
-  hid_t s = H5Dget_space(d);
-  hsize_t dims[2] = {0, 0};
-  int rank = s >= 0 ? H5Sget_simple_extent_ndims(s) : -1;
-  if (rank >= 1 && rank <= 2) H5Sget_simple_extent_dims(s, dims, NULL);
-  if (s >= 0) H5Sclose(s);
-  H5Dclose(d);
-  if (rank == 1 && cols == 1) return (long)dims[0];
-  if (rank == 2 && (int)dims[1] == cols) return (long)dims[0];
-  return -1;
-}
-
-/* Reads the trace of `pomlab simulate --out FILE.h5`; warns when the file
- * names another mechanism than `name` (the config's). */
-static int read_trace(const char *path, const char *name, trace_file *tf) {
-  pom_error err;
-  pom_error_clear(&err);
-  hid_t file = -1, g = -1, m = -1;
-  int rc = 1;
-  memset(tf, 0, sizeof *tf);
-  if (pom_h5_open_file(&file, path, 0, &err) != POM_OK) {
-    pom_cli_report("view: --trace", &err);
-    return 1;
-  }
-  if (pom_h5_open_group(&g, file, "trace", &err) != POM_OK) {
-    fprintf(stderr,
-            "pomlab view: --trace '%s' has no group 'trace' (write it with pomlab simulate "
-            "CONFIG --target ... --out FILE.h5)\n",
-            path);
-    goto done;
-  }
-  char stored[256];
-  pom_error nerr;
-  pom_error_clear(&nerr);
-  if (pom_h5_read_attr_string(file, "name", stored, sizeof stored, &nerr) == POM_OK &&
-      strcmp(stored, name) != 0)
-    fprintf(stderr,
-            "pomlab view: warning: the trace '%s' was simulated for '%s', the config is '%s': "
-            "the bodies follow the config's kinematics\n",
-            path, stored, name);
-  long n = dataset_rows(g, "t", 1);
-  if (n < 1 || dataset_rows(g, "q", 3) != n || dataset_rows(g, "voltage", 3) != n ||
-      dataset_rows(g, "quat", 4) != n) {
-    fprintf(stderr,
-            "pomlab view: --trace '%s': trace/t, q, voltage and quat must exist with the same "
-            "number of rows (quat with 4 columns)\n",
-            path);
-    goto done;
-  }
-  tf->n = (int)n;
-  size_t un = (size_t)n;
-  tf->t = malloc(un * sizeof *tf->t);
-  tf->q = malloc(3 * un * sizeof *tf->q);
-  tf->voltage = malloc(3 * un * sizeof *tf->voltage);
-  tf->quat = malloc(4 * un * sizeof *tf->quat);
-  if (!tf->t || !tf->q || !tf->voltage || !tf->quat) {
-    fprintf(stderr, "pomlab view: no memory for the trace of %ld samples\n", n);
-    goto done;
-  }
-  if (pom_h5_read_doubles(g, "t", un, tf->t, &err) != POM_OK ||
-      pom_h5_read_doubles(g, "q", 3 * un, tf->q, &err) != POM_OK ||
-      pom_h5_read_doubles(g, "voltage", 3 * un, tf->voltage, &err) != POM_OK ||
-      pom_h5_read_doubles(g, "quat", 4 * un, tf->quat, &err) != POM_OK) {
-    pom_cli_report("view: --trace", &err);
-    goto done;
-  }
-  /* the setpoints: the metric `target` of the file's metrics group */
-  if (pom_h5_exists(file, "metrics") && pom_h5_open_group(&m, file, "metrics", &err) == POM_OK) {
-    char key[96];
-    pom_dyn_metric_json_key(pom_dyn_metric(POM_DYN_METRIC_target), key, sizeof key);
-    if (H5Aexists(m, key) > 0) {
-      hid_t a = H5Aopen(m, key, H5P_DEFAULT);
-      if (a >= 0) {
-        hid_t s = H5Aget_space(a);
-        if (s >= 0 && H5Sget_simple_extent_npoints(s) == 3 &&
-            H5Aread(a, H5T_NATIVE_DOUBLE, tf->target) >= 0)
-          tf->has_target = 1;
-        if (s >= 0) H5Sclose(s);
-        H5Aclose(a);
-      }
-    }
-  }
-  rc = 0;
-done:
-  if (m >= 0) H5Gclose(m);
-  if (g >= 0) H5Gclose(g);
-  pom_error cerr;
-  pom_error_clear(&cerr);
-  pom_h5_close_file(file, &cerr);
-  if (rc) trace_free(tf);
-  return rc;
-}
-
-/* The page's frames: at most POM_VIEW_MAX_FRAMES samples spread evenly,
- * platform rotations from the quaternions, the pointing error against the
- * target's orientation (forward kinematics of the setpoints; the last
- * sample's when they are unknown or it fails). */
-typedef struct {
-  int n;
-  double t[POM_VIEW_MAX_FRAMES], R[9 * POM_VIEW_MAX_FRAMES], q[3 * POM_VIEW_MAX_FRAMES];
-  double u[3 * POM_VIEW_MAX_FRAMES], err[POM_VIEW_MAX_FRAMES];
-} trace_frames;
-
-static void sample_trace(trace_frames *fr, const trace_file *tf, const pom_kin_arch *arch,
-                         int max_frames, pom_view_trace *vt, const char *source) {
-  int m = tf->n < max_frames ? tf->n : max_frames;
-  fr->n = m;
-  double Rlast[9], Rt[9];
-  double qn[4];
-  memcpy(qn, tf->quat + 4 * (tf->n - 1), sizeof qn);
-  pom_quat_to_matrix(Rlast, qn);
-  memcpy(Rt, Rlast, sizeof Rt);
-  if (tf->has_target) {
-    pom_error err;
-    pom_error_clear(&err);
-    if (pom_kin_forward(arch, tf->target, Rlast, NULL, Rt, NULL, &err) != POM_OK) {
-      fprintf(stderr,
-              "pomlab view: warning: the target's orientation is unknown (%s): the "
-              "pointing error is measured from the last sample\n",
-              err.message);
-      memcpy(Rt, Rlast, sizeof Rt);
-    }
-  }
-  const double nt[3] = {Rt[2], Rt[5], Rt[8]};
-  for (int k = 0; k < m; ++k) {
-    long i = m > 1 ? lround((double)k * (tf->n - 1) / (m - 1)) : 0;
-    double qq[4];
-    memcpy(qq, tf->quat + 4 * i, sizeof qq);
-    double nq = sqrt(qq[0] * qq[0] + qq[1] * qq[1] + qq[2] * qq[2] + qq[3] * qq[3]);
-    for (int a = 0; a < 4; ++a)
-      qq[a] = nq > 0.0 ? qq[a] / nq : (a == 0);
-    double *R = fr->R + 9 * k;
-    pom_quat_to_matrix(R, qq);
-    fr->t[k] = tf->t[i];
-    for (int a = 0; a < 3; ++a) {
-      fr->q[3 * k + a] = tf->q[3 * i + a];
-      fr->u[3 * k + a] = tf->voltage[3 * i + a];
-    }
-    const double n[3] = {R[2], R[5], R[8]};
-    fr->err[k] = pom_kin_angle_between(n, nt);
-  }
-  memset(vt, 0, sizeof *vt);
-  vt->n = m;
-  vt->t = fr->t;
-  vt->R = fr->R;
-  vt->q = fr->q;
-  vt->voltage = fr->u;
-  vt->pointing_error = fr->err;
-  for (int a = 0; a < 3; ++a)
-    vt->target[a] = tf->has_target ? tf->target[a] : tf->q[3 * (tf->n - 1) + a];
-  vt->source = source;
-}
-
-/* ---- the workspace ---------------------------------------------------------------- */
-#define WS_TILT_STEPS 30 /* tilt 0 .. 90 deg in 3 deg steps */
-#define WS_AZIMUTHS   73 /* azimuth 0 .. 360 deg in 5 deg steps, both ends */
-#define WS_OUTLINE    16 /* outline points per side of the Euler square */
-
-typedef struct {
-  double dex[(WS_TILT_STEPS + 1) * WS_AZIMUTHS];
-  int state[(WS_TILT_STEPS + 1) * WS_AZIMUTHS];
-  double outline[3 * 4 * WS_OUTLINE];
-} ws_grid;
-
-/* Tilt-and-torsion grid: R = Rz(a) Ry(t) Rz(-a), pointing direction
- * (sin t cos a, sin t sin a, cos t); the RDW by pom_kin_workspace. */
-static int compute_workspace(const view_model *vm, ws_grid *g, pom_view_workspace *w) {
-  memset(w, 0, sizeof *w);
-  w->n_tilt = WS_TILT_STEPS + 1;
-  w->n_azimuth = WS_AZIMUTHS;
-  w->tilt_step = 0.5 * POM_PI / WS_TILT_STEPS;
-  for (int it = 0; it < w->n_tilt; ++it)
-    for (int ia = 0; ia < w->n_azimuth; ++ia) {
-      double t = it * w->tilt_step, a = 2.0 * POM_PI * ia / (w->n_azimuth - 1);
-      double e1[3] = {a, t, 0.0}, e2[3] = {-a, 0.0, 0.0}, R1[9], R2[9], R[9];
-      pom_euler_zyx_to_matrix(R1, e1); /* Rz(a) Ry(t) */
-      pom_euler_zyx_to_matrix(R2, e2); /* Rz(-a) */
-      pom_m3_mul(R, R1, R2);
-      pom_kin_pose pose;
-      pom_kin_pose_evaluate(&vm->arch, R, &pose, NULL);
-      int k = it * w->n_azimuth + ia;
-      g->dex[k] = pose.reachable ? pose.dexterity : 0.0;
-      g->state[k] = !pose.reachable ? 2 : (vm->ws.check_limits && pose.violations) ? 1 : 0;
-    }
-  w->dexterity = g->dex;
-  w->state = g->state;
-  w->dexterity_min = vm->ws.dexterity_min;
-  pom_kin_ws_result res;
-  pom_error err;
-  pom_error_clear(&err);
-  if (pom_kin_workspace(&vm->arch, &vm->ws, &res, &err) != POM_OK) {
-    pom_cli_report("view: --workspace", &err);
-    return 1;
-  }
-  w->rdw_half_width = res.half_width;
-  w->outline = g->outline;
-  if (res.half_width > 0.0) {
-    /* the square |theta|, |phi| <= a at psi = 0, walked round */
-    double a = res.half_width;
-    const double corner[5][2] = {{-a, -a}, {a, -a}, {a, a}, {-a, a}, {-a, -a}};
-    int n = 0;
-    for (int side = 0; side < 4; ++side)
-      for (int k = 0; k < WS_OUTLINE; ++k) {
-        double f = (double)k / WS_OUTLINE;
-        double e[3] = {0.0, corner[side][0] + f * (corner[side + 1][0] - corner[side][0]),
-                       corner[side][1] + f * (corner[side + 1][1] - corner[side][1])};
-        double R[9];
-        pom_euler_zyx_to_matrix(R, e);
-        g->outline[3 * n] = R[2];
-        g->outline[3 * n + 1] = R[5];
-        g->outline[3 * n + 2] = R[8];
-        ++n;
-      }
-    w->n_outline = n;
-  }
-  return 0;
-}
-
 /* ---- the command -------------------------------------------------------------------- */
 static int ends_with(const char *s, const char *suffix) {
   size_t n = strlen(s), k = strlen(suffix);
   return n >= k && strcmp(s + n - k, suffix) == 0;
+}
+
+/* Prints the library's failure as "pomlab view: <context>: <message>";
+ * returns 1. */
+static int fail(const char *context, const pom_error *err) {
+  fprintf(stderr, "pomlab view: %s%s%s\n", context, context[0] ? ": " : "", err->message);
+  return 1;
 }
 
 int pom_cmd_view(int argc, char **argv) {
@@ -329,72 +64,96 @@ int pom_cmd_view(int argc, char **argv) {
   const char *png = NULL, *mp4 = NULL, *size_text = NULL;
   const char *compare[POM_VIEW_MAX_MECHS];
   int n_compare = 0, workspace = 0, frame = 0, fps = 25, max_frames = POM_VIEW_MAX_FRAMES;
-  for (int k = 1; k < argc; ++k) {
-    const char *a = argv[k];
-    int has = k + 1 < argc;
-    if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-      view_usage(stdout);
-      return 0;
-    } else if (strcmp(a, "-o") == 0 && has) {
-      out = argv[++k];
-    } else if (strcmp(a, "--pose") == 0 && has) {
-      pose_text = argv[++k];
-    } else if (strcmp(a, "--trace") == 0 && has) {
-      trace_path = argv[++k];
-    } else if (strcmp(a, "--frame") == 0 && has) {
-      char *end;
-      long v = strtol(argv[++k], &end, 10);
-      if (*end || v < -1 || v > 1000000) {
-        fprintf(stderr, "pomlab view: --frame expects a whole number >= -1, got '%s'\n", argv[k]);
-        return 2;
-      }
-      frame = (int)v;
-    } else if (strcmp(a, "--frames") == 0 && has) {
-      char *end;
-      long v = strtol(argv[++k], &end, 10);
-      if (*end || v < 2 || v > POM_VIEW_MAX_FRAMES) {
-        fprintf(stderr, "pomlab view: --frames expects a whole number in [2, %d], got '%s'\n",
-                POM_VIEW_MAX_FRAMES, argv[k]);
-        return 2;
-      }
-      max_frames = (int)v;
-    } else if (strcmp(a, "--workspace") == 0) {
-      workspace = 1;
-    } else if (strcmp(a, "--compare") == 0 && has) {
-      while (k + 1 < argc && argv[k + 1][0] != '-') {
-        if (n_compare + 1 >= POM_VIEW_MAX_MECHS) {
-          fprintf(stderr, "pomlab view: --compare takes at most %d configs\n",
-                  POM_VIEW_MAX_MECHS - 1);
-          return 2;
-        }
-        compare[n_compare++] = argv[++k];
-      }
-    } else if (strcmp(a, "--png") == 0 && has) {
-      png = argv[++k];
-    } else if (strcmp(a, "--mp4") == 0 && has) {
-      mp4 = argv[++k];
-    } else if (strcmp(a, "--size") == 0 && has) {
-      size_text = argv[++k];
-    } else if (strcmp(a, "--fps") == 0 && has) {
-      char *end;
-      long v = strtol(argv[++k], &end, 10);
-      if (*end || v < 1 || v > 240) {
-        fprintf(stderr, "pomlab view: --fps expects a whole number in [1, 240], got '%s'\n",
-                argv[k]);
-        return 2;
-      }
-      fps = (int)v;
-    } else if (a[0] != '-' && !cfg_path) {
-      cfg_path = a;
-    } else {
-      fprintf(stderr, "pomlab view: unknown or incomplete option '%s'\n\n", a);
-      view_usage(stderr);
-      return 2;
-    }
-  }
+  const pom_opt opts[] = {
+      {.name = "-o",
+       .kind = POM_OPT_TEXT,
+       .arg = "FILE.html",
+       .help = "the page (optional with --png or --mp4)",
+       .text = &out},
+      {.name = "--pose",
+       .kind = POM_OPT_TEXT,
+       .arg = "psi,theta,phi",
+       .unit = "deg",
+       .help = "platform orientation, ZYX Euler angles (default: home)",
+       .text = &pose_text},
+      {.name = "--trace",
+       .kind = POM_OPT_TEXT,
+       .arg = "FILE.h5",
+       .help = "animate a maneuver written by `pomlab simulate ... --out FILE.h5`: time slider, "
+               "play, actuator positions, voltages and pointing error plotted beside",
+       .text = &trace_path},
+      {.name = "--frame",
+       .kind = POM_OPT_INT,
+       .arg = "N",
+       .help = "frame of the trace shown first (default 0; -1 = last)",
+       .ival = &frame,
+       .lo = -1,
+       .hi = 1000000},
+      {.name = "--frames",
+       .kind = POM_OPT_INT,
+       .arg = "N",
+       .help = "frames of the trace kept, evenly spread (default 400): the film's length at --fps",
+       .ival = &max_frames,
+       .lo = 2,
+       .hi = POM_VIEW_MAX_FRAMES},
+      {.name = "--workspace",
+       .kind = POM_OPT_FLAG,
+       .help = "pointing directions coloured by dexterity, the regular dexterous workspace "
+               "outlined (workspace group of CONFIG)",
+       .flag = &workspace,
+       .set = 1},
+      {.name = "--compare",
+       .kind = POM_OPT_LIST,
+       .arg = "CFG2 ...",
+       .help = "more configs drawn side by side at the same orientation",
+       .list = compare,
+       .count = &n_compare,
+       .hi = POM_VIEW_MAX_MECHS - 1},
+      {.name = "--png",
+       .kind = POM_OPT_TEXT,
+       .arg = "FILE.png",
+       .help = "a picture of the page by headless Chromium",
+       .text = &png},
+      {.name = "--mp4",
+       .kind = POM_OPT_TEXT,
+       .arg = "FILE.mp4",
+       .help = "the maneuver as a film (needs --trace, Chromium, ffmpeg)",
+       .text = &mp4},
+      {.name = "--size",
+       .kind = POM_OPT_TEXT,
+       .arg = "WxH",
+       .unit = "pixels",
+       .help = "picture or film size (default 1200x800; 640x480 for --mp4)",
+       .text = &size_text},
+      {.name = "--fps",
+       .kind = POM_OPT_INT,
+       .arg = "N",
+       .help = "film frame rate (default 25)",
+       .ival = &fps,
+       .lo = 1,
+       .hi = 240},
+  };
+  const pom_cli_spec spec = {
+      .name = "view",
+      .usage = "CONFIG [options] -o FILE.html",
+      .about = "One self-contained HTML page (three.js inlined, no network needed) showing the\n"
+               "resolved mechanism in 3-D: every body drawn from its architecture's shapes,\n"
+               "joints marked by type, actuator axes, the base frame and O; orbit, zoom, reset.",
+      .notes =
+          "Chromium: $POM_CHROMIUM, else chromium in PATH (Debian package chromium);\n"
+          "three.js: $POM_THREE_JS, else /usr/share/javascript/three/three.min.js (libjs-three).\n"
+          "Exit status: 0 ok; 1 a pose that cannot be assembled, a trace that cannot be\n"
+          "read, Chromium or ffmpeg missing or failing, an output folder that cannot be\n"
+          "written; 2 usage or config error.",
+      .opts = opts,
+      .n_opts = POM_CLI_N(opts),
+      .args = &cfg_path,
+      .max_args = 1};
+  int prc = pom_cli_opts_parse(&spec, argc, argv, 0);
+  if (prc >= 0) return prc;
   if (!cfg_path || (!out && !png && !mp4)) {
     fprintf(stderr, "pomlab view: %s\n\n", !cfg_path ? "missing CONFIG" : "missing -o FILE.html");
-    view_usage(stderr);
+    pom_cli_opts_usage(&spec, stderr);
     return 2;
   }
   if (out && !ends_with(out, ".html")) {
@@ -438,11 +197,25 @@ int pom_cmd_view(int argc, char **argv) {
   const char *outputs[3] = {out, png, mp4};
   for (int k = 0; k < 3; ++k)
     if (outputs[k]) {
-      int prc = pom_cli_check_output("view", cfg_path, outputs[k], "the page or picture");
-      if (prc) return prc;
+      int prc2 = pom_cli_check_output("view", cfg_path, outputs[k], "the page or picture");
+      if (prc2) return prc2;
     }
-  /* what the pictures need, before any work */
-  char chromium[PATH_MAX], ffmpeg[PATH_MAX];
+  /* what the pictures need, before any work: Chromium, ffmpeg, and folders
+   * they can write to (Chromium's own failure there names no file) */
+  pom_error err;
+  pom_error_clear(&err);
+  char chromium[PATH_MAX], ffmpeg[PATH_MAX], png_abs[PATH_MAX], mp4_abs[PATH_MAX];
+  const char *shots[2] = {png, mp4}, *shot_opt[2] = {"--png", "--mp4"};
+  char *shot_abs[2] = {png_abs, mp4_abs};
+  for (int k = 0; k < 2; ++k) {
+    if (!shots[k]) continue;
+    if (pom_view_abs_output(shots[k], shot_abs[k], PATH_MAX) != 0) {
+      fprintf(stderr, "pomlab view: cannot resolve the folder of '%s': %s\n", shots[k],
+              strerror(errno));
+      return 1;
+    }
+    if (pom_view_check_writable(shot_abs[k], shot_opt[k], &err) != POM_OK) return fail("", &err);
+  }
   if ((png || mp4) && pom_view_find_chromium(chromium, sizeof chromium) != 0) {
     fprintf(stderr,
             "pomlab view: --png and --mp4 need Chromium to draw the page: '%s' was not "
@@ -459,12 +232,12 @@ int pom_cmd_view(int argc, char **argv) {
     return 1;
   }
 
-  int rc = 0;
+  int rc = 0, keep_tmp = 0;
   view_model *models = calloc((size_t)(1 + n_compare), sizeof *models);
-  trace_file tf;
+  pom_view_trace_file tf;
   memset(&tf, 0, sizeof tf);
-  trace_frames *frames = NULL;
-  ws_grid *grid = NULL;
+  pom_view_frames *frames = NULL;
+  pom_view_ws_grid *grid = NULL;
   pom_view_trace vtrace;
   pom_view_workspace vws;
   pom_view_page page;
@@ -495,9 +268,17 @@ int pom_cmd_view(int argc, char **argv) {
       rc = 1;
       goto done;
     }
-    rc = read_trace(trace_path, models[0].arch.name, &tf);
-    if (rc) goto done;
-    sample_trace(frames, &tf, &models[0].arch, max_frames, &vtrace, trace_path);
+    if (pom_view_trace_file_read(&tf, trace_path, &err) != POM_OK) {
+      rc = fail("--trace", &err);
+      goto done;
+    }
+    if (tf.name[0] && strcmp(tf.name, models[0].arch.name) != 0)
+      fprintf(stderr,
+              "pomlab view: warning: the trace '%s' was simulated for '%s', the config is '%s': "
+              "the bodies follow the config's kinematics\n",
+              trace_path, tf.name, models[0].arch.name);
+    pom_view_trace_sample(frames, &tf, &models[0].arch, max_frames, &vtrace, trace_path);
+    if (frames->warning[0]) fprintf(stderr, "pomlab view: warning: %s\n", frames->warning);
     page.trace = &vtrace;
     page.frame = frame < 0 || frame >= vtrace.n ? vtrace.n - 1 : frame;
     if (frame >= vtrace.n)
@@ -512,8 +293,11 @@ int pom_cmd_view(int argc, char **argv) {
       rc = 1;
       goto done;
     }
-    rc = compute_workspace(&models[0], grid, &vws);
-    if (rc) goto done;
+    if (pom_view_workspace_compute(&models[0].arch, &models[0].ws, grid, &vws, &err) != POM_OK) {
+      pom_cli_report("view: --workspace", &err);
+      rc = 1;
+      goto done;
+    }
     page.workspace = &vws;
   }
 
@@ -534,8 +318,6 @@ int pom_cmd_view(int argc, char **argv) {
     snprintf(page_path, sizeof page_path, "%s", out);
   else
     snprintf(page_path, sizeof page_path, "%s/page.html", tmpdir);
-  pom_error err;
-  pom_error_clear(&err);
   pom_io_file wf;
   pom_status st = pom_io_create(&wf, page_path, &err);
   if (st == POM_OK) {
@@ -550,7 +332,7 @@ int pom_cmd_view(int argc, char **argv) {
     rc = st == POM_ERR_UNREACHABLE ? 1 : pom_cli_exit_code(st);
     goto done;
   }
-  char html_abs[PATH_MAX], url[PATH_MAX + 64], target[PATH_MAX];
+  char html_abs[PATH_MAX], url[PATH_MAX + 64];
   if ((png || mp4) && pom_view_abs_path(page_path, html_abs, sizeof html_abs) != 0) {
     fprintf(stderr, "pomlab view: cannot resolve '%s': %s\n", page_path, strerror(errno));
     rc = 1;
@@ -558,25 +340,19 @@ int pom_cmd_view(int argc, char **argv) {
   }
   if (png) {
     snprintf(url, sizeof url, "file://%s#frame=%d", html_abs, page.frame);
-    if (pom_view_abs_output(png, target, sizeof target) != 0) {
-      fprintf(stderr, "pomlab view: cannot resolve the folder of '%s': %s\n", png, strerror(errno));
-      rc = 1;
-      goto done;
-    }
-    rc = pom_view_screenshot(chromium, url, target, w, h, tmpdir, "--png");
-    if (rc) goto done;
+    st = pom_view_screenshot(chromium, url, png_abs, w, h, tmpdir, "--png", &err);
   }
-  if (mp4) {
-    if (pom_view_abs_output(mp4, target, sizeof target) != 0) {
-      fprintf(stderr, "pomlab view: cannot resolve the folder of '%s': %s\n", mp4, strerror(errno));
-      rc = 1;
-      goto done;
-    }
-    rc = pom_view_mp4(chromium, ffmpeg, html_abs, target, vtrace.n, w, h, fps, tmpdir);
+  if (mp4 && st == POM_OK)
+    st = pom_view_mp4(chromium, ffmpeg, html_abs, mp4_abs, vtrace.n, w, h, fps, tmpdir, &err);
+  if (st != POM_OK) {
+    /* the log named in the message stays for the user to read */
+    keep_tmp = 1;
+    rc = fail("", &err);
+    fprintf(stderr, "pomlab view: the scratch folder %s is kept for diagnosis\n", tmpdir);
   }
 done:
-  if (tmpdir[0]) pom_view_remove_tmpdir(tmpdir, POM_VIEW_MAX_FRAMES);
-  trace_free(&tf);
+  if (tmpdir[0] && !keep_tmp) pom_view_remove_tmpdir(tmpdir, POM_VIEW_MAX_FRAMES);
+  pom_view_trace_file_free(&tf);
   free(frames);
   free(grid);
   free(models);

@@ -34,6 +34,11 @@ add_test(NAME test_safety
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_safety.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 # pomlab (kinematic commands, no HDF5) and pomlab-full (every command)
+# Each command's options from one table: generated --help, config keys
+# checked by their own check, --name=value (docs/extending.md section 11).
+add_test(NAME test_cli_opts
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_cli_opts.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 add_test(NAME test_cli_split
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_cli_split.sh $<TARGET_FILE:pomlab>
           $<TARGET_FILE:pomlab-full> ${CMAKE_SOURCE_DIR}

@@ -18,7 +18,7 @@
  * With the link leaning inward (l . e_r < 0) the sliders sit outside and
  * below the platform. */
 #include "check.h"
-#include "cli_view.h"
+#include "pom_view.h"
 #include "pom_arch.h"
 #include "pom_config.h"
 #include "pom_dynamics.h"

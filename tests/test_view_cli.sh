@@ -92,4 +92,33 @@ PATH=$TMP/bin expect_rc 1 "$(cd "$(dirname "$POMLAB")" && pwd)/$(basename "$POML
   "$C/3pss.cfg" --trace "$TMP/m.h5" --mp4 "$TMP/x.mp4"
 expect_err "needs ffmpeg"
 check "no film without ffmpeg" test ! -e "$TMP/x.mp4"
+# --png into a folder that cannot be written (issue 31 item 9): refused before
+# Chromium runs (a stand-in that would leave a mark), naming the folder. As
+# root chmod does not stop writes, so there the folder is a path under a
+# regular file, which nobody can write to.
+printf '#!/bin/sh\ntouch "%s/chromium-ran"\n' "$TMP" >"$TMP/mark-chromium"
+chmod +x "$TMP/mark-chromium"
+mkdir -p "$TMP/ro"
+chmod 555 "$TMP/ro"
+if touch "$TMP/ro/probe" 2>/dev/null; then
+  rm -f "$TMP/ro/probe"
+  echo "note: chmod 555 does not stop this user (root): the unwritable folder is a path under a file"
+  touch "$TMP/plain"
+  POM_CHROMIUM=$TMP/mark-chromium expect_rc 1 "$POMLAB" view "$C/3pss.cfg" --png "$TMP/plain/x.png"
+  expect_err "$TMP/plain"
+else
+  POM_CHROMIUM=$TMP/mark-chromium expect_rc 1 "$POMLAB" view "$C/3pss.cfg" --png "$TMP/ro/x.png"
+  expect_err "--png: cannot write '$TMP/ro/x.png': the folder $TMP/ro is not writable"
+fi
+check "Chromium never ran for an unwritable target" test ! -e "$TMP/chromium-ran"
+chmod 755 "$TMP/ro"
+# Chromium failing: the log the message points to is still there to read
+printf '#!/bin/sh\necho "the stand-in browser failed on purpose" >&2\nexit 3\n' >"$TMP/bad-chromium"
+chmod +x "$TMP/bad-chromium"
+POM_CHROMIUM=$TMP/bad-chromium expect_rc 1 "$POMLAB" view "$C/3pss.cfg" --png "$TMP/y.png"
+expect_err "failed (exit 3); its messages: "
+log=$(sed -n 's/.*its messages: \(.*chromium\.log\).*/\1/p' "$TMP/err" | head -1)
+check "the Chromium log named in the message exists" test -s "$log"
+check "the log holds Chromium's messages" grep -q "failed on purpose" "$log"
+[ -n "$log" ] && rm -rf "$(dirname "$log")"
 finish test_view_cli

@@ -1,8 +1,8 @@
 # embed.cmake - writes OUT, a C file defining one NUL-terminated
 # `const unsigned char NAME[]` per input file (the page's script and style of
-# `pomlab view`, cli/cli_view.c). Usage:
+# `pomlab view`, view/pom_view_page.c). Usage:
 #   cmake -DOUT=file.c -DNAMES="a;b" -DFILES="x.js;y.css" -P embed.cmake
-file(WRITE ${OUT} "/* generated from cli/view/ by embed.cmake: do not edit */\n")
+file(WRITE ${OUT} "/* generated from view/ by embed.cmake: do not edit */\n")
 list(LENGTH NAMES n)
 math(EXPR last "${n} - 1")
 foreach(i RANGE ${last})

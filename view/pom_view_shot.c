@@ -1,8 +1,8 @@
-/* cli_view_shot.c - pictures of a `pomlab view` page: headless Chromium
+/* pom_view_shot.c - pictures of a `pomlab view` page: headless Chromium
  * (software WebGL) for screenshots, ffmpeg for films (docs/view.md
  * section 5). */
-#define _DEFAULT_SOURCE /* posix_spawn, realpath */
-#include "cli_view_shot.h"
+#define _DEFAULT_SOURCE /* posix_spawn, realpath, mkstemp */
+#include "pom_view.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -68,9 +68,9 @@ static int run(char *const argv[], const char *out_path, const char *err_path) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-/* The DOM dumped by Chromium: 0 when the page reported ready with no script
- * error, else prints why. */
-static int check_dom(const char *dom_path, const char *what) {
+/* The DOM dumped by Chromium: POM_OK when the page reported ready with no
+ * script error, else why. */
+static pom_status check_dom(const char *dom_path, const char *what, pom_error *err) {
   FILE *f = fopen(dom_path, "r");
   char buf[4096];
   size_t n = f ? fread(buf, 1, sizeof buf - 1, f) : 0;
@@ -79,21 +79,16 @@ static int check_dom(const char *dom_path, const char *what) {
   const char *s = strstr(buf, "id=\"status\"");
   const char *ready = s ? strstr(s, "data-ready=\"1\"") : NULL;
   const char *errs = s ? strstr(s, "data-errors=\"") : NULL;
-  if (!s || !ready) {
-    fprintf(stderr, "pomlab view: %s: the page did not finish drawing in Chromium (no WebGL?)\n",
-            what);
-    return 1;
-  }
-  if (errs && strncmp(errs, "data-errors=\"0\"", 15) != 0) {
-    fprintf(stderr, "pomlab view: %s: the page reported script errors in Chromium\n", what);
-    return 1;
-  }
-  return 0;
+  if (!s || !ready)
+    POM_FAIL(err, POM_ERR_IO, "%s: the page did not finish drawing in Chromium (no WebGL?)", what);
+  if (errs && strncmp(errs, "data-errors=\"0\"", 15) != 0)
+    POM_FAIL(err, POM_ERR_IO, "%s: the page reported script errors in Chromium", what);
+  return POM_OK;
 }
 
 /* A screenshot of url (file://...) of w x h pixels into png. */
-int pom_view_screenshot(const char *chromium, const char *url, const char *png, int w, int h,
-                        const char *tmpdir, const char *what) {
+pom_status pom_view_screenshot(const char *chromium, const char *url, const char *png, int w, int h,
+                               const char *tmpdir, const char *what, pom_error *err) {
   char size[64], shot[PATH_MAX + 16], dom[PATH_MAX], log[PATH_MAX];
   snprintf(size, sizeof size, "--window-size=%d,%d", w, h);
   snprintf(shot, sizeof shot, "--screenshot=%s", png);
@@ -119,12 +114,10 @@ int pom_view_screenshot(const char *chromium, const char *url, const char *png, 
   remove(png);
   int rc = run(argv, dom, log);
   struct stat st;
-  if (rc != 0 || stat(png, &st) != 0 || st.st_size == 0) {
-    fprintf(stderr, "pomlab view: %s: Chromium (%s) failed (exit %d); its messages: %s\n", what,
-            chromium, rc, log);
-    return 1;
-  }
-  return check_dom(dom, what);
+  if (rc != 0 || stat(png, &st) != 0 || st.st_size == 0)
+    POM_FAIL(err, POM_ERR_IO, "%s: Chromium (%s) failed (exit %d); its messages: %s", what,
+             chromium, rc, log);
+  return check_dom(dom, what, err);
 }
 
 int pom_view_abs_path(const char *path, char *buf, size_t cap) {
@@ -152,8 +145,8 @@ int pom_view_abs_output(const char *path, char *buf, size_t cap) {
 
 /* The film: batches of frames drawn as tiles in one screenshot each
  * (#tiles=...), cut into frames and encoded by ffmpeg's untile filter. */
-int pom_view_mp4(const char *chromium, const char *ffmpeg, const char *html, const char *mp4,
-                 int n_frames, int w, int h, int fps, const char *tmpdir) {
+pom_status pom_view_mp4(const char *chromium, const char *ffmpeg, const char *html, const char *mp4,
+                        int n_frames, int w, int h, int fps, const char *tmpdir, pom_error *err) {
   int cols = 4096 / w, rows = 4096 / h;
   if (cols < 1) cols = 1;
   if (rows < 1) rows = 1;
@@ -169,7 +162,7 @@ int pom_view_mp4(const char *chromium, const char *ffmpeg, const char *html, con
     snprintf(url, sizeof url, "file://%s#tiles=%d,%d,%d,%d,%d", html, start, count, cols, w, h);
     snprintf(png, sizeof png, "%s/batch_%03d.png", tmpdir, b);
     snprintf(what, sizeof what, "--mp4 frames %d-%d", start, start + count - 1);
-    if (pom_view_screenshot(chromium, url, png, cols * w, rows * h, tmpdir, what)) return 1;
+    POM_TRY(pom_view_screenshot(chromium, url, png, cols * w, rows * h, tmpdir, what, err));
   }
   char pattern[PATH_MAX], filter[128], rate[32], frames[32], log[PATH_MAX], out[PATH_MAX + 8];
   snprintf(pattern, sizeof pattern, "%s/batch_%%03d.png", tmpdir);
@@ -183,12 +176,27 @@ int pom_view_mp4(const char *chromium, const char *ffmpeg, const char *html, con
       pattern,        "-vf",     filter,      "-r",      rate,         "-frames:v", frames,
       "-c:v",         "libx264", "-pix_fmt",  "yuv420p", out,          NULL};
   int rc = run(argv, NULL, log);
-  if (rc != 0) {
-    fprintf(stderr, "pomlab view: --mp4: ffmpeg (%s) failed (exit %d); its messages: %s\n", ffmpeg,
-            rc, log);
-    return 1;
-  }
-  return 0;
+  if (rc != 0)
+    POM_FAIL(err, POM_ERR_IO, "--mp4: ffmpeg (%s) failed (exit %d); its messages: %s", ffmpeg, rc,
+             log);
+  return POM_OK;
+}
+
+pom_status pom_view_check_writable(const char *path, const char *what, pom_error *err) {
+  char dir[PATH_MAX], probe[PATH_MAX + 32];
+  const char *slash = strrchr(path, '/');
+  if (slash && slash != path)
+    snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+  else
+    snprintf(dir, sizeof dir, slash ? "/" : ".");
+  snprintf(probe, sizeof probe, "%s/.pomlab-probe-XXXXXX", strcmp(dir, "/") ? dir : "");
+  int fd = mkstemp(probe);
+  if (fd < 0)
+    POM_FAIL(err, POM_ERR_IO, "%s: cannot write '%s': the folder %s is not writable (%s)", what,
+             path, dir, strerror(errno));
+  close(fd);
+  remove(probe);
+  return POM_OK;
 }
 
 /* Removes the files of the temporary folder and the folder. */

@@ -1,9 +1,10 @@
-/* cli_dyn.c - printing of the dynamics parameter groups for `pomlab model`,
- * generated from the parameter list (pom_dyn_params_schema.h; keys and
- * units: docs/config.md, "Dynamics parameters"). */
-#include "cli_dyn.h"
+/* dyn_print.c - the dynamics parameter groups and the registered
+ * controllers as JSON or text (pom_dyn_print.h), generated from the
+ * parameter list (pom_dyn_params_schema.h; keys and units: docs/config.md,
+ * "Dynamics parameters") and the controllers' descriptors. */
+#include "pom_dyn_print.h"
 
-#include "cli_kin.h"
+#include "pom_json.h"
 #include "pom_dyn_ctrl.h"
 #include "pom_dyn_params_schema.h"
 
@@ -11,12 +12,12 @@
 
 /* ---- the parameters, from their list ------------------------------------------ */
 /* Each group in loading order; the controller is described by its type. */
-void pom_cli_dyn_params_json(FILE *out, const pom_dyn_params *p) {
+void pom_dyn_params_json(FILE *out, const pom_dyn_params *p) {
   const pom_dyn_param_info *schema = pom_dyn_param_schema();
   const char *const *groups = pom_dyn_param_groups();
   for (int g = 0; groups[g]; ++g) {
     fprintf(out, ",\n  \"%s\": {", groups[g]);
-    if (strcmp(groups[g], "controller") == 0) pom_cli_ctrl_json_members(out, &p->controller);
+    if (strcmp(groups[g], "controller") == 0) pom_dyn_ctrl_json_members(out, &p->controller);
     int n = 0;
     for (int k = 0; k < POM_DYN_N_PARAMS; ++k) {
       const pom_dyn_param_info *pi = &schema[k];
@@ -46,7 +47,7 @@ void pom_cli_dyn_params_json(FILE *out, const pom_dyn_params *p) {
   }
 }
 
-void pom_cli_dyn_params_text(FILE *out, const pom_dyn_params *p) {
+void pom_dyn_params_text(FILE *out, const pom_dyn_params *p) {
   const pom_dyn_param_info *schema = pom_dyn_param_schema();
   const char *const *groups = pom_dyn_param_groups();
   const pom_act_desc *kind = pom_act_kind_desc(p->actuator.kind);
@@ -76,7 +77,7 @@ void pom_cli_dyn_params_text(FILE *out, const pom_dyn_params *p) {
 }
 
 /* ---- controllers ------------------------------------------------------------ */
-void pom_cli_ctrl_json_members(FILE *out, const pom_dyn_controller *c) {
+void pom_dyn_ctrl_json_members(FILE *out, const pom_dyn_controller *c) {
   const pom_dyn_ctrl_type *t = pom_dyn_ctrl_of(c);
   fprintf(out, "\"type\": ");
   pom_json_string(out, t->name);
@@ -97,7 +98,7 @@ void pom_cli_ctrl_json_members(FILE *out, const pom_dyn_controller *c) {
 static const char *const state_kind_names[] = {"integral of q (m s or rad s)", "like q (m or rad)",
                                                "like q_dot (m/s or rad/s)", NULL};
 
-int pom_cli_list_controllers(FILE *out, int json) {
+void pom_dyn_ctrl_list(FILE *out, int json) {
   int n = pom_dyn_ctrl_type_count();
   if (json) fprintf(out, "{\n  \"controllers\": [\n");
   for (int k = 0; k < n; ++k) {
@@ -172,5 +173,4 @@ int pom_cli_list_controllers(FILE *out, int json) {
     }
   }
   if (json) fprintf(out, "  ]\n}\n");
-  return 0;
 }

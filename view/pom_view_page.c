@@ -1,9 +1,9 @@
-/* cli_view.c - writes the page of `pomlab view`: the scene as JSON (shapes
+/* pom_view_page.c - writes the page of `pomlab view`: the scene as JSON (shapes
  * of every body at home, body poses per frame from the platform rotation
  * through the architecture's kinematics, joints, actuators, a trace, a
- * workspace) between the page's script and style (cli/view/, embedded at
- * build time) and three.js, inlined (docs/view.md). */
-#include "cli_view.h"
+ * workspace) between the page's script and style (view/viewer.js and
+ * view/viewer.css, embedded at build time) and three.js, inlined (docs/view.md). */
+#include "pom_view.h"
 
 #include "pom_arch.h"
 #include "pom_math.h"
@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The page's script and style (generated from cli/view/ by embed.cmake). */
+/* The page's script and style (generated from view/ by embed.cmake). */
 extern const unsigned char pom_view_js[];
 extern const unsigned char pom_view_css[];
 

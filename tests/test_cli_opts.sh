@@ -1,0 +1,82 @@
+#!/usr/bin/env bash
+# test_cli_opts.sh - every command's options come from one table
+# (cli/cli_opts.h, docs/extending.md section 11): --help is generated from it
+# and lists every option, a value that is also a config key is refused by the
+# key's own check (the error names the option and the key), --name=value
+# works for every option with a value, and an unknown option is a usage
+# error (exit 2, the usage on stderr) for every command.
+# Usage: test_cli_opts.sh PATH/TO/pomlab SOURCE_DIR
+set -u
+POMLAB=$1
+SRC=$2
+. "$(dirname "$0")/cli_lib.sh"
+C="$SRC/configs"
+
+# --- generated --help: every documented option of every command ---------------------------
+declare -A options=(
+  [model]="--json --list-architectures --list-controllers"
+  [ik]="--euler-zyx --json"
+  [fk]="--q --json"
+  [workspace]="--map --json --quiet"
+  [simulate]="--target --json --out --controller --form --joints --orientation --linsol --kp --ki --kd --rtol"
+  [tune]="--out --json --quiet"
+  [synth]="--out --no-direct --json --quiet"
+  [montecarlo]="--n --seed --threads --out --tabular --json --quiet"
+  [study]="--threads --resume --out --stop-after --tabular --json --no-plots --no-summary --quiet"
+  [sensitivity]="--candidate --threads --out --resume --stop-after --json --no-plots --quiet"
+  [tradeoff]="--accuracy --maneuvers --repeats --csv --quiet"
+  [view]="-o --pose --trace --frame --frames --workspace --compare --png --mp4 --size --fps"
+)
+for cmd in "${!options[@]}"; do
+  expect_rc 0 "$POMLAB" "$cmd" --help
+  expect_in "$TMP/out" "usage: pomlab $cmd"
+  expect_in "$TMP/out" "  --help"
+  for o in ${options[$cmd]}; do
+    check "$cmd --help lists $o" grep -qE -- "^  $o( |\$)" "$TMP/out"
+  done
+  # an unknown option: exit 2, named, the usage on stderr
+  expect_rc 2 "$POMLAB" "$cmd" "$C/3pss.cfg" --no-such-option
+  expect_err "pomlab $cmd: unknown option '--no-such-option'"
+  expect_err "usage: pomlab $cmd"
+done
+# an option that sets a config key says so in --help
+"$POMLAB" simulate --help >"$TMP/help"
+expect_in "$TMP/help" "sets controller.kp"
+expect_in "$TMP/help" "sets solver.linear_solver"
+
+# --- values that are config keys: the key's own check --------------------------------------
+expect_rc 2 "$POMLAB" simulate "$C/3pss.cfg" --target 1,1,1 --kp -5
+expect_err "--kp"
+expect_err "controller.kp"
+expect_rc 2 "$POMLAB" simulate "$C/3pss.cfg" --target 1,1,1 --linsol lu
+expect_err "solver.linear_solver"
+expect_rc 2 "$POMLAB" montecarlo "$C/3pss.cfg" --n 1.5 --quiet
+expect_err "montecarlo.maneuvers"
+# tradeoff's counts: the range of tradeoff.maneuvers (1..16) and tradeoff.repeats
+expect_rc 2 "$POMLAB" tradeoff "$C/3pss.cfg" --maneuvers 17 --quiet
+expect_err "--maneuvers"
+expect_err "tradeoff.maneuvers"
+expect_rc 2 "$POMLAB" tradeoff "$C/3pss.cfg" --repeats 0 --quiet
+expect_err "tradeoff.repeats"
+# whole numbers of a command's own range name the option and the range
+expect_rc 2 "$POMLAB" view "$C/3pss.cfg" --frames 1 -o "$TMP/x.html"
+expect_err "--frames expects a whole number in [2, 400], got '1'"
+expect_rc 2 "$POMLAB" study "$SRC/tests/doe_study_small.cfg" --stop-after 0
+expect_err "--stop-after expects a whole number >= 1"
+expect_rc 2 "$POMLAB" study "$SRC/tests/doe_study_small.cfg" --threads 0
+expect_err "--threads '0': expected an integer in [1, 1024]"
+# a value missing at the end
+expect_rc 2 "$POMLAB" simulate "$C/3pss.cfg" --target
+expect_err "incomplete option '--target'"
+
+# --- --name=value, and the same output as --name value -------------------------------------
+expect_rc 0 "$POMLAB" simulate "$C/3pss.cfg" --target=1,2,3 --kp=120 --json
+grep -v wall_time "$TMP/out" >"$TMP/eq.json"
+expect_rc 0 "$POMLAB" simulate "$C/3pss.cfg" --target 1,2,3 --kp 120 --json
+check "--name=value reads as --name value" cmp -s "$TMP/eq.json" <(grep -v wall_time "$TMP/out")
+expect_rc 0 "$POMLAB" ik "$C/3pss.cfg" --euler-zyx=5,-3,2
+
+# --- the multi-config commands: at most 4 configs ------------------------------------------
+expect_rc 2 "$POMLAB" tune "$C/3pss.cfg" "$C/3pss.cfg" "$C/3pss.cfg" "$C/3pss.cfg" "$C/3pss.cfg"
+expect_err "at most 4 configs"
+finish test_cli_opts
