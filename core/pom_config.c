@@ -31,7 +31,7 @@ struct pom_cfg {
   /* settings given on the command line and the option that gave them */
   int n_overrides;
   const config_setting_t *override_setting[MAX_OVERRIDES];
-  char override_origin[MAX_OVERRIDES][32];
+  char override_origin[MAX_OVERRIDES][64];
   /* the main file and every @include read, as opened (owned) */
   int n_files;
   char *files[MAX_FILES];
