@@ -44,6 +44,7 @@ size_t pom_api_struct_size(const char *name) {
 /* ---- registries ---------------------------------------------------------------- */
 pom_status pom_api_arch_type_info(int k, const char **name, const char **label,
                                   const char **actuator_kind) {
+  /* every output optional (NULL = not wanted) */
   const pom_kin_arch_type *t = pom_kin_arch_type_at(k);
   if (!t) return POM_ERR_ARG;
   if (name) *name = pom_kin_type_name(t);
@@ -63,16 +64,15 @@ pom_status pom_api_ctrl_type_info(int k, const char **name, const char **label,
 }
 
 /* ---- kinematics ------------------------------------------------------------------ */
-/* The groups `pomlab ik` and `pomlab fk` read (cli/cli_kin.c). */
-static const char *const kin_scopes[] = {"name", "architecture", "geometry", "limits", NULL};
-
 pom_status pom_api_arch_create(pom_kin_arch **out, const pom_cfg *cfg, pom_error *err) {
   if (!out || !cfg) POM_FAIL(err, POM_ERR_ARG, "pom_api_arch_create: NULL argument");
   *out = NULL;
   pom_kin_arch *arch = calloc(1, sizeof *arch);
   if (!arch) POM_FAIL(err, POM_ERR_NOMEM, "pom_api_arch_create: out of memory");
   pom_status st = pom_kin_arch_load(arch, cfg, err);
-  if (st == POM_OK) st = pom_cfg_check_unknown(cfg, kin_scopes, NULL, err);
+  /* the overrides of the workspace groups are pom_api_workspace's to read */
+  const char *const *const scopes[] = {pom_kin_arch_groups(), NULL};
+  if (st == POM_OK) st = pom_api_check_keys(cfg, scopes, pom_kin_ws_groups(), err);
   if (st != POM_OK) {
     free(arch);
     return st;
@@ -86,13 +86,14 @@ void pom_api_arch_destroy(pom_kin_arch *arch) {
 }
 
 const char *pom_api_arch_actuator_unit(const pom_kin_arch *arch, double *to_display) {
+  if (!arch) return NULL;
   const pom_act_desc *u = pom_act_kind_desc(pom_kin_type_actuator(arch->type));
   if (to_display) *to_display = u->to_display;
   return u->si;
 }
 
 const char *pom_api_arch_limit_key(const pom_kin_arch *arch, int kind, double *to_display) {
-  if (kind < 1 || kind >= POM_KIN_LIM_KINDS) return NULL;
+  if (!arch || kind < 1 || kind >= POM_KIN_LIM_KINDS) return NULL;
   const pom_kin_limit_desc *ld = &arch->type->limits[kind];
   if (!ld->name) return NULL;
   if (to_display) *to_display = ld->to_display;
@@ -105,6 +106,8 @@ pom_status pom_api_workspace(const pom_kin_arch *arch, const pom_cfg *cfg, pom_k
   pom_kin_ws_opts o;
   pom_kin_ws_defaults(&o);
   POM_TRY(pom_kin_ws_load(&o, cfg, err));
+  const char *const *const scopes[] = {pom_kin_arch_groups(), pom_kin_ws_groups(), NULL};
+  POM_TRY(pom_api_check_keys(cfg, scopes, NULL, err));
   POM_TRY(pom_kin_workspace(arch, &o, res, err));
   if (res->half_width < 0.0)
     POM_FAIL(err, POM_ERR_UNREACHABLE, "workspace: the home pose itself fails (%s)",
@@ -126,11 +129,6 @@ struct pom_api_sim {
   int ran;                 /* 1 once a maneuver ran */
 };
 
-/* Every group `pomlab simulate` reads (cli/cmd_simulate.c). */
-static const char *const sim_scopes[] = {"name",    "architecture", "geometry",   "limits",
-                                         "inertia", "actuator",     "controller", "joints",
-                                         "scene",   "solver",       "maneuver",   NULL};
-
 pom_status pom_api_sim_create(pom_api_sim **out, const pom_cfg *cfg, int traces, pom_error *err) {
   if (!out || !cfg) POM_FAIL(err, POM_ERR_ARG, "pom_api_sim_create: NULL argument");
   *out = NULL;
@@ -141,7 +139,9 @@ pom_status pom_api_sim_create(pom_api_sim **out, const pom_cfg *cfg, int traces,
   POM_TRY_GOTO(pom_kin_mechanism_build(&s->mech, &s->arch, cfg, err), fail);
   pom_dyn_params_defaults(&s->par);
   POM_TRY_GOTO(pom_dyn_params_load(&s->par, cfg, err), fail);
-  POM_TRY_GOTO(pom_cfg_check_unknown(cfg, sim_scopes, NULL, err), fail);
+  /* every group `pomlab simulate` reads, checked as it checks them */
+  const char *const *const scopes[] = {pom_kin_model_groups(), pom_dyn_param_groups(), NULL};
+  POM_TRY_GOTO(pom_api_check_keys(cfg, scopes, NULL, err), fail);
   POM_TRY_GOTO(pom_dyn_model_create(&s->model, &s->mech, &s->arch, &s->par, err), fail);
   POM_TRY_GOTO(pom_dyn_data_create(&s->data, s->model, err), fail);
   if (traces) POM_TRY_GOTO(pom_dyn_trace_create(&s->trace, s->model, err), fail);
@@ -175,14 +175,18 @@ pom_status pom_api_sim_run(pom_api_sim *sim, const double target[3], pom_error *
 }
 
 const char *pom_api_sim_name(const pom_api_sim *sim) {
-  return sim->arch.name;
+  return sim ? sim->arch.name : NULL;
 }
 
 double pom_api_sim_half_stroke(const pom_api_sim *sim) {
-  return 0.5 * sim->arch.stroke;
+  return sim ? 0.5 * sim->arch.stroke : NAN;
 }
 
 pom_status pom_api_sim_status(const pom_api_sim *sim, const char **reason) {
+  if (!sim) {
+    if (reason) *reason = "no simulation (NULL)";
+    return POM_ERR_ARG;
+  }
   if (reason) *reason = sim->ran ? sim->metrics.reason : "no maneuver run";
   return sim->ran ? sim->metrics.status : POM_ERR_ARG;
 }
@@ -205,7 +209,7 @@ int pom_api_metric_is_integer(int j) {
 }
 
 int pom_api_sim_metric(const pom_api_sim *sim, int j, double v[3]) {
-  if (!sim || j < 0 || j >= POM_DYN_N_METRICS) return 0;
+  if (!sim || !v || j < 0 || j >= POM_DYN_N_METRICS) return 0;
   const pom_dyn_metric_info *mi = pom_dyn_metric(j);
   for (int k = 0; k < mi->count; ++k)
     v[k] = sim->ran ? pom_dyn_metric_value(&sim->metrics, mi, k) : NAN;
@@ -242,6 +246,7 @@ const double *pom_api_sim_trace(const pom_api_sim *sim, const char *name, int *w
 
 /* ---- Monte-Carlo runs and studies ---------------------------------------------------- */
 void pom_api_study_defaults(pom_api_study_opts *o) {
+  if (!o) return;
   memset(o, 0, sizeof *o);
   o->output = "";
   o->tabular = "";
@@ -268,19 +273,22 @@ pom_status pom_api_study_run(const pom_cfg *cfg, const pom_api_study_opts *o, lo
   if (!cfg || !o) POM_FAIL(err, POM_ERR_ARG, "pom_api_study_run: NULL argument");
   if (!o->output || !o->output[0])
     POM_FAIL(err, POM_ERR_ARG, "pom_api_study_run: a results file (output) is required");
+  POM_TRY(pom_api_check_threads(o->threads, "pom_api_study_opts.threads", err));
   pom_status st = POM_OK;
   pom_doe_study study;
   memset(&study, 0, sizeof study);
   pom_doe_run *run = NULL;
   pom_doe_report *rep = NULL;
   if (o->montecarlo) {
-    static const char *const own[] = {"montecarlo", NULL};
+    const char *const *const own[] = {pom_doe_montecarlo_groups(), NULL};
     if (pom_cfg_has(cfg, "candidates") || pom_cfg_has(cfg, "study"))
       POM_FAIL(err, POM_ERR_CONFIG, "%s is a study file: run it as a study", pom_cfg_path(cfg));
     POM_TRY_GOTO(pom_doe_study_single(&study, cfg, pom_doe_dyn_evaluator_create, NULL, err), done);
-    POM_TRY_GOTO(pom_cfg_check_unknown(cfg, own, NULL, err), done);
+    POM_TRY_GOTO(pom_api_check_keys(cfg, own, NULL, err), done);
   } else {
     POM_TRY_GOTO(pom_doe_study_load(&study, cfg, pom_pipeline_evaluator_create, NULL, err), done);
+    const char *const *const own[] = {pom_doe_study_groups(), NULL};
+    POM_TRY_GOTO(pom_api_check_keys(cfg, own, NULL, err), done);
     char prefix[POM_DOE_PATH_LEN + 2];
     pipeline_prefix(prefix, sizeof prefix, o->output);
     pom_pipeline_options po;

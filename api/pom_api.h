@@ -35,6 +35,43 @@ void pom_api_quiet_handlers(void);
  * compare its size with this before using it. */
 size_t pom_api_struct_size(const char *name);
 
+/* ---- the NULL rule ----------------------------------------------------------- *
+ * Every function of this header (and the pom_cfg_* calls of docs/api.md
+ * section 3 that a binding uses) takes NULL in any pointer argument without
+ * crashing: a NULL that stands for an object or an input (a handle, a
+ * config, a key, a path, a text, an array to fill) is refused, with
+ * POM_ERR_ARG and err's message when the function returns a pom_status,
+ * else with its "nothing" value (NULL for a pointer, 0 for a count or a
+ * size, NaN for a number, no effect for a void function); an output its
+ * comment calls optional may be NULL, and `err` always may
+ * (docs/api.md section 2; tests/test_api_null.c calls every function so). */
+
+/* ---- checks shared with the program ------------------------------------------- */
+
+/* Largest worker-thread count (the range of study.threads and of the
+ * program's --threads). */
+#define POM_API_THREADS_MAX 1024
+
+/* Every top-level config name any pomlab command understands, assembled
+ * from the lists the libraries export (pom_kin_model_groups(),
+ * pom_dyn_param_groups(), pom_doe_study_groups(), ...) into g. */
+pom_status pom_api_known_groups(pom_cfg_groups *g, pom_error *err);
+
+/* The unknown-key check of a command: unknown keys under the groups of
+ * `scopes` (a NULL-terminated array of the libraries' NULL-terminated group
+ * lists: the groups the command reads), any top-level name no command
+ * understands (pom_api_known_groups), then every override (pom_cfg_set_*)
+ * that nobody read (pom_cfg_check_overrides; those under the top-level
+ * names of `later`, NULL = none, are left to a later call that reads them).
+ * Call it once the command's readers have run. */
+pom_status pom_api_check_keys(const pom_cfg *cfg, const char *const *const scopes[],
+                              const char *const *later, pom_error *err);
+
+/* A worker-thread count: 0 (the study's study.threads, else every core) or
+ * 1..POM_API_THREADS_MAX; POM_ERR_ARG naming `origin` (e.g. "--threads";
+ * NULL = "threads") and the value otherwise. */
+pom_status pom_api_check_threads(long threads, const char *origin, pom_error *err);
+
 /* ---- registries ------------------------------------------------------------ */
 
 /* Registered architecture k (0-based, pom_kin_arch_type_at): its config name
@@ -54,8 +91,10 @@ pom_status pom_api_ctrl_type_info(int k, const char **name, const char **label,
 
 /* Loads the architecture of cfg (pom_kin_arch_load) into a new heap copy the
  * caller frees with pom_api_arch_destroy. Unknown keys in the groups the
- * kinematics reads (name, architecture, geometry, limits) are errors, as in
- * `pomlab ik`. */
+ * kinematics reads (name, architecture, geometry, limits), unknown top-level
+ * names and overrides nobody read are errors, as in `pomlab ik`
+ * (pom_api_check_keys; the overrides of the `workspace` group are left to
+ * pom_api_workspace). */
 pom_status pom_api_arch_create(pom_kin_arch **out, const pom_cfg *cfg, pom_error *err);
 
 /* Frees an architecture from pom_api_arch_create; NULL allowed. */
@@ -88,8 +127,9 @@ pom_status pom_api_workspace(const pom_kin_arch *arch, const pom_cfg *cfg, pom_k
 typedef struct pom_api_sim pom_api_sim;
 
 /* Builds the simulation of cfg as `pomlab simulate` does (unknown keys in the
- * groups it reads are errors). traces = 1 also allocates the traces of every
- * run. The caller frees *out with pom_api_sim_destroy. */
+ * groups it reads, unknown top-level names and overrides it does not read,
+ * such as montecarlo.* or workspace.*, are errors: pom_api_check_keys). traces = 1 also allocates
+ * the traces of every run. The caller frees *out with pom_api_sim_destroy. */
 pom_status pom_api_sim_create(pom_api_sim **out, const pom_cfg *cfg, int traces, pom_error *err);
 
 /* Frees a simulation; NULL allowed. */
@@ -103,8 +143,8 @@ void pom_api_sim_destroy(pom_api_sim *sim);
 pom_status pom_api_sim_run(pom_api_sim *sim, const double target[3], pom_error *err);
 
 /* Name of the mechanism (config `name`), half the stroke (SI), and the status
- * and reason of the last run (reason "" when it succeeded); static or owned
- * by sim. */
+ * and reason of the last run (reason "" when it succeeded, and may be NULL);
+ * static or owned by sim. For a NULL sim: NULL, NaN, and POM_ERR_ARG. */
 const char *pom_api_sim_name(const pom_api_sim *sim);
 double pom_api_sim_half_stroke(const pom_api_sim *sim);
 pom_status pom_api_sim_status(const pom_api_sim *sim, const char **reason);
@@ -135,14 +175,15 @@ const double *pom_api_sim_trace(const pom_api_sim *sim, const char *name, int *w
 /* Options of pom_api_study_run. */
 typedef struct {
   int montecarlo;      /* 1: cfg describes one mechanism (`pomlab montecarlo`); 0: a study file */
-  int threads;         /* worker threads; 0 = study.threads, else every core */
+  int threads;         /* worker threads, 0..POM_API_THREADS_MAX; 0 = study.threads, else every
+                          core */
   int resume;          /* 1: continue an interrupted results file of the same study */
   const char *output;  /* HDF5 results file to write (required) */
   const char *tabular; /* CSV of the rows, one per candidate x maneuver, and its
                           _candidates.csv (NULL or "" = none) */
 } pom_api_study_opts;
 
-/* Defaults: a study, every core, no resume, no files. */
+/* Defaults: a study, every core, no resume, no files (o NULL: nothing). */
 void pom_api_study_defaults(pom_api_study_opts *o);
 
 /* Runs a Monte-Carlo run or a whole study (synthesis and tuning first when

@@ -31,7 +31,7 @@ struct pom_cfg {
   /* settings given on the command line and the option that gave them */
   int n_overrides;
   const config_setting_t *override_setting[MAX_OVERRIDES];
-  char override_origin[MAX_OVERRIDES][32];
+  char override_origin[MAX_OVERRIDES][64];
   /* the main file and every @include read, as opened (owned) */
   int n_files;
   char *files[MAX_FILES];
@@ -710,6 +710,7 @@ static pom_cfg *cfg_alloc(const char *path) {
 
 pom_status pom_cfg_load(pom_cfg **out, const char *path, pom_error *err) {
   pom_status st = POM_OK;
+  if (!out || !path) POM_FAIL(err, POM_ERR_ARG, "pom_cfg_load: NULL argument");
   *out = NULL;
   char *parsed = NULL;
   pom_cfg *cfg = cfg_alloc(path);
@@ -751,6 +752,7 @@ fail:
 
 pom_status pom_cfg_load_string(pom_cfg **out, const char *text, const char *name, pom_error *err) {
   pom_status st = POM_OK;
+  if (!out || !text || !name) POM_FAIL(err, POM_ERR_ARG, "pom_cfg_load_string: NULL argument");
   *out = NULL;
   pom_cfg *cfg = cfg_alloc(name);
   if (!cfg) POM_FAIL(err, POM_ERR_NOMEM, "loading config '%s'", name);
@@ -1130,18 +1132,68 @@ static int in_list(const char *name, const char *const list[]) {
   return 0;
 }
 
+/* The first override at or below s (NULL when none): a group an override
+ * made is reported by the value that made it. */
+static config_setting_t *override_below(const pom_cfg *cfg, config_setting_t *s) {
+  if (override_origin(cfg, s)) return s;
+  if (!config_setting_is_group(s)) return NULL;
+  int n = config_setting_length(s);
+  for (int k = 0; k < n; ++k) {
+    config_setting_t *o = override_below(cfg, config_setting_get_elem(s, (unsigned int)k));
+    if (o) return o;
+  }
+  return NULL;
+}
+
 pom_status pom_cfg_check_unknown(const pom_cfg *cfg, const char *const scopes[],
                                  const char *const known_top[], pom_error *err) {
+  if (!cfg) POM_FAIL(err, POM_ERR_ARG, "pom_cfg_check_unknown: NULL argument");
   config_setting_t *root = config_root_setting(&cfg->lc);
   int n = config_setting_length(root);
   for (int k = 0; k < n; ++k) {
     config_setting_t *s = config_setting_get_elem(root, (unsigned int)k);
     const char *name = config_setting_name(s);
+    config_setting_t *o = config_setting_source_line(s) == 0 ? override_below(cfg, s) : NULL;
+    if (known_top && !in_list(name, known_top) && o) {
+      char path[512];
+      setting_path(o, path, sizeof path);
+      return setting_error(cfg, o, path, err,
+                           "unknown top-level key '%s' (check its spelling against "
+                           "docs/config.md)",
+                           name);
+    }
     if (known_top && !in_list(name, known_top))
       return setting_error(cfg, s, name, err,
                            "unknown top-level key (check its spelling against docs/config.md)");
     if (scopes && !in_list(name, scopes)) continue;
     POM_TRY(find_unused(cfg, s, err));
+  }
+  return POM_OK;
+}
+
+pom_status pom_cfg_check_overrides(const pom_cfg *cfg, const char *const scopes[],
+                                   const char *const skip[], pom_error *err) {
+  if (!cfg) POM_FAIL(err, POM_ERR_ARG, "pom_cfg_check_overrides: NULL argument");
+  for (int k = 0; k < cfg->n_overrides; ++k) {
+    const config_setting_t *s = cfg->override_setting[k];
+    if (!s || config_setting_get_hook(s) == (void *)cfg) continue;
+    char path[512], top[512], list[512];
+    setting_path(s, path, sizeof path);
+    snprintf(top, sizeof top, "%s", path);
+    char *dot = strchr(top, '.');
+    if (dot) *dot = '\0';
+    if (skip && in_list(top, skip)) continue;
+    if (!scopes || in_list(top, scopes))
+      return setting_error(cfg, s, path, err,
+                           "unknown key (not used by this command; check its spelling against "
+                           "docs/config.md)");
+    list[0] = '\0';
+    for (int j = 0; scopes[j]; ++j) {
+      size_t used = strlen(list);
+      snprintf(list + used, sizeof list - used, "%s%s", j ? ", " : "", scopes[j]);
+    }
+    return setting_error(cfg, s, path, err,
+                         "not read by this command: it reads the groups %s, not '%s'", list, top);
   }
   return POM_OK;
 }
@@ -1157,8 +1209,35 @@ static void forget_override(pom_cfg *cfg, const config_setting_t *s) {
 static pom_status set_override(pom_cfg *cfg, const char *key, int type, long long iv, double rv,
                                const char *sv, const char *origin, pom_error *err);
 
+/* A key an override may set: names as libconfig spells them (a letter or
+ * '*', then letters, digits, '-', '_', '*'), joined by single dots. */
+static pom_status check_override_key(const char *key, const char *origin, pom_error *err) {
+  size_t n = strlen(key);
+  int ok = n > 0 && n < 512;
+  for (const char *c = key, *start = key; ok && c <= key + n; ++c) {
+    if (*c == '.' || *c == '\0') {
+      ok = c > start; /* no empty name */
+      start = c + 1;
+    } else if (c == start) {
+      ok = (*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') || *c == '*';
+    } else {
+      ok = (*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') || is_digit(*c) || *c == '-' ||
+           *c == '_' || *c == '*';
+    }
+  }
+  if (!ok)
+    POM_FAIL(err, POM_ERR_CONFIG,
+             "command line %s: key '%s': not a config key (names of letters, digits, '-' and "
+             "'_', starting with a letter, joined by single dots: \"controller.kp\")",
+             origin, key);
+  return POM_OK;
+}
+
 pom_status pom_cfg_set_number(pom_cfg *cfg, const char *key, const char *text, const char *origin,
                               pom_error *err) {
+  if (!cfg || !key || !text || !origin)
+    POM_FAIL(err, POM_ERR_ARG, "pom_cfg_set_number: NULL argument");
+  POM_TRY(check_override_key(key, origin, err));
   /* the number as written: an integer (64-bit, never wrapped) or a real */
   const char *d = text + (text[0] == '-' || text[0] == '+');
   int integer = is_digit(d[0]);
@@ -1187,6 +1266,8 @@ pom_status pom_cfg_set_number(pom_cfg *cfg, const char *key, const char *text, c
 
 pom_status pom_cfg_set_string(pom_cfg *cfg, const char *key, const char *text, const char *origin,
                               pom_error *err) {
+  if (!cfg || !key || !text || !origin)
+    POM_FAIL(err, POM_ERR_ARG, "pom_cfg_set_string: NULL argument");
   return set_override(cfg, key, CONFIG_TYPE_STRING, 0, 0.0, text, origin, err);
 }
 
@@ -1194,6 +1275,7 @@ pom_status pom_cfg_set_string(pom_cfg *cfg, const char *key, const char *text, c
  * an override from `origin`. */
 static pom_status set_override(pom_cfg *cfg, const char *key, int type, long long iv, double rv,
                                const char *sv, const char *origin, pom_error *err) {
+  POM_TRY(check_override_key(key, origin, err));
   if (cfg->n_overrides == MAX_OVERRIDES)
     POM_FAIL(err, POM_ERR_ARG, "command line %s: more than %d values set on the command line",
              origin, MAX_OVERRIDES);

@@ -142,12 +142,24 @@ pom_status pom_cfg_groups_add(pom_cfg_groups *g, const char *const *names, pom_e
 pom_status pom_cfg_check_unknown(const pom_cfg *cfg, const char *const scopes[],
                                  const char *const known_top[], pom_error *err);
 
+/* Rejects values set by pom_cfg_set_number / pom_cfg_set_string (overrides)
+ * that nobody read: under a top-level name of `scopes` (NULL = every name)
+ * as an unknown key, elsewhere as a group this command does not read
+ * (naming the groups it does); those under a top-level name of `skip`
+ * (NULL = none) are left to a later check. Call it once every reader has
+ * run: a command-line value or a binding's override that changes nothing is
+ * an error, like a misspelt key in a file. */
+pom_status pom_cfg_check_overrides(const pom_cfg *cfg, const char *const scopes[],
+                                   const char *const skip[], pom_error *err);
+
 /* Sets `key` (dotted; missing groups are created, an existing value is
  * replaced) to the number written in `text`, as if the file said so: an
  * integer (64-bit, refused when it does not fit) or a finite real. The
  * getters then check it like any other value, and their messages name the
  * command-line option `origin` (e.g. "--seed") instead of a file line.
- * Call it after load and before the getters. */
+ * Call it after load and before the getters. A key that is not a dotted
+ * config name ("", "controller. kp", "a..b") is refused (POM_ERR_CONFIG,
+ * naming it). */
 pom_status pom_cfg_set_number(pom_cfg *cfg, const char *key, const char *text, const char *origin,
                               pom_error *err);
 

@@ -27,12 +27,12 @@ cmake --build build-asan -j"$(nproc)"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build-asan --output-on-failure -j2 -LE browser
 
-echo "== fuzz targets: config loading and a study's setup (libFuzzer, docs/fuzzing.md) =="
+echo "== fuzz targets: config loading, a study's setup, the flat C layer's overrides (libFuzzer, docs/fuzzing.md) =="
 # Only the fuzz targets and the libraries they use are built; each runs for
 # POM_FUZZ_TIME seconds (20) from the shipped and test configs.
 cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPOM_FUZZ=ON \
   -DPOM_WERROR=ON >/dev/null
-cmake --build build-fuzz -j"$(nproc)" --target fuzz_config fuzz_study
+cmake --build build-fuzz -j"$(nproc)" --target fuzz_config fuzz_study fuzz_api
 ctest --test-dir build-fuzz --output-on-failure -L fuzz -j2
 
 echo "== MPI build: 2-rank study against the threaded run =="

@@ -12,3 +12,10 @@ if(NOT POM_SANITIZE)
   set_tests_properties(test_python PROPERTIES ENVIRONMENT
     "POMLAB_LIBRARY=$<TARGET_FILE:libpomlab>;PYTHONPATH=${CMAKE_SOURCE_DIR}/python;POMLAB_PROGRAM=$<TARGET_FILE:pomlab>")
 endif()
+# The NULL rule (docs/api.md section 2): every public function with NULL in
+# each pointer argument, and a check that the test calls every function of
+# pom_api.h and every config call docs/api.md lists.
+pom_add_test(test_api_null test_api_null.c)
+target_link_libraries(test_api_null PRIVATE pom_api)
+add_test(NAME test_api_null_list
+  COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/check_api_null.py ${CMAKE_SOURCE_DIR})

@@ -157,6 +157,62 @@ static void test_simulate(void) {
   pom_cfg_destroy(cfg);
 }
 
+/* Overrides are checked as the file's keys are (docs/api.md section 2): a
+ * misspelt group, a name no command knows, or a group the call does not
+ * read is refused, naming the override. */
+static pom_status sim_with(const char *key, const char *value, pom_error *err) {
+  pom_cfg *cfg = NULL;
+  pom_api_sim *sim = NULL;
+  pom_status st = pom_cfg_load(&cfg, cfg_3pss, err);
+  if (st == POM_OK) st = pom_cfg_set_number(cfg, key, value, "override test", err);
+  if (st == POM_OK) st = pom_api_sim_create(&sim, cfg, 0, err);
+  pom_api_sim_destroy(sim);
+  pom_cfg_destroy(cfg);
+  return st;
+}
+
+static void test_overrides(void) {
+  pom_error err;
+  pom_error_clear(&err);
+  check_true(sim_with("controller.kp", "5000", &err) == POM_OK);
+  check_true(sim_with("contoller.kp", "5", &err) == POM_ERR_CONFIG);
+  check_true(strstr(err.message, "contoller.kp") && strstr(err.message, "unknown top-level"));
+  check_true(strstr(err.message, "override test") != NULL);
+  check_true(sim_with("nosuch.key", "1", &err) == POM_ERR_CONFIG);
+  check_true(strstr(err.message, "nosuch.key") != NULL);
+  check_true(sim_with("controller.kpp", "1", &err) == POM_ERR_CONFIG);
+  check_true(strstr(err.message, "controller.kpp") != NULL);
+  /* groups another command reads: nothing here would read them */
+  check_true(sim_with("montecarlo.maneuvers", "5", &err) == POM_ERR_CONFIG);
+  check_true(strstr(err.message, "montecarlo.maneuvers") && strstr(err.message, "not read"));
+  check_true(sim_with("workspace.resolution_deg", "0.5", &err) == POM_ERR_CONFIG);
+  check_true(strstr(err.message, "workspace.resolution_deg") != NULL);
+  /* keys that are no config names: a config error naming them */
+  const char *bad[] = {"", "controller. kp", "controller..kp", ".kp", "controller.kp.", "9a"};
+  for (size_t k = 0; k < sizeof bad / sizeof bad[0]; ++k) {
+    check_true(sim_with(bad[k], "1", &err) == POM_ERR_CONFIG);
+    check_true(strstr(err.message, "not a config key") != NULL);
+  }
+  /* the architecture leaves the workspace group to pom_api_workspace, which
+   * reads it; a Monte-Carlo key is read by neither */
+  pom_cfg *cfg = NULL;
+  pom_kin_arch *arch = NULL;
+  pom_kin_ws_result res;
+  double out[3];
+  check_true(pom_cfg_load(&cfg, cfg_3pss, &err) == POM_OK);
+  check_true(pom_cfg_set_number(cfg, "workspace.resolution_deg", "2.385", "o", &err) == POM_OK);
+  check_true(pom_api_arch_create(&arch, cfg, &err) == POM_OK);
+  check_true(pom_cfg_set_number(cfg, "workspace.no_such_key", "1", "o", &err) == POM_OK);
+  check_true(pom_api_workspace(arch, cfg, &res, out, &err) == POM_ERR_CONFIG);
+  check_true(strstr(err.message, "workspace.no_such_key") != NULL);
+  pom_api_arch_destroy(arch);
+  arch = NULL;
+  check_true(pom_cfg_set_number(cfg, "montecarlo.seed", "7", "o", &err) == POM_OK);
+  check_true(pom_api_arch_create(&arch, cfg, &err) == POM_ERR_CONFIG);
+  check_true(arch == NULL && strstr(err.message, "montecarlo.seed") != NULL);
+  pom_cfg_destroy(cfg);
+}
+
 static void test_study(void) {
   pom_error err;
   pom_error_clear(&err);
@@ -170,6 +226,15 @@ static void test_study(void) {
   o.threads = 2;
   /* no results file: refused */
   check_true(pom_api_study_run(cfg, &o, NULL, NULL, &err) == POM_ERR_ARG);
+  /* thread counts the program refuses */
+  o.output = "unused.h5";
+  const int bad_threads[] = {-1, -5, POM_API_THREADS_MAX + 1, 1000000};
+  for (int k = 0; k < 4; ++k) {
+    o.threads = bad_threads[k];
+    check_true(pom_api_study_run(cfg, &o, NULL, NULL, &err) == POM_ERR_ARG);
+    check_true(strstr(err.message, "threads") != NULL);
+  }
+  o.threads = 2;
   char dir[] = "/tmp/pom_test_api_XXXXXX";
   check_true(mkdtemp(dir) != NULL);
   char h5[128], csv[128], cand[160];
@@ -187,6 +252,18 @@ static void test_study(void) {
     lines += c == '\n';
   if (f) fclose(f);
   check_true(lines == 7); /* header and 6 rows */
+  /* overrides the Monte-Carlo run does not read are refused, as in a file */
+  const char *unread[][2] = {
+      {"contoller.kp", "5"}, {"nosuch.key", "1"}, {"workspace.resolution_deg", "1"}};
+  for (int k = 0; k < 3; ++k) {
+    pom_cfg *c2 = NULL;
+    check_true(pom_cfg_load(&c2, cfg_3pss, &err) == POM_OK);
+    check_true(pom_cfg_set_number(c2, "montecarlo.maneuvers", "2", "test", &err) == POM_OK);
+    check_true(pom_cfg_set_number(c2, unread[k][0], unread[k][1], "test", &err) == POM_OK);
+    check_true(pom_api_study_run(c2, &o, NULL, NULL, &err) == POM_ERR_CONFIG);
+    check_true(strstr(err.message, unread[k][0]) != NULL);
+    pom_cfg_destroy(c2);
+  }
   /* a mechanism config is not a study; a study file is not a Monte-Carlo run */
   o.montecarlo = 0;
   check_true(pom_api_study_run(cfg, &o, NULL, NULL, &err) != POM_OK);
@@ -205,6 +282,7 @@ int main(void) {
   test_registries();
   test_kinematics();
   test_simulate();
+  test_overrides();
   test_study();
   return check_summary("test_api");
 }

@@ -212,6 +212,78 @@ def test_errors(tmp_path):
     assert not [d for d in set(os.listdir(tempfile.gettempdir())) - before if d.startswith("pomlab-")]
 
 
+def refused(status, *words, call):
+    """call() raises PomlabError with status and a message naming every word."""
+    with pytest.raises(pomlab.PomlabError) as e:
+        call()
+    assert e.value.status == status, e.value
+    for w in words:
+        assert w in e.value.message, (w, e.value.message)
+
+
+@pytest.mark.parametrize(
+    "key, words",
+    [
+        ("contoller.kp", ("contoller.kp", "unknown top-level key")),
+        ("nosuch.key", ("nosuch.key", "unknown top-level key")),
+        ("controller.kpp", ("controller.kpp", "unknown key")),
+        ("montecarlo.maneuvers", ("montecarlo.maneuvers", "not read")),
+        ("workspace.resolution_deg", ("workspace.resolution_deg", "not read")),
+    ],
+)
+def test_overrides_checked_as_file_keys(key, words):
+    """docs/python.md section 2: an override nobody reads is refused, as the
+    same key in a file would be (issue 31 item 5)."""
+    refused("POM_ERR_CONFIG", *words, call=lambda: pomlab.simulate(CFG["3pss"], (1e-3, 0, 0), traces=False,
+                                                                    overrides={key: 5}))
+    if not key.startswith("montecarlo"):
+        refused("POM_ERR_CONFIG", key, call=lambda: pomlab.montecarlo(CFG["3pss"], n=2, threads=1,
+                                                                       overrides={key: 5}))
+    if key.startswith(("contoller", "nosuch", "montecarlo")):
+        refused("POM_ERR_CONFIG", key, call=lambda: pomlab.ik(CFG["3pss"], (0, 0, 0), overrides={key: 5}))
+
+
+def test_nul_bytes_refused(tmp_path):
+    """A NUL byte would cut a C string short: refused before the library
+    (docs/fuzzing.md; issue 31 item 7)."""
+    sim = lambda cfg, **kw: pomlab.simulate(cfg, (1e-3, 0, 0), traces=False, **kw)
+    refused("POM_ERR_ARG", "NUL", call=lambda: sim(CFG["3pss"], overrides={"controller.kp\x00junk": 5000}))
+    refused("POM_ERR_ARG", "NUL", call=lambda: sim(CFG["3pss"], overrides={"joints.model": "rigid\x00x"}))
+    refused("POM_ERR_ARG", "NUL", call=lambda: sim(CFG["3pss"] + "\x00.cfg"))
+    with open(CFG["3pss"]) as f:
+        text = f.read()
+    k = text.index("controller = {")
+    refused("POM_ERR_ARG", "NUL", call=lambda: sim(pomlab.Config(text=text[:k] + "\x00" + text[k:])))
+    refused("POM_ERR_ARG", "NUL", call=lambda: sim(pomlab.Config(text=text, name="a\x00b")))
+    refused("POM_ERR_ARG", "NUL", call=lambda: pomlab.load(text=text, overrides={"controller\x00": {"kp": 1}}))
+
+
+def test_lenient_arguments_refused():
+    """Arguments the program refuses are refused alike, naming the key
+    (issue 31 item 10); numpy scalars are numbers."""
+    base = pomlab.simulate(CFG["3pss"], (1e-3, 0, 0), traces=False, overrides={"controller.kp": 5000})
+    for v in (np.int64(5000), np.int32(5000), np.float64(5000.0), np.float32(5000.0)):
+        got = pomlab.simulate(CFG["3pss"], (1e-3, 0, 0), traces=False, overrides={"controller.kp": v})
+        assert got["execution_time_s"] == base["execution_time_s"] or (
+            math.isnan(got["execution_time_s"]) and math.isnan(base["execution_time_s"])
+        )
+    sim = lambda ov: pomlab.simulate(CFG["3pss"], (1e-3, 0, 0), traces=False, overrides=ov)
+    refused("POM_ERR_ARG", "controller.kp", call=lambda: sim({"controller.kp": True}))
+    refused("POM_ERR_ARG", "controller.kp", call=lambda: sim({"controller.kp": np.bool_(True)}))
+    refused("POM_ERR_ARG", "controller.kp", call=lambda: sim({"controller.kp": None}))
+    for key in ("", "controller. kp", "controller..kp", "controller.kp."):
+        refused("POM_ERR_CONFIG", "not a config key", call=lambda: sim({key: 1}))
+    mc = lambda **kw: pomlab.montecarlo(CFG["3pss"], **kw)
+    refused("POM_ERR_CONFIG", "montecarlo.maneuvers", call=lambda: mc(n=1.5, threads=1))
+    refused("POM_ERR_ARG", "montecarlo.maneuvers", call=lambda: mc(n=True, threads=1))
+    refused("POM_ERR_CONFIG", "montecarlo.seed", call=lambda: mc(n=2, seed=1.5, threads=1))
+    for t in (-1, 10**6, 1.5, True, 2**80):
+        refused("POM_ERR_ARG", "threads", call=lambda: mc(n=2, threads=t))
+        refused("POM_ERR_ARG", "threads", call=lambda: pomlab.study(CFG["3pss"], n=2, threads=t))
+    r = mc(n=np.int64(2), seed=np.int64(7), threads=np.int64(1))
+    assert len(r.rows) == 2
+
+
 # ---- threads --------------------------------------------------------------------------
 
 

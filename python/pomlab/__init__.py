@@ -16,6 +16,7 @@ not settle, a solver failure) are data in the returned dicts.
 
 import ctypes
 import math
+import numbers
 import os
 import shutil
 import tempfile
@@ -147,6 +148,7 @@ def _declare(lib):
         "pom_cfg_set_number": (_I, [_P, _S, _S, _S, _E]),
         "pom_cfg_set_string": (_I, [_P, _S, _S, _S, _E]),
         "pom_cfg_destroy": (None, [_P]),
+        "pom_cfg_check_overrides": (_I, [_P, _P, _P, _E]),
         "pom_api_arch_type_info": (_I, [_I, ctypes.POINTER(_S), ctypes.POINTER(_S), ctypes.POINTER(_S)]),
         "pom_api_ctrl_type_info": (_I, [_I, ctypes.POINTER(_S), ctypes.POINTER(_S), ctypes.POINTER(_S)]),
         "pom_api_arch_create": (_I, [ctypes.POINTER(_P), _P, _E]),
@@ -175,6 +177,7 @@ def _declare(lib):
         "pom_api_sim_samples": (_I, [_P]),
         "pom_api_sim_trace": (ctypes.POINTER(ctypes.c_double), [_P, _S, ctypes.POINTER(_I)]),
         "pom_api_study_defaults": (None, [ctypes.POINTER(_StudyOpts)]),
+        "pom_api_check_threads": (_I, [ctypes.c_long, _S, _E]),
         "pom_api_study_run": (
             _I,
             [_P, ctypes.POINTER(_StudyOpts), ctypes.POINTER(ctypes.c_long), ctypes.POINTER(ctypes.c_long), _E],
@@ -224,13 +227,61 @@ def _text(b):
     return b.decode(errors="replace") if b is not None else None
 
 
+def _refuse(message):
+    raise PomlabError("POM_ERR_ARG", -4, message)
+
+
+def _no_nul(what, s):
+    """s as given to the library: a C string ends at its first NUL byte,
+    which would cut a key, a value, a path or a config text short
+    silently, so a NUL is refused here, before ctypes sees the string."""
+    if isinstance(s, bytes):
+        s = s.decode(errors="replace")
+    k = s.find("\x00")
+    if k >= 0:
+        _refuse(
+            "%s %r: a NUL byte at offset %d (refused: the library would read only what comes before it)"
+            % (what, s if len(s) <= 80 else s[:77] + "...", k)
+        )
+    return s
+
+
+def _number_text(key, value):
+    """An override's value as the program's command line would write it: an
+    integer (Python's or numpy's) as its digits, a real (float, numpy's) by
+    repr; booleans and anything else refused, naming the key."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        _refuse("override %s = %r: a number or a string is expected (a %s)" % (key, value, type(value).__name__))
+    if isinstance(value, numbers.Integral):
+        return str(int(value))
+    return repr(float(value))
+
+
+def _threads(threads):
+    """threads as the program's --threads checks it (pom_api_check_threads):
+    an integer in [1, POM_API_THREADS_MAX], or 0 for study.threads."""
+    if isinstance(threads, (bool, np.bool_)) or not isinstance(threads, numbers.Integral):
+        _refuse(
+            "threads = %r: expected an integer in [1, 1024] worker threads (0 = study.threads, else every core)"
+            % (threads,)
+        )
+    t = int(threads)
+    if abs(t) > 2**62:  # beyond a C long: the library's message, with Python's digits
+        _refuse("threads = %d: expected an integer in [1, 1024] worker threads (0 = study.threads)" % t)
+    err = _Error()
+    _check(_lib.pom_api_check_threads(t, b"threads", err), err)
+    return t
+
+
 # ---- configs -------------------------------------------------------------------
 
 
 def _flatten(overrides, prefix=""):
     """{"controller": {"kp": 1}} and {"controller.kp": 1} alike, as pairs."""
     for key, value in overrides.items():
-        full = prefix + str(key)
+        if not isinstance(key, str):
+            _refuse("override key %r: a string is expected (\"controller.kp\" or nested dicts)" % (key,))
+        full = prefix + key
         if isinstance(value, dict):
             yield from _flatten(value, full + ".")
         else:
@@ -282,23 +333,29 @@ class _Loaded:
     def __init__(self, cfg):
         self.ptr = _P()
         err = _Error()
+        # every string checked before the library sees any of them
+        if cfg.path is not None:
+            _no_nul("config path", cfg.path)
+        else:
+            _no_nul("config text", cfg.text)
+            _no_nul("config name", cfg.name)
+        values = []
+        for key, value in cfg.overrides.items():
+            _no_nul("override key", key)
+            if isinstance(value, str):
+                values.append((key, _no_nul("override %s =" % key, value), True))
+            else:
+                values.append((key, _number_text(key, value), False))
         if cfg.path is not None:
             st = _lib.pom_cfg_load(ctypes.byref(self.ptr), cfg.path.encode(), err)
         else:
             st = _lib.pom_cfg_load_string(ctypes.byref(self.ptr), cfg.text.encode(), cfg.name.encode(), err)
         _check(st, err)
         try:
-            for key, value in cfg.overrides.items():
+            for key, text, is_string in values:
                 origin = ("override %s" % key).encode()
-                if isinstance(value, bool) or not isinstance(value, (int, float, str)):
-                    raise PomlabError(
-                        "POM_ERR_ARG", -4, "override %s = %r: a number or a string is expected" % (key, value)
-                    )
-                if isinstance(value, str):
-                    st = _lib.pom_cfg_set_string(self.ptr, key.encode(), value.encode(), origin, err)
-                else:
-                    text = str(value) if isinstance(value, int) else repr(float(value))
-                    st = _lib.pom_cfg_set_number(self.ptr, key.encode(), text.encode(), origin, err)
+                setter = _lib.pom_cfg_set_string if is_string else _lib.pom_cfg_set_number
+                st = setter(self.ptr, key.encode(), text.encode(), origin, err)
                 _check(st, err)
         except BaseException:
             self.close()
@@ -314,6 +371,14 @@ class _Loaded:
 
     def __exit__(self, *exc):
         self.close()
+
+
+def _overrides_read(loaded):
+    """ik and fk read the architecture alone: an override of any other group
+    (pom_api_arch_create leaves the workspace's to pom_api_workspace) is
+    refused, as an unknown key of the command."""
+    err = _Error()
+    _check(_lib.pom_cfg_check_overrides(loaded.ptr, None, None, err), err)
 
 
 class _Arch:
@@ -428,6 +493,7 @@ def ik(cfg, euler_zyx, *, degrees=False, overrides=None):
     c = _as_config(cfg, overrides)
     R = _rotation(euler_zyx, degrees)
     with _Loaded(c) as L, _Arch(L.ptr) as A:
+        _overrides_read(L)
         pose, err = _Pose(), _Error()
         st = _lib.pom_kin_pose_evaluate(A.ptr, R, ctypes.byref(pose), err)
         if st not in (0, -5, -6):  # ok, unreachable, limit: reported in the dict
@@ -458,6 +524,7 @@ def fk(cfg, q, *, overrides=None):
     if len(qv) != 3:
         raise ValueError("q: three actuator coordinates expected")
     with _Loaded(c) as L, _Arch(L.ptr) as A:
+        _overrides_read(L)
         R, info, err = _D9(), _FkInfo(), _Error()
         st = _lib.pom_kin_forward(A.ptr, _D3(*qv), None, None, R, ctypes.byref(info), err)
         d = {"architecture": _lib.pom_kin_arch_name(A.ptr).decode(), "q_target": np.array(qv)}
@@ -602,7 +669,7 @@ def _run_study(cfg, montecarlo, output, threads, resume):
     opts = _StudyOpts()
     _lib.pom_api_study_defaults(ctypes.byref(opts))
     opts.montecarlo = 1 if montecarlo else 0
-    opts.threads = int(threads)
+    opts.threads = threads
     opts.resume = 1 if resume else 0
     opts.output = output.encode()
     opts.tabular = tabular.encode()
@@ -626,11 +693,15 @@ def montecarlo(cfg, *, n=None, seed=None, threads=0, output=None, overrides=None
     montecarlo.seed), as `pomlab montecarlo --out`. Writes the HDF5 results
     file `output` (default: results.h5 in a new temporary folder, kept) and
     its tables beside it (.csv, _candidates.csv). Returns a StudyResult."""
+    threads = _threads(threads)
+    # n and seed go in as the program's --n and --seed do: values of
+    # montecarlo.maneuvers and montecarlo.seed, checked by the config's
+    # getters (an integer in range; 1.5, True or "5" refused, naming the key)
     extra = {}
     if n is not None:
-        extra["montecarlo.maneuvers"] = int(n)
+        extra["montecarlo.maneuvers"] = n
     if seed is not None:
-        extra["montecarlo.seed"] = int(seed)
+        extra["montecarlo.seed"] = seed
     extra.update(dict(_flatten(overrides or {})))
     return _run_study(_as_config(cfg, extra), True, output, threads, False)
 
@@ -641,6 +712,7 @@ def study(cfg, *, n=None, threads=0, output=None, resume=False, overrides=None):
     without .h5), as `pomlab study --out output --tabular`. n overrides
     montecarlo.maneuvers. Returns a StudyResult (rows, candidates, results
     file; default output: results.h5 in a new temporary folder)."""
-    extra = {"montecarlo.maneuvers": int(n)} if n is not None else {}
+    threads = _threads(threads)
+    extra = {"montecarlo.maneuvers": n} if n is not None else {}
     extra.update(dict(_flatten(overrides or {})))
     return _run_study(_as_config(cfg, extra), False, output, threads, resume)
