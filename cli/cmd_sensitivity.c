@@ -1,7 +1,7 @@
 /* cmd_sensitivity.c - `pomlab sensitivity CFG`: Sobol indices or Morris
  * effects of every candidate of a study file over its uncertain parameters;
  * table or JSON, HDF5 file and bar plot (docs/results.md, section 11). */
-#include "cli_doe.h"
+#include "pom_job.h"
 #include "pom_cli.h"
 #include "pom_doe_sensitivity.h"
 #include "pom_pipeline.h"
@@ -235,7 +235,7 @@ int pom_cmd_sensitivity(int argc, char **argv) {
   /* outputs that would overwrite an input refused, a run too large for
      memory refused, a long one announced: before any work */
   int pre =
-      pom_cli_doe_sens_check(cfg_path, &study, &sens, out_path != NULL, plots, threads, quiet);
+      pom_job_sens_check(cfg_path, &study, &sens, out_path != NULL, plots, threads, quiet, stderr);
   if (pre) {
     pom_doe_study_clear(&study);
     return pre;
@@ -260,7 +260,7 @@ int pom_cmd_sensitivity(int argc, char **argv) {
   int code = 0;
   /* candidates without indices said on stderr; with none, nothing on stdout
    * and no file of NaN (the runs stay in the .partial) */
-  if (r && st == POM_OK && pom_cli_doe_sens_failures(&study, r, sens.output) == 0) {
+  if (r && st == POM_OK && pom_job_sens_failures(&study, r, sens.output, stderr) == 0) {
     pom_doe_sens_result_destroy(r);
     pom_doe_study_clear(&study);
     return 1;
@@ -285,7 +285,9 @@ int pom_cmd_sensitivity(int argc, char **argv) {
       char *dot = strrchr(png, '.');
       if (dot && !strchr(dot, '/')) *dot = '\0';
       strcat(png, ".png");
-      if (pom_cli_run_script("plot_sensitivity.py", sens.output, png) != 0)
+      char scripts[1024];
+      pom_cli_scripts_dir(scripts, sizeof scripts);
+      if (pom_job_run_script(scripts, "plot_sensitivity.py", sens.output, png, stderr) != 0)
         fprintf(stderr, "pomlab sensitivity: the figure was not drawn (needs /usr/bin/python3 "
                         "with h5py and matplotlib)\n");
       else if (!json)

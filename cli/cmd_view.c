@@ -5,7 +5,7 @@
  * ffmpeg (--mp4). docs/view.md. */
 #define _DEFAULT_SOURCE /* mkdtemp */
 #include "cli_kin.h"
-#include "cli_outputs.h"
+#include "pom_job.h"
 #include "cli_view.h"
 #include "cli_view_shot.h"
 #include "pom_arch.h"
@@ -438,7 +438,8 @@ int pom_cmd_view(int argc, char **argv) {
   const char *outputs[3] = {out, png, mp4};
   for (int k = 0; k < 3; ++k)
     if (outputs[k]) {
-      int prc = pom_cli_check_output("view", cfg_path, outputs[k], "the page or picture");
+      int prc =
+          pom_job_check_output("view", cfg_path, outputs[k], "the page or picture", stderr, NULL);
       if (prc) return prc;
     }
   /* what the pictures need, before any work */
