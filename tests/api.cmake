@@ -12,3 +12,7 @@ if(NOT POM_SANITIZE)
   set_tests_properties(test_python PROPERTIES ENVIRONMENT
     "POMLAB_LIBRARY=$<TARGET_FILE:libpomlab>;PYTHONPATH=${CMAKE_SOURCE_DIR}/python;POMLAB_PROGRAM=$<TARGET_FILE:pomlab>")
 endif()
+# The C layer runs the program's job (job/pom_job.h): output rules, cancel
+# and resume (issue 31 items 1 and 3).
+pom_add_test(test_job_api test_job_api.c)
+target_link_libraries(test_job_api PRIVATE pom_api)
