@@ -230,12 +230,13 @@ pom_job_paths *pom_job_inputs(const char *command, const char *cfg_path,
  * refuses an output that is the same file as an input or the other output
  * (exit 2), a run whose tables cannot fit in memory (exit 2, with the keys
  * that size it), and announces a long or large one unless quiet. Returns 0
- * when it may run, else the exit code (the message printed on msg). */
+ * when it may run, else the exit code (the message printed on msg, which
+ * must not be NULL). */
 int pom_job_sens_check(const char *cfg_path, const pom_doe_study *study, const pom_doe_sens *sens,
                        int out_given, int plots, int threads, int quiet, FILE *msg);
 
-/* Prints on msg why each candidate of r has no indices; returns how many
- * have them (0: nothing is to be written). */
+/* Prints on msg (not NULL) why each candidate of r has no indices; returns
+ * how many have them (0: nothing is to be written). */
 int pom_job_sens_failures(const pom_doe_study *study, const pom_doe_sens_result *r,
                           const char *output, FILE *msg);
 
