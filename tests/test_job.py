@@ -7,7 +7,8 @@
   candidate earned, the same tables and summary.md;
 - pomlab.montecarlo(output=<its own config>) and a tabular file over the
   results refused with the path named, nothing overwritten;
-- SIGINT during pomlab.montecarlo: KeyboardInterrupt within a second, the
+- SIGINT during pomlab.montecarlo (once its runs began): KeyboardInterrupt
+  within a second, the
   finished maneuvers in OUTPUT.partial, resume=True finishes them.
 
 Run by ctest (tests/api.cmake) with POMLAB_LIBRARY, PYTHONPATH,
@@ -204,7 +205,13 @@ def test_ctrl_c_stops_within_a_second_and_resumes(tmp_path):
         text=True,
     )
     assert p.stdout.readline().strip() == "start"
-    time.sleep(1.0)
+    # the signal goes once the runs have begun (the .partial exists) and
+    # have gone on for a while, however loaded the machine
+    partial = str(out) + ".partial"
+    deadline = time.monotonic() + 60
+    while not os.path.exists(partial) and time.monotonic() < deadline:
+        time.sleep(0.01)
+    time.sleep(0.5)
     sent = time.monotonic()
     p.send_signal(signal.SIGINT)
     stdout, stderr = p.communicate(timeout=60)
@@ -212,7 +219,6 @@ def test_ctrl_c_stops_within_a_second_and_resumes(tmp_path):
     latency = float(stdout.split()[1]) - sent
     print("KeyboardInterrupt %.1f ms after SIGINT" % (latency * 1e3))
     assert latency < 1.0
-    partial = str(out) + ".partial"
     assert os.path.exists(partial) and not os.path.exists(out)
     with h5py.File(partial, "r") as f:
         done = int(np.sum(f["candidates"]["0"]["maneuvers"]["done"][()]))
