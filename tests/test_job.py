@@ -8,8 +8,8 @@
 - pomlab.montecarlo(output=<its own config>) and a tabular file over the
   results refused with the path named, nothing overwritten;
 - SIGINT during pomlab.montecarlo (once its runs began): KeyboardInterrupt
-  within a second, the
-  finished maneuvers in OUTPUT.partial, resume=True finishes them.
+  within a second, the finished maneuvers in OUTPUT.partial, resume=True
+  finishes them.
 
 Run by ctest (tests/api.cmake) with POMLAB_LIBRARY, PYTHONPATH,
 POMLAB_PROGRAM (pomlab-full) and POMLAB_TEST_JOB_API set.
