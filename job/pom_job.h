@@ -240,4 +240,26 @@ int pom_job_sens_check(const char *cfg_path, const pom_doe_study *study, const p
 int pom_job_sens_failures(const pom_doe_study *study, const pom_doe_sens_result *r,
                           const char *output, FILE *msg);
 
+/* What `pomlab sensitivity` asks of a sensitivity analysis's job. */
+typedef struct {
+  const char *cfg_path;    /* the study file (an input of the path rules) */
+  const char *output;      /* results file given by the caller (--out); NULL = sensitivity.output */
+  int json;                /* 1: the indices as JSON on out instead of tables */
+  int plots;               /* 1: the bar plot beside the output (.png) */
+  int quiet;               /* 1: no progress bar and no announcement */
+  int threads;             /* worker threads; 0 = study.threads, then every core */
+  int resume;              /* 1: continue OUTPUT.partial */
+  long stop_after;         /* stop after this many more runs (0 = none) */
+  const char *scripts_dir; /* folder of plot_sensitivity.py; NULL = the source tree's scripts/ */
+  FILE *out;               /* the indices (not NULL) */
+  FILE *msg;               /* progress, announcements, refusals and failures (not NULL) */
+} pom_job_sens_options;
+
+/* The job of a loaded sensitivity analysis (study and sens as loaded; the
+ * earned fidelity is set here): checks, runs, indices, figure. Returns the
+ * program's exit code: 0 done (or stopped by stop_after), 1 a runtime
+ * failure or a candidate without indices (the indices of the others printed
+ * all the same), 2 a config error or a refused output. pom_job_sens.c. */
+int pom_job_sensitivity(pom_doe_study *study, pom_doe_sens *sens, const pom_job_sens_options *o);
+
 #endif
