@@ -1,5 +1,6 @@
 /* pom_api.c - the flat entry layer: registries, kinematics, one maneuver and
  * studies composed from the module calls (docs/api.md). */
+#define _POSIX_C_SOURCE 200809L /* open_memstream */
 #include "pom_api.h"
 
 #include "pom_arch.h"
@@ -8,12 +9,14 @@
 #include "pom_dyn_metrics_schema.h"
 #include "pom_dynamics.h"
 #include "pom_h5.h"
+#include "pom_job.h"
 #include "pom_math.h"
 #include "pom_pipeline.h"
 #include "pom_version.h"
 
 #include <gsl/gsl_errno.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -252,33 +255,29 @@ void pom_api_study_defaults(pom_api_study_opts *o) {
   o->tabular = "";
 }
 
-/* The folder of the pipeline's files: results/x.h5 -> "results/x/", as
- * `pomlab study` does. */
-static void pipeline_prefix(char *out, size_t cap, const char *output) {
-  snprintf(out, cap, "%s", output);
-  char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
-  size_t n = strlen(out);
-  if (dot && (!slash || dot > slash + 1) && dot > out) {
-    *dot = '\0';
-    n = strlen(out);
-  }
-  if (n + 1 < cap) {
-    out[n] = '/';
-    out[n + 1] = '\0';
-  }
+void pom_api_free(void *p) {
+  free(p);
 }
 
 pom_status pom_api_study_run(const pom_cfg *cfg, const pom_api_study_opts *o, long *done,
                              long *total, pom_error *err) {
+  return pom_api_study_run_json(cfg, o, done, total, NULL, err);
+}
+
+pom_status pom_api_study_run_json(const pom_cfg *cfg, const pom_api_study_opts *o, long *done,
+                                  long *total, char **json, pom_error *err) {
+  if (json) *json = NULL;
   if (!cfg || !o) POM_FAIL(err, POM_ERR_ARG, "pom_api_study_run: NULL argument");
   if (!o->output || !o->output[0])
     POM_FAIL(err, POM_ERR_ARG, "pom_api_study_run: a results file (output) is required");
   POM_TRY(pom_api_check_threads(o->threads, "pom_api_study_opts.threads", err));
+  pom_error_clear(err);
   pom_status st = POM_OK;
   pom_doe_study study;
   memset(&study, 0, sizeof study);
-  pom_doe_run *run = NULL;
-  pom_doe_report *rep = NULL;
+  char *text = NULL;
+  size_t text_len = 0;
+  FILE *report = NULL;
   if (o->montecarlo) {
     const char *const *const own[] = {pom_doe_montecarlo_groups(), NULL};
     if (pom_cfg_has(cfg, "candidates") || pom_cfg_has(cfg, "study"))
@@ -289,29 +288,51 @@ pom_status pom_api_study_run(const pom_cfg *cfg, const pom_api_study_opts *o, lo
     POM_TRY_GOTO(pom_doe_study_load(&study, cfg, pom_pipeline_evaluator_create, NULL, err), done);
     const char *const *const own[] = {pom_doe_study_groups(), NULL};
     POM_TRY_GOTO(pom_api_check_keys(cfg, own, NULL, err), done);
-    char prefix[POM_DOE_PATH_LEN + 2];
-    pipeline_prefix(prefix, sizeof prefix, o->output);
-    pom_pipeline_options po;
-    memset(&po, 0, sizeof po);
-    po.output_prefix = prefix;
-    POM_TRY_GOTO(pom_pipeline_run(&study, &po, err), done);
   }
-  pom_doe_run_options ro;
-  pom_doe_run_options_defaults(&ro);
-  ro.threads = o->threads;
-  ro.resume = o->resume;
-  ro.output = o->output;
-  POM_TRY_GOTO(pom_doe_run_begin(&run, &study, &ro, err), done);
-  for (int finished = 0; !finished;)
-    POM_TRY_GOTO(pom_doe_run_step(run, &finished, err), done);
-  POM_TRY_GOTO(pom_doe_run_end(run, &rep, err), done);
-  if (done) *done = pom_doe_run_done(run);
-  if (total) *total = pom_doe_run_total(run);
-  if (o->tabular && o->tabular[0])
-    POM_TRY_GOTO(pom_doe_tabular_write(&study, rep, o->output, o->tabular, err), done);
+  /* the program's job, its rules and its files (job/pom_job.h) */
+  pom_job_options jo;
+  pom_job_options_defaults(&jo);
+  jo.command = o->montecarlo ? "montecarlo" : "study";
+  jo.cfg_path = pom_cfg_path(cfg);
+  jo.run.threads = o->threads;
+  jo.run.resume = o->resume;
+  jo.run.output = o->output;
+  jo.tabular = o->tabular ? o->tabular : "";
+  jo.output_key = "output";
+  jo.tabular_key = "tabular";
+  jo.pipeline = !o->montecarlo;
+  jo.json = 1;
+  jo.summary = o->summary != 0;
+  jo.plots = o->plots != 0;
+  jo.quiet = 1;
+  jo.cancel = o->cancel;
+  if (json) {
+    report = open_memstream(&text, &text_len);
+    if (!report)
+      POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "pom_api_study_run: no memory for the report");
+  }
+  jo.out = report;
+  pom_job_result res;
+  memset(&res, 0, sizeof res);
+  st = pom_job_run(&study, &jo, &res, err);
+  if (report) {
+    fclose(report);
+    report = NULL;
+  }
+  if (done) *done = res.done;
+  if (total) *total = res.total;
+  if (st == POM_OK && res.interrupted)
+    POM_FAIL_GOTO(err, POM_ERR_INTERRUPTED, done,
+                  "interrupted after %ld of %ld candidate-maneuvers; every finished one is in %s; "
+                  "continue with resume",
+                  res.done, res.total, res.results);
+  if (st == POM_OK && json) {
+    *json = text;
+    text = NULL;
+  }
 done:
-  pom_doe_report_destroy(rep);
-  pom_doe_run_destroy(run);
+  if (report) fclose(report);
+  free(text);
   pom_doe_study_clear(&study);
   return st;
 }

@@ -181,18 +181,38 @@ typedef struct {
   const char *output;  /* HDF5 results file to write (required) */
   const char *tabular; /* CSV of the rows, one per candidate x maneuver, and its
                           _candidates.csv (NULL or "" = none) */
+  int summary;         /* 1: summary.md in the folder of output without .h5, as the program */
+  int plots;           /* 1: its figures too (scripts/plot_study.py; /usr/bin/python3 with h5py
+                          and matplotlib) */
+  const volatile int *cancel; /* NULL, or a flag another thread may set to non-zero: the runs
+                                 stop after the running maneuvers, the finished ones stay in
+                                 output.partial (resume = 1 continues), POM_ERR_INTERRUPTED */
 } pom_api_study_opts;
 
-/* Defaults: a study, every core, no resume, no files (o NULL: nothing). */
+/* Defaults: a study, every core, no resume, no files, no summary, no cancel. */
 void pom_api_study_defaults(pom_api_study_opts *o);
 
-/* Runs a Monte-Carlo run or a whole study (synthesis and tuning first when
- * candidates ask for them, their files beside the results in the folder of
- * `output` without .h5) into the results file and the tabular files
- * (docs/results.md). No summary and no figures (those are the command's).
- * *done and *total (may be NULL) receive the candidate-maneuvers finished
- * and planned. */
+/* Runs a Monte-Carlo run or a whole study through the same job as `pomlab
+ * study` / `pomlab montecarlo` (job/pom_job.h): the output-path rules first
+ * (no output may be an input, such as the config or a file it includes, or
+ * another output: POM_ERR_CONFIG naming both paths, nothing written), then
+ * for a study file synthesis and tuning when candidates ask for them (their
+ * files in the folder of `output` without .h5) and study.fidelity = "auto",
+ * the runs into the results file, the tabular files and, when asked,
+ * summary.md with its figures (docs/results.md). *done and *total (may be
+ * NULL) receive the candidate-maneuvers finished and planned. Stopped by
+ * *cancel: POM_ERR_INTERRUPTED, the results kept in output.partial. */
 pom_status pom_api_study_run(const pom_cfg *cfg, const pom_api_study_opts *o, long *done,
                              long *total, pom_error *err);
+
+/* pom_api_study_run, and *json (may be NULL) receives the report as
+ * `pomlab study --json` prints it (malloc'd: release with pom_api_free;
+ * NULL when the run failed or was interrupted). */
+pom_status pom_api_study_run_json(const pom_cfg *cfg, const pom_api_study_opts *o, long *done,
+                                  long *total, char **json, pom_error *err);
+
+/* Frees memory the layer returned (pom_api_study_run_json's report); NULL
+ * is allowed. */
+void pom_api_free(void *p);
 
 #endif

@@ -98,28 +98,3 @@ pom_cfg *pom_cli_load_config(const char *path) {
   }
   return cfg;
 }
-
-const char *pom_cli_duration_text(char *buf, size_t cap, double s) {
-  if (!isfinite(s))
-    snprintf(buf, cap, "unknown time");
-  else if (s < 120.0)
-    snprintf(buf, cap, "about %.2g s", s);
-  else if (s < 7200.0)
-    snprintf(buf, cap, "about %.2g min", s / 60.0);
-  else if (s < 2.0 * 86400.0)
-    snprintf(buf, cap, "about %.2g h", s / 3600.0);
-  else
-    snprintf(buf, cap, "about %.2g days", s / 86400.0);
-  return buf;
-}
-
-const char *pom_cli_bytes_text(char *buf, size_t cap, double bytes) {
-  static const char *const units[] = {"bytes", "kB", "MB", "GB", "TB", "PB"};
-  int u = 0;
-  while (bytes >= 1000.0 && u < 5) {
-    bytes /= 1000.0;
-    ++u;
-  }
-  snprintf(buf, cap, u ? "%.3g %s" : "%.0f %s", bytes, units[u]);
-  return buf;
-}

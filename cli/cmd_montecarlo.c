@@ -2,7 +2,7 @@
  * mechanism a config describes (its optional `montecarlo` group sets the
  * protocol; docs/results.md). */
 #include "cli_opts.h"
-#include "cli_doe.h"
+#include "pom_job.h"
 #include "pom_cli.h"
 
 #include <stdio.h>
@@ -99,9 +99,12 @@ int pom_cmd_montecarlo(int argc, char **argv) {
     pom_doe_study_clear(&study);
     return pom_cli_exit_code(st);
   }
-  pom_cli_doe_opts o;
-  memset(&o, 0, sizeof o);
-  pom_doe_run_options_defaults(&o.run);
+  char scripts[1024];
+  pom_cli_scripts_dir(scripts, sizeof scripts);
+  pom_job_options o;
+  pom_job_options_defaults(&o);
+  o.command = "montecarlo";
+  o.cfg_path = cfg_path;
   o.run.threads = threads;
   o.run.output = out;
   o.json = json;
@@ -109,12 +112,12 @@ int pom_cmd_montecarlo(int argc, char **argv) {
   o.tabular = tabular;
   o.summary = out[0] != '\0';
   o.plots = out[0] != '\0';
-  int code = pom_cli_doe_check_paths("montecarlo", cfg_path, &study, &o, 1);
-  if (code == 0) code = pom_cli_doe_check_memory("montecarlo", &study, &o, 1);
-  if (code == 0) {
-    pom_cli_doe_announce("montecarlo", &study, &o);
-    code = pom_cli_doe_execute(&study, &o);
-  }
+  o.signals = 1;
+  o.scripts_dir = scripts;
+  o.out = stdout;
+  o.msg = stderr;
+  pom_job_result res;
+  st = pom_job_run(&study, &o, &res, &err);
   pom_doe_study_clear(&study);
-  return code;
+  return pom_job_exit_code(st, &res);
 }

@@ -2,129 +2,15 @@
  * effects of every candidate of a study file over its uncertain parameters;
  * table or JSON, HDF5 file and bar plot (docs/results.md, section 11). */
 #include "cli_opts.h"
-#include "cli_doe.h"
+#include "pom_job.h"
 #include "pom_cli.h"
 #include "pom_explore.h"
 #include "pom_pipeline.h"
-#include "pom_progress.h"
 
-#include <errno.h>
 #include <limits.h>
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
-
-static void on_progress(long done, long total, void *user) {
-  pom_progress_update(user, done);
-  (void)total;
-}
-
-static void json_num(FILE *out, double v) {
-  if (isfinite(v))
-    fprintf(out, "%.9g", v);
-  else
-    fprintf(out, "null");
-}
-
-static void print_text(FILE *out, const pom_doe_study *study, const pom_doe_sens *s,
-                       const pom_doe_sens_result *r) {
-  const pom_dyn_metric_info *mi = pom_dyn_stat_metric(s->stat);
-  double to_text = 1.0; /* SI to the text unit (ms, J, mm, deg: docs/conventions.md) */
-  const char *unit =
-      pom_dyn_metric_display_unit(mi, study->candidates[0].eval.actuator_kind, &to_text);
-  fprintf(out, "## Sensitivity of %s (%s) to %d uncertain parameter(s)\n\n", mi->stat_name, unit,
-          r->dim);
-  if (r->sobol)
-    fprintf(out,
-            "Sobol indices, %ld base samples (%s), %ld runs per candidate x %ld maneuver(s), "
-            "%.0f %% bootstrap intervals (%d resamples); %.2f s wall on %d thread(s).\n",
-            s->sobol.n_base, s->sobol.sampling ? "random" : "Sobol sequence", r->rows,
-            s->per_sample, 100 * s->sobol.confidence, s->sobol.bootstrap, r->wall, r->threads);
-  else
-    fprintf(out,
-            "Morris elementary effects, %ld trajectories on %d levels, %ld runs per candidate x "
-            "%ld maneuver(s); effects per unit of each input's probability (u); %.2f s wall "
-            "on %d thread(s).\n",
-            s->morris.trajectories, s->morris.levels, r->rows, s->per_sample, r->wall, r->threads);
-  for (int c = 0; c < r->n_candidates; ++c) {
-    fprintf(out, "\n### %s\n\n", study->candidates[c].name);
-    if (r->status[c] != POM_OK) {
-      fprintf(out, "No indices: %s\n", r->reason[c]);
-      continue;
-    }
-    if (r->sobol) {
-      const pom_sens_sobol_result *o = &r->sobol[c];
-      fprintf(out, "output mean %.6g %s, sd %.4g %s; %ld of %ld base samples used\n\n",
-              o->mean * to_text, unit, sqrt(o->variance) * to_text, unit, o->n_used,
-              o->n_used + o->n_failed);
-      fprintf(out, "| parameter | S1 | interval | ST | interval |\n|---|---:|---:|---:|---:|\n");
-      for (int i = 0; i < r->dim; ++i)
-        fprintf(out, "| %s | %.3f | [%.3f, %.3f] | %.3f | [%.3f, %.3f] |\n",
-                study->uncertain.param[i].key, o->S1[i], o->S1_low[i], o->S1_high[i], o->ST[i],
-                o->ST_low[i], o->ST_high[i]);
-    } else {
-      const pom_sens_morris_result *o = &r->morris[c];
-      fprintf(out, "| parameter | mu* (%s) | mu | sigma | effects |\n|---|---:|---:|---:|---:|\n",
-              unit);
-      for (int i = 0; i < r->dim; ++i)
-        fprintf(out, "| %s | %.4g | %.4g | %.4g | %ld |\n", study->uncertain.param[i].key,
-                o->mu_star[i] * to_text, o->mu[i] * to_text, o->sigma[i] * to_text,
-                o->n_effects[i]);
-    }
-  }
-}
-
-static void print_json(FILE *out, const pom_doe_study *study, const pom_doe_sens *s,
-                       const pom_doe_sens_result *r) {
-  const pom_dyn_metric_info *mi = pom_dyn_stat_metric(s->stat);
-  fprintf(out, "{\n  \"method\": \"%s\",\n  \"metric\": \"%s\",\n  \"unit\": \"%s\",\n",
-          r->sobol ? "sobol" : "morris", mi->stat_name,
-          pom_dyn_metric_unit(mi, study->candidates[0].eval.actuator_kind));
-  fprintf(out, "  \"runs_per_candidate\": %ld,\n  \"maneuvers_per_sample\": %ld,\n", r->rows,
-          s->per_sample);
-  fprintf(out, "  \"inputs\": [");
-  for (int i = 0; i < r->dim; ++i)
-    fprintf(out, "%s\"%s\"", i ? ", " : "", study->uncertain.param[i].key);
-  fprintf(out, "],\n  \"candidates\": [\n");
-  for (int c = 0; c < r->n_candidates; ++c) {
-    fprintf(out, "    {\"name\": \"%s\", \"ok\": %s", study->candidates[c].name,
-            r->status[c] == POM_OK ? "true" : "false");
-    for (int i = 0; i < r->dim && r->status[c] == POM_OK; ++i) {
-      fprintf(out, "%s", i ? ",\n       " : ", \"indices\": [\n       ");
-      if (r->sobol) {
-        const pom_sens_sobol_result *o = &r->sobol[c];
-        double v[6] = {o->S1[i], o->S1_low[i], o->S1_high[i],
-                       o->ST[i], o->ST_low[i], o->ST_high[i]};
-        fprintf(out, "{\"S1\": ");
-        json_num(out, v[0]);
-        fprintf(out, ", \"S1_ci\": [");
-        json_num(out, v[1]);
-        fprintf(out, ", ");
-        json_num(out, v[2]);
-        fprintf(out, "], \"ST\": ");
-        json_num(out, v[3]);
-        fprintf(out, ", \"ST_ci\": [");
-        json_num(out, v[4]);
-        fprintf(out, ", ");
-        json_num(out, v[5]);
-        fprintf(out, "]}");
-      } else {
-        const pom_sens_morris_result *o = &r->morris[c];
-        fprintf(out, "{\"mu_star\": ");
-        json_num(out, o->mu_star[i]);
-        fprintf(out, ", \"mu\": ");
-        json_num(out, o->mu[i]);
-        fprintf(out, ", \"sigma\": ");
-        json_num(out, o->sigma[i]);
-        fprintf(out, "}");
-      }
-    }
-    fprintf(out, "%s}%s\n", r->status[c] == POM_OK ? "]" : "", c + 1 < r->n_candidates ? "," : "");
-  }
-  fprintf(out, "  ]\n}\n");
-}
 
 int pom_cmd_sensitivity(int argc, char **argv) {
   const char *cfg_path = NULL, *out_path = NULL, *only = NULL;
@@ -224,76 +110,24 @@ int pom_cmd_sensitivity(int argc, char **argv) {
     pom_doe_study_clear(&study);
     return loaded ? pom_cli_exit_code(st) : 2;
   }
-  /* study.fidelity = "auto": each candidate's earned setting, as in the
-     study (docs/results.md section 12) */
-  if ((st = pom_doe_fidelity_run(&study, NULL, NULL, &err)) != POM_OK) {
-    pom_cli_report("fidelity", &err);
-    pom_doe_study_clear(&study);
-    return pom_cli_exit_code(st);
-  }
-  if (out_path) snprintf(sens.output, sizeof sens.output, "%s", out_path);
-  /* outputs that would overwrite an input refused, a run too large for
-     memory refused, a long one announced: before any work */
-  int pre =
-      pom_cli_doe_sens_check(cfg_path, &study, &sens, out_path != NULL, plots, threads, quiet);
-  if (pre) {
-    pom_doe_study_clear(&study);
-    return pre;
-  }
-  pom_progress bar;
-  long total = (sens.method == POM_DOE_SENS_SOBOL ? pom_sens_sobol_rows(&sens.sobol)
-                                                  : pom_sens_morris_rows(&sens.morris)) *
-               sens.per_sample * study.n_candidates;
-  pom_progress_init(&bar, quiet ? NULL : stderr, "sensitivity", total, 0, 0);
-  pom_doe_sens_result *r = NULL;
-  pom_doe_sens_run_opts ro;
-  pom_doe_sens_run_opts_defaults(&ro);
-  ro.threads = threads;
-  ro.output = sens.output;
-  ro.resume = resume;
-  ro.stop_after = stop_after;
-  ro.progress = on_progress;
-  ro.user = &bar;
-  /* the output is locked and its rows file made before the first run */
-  st = pom_doe_sens_run(&r, &study, &sens, &ro, &err);
-  pom_progress_finish(&bar, r ? total : 0);
-  int code = 0;
-  /* candidates without indices said on stderr; with none, nothing on stdout
-   * and no file of NaN (the runs stay in the .partial) */
-  if (r && st == POM_OK && pom_cli_doe_sens_failures(&study, r, sens.output) == 0) {
-    pom_doe_sens_result_destroy(r);
-    pom_doe_study_clear(&study);
-    return 1;
-  }
-  /* the indices, even when the file could not be written */
-  if (r) {
-    if (json)
-      print_json(stdout, &study, &sens, r);
-    else
-      print_text(stdout, &study, &sens, r);
-    for (int c = 0; c < r->n_candidates; ++c)
-      if (r->status[c] != POM_OK) code = 1;
-  }
-  if (st != POM_OK) {
-    pom_cli_report("sensitivity", &err);
-    /* stopped by --stop-after: exit 0, as pomlab study */
-    code = st == POM_ERR_INTERRUPTED && stop_after > 0 ? 0 : pom_cli_exit_code(st);
-  } else {
-    if (plots) {
-      char png[POM_DOE_PATH_LEN + 8];
-      snprintf(png, sizeof png, "%s", sens.output);
-      char *dot = strrchr(png, '.');
-      if (dot && !strchr(dot, '/')) *dot = '\0';
-      strcat(png, ".png");
-      if (pom_cli_run_script("plot_sensitivity.py", sens.output, png) != 0)
-        fprintf(stderr, "pomlab sensitivity: the figure was not drawn (needs /usr/bin/python3 "
-                        "with h5py and matplotlib)\n");
-      else if (!json)
-        printf("\nfigure: %s\n", png);
-    }
-    if (!json) printf("results: %s\n", sens.output);
-  }
-  pom_doe_sens_result_destroy(r);
+  /* the job: fidelity, path and memory checks, runs, indices, figure
+     (job/pom_job.h) */
+  char scripts[1024];
+  pom_cli_scripts_dir(scripts, sizeof scripts);
+  pom_job_sens_options o;
+  memset(&o, 0, sizeof o);
+  o.cfg_path = cfg_path;
+  o.output = out_path;
+  o.json = json;
+  o.plots = plots;
+  o.quiet = quiet;
+  o.threads = threads;
+  o.resume = resume;
+  o.stop_after = stop_after;
+  o.scripts_dir = scripts;
+  o.out = stdout;
+  o.msg = stderr;
+  int code = pom_job_sensitivity(&study, &sens, &o);
   pom_doe_study_clear(&study);
   return code;
 }

@@ -3,7 +3,7 @@
  * request (docs/dynamics.md section 10). */
 #include "cli_kin.h"
 #include "cli_opts.h"
-#include "cli_outputs.h"
+#include "pom_job.h"
 #include "pom_version.h"
 #include "pom_cli.h"
 #include "pom_io.h"
@@ -53,8 +53,8 @@ static int check_trace_cost(const char *cfg_path, const pom_dyn_params *p, const
             "maneuver.output_dt_ms = %.10g) need about %s of memory, more than this machine's %s: "
             "raise maneuver.output_dt_ms or shorten the horizon; nothing was run\n",
             cfg_path, samples, p->maneuver.horizon * 1e3, p->maneuver.output_dt * 1e3,
-            pom_cli_bytes_text(mem, sizeof mem, memory),
-            pom_cli_bytes_text(have, sizeof have, limit));
+            pom_job_bytes_text(mem, sizeof mem, memory),
+            pom_job_bytes_text(have, sizeof have, limit));
     return 2;
   }
   if (file > TRACE_ANNOUNCE_BYTES || memory > TRACE_ANNOUNCE_BYTES)
@@ -62,8 +62,8 @@ static int check_trace_cost(const char *cfg_path, const pom_dyn_params *p, const
             "pomlab simulate: traces of %.4g samples (maneuver.horizon_ms = %.10g / "
             "maneuver.output_dt_ms = %.10g): memory about %s, %s about %s\n",
             samples, p->maneuver.horizon * 1e3, p->maneuver.output_dt * 1e3,
-            pom_cli_bytes_text(mem, sizeof mem, memory), out,
-            pom_cli_bytes_text(size, sizeof size, file));
+            pom_job_bytes_text(mem, sizeof mem, memory), out,
+            pom_job_bytes_text(size, sizeof size, file));
   return 0;
 }
 
@@ -195,7 +195,8 @@ int pom_cmd_simulate(int argc, char **argv) {
   if (!cfg) rc = 2; /* a config that cannot be read is a config error */
   if (!cfg || !mech) goto done;
   /* the traces must not overwrite the config or a file it includes */
-  int path_rc = pom_cli_check_output("simulate", cfg_path, out_path, "the traces (--out)");
+  int path_rc =
+      pom_job_check_output("simulate", cfg_path, out_path, "the traces (--out)", stderr, NULL);
   if (path_rc) {
     rc = path_rc;
     goto done;

@@ -3,8 +3,7 @@
  * (docs/results.md). Under mpirun (built with POM_WITH_MPI) the maneuvers are
  * split over the ranks and rank 0 writes the same file one process would. */
 #include "cli_opts.h"
-#include "cli_doe.h"
-#include "cli_pipeline.h"
+#include "pom_job.h"
 #include "pom_cli.h"
 #include "pom_pipeline.h"
 #include "pom_progress.h"
@@ -17,23 +16,10 @@
 #include <mpi.h>
 #endif
 
-static void fidelity_progress(void *user, const pom_doe_candidate *cand, int done, int total) {
-  (void)user;
-  const pom_fidelity_result *f = &cand->fidelity;
-  fprintf(stderr,
-          "fidelity [%d/%d] %s: %s (%s; selected %.2e / %.2e, validated bound %.2e / %.2e in "
-          "time / energy; %.1f s)\n",
-          done, total, cand->name, f->setting.label, f->met ? "within the accuracy" : "NOT within",
-          f->select_time, f->select_energy, f->bound_time, f->bound_energy, f->wall);
-}
-
 static int study_main(int argc, char **argv, int rank, int size) {
   const char *cfg_path = NULL;
-  pom_cli_doe_opts o;
-  memset(&o, 0, sizeof o);
-  pom_doe_run_options_defaults(&o.run);
-  o.summary = 1;
-  o.plots = 1;
+  pom_job_options o;
+  pom_job_options_defaults(&o);
   const pom_opt opts[] = {
       {.name = "--threads",
        .kind = POM_OPT_THREADS,
@@ -127,53 +113,22 @@ static int study_main(int argc, char **argv, int rank, int size) {
     /* a study file that cannot be read is a config error, as for every command */
     return loaded ? pom_cli_exit_code(st) : 2;
   }
-  /* no output may overwrite an input or another output: refused before any
-     work, the pipeline's included (docs/results.md, "Output paths") */
-  int path_rc = pom_cli_doe_check_paths("study", cfg_path, &study, &o, rank == 0);
-  /* and a study too large for memory is refused with the keys that size it */
-  if (!path_rc) path_rc = pom_cli_doe_check_memory("study", &study, &o, rank == 0);
-  if (path_rc) {
-    pom_doe_study_clear(&study);
-    return path_rc;
-  }
-  /* the pipeline's files go with the summary: results/x.h5 -> results/x/ */
-  const char *output = o.run.output ? o.run.output : study.output;
-  char prefix[1200] = "results/pipeline_";
-  if (output[0]) {
-    pom_cli_doe_summary_dir(prefix, sizeof prefix - 1, output);
-    strcat(prefix, "/");
-  }
-  pom_cli_phases bars;
-  pom_cli_phases_init(&bars, rank == 0 && !o.quiet ? stderr : NULL);
-  pom_pipeline_options po;
-  memset(&po, 0, sizeof po);
-  po.output_prefix = prefix;
-  po.no_files = rank != 0;
-  po.progress = pom_cli_phases_report;
-  po.progress_user = &bars;
-  st = pom_pipeline_run(&study, &po, &err);
-  pom_cli_phases_end(&bars);
-  if (st != POM_OK) {
-    if (rank == 0) pom_cli_report("pipeline", &err);
-    pom_doe_study_clear(&study);
-    return pom_cli_exit_code(st);
-  }
-  /* study.fidelity = "auto": each candidate's setting, after its tuning
-     (docs/results.md section 12) */
-  if (study.fidelity_auto) {
-    st = pom_doe_fidelity_run(&study, rank == 0 && !o.quiet ? fidelity_progress : NULL, NULL, &err);
-    if (st != POM_OK) {
-      if (rank == 0) pom_cli_report("fidelity", &err);
-      pom_doe_study_clear(&study);
-      return pom_cli_exit_code(st);
-    }
-  }
-  o.report_extra = pom_cli_pipeline_report;
-  /* runs, memory, file size and time, said before a long run starts */
-  if (rank == 0) pom_cli_doe_announce("study", &study, &o);
-  int code = pom_cli_doe_execute(&study, &o);
+  /* the job: path and memory checks, pipeline, fidelity, runs, report,
+     tabular files, summary and figures (job/pom_job.h) */
+  char scripts[1024];
+  pom_cli_scripts_dir(scripts, sizeof scripts);
+  o.command = "study";
+  o.cfg_path = cfg_path;
+  o.pipeline = 1;
+  o.rank = rank;
+  o.signals = 1;
+  o.scripts_dir = scripts;
+  o.out = stdout;
+  o.msg = stderr;
+  pom_job_result res;
+  st = pom_job_run(&study, &o, &res, &err);
   pom_doe_study_clear(&study);
-  return code;
+  return pom_job_exit_code(st, &res);
 }
 
 int pom_cmd_study(int argc, char **argv) {

@@ -2,7 +2,7 @@
  * more architectures (docs/optimize.md), side by side when several. */
 #include "cli_opts.h"
 #include "cli_kin.h"
-#include "cli_outputs.h"
+#include "pom_job.h"
 #include "pom_cli.h"
 #include "pom_pipeline.h"
 #include "pom_math.h"
@@ -117,15 +117,15 @@ int pom_cmd_synth(int argc, char **argv) {
       }
   }
   /* no output may overwrite a config or a file it includes */
-  pom_cli_paths *pp = pom_cli_paths_create("synth");
+  pom_job_paths *pp = pom_job_paths_create("synth");
   for (int c = 0; c < ncfg; ++c)
-    pom_cli_paths_config(pp, cfg_paths[c], "the config");
+    pom_job_paths_config(pp, cfg_paths[c], "the config");
   for (int c = 0; c < ncfg; ++c) {
-    pom_cli_paths_output(pp, paths[c][0], "the geometry file (--out PREFIX + name)");
-    pom_cli_paths_output(pp, paths[c][1], "the synthesis record (--out PREFIX + name)");
+    pom_job_paths_output(pp, paths[c][0], "the geometry file (--out PREFIX + name)");
+    pom_job_paths_output(pp, paths[c][1], "the synthesis record (--out PREFIX + name)");
   }
-  code = pom_cli_paths_check(pp, 1);
-  pom_cli_paths_destroy(pp);
+  code = pom_job_paths_check(pp, stderr, NULL);
+  pom_job_paths_destroy(pp);
   if (code) goto out;
   for (int c = 0; c < ncfg; ++c) {
     pom_status st = pom_syn_begin(&runs[c], &pbs[c], &err);

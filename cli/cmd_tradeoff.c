@@ -3,7 +3,7 @@
  * stiffness and linear solver; table, CSV for the work-precision plot and a
  * recommendation (docs/tradeoff.md). */
 #include "cli_opts.h"
-#include "cli_outputs.h"
+#include "pom_job.h"
 #include "pom_cli.h"
 #include "pom_io.h"
 #include "pom_run.h"
@@ -189,7 +189,7 @@ int pom_cmd_tradeoff(int argc, char **argv) {
   pom_cfg *cfg = pom_cli_load_config(cfg_path);
   if (!cfg) return 2;
   /* the table must not overwrite the config or a file it includes */
-  int path_rc = pom_cli_check_output("tradeoff", cfg_path, csv, "the table (--csv)");
+  int path_rc = pom_job_check_output("tradeoff", cfg_path, csv, "the table (--csv)", stderr, NULL);
   if (path_rc) {
     pom_cfg_destroy(cfg);
     return path_rc;

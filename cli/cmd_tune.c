@@ -3,7 +3,7 @@
 #include "cli_opts.h"
 #include "pom_dyn_ctrl.h"
 #include "cli_kin.h"
-#include "cli_outputs.h"
+#include "pom_job.h"
 #include "pom_cli.h"
 #include "pom_pipeline.h"
 #include "pom_progress.h"
@@ -109,13 +109,13 @@ int pom_cmd_tune(int argc, char **argv) {
   }
   /* no gains file may overwrite a config or a file it includes */
   if (code == 0) {
-    pom_cli_paths *pp = pom_cli_paths_create("tune");
+    pom_job_paths *pp = pom_job_paths_create("tune");
     for (int c = 0; c < ncfg; ++c)
-      pom_cli_paths_config(pp, cfg_paths[c], "the config");
+      pom_job_paths_config(pp, cfg_paths[c], "the config");
     for (int c = 0; c < ncfg; ++c)
-      pom_cli_paths_output(pp, paths[c], "the gains file (--out PREFIX + name)");
-    code = pom_cli_paths_check(pp, 1);
-    pom_cli_paths_destroy(pp);
+      pom_job_paths_output(pp, paths[c], "the gains file (--out PREFIX + name)");
+    code = pom_job_paths_check(pp, stderr, NULL);
+    pom_job_paths_destroy(pp);
   }
   for (int c = 0; c < ncfg && code == 0; ++c) {
     pom_progress bar;

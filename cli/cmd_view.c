@@ -7,7 +7,7 @@
 #define _DEFAULT_SOURCE /* mkdtemp */
 #include "cli_kin.h"
 #include "cli_opts.h"
-#include "cli_outputs.h"
+#include "pom_job.h"
 #include "pom_cli.h"
 #include "pom_io.h"
 #include "pom_kinematics.h"
@@ -197,7 +197,8 @@ int pom_cmd_view(int argc, char **argv) {
   const char *outputs[3] = {out, png, mp4};
   for (int k = 0; k < 3; ++k)
     if (outputs[k]) {
-      int prc2 = pom_cli_check_output("view", cfg_path, outputs[k], "the page or picture");
+      int prc2 =
+          pom_job_check_output("view", cfg_path, outputs[k], "the page or picture", stderr, NULL);
       if (prc2) return prc2;
     }
   /* what the pictures need, before any work: Chromium, ffmpeg, and folders

@@ -3,7 +3,7 @@
 #include "cli_opts.h"
 #include "cli_kin.h"
 #include "pom_kin_print.h"
-#include "cli_outputs.h"
+#include "pom_job.h"
 #include "pom_cli.h"
 #include "pom_io.h"
 #include "pom_math.h"
@@ -29,7 +29,7 @@ static int check_budget(const pom_cfg *cfg, const pom_kin_ws_opts *o, double pos
                 "budget workspace.max_poses = %.3g; coarsen the step, shrink the region or raise "
                 "the budget",
                 width_key, width / POM_DEG, poses,
-                pom_cli_duration_text(how_long, sizeof how_long, poses / rate), o->max_poses);
+                pom_job_duration_text(how_long, sizeof how_long, poses / rate), o->max_poses);
   pom_cli_report("workspace", &err);
   return 2;
 }
@@ -39,7 +39,7 @@ static void announce(int quiet, const char *what, double poses, double rate) {
   char how_long[48];
   if (quiet || !(poses / rate > 10.0)) return;
   fprintf(stderr, "pomlab workspace: %s: up to %.3g poses, %s at %.3g poses/s\n", what, poses,
-          pom_cli_duration_text(how_long, sizeof how_long, poses / rate), rate);
+          pom_job_duration_text(how_long, sizeof how_long, poses / rate), rate);
 }
 
 /* The kinematics' progress callback drives a pom_progress bar. */
@@ -109,7 +109,7 @@ int pom_cmd_workspace(int argc, char **argv) {
   int rc = pom_cli_kin_load(path, &cfg, &arch, &o, scopes);
   if (rc) return rc;
   /* the map must not overwrite the config or a file it includes */
-  rc = pom_cli_check_output("workspace", path, map, "the map (--map)");
+  rc = pom_job_check_output("workspace", path, map, "the map (--map)", stderr, NULL);
   if (rc) {
     pom_cfg_destroy(cfg);
     return rc;

@@ -48,12 +48,6 @@ pom_status pom_cli_known_top(pom_cfg_groups *g, pom_error *err);
 pom_status pom_cli_check_unknown(const pom_cfg *cfg, const char *const *const scopes[],
                                  pom_error *err);
 
-/* "about 3.2 min" for a number of seconds (NaN: "unknown time"). */
-const char *pom_cli_duration_text(char *buf, size_t cap, double s);
-
-/* "2.4 GB" for a number of bytes (powers of 1000). */
-const char *pom_cli_bytes_text(char *buf, size_t cap, double bytes);
-
 /* Loads a config file, reporting failures; returns NULL on error. */
 pom_cfg *pom_cli_load_config(const char *path);
 

@@ -163,6 +163,13 @@ static void test_study(void) {
   refused(pom_api_study_run(cfg, NULL, NULL, NULL, &err), &err, "study_run(NULL opts)");
   o.output = NULL;
   refused(pom_api_study_run(cfg, &o, NULL, NULL, &err), &err, "study_run(NULL output)");
+  char *json = NULL;
+  refused(pom_api_study_run_json(NULL, &o, NULL, NULL, &json, &err), &err,
+          "study_run_json(NULL cfg)");
+  refused(pom_api_study_run_json(cfg, NULL, NULL, NULL, &json, &err), &err,
+          "study_run_json(NULL opts)");
+  check_true(json == NULL);
+  pom_api_free(NULL);
   /* NULL done, total, tabular and err: a run all the same */
   char dir[] = "/tmp/pom_test_api_null_XXXXXX", h5[128];
   check_true(mkdtemp(dir) != NULL);
@@ -173,6 +180,13 @@ static void test_study(void) {
   o.tabular = NULL;
   o.threads = 1;
   check_true(pom_api_study_run(cfg, &o, NULL, NULL, NULL) == POM_OK);
+  remove(h5);
+  /* NULL json too: the run without its report */
+  check_true(pom_api_study_run_json(cfg, &o, NULL, NULL, NULL, NULL) == POM_OK);
+  remove(h5);
+  check_true(pom_api_study_run_json(cfg, &o, NULL, NULL, &json, NULL) == POM_OK);
+  check_true(json != NULL && json[0] == '{');
+  pom_api_free(json);
   remove(h5);
   rmdir(dir);
   pom_cfg_destroy(cfg);

@@ -123,6 +123,9 @@ class _StudyOpts(ctypes.Structure):
         ("resume", ctypes.c_int),
         ("output", ctypes.c_char_p),
         ("tabular", ctypes.c_char_p),
+        ("summary", ctypes.c_int),
+        ("plots", ctypes.c_int),
+        ("cancel", ctypes.POINTER(ctypes.c_int)),
     ]
 
 
@@ -182,6 +185,18 @@ def _declare(lib):
             _I,
             [_P, ctypes.POINTER(_StudyOpts), ctypes.POINTER(ctypes.c_long), ctypes.POINTER(ctypes.c_long), _E],
         ),
+        "pom_api_study_run_json": (
+            _I,
+            [
+                _P,
+                ctypes.POINTER(_StudyOpts),
+                ctypes.POINTER(ctypes.c_long),
+                ctypes.POINTER(ctypes.c_long),
+                ctypes.POINTER(ctypes.c_void_p),
+                _E,
+            ],
+        ),
+        "pom_api_free": (None, [ctypes.c_void_p]),
     }
     for name, (res, args) in sig.items():
         f = getattr(lib, name)
@@ -648,15 +663,21 @@ def simulate(cfg, target, *, traces=True, overrides=None):
 
 # ---- Monte-Carlo runs and studies -------------------------------------------------------
 
-StudyResult = namedtuple("StudyResult", ["rows", "candidates", "results"])
+StudyResult = namedtuple("StudyResult", ["rows", "candidates", "results", "report", "summary"])
 StudyResult.__doc__ = """rows: a pandas DataFrame, one row per candidate x maneuver
 (candidate, factors, maneuver, drawn values, actuator_unit, every metric,
 status, reason: the tabular file of docs/results.md); candidates: one row per
 candidate (counts and statistics); results: the path of the HDF5 results
-file."""
+file; report: the report as `pomlab study --json` prints it, parsed (a
+dict); summary: the path of summary.md (None when not written)."""
+
+# How often the calling thread looks for Ctrl-C while a run goes (s).
+_POLL_S = 0.05
 
 
-def _run_study(cfg, montecarlo, output, threads, resume):
+def _run_study(cfg, montecarlo, output, threads, resume, summary, plots):
+    import json
+
     import pandas as pd
 
     made = None
@@ -666,6 +687,7 @@ def _run_study(cfg, montecarlo, output, threads, resume):
     output = os.fspath(output)
     stem = output[:-3] if output.endswith(".h5") else output
     tabular = stem + ".csv"
+    cancel = ctypes.c_int(0)
     opts = _StudyOpts()
     _lib.pom_api_study_defaults(ctypes.byref(opts))
     opts.montecarlo = 1 if montecarlo else 0
@@ -673,26 +695,73 @@ def _run_study(cfg, montecarlo, output, threads, resume):
     opts.resume = 1 if resume else 0
     opts.output = output.encode()
     opts.tabular = tabular.encode()
-    done, total, err = ctypes.c_long(), ctypes.c_long(), _Error()
+    opts.summary = 1 if summary else 0
+    opts.plots = 1 if plots else 0
+    opts.cancel = ctypes.pointer(cancel)
+    done, total, err, report = ctypes.c_long(), ctypes.c_long(), _Error(), ctypes.c_void_p()
+    outcome = {}
+
+    def work(ptr):
+        outcome["status"] = _lib.pom_api_study_run_json(
+            ptr, ctypes.byref(opts), ctypes.byref(done), ctypes.byref(total), ctypes.byref(report), err
+        )
+
     try:
         with _Loaded(cfg) as L, _hdf5_lock:
-            st = _lib.pom_api_study_run(L.ptr, ctypes.byref(opts), ctypes.byref(done), ctypes.byref(total), err)
+            # the run goes on a worker thread so that this one sees Ctrl-C at
+            # once: it sets the cancel flag, the runs stop after the running
+            # maneuvers and OUTPUT.partial keeps the finished ones (resume=True)
+            worker = threading.Thread(target=work, args=(L.ptr,), name="pomlab-study")
+            worker.start()
+            try:
+                while worker.is_alive():
+                    worker.join(_POLL_S)
+            except KeyboardInterrupt:
+                cancel.value = 1
+                while worker.is_alive():
+                    try:
+                        worker.join(_POLL_S)
+                    except KeyboardInterrupt:
+                        pass
+                raise
+        st = outcome["status"]
+        if st == -15:  # POM_ERR_INTERRUPTED: only the cancel flag stops a run here
+            raise KeyboardInterrupt(err.message.decode(errors="replace"))
         _check(st, err)
-    except BaseException:
-        if made:  # nothing worth keeping in a folder this call made
+        text = ctypes.string_at(report.value).decode() if report.value else "{}"
+    except BaseException as exc:
+        # nothing worth keeping in a folder this call made (an interrupted
+        # run into a given output keeps its .partial for resume=True)
+        if made:
             shutil.rmtree(made, ignore_errors=True)
-        raise
+        raise exc
+    finally:
+        if report.value:
+            _lib.pom_api_free(report)
+            report.value = None
     rows = pd.read_csv(tabular)
     candidates = pd.read_csv(stem + "_candidates.csv")
-    return StudyResult(rows, candidates, output)
+    summary_path = None
+    if summary:
+        # the library's rule (pom_job_summary_dir): results/x.h5 -> results/x/
+        base = os.path.basename(output)
+        folder = output[: output.rfind(".")] if "." in base[1:] else output + "_summary"
+        summary_path = os.path.join(folder, "summary.md")
+    return StudyResult(rows, candidates, output, json.loads(text), summary_path)
 
 
-def montecarlo(cfg, *, n=None, seed=None, threads=0, output=None, overrides=None):
+def montecarlo(
+    cfg, *, n=None, seed=None, threads=0, output=None, resume=False, summary=True, plots=True, overrides=None
+):
     """N random maneuvers of the one mechanism a config describes (its
     `montecarlo` group; n and seed override montecarlo.maneuvers and
-    montecarlo.seed), as `pomlab montecarlo --out`. Writes the HDF5 results
-    file `output` (default: results.h5 in a new temporary folder, kept) and
-    its tables beside it (.csv, _candidates.csv). Returns a StudyResult."""
+    montecarlo.seed), as `pomlab montecarlo --out output --tabular`: the same
+    job, output rules, report and summary. Writes the HDF5 results file
+    `output` (default: results.h5 in a new temporary folder, kept), its
+    tables beside it (.csv, _candidates.csv) and summary.md with figures in
+    the folder of output without .h5 (summary, plots). Ctrl-C stops within a
+    second and raises KeyboardInterrupt, the finished maneuvers kept in
+    output.partial (resume=True continues). Returns a StudyResult."""
     threads = _threads(threads)
     # n and seed go in as the program's --n and --seed do: values of
     # montecarlo.maneuvers and montecarlo.seed, checked by the config's
@@ -703,16 +772,21 @@ def montecarlo(cfg, *, n=None, seed=None, threads=0, output=None, overrides=None
     if seed is not None:
         extra["montecarlo.seed"] = seed
     extra.update(dict(_flatten(overrides or {})))
-    return _run_study(_as_config(cfg, extra), True, output, threads, False)
+    return _run_study(_as_config(cfg, extra), True, output, threads, resume, summary, plots)
 
 
-def study(cfg, *, n=None, threads=0, output=None, resume=False, overrides=None):
-    """A whole study file (candidates x maneuvers; synthesis and tuning first
-    when candidates ask for them, their files in the folder of output
-    without .h5), as `pomlab study --out output --tabular`. n overrides
-    montecarlo.maneuvers. Returns a StudyResult (rows, candidates, results
-    file; default output: results.h5 in a new temporary folder)."""
+def study(cfg, *, n=None, threads=0, output=None, resume=False, summary=True, plots=True, overrides=None):
+    """A whole study file (candidates x maneuvers), as `pomlab study --out
+    output --tabular`: the same job (synthesis and tuning first when
+    candidates ask for them, their files in the folder of output without
+    .h5; study.fidelity = "auto"; the runs; the report), the same output
+    rules and the same summary.md and figures. n overrides
+    montecarlo.maneuvers. Ctrl-C stops within a second and raises
+    KeyboardInterrupt, the finished maneuvers kept in output.partial
+    (resume=True continues). Returns a StudyResult (rows, candidates,
+    results file, report, summary; default output: results.h5 in a new
+    temporary folder)."""
     threads = _threads(threads)
     extra = {"montecarlo.maneuvers": n} if n is not None else {}
     extra.update(dict(_flatten(overrides or {})))
-    return _run_study(_as_config(cfg, extra), False, output, threads, resume)
+    return _run_study(_as_config(cfg, extra), False, output, threads, resume, summary, plots)

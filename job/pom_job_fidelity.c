@@ -1,13 +1,13 @@
-/* cli_fidelity.c - the fidelity each candidate earned (study.fidelity =
+/* pom_job_fidelity.c - the fidelity each candidate earned (study.fidelity =
  * "auto", docs/results.md section 12): its setting, the errors it was
  * selected and validated with, and the validated bound beside the means it
  * affects. */
-#include "cli_doe.h"
+#include "pom_job.h"
 
 #include <math.h>
 #include <stdio.h>
 
-void pom_cli_doe_fidelity_report(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
+void pom_job_fidelity_report(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
   if (!study->fidelity_auto) return;
   const pom_fidelity_opts *o = &study->fidelity;
   fprintf(out,
@@ -37,7 +37,7 @@ void pom_cli_doe_fidelity_report(FILE *out, const pom_doe_study *study, const po
   }
 }
 
-void pom_cli_doe_fidelity_json(FILE *out, const pom_doe_candidate *cand) {
+void pom_job_fidelity_json(FILE *out, const pom_doe_candidate *cand) {
   if (!cand->fidelity_chosen) return;
   const pom_fidelity_result *f = &cand->fidelity;
   fprintf(out,

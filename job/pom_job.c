@@ -1,13 +1,15 @@
-/* cli_doe.c - running a study for the user: progress, Ctrl-C, tables,
- * verdict, summary.md and figures (docs/results.md, "What you see"). */
+/* pom_job.c - a study's job for every caller: the checks before the work,
+ * the pipeline and the earned fidelity, the runs with progress and Ctrl-C,
+ * the tables, verdict and JSON report, the tabular files, summary.md and
+ * figures (docs/results.md, "What you see"). */
 #define _POSIX_C_SOURCE 200809L
-#include "cli_doe.h"
-#include "pom_run.h"
-#include "pom_version.h"
-#include "pom_cli.h"
+#include "pom_job.h"
+#include "job_internal.h"
 #include "pom_io.h"
-#include "pom_progress.h"
 #include "pom_math.h"
+#include "pom_pipeline.h"
+#include "pom_progress.h"
+#include "pom_version.h"
 
 #include <errno.h>
 #include <math.h>
@@ -22,6 +24,11 @@
 #include <unistd.h>
 
 extern char **environ;
+
+/* Set by job/CMakeLists.txt: the source tree's scripts folder. */
+#ifndef POM_JOB_SCRIPTS_DIR
+#define POM_JOB_SCRIPTS_DIR "scripts"
+#endif
 
 /* ---- Ctrl-C --------------------------------------------------------------------- */
 static volatile sig_atomic_t interrupted = 0;
@@ -126,7 +133,7 @@ static const char *metric_label(const pom_doe_study *study, pom_doe_metric m) {
 }
 
 /* ---- actuator kinds ------------------------------------------------------------------ */
-pom_actuator_kind pom_cli_doe_study_kind(const pom_doe_study *study, int *mixed) {
+pom_actuator_kind pom_job_study_kind(const pom_doe_study *study, int *mixed) {
   pom_actuator_kind k =
       study->n_candidates > 0 ? study->candidates[0].eval.actuator_kind : POM_ACT_PRISMATIC;
   *mixed = 0;
@@ -139,7 +146,7 @@ pom_actuator_kind pom_cli_doe_study_kind(const pom_doe_study *study, int *mixed)
  * space (joint space is refused) and the reader is told why. */
 static void mixed_kinds_note(FILE *out, const pom_doe_study *study) {
   int mixed = 0;
-  pom_cli_doe_study_kind(study, &mixed);
+  pom_job_study_kind(study, &mixed);
   if (mixed)
     fprintf(out, "The candidates mix actuator kinds (prismatic: q in mm; revolute: q in deg), so "
                  "the comparison is in orientation space: every candidate is driven to the same "
@@ -369,7 +376,7 @@ static void print_pareto(FILE *out, const pom_doe_study *study, const pom_doe_re
 }
 
 /* ---- the report ---------------------------------------------------------------------- */
-void pom_cli_doe_print_report(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
+void pom_job_print_report(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
   int nc = rep->n_candidates;
   mixed_kinds_note(out, study);
   static const char cols[] = "max | mean | min | sigma | median | p95 | n | failed";
@@ -545,7 +552,7 @@ static void json_stats(FILE *out, const char *key, const pom_doe_stats *s) {
 static void json_montecarlo(FILE *out, const pom_doe_study *study) {
   const pom_doe_maneuvers *mv = &study->maneuvers;
   int mixed = 0;
-  pom_actuator_kind kind = pom_cli_doe_study_kind(study, &mixed);
+  pom_actuator_kind kind = pom_job_study_kind(study, &mixed);
   fprintf(out, "  \"montecarlo\": {\"space\": \"%s\", ",
           pom_cfg_choice_name(pom_doe_space_names, (int)mv->space));
   if (mv->space == POM_DOE_SPACE_JOINT) {
@@ -605,7 +612,7 @@ static void json_metrics(FILE *out) {
   fprintf(out, "  ],\n");
 }
 
-void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
+void pom_job_print_json(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
   fprintf(out, "{\n  \"study\": ");
   json_string(out, study->name);
   fprintf(out, ",\n  \"maneuvers\": %ld,\n  \"seed\": %llu,\n", rep->n_maneuvers,
@@ -643,7 +650,7 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
       json_double(out, study->candidates[c].factor_value[f]);
     }
     fprintf(out, "}");
-    pom_cli_doe_fidelity_json(out, &study->candidates[c]);
+    pom_job_fidelity_json(out, &study->candidates[c]);
     /* the statistics of every reduced metric of the schema */
     for (int s = 0; s < POM_DYN_N_STATS; ++s) {
       fprintf(out, ",\n     ");
@@ -702,7 +709,7 @@ void pom_cli_doe_print_json(FILE *out, const pom_doe_study *study, const pom_doe
 /* results/paper.h5 -> results/paper (the folder of the summary and figures);
  * a file name without extension gets "_summary" appended instead, so that the
  * folder never has the results file's own name. */
-void pom_cli_doe_summary_dir(char *dir, size_t cap, const char *output) {
+void pom_job_summary_dir(char *dir, size_t cap, const char *output) {
   snprintf(dir, cap, "%s", output);
   char *dot = strrchr(dir, '.');
   char *slash = strrchr(dir, '/');
@@ -712,15 +719,16 @@ void pom_cli_doe_summary_dir(char *dir, size_t cap, const char *output) {
     snprintf(dir, cap, "%s_summary", output);
 }
 
-int pom_cli_run_script(const char *name, const char *a1, const char *a2) {
-  char dir_scripts[1024], script[1100];
-  pom_cli_scripts_dir(dir_scripts, sizeof dir_scripts);
-  snprintf(script, sizeof script, "%s/%s", dir_scripts, name);
+int pom_job_run_script(const char *scripts_dir, const char *name, const char *a1, const char *a2,
+                       FILE *msg) {
+  char script[1100];
+  snprintf(script, sizeof script, "%s/%s", scripts_dir ? scripts_dir : POM_JOB_SCRIPTS_DIR, name);
   char *argv[] = {"/usr/bin/python3", script, (char *)a1, (char *)a2, NULL};
   pid_t pid;
   int e = posix_spawn(&pid, argv[0], NULL, NULL, argv, environ);
   if (e != 0) {
-    fprintf(stderr, "pomlab: warning: figures not made: cannot run %s: %s\n", argv[0], strerror(e));
+    if (msg)
+      fprintf(msg, "pomlab: warning: figures not made: cannot run %s: %s\n", argv[0], strerror(e));
     return -1;
   }
   int status = 0;
@@ -774,7 +782,7 @@ static void write_metric_listing(FILE *f) {
 
 static pom_status write_summary(const pom_doe_study *study, const pom_doe_report *rep,
                                 const char *output, double wall, int threads, int ranks,
-                                int plots_ok, const char *dir, const pom_cli_doe_opts *o,
+                                int plots_ok, const char *dir, const pom_job_options *o,
                                 pom_error *err) {
   char path[1200];
   snprintf(path, sizeof path, "%s/summary.md", dir);
@@ -790,7 +798,7 @@ static pom_status write_summary(const pom_doe_study *study, const pom_doe_report
   fprintf(f, "- config: `%s`; results file: `%s`\n", study->source, output);
   fprintf(f, "- pomlab %s (commit %s), %s\n", POM_VERSION, POM_GIT_COMMIT, when);
   int mixed = 0;
-  const pom_act_desc *u = pom_act_kind_desc(pom_cli_doe_study_kind(study, &mixed));
+  const pom_act_desc *u = pom_act_kind_desc(pom_job_study_kind(study, &mixed));
   if (study->maneuvers.space == POM_DOE_SPACE_JOINT)
     fprintf(f,
             "- %d candidate%s x %ld maneuvers, seed %llu, targets %s within +-%.3g %s of "
@@ -820,9 +828,9 @@ static pom_status write_summary(const pom_doe_study *study, const pom_doe_report
             study->candidates[c].source, cu->kind_name, cu->display, model);
   }
   fprintf(f, "\n");
-  if (o->report_extra) o->report_extra(f, study);
-  pom_cli_doe_print_report(f, study, rep);
-  pom_cli_doe_fidelity_report(f, study, rep);
+  if (o->pipeline) pom_job_pipeline_report(f, study);
+  pom_job_print_report(f, study, rep);
+  pom_job_fidelity_report(f, study, rep);
   write_metric_listing(f);
   if (plots_ok) {
     /* the figures scripts/plot_study.py made for this study (it removes the
@@ -844,57 +852,92 @@ static pom_status write_summary(const pom_doe_study *study, const pom_doe_report
   return pom_io_commit(&w, err);
 }
 
+/* ---- options ----------------------------------------------------------------------------------
+ */
+void pom_job_options_defaults(pom_job_options *o) {
+  memset(o, 0, sizeof *o);
+  pom_doe_run_options_defaults(&o->run);
+  o->command = "study";
+  o->summary = 1;
+  o->plots = 1;
+}
+
+/* Messages of this process: only rank 0 prints. */
+static FILE *job_msg(const pom_job_options *o) {
+  return o->rank == 0 ? o->msg : NULL;
+}
+
+static const char *job_output(const pom_doe_study *study, const pom_job_options *o) {
+  return o->run.output ? o->run.output : study->output;
+}
+
+static const char *job_tabular(const pom_doe_study *study, const pom_job_options *o) {
+  return o->tabular ? o->tabular : study->tabular;
+}
+
+/* A status for an exit code of the path checks (2: a refused path, 1: a
+ * folder that cannot be made or written, or no memory). */
+static pom_status path_status(int rc, pom_error *err) {
+  if (rc == 0) return POM_OK;
+  if (err && err->status != POM_OK) return err->status;
+  return rc == 2 ? POM_ERR_CONFIG : POM_ERR_IO;
+}
+
 /* ---- paths ---------------------------------------------------------------------------------- */
-pom_cli_paths *pom_cli_doe_inputs(const char *command, const char *cfg_path,
-                                  const pom_doe_study *study) {
-  pom_cli_paths *p = pom_cli_paths_create(command);
+pom_job_paths *pom_job_inputs(const char *command, const char *cfg_path,
+                              const pom_doe_study *study) {
+  pom_job_paths *p = pom_job_paths_create(command);
   if (!p) return NULL;
-  pom_cli_paths_config(p, cfg_path, "the config");
+  pom_job_paths_config(p, cfg_path, "the config");
   for (int c = 0; c < study->n_candidates; ++c) {
     char what[POM_DOE_NAME_LEN + 32];
     snprintf(what, sizeof what, "the config of candidate '%s'", study->candidates[c].name);
-    pom_cli_paths_config(p, study->candidates[c].source, what);
+    pom_job_paths_config(p, study->candidates[c].source, what);
   }
   return p;
 }
 
-int pom_cli_doe_check_paths(const char *command, const char *cfg_path, const pom_doe_study *study,
-                            const pom_cli_doe_opts *o, int report) {
-  const char *output = o->run.output ? o->run.output : study->output;
-  const char *tabular = o->tabular ? o->tabular : study->tabular;
-  const char *tab_origin = o->tabular ? "--tabular" : "study.tabular";
-  if (tabular[0] && !output[0]) {
-    if (report)
-      fprintf(stderr,
-              "pomlab: tabular results '%s' need a results file (--out FILE.h5): the "
-              "maneuver rows are read back from it\n",
-              tabular);
-    return 2;
-  }
-  pom_cli_paths *p = pom_cli_doe_inputs(command, cfg_path, study);
+/* No output may overwrite an input or another output; then the tabular
+ * file's name and folder. */
+static pom_status check_paths(const pom_doe_study *study, const pom_job_options *o,
+                              pom_error *err) {
+  FILE *msg = job_msg(o);
+  const char *command = o->command ? o->command : "study";
+  const char *cfg_path = o->cfg_path ? o->cfg_path : study->source;
+  const char *output = job_output(study, o), *tabular = job_tabular(study, o);
+  const char *out_key = o->output_key ? o->output_key : "--out";
+  const char *tab_origin =
+      o->tabular ? (o->tabular_key ? o->tabular_key : "--tabular") : "study.tabular";
+  if (tabular[0] && !output[0])
+    return pom_job_say(msg, err, POM_ERR_ARG, "",
+                       "tabular results '%s' need a results file (%s FILE.h5): the maneuver "
+                       "rows are read back from it",
+                       tabular, out_key);
+  pom_job_paths *p = pom_job_inputs(command, cfg_path, study);
   char partial[POM_DOE_PATH_LEN + 16], summary[1200], cand[POM_DOE_PATH_LEN + 32], what[64];
-  snprintf(what, sizeof what, "the results file (%s)", o->run.output ? "--out" : "study.output");
-  pom_cli_paths_output(p, output, what);
+  snprintf(what, sizeof what, "the results file (%s)", o->run.output ? out_key : "study.output");
+  pom_job_paths_output(p, output, what);
   if (output[0]) {
     pom_doe_results_partial_path(partial, sizeof partial, output);
-    pom_cli_paths_output(p, partial, "the unfinished results file");
+    pom_job_paths_output(p, partial, "the unfinished results file");
     if (o->summary) {
-      pom_cli_doe_summary_dir(summary, sizeof summary - 12, output);
+      pom_job_summary_dir(summary, sizeof summary - 12, output);
       strcat(summary, "/summary.md");
-      pom_cli_paths_output(p, summary, "the summary");
+      pom_job_paths_output(p, summary, "the summary");
     }
   }
   if (tabular[0]) {
     snprintf(what, sizeof what, "the tabular file (%s)", tab_origin);
-    pom_cli_paths_output(p, tabular, what);
+    pom_job_paths_output(p, tabular, what);
     pom_doe_tabular_candidates_path(cand, sizeof cand, tabular);
     snprintf(what, sizeof what, "the candidates table (%s)", tab_origin);
-    pom_cli_paths_output(p, cand, what);
+    pom_job_paths_output(p, cand, what);
   }
-  int rc = pom_cli_paths_check(p, report);
-  pom_cli_paths_destroy(p);
+  int rc = pom_job_paths_check(p, msg, err);
+  pom_job_paths_destroy(p);
   /* then the tabular file's name and folder (made now, as --out's is) */
-  return rc ? rc : pom_cli_tabular_check(command, tab_origin, tabular, report);
+  if (!rc) rc = pom_job_tabular_check(command, tab_origin, tabular, msg, err);
+  return path_status(rc, err);
 }
 
 /* ---- cost ----------------------------------------------------------------------------------- */
@@ -904,34 +947,37 @@ int pom_cli_doe_check_paths(const char *command, const char *cfg_path, const pom
 #define ANNOUNCE_SECONDS 10.0
 #define ANNOUNCE_BYTES   1e9
 
-int pom_cli_doe_check_memory(const char *command, const pom_doe_study *study,
-                             const pom_cli_doe_opts *o, int report) {
-  const char *output = o->run.output ? o->run.output : study->output;
+static pom_status check_memory(const pom_doe_study *study, const pom_job_options *o,
+                               pom_error *err) {
+  const char *command = o->command ? o->command : "study";
   pom_doe_cost cost;
-  pom_doe_cost_study(&cost, study, output[0] != '\0');
+  pom_doe_cost_study(&cost, study, job_output(study, o)[0] != '\0');
   double limit = pom_doe_memory_limit();
-  if (!(cost.memory > limit)) return 0;
-  if (report) {
-    char need[32], have[32];
-    fprintf(stderr,
-            "pomlab %s: config: %s: %d candidate(s) x %ld maneuvers = %.4g runs need about %s of "
-            "memory (%.0f bytes per run), more than this machine's %s: lower "
-            "montecarlo.maneuvers%s or the number of candidates (the `candidates` list, the "
-            "levels of its sweep factors); nothing was run\n",
-            command, study->source, study->n_candidates, study->maneuvers.count, cost.runs,
-            pom_cli_bytes_text(need, sizeof need, cost.memory), cost.per_run,
-            pom_cli_bytes_text(have, sizeof have, limit),
-            strcmp(command, "montecarlo") == 0 ? " (--n)" : "");
-  }
-  return 2;
+  if (!(cost.memory > limit)) return POM_OK;
+  char need[32], have[32];
+  return pom_job_say(job_msg(o), err, POM_ERR_CONFIG, command,
+                     "config: %s: %d candidate(s) x %ld maneuvers = %.4g runs need about %s of "
+                     "memory (%.0f bytes per run), more than this machine's %s: lower "
+                     "montecarlo.maneuvers%s or the number of candidates (the `candidates` "
+                     "list, the levels of its sweep factors); nothing was run",
+                     study->source, study->n_candidates, study->maneuvers.count, cost.runs,
+                     pom_job_bytes_text(need, sizeof need, cost.memory), cost.per_run,
+                     pom_job_bytes_text(have, sizeof have, limit),
+                     strcmp(command, "montecarlo") == 0 ? " (--n)" : "");
 }
 
-void pom_cli_doe_announce(const char *command, const pom_doe_study *study,
-                          const pom_cli_doe_opts *o) {
-  if (o->quiet) return;
-  const char *output = o->run.output ? o->run.output : study->output;
+pom_status pom_job_check(const pom_doe_study *study, const pom_job_options *o, pom_error *err) {
+  POM_TRY(check_paths(study, o, err));
+  /* and a study too large for memory is refused with the keys that size it */
+  return check_memory(study, o, err);
+}
+
+void pom_job_announce(const pom_doe_study *study, const pom_job_options *o) {
+  FILE *msg = job_msg(o);
+  if (o->quiet || !msg) return;
+  const char *command = o->command ? o->command : "study";
   pom_doe_cost cost;
-  pom_doe_cost_study(&cost, study, output[0] != '\0');
+  pom_doe_cost_study(&cost, study, job_output(study, o)[0] != '\0');
   double per_run = NAN;
   pom_error err;
   pom_error_clear(&err);
@@ -945,229 +991,239 @@ void pom_cli_doe_announce(const char *command, const pom_doe_study *study,
       !(cost.file > ANNOUNCE_BYTES))
     return;
   char mem[32], file[32], how_long[48];
-  fprintf(stderr, "pomlab %s: %s: %d candidate(s) x %ld maneuvers = %.4g runs; memory about %s",
+  fprintf(msg, "pomlab %s: %s: %d candidate(s) x %ld maneuvers = %.4g runs; memory about %s",
           command, study->name, study->n_candidates, study->maneuvers.count, cost.runs,
-          pom_cli_bytes_text(mem, sizeof mem, cost.memory));
+          pom_job_bytes_text(mem, sizeof mem, cost.memory));
   if (cost.file > 0)
-    fprintf(stderr, ", results file about %s", pom_cli_bytes_text(file, sizeof file, cost.file));
+    fprintf(msg, ", results file about %s", pom_job_bytes_text(file, sizeof file, cost.file));
   if (isfinite(seconds))
-    fprintf(stderr, "; %s on %d thread(s) (%.3g ms per run, measured on a few runs)",
-            pom_cli_duration_text(how_long, sizeof how_long, seconds), threads, per_run * 1e3);
-  fprintf(stderr, "\n");
+    fprintf(msg, "; %s on %d thread(s) (%.3g ms per run, measured on a few runs)",
+            pom_job_duration_text(how_long, sizeof how_long, seconds), threads, per_run * 1e3);
+  fprintf(msg, "\n");
 }
 
-/* The memory refusal and the announcement of pom_cli_doe_sens_check. */
-static int sens_cost(const pom_doe_study *study, const char *method, long rows, long per_sample,
-                     int dim, int threads, int quiet) {
-  pom_doe_cost cost;
-  pom_doe_cost_sensitivity(&cost, study, rows, per_sample, dim);
-  double limit = pom_doe_memory_limit();
-  char mem[32], have[32], file[32], how_long[48];
-  int sobol = strcmp(method, "sobol") == 0;
-  if (cost.memory > limit) {
-    fprintf(stderr,
-            "pomlab sensitivity: config: %s: %ld design rows (%s) x %ld maneuver(s) "
-            "(sensitivity.maneuvers) x %d candidate(s) = %.4g runs need about %s of memory (%.0f "
-            "bytes per run), more than this machine's %s: lower %s, sensitivity.maneuvers or the "
-            "candidates (--candidate runs one); nothing was run\n",
-            study->source, rows,
-            sobol ? "sensitivity.samples N x (inputs + 2)"
-                  : "sensitivity.trajectories r x (inputs + 1)",
-            per_sample, study->n_candidates, cost.runs,
-            pom_cli_bytes_text(mem, sizeof mem, cost.memory), cost.per_run,
-            pom_cli_bytes_text(have, sizeof have, limit),
-            sobol ? "sensitivity.samples" : "sensitivity.trajectories");
-    return 2;
+/* ---- the pipeline and the earned fidelity ------------------------------------------------ */
+static void fidelity_progress(void *user, const pom_doe_candidate *cand, int done, int total) {
+  FILE *msg = user;
+  const pom_fidelity_result *f = &cand->fidelity;
+  fprintf(msg,
+          "fidelity [%d/%d] %s: %s (%s; selected %.2e / %.2e, validated bound %.2e / %.2e in "
+          "time / energy; %.1f s)\n",
+          done, total, cand->name, f->setting.label, f->met ? "within the accuracy" : "NOT within",
+          f->select_time, f->select_energy, f->bound_time, f->bound_energy, f->wall);
+}
+
+pom_status pom_job_prepare(pom_doe_study *study, const pom_job_options *o, pom_error *err) {
+  FILE *msg = job_msg(o);
+  /* the pipeline's files go with the summary: results/x.h5 -> results/x/ */
+  const char *output = job_output(study, o);
+  char prefix[1200] = "results/pipeline_";
+  if (output[0]) {
+    pom_job_summary_dir(prefix, sizeof prefix - 1, output);
+    strcat(prefix, "/");
   }
-  if (quiet) return 0;
-  double per_run = NAN;
-  pom_error err;
-  pom_error_clear(&err);
-  if (cost.runs >= ANNOUNCE_MIN_RUNS) pom_doe_calibrate(&per_run, study, &err);
-  long cores = sysconf(_SC_NPROCESSORS_ONLN);
-  int n_threads = threads > 0          ? threads
-                  : study->threads > 0 ? study->threads
-                                       : (int)(cores > 0 ? cores : 1);
-  double seconds = per_run * cost.runs / n_threads;
-  if (!(seconds > ANNOUNCE_SECONDS) && !(cost.memory > ANNOUNCE_BYTES) &&
-      !(cost.file > ANNOUNCE_BYTES))
-    return 0;
-  fprintf(stderr,
-          "pomlab sensitivity: %s: %ld design rows x %ld maneuver(s) x %d candidate(s) = %.4g "
-          "runs; memory about %s, results file about %s",
-          study->name, rows, per_sample, study->n_candidates, cost.runs,
-          pom_cli_bytes_text(mem, sizeof mem, cost.memory),
-          pom_cli_bytes_text(file, sizeof file, cost.file));
-  if (isfinite(seconds))
-    fprintf(stderr, "; %s on %d thread(s) (%.3g ms per run, measured on a few runs)",
-            pom_cli_duration_text(how_long, sizeof how_long, seconds), n_threads, per_run * 1e3);
-  fprintf(stderr, "\n");
-  return 0;
-}
-
-int pom_cli_doe_sens_check(const char *cfg_path, const pom_doe_study *study,
-                           const pom_doe_sens *sens, int out_given, int plots, int threads,
-                           int quiet) {
-  char png[POM_DOE_PATH_LEN + 8]; /* the figure: the output without .h5, .png */
-  snprintf(png, sizeof png, "%s", sens->output);
-  char *dot = strrchr(png, '.');
-  if (dot && !strchr(dot, '/')) *dot = '\0';
-  strcat(png, ".png");
-  pom_cli_paths *p = pom_cli_doe_inputs("sensitivity", cfg_path, study);
-  pom_cli_paths_output(p, sens->output,
-                       out_given ? "the results file (--out)"
-                                 : "the results file (sensitivity.output)");
-  if (plots) pom_cli_paths_output(p, png, "the figure");
-  int rc = pom_cli_paths_check(p, 1);
-  pom_cli_paths_destroy(p);
-  if (rc) return rc;
-  int sobol = sens->method == POM_DOE_SENS_SOBOL;
-  long rows = sobol ? pom_sens_sobol_rows(&sens->sobol) : pom_sens_morris_rows(&sens->morris);
-  return sens_cost(study, sobol ? "sobol" : "morris", rows, sens->per_sample, study->uncertain.n,
-                   threads, quiet);
-}
-
-int pom_cli_doe_sens_failures(const pom_doe_study *study, const pom_doe_sens_result *r,
-                              const char *output) {
-  int usable = 0;
-  for (int c = 0; c < r->n_candidates; ++c) {
-    if (r->status[c] == POM_OK) {
-      ++usable;
-      continue;
+  pom_job_phases bars;
+  pom_job_phases_init(&bars, !o->quiet ? msg : NULL);
+  pom_pipeline_options po;
+  memset(&po, 0, sizeof po);
+  po.output_prefix = prefix;
+  po.no_files = o->rank != 0;
+  po.progress = pom_job_phases_report;
+  po.progress_user = &bars;
+  pom_status st = pom_pipeline_run(study, &po, err);
+  pom_job_phases_end(&bars);
+  if (st != POM_OK) {
+    pom_job_report_error(msg, "pipeline", err);
+    return st;
+  }
+  /* study.fidelity = "auto": each candidate's setting, after its tuning
+     (docs/results.md section 12) */
+  if (study->fidelity_auto) {
+    st = pom_doe_fidelity_run(study, !o->quiet && msg ? fidelity_progress : NULL, msg, err);
+    if (st != POM_OK) {
+      pom_job_report_error(msg, "fidelity", err);
+      return st;
     }
-    fprintf(stderr, "pomlab sensitivity: candidate '%s': no indices: %s\n",
-            study->candidates[c].name, r->reason[c]);
   }
-  if (usable == 0)
-    fprintf(stderr,
-            "pomlab sensitivity: no candidate has indices, so nothing was written to %s; `pomlab "
-            "study` of the same file gives each run's status and reason\n",
-            output);
-  return usable;
+  return POM_OK;
+}
+
+/* ---- the job ----------------------------------------------------------------------------- */
+pom_status pom_job_run(pom_doe_study *study, const pom_job_options *o, pom_job_result *res,
+                       pom_error *err) {
+  pom_job_options opts = *o;
+  if (!(opts.t_start > 0)) opts.t_start = pom_progress_now();
+  /* no output may overwrite an input or another output: refused before any
+     work, the pipeline's included (docs/results.md, "Output paths") */
+  POM_TRY(pom_job_check(study, &opts, err));
+  /* candidates whose config asks for it are synthesized and tuned first
+     (synthesis/tuning.run_in_study, docs/optimize.md 10) */
+  if (opts.pipeline) POM_TRY(pom_job_prepare(study, &opts, err));
+  /* runs, memory, file size and time, said before a long run starts */
+  pom_job_announce(study, &opts);
+  return pom_job_execute(study, &opts, res, err);
+}
+
+int pom_job_exit_code(pom_status st, const pom_job_result *res) {
+  if (res && res->interrupted) return 130;
+  if (st == POM_OK) return 0;
+  if (st == POM_ERR_CONFIG || st == POM_ERR_ARG) return 2;
+  return 1;
 }
 
 /* ---- run ------------------------------------------------------------------------------------ */
-int pom_cli_doe_execute(const pom_doe_study *study, const pom_cli_doe_opts *o) {
-  pom_error err;
-  pom_error_clear(&err);
+/* Keeps the first failure: the later steps still run. */
+static void keep_first(pom_status *first, pom_error *err, pom_status st, const pom_error *e) {
+  if (st == POM_OK || *first != POM_OK) return;
+  *first = st;
+  if (err) *err = *e;
+}
+
+pom_status pom_job_execute(const pom_doe_study *study, const pom_job_options *o,
+                           pom_job_result *res, pom_error *err) {
+  pom_job_result local;
+  if (!res) res = &local;
+  memset(res, 0, sizeof *res);
+  FILE *msg = job_msg(o), *out = o->rank == 0 ? o->out : NULL;
+  pom_error e;
+  pom_error_clear(&e);
   pom_doe_run *run = NULL;
   pom_doe_report *rep = NULL;
-  const char *output = o->run.output ? o->run.output : study->output;
-  const char *tabular = o->tabular ? o->tabular : study->tabular;
-  if (tabular[0] && !output[0]) {
-    fprintf(stderr,
-            "pomlab: tabular results '%s' need a results file (--out FILE.h5): the "
-            "maneuver rows are read back from it\n",
-            tabular);
-    return 2;
-  }
+  const char *output = job_output(study, o), *tabular = job_tabular(study, o);
+  if (tabular[0] && !output[0])
+    return pom_job_say(msg, err, POM_ERR_ARG, "",
+                       "tabular results '%s' need a results file (%s FILE.h5): the maneuver "
+                       "rows are read back from it",
+                       tabular, o->output_key ? o->output_key : "--out");
   double t0 = o->t_start > 0 ? o->t_start : pom_progress_now();
-  pom_status st = pom_doe_run_begin(&run, study, &o->run, &err);
+  pom_status st = pom_doe_run_begin(&run, study, &o->run, &e);
   if (st != POM_OK) {
-    pom_cli_report("study", &err);
-    return pom_cli_exit_code(st);
+    pom_job_report_error(msg, "study", &e);
+    if (err) *err = e;
+    return st;
   }
   int root = pom_doe_run_is_root(run);
   struct sigaction sa, old_int, old_term;
-  memset(&sa, 0, sizeof sa);
-  sa.sa_handler = on_signal;
-  sigemptyset(&sa.sa_mask);
-  interrupted = 0;
-  sigaction(SIGINT, &sa, &old_int);
-  sigaction(SIGTERM, &sa, &old_term);
+  if (o->signals) {
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    interrupted = 0;
+    sigaction(SIGINT, &sa, &old_int);
+    sigaction(SIGTERM, &sa, &old_term);
+  }
 
   pom_progress bar;
-  pom_progress_init(&bar, root && !o->quiet ? stderr : NULL, study->name, pom_doe_run_total(run),
+  pom_progress_init(&bar, root && !o->quiet ? msg : NULL, study->name, pom_doe_run_total(run),
                     pom_doe_run_start_done(run), 0);
   int finished = 0, cancelled = 0;
   while (!finished && st == POM_OK) {
-    st = pom_doe_run_step(run, &finished, &err);
-    if (interrupted && !cancelled) {
+    st = pom_doe_run_step(run, &finished, &e);
+    if (((o->signals && interrupted) || (o->cancel && *o->cancel)) && !cancelled) {
       pom_doe_run_cancel(run);
       cancelled = 1;
     }
     pom_progress_update(&bar, pom_doe_run_done(run));
   }
   pom_progress_finish(&bar, pom_doe_run_done(run));
-  sigaction(SIGINT, &old_int, NULL);
-  sigaction(SIGTERM, &old_term, NULL);
-  if (st == POM_OK) st = pom_doe_run_end(run, &rep, &err);
+  if (o->signals) {
+    sigaction(SIGINT, &old_int, NULL);
+    sigaction(SIGTERM, &old_term, NULL);
+  }
+  if (st == POM_OK) st = pom_doe_run_end(run, &rep, &e);
   long done = pom_doe_run_done(run), total = pom_doe_run_total(run);
   int threads = pom_doe_run_threads(run), ranks = pom_doe_run_ranks(run);
   pom_doe_run_destroy(run);
   double wall = pom_progress_now() - t0;
+  res->done = done;
+  res->total = total;
+  res->threads = threads;
+  res->ranks = ranks;
+  res->wall = wall;
   if (st != POM_OK) {
-    pom_cli_report("study", &err);
+    pom_job_report_error(msg, "study", &e);
+    if (err) *err = e;
     pom_doe_report_destroy(rep);
-    return pom_cli_exit_code(st);
+    return st;
   }
-  if (!root) return 0;
-  int code = 0;
+  if (!root) {
+    pom_doe_report_destroy(rep);
+    return POM_OK;
+  }
+  pom_status first = POM_OK;
   /* an unfinished study stays in OUTPUT.partial (docs/results.md) */
   char partial[POM_DOE_PATH_LEN + 16];
   pom_doe_results_partial_path(partial, sizeof partial, output);
   const char *h5 = done < total ? partial : output;
+  if (output[0]) snprintf(res->results, sizeof res->results, "%s", h5);
   if (done < total) {
-    fprintf(stderr,
-            "pomlab: study %s: stopped after %ld of %ld candidate-maneuvers; every finished one is "
-            "in %s; "
-            "continue with --resume\n",
-            study->name, done, total, output[0] ? h5 : "(no file)");
-    code = cancelled ? 130 : 0;
+    if (msg)
+      fprintf(msg,
+              "pomlab: study %s: stopped after %ld of %ld candidate-maneuvers; every finished one "
+              "is in %s; continue with --resume\n",
+              study->name, done, total, output[0] ? h5 : "(no file)");
+    res->interrupted = cancelled;
   }
-  if (o->json) {
-    pom_cli_doe_print_json(stdout, study, rep);
-  } else {
+  if (out && o->json) {
+    pom_job_print_json(out, study, rep);
+  } else if (out) {
     if (study->n_candidates == 1)
-      printf("## Study %s: %s, %ld maneuvers (%.2f s wall, %d thread(s) x %d rank(s))\n\n",
-             study->name, study->candidates[0].name, study->maneuvers.count, wall, threads, ranks);
+      fprintf(out, "## Study %s: %s, %ld maneuvers (%.2f s wall, %d thread(s) x %d rank(s))\n\n",
+              study->name, study->candidates[0].name, study->maneuvers.count, wall, threads, ranks);
     else
-      printf("## Study %s: %d candidates x %ld maneuvers (%.2f s wall, %d thread(s) x %d "
-             "rank(s))\n\n",
-             study->name, study->n_candidates, study->maneuvers.count, wall, threads, ranks);
-    if (o->report_extra) o->report_extra(stdout, study);
-    pom_cli_doe_print_report(stdout, study, rep);
-    pom_cli_doe_fidelity_report(stdout, study, rep);
+      fprintf(out,
+              "## Study %s: %d candidates x %ld maneuvers (%.2f s wall, %d thread(s) x %d "
+              "rank(s))\n\n",
+              study->name, study->n_candidates, study->maneuvers.count, wall, threads, ranks);
+    if (o->pipeline) pom_job_pipeline_report(out, study);
+    pom_job_print_report(out, study, rep);
+    pom_job_fidelity_report(out, study, rep);
   }
   if (tabular[0]) {
     char cand[POM_DOE_PATH_LEN + 32];
     pom_doe_tabular_candidates_path(cand, sizeof cand, tabular);
-    if (pom_doe_tabular_write(study, rep, output, tabular, &err) != POM_OK) {
-      pom_cli_report("tabular", &err);
-      code = code ? code : 1;
-    } else if (!o->json) {
-      printf("\nTabular: %s (candidate x maneuver), %s (candidate)\n", tabular, cand);
+    pom_error_clear(&e);
+    st = pom_doe_tabular_write(study, rep, output, tabular, &e);
+    if (st != POM_OK) {
+      pom_job_report_error(msg, "tabular", &e);
+      keep_first(&first, err, st, &e);
+    } else if (out && !o->json) {
+      fprintf(out, "\nTabular: %s (candidate x maneuver), %s (candidate)\n", tabular, cand);
     }
   }
   if (output[0] && (o->summary || o->plots)) {
     char dir[1100];
-    pom_cli_doe_summary_dir(dir, sizeof dir, output);
+    pom_job_summary_dir(dir, sizeof dir, output);
     if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
-      fprintf(stderr, "pomlab: cannot create %s: %s\n", dir, strerror(errno));
-      code = code ? code : 1;
+      pom_error_clear(&e);
+      pom_job_say(msg, &e, POM_ERR_IO, "", "cannot create %s: %s", dir, strerror(errno));
+      keep_first(&first, err, POM_ERR_IO, &e);
     } else {
       int plots_ok = 0;
       if (o->plots) {
-        int r = pom_cli_run_script("plot_study.py", h5, dir);
+        int r = pom_job_run_script(o->scripts_dir, "plot_study.py", h5, dir, msg);
         plots_ok = r == 0;
         /* the script's own message (a missing module, a full disk) is above */
-        if (!plots_ok && r >= 0)
-          fprintf(stderr,
+        if (!plots_ok && r >= 0 && msg)
+          fprintf(msg,
                   "pomlab: warning: figures not made: scripts/plot_study.py exited with %d (its "
                   "message is above)\n",
                   r);
       }
-      pom_error werr;
-      pom_error_clear(&werr);
-      if (o->summary &&
-          write_summary(study, rep, h5, wall, threads, ranks, plots_ok, dir, o, &werr) != POM_OK) {
-        pom_cli_report("summary", &werr);
-        code = code ? code : 1;
-      } else if (o->summary && !o->json) {
-        printf("\nSummary: %s/summary.md%s\n", dir, plots_ok ? " (with figures)" : "");
+      pom_error_clear(&e);
+      if (o->summary) {
+        st = write_summary(study, rep, h5, wall, threads, ranks, plots_ok, dir, o, &e);
+        if (st != POM_OK) {
+          pom_job_report_error(msg, "summary", &e);
+          keep_first(&first, err, st, &e);
+        } else {
+          snprintf(res->summary, sizeof res->summary, "%s/summary.md", dir);
+          if (out && !o->json)
+            fprintf(out, "\nSummary: %s/summary.md%s\n", dir, plots_ok ? " (with figures)" : "");
+        }
       }
     }
   }
   pom_doe_report_destroy(rep);
-  return code;
+  return first;
 }

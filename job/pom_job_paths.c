@@ -1,10 +1,13 @@
-/* cli_outputs.c - the files a command reads and writes, checked before any
+/* pom_job_paths.c - the files a command reads and writes, checked before any
  * work (docs/results.md, "Output paths"). */
 #define _XOPEN_SOURCE 700 /* realpath */
-#include "cli_outputs.h"
+#include "pom_job.h"
+#include "job_internal.h"
 #include "pom_config.h"
 
 #include <errno.h>
+#include <math.h>
+#include <stdarg.h>
 #include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -28,11 +31,59 @@ typedef struct {
   entry *e; /* [n] */
 } entry_list;
 
-struct pom_cli_paths {
+struct pom_job_paths {
   char command[32];
   entry_list in, out;
   int nomem; /* 1 after a failed allocation: check reports it */
 };
+
+/* ---- messages ------------------------------------------------------------------------ */
+pom_status pom_job_say(FILE *msg, pom_error *err, pom_status st, const char *command,
+                       const char *fmt, ...) {
+  char text[4096];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(text, sizeof text, fmt, ap);
+  va_end(ap);
+  if (msg)
+    fprintf(msg, "pomlab%s%s: %s\n", command && command[0] ? " " : "", command ? command : "",
+            text);
+  if (err && st != POM_OK) pom_error_set(err, st, __FILE__, __LINE__, "%s", text);
+  return st;
+}
+
+void pom_job_report_error(FILE *msg, const char *context, const pom_error *err) {
+  if (!msg) return;
+  if (err && err->message[0])
+    fprintf(msg, "pomlab: %s: %s\n", context, err->message);
+  else
+    fprintf(msg, "pomlab: %s: %s\n", context, pom_strerror(err ? err->status : POM_ERR_INTERNAL));
+}
+
+const char *pom_job_duration_text(char *buf, size_t cap, double s) {
+  if (!isfinite(s))
+    snprintf(buf, cap, "unknown time");
+  else if (s < 120.0)
+    snprintf(buf, cap, "about %.2g s", s);
+  else if (s < 7200.0)
+    snprintf(buf, cap, "about %.2g min", s / 60.0);
+  else if (s < 2.0 * 86400.0)
+    snprintf(buf, cap, "about %.2g h", s / 3600.0);
+  else
+    snprintf(buf, cap, "about %.2g days", s / 86400.0);
+  return buf;
+}
+
+const char *pom_job_bytes_text(char *buf, size_t cap, double bytes) {
+  static const char *const units[] = {"bytes", "kB", "MB", "GB", "TB", "PB"};
+  int u = 0;
+  while (bytes >= 1000.0 && u < 5) {
+    bytes /= 1000.0;
+    ++u;
+  }
+  snprintf(buf, cap, u ? "%.3g %s" : "%.0f %s", bytes, units[u]);
+  return buf;
+}
 
 /* ---- resolved paths --------------------------------------------------------------- */
 /* Missing path components resolved lexically, at most (each one a level of
@@ -97,7 +148,7 @@ static char *dup_text(const char *s) {
 /* Adds path to l; returns 1 when it was added, 0 when it was not (an input
  * listed already, or out of memory). Outputs are all kept: two of one path
  * are what the check refuses. */
-static int add(pom_cli_paths *p, entry_list *l, const char *path, const char *what) {
+static int add(pom_job_paths *p, entry_list *l, const char *path, const char *what) {
   if (!p || !path || !path[0]) return 0;
   char resolved[PATH_CAP];
   if (resolve(path, resolved, sizeof resolved) != 0)
@@ -145,20 +196,20 @@ static void clear(entry_list *l) {
   free(l->e);
 }
 
-pom_cli_paths *pom_cli_paths_create(const char *command) {
-  pom_cli_paths *p = calloc(1, sizeof *p);
+pom_job_paths *pom_job_paths_create(const char *command) {
+  pom_job_paths *p = calloc(1, sizeof *p);
   if (p) snprintf(p->command, sizeof p->command, "%s", command);
   return p;
 }
 
-void pom_cli_paths_destroy(pom_cli_paths *p) {
+void pom_job_paths_destroy(pom_job_paths *p) {
   if (!p) return;
   clear(&p->in);
   clear(&p->out);
   free(p);
 }
 
-void pom_cli_paths_config(pom_cli_paths *p, const char *path, const char *what) {
+void pom_job_paths_config(pom_job_paths *p, const char *path, const char *what) {
   /* a file listed already (every candidate of a sweep) is not loaded again */
   if (!add(p, &p->in, path, what)) return;
   pom_cfg *cfg = NULL;
@@ -172,7 +223,7 @@ void pom_cli_paths_config(pom_cli_paths *p, const char *path, const char *what) 
   pom_cfg_destroy(cfg);
 }
 
-void pom_cli_paths_output(pom_cli_paths *p, const char *path, const char *what) {
+void pom_job_paths_output(pom_job_paths *p, const char *path, const char *what) {
   if (p) add(p, &p->out, path, what);
 }
 
@@ -182,50 +233,47 @@ static int same_file(const entry *a, const entry *b) {
   return strcmp(a->resolved, b->resolved) == 0;
 }
 
-int pom_cli_paths_check(const pom_cli_paths *p, int report) {
+int pom_job_paths_check(const pom_job_paths *p, FILE *msg, pom_error *err) {
   if (!p || p->nomem) {
-    if (report)
-      fprintf(stderr, "pomlab %s: out of memory while checking the output paths\n",
-              p ? p->command : "");
+    pom_job_say(msg, err, POM_ERR_NOMEM, p ? p->command : "",
+                "out of memory while checking the output paths");
     return 1;
   }
   for (int o = 0; o < p->out.n; ++o) {
     const entry *out = &p->out.e[o];
     for (int i = 0; i < p->in.n; ++i)
       if (same_file(out, &p->in.e[i])) {
-        if (report)
-          fprintf(stderr,
-                  "pomlab %s: %s '%s' is the same file as %s '%s': writing it would destroy an "
-                  "input; choose another path (nothing was done)\n",
-                  p->command, out->what, out->path, p->in.e[i].what, p->in.e[i].path);
+        pom_job_say(msg, err, POM_ERR_CONFIG, p->command,
+                    "%s '%s' is the same file as %s '%s': writing it would destroy an input; "
+                    "choose another path (nothing was done)",
+                    out->what, out->path, p->in.e[i].what, p->in.e[i].path);
         return 2;
       }
     for (int k = 0; k < o; ++k)
       if (same_file(out, &p->out.e[k])) {
-        if (report)
-          fprintf(stderr,
-                  "pomlab %s: %s '%s' is the same file as %s '%s': one would overwrite the other; "
-                  "choose distinct paths (nothing was done)\n",
-                  p->command, out->what, out->path, p->out.e[k].what, p->out.e[k].path);
+        pom_job_say(msg, err, POM_ERR_CONFIG, p->command,
+                    "%s '%s' is the same file as %s '%s': one would overwrite the other; choose "
+                    "distinct paths (nothing was done)",
+                    out->what, out->path, p->out.e[k].what, p->out.e[k].path);
         return 2;
       }
   }
   return 0;
 }
 
-int pom_cli_check_output(const char *command, const char *cfg_path, const char *output,
-                         const char *what) {
+int pom_job_check_output(const char *command, const char *cfg_path, const char *output,
+                         const char *what, FILE *msg, pom_error *err) {
   if (!output || !output[0]) return 0;
-  pom_cli_paths *p = pom_cli_paths_create(command);
-  pom_cli_paths_config(p, cfg_path, "the config");
-  pom_cli_paths_output(p, output, what);
-  int rc = pom_cli_paths_check(p, 1);
-  pom_cli_paths_destroy(p);
+  pom_job_paths *p = pom_job_paths_create(command);
+  pom_job_paths_config(p, cfg_path, "the config");
+  pom_job_paths_output(p, output, what);
+  int rc = pom_job_paths_check(p, msg, err);
+  pom_job_paths_destroy(p);
   return rc;
 }
 
 /* ---- folders and tabular files ------------------------------------------------------ */
-int pom_cli_make_parent(const char *path, char *failed, size_t cap) {
+int pom_job_make_parent(const char *path, char *failed, size_t cap) {
   char dir[PATH_CAP];
   snprintf(dir, sizeof dir, "%s", path);
   char *slash = strrchr(dir, '/');
@@ -258,42 +306,39 @@ static int ends_with(const char *s, const char *suffix) {
   return n >= k && strcmp(s + n - k, suffix) == 0;
 }
 
-int pom_cli_tabular_check(const char *command, const char *origin, const char *csv, int report) {
+int pom_job_tabular_check(const char *command, const char *origin, const char *csv, FILE *msg,
+                          pom_error *err) {
   if (!csv || !csv[0]) return 0;
   const char *base = strrchr(csv, '/');
   base = base ? base + 1 : csv;
   if (!ends_with(base, ".csv") || strcmp(base, ".csv") == 0) {
-    if (report)
-      fprintf(stderr,
-              "pomlab %s: %s '%s': expected a file name ending in .csv (FILE.csv; the candidates "
-              "table is FILE_candidates.csv)\n",
-              command, origin, csv);
+    pom_job_say(msg, err, POM_ERR_CONFIG, command,
+                "%s '%s': expected a file name ending in .csv (FILE.csv; the candidates table is "
+                "FILE_candidates.csv)",
+                origin, csv);
     return 2;
   }
   if (ends_with(base, "_candidates.csv")) {
-    if (report)
-      fprintf(stderr,
-              "pomlab %s: %s '%s': a name ending in _candidates.csv is the candidates table of "
-              "another name (FILE.csv writes FILE.csv and FILE_candidates.csv); choose a name "
-              "without that ending\n",
-              command, origin, csv);
+    pom_job_say(msg, err, POM_ERR_CONFIG, command,
+                "%s '%s': a name ending in _candidates.csv is the candidates table of another "
+                "name (FILE.csv writes FILE.csv and FILE_candidates.csv); choose a name without "
+                "that ending",
+                origin, csv);
     return 2;
   }
   struct stat sb;
   if (stat(csv, &sb) == 0 && !S_ISREG(sb.st_mode)) {
-    if (report)
-      fprintf(stderr,
-              "pomlab %s: %s '%s' is not a regular file: the tabular results are two files "
-              "(FILE.csv and FILE_candidates.csv beside it), so they need a regular file's path\n",
-              command, origin, csv);
+    pom_job_say(msg, err, POM_ERR_CONFIG, command,
+                "%s '%s' is not a regular file: the tabular results are two files "
+                "(FILE.csv and FILE_candidates.csv beside it), so they need a regular file's path",
+                origin, csv);
     return 2;
   }
   /* the folder is made as the results file's is, and checked before the work */
   char failed[PATH_CAP];
-  if (pom_cli_make_parent(csv, failed, sizeof failed) != 0) {
-    if (report)
-      fprintf(stderr, "pomlab %s: %s '%s': cannot create folder '%s': %s\n", command, origin, csv,
-              failed, strerror(errno));
+  if (pom_job_make_parent(csv, failed, sizeof failed) != 0) {
+    pom_job_say(msg, err, POM_ERR_IO, command, "%s '%s': cannot create folder '%s': %s", origin,
+                csv, failed, strerror(errno));
     return 1;
   }
   char dir[PATH_CAP];
@@ -306,9 +351,8 @@ int pom_cli_tabular_check(const char *command, const char *origin, const char *c
   else
     snprintf(dir, sizeof dir, ".");
   if (access(dir, W_OK) != 0) {
-    if (report)
-      fprintf(stderr, "pomlab %s: %s '%s': cannot write in folder '%s': %s\n", command, origin, csv,
-              dir, strerror(errno));
+    pom_job_say(msg, err, POM_ERR_IO, command, "%s '%s': cannot write in folder '%s': %s", origin,
+                csv, dir, strerror(errno));
     return 1;
   }
   return 0;

@@ -1,7 +1,7 @@
-/* cli_pipeline.c - progress and report of the design pipeline
+/* pom_job_pipeline.c - progress and report of the design pipeline
  * (docs/optimize.md section 10, docs/results.md). */
 #include "pom_dyn_ctrl.h"
-#include "cli_pipeline.h"
+#include "pom_job.h"
 
 #include "pom_math.h"
 #include "pom_pipeline.h"
@@ -10,22 +10,22 @@
 #include <string.h>
 
 /* ---- progress ------------------------------------------------------------------ */
-void pom_cli_phases_init(pom_cli_phases *p, FILE *out) {
+void pom_job_phases_init(pom_job_phases *p, FILE *out) {
   memset(p, 0, sizeof *p);
   p->out = out;
 }
 
-void pom_cli_phases_end(pom_cli_phases *p) {
+void pom_job_phases_end(pom_job_phases *p) {
   if (!p->phase[0]) return;
   pom_progress_finish(&p->bar, p->done);
   p->phase[0] = '\0';
 }
 
-void pom_cli_phases_report(void *user, const char *phase, long done, long total) {
-  pom_cli_phases *p = user;
+void pom_job_phases_report(void *user, const char *phase, long done, long total) {
+  pom_job_phases *p = user;
   if (!p->out) return;
   if (strcmp(p->phase, phase) != 0) {
-    pom_cli_phases_end(p);
+    pom_job_phases_end(p);
     snprintf(p->phase, sizeof p->phase, "%s", phase);
     pom_progress_init(&p->bar, p->out, phase, total, 0, 0);
   }
@@ -90,7 +90,7 @@ static void geometry_effect(FILE *out, const char *name, const pom_pipeline_reco
             -gap * 1e3);
 }
 
-void pom_cli_pipeline_report(FILE *out, const pom_doe_study *study) {
+void pom_job_pipeline_report(FILE *out, const pom_doe_study *study) {
   int any = 0;
   for (int c = 0; c < study->n_candidates; ++c) {
     const pom_pipeline_record *r = pom_pipeline_record_of(&study->candidates[c].eval);
