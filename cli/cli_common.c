@@ -1,11 +1,7 @@
 /* cli_common.c - helpers shared by the subcommands. */
 #include "pom_cli.h"
 
-#include "pom_study.h"
-#include "pom_dynamics.h"
-#include "pom_kinematics.h"
-#include "pom_synth.h"
-#include "pom_tune.h"
+#include "pom_api.h"
 
 #include <errno.h>
 #include <math.h>
@@ -13,24 +9,13 @@
 #include <string.h>
 
 /* ---- config groups ------------------------------------------------------- */
-pom_status pom_cli_known_top(pom_cfg_groups *g, pom_error *err) {
-  const char *const *const lists[] = {
-      pom_kin_model_groups(), pom_kin_ws_groups(),   pom_dyn_param_groups(),
-      pom_doe_study_groups(), pom_doe_sens_groups(), pom_tradeoff_groups(),
-      pom_syn_groups(),       pom_tune_groups(),     NULL};
-  pom_cfg_groups_init(g);
-  for (int k = 0; lists[k]; ++k)
-    POM_TRY(pom_cfg_groups_add(g, lists[k], err));
-  return POM_OK;
-}
-
 pom_status pom_cli_check_unknown(const pom_cfg *cfg, const char *const *const scopes[],
                                  pom_error *err) {
   pom_cfg_groups own, known;
   pom_cfg_groups_init(&own);
   for (int k = 0; scopes && scopes[k]; ++k)
     POM_TRY(pom_cfg_groups_add(&own, scopes[k], err));
-  POM_TRY(pom_cli_known_top(&known, err));
+  POM_TRY(pom_api_known_groups(&known, err));
   return pom_cfg_check_unknown(cfg, own.name, known.name, err);
 }
 
@@ -70,10 +55,10 @@ int pom_cli_parse_threads(const char *command, const char *text, int *out) {
   char *end = NULL;
   errno = 0;
   long v = strtol(text, &end, 10);
-  if (end == text || *end || errno != 0 || v < 1 || v > POM_CLI_THREADS_MAX) {
+  if (end == text || *end || errno != 0 || v < 1 || v > POM_API_THREADS_MAX) {
     if (command)
       fprintf(stderr, "pomlab %s: --threads '%s': expected an integer in [1, %d]\n", command, text,
-              POM_CLI_THREADS_MAX);
+              POM_API_THREADS_MAX);
     return -1;
   }
   *out = (int)v;

@@ -18,7 +18,7 @@ typedef enum {
   POM_OPT_FLAG,    /* no value: *flag = .set */
   POM_OPT_TEXT,    /* a string: *text = the value */
   POM_OPT_INT,     /* a whole number in [.lo, .hi] (.hi LONG_MAX: no limit): *ival or *lval */
-  POM_OPT_THREADS, /* worker threads in [1, POM_CLI_THREADS_MAX] (study.threads' range): *ival */
+  POM_OPT_THREADS, /* worker threads in [1, POM_API_THREADS_MAX] (study.threads' range): *ival */
   POM_OPT_NUMBER,  /* a config key's number: set by pom_cli_opts_apply (.key) */
   POM_OPT_CHOICE,  /* a config key's choice: set by pom_cli_opts_apply (.key) */
   POM_OPT_LIST,    /* the following arguments up to the next option: list[*count++] */

@@ -22,11 +22,8 @@ int pom_cli_exit_code(pom_status st);
  * malformed list or a nan/inf value. */
 int pom_cli_parse_list(const char *text, int n, double *out);
 
-/* Largest worker-thread count a command accepts (the range of study.threads,
- * docs/results.md). */
-#define POM_CLI_THREADS_MAX 1024
-
-/* Parses a --threads value in [1, POM_CLI_THREADS_MAX]; returns 0, or -1
+/* Parses a --threads value in [1, POM_API_THREADS_MAX] (the range of
+ * study.threads and of the library's callers, pom_api.h); returns 0, or -1
  * after printing "pomlab COMMAND: ..." (nothing when command is NULL). */
 int pom_cli_parse_threads(const char *command, const char *text, int *out);
 
@@ -35,16 +32,11 @@ int pom_cli_parse_threads(const char *command, const char *text, int *out);
 void pom_cli_refuse_shared_output(const char *command, const char *cfg_a, const char *cfg_b,
                                   const char *output);
 
-/* Every top-level config name any command understands, assembled from the
- * lists the libraries export (pom_kin_model_groups, pom_kin_ws_groups,
- * pom_dyn_param_groups, pom_doe_study_groups, pom_doe_sens_groups,
- * pom_tradeoff_groups, pom_syn_groups, pom_tune_groups) into g. */
-pom_status pom_cli_known_top(pom_cfg_groups *g, pom_error *err);
-
 /* Rejects unknown keys in the groups of `scopes` (a NULL-terminated array of
  * the libraries' NULL-terminated group lists: the groups the command's
  * libraries read) and any top-level name no command understands
- * (pom_cli_known_top). No command keeps a list of its own. */
+ * (pom_api_known_groups, the list the C layer and Python check against too).
+ * No command keeps a list of its own. */
 pom_status pom_cli_check_unknown(const pom_cfg *cfg, const char *const *const scopes[],
                                  pom_error *err);
 
