@@ -65,10 +65,35 @@ REFERENCES = [
     ("architectures", "configs/architectures.cfg", False),
     ("paper", "configs/paper.cfg", True),
     ("paper-controllers", "configs/paper-controllers.cfg", True),
+    ("architectures-controllers", "configs/architectures-controllers.cfg", True),
 ]
 
-# lines of a summary.md that differ between identical runs
-VOLATILE = re.compile(r"^- (config|pomlab \S+ \(commit|this run)|wall|\| time \(s\)|cost \(s\)")
+# lines of a summary.md that differ between identical runs, and the table
+# columns that hold wall times
+VOLATILE = re.compile(r"^- (config|pomlab \S+ \(commit|this run)|wall")
+WALL_COLUMN = re.compile(r"time \(s\)|cost \(s\)")
+
+
+def stable(text):
+    """The lines of a summary that identical runs share: wall-time lines and
+    wall-time columns of the tables out."""
+    out, drop = [], []
+    for line in text.split("\n"):
+        if line == "### Figures":  # the regenerated run has none (--no-plots)
+            break
+        if VOLATILE.search(line):
+            continue
+        if line.startswith("|"):
+            cells = line.split("|")
+            if not drop and any(WALL_COLUMN.search(c) for c in cells):
+                drop = [i for i, c in enumerate(cells) if WALL_COLUMN.search(c)]
+            line = "|".join(c for i, c in enumerate(cells) if i not in drop)
+        else:
+            drop = []
+        out.append(line)
+    while out and not out[-1]:
+        out.pop()
+    return out
 
 BEGIN = re.compile(r"<!--\s*checked:\s*(.*?)\s*-->")
 END = re.compile(r"<!--\s*/checked\s*-->")
@@ -216,29 +241,35 @@ def check_references(src, runner, long_runs, failures):
     for name, cfg, is_long in REFERENCES:
         if is_long and not long_runs:
             continue
-        ref = os.path.join(src, "results", "reference", name, "summary.md")
+        refdir = os.path.join(src, "results", "reference", name)
         out = os.path.join(runner.tmp, "ref-" + name + ".h5")
+        files = ["summary.md"]
         try:
             runner.run("pomlab study %s --out %s --quiet --no-plots" % (cfg, out))
-            with open(ref, encoding="utf-8") as f:
-                want = [l for l in f.read().split("\n") if not VOLATILE.search(l)]
-            with open(out[:-3] + "/summary.md", encoding="utf-8") as f:
-                got = [l for l in f.read().split("\n") if not VOLATILE.search(l)]
+            if os.path.exists(os.path.join(refdir, "controllers.md")):
+                runner.run("python3 scripts/arch_controller_report.py %s" % out)
+                files.append("controllers.md")
         except (OSError, RuntimeError, subprocess.TimeoutExpired) as e:
             failures.append("results/reference/%s: %s" % (name, e))
             continue
-        # the figures' lines (the regenerated run has no figures: --no-plots)
-        want = [l for l in want if ".png" not in l]
-        got = [l for l in got if ".png" not in l]
-        for i, (w, g) in enumerate(zip(want, got)):
-            if w != g:
-                failures.append("results/reference/%s/summary.md: `%s` regenerates\n    %s\n  as\n    %s"
-                                % (name, cfg, w, g))
-                break
-        else:
-            if len(want) != len(got):
-                failures.append("results/reference/%s/summary.md: %d lines, the regenerated one %d"
-                                % (name, len(want), len(got)))
+        for fname in files:
+            try:
+                with open(os.path.join(refdir, fname), encoding="utf-8") as f:
+                    want = stable(f.read())
+                with open(os.path.join(out[:-3], fname), encoding="utf-8") as f:
+                    got = stable(f.read().replace(out[:-3] + "/", "results/%s/" % name))
+            except OSError as e:
+                failures.append("results/reference/%s: %s" % (name, e))
+                continue
+            for w, g in zip(want, got):
+                if w != g:
+                    failures.append("results/reference/%s/%s: `pomlab study %s` regenerates\n    %s\n"
+                                    "  as\n    %s" % (name, fname, cfg, w, g))
+                    break
+            else:
+                if len(want) != len(got):
+                    failures.append("results/reference/%s/%s: %d lines, the regenerated one %d"
+                                    % (name, fname, len(want), len(got)))
         checked += 1
     return checked
 
