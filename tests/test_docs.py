@@ -54,9 +54,10 @@ import subprocess
 import sys
 import tempfile
 
-DOCS = ["README.md"] + ["docs/" + f for f in ("results.md", "optimize.md", "control.md",
-                                              "python.md", "tradeoff.md", "view.md",
-                                              "api.md", "config.md", "dynamics.md")]
+# README.md and every docs/*.md (found when the script starts)
+DOCS = ["README.md"] + sorted("docs/" + f for f in os.listdir(
+    os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "docs"))
+    if f.endswith(".md"))
 
 # results/reference/<name>/summary.md and the study that writes it; long ones
 # (more than a few seconds of CPU) only with --long.
@@ -274,6 +275,26 @@ def check_references(src, runner, long_runs, failures):
     return checked
 
 
+def check_commands(src, failures):
+    """The docs' commands name Debian's python3 (/usr/bin/python3, which
+    setup.sh gives numpy, pandas and h5py; a pyenv python3 may come first on
+    the PATH), and run-main.sh's header states the README's CPU times."""
+    bare = re.compile(r"(^|[\s`(])python3 (-c|-m|scripts/|-)")
+    for doc in DOCS:
+        with open(os.path.join(src, doc), encoding="utf-8") as f:
+            for i, line in enumerate(f, 1):
+                if bare.search(line):
+                    failures.append("%s:%d: a command with a bare `python3` (write /usr/bin/python3)"
+                                    % (doc, i))
+    with open(os.path.join(src, "scripts", "run-main.sh"), encoding="utf-8") as f:
+        header = " ".join(" ".join(l.strip("# \n") for l in f if l.startswith("#")).split())
+    with open(os.path.join(src, "README.md"), encoding="utf-8") as f:
+        readme = " ".join(f.read().split())
+    for t in re.findall(r"([\d.]+) s of CPU time", header):
+        if t + " s of CPU time" not in readme:
+            failures.append("scripts/run-main.sh: %s s of CPU time is not the README's" % t)
+
+
 def main(argv):
     if len(argv) < 3:
         print(__doc__.strip().split("\n\n")[-2], file=sys.stderr)
@@ -290,6 +311,8 @@ def main(argv):
         runner = Runner(src, program, tmp)
         n = check_blocks(src, runner, long_runs, only, skip, failures)
         r = 0 if only else check_references(src, runner, long_runs, failures)
+        if not only:
+            check_commands(src, failures)
     for f in failures:
         print("FAIL " + f)
     print("%d checked block(s), %d reference(s), %d failure(s)" % (n, r, len(failures)))
