@@ -30,7 +30,7 @@ A source may start with `long`: such a block is checked only with --long (a
 run of more than a few seconds of CPU time). Numbers are compared as written
 (digits, decimal point and exponent; signs aside): a doc writes a figure
 with the program's digits or rounds it to fewer decimals (0.3808 as 0.381,
-never 0.382); a whole number must be the printed one. A number of the block
+never 0.382; 4.43e-04 as 4.4e-4); a whole number must be the printed one. A number of the block
 that is part of a word (3P-S-S/S, 3pss, rtol 1e-3's "1e-3" is a number) is
 not a figure: digits glued to a letter before or after are skipped. Timings
 are not checked: they belong outside the blocks, each with its machine and
@@ -102,6 +102,14 @@ END = re.compile(r"<!--\s*/checked\s*-->")
 NUMBER = re.compile(r"(?<![\w.])(\d+(?:\.\d+)?(?:e[-+]?\d+)?)(?![\w])")
 
 
+def exponent_form(n):
+    """1.0e-03 as 1.0e-3: the exponent without its zeros and plus sign."""
+    if "e" not in n:
+        return n
+    m, e = n.split("e")
+    return "%se%d" % (m, int(e))
+
+
 def numbers(text):
     text = text.replace("\u2212", "-").replace("\u2009", "").replace("\u202f", "")
     text = re.sub(r"<!--.*?-->", " ", text, flags=re.S)
@@ -115,7 +123,15 @@ def figures(text):
     have = set()
     for n in numbers(text):
         have.add(n)
-        if "e" in n or "." not in n:
+        if "e" in n:  # 4.43e-04 also as 4.43e-4, 4.4e-4, 4e-4
+            m, e = n.split("e")
+            have.add("%se%d" % (m, int(e)))
+            for places in range(0, len(m.split(".")[1]) if "." in m else 0):
+                q = decimal.Decimal(1).scaleb(-places)
+                for r in (decimal.ROUND_HALF_UP, decimal.ROUND_HALF_EVEN):
+                    have.add("%se%d" % (decimal.Decimal(m).quantize(q, rounding=r), int(e)))
+            continue
+        if "." not in n:
             continue
         have.add(n.rstrip("0").rstrip("."))  # 12.60 as 12.6, 100.0 as 100
         d = decimal.Decimal(n)
@@ -230,7 +246,7 @@ def check_blocks(src, runner, long_runs, only, skip, failures):
                     continue
                 have = figures(printed) | ignored
                 for n in want:
-                    if n not in have:
+                    if n not in have and exponent_form(n) not in have:
                         failures.append("%s:%d: %s is not among the figures of `%s`"
                                         % (doc, line, n, group.strip()))
             checked += 1
