@@ -147,9 +147,11 @@ def blocks(src, doc):
     path = os.path.join(src, doc)
     with open(path, encoding="utf-8") as f:
         lines = f.read().split("\n")
-    out, i = [], 0
+    out, i, fenced = [], 0, False
     while i < len(lines):
-        m = BEGIN.search(lines[i])
+        if lines[i].lstrip().startswith("```"):
+            fenced = not fenced  # a marker shown in a code block is an example
+        m = None if fenced else BEGIN.search(lines[i])
         if m:
             start, body = i + 1, []
             i += 1
