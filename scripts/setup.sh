@@ -11,7 +11,7 @@ packages=(
   libgsl-dev libconfig-dev libsundials-dev libsuitesparse-dev libnlopt-dev
   libhdf5-dev hdf5-tools libopenmpi-dev openmpi-bin
   python3 python3-numpy python3-scipy python3-h5py python3-matplotlib python3-pandas python3-pytest
-  chromium libjs-three
+  chromium libjs-three ffmpeg
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -114,3 +114,25 @@ add_test(NAME test_view_cli
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_view_cli.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 set_tests_properties(test_view_cli PROPERTIES SKIP_RETURN_CODE 77)
+# The figures the docs state are the figures the program prints: every
+# `<!-- checked: ... -->` block of README.md and docs/ against its run or
+# file, and results/reference/ regenerated (tests/test_docs.py); the Python
+# snippet of docs/python.md section 3 on its own (a study from Python prints
+# the program's figures). The long runs (paper.cfg, the controller studies,
+# the Sobol indices) with POMLAB_DOCS_LONG=1 only. Not in the sanitizer
+# build (a block runs the Python module).
+if(NOT POM_SANITIZE)
+  add_test(NAME test_docs
+    COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/test_docs.py ${CMAKE_SOURCE_DIR}
+            $<TARGET_FILE:pomlab> --skip docs/python.md
+    WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+  add_test(NAME test_docs_python
+    COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/test_docs.py ${CMAKE_SOURCE_DIR}
+            $<TARGET_FILE:pomlab> --only docs/python.md
+    WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+  add_test(NAME test_docs_long
+    COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/test_docs.py ${CMAKE_SOURCE_DIR}
+            $<TARGET_FILE:pomlab> --long --skip docs/python.md
+    WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+  set_tests_properties(test_docs_long PROPERTIES SKIP_RETURN_CODE 77 LABELS long)
+endif()
