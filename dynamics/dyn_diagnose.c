@@ -70,9 +70,7 @@ out:
 }
 
 /* ---- the message ------------------------------------------------------------ */
-void pom_dyn_max_steps_reason(const pom_dyn_model *m, pom_dyn_data *d, double t, char *buf,
-                              size_t n) {
-  (void)d;
+void pom_dyn_max_steps_reason(const pom_dyn_model *m, double t, char *buf, size_t n) {
   const pom_dyn_solver *s = &m->par.solver;
   const double h_mean = t / (double)s->max_steps;
   int j = -1, ang = 0;

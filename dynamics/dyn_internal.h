@@ -330,8 +330,7 @@ double pom_dyn_stiffest_joint_mode(const pom_dyn_model *m, int *joint, int *angu
 /* The message of a maneuver that reached solver.max_steps at t: the step
  * sizes and what holds them down, the stiffest joint mode when the steps
  * resolve it, the tolerance otherwise (into buf[n]). */
-void pom_dyn_max_steps_reason(const pom_dyn_model *m, pom_dyn_data *d, double t, char *buf,
-                              size_t n);
+void pom_dyn_max_steps_reason(const pom_dyn_model *m, double t, char *buf, size_t n);
 
 /* ---- shared pieces -------------------------------------------------------- */
 /* dyn_simulate.c: m->form->eval (tests and the shared Jacobian use it). */

@@ -259,7 +259,7 @@ static pom_status fail_status(pom_dyn_data *d, int flag, double t, pom_dyn_metri
                        "non-finite state derivative at t = %.6g s", t);
   else if (flag == CV_TOO_MUCH_WORK) { /* dyn_diagnose.c names what holds the steps down */
     char why[sizeof err->message];
-    pom_dyn_max_steps_reason(d->m, d, t, why, sizeof why);
+    pom_dyn_max_steps_reason(d->m, t, why, sizeof why);
     st = pom_error_set(err, POM_ERR_SOLVER, __FILE__, __LINE__, "%s", why);
   } else
     st = d->m->form->solver_failure(d->m, d, t, err); /* the formulation says more */
