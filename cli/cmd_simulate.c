@@ -148,7 +148,7 @@ int pom_cmd_simulate(int argc, char **argv) {
        .kind = POM_OPT_NUMBER,
        .arg = "X",
        .key = "solver.rtol",
-       .help = "the solver's relative tolerance, in [1e-13, 0.1]",
+       .help = "the solver's relative tolerance, in [1e-12, 0.1]",
        .text = &rtol},
   };
   const pom_cli_spec spec = {

@@ -320,6 +320,18 @@ void pom_dyn_parasitic_jac_data_free(pom_dyn_data *d);
 int pom_dyn_parasitic_jacobian(const pom_dyn_model *m, pom_dyn_data *d, const double *y,
                                double *jac);
 
+/* dyn_diagnose.c (docs/dynamics.md section 14): the highest natural
+ * frequency of the underdamped parasitic joint springs (damping ratio
+ * below 1; rad/s), a per-joint upper
+ * bound sqrt(k sum of the sides' mobilities 1/m + |rho|^2/I_min), with the
+ * joint (model index; NULL allowed), 1 when it is an angular spring, and its
+ * damping ratio; 0 (joint -1) on the rigid path. */
+double pom_dyn_stiffest_joint_mode(const pom_dyn_model *m, int *joint, int *angular, double *zeta);
+/* The message of a maneuver that reached solver.max_steps at t: the step
+ * sizes and what holds them down, the stiffest joint mode when the steps
+ * resolve it, the tolerance otherwise (into buf[n]). */
+void pom_dyn_max_steps_reason(const pom_dyn_model *m, double t, char *buf, size_t n);
+
 /* ---- shared pieces -------------------------------------------------------- */
 /* dyn_simulate.c: m->form->eval (tests and the shared Jacobian use it). */
 int pom_dyn_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot);

@@ -74,6 +74,9 @@ pom_status pom_dyn_model_create_ex(pom_dyn_model **out, const pom_mechanism *mec
    * scale rule atol_scale = min(1e-3, 1e3 rtol) (docs/dynamics.md section 7) */
   if (m->par.solver.atol_scale == 0.0 && !m->form->natural_tolerances)
     m->par.solver.atol_scale = fmin(1e-3, 1e3 * m->par.solver.rtol);
+  /* an rtol below atol_scale / 1e3 tightens the absolute tolerances with it
+   * (docs/dynamics.md section 7, "Tolerances") */
+  m->par.solver.atol_scale = pom_dyn_atol_scale_used(&m->par.solver);
   POM_TRY_GOTO(m->form->init(m, mech, arch, err), fail);
   if (arch) { /* the target orientation of a maneuver is FK(setpoints) */
     m->arch = *arch;

@@ -337,6 +337,16 @@ static pom_status load_one(pom_dyn_params *p, const pom_dyn_param_info *pi, cons
   return POM_OK;
 }
 
+/* ---- the absolute tolerances a model uses ---------------------------------- */
+/* docs/dynamics.md section 7: the scale rule's atol follows rtol below the
+ * line atol_scale = 1e3 rtol. The margin keeps pairs on the line (1e-7 and
+ * 1e-4: 1e3 x 1e-7 rounds one ulp below 1e-4) as they are. */
+double pom_dyn_atol_scale_used(const pom_dyn_solver *s) {
+  const double follow = POM_DYN_ATOL_PER_RTOL * s->rtol;
+  if (!(s->atol_scale > 0.0)) return s->atol_scale;
+  return follow < s->atol_scale * (1.0 - 1e-9) ? follow : s->atol_scale;
+}
+
 pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error *err) {
   const char *const *groups = pom_dyn_param_groups();
   for (int g = 0; groups[g]; ++g) {

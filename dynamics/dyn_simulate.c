@@ -257,11 +257,11 @@ static pom_status fail_status(pom_dyn_data *d, int flag, double t, pom_dyn_metri
   else if (d->last_nonfinite || d->nonfinite_count > 0)
     st = pom_error_set(err, POM_ERR_NONFINITE, __FILE__, __LINE__,
                        "non-finite state derivative at t = %.6g s", t);
-  else if (flag == CV_TOO_MUCH_WORK)
-    st = pom_error_set(err, POM_ERR_SOLVER, __FILE__, __LINE__,
-                       "CVODE reached solver.max_steps = %ld before t = %.6g s",
-                       d->m->par.solver.max_steps, t);
-  else
+  else if (flag == CV_TOO_MUCH_WORK) { /* dyn_diagnose.c names what holds the steps down */
+    char why[sizeof err->message];
+    pom_dyn_max_steps_reason(d->m, t, why, sizeof why);
+    st = pom_error_set(err, POM_ERR_SOLVER, __FILE__, __LINE__, "%s", why);
+  } else
     st = d->m->form->solver_failure(d->m, d, t, err); /* the formulation says more */
   mt->status = st;
   if (err)

@@ -75,7 +75,7 @@
   X(actuator, NULL, NULL, actuator.sensor_gain, KIND_REAL, 2, 1.0, NULL, 1e-6, 1e9, 833.33, NULL,  \
     "position sensor gain K_S")                                                                    \
   X(joints, "stiffness_N_per_m", "stiffness_N_per_m", joints.stiffness, REAL, 0, 1.0, "N/m", 1.0,  \
-    1e12, 1.0e6, "joints_stiffness_N_per_m", "k_p of the linear pseudo-constraints")               \
+    POM_DYN_STIFFNESS_MAX, 1.0e6, "joints_stiffness_N_per_m", "k_p of the linear pseudo-constraints")               \
   X(joints, "damping_Ns_per_m", "damping_Ns_per_m", joints.damping, REAL, 0, 1.0, "N s/m", 0.0,    \
     1e9, 200.0, "joints_damping_Ns_per_m", "R_p of the linear pseudo-constraints")                 \
   X(joints, "angular_stiffness_Nm_per_rad", "angular_stiffness_Nm_per_rad",                        \
@@ -105,7 +105,7 @@
   X(scene, "euler_cos_min", "euler_cos_min", scene.euler_cos_min, REAL, 0, 1.0, "1", 1e-6, 0.5,    \
     1.0e-2, "scene_euler_cos_min",                                                                 \
     "the Euler path stops (POM_ERR_EULER_SINGULAR) when a body's cos pitch falls below it")        \
-  X(solver, "rtol", "rtol", solver.rtol, REAL, 0, 1.0, "1", 1e-13, 1e-1, 1.0e-6, "solver_rtol",    \
+  X(solver, "rtol", "rtol", solver.rtol, REAL, 0, 1.0, "1", POM_DYN_RTOL_MIN, 1e-1, 1.0e-6, "solver_rtol",    \
     "CVODE relative tolerance")                                                                    \
   X(solver, "atol_scale", "atol_scale", solver.atol_scale, REAL, 0, 1.0, "1", 0.0, 1.0, 0.0,       \
     "solver_atol_scale",                                                                           \

@@ -160,6 +160,28 @@ pom_status pom_dyn_params_load(pom_dyn_params *p, const pom_cfg *cfg, pom_error 
  * otherwise. pom_dyn_model_create calls it. */
 pom_status pom_dyn_params_check(const pom_dyn_params *p, pom_error *err);
 
+/* Ends of the ranges of solver.rtol and joints.stiffness_N_per_m: what
+ * integrates with the shipped defaults (max_steps 200000) on every shipped
+ * architecture (docs/dynamics.md section 14, "Ranges"; measured by
+ * bench/range_limits.sh): rtol 1e-13 with natural sizes runs out of steps
+ * (3S-P-S/S, 3-RRR), a linear stiffness of 3e10 N/m does (3P-S-S/S). */
+#define POM_DYN_RTOL_MIN      1e-12
+#define POM_DYN_STIFFNESS_MAX 1e10
+
+/* Absolute tolerances per unit of rtol under the scale rule: a model uses
+ * atol_scale = min(solver.atol_scale, POM_DYN_ATOL_PER_RTOL x rtol), so that
+ * an rtol asked below solver.atol_scale / 1e3 tightens the absolute
+ * tolerances with it (docs/dynamics.md section 7; the shipped pair rtol
+ * 1e-6, atol_scale 1e-3 sits on the line). */
+#define POM_DYN_ATOL_PER_RTOL 1e3
+
+/* The atol_scale a model built from s integrates with (docs/dynamics.md
+ * section 7): 0 (natural sizes) for 0; otherwise s->atol_scale, or
+ * POM_DYN_ATOL_PER_RTOL x s->rtol when that is smaller by more than rounding
+ * (a pair on the line, such as the shipped 1e-6 and 1e-3, keeps its
+ * atol_scale bit for bit). */
+double pom_dyn_atol_scale_used(const pom_dyn_solver *s);
+
 /* The config groups pom_dyn_params_load reads (`actuator`, `controller`,
  * `joints`, `scene`, `solver`, `maneuver`), NULL-terminated, static
  * storage: callers use it to refuse settings that the model never reads

@@ -40,23 +40,24 @@ pom_status pom_tradeoff_load(pom_tradeoff_opts *o, const pom_cfg *cfg, pom_error
   POM_TRY(pom_cfg_int_opt(cfg, "tradeoff.repeats", 1, 101, o->repeats, &l, err));
   o->repeats = (int)l;
   if (pom_cfg_has(cfg, "tradeoff.rtol"))
-    POM_TRY(pom_cfg_reals_var(cfg, "tradeoff.rtol", POM_TRADEOFF_MAX_VALUES, 1.0, 1e-13, 0.1,
-                              o->rtol, &o->n_rtol, err));
+    POM_TRY(pom_cfg_reals_var(cfg, "tradeoff.rtol", POM_TRADEOFF_MAX_VALUES, 1.0, POM_DYN_RTOL_MIN,
+                              0.1, o->rtol, &o->n_rtol, err));
   if (pom_cfg_has(cfg, "tradeoff.stiffness_N_per_m"))
     POM_TRY(pom_cfg_reals_var(cfg, "tradeoff.stiffness_N_per_m", POM_TRADEOFF_MAX_VALUES, 1.0, 1.0,
-                              1e12, o->stiffness, &o->n_stiffness, err));
+                              POM_DYN_STIFFNESS_MAX, o->stiffness, &o->n_stiffness, err));
   POM_TRY(
       pom_cfg_bool_opt(cfg, "tradeoff.linear_solvers", o->linear_solvers, &o->linear_solvers, err));
   POM_TRY(pom_cfg_bool_opt(cfg, "tradeoff.scenes", o->scenes, &o->scenes, err));
-  POM_TRY(pom_cfg_real_opt(cfg, "tradeoff.reference_rtol", 1.0, 1e-13, 1e-6, o->reference_rtol,
-                           &o->reference_rtol, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "tradeoff.reference_rtol", 1.0, POM_DYN_RTOL_MIN, 1e-6,
+                           o->reference_rtol, &o->reference_rtol, err));
   static const char *const refs[] = {"parasitic", "rigid", NULL};
   int ref = o->reference_rigid;
   POM_TRY(pom_cfg_choice_opt(cfg, "tradeoff.reference", refs, ref, &ref, err));
   o->reference_rigid = ref;
   POM_TRY(pom_cfg_bool_opt(cfg, "tradeoff.rigid", o->rigid, &o->rigid, err));
-  POM_TRY(pom_cfg_real_opt(cfg, "tradeoff.reference_stiffness_N_per_m", 1.0, 1.0, 1e12,
-                           o->reference_stiffness, &o->reference_stiffness, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "tradeoff.reference_stiffness_N_per_m", 1.0, 1.0,
+                           POM_DYN_STIFFNESS_MAX, o->reference_stiffness, &o->reference_stiffness,
+                           err));
   POM_TRY(pom_cfg_real_opt(cfg, "tradeoff.accuracy_percent", 1e-2, 1e-6, 100.0, o->accuracy,
                            &o->accuracy, err));
   POM_TRY(

@@ -424,8 +424,8 @@ static pom_status load_fidelity(pom_doe_study *study, const pom_cfg *cfg, pom_er
                          "is montecarlo.seed: the selection set must come from a different seed "
                          "than the maneuvers it is validated on");
   study->fidelity_seed = (uint64_t)seed;
-  POM_TRY(
-      pom_cfg_real_opt(cfg, keys[4], 1.0, 1e-13, 1e-6, o->reference_rtol, &o->reference_rtol, err));
+  POM_TRY(pom_cfg_real_opt(cfg, keys[4], 1.0, POM_DYN_RTOL_MIN, 1e-6, o->reference_rtol,
+                           &o->reference_rtol, err));
   return POM_OK;
 }
 

@@ -11,6 +11,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* ---- 1. the atol vector ---------------------------------------------------- */
 static void test_atol_vector(const pom_mechanism *mech, const pom_kin_arch *arch,
@@ -189,6 +190,103 @@ static void test_exact_rtol_controls(const pom_mechanism *mech, const pom_kin_ar
   run_free(&ref);
 }
 
+/* ---- 4. an asked-for rtol delivers under the scale rule ------------------- */
+/* Issue 30 item 2 (docs/dynamics.md section 7): with the shipped
+ * atol_scale = 1e-3 an rtol below 1e-6 used to buy nothing (the absolute
+ * tolerances dominated: energy 1e-5 off at rtol 1e-10, step count
+ * unchanged). atol_scale now follows min(atol_scale, 1e3 rtol): the shipped
+ * pair keeps its atol bit for bit, rtol 1e-8 and 1e-10 tighten it, and the
+ * energy error against rtol 1e-12 (atol_scale 1e-9) falls with rtol
+ * (measured 9.9e-6 / 5.8e-8 / 2.5e-9 at 1e-6 / 1e-8 / 1e-10, 844 / 2130 /
+ * 5035 steps; before: 9.9e-6 / 1.3e-6 / 2.9e-6 at 844 / 856 / 815). */
+static void test_scale_rule_follows_rtol(const pom_mechanism *mech, const pom_kin_arch *arch,
+                                         pom_dyn_params p) {
+  /* the rule itself */
+  pom_dyn_solver s = p.solver;
+  s.rtol = 1e-6, s.atol_scale = 1e-3;
+  check_true(pom_dyn_atol_scale_used(&s) == 1e-3);
+  s.rtol = 1e-7, s.atol_scale = 1e-4; /* 1e3 x 1e-7 rounds one ulp below 1e-4 */
+  check_true(pom_dyn_atol_scale_used(&s) == 1e-4);
+  s.rtol = 1e-4, s.atol_scale = 1e-3;
+  check_true(pom_dyn_atol_scale_used(&s) == 1e-3);
+  s.rtol = 1e-10, s.atol_scale = 1e-3;
+  check_rel(pom_dyn_atol_scale_used(&s), 1e-7, 1e-15);
+  s.atol_scale = 0.0;
+  check_true(pom_dyn_atol_scale_used(&s) == 0.0);
+
+  const double target[3] = {3e-3, -3e-3, 3e-3};
+  const double rt[3] = {1e-6, 1e-8, 1e-10};
+  double energy[3], tpoint[3];
+  long steps[3];
+  run_t ref;
+  p.solver.rtol = 1e-12;
+  p.solver.atol_scale = 1e-9;
+  check_true(run_arch(&ref, mech, arch, &p, target, NULL) == POM_OK);
+  p.solver.atol_scale = 1e-3; /* the shipped configs' */
+  for (int k = 0; k < 3; ++k) {
+    run_t r;
+    p.solver.rtol = rt[k];
+    energy[k] = tpoint[k] = NAN;
+    steps[k] = 0;
+    if (run_arch(&r, mech, arch, &p, target, NULL) == POM_OK && ref.st == POM_OK) {
+      energy[k] = fabs(r.mt.energy_total - ref.mt.energy_total) / ref.mt.energy_total;
+      tpoint[k] = fabs(r.mt.pointing_settling_time - ref.mt.pointing_settling_time);
+      steps[k] = r.mt.steps;
+    }
+    run_free(&r);
+  }
+  printf("  atol_scale 1e-3, rtol 1e-6/1e-8/1e-10: energy error %.2e / %.2e / %.2e, pointing "
+         "time error %.2e / %.2e / %.2e s, steps %ld / %ld / %ld\n",
+         energy[0], energy[1], energy[2], tpoint[0], tpoint[1], tpoint[2], steps[0], steps[1],
+         steps[2]);
+  check_true(energy[1] < 0.1 * energy[0]);
+  check_true(energy[2] < 1e-7);
+  check_true(tpoint[2] < 1e-8);
+  check_true(steps[0] < steps[1] && steps[1] < steps[2]);
+  run_free(&ref);
+}
+
+/* ---- 5. ranges that integrate; what max_steps names ----------------------- */
+/* Issue 30 item 5 (docs/dynamics.md section 14, "Ranges"): rtol 1e-13 and
+ * a linear joint stiffness of 3e10 N/m run out of solver.max_steps on a
+ * shipped architecture: the ranges end at 1e-12 and 1e10; a run that still
+ * reaches max_steps says what holds its steps down. */
+static void test_ranges_and_max_steps(const pom_mechanism *mech, pom_dyn_params p) {
+  pom_error err;
+  pom_error_clear(&err);
+  pom_dyn_params q = p;
+  q.solver.rtol = 1e-13;
+  check_true(pom_dyn_params_check(&q, &err) == POM_ERR_ARG);
+  q.solver.rtol = POM_DYN_RTOL_MIN;
+  check_true(pom_dyn_params_check(&q, &err) == POM_OK);
+  q.joints.stiffness = 3e10;
+  check_true(pom_dyn_params_check(&q, &err) == POM_ERR_ARG);
+  q.joints.stiffness = POM_DYN_STIFFNESS_MAX;
+  check_true(pom_dyn_params_check(&q, &err) == POM_OK);
+
+  const double target[3] = {1.2e-3, -0.85e-3, 0.6e-3};
+  run_t r;
+  /* an undamped 1e10 N/m joint: the steps resolve its mode */
+  q = p;
+  q.joints.stiffness = 1e10;
+  q.joints.damping = 0.0;
+  q.solver.max_steps = 3000;
+  check_true(run(&r, mech, &q, target, NULL) == POM_ERR_SOLVER);
+  printf("  undamped 1e10 N/m: %s\n", r.mt.reason);
+  check_true(strstr(r.mt.reason, "joints.stiffness_N_per_m = 1e+10") != NULL);
+  check_true(strstr(r.mt.reason, "omega ~") != NULL);
+  run_free(&r);
+  /* the tolerance: rtol 1e-12 on natural sizes in 300 steps */
+  q = p;
+  q.solver.rtol = 1e-12;
+  q.solver.atol_scale = 0.0;
+  q.solver.max_steps = 300;
+  check_true(run(&r, mech, &q, target, NULL) == POM_ERR_SOLVER);
+  printf("  rtol 1e-12, 300 steps: %s\n", r.mt.reason);
+  check_true(strstr(r.mt.reason, "solver.rtol = 1e-12") != NULL);
+  run_free(&r);
+}
+
 int main(void) {
   pom_kin_arch arch;
   pom_mechanism *mech = calloc(1, sizeof *mech);
@@ -197,6 +295,8 @@ int main(void) {
   test_atol_vector(mech, &arch, p);
   test_rtol_controls(mech, p);
   test_exact_rtol_controls(mech, &arch, p);
+  test_scale_rule_follows_rtol(mech, &arch, p);
+  test_ranges_and_max_steps(mech, p);
   free(mech);
   return check_summary("test_dyn_tolerances");
 }

@@ -103,4 +103,17 @@ check "not the sum as the rule" bash -c "! grep -q 'alpha1 + alpha2 = 180' '$TMP
 rrr 30 40 "is longer than alpha1 + alpha2: the links cannot reach; it must lie in [|alpha1 - alpha2|, min(alpha1 + alpha2, 360 deg - alpha1 - alpha2)] = [10, 70] deg"
 rrr 170 170 "is longer than 360 deg - alpha1 - alpha2; it must lie in"
 
+# --- issue 30 item 5: the ranges end where the shipped defaults integrate;
+# what runs out of solver.max_steps names the joint mode its steps resolve
+expect_rc 2 "$POMLAB" simulate "$CFG" --target 1,1,1 --rtol 1e-13
+expect_err "key 'solver.rtol' = 1e-13: out of range: expected a value in [1e-12, 0.1]"
+sed 's/^  stiffness_N_per_m = [^;]*;/  stiffness_N_per_m = 3e10;/' "$CFG" >"$TMP/k.cfg"
+expect_rc 2 "$POMLAB" simulate "$TMP/k.cfg" --target 1,1,1
+expect_err "key 'joints.stiffness_N_per_m' = 30000000000: out of range: expected a value in [1, 1e+10]"
+sed -e 's/^  stiffness_N_per_m = [^;]*;/  stiffness_N_per_m = 1e10;/' \
+  -e 's/^  damping_Ns_per_m = [^;]*;/  damping_Ns_per_m = 0;/' \
+  -e 's/^  max_steps = [^;]*;/  max_steps = 3000;/' "$CFG" >"$TMP/k.cfg"
+expect_rc 1 "$POMLAB" simulate "$TMP/k.cfg" --target 1,1,1
+expect_err "(spherical) at joints.stiffness_N_per_m = 1e+10 has omega ~ 4.9e+06 rad/s (damping ratio 0)"
+
 finish test_messages
