@@ -296,6 +296,11 @@ void pom_dyn_settle_begin(const pom_dyn_model *m, pom_dyn_data *d, const double 
 pom_status pom_dyn_settle_step(const pom_dyn_model *m, pom_dyn_data *d, double t, const double *y,
                                pom_error *err);
 void pom_dyn_settle_metrics(const pom_dyn_model *m, const pom_dyn_data *d, pom_dyn_metrics *mt);
+/* What the error test resolves of each actuator position at state y: the
+ * states' tolerances (atol_i + rtol |y_i|) carried through the positions op
+ * (docs/results.md section 1c); work holds n_states doubles. */
+void pom_dyn_position_resolution(const pom_dyn_model *m, const double *y, double *work,
+                                 double res[3]);
 
 /* dyn_parasitic.c: the parasitic bond-graph formulation (docs/dynamics.md). */
 extern const dyn_formulation pom_dyn_form_parasitic;

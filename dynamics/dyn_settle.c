@@ -10,6 +10,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* Two-point Gauss-Legendre nodes on [0, 1] (weights 1/2 each): the
  * interior points where every step is looked at (section 8). */
@@ -326,14 +327,47 @@ static double record_last_exit(const dyn_settle *s, int a, double yf, double ban
   return 0.0;
 }
 
+/* ---- what the integration resolves --------------------------------------- */
+/* res[a]: the error the integrator's error test lets each actuator position
+ * carry at the state y (docs/results.md section 1c): every state i may be off
+ * by its tolerance tol_i = atol_i + rtol |y_i| (rtol only where the state has
+ * a relative term, m->relative), and a position is a function of the state
+ * (the formulation's positions op), so res_a = sum_i |q_a(y + tol_i e_i) -
+ * q_a(y)|, the first-order bound carried through the positions by one
+ * perturbed evaluation per state. States the positions do not read (the
+ * accumulators) add nothing. work holds n_states doubles. */
+void pom_dyn_position_resolution(const pom_dyn_model *m, const double *y, double *work,
+                                 double res[3]) {
+  const double rtol = m->par.solver.rtol;
+  double q0[POM_MECH_MAX_ACTUATORS], q1[POM_MECH_MAX_ACTUATORS];
+  m->form->positions(m, y, q0);
+  for (int a = 0; a < 3; ++a)
+    res[a] = 0.0;
+  memcpy(work, y, (size_t)m->n_states * sizeof(double));
+  for (int i = 0; i < m->n_states; ++i) {
+    double tol = m->atol[i] + (!m->relative || m->relative[i] ? rtol * fabs(y[i]) : 0.0);
+    if (!(tol > 0.0 && tol < 1e20)) continue; /* an unchecked accumulator (atol 1e30) */
+    work[i] = y[i] + tol;
+    m->form->positions(m, work, q1);
+    work[i] = y[i];
+    for (int a = 0; a < m->n_actuators; ++a)
+      if (isfinite(q1[a] - q0[a])) res[a] += fabs(q1[a] - q0[a]);
+  }
+}
+
 /* ---- metrics ------------------------------------------------------------- */
 void pom_dyn_settle_metrics(const pom_dyn_model *m, const pom_dyn_data *d, pom_dyn_metrics *mt) {
   const pom_dyn_params *p = &m->par;
   const dyn_settle *s = &d->settle;
+  /* the resolution of each position at the horizon, where the stepinfo band
+   * sits (section 1c); the end state is d->yfinal, d->ytmp is free */
+  double res[3];
+  pom_dyn_position_resolution(m, d->yfinal, N_VGetArrayPointer(d->ytmp), res);
   mt->execution_time = 0.0;
   for (int a = 0; a < 3; ++a) {
     mt->settling_time[a] = mt->settling_time_final[a] = 0.0;
     mt->settled[a] = 1;
+    mt->stepinfo_unresolved[a] = 0;
   }
   for (int a = 0; a < m->n_actuators; ++a) {
     const dyn_band *b = &s->act[a];
@@ -350,8 +384,15 @@ void pom_dyn_settle_metrics(const pom_dyn_model *m, const pom_dyn_data *d, pom_d
         qmax = fmax(qmax, fabs(q));
       }
     mt->max_abs_q[a] = qmax;
-    double tf = peak > 0 ? record_last_exit(s, a, yf, p->maneuver.settle_band * peak) : 0.0;
+    double band_final = p->maneuver.settle_band * peak;
+    double tf = peak > 0 ? record_last_exit(s, a, yf, band_final) : 0.0;
     mt->settling_time_final[a] = tf >= 0 ? tf : NAN;
+    /* a band narrower than what the error test resolves of this position:
+     * its crossing is integration noise, not a result (section 1c) */
+    if (band_final < res[a]) {
+      mt->settling_time_final[a] = NAN;
+      mt->stepinfo_unresolved[a] = 1;
+    }
     mt->final_q[a] = yf;
     if (!mt->settled[a])
       mt->execution_time = NAN;

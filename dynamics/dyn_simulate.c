@@ -294,6 +294,34 @@ static void solver_stats(pom_dyn_data *d, pom_dyn_metrics *mt) {
   mt->jac_rhs_evals = d->jac_rhs_count;
 }
 
+/* A failed maneuver reports what it did not compute as NaN, never as the 0
+ * it was initialised with (docs/results.md section 1d). Stopped before the
+ * horizon (reached_end 0): the integrals and the audit (energies,
+ * saturation time), the end values (final q, final pointing error) and what
+ * the end makes of the steps (max |q|, the tracking average); nothing
+ * watched (watched 0: refused, or failed at home): the extremes too. Kept:
+ * the extremes over the steps taken (up to the failure time in reason), the
+ * solver's counters (the work done), target and horizon (the inputs); the
+ * times and flags are unset by the caller. */
+static void unset_not_computed(pom_dyn_metrics *mt, int reached_end, int watched) {
+  if (!reached_end) {
+    for (int a = 0; a < 3; ++a) {
+      mt->energy[a] = mt->energy_positive[a] = mt->saturation_time[a] = NAN;
+      mt->energy_coil[a] = mt->energy_bearing[a] = NAN;
+      mt->final_q[a] = mt->max_abs_q[a] = NAN;
+    }
+    mt->energy_total = mt->energy_supplied = mt->energy_dissipated = NAN;
+    mt->energy_stored_change = mt->energy_parasitic = NAN;
+    mt->energy_balance_scale = mt->energy_balance_error = NAN;
+    mt->final_pointing_error = mt->tracking_rms_error = NAN;
+  }
+  if (!watched) {
+    for (int a = 0; a < 3; ++a)
+      mt->peak_voltage[a] = mt->peak_effort[a] = NAN;
+    mt->peak_angular_rate = mt->max_deflection = mt->max_angular_deflection = NAN;
+  }
+}
+
 pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const double target[3],
                                const pom_dyn_initial *init, pom_dyn_metrics *mt, pom_dyn_trace *tr,
                                pom_error *err) {
@@ -312,6 +340,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
       mt->status =
           pom_error_set(err, POM_ERR_ARG, __FILE__, __LINE__, "target %d is not finite", a + 1);
       snprintf(mt->reason, sizeof mt->reason, "target %d is not finite", a + 1);
+      unset_not_computed(mt, 0, 0);
       mt->execution_time = NAN;
       for (int k = 0; k < 3; ++k)
         mt->settling_time[k] = mt->settling_time_final[k] = NAN;
@@ -332,6 +361,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
       mt->status = st;
       snprintf(mt->reason, sizeof mt->reason, "target of actuator %d = %.10g %s outside the stroke",
                a + 1, target[a] * f, kind->display);
+      unset_not_computed(mt, 0, 0);
       mt->execution_time = NAN;
       for (int k = 0; k < 3; ++k)
         mt->settling_time[k] = mt->settling_time_final[k] = NAN;
@@ -358,6 +388,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
   m->form->initial(m, y, init);
   double E0 = m->form->stored(m, d, y);
   pom_status st = POM_OK;
+  int watched = 0; /* the extremes were looked at (from t = 0 on) */
   if (CVodeReInit(d->cvode, 0.0, d->y) != CV_SUCCESS ||
       CVodeSetStopTime(d->cvode, p->maneuver.horizon) != CV_SUCCESS) {
     st = fail_status(d, CV_ILL_INPUT, 0.0, mt, err);
@@ -372,6 +403,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
   if (tr) record_sample(m, d, 0, 0.0, y, tr);
   pom_dyn_settle_begin(m, d, y);
   track_extremes(m, d, mt);
+  watched = 1;
 
   /* the trace's grid, sampled from the interpolant only when a trace is
    * kept; the metrics come from the steps (docs/dynamics.md section 8) */
@@ -485,6 +517,7 @@ finish:
   solver_stats(d, mt);
   mt->wall_time = now_seconds() - t0_wall;
   if (st != POM_OK) {
+    unset_not_computed(mt, d->have_final, watched);
     mt->execution_time = NAN;
     mt->pointing_settled = 0;
     mt->pointing_settling_time = NAN;

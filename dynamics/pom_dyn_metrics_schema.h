@@ -88,7 +88,9 @@
   M(peak_angular_rate, DOUBLE, 1, ANGULAR_RATE, "largest |omega| of the platform")                \
   M(peak_effort, DOUBLE, 3, EFFORT, "largest |K_m i - b q_dot| of each actuator (force or torque)") \
   M(tracking_rms_error, DOUBLE, 1, ANGLE,                                                          \
-    "RMS angle between the platform and the controller's reference (NaN without a trajectory)")
+    "RMS angle between the platform and the controller's reference (NaN without a trajectory)")  \
+  M(stepinfo_unresolved, INT, 3, FLAG,                                                             \
+    "1 when the stepinfo band lies below what the integration resolves (settling_time_final NaN)")
 /* clang-format on */
 
 /* Unit classes of metrics. */

@@ -265,6 +265,10 @@ typedef struct {
   double tracking_rms_error;     /* time-averaged RMS over the horizon of the angle between the
                                     platform and the controller's reference (rad); NaN without a
                                     trajectory */
+  int stepinfo_unresolved[3];    /* 1 when the stepinfo band (settle_band times the largest
+                                    deviation from the final value) is narrower than what the
+                                    integration resolves of that position: settling_time_final is
+                                    then NaN (docs/results.md section 1c) */
 } pom_dyn_metrics;
 
 /* Optional traces of a maneuver, sampled every output_dt. Owned by caller:

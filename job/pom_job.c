@@ -375,6 +375,29 @@ static void print_pareto(FILE *out, const pom_doe_study *study, const pom_doe_re
   }
 }
 
+/* The maneuvers that did not fail but whose stepinfo time is NaN: a band
+ * below what the integration resolves (docs/results.md section 1c), left out
+ * of Table 1b's n. Printed only when there are some. */
+static void print_unresolved(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
+  long total = 0;
+  for (int c = 0; c < rep->n_candidates; ++c) {
+    const pom_doe_candidate_stats *cs = &rep->cand[c];
+    total += cs->n_done - cs->n_failed - cs->execution_time_final.n;
+  }
+  if (total <= 0) return;
+  fprintf(out, "\nunresolved (not in n):");
+  for (int c = 0, first = 1; c < rep->n_candidates; ++c) {
+    const pom_doe_candidate_stats *cs = &rep->cand[c];
+    long u = cs->n_done - cs->n_failed - cs->execution_time_final.n;
+    if (u <= 0) continue;
+    fprintf(out, "%s %s %ld", first ? "" : ",", study->candidates[c].name, u);
+    first = 0;
+  }
+  fprintf(out, " maneuver(s) with an actuator whose stepinfo band lies below what the "
+               "integration resolves of its position; their stepinfo time is not a result "
+               "(docs/results.md section 1c).\n");
+}
+
 /* ---- the report ---------------------------------------------------------------------- */
 void pom_job_print_report(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
   int nc = rep->n_candidates;
@@ -418,7 +441,8 @@ void pom_job_print_report(FILE *out, const pom_doe_study *study, const pom_doe_r
     stats_row(out, study, c, &rep->cand[c].execution_time_final, 1e3, 2, &rep->cand[c], 0);
   fprintf(out, "\nstepinfo: each actuator's band is 2 %% of its largest deviation from its value "
                "at the horizon, about that value (the paper's MATLAB post-processing most likely "
-               "used it); defined for tiny steps too.\n");
+               "used it); defined for tiny steps too, as far as the integration resolves them.\n");
+  print_unresolved(out, study, rep);
   robustness_table(out, study, rep);
 
   if (nc < 2) return; /* one candidate: nothing to compare or rank */

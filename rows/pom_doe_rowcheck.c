@@ -86,6 +86,14 @@ static const char *broken_identity(const pom_doe_row *row, char *why, size_t cap
              row->execution_time, exec);
     return why;
   }
+  for (int a = 0; a < 3; ++a)
+    if (row->stepinfo_unresolved[a] == 1 && !isnan(row->settling_time_final[a])) {
+      snprintf(why, cap,
+               "field 'settling_time_final[%d]' = %.17g contradicts 'stepinfo_unresolved[%d]' "
+               "= 1",
+               a, row->settling_time_final[a], a);
+      return why;
+    }
   if ((row->pointing_settled == 1) != !isnan(row->pointing_settling_time)) {
     snprintf(why, cap, "field 'pointing_settling_time' = %.17g contradicts 'pointing_settled' = %d",
              row->pointing_settling_time, (int)row->pointing_settled);

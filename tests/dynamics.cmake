@@ -63,3 +63,8 @@ target_link_libraries(test_dyn_structured_ls PRIVATE pom_dynamics pom_kinematics
 pom_add_test(test_dyn_settle test_dyn_settle.c)
 target_include_directories(test_dyn_settle PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
 target_link_libraries(test_dyn_settle PRIVATE pom_dynamics pom_kinematics pom_core)
+# a band below the integration's resolution and a failed maneuver's
+# not-computed metrics are NaN, never a number (docs/results.md 1c, 1d)
+pom_add_test(test_dyn_honest test_dyn_honest.c)
+target_include_directories(test_dyn_honest PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
+target_link_libraries(test_dyn_honest PRIVATE pom_dynamics pom_kinematics pom_core)

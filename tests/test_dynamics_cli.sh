@@ -98,5 +98,26 @@ assert pid['states_per_actuator'][0]['name']=='integral' and pid['options'][0]['
 expect_rc 0 "$POMLAB" simulate --help
 grep -q -i "millimetres" "$TMP/out" || { echo "FAIL: --help does not state the unit"; fail=1; }
 
+# what was not resolved or not computed is null in the JSON (docs/results.md
+# sections 1c and 1d): the 38 nm gravity sag of a zero target on the rigid
+# path, and the short-link design driven into its singular pose (exit 1)
+expect_rc 0 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target 0,0,0 --joints rigid --json
+$PY -c "
+import json; r=json.load(open('$TMP/out'))
+assert r['status']=='POM_OK' and r['settling_time_final_s']==[None]*3, r['settling_time_final_s']
+assert r['stepinfo_unresolved']==[1,1,1], r['stepinfo_unresolved']
+" || { echo "FAIL: unresolved stepinfo band not null"; fail=1; }
+sed -e 's/^  platform_radius_mm = .*/  platform_radius_mm = 12.0;/' -e 's/^  limb_length = .*/  limb_length = 2.0;/' \
+    -e 's/^  limb_lean_deg = .*/  limb_lean_deg = 80.0;/' -e 's/^  limb_azimuth_deg = .*/  limb_azimuth_deg = 60.0;/' \
+    "$SRC/configs/3pss.cfg" > "$TMP/short.cfg"
+expect_rc 1 "$POMLAB" simulate "$TMP/short.cfg" --target 6,-6,6 --joints rigid --json
+$PY -c "
+import json; r=json.load(open('$TMP/out'))
+assert r['status']=='POM_ERR_SINGULAR', r['status']
+for k in ('energy_total_J','energy_balance_error'): assert r[k] is None, (k, r[k])
+for k in ('final_q','max_abs_q','energy_J'): assert r[k]==[None]*3, (k, r[k])
+assert r['peak_voltage_V']==[24,24,24] and r['peak_angular_rate_rad_per_s']>100
+" || { echo "FAIL: a failed maneuver's not-computed metrics not null"; fail=1; }
+
 if [ $fail -eq 0 ]; then echo "test_dynamics_cli: passed"; fi
 exit $fail

@@ -342,3 +342,23 @@ def test_three_architectures_reduced(tmp_path):
         settled = r.rows[(r.rows.candidate == name) & (r.rows.status == 0)]  # POM_OK
         assert np.isclose(stats.loc[name, "execution_time_s_mean"], settled.execution_time_s.mean(), rtol=1e-9)
     assert os.path.isdir(tmp_path / "arch")  # the tuned gains beside the results
+
+
+def test_unresolved_and_not_computed_are_nan():
+    """docs/results.md sections 1c and 1d: a stepinfo band below what the
+    integration resolves, and what a failed maneuver did not compute, are NaN
+    (null in the program's JSON), never a number."""
+    z = pomlab.simulate(CFG["3pss"], (0, 0, 0), traces=False, overrides={"joints.model": "rigid"})
+    assert z["status"] == "POM_OK"
+    assert all(math.isnan(v) for v in z["settling_time_final_s"])
+    assert list(z["stepinfo_unresolved"]) == [1, 1, 1]
+    short = {"joints.model": "rigid", "geometry.platform_radius_mm": 12.0, "geometry.limb_length": 2.0,
+             "geometry.limb_lean_deg": 80.0, "geometry.limb_azimuth_deg": 60.0}
+    f = pomlab.simulate(CFG["3pss"], (6e-3, -6e-3, 6e-3), traces=False, overrides=short)
+    assert f["status"] == "POM_ERR_SINGULAR" and "near-singular" in f["reason"]
+    for key in ("energy_total_J", "energy_balance_error", "energy_supplied_J", "final_pointing_error_rad"):
+        assert math.isnan(f[key]), key
+    for key in ("final_q", "max_abs_q", "energy_J", "saturation_time_s"):
+        assert all(math.isnan(v) for v in f[key]), key
+    assert all(v == 24.0 for v in f["peak_voltage_V"]) and f["peak_angular_rate_rad_per_s"] > 100
+    assert f["steps"] > 0
