@@ -261,6 +261,14 @@ int pom_cmd_simulate(int argc, char **argv) {
             "%.6g, %.6g %s); the model has no end stops\n",
             0.5 * arch.stroke * u->to_display, u->display, mt.max_abs_q[0] * u->to_display,
             mt.max_abs_q[1] * u->to_display, mt.max_abs_q[2] * u->to_display, u->display);
+  if (pom_dyn_rigid_limit_exceeded(&mt))
+    fprintf(stderr,
+            "pomlab simulate: warning: the parasitic model is not at its rigid limit "
+            "(rigid_limit_ratio %.3g > %g: the drive spends its energy faster than the joints' "
+            "lowest frequency; its energy may be far from the rigid one); raise "
+            "joints.stiffness_N_per_m or use joints.model = \"rigid\" (docs/dynamics.md "
+            "section 13b)\n",
+            mt.rigid_limit_ratio, POM_DYN_RIGID_LIMIT_WARN);
   if (trace && trace->n > 0) {
     pom_error werr;
     pom_error_clear(&werr);

@@ -151,6 +151,12 @@ void pom_dyn_report_text(FILE *out, const char *name, const pom_dyn_params *p,
           mt->energy_parasitic, mt->energy_stored_change, mt->energy_balance_error);
   fprintf(out, "largest parasitic deflection: %.3g mm, %.3g deg\n", mt->max_deflection * 1e3,
           mt->max_angular_deflection / POM_DEG);
+  if (!isnan(mt->rigid_limit_ratio))
+    fprintf(out, "rigid limit: ratio %.3g%s (docs/dynamics.md section 13b)\n",
+            mt->rigid_limit_ratio,
+            pom_dyn_rigid_limit_exceeded(mt)
+                ? " > 1e-2: NOT at the rigid limit, the drive outruns the joints"
+                : "");
   fprintf(out,
           "solver: %ld steps, %ld RHS evaluations (%ld in %ld Jacobians), %ld Newton iterations, "
           "%ld factorizations, %ld error-test and %ld convergence failures; %.3f ms wall\n",

@@ -219,6 +219,12 @@ pom_status pom_dyn_model_create_ex(pom_dyn_model **out, const pom_mechanism *mec
 pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_error *err);
 void pom_dyn_data_destroy(pom_dyn_data *d);
 
+/* rigid_limit_ratio above which the parasitic model is not at its rigid
+ * limit (docs/dynamics.md section 13b: the joints' dynamic deviation from
+ * their quasi-static response is of order the ratio; 1e-2 = a drive time
+ * ten times the joint's 1/omega). `pomlab simulate` warns, studies count. */
+#define POM_DYN_RIGID_LIMIT_WARN 1e-2
+
 /* Metrics of one maneuver. Times in s, energies in J. */
 typedef struct {
   pom_status status;       /* POM_OK or why it failed */
@@ -269,7 +275,18 @@ typedef struct {
                                     deviation from the final value) is narrower than what the
                                     integration resolves of that position: settling_time_final is
                                     then NaN (docs/results.md section 1c) */
+  double rigid_limit_ratio;      /* parasitic joints: 1 / (omega_low T_E)^2, omega_low the lowest
+                                    joint frequency (rad/s) and T_E the duration over which the
+                                    drive spends its energy (s); above POM_DYN_RIGID_LIMIT_WARN the
+                                    parasitic model is not at its rigid limit (docs/dynamics.md
+                                    section 13b). NaN on rigid joints and when the maneuver did
+                                    not finish */
 } pom_dyn_metrics;
+
+/* 1 when mt's rigid_limit_ratio exceeds POM_DYN_RIGID_LIMIT_WARN (a
+ * finished parasitic maneuver whose drive outruns its joints); 0 otherwise,
+ * also for NaN (rigid joints, failed maneuvers). */
+int pom_dyn_rigid_limit_exceeded(const pom_dyn_metrics *mt);
 
 /* Optional traces of a maneuver, sampled every output_dt. Owned by caller:
  * create with pom_dyn_trace_create, free with pom_dyn_trace_destroy. */
