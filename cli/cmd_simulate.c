@@ -264,11 +264,12 @@ int pom_cmd_simulate(int argc, char **argv) {
   if (pom_dyn_rigid_limit_exceeded(&mt))
     fprintf(stderr,
             "pomlab simulate: warning: the parasitic model is not at its rigid limit "
-            "(rigid_limit_ratio %.3g > %g: the drive spends its energy faster than the joints' "
-            "lowest frequency; its energy may be far from the rigid one); raise "
-            "joints.stiffness_N_per_m or use joints.model = \"rigid\" (docs/dynamics.md "
-            "section 13b)\n",
-            mt.rigid_limit_ratio, POM_DYN_RIGID_LIMIT_WARN);
+            "(rigid_limit_ratio %.3g, above %g when the drive outruns the joints; "
+            "joint_dissipation_share %.3g, above %g when the joints move on their own): its energy "
+            "may be far from the rigid one; raise joints.stiffness_N_per_m or use joints.model = "
+            "\"rigid\" (docs/dynamics.md section 13b)\n",
+            mt.rigid_limit_ratio, POM_DYN_RIGID_LIMIT_WARN, mt.joint_dissipation_share,
+            POM_DYN_JOINT_SHARE_WARN);
   if (trace && trace->n > 0) {
     pom_error werr;
     pom_error_clear(&werr);

@@ -207,6 +207,8 @@ typedef struct {
   double p_prev;    /* P there (W) */
   double e1;        /* int P dt (J) */
   double e2;        /* int P^2 dt (W J) */
+  double pm_prev;   /* drive's mechanical power sum max(0, effort q_dot) at t_prev (W) */
+  double w_mech;    /* its integral, the mechanical work the drive puts in (J) */
 } dyn_validity;
 
 struct pom_dyn_data {
@@ -302,6 +304,10 @@ struct dyn_formulation {
 void pom_dyn_validity_begin(const pom_dyn_model *m, pom_dyn_data *d);
 void pom_dyn_validity_step(const pom_dyn_model *m, pom_dyn_data *d, double t);
 double pom_dyn_validity_ratio(const pom_dyn_model *m, const pom_dyn_data *d);
+/* energy_parasitic / the drive's positive mechanical work (NaN on rigid
+ * joints, 0 without mechanical work) */
+double pom_dyn_validity_share(const pom_dyn_model *m, const pom_dyn_data *d,
+                              double energy_parasitic);
 
 /* dyn_settle.c (docs/dynamics.md section 8). A root of g in [a, b] by the
  * Illinois method, g(a) and g(b) of opposite signs (ga = g(a), gb = g(b)),

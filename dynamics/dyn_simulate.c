@@ -314,6 +314,7 @@ static void unset_not_computed(pom_dyn_metrics *mt, int reached_end, int watched
     mt->energy_stored_change = mt->energy_parasitic = NAN;
     mt->energy_balance_scale = mt->energy_balance_error = NAN;
     mt->final_pointing_error = mt->tracking_rms_error = mt->rigid_limit_ratio = NAN;
+    mt->joint_dissipation_share = NAN;
   }
   if (!watched) {
     for (int a = 0; a < 3; ++a)
@@ -332,7 +333,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
   memset(mt, 0, sizeof *mt);
   mt->horizon = p->maneuver.horizon;
   mt->pointing_settling_time = mt->final_pointing_error = mt->tracking_rms_error = NAN;
-  mt->rigid_limit_ratio = NAN;
+  mt->rigid_limit_ratio = mt->joint_dissipation_share = NAN;
   for (int a = 0; a < 3; ++a)
     mt->target[a] = target[a];
   for (int a = 0; a < 3; ++a)
@@ -497,6 +498,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
   }
   pom_dyn_settle_metrics(m, d, mt);
   mt->rigid_limit_ratio = pom_dyn_validity_ratio(m, d);
+  mt->joint_dissipation_share = pom_dyn_validity_share(m, d, mt->energy_parasitic);
   if (p->solver.max_balance_error > 0 &&
       !(mt->energy_balance_error <= p->solver.max_balance_error)) {
     /* the audit exposes an inaccurate (too loose) or unstable integration

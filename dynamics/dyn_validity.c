@@ -5,7 +5,12 @@
  * which the drive spends its energy (P = sum |u i|, the drive's electrical
  * power at the accepted steps). A drive that spends its energy in less than
  * a joint period moves the actuated body before the springs load the rest:
- * the parasitic model is then not at its rigid limit. */
+ * the parasitic model is then not at its rigid limit. Second component,
+ * joint_dissipation_share = energy_parasitic / int sum max(0, effort q_dot) dt:
+ * the share of the mechanical work the drive puts in that the joints' own
+ * motion (oscillations about their quasi-static deflection) dissipates; it
+ * vanishes as 1/k_p in the rigid limit and catches joints that bounce under
+ * a slow drive (the 3S-P-S/S cylinders), which the ratio does not. */
 #include "dyn_internal.h"
 
 #include <math.h>
@@ -15,6 +20,15 @@ static double drive_power(const pom_dyn_model *m, const pom_dyn_data *d) {
   double p = 0.0;
   for (int a = 0; a < m->n_actuators; ++a)
     p += fabs(d->out.voltage[a] * d->out.current[a]);
+  return p;
+}
+
+/* Sum over the actuators of max(0, effort q_dot) (W): the mechanical power
+ * the drive puts into the mechanism (what it takes back is not counted). */
+static double drive_mech_power(const pom_dyn_model *m, const pom_dyn_data *d) {
+  double p = 0.0;
+  for (int a = 0; a < m->n_actuators; ++a)
+    p += fmax(0.0, d->out.effort[a] * d->out.q_dot[a]);
   return p;
 }
 
@@ -42,7 +56,8 @@ void pom_dyn_validity_begin(const pom_dyn_model *m, pom_dyn_data *d) {
   v->omega_low = v->on ? joint_omega_low(m) : NAN;
   v->t_prev = d->t;
   v->p_prev = drive_power(m, d);
-  v->e1 = v->e2 = 0.0;
+  v->pm_prev = drive_mech_power(m, d);
+  v->e1 = v->e2 = v->w_mech = 0.0;
 }
 
 void pom_dyn_validity_step(const pom_dyn_model *m, pom_dyn_data *d, double t) {
@@ -51,7 +66,9 @@ void pom_dyn_validity_step(const pom_dyn_model *m, pom_dyn_data *d, double t) {
   double p = drive_power(m, d), h = t - v->t_prev;
   v->e1 += 0.5 * (p + v->p_prev) * h;
   v->e2 += 0.5 * (p * p + v->p_prev * v->p_prev) * h;
-  v->t_prev = t, v->p_prev = p;
+  double pm = drive_mech_power(m, d);
+  v->w_mech += 0.5 * (pm + v->pm_prev) * h;
+  v->t_prev = t, v->p_prev = p, v->pm_prev = pm;
 }
 
 double pom_dyn_validity_ratio(const pom_dyn_model *m, const pom_dyn_data *d) {
@@ -64,6 +81,15 @@ double pom_dyn_validity_ratio(const pom_dyn_model *m, const pom_dyn_data *d) {
   return 1.0 / (v->omega_low * t_e * v->omega_low * t_e);
 }
 
+double pom_dyn_validity_share(const pom_dyn_model *m, const pom_dyn_data *d,
+                              double energy_parasitic) {
+  const dyn_validity *v = &d->validity;
+  (void)m;
+  if (!v->on) return NAN;
+  return v->w_mech > 0.0 ? energy_parasitic / v->w_mech : 0.0;
+}
+
 int pom_dyn_rigid_limit_exceeded(const pom_dyn_metrics *mt) {
-  return mt && mt->rigid_limit_ratio > POM_DYN_RIGID_LIMIT_WARN;
+  return mt && (mt->rigid_limit_ratio > POM_DYN_RIGID_LIMIT_WARN ||
+                mt->joint_dissipation_share > POM_DYN_JOINT_SHARE_WARN);
 }

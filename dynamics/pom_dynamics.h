@@ -224,6 +224,12 @@ void pom_dyn_data_destroy(pom_dyn_data *d);
  * their quasi-static response is of order the ratio; 1e-2 = a drive time
  * ten times the joint's 1/omega). `pomlab simulate` warns, studies count. */
 #define POM_DYN_RIGID_LIMIT_WARN 1e-2
+/* joint_dissipation_share above which the parasitic model is not at its
+ * rigid limit (docs/dynamics.md section 13b: the joints' own motion, of
+ * relative amplitude ~sqrt(share), moves the energy by at most 2.5
+ * sqrt(share) in every measured case; 2e-4 separates the 3S-P-S/S k_p
+ * sweep's 2.5 % gap (6.7e-4) from its 0.5 % one (7.5e-5)). */
+#define POM_DYN_JOINT_SHARE_WARN 2e-4
 
 /* Metrics of one maneuver. Times in s, energies in J. */
 typedef struct {
@@ -281,11 +287,20 @@ typedef struct {
                                     parasitic model is not at its rigid limit (docs/dynamics.md
                                     section 13b). NaN on rigid joints and when the maneuver did
                                     not finish */
+  /* parasitic joints: energy_parasitic over the drive's positive mechanical
+   * work int sum max(0, effort q_dot) dt, the share of what the drive puts
+   * into the mechanism that the joints' own motion dissipates; above
+   * POM_DYN_JOINT_SHARE_WARN not at the rigid limit (docs/dynamics.md
+   * section 13b). NaN as rigid_limit_ratio */
+  double joint_dissipation_share;
 } pom_dyn_metrics;
 
-/* 1 when mt's rigid_limit_ratio exceeds POM_DYN_RIGID_LIMIT_WARN (a
- * finished parasitic maneuver whose drive outruns its joints); 0 otherwise,
- * also for NaN (rigid joints, failed maneuvers). */
+/* The validity rule (docs/dynamics.md section 13b): 1 when a finished
+ * parasitic maneuver is not at its rigid limit, i.e. when its
+ * rigid_limit_ratio exceeds POM_DYN_RIGID_LIMIT_WARN (the drive outruns the
+ * joints) or its joint_dissipation_share exceeds POM_DYN_JOINT_SHARE_WARN
+ * (the joints move on their own); 0 otherwise, also for NaN (rigid joints,
+ * failed maneuvers). */
 int pom_dyn_rigid_limit_exceeded(const pom_dyn_metrics *mt);
 
 /* Optional traces of a maneuver, sampled every output_dt. Owned by caller:
