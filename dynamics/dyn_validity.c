@@ -89,7 +89,13 @@ double pom_dyn_validity_share(const pom_dyn_model *m, const pom_dyn_data *d,
   return v->w_mech > 0.0 ? energy_parasitic / v->w_mech : 0.0;
 }
 
+int pom_dyn_rigid_limit_flag(double rigid_limit_ratio, double joint_dissipation_share) {
+  if (rigid_limit_ratio > POM_DYN_RIGID_LIMIT_WARN ||
+      joint_dissipation_share > POM_DYN_JOINT_SHARE_WARN)
+    return 1;
+  return isnan(rigid_limit_ratio) && isnan(joint_dissipation_share) ? -1 : 0;
+}
+
 int pom_dyn_rigid_limit_exceeded(const pom_dyn_metrics *mt) {
-  return mt && (mt->rigid_limit_ratio > POM_DYN_RIGID_LIMIT_WARN ||
-                mt->joint_dissipation_share > POM_DYN_JOINT_SHARE_WARN);
+  return mt && pom_dyn_rigid_limit_flag(mt->rigid_limit_ratio, mt->joint_dissipation_share) == 1;
 }

@@ -302,6 +302,10 @@ typedef struct {
  * (the joints move on their own); 0 otherwise, also for NaN (rigid joints,
  * failed maneuvers). */
 int pom_dyn_rigid_limit_exceeded(const pom_dyn_metrics *mt);
+/* The same rule on the two values (as a results row stores them): 1
+ * flagged, 0 at the rigid limit, -1 not measured (both NaN: rigid joints or
+ * a maneuver that did not finish). */
+int pom_dyn_rigid_limit_flag(double rigid_limit_ratio, double joint_dissipation_share);
 
 /* Optional traces of a maneuver, sampled every output_dt. Owned by caller:
  * create with pom_dyn_trace_create, free with pom_dyn_trace_destroy. */
