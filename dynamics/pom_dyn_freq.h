@@ -19,12 +19,14 @@
 /* What pom_dyn_freq_response computes. */
 enum {
   POM_DYN_FREQ_AXIS = 0, /* T_ee: setpoint rotation about fixed axis e -> platform rotation
-                            about e (axis 0, 1, 2 = x, y, z) */
+                            about e (axis 0, 1, 2 = x, y, z), not normalized (|T_ee(0)| is 1
+                            with integral action) */
   POM_DYN_FREQ_LOOP = 1, /* L_kk: loop gain of actuator `axis`, broken at its voltage input
                             (the others closed); the phase of -L's negative-feedback form:
                             the margins read 1 + L = 0 */
-  POM_DYN_FREQ_WORST = 2 /* smallest singular value of the 3x3 T(jw) (axis ignored); the
-                            phase is that of T along the worst direction's input */
+  POM_DYN_FREQ_WORST = 2 /* the worst real direction's gain relative to DC,
+                            min over unit e of |T(jw) e| / |T(0) e| (axis ignored); the phase
+                            is that of e^T T(jw) T(0)^-1 e along that direction */
 };
 
 /* Figures at one pose. Frequencies in Hz, gains in dB, angles in deg; NaN
@@ -42,7 +44,7 @@ typedef struct {
   double phase_margin_deg[3]; /* per actuator loop (deg; INFINITY when |L| never crosses 1) */
   double crossover_hz[3];     /* gain crossover |L| = 1 of each actuator loop (Hz; NaN if none) */
   int n_modes;                /* parasitic joint modes found (0 on the rigid path) */
-  double mode_hz[POM_DYN_FREQ_MAX_MODES];   /* their damped natural frequencies |lambda|/2pi,
+  double mode_hz[POM_DYN_FREQ_MAX_MODES];   /* their natural frequencies |lambda|/2pi,
                                                ascending (Hz) */
   double mode_zeta[POM_DYN_FREQ_MAX_MODES]; /* their damping ratios -Re lambda / |lambda| */
   /* added by cap-freq */
@@ -56,9 +58,10 @@ typedef struct {
 /* The figures of the closed loop linearized about the equilibrium holding
  * the pose q_pose (joint coordinates, as pom_dyn_simulate's target: m or rad
  * per actuator). d is used as scratch (its last simulation's state is
- * unchanged). POM_ERR_ARG for a model without an architecture or with a
- * coupled (law_all) controller, POM_ERR_NOCONV when no equilibrium is found,
- * POM_ERR_SINGULAR at an unassemblable pose. */
+ * unchanged). POM_ERR_ARG for a model without an architecture,
+ * POM_ERR_NOCONVERGE when no equilibrium is found, POM_ERR_UNREACHABLE at an
+ * unassemblable pose, POM_ERR_EULER_SINGULAR at pitch 90 deg with Euler
+ * angles. */
 pom_status pom_dyn_freq_figures_at(const pom_dyn_model *m, pom_dyn_data *d, const double q_pose[3],
                                    pom_dyn_freq_figures *out, pom_error *err);
 
