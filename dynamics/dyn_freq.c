@@ -6,6 +6,7 @@
 #include "pom_dyn_freq.h"
 
 #include "dyn_internal.h"
+#include "pom_json.h"
 #include "pom_math.h"
 
 #include <complex.h>
@@ -24,8 +25,15 @@
 #define FREQ_NEWTON_MAX 40
 #define FREQ_NEWTON_TOL 1e-9
 /* Singular values of the scaled A below this fraction of the largest are
- * the idle (uncontrollable and unobservable) modes: free link spins. */
-#define FREQ_SV_TRUNC 1e-13
+ * the idle (uncontrollable and unobservable) modes: free link spins, whose
+ * singular values are rounding, ~1e-18 of the largest on the shipped
+ * scenes. A real pole bounds the smallest singular value from above, and
+ * the PID's integral pole K_I = 1e-3 1/s against the parasitic springs'
+ * 1e10 1/s sits at ~1e-14: the cut lies between (docs/capability.md). */
+#define FREQ_SV_TRUNC 1e-16
+/* An idle mode is also unseen by every output: |C v| below this fraction
+ * of |C| for its unit null vector v. */
+#define FREQ_IDLE_UNSEEN 1e-8
 /* Voltage step of the loop-breaking injection (V): f is affine in it. */
 #define FREQ_DU 1e-3
 /* Frequency grid of the searches (Hz), points per decade. */
@@ -63,6 +71,8 @@ typedef struct {
   double T0[9];           /* T(0), setpoint rotation -> platform rotation */
   double T0inv[9];        /* its inverse */
   int modes_ok;           /* eigenvalues computed */
+  int n_idle;             /* dimension of the idle modes' subspace left out of lambda */
+  int n_lambda;           /* eigenvalues in lambda */
   double complex *lambda; /* [n] eigenvalues of A (1/s) */
 } freq_lin;
 
@@ -186,6 +196,161 @@ static int pinv_solve(const double *A, int n, double *b, int nb) {
   gsl_vector_free(w);
   gsl_vector_free(t);
   return bad;
+}
+
+/* The idle modes (docs/capability.md): a link that spins freely between two
+ * spherical joints adds a Jordan chain of the eigenvalue 0, the spin angle
+ * (a null vector of A: nothing depends on it) and its angular momentum
+ * (A g = that null vector), which rounding splits into +-sqrt(eps |A|)
+ * (~1e-4 1/s here: as small as the integral's pole). The chains span an
+ * invariant subspace S = span(N, A^+ N), N the null space of the scaled A;
+ * in an orthonormal basis [Q_S Q_P] A is block upper triangular and the
+ * other poles are those of Q_P^T A Q_P. Returns that (m x m) matrix with
+ * *n_idle = dim S, or A itself (*n_idle 0) when A has no null space or S
+ * is not invariant to 1e-9 |A|; NULL when out of memory. */
+static gsl_matrix *active_matrix(const double *As, const double *Cs, int n, int *m_out,
+                                 int *n_idle) {
+  gsl_matrix *U = gsl_matrix_alloc((size_t)n, (size_t)n),
+             *V = gsl_matrix_alloc((size_t)n, (size_t)n);
+  gsl_matrix *Sb = gsl_matrix_alloc((size_t)n, (size_t)(2 * n)), *Q = NULL, *out = NULL;
+  gsl_vector *S = gsl_vector_alloc((size_t)n), *w = gsl_vector_alloc((size_t)n);
+  gsl_vector *tq = gsl_vector_alloc((size_t)n);
+  int k = 0;
+  *n_idle = 0;
+  if (!U || !V || !Sb || !S || !w || !tq) goto fallback;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      gsl_matrix_set(U, (size_t)i, (size_t)j, As[i * n + j]);
+  if (gsl_linalg_SV_decomp(U, V, S, w) != GSL_SUCCESS) goto fallback;
+  const double smax = gsl_vector_get(S, 0);
+  int n0 = 0;
+  for (int c = 0; c < n; ++c)
+    if (!(gsl_vector_get(S, (size_t)c) > FREQ_SV_TRUNC * smax)) {
+      /* null vector v and g = A^+ v: Gram-Schmidt into the basis Sb */
+      double v[2][512];
+      if (n > 512) goto fallback;
+      for (int i = 0; i < n; ++i)
+        v[0][i] = gsl_matrix_get(V, (size_t)i, (size_t)c);
+      /* seen by an output (the platform, a controller): not idle */
+      double cv = 0.0, cn = 0.0;
+      for (int r = 0; r < NIO; ++r) {
+        double acc = 0.0;
+        for (int i = 0; i < n; ++i) {
+          acc += Cs[r * n + i] * v[0][i];
+          cn += Cs[r * n + i] * Cs[r * n + i];
+        }
+        cv = fmax(cv, fabs(acc));
+      }
+      if (cv > FREQ_IDLE_UNSEEN * sqrt(cn)) continue;
+      for (int i = 0; i < n; ++i) {
+        double acc = 0.0;
+        for (int r = 0; r < n; ++r) {
+          double sr = gsl_vector_get(S, (size_t)r);
+          if (!(sr > FREQ_SV_TRUNC * smax)) continue;
+          double ur = 0.0;
+          for (int l = 0; l < n; ++l)
+            ur += gsl_matrix_get(U, (size_t)l, (size_t)r) * v[0][l];
+          acc += gsl_matrix_get(V, (size_t)i, (size_t)r) * ur / sr;
+        }
+        v[1][i] = acc;
+      }
+      ++n0;
+      for (int t = 0; t < 2; ++t) {
+        for (int pass = 0; pass < 2; ++pass) /* twice is enough (Kahan) */
+          for (int b = 0; b < k; ++b) {
+            double dot = 0.0;
+            for (int i = 0; i < n; ++i)
+              dot += gsl_matrix_get(Sb, (size_t)i, (size_t)b) * v[t][i];
+            for (int i = 0; i < n; ++i)
+              v[t][i] -= dot * gsl_matrix_get(Sb, (size_t)i, (size_t)b);
+          }
+        double nv = 0.0;
+        for (int i = 0; i < n; ++i)
+          nv += v[t][i] * v[t][i];
+        nv = sqrt(nv);
+        if (!(nv > 1e-6)) continue; /* g already in the span */
+        for (int i = 0; i < n; ++i)
+          gsl_matrix_set(Sb, (size_t)i, (size_t)k, v[t][i] / nv);
+        ++k;
+      }
+    }
+  if (n0 == 0 || k >= n) goto fallback;
+  /* invariance: |A Q_S - Q_S Q_S^T A Q_S| <= 1e-9 |A| */
+  double worst = 0.0;
+  for (int b = 0; b < k; ++b) {
+    double aq[512], proj[512];
+    for (int i = 0; i < n; ++i) {
+      double acc = 0.0;
+      for (int j = 0; j < n; ++j)
+        acc += As[i * n + j] * gsl_matrix_get(Sb, (size_t)j, (size_t)b);
+      aq[i] = acc;
+      proj[i] = 0.0;
+    }
+    for (int c = 0; c < k; ++c) {
+      double dot = 0.0;
+      for (int i = 0; i < n; ++i)
+        dot += gsl_matrix_get(Sb, (size_t)i, (size_t)c) * aq[i];
+      for (int i = 0; i < n; ++i)
+        proj[i] += dot * gsl_matrix_get(Sb, (size_t)i, (size_t)c);
+    }
+    for (int i = 0; i < n; ++i)
+      worst = fmax(worst, fabs(aq[i] - proj[i]));
+  }
+  if (!(worst <= 1e-9 * smax)) goto fallback;
+  /* the complement: full Q of the QR of Q_S */
+  {
+    gsl_matrix_view qs = gsl_matrix_submatrix(Sb, 0, 0, (size_t)n, (size_t)k);
+    gsl_matrix *QR = gsl_matrix_alloc((size_t)n, (size_t)k);
+    gsl_vector *tk = gsl_vector_alloc((size_t)k);
+    Q = gsl_matrix_alloc((size_t)n, (size_t)n);
+    gsl_matrix *Rm = gsl_matrix_alloc((size_t)n, (size_t)k);
+    int ok = QR && tk && Q && Rm && gsl_matrix_memcpy(QR, &qs.matrix) == GSL_SUCCESS &&
+             gsl_linalg_QR_decomp(QR, tk) == GSL_SUCCESS &&
+             gsl_linalg_QR_unpack(QR, tk, Q, Rm) == GSL_SUCCESS;
+    gsl_matrix_free(QR);
+    gsl_vector_free(tk);
+    gsl_matrix_free(Rm);
+    if (!ok) goto fallback;
+  }
+  {
+    const int m = n - k;
+    out = gsl_matrix_alloc((size_t)m, (size_t)m);
+    if (!out) goto fallback;
+    for (int a = 0; a < m; ++a)
+      for (int b = 0; b < m; ++b) {
+        double acc = 0.0;
+        for (int i = 0; i < n; ++i) {
+          double qa = gsl_matrix_get(Q, (size_t)i, (size_t)(k + a));
+          if (qa == 0.0) continue;
+          double row = 0.0;
+          for (int j = 0; j < n; ++j)
+            row += As[i * n + j] * gsl_matrix_get(Q, (size_t)j, (size_t)(k + b));
+          acc += qa * row;
+        }
+        gsl_matrix_set(out, (size_t)a, (size_t)b, acc);
+      }
+    *m_out = m;
+    *n_idle = k;
+  }
+  goto done;
+fallback:
+  gsl_matrix_free(out);
+  out = gsl_matrix_alloc((size_t)n, (size_t)n);
+  if (out)
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        gsl_matrix_set(out, (size_t)i, (size_t)j, As[i * n + j]);
+  *m_out = n;
+  *n_idle = 0;
+done:
+  gsl_matrix_free(U);
+  gsl_matrix_free(V);
+  gsl_matrix_free(Sb);
+  gsl_matrix_free(Q);
+  gsl_vector_free(S);
+  gsl_vector_free(w);
+  gsl_vector_free(tq);
+  return out;
 }
 
 /* Scaled A of the kept states at y (f = f(y) already evaluated into f). */
@@ -491,17 +656,17 @@ static pom_status linearize(const pom_dyn_model *m, pom_dyn_data *d, const doubl
       }
   }
   {
-    gsl_matrix *Ae = gsl_matrix_alloc((size_t)n, (size_t)n);
-    gsl_vector_complex *ev = gsl_vector_complex_alloc((size_t)n);
-    gsl_eigen_nonsymm_workspace *ws = gsl_eigen_nonsymm_alloc((size_t)n);
+    /* the poles without the idle modes (docs/capability.md) */
+    int m_act = 0;
+    gsl_matrix *Ae = active_matrix(L->As, L->Cs, n, &m_act, &L->n_idle);
+    gsl_vector_complex *ev = Ae ? gsl_vector_complex_alloc((size_t)m_act) : NULL;
+    gsl_eigen_nonsymm_workspace *ws = Ae ? gsl_eigen_nonsymm_alloc((size_t)m_act) : NULL;
     if (Ae && ev && ws) {
-      for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j)
-          gsl_matrix_set(Ae, (size_t)i, (size_t)j, L->As[i * n + j]);
       gsl_eigen_nonsymm_params(0, 1, ws); /* balance: the scales span decades */
       if (gsl_eigen_nonsymm(Ae, ev, ws) == GSL_SUCCESS) {
         L->modes_ok = 1;
-        for (int k = 0; k < n; ++k) {
+        L->n_lambda = m_act;
+        for (int k = 0; k < m_act; ++k) {
           gsl_complex z = gsl_vector_complex_get(ev, (size_t)k);
           L->lambda[k] = GSL_REAL(z) + I * GSL_IMAG(z);
         }
@@ -835,17 +1000,11 @@ pom_status pom_dyn_freq_figures_at(const pom_dyn_model *m, pom_dyn_data *d, cons
   out->stable = 0;
   out->slowest_pole_hz = NAN;
   if (L.modes_ok) {
-    double amax = 0.0;
-    for (int k = 0; k < L.n; ++k)
-      amax = fmax(amax, cabs(L.lambda[k]));
-    const double tiny = 1e-12 * amax; /* idle modes: exact zeros up to rounding */
     int stable = 1;
     double slow = INFINITY;
-    for (int k = 0; k < L.n; ++k) {
-      double mag = cabs(L.lambda[k]);
-      if (mag <= tiny) continue;
+    for (int k = 0; k < L.n_lambda; ++k) {
       if (!(creal(L.lambda[k]) < 0)) stable = 0;
-      slow = fmin(slow, mag);
+      slow = fmin(slow, cabs(L.lambda[k]));
     }
     out->stable = stable;
     out->slowest_pole_hz = isfinite(slow) ? slow / (2.0 * POM_PI) : NAN;
@@ -854,7 +1013,7 @@ pom_status pom_dyn_freq_figures_at(const pom_dyn_model *m, pom_dyn_data *d, cons
       for (;;) { /* ascending selection of the oscillatory poles above the band */
         double best = INFINITY;
         int kb = -1;
-        for (int k = 0; k < L.n; ++k) {
+        for (int k = 0; k < L.n_lambda; ++k) {
           double fk = cabs(L.lambda[k]) / (2.0 * POM_PI);
           double zeta = -creal(L.lambda[k]) / cabs(L.lambda[k]);
           if (cimag(L.lambda[k]) > 0 && zeta < FREQ_MODE_ZETA && fk > fl && fk < best)
@@ -931,4 +1090,89 @@ pom_status pom_dyn_freq_response(const pom_dyn_model *m, pom_dyn_data *d, const 
   }
   lin_free(&L);
   return POM_OK;
+}
+
+/* ---- JSON ------------------------------------------------------------------ */
+static void json_curve(FILE *out, const double *mag, const double *ph, int nf) {
+  fputs("{\"mag_db\": ", out);
+  pom_json_vec(out, mag, nf, 1.0);
+  fputs(", \"phase_deg\": ", out);
+  pom_json_vec(out, ph, nf, 1.0);
+  fputs("}", out);
+}
+
+pom_status pom_dyn_freq_json(FILE *out, const pom_dyn_model *m, pom_dyn_data *d,
+                             const double q_pose[3], double f_lo, double f_hi, int per_decade,
+                             pom_error *err) {
+  if (!out || !(f_lo > 0) || !(f_hi > f_lo) || per_decade < 1 || per_decade > 1000)
+    POM_FAIL(err, POM_ERR_ARG, "frequency response JSON: grid %g..%g Hz, %d per decade", f_lo, f_hi,
+             per_decade);
+  pom_dyn_freq_figures F;
+  POM_TRY(pom_dyn_freq_figures_at(m, d, q_pose, &F, err));
+  const int nf = (int)floor(log10(f_hi / f_lo) * per_decade + 1e-9) + 1;
+  double *f = calloc((size_t)nf, sizeof *f), *mag = calloc((size_t)nf * 8, sizeof *mag);
+  double *ph = calloc((size_t)nf * 8, sizeof *ph);
+  pom_status st = POM_OK;
+  if (!f || !mag || !ph) {
+    st = pom_error_set(err, POM_ERR_NOMEM, __FILE__, __LINE__, "allocating the Bode data");
+    goto done;
+  }
+  for (int i = 0; i < nf; ++i)
+    f[i] = f_lo * pow(10.0, (double)i / per_decade);
+  /* curves: axes 0-2, worst 3, loops 4.. */
+  for (int c = 0; c < 4 + F.n_actuators && st == POM_OK; ++c) {
+    int kind = c < 3 ? POM_DYN_FREQ_AXIS : c == 3 ? POM_DYN_FREQ_WORST : POM_DYN_FREQ_LOOP;
+    int axis = c < 3 ? c : c == 3 ? 0 : c - 4;
+    st = pom_dyn_freq_response(m, d, q_pose, kind, axis, f, nf, mag + (size_t)c * (size_t)nf,
+                               ph + (size_t)c * (size_t)nf, err);
+  }
+  if (st != POM_OK) goto done;
+  const int na = F.n_actuators;
+  fputs("{\n  \"pose_q\": ", out);
+  pom_json_vec(out, q_pose, m->n_actuators, 1.0);
+  fputs(",\n  \"bandwidth_hz\": ", out);
+  pom_json_vec(out, F.bandwidth_hz, 3, 1.0);
+  fputs(",\n  \"bandwidth_worst_hz\": ", out);
+  pom_json_number(out, F.bandwidth_worst_hz);
+  fputs(",\n  \"worst_dir\": ", out);
+  pom_json_vec(out, F.worst_dir, 3, 1.0);
+  fputs(",\n  \"peak_db\": ", out);
+  pom_json_vec(out, F.peak_db, 3, 1.0);
+  fputs(",\n  \"peak_db_worst\": ", out);
+  pom_json_number(out, F.peak_db_worst);
+  fputs(",\n  \"dc_gain\": ", out);
+  pom_json_vec(out, F.dc_gain, 3, 1.0);
+  /* an infinite margin (no crossing) is null, as every non-finite number */
+  fputs(",\n  \"gain_margin_db\": ", out);
+  pom_json_vec(out, F.gain_margin_db, na, 1.0);
+  fputs(",\n  \"phase_margin_deg\": ", out);
+  pom_json_vec(out, F.phase_margin_deg, na, 1.0);
+  fputs(",\n  \"crossover_hz\": ", out);
+  pom_json_vec(out, F.crossover_hz, na, 1.0);
+  fputs(",\n  \"slowest_pole_hz\": ", out);
+  pom_json_number(out, F.slowest_pole_hz);
+  fprintf(out, ",\n  \"stable\": %s,\n  \"mode_hz\": ", F.stable ? "true" : "false");
+  pom_json_vec(out, F.mode_hz, F.n_modes, 1.0);
+  fputs(",\n  \"mode_zeta\": ", out);
+  pom_json_vec(out, F.mode_zeta, F.n_modes, 1.0);
+  fputs(",\n  \"f_hz\": ", out);
+  pom_json_vec(out, f, nf, 1.0);
+  fputs(",\n  \"axis\": [", out);
+  for (int c = 0; c < 3; ++c) {
+    fputs(c ? ",\n    " : "\n    ", out);
+    json_curve(out, mag + (size_t)c * (size_t)nf, ph + (size_t)c * (size_t)nf, nf);
+  }
+  fputs("],\n  \"worst\": ", out);
+  json_curve(out, mag + 3 * (size_t)nf, ph + 3 * (size_t)nf, nf);
+  fputs(",\n  \"loop\": [", out);
+  for (int a = 0; a < na; ++a) {
+    fputs(a ? ",\n    " : "\n    ", out);
+    json_curve(out, mag + (size_t)(4 + a) * (size_t)nf, ph + (size_t)(4 + a) * (size_t)nf, nf);
+  }
+  fputs("]\n}\n", out);
+done:
+  free(f);
+  free(mag);
+  free(ph);
+  return st;
 }

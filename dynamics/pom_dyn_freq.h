@@ -13,6 +13,8 @@
 
 #include "pom_dynamics.h"
 
+#include <stdio.h>
+
 /* Largest number of parasitic modes reported. */
 #define POM_DYN_FREQ_MAX_MODES 16
 
@@ -73,5 +75,15 @@ pom_status pom_dyn_freq_figures_at(const pom_dyn_model *m, pom_dyn_data *d, cons
 pom_status pom_dyn_freq_response(const pom_dyn_model *m, pom_dyn_data *d, const double q_pose[3],
                                  int kind, int axis, const double *f_hz, int nf, double *mag_db,
                                  double *phase_deg, pom_error *err);
+
+/* The figures and the Bode data at q_pose as one JSON object on out (SI:
+ * Hz, dB, deg; an infinite margin or a missing figure is null): the keys of
+ * pom_dyn_freq_figures, then f_hz (a log grid from f_lo to f_hi Hz with
+ * per_decade points a decade) and the curves axis[3], worst and loop[n]
+ * ({mag_db, phase_deg}), which scripts/plot_bode.py draws. Errors as
+ * pom_dyn_freq_figures_at; POM_ERR_ARG for a bad grid. */
+pom_status pom_dyn_freq_json(FILE *out, const pom_dyn_model *m, pom_dyn_data *d,
+                             const double q_pose[3], double f_lo, double f_hi, int per_decade,
+                             pom_error *err);
 
 #endif
