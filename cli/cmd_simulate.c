@@ -81,16 +81,21 @@ static int bode(const char *path, int json, const char *name, const pom_dyn_mode
   pom_error err;
   pom_error_clear(&err);
   pom_dyn_freq_figures F;
-  pom_status st = pom_dyn_freq_figures_at(model, data, q, &F, &err);
-  FILE *fp = st == POM_OK ? fopen(path, "w") : NULL;
+  pom_status st = json ? POM_OK : pom_dyn_freq_figures_at(model, data, q, &F, &err);
+  FILE *fp = st == POM_OK ? fopen(path, json ? "w+" : "w") : NULL;
   if (st == POM_OK && !fp)
     st = pom_error_set(&err, POM_ERR_IO, __FILE__, __LINE__, "cannot write '%s'", path);
   if (st == POM_OK)
     st = pom_dyn_freq_json(fp, model, data, q, BODE_F_LO, BODE_F_HI, BODE_PER_DECADE, &err);
+  if (st == POM_OK && json) { /* the same JSON on stdout */
+    char buf[4096];
+    size_t got;
+    rewind(fp);
+    while ((got = fread(buf, 1, sizeof buf, fp)) > 0)
+      fwrite(buf, 1, got, stdout);
+  }
   if (fp && fclose(fp) != 0 && st == POM_OK)
     st = pom_error_set(&err, POM_ERR_IO, __FILE__, __LINE__, "cannot write '%s'", path);
-  if (st == POM_OK && json)
-    st = pom_dyn_freq_json(stdout, model, data, q, BODE_F_LO, BODE_F_HI, BODE_PER_DECADE, &err);
   if (st != POM_OK) {
     pom_cli_report("simulate --bode", &err);
     return pom_cli_exit_code(st);

@@ -943,38 +943,38 @@ static pom_status check_args(const pom_dyn_model *m, const pom_dyn_data *d, cons
   return POM_OK;
 }
 
-pom_status pom_dyn_freq_figures_at(const pom_dyn_model *m, pom_dyn_data *d, const double q_pose[3],
-                                   pom_dyn_freq_figures *out, pom_error *err) {
-  POM_TRY(check_args(m, d, q_pose, out, err));
+/* The linearization at q_pose, d's target, clock and setpoint path kept. */
+static pom_status lin_at(const pom_dyn_model *m, pom_dyn_data *d, const double q_pose[3],
+                         freq_lin *L, pom_error *err) {
   gsl_error_handler_t *old = gsl_set_error_handler_off();
-  freq_lin L = {0};
   saved_data sv;
   save_data(d, &sv, q_pose, m->n_actuators);
-  pom_status st = linearize(m, d, q_pose, &L, err);
+  pom_status st = linearize(m, d, q_pose, L, err);
   restore_data(d, &sv);
+  gsl_set_error_handler(old);
+  if (st != POM_OK) lin_free(L);
+  return st;
+}
+
+static void figures_of(const pom_dyn_model *m, freq_lin *L, pom_dyn_freq_figures *out) {
   memset(out, 0, sizeof *out);
-  if (st != POM_OK) {
-    gsl_set_error_handler(old);
-    lin_free(&L);
-    return st;
-  }
   const double lvl = 1.0 / sqrt(2.0);
-  out->n_actuators = L.n_act;
+  out->n_actuators = L->n_act;
   double bw_max = 0.0;
   for (int e = 0; e < 3; ++e) {
-    out->dc_gain[e] = fabs(L.T0[4 * e]);
-    out->bandwidth_hz[e] = first_below(&L, Q_AXIS, e, lvl);
-    double pk = peak(&L, Q_AXIS, e);
+    out->dc_gain[e] = fabs(L->T0[4 * e]);
+    out->bandwidth_hz[e] = first_below(L, Q_AXIS, e, lvl);
+    double pk = peak(L, Q_AXIS, e);
     out->peak_db[e] = pk > 1.0 ? 20.0 * log10(pk) : 0.0;
     if (isfinite(out->bandwidth_hz[e])) bw_max = fmax(bw_max, out->bandwidth_hz[e]);
   }
-  out->bandwidth_worst_hz = first_below(&L, Q_WORST, 0, lvl);
+  out->bandwidth_worst_hz = first_below(L, Q_WORST, 0, lvl);
   {
     double complex Y[NIO][NIO];
     double gmin, gmax, e1[3] = {NAN, NAN, NAN}, e0[3];
-    if (isfinite(out->bandwidth_worst_hz) && response_at(&L, out->bandwidth_worst_hz, Y) == 0) {
-      real_dir_gains(&L, Y, &gmin, &gmax, e1);
-      pom_m3_apply(e0, L.T0inv, e1); /* e' = T(0) e */
+    if (isfinite(out->bandwidth_worst_hz) && response_at(L, out->bandwidth_worst_hz, Y) == 0) {
+      real_dir_gains(L, Y, &gmin, &gmax, e1);
+      pom_m3_apply(e0, L->T0inv, e1); /* e' = T(0) e */
       double nn = pom_v3_norm(e0);
       for (int i = 0; i < 3; ++i)
         out->worst_dir[i] = e0[i] / nn;
@@ -985,26 +985,26 @@ pom_status pom_dyn_freq_figures_at(const pom_dyn_model *m, pom_dyn_data *d, cons
     const int ng = grid_size();
     double pk = 0.0;
     for (int i = 0; i < ng; ++i)
-      if (response_at(&L, grid_f(i), Y) == 0) {
-        real_dir_gains(&L, Y, &gmin, &gmax, NULL);
+      if (response_at(L, grid_f(i), Y) == 0) {
+        real_dir_gains(L, Y, &gmin, &gmax, NULL);
         pk = fmax(pk, gmax);
       }
     out->peak_db_worst = pk > 1.0 ? 20.0 * log10(pk) : 0.0;
   }
   for (int a = 0; a < 3; ++a) {
     out->gain_margin_db[a] = out->phase_margin_deg[a] = out->crossover_hz[a] = NAN;
-    if (a < L.n_act)
-      margins(&L, a, &out->gain_margin_db[a], &out->phase_margin_deg[a], &out->crossover_hz[a]);
+    if (a < L->n_act)
+      margins(L, a, &out->gain_margin_db[a], &out->phase_margin_deg[a], &out->crossover_hz[a]);
   }
   /* poles: stability, the slowest, the parasitic modes */
   out->stable = 0;
   out->slowest_pole_hz = NAN;
-  if (L.modes_ok) {
+  if (L->modes_ok) {
     int stable = 1;
     double slow = INFINITY;
-    for (int k = 0; k < L.n_lambda; ++k) {
-      if (!(creal(L.lambda[k]) < 0)) stable = 0;
-      slow = fmin(slow, cabs(L.lambda[k]));
+    for (int k = 0; k < L->n_lambda; ++k) {
+      if (!(creal(L->lambda[k]) < 0)) stable = 0;
+      slow = fmin(slow, cabs(L->lambda[k]));
     }
     out->stable = stable;
     out->slowest_pole_hz = isfinite(slow) ? slow / (2.0 * POM_PI) : NAN;
@@ -1013,21 +1013,65 @@ pom_status pom_dyn_freq_figures_at(const pom_dyn_model *m, pom_dyn_data *d, cons
       for (;;) { /* ascending selection of the oscillatory poles above the band */
         double best = INFINITY;
         int kb = -1;
-        for (int k = 0; k < L.n_lambda; ++k) {
-          double fk = cabs(L.lambda[k]) / (2.0 * POM_PI);
-          double zeta = -creal(L.lambda[k]) / cabs(L.lambda[k]);
-          if (cimag(L.lambda[k]) > 0 && zeta < FREQ_MODE_ZETA && fk > fl && fk < best)
+        for (int k = 0; k < L->n_lambda; ++k) {
+          double fk = cabs(L->lambda[k]) / (2.0 * POM_PI);
+          double zeta = -creal(L->lambda[k]) / cabs(L->lambda[k]);
+          if (cimag(L->lambda[k]) > 0 && zeta < FREQ_MODE_ZETA && fk > fl && fk < best)
             best = fk, kb = k;
         }
         if (kb < 0 || out->n_modes >= POM_DYN_FREQ_MAX_MODES) break;
         out->mode_hz[out->n_modes] = best;
-        out->mode_zeta[out->n_modes] = -creal(L.lambda[kb]) / cabs(L.lambda[kb]);
+        out->mode_zeta[out->n_modes] = -creal(L->lambda[kb]) / cabs(L->lambda[kb]);
         ++out->n_modes;
         fl = best * (1.0 + 1e-12);
       }
     }
   }
-  gsl_set_error_handler(old);
+}
+
+/* One Bode curve (pom_dyn_freq_response's kinds). */
+static void curve_of(freq_lin *L, int kind, int axis, const double *f_hz, int nf, double *mag_db,
+                     double *phase_deg) {
+  double prev = NAN;
+  for (int i = 0; i < nf; ++i) {
+    double complex Y[NIO][NIO], v;
+    if (response_at(L, f_hz[i], Y) != 0) {
+      mag_db[i] = phase_deg[i] = NAN;
+      continue;
+    }
+    if (kind == POM_DYN_FREQ_AXIS) {
+      v = Y[axis][axis];
+    } else if (kind == POM_DYN_FREQ_LOOP) {
+      v = loop_gain(L, axis, f_hz[i]);
+    } else {
+      double gmin, gmax, e[3];
+      real_dir_gains(L, Y, &gmin, &gmax, e);
+      /* phase of the worst direction's response projected on itself */
+      double complex acc = 0.0;
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) {
+          double complex mrc = 0.0;
+          for (int k = 0; k < 3; ++k)
+            mrc += Y[r][k] * L->T0inv[3 * k + c];
+          acc += e[r] * mrc * e[c];
+        }
+      v = cabs(acc) > 0 ? gmin * acc / cabs(acc) : gmin;
+    }
+    mag_db[i] = 20.0 * log10(cabs(v));
+    double ph = carg(v) * 180.0 / POM_PI;
+    if (isfinite(prev)) /* unwrap along f */
+      ph += 360.0 * round((prev - ph) / 360.0);
+    phase_deg[i] = prev = ph;
+  }
+}
+
+pom_status pom_dyn_freq_figures_at(const pom_dyn_model *m, pom_dyn_data *d, const double q_pose[3],
+                                   pom_dyn_freq_figures *out, pom_error *err) {
+  POM_TRY(check_args(m, d, q_pose, out, err));
+  freq_lin L = {0};
+  memset(out, 0, sizeof *out);
+  POM_TRY(lin_at(m, d, q_pose, &L, err));
+  figures_of(m, &L, out);
   lin_free(&L);
   return POM_OK;
 }
@@ -1043,51 +1087,14 @@ pom_status pom_dyn_freq_response(const pom_dyn_model *m, pom_dyn_data *d, const 
   for (int i = 0; i < nf; ++i)
     if (!(f_hz[i] > 0) || !isfinite(f_hz[i]))
       POM_FAIL(err, POM_ERR_ARG, "frequency response: f_hz[%d] = %g must be > 0", i, f_hz[i]);
-  gsl_error_handler_t *old = gsl_set_error_handler_off();
   freq_lin L = {0};
-  saved_data sv;
-  save_data(d, &sv, q_pose, m->n_actuators);
-  pom_status st = linearize(m, d, q_pose, &L, err);
-  restore_data(d, &sv);
-  gsl_set_error_handler(old);
-  if (st == POM_OK && kind == POM_DYN_FREQ_LOOP && axis >= L.n_act)
-    st = pom_error_set(err, POM_ERR_ARG, __FILE__, __LINE__,
-                       "frequency response: actuator %d of %d", axis + 1, L.n_act);
-  if (st != POM_OK) {
+  POM_TRY(lin_at(m, d, q_pose, &L, err));
+  if (kind == POM_DYN_FREQ_LOOP && axis >= L.n_act) {
+    int na = L.n_act;
     lin_free(&L);
-    return st;
+    POM_FAIL(err, POM_ERR_ARG, "frequency response: actuator %d of %d", axis + 1, na);
   }
-  double prev = NAN;
-  for (int i = 0; i < nf; ++i) {
-    double complex Y[NIO][NIO], v;
-    if (response_at(&L, f_hz[i], Y) != 0) {
-      mag_db[i] = phase_deg[i] = NAN;
-      continue;
-    }
-    if (kind == POM_DYN_FREQ_AXIS) {
-      v = Y[axis][axis];
-    } else if (kind == POM_DYN_FREQ_LOOP) {
-      v = loop_gain(&L, axis, f_hz[i]);
-    } else {
-      double gmin, gmax, e[3];
-      real_dir_gains(&L, Y, &gmin, &gmax, e);
-      /* phase of the worst direction's response projected on itself */
-      double complex acc = 0.0;
-      for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) {
-          double complex mrc = 0.0;
-          for (int k = 0; k < 3; ++k)
-            mrc += Y[r][k] * L.T0inv[3 * k + c];
-          acc += e[r] * mrc * e[c];
-        }
-      v = cabs(acc) > 0 ? gmin * acc / cabs(acc) : gmin;
-    }
-    mag_db[i] = 20.0 * log10(cabs(v));
-    double ph = carg(v) * 180.0 / POM_PI;
-    if (isfinite(prev)) /* unwrap along f */
-      ph += 360.0 * round((prev - ph) / 360.0);
-    phase_deg[i] = prev = ph;
-  }
+  curve_of(&L, kind, axis, f_hz, nf, mag_db, phase_deg);
   lin_free(&L);
   return POM_OK;
 }
@@ -1107,8 +1114,12 @@ pom_status pom_dyn_freq_json(FILE *out, const pom_dyn_model *m, pom_dyn_data *d,
   if (!out || !(f_lo > 0) || !(f_hi > f_lo) || per_decade < 1 || per_decade > 1000)
     POM_FAIL(err, POM_ERR_ARG, "frequency response JSON: grid %g..%g Hz, %d per decade", f_lo, f_hi,
              per_decade);
+  if (!m || !d || !q_pose || d->m != m)
+    POM_FAIL(err, POM_ERR_ARG, "frequency response: NULL argument or data of another model");
   pom_dyn_freq_figures F;
-  POM_TRY(pom_dyn_freq_figures_at(m, d, q_pose, &F, err));
+  freq_lin L = {0};
+  POM_TRY(lin_at(m, d, q_pose, &L, err));
+  figures_of(m, &L, &F);
   const int nf = (int)floor(log10(f_hi / f_lo) * per_decade + 1e-9) + 1;
   double *f = calloc((size_t)nf, sizeof *f), *mag = calloc((size_t)nf * 8, sizeof *mag);
   double *ph = calloc((size_t)nf * 8, sizeof *ph);
@@ -1123,8 +1134,7 @@ pom_status pom_dyn_freq_json(FILE *out, const pom_dyn_model *m, pom_dyn_data *d,
   for (int c = 0; c < 4 + F.n_actuators && st == POM_OK; ++c) {
     int kind = c < 3 ? POM_DYN_FREQ_AXIS : c == 3 ? POM_DYN_FREQ_WORST : POM_DYN_FREQ_LOOP;
     int axis = c < 3 ? c : c == 3 ? 0 : c - 4;
-    st = pom_dyn_freq_response(m, d, q_pose, kind, axis, f, nf, mag + (size_t)c * (size_t)nf,
-                               ph + (size_t)c * (size_t)nf, err);
+    curve_of(&L, kind, axis, f, nf, mag + (size_t)c * (size_t)nf, ph + (size_t)c * (size_t)nf);
   }
   if (st != POM_OK) goto done;
   const int na = F.n_actuators;
@@ -1171,6 +1181,7 @@ pom_status pom_dyn_freq_json(FILE *out, const pom_dyn_model *m, pom_dyn_data *d,
   }
   fputs("]\n}\n", out);
 done:
+  lin_free(&L);
   free(f);
   free(mag);
   free(ph);

@@ -329,6 +329,9 @@ static void test_shipped(const char *file) {
     check_true(isfinite(F.bandwidth_hz[e]) && F.bandwidth_worst_hz <= F.bandwidth_hz[e] * 1.000001);
   }
   check_true(F.n_modes > 0); /* the shipped scenes have parasitic joints */
+  /* the slowest pole is the PID integral's, ~K_I for the ideal form's high
+   * gain (not an idle link spin, which the deflation leaves out) */
+  check_rel(F.slowest_pole_hz, p.controller.ki / (2.0 * POM_PI), 0.01);
   pom_dyn_data_destroy(d);
   pom_dyn_model_destroy(m);
 }
