@@ -297,6 +297,47 @@ static void test_sine_sweep(const char *file, int rigid, int axis, int nfr, cons
   pom_dyn_model_destroy(m);
 }
 
+/* ---- 2b. the output map: Euler angles and quaternions agree ---------------- */
+static void test_orientation_maps(void) {
+  pom_kin_arch arch;
+  pom_mechanism mech;
+  pom_dyn_params p;
+  check_true(load_shipped("3sps.cfg", &arch, &mech, &p));
+  const double eul[3] = {-0.047, 0.071, 0.036};
+  double R0[9], q0[3], bw[2][4], fr[3] = {7.3, 48.0, 410.0}, mag[2][3], ph[2][3];
+  pom_euler_zyx_to_matrix(R0, eul);
+  pom_error err;
+  pom_error_clear(&err);
+  check_true(pom_kin_inverse(&arch, R0, q0, &err) == POM_OK);
+  for (int k = 0; k < 2; ++k) {
+    p.scene.orientation = k ? POM_ORIENT_QUATERNION : POM_ORIENT_EULER_ZYX;
+    pom_dyn_model *m = NULL;
+    pom_dyn_data *d = NULL;
+    pom_dyn_freq_figures F;
+    check_true(pom_dyn_model_create(&m, &mech, &arch, &p, &err) == POM_OK);
+    check_true(pom_dyn_data_create(&d, m, &err) == POM_OK);
+    check_true(pom_dyn_freq_figures_at(m, d, q0, &F, &err) == POM_OK);
+    check_true(pom_dyn_freq_response(m, d, q0, POM_DYN_FREQ_AXIS, 2, fr, 3, mag[k], ph[k], &err) ==
+               POM_OK);
+    for (int e = 0; e < 3; ++e)
+      bw[k][e] = F.bandwidth_hz[e];
+    bw[k][3] = F.bandwidth_worst_hz;
+    pom_dyn_data_destroy(d);
+    pom_dyn_model_destroy(m);
+  }
+  printf("3S-P-S/S parasitic at a general pose: bandwidth x %.6g y %.6g z %.6g worst %.6g Hz "
+         "(Euler), %.6g %.6g %.6g %.6g (quaternion)\n",
+         bw[0][0], bw[0][1], bw[0][2], bw[0][3], bw[1][0], bw[1][1], bw[1][2], bw[1][3]);
+  /* the same physics in other coordinates: equal up to the Newton and
+   * rounding errors */
+  for (int e = 0; e < 4; ++e)
+    check_rel(bw[1][e], bw[0][e], 1e-6);
+  for (int i = 0; i < 3; ++i) {
+    check_abs(mag[1][i], mag[0][i], 1e-6);
+    check_abs(ph[1][i], ph[0][i], 1e-5);
+  }
+}
+
 /* ---- 3. the shipped configurations ---------------------------------------- */
 static void test_shipped(const char *file) {
   pom_kin_arch arch;
@@ -342,6 +383,7 @@ int main(void) {
   test_sine_sweep("3pss.cfg", 1, 0, 5, fr, 0.5);
   const double fr2[2] = {57.0, 330.0};
   test_sine_sweep("3pss.cfg", 0, 1, 2, fr2, 0.15);
+  test_orientation_maps();
   test_shipped("3pss.cfg");
   test_shipped("3sps.cfg");
   test_shipped("3rrr.cfg");
