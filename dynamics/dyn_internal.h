@@ -229,6 +229,12 @@ struct pom_dyn_data {
                                             evaluation (V), set by pom_dyn_controller_pass */
   long kin_fail_count;     /* exact path: RHS calls of this run at an unassemblable pose */
   int below_min_dexterity; /* 1 when this run stopped at out.dexterity_bound < min_dexterity */
+  /* added for the frequency response (issue 28, docs/capability.md) */
+  pom_dyn_setpoint_fn setpoint_fn; /* NULL: the maneuver's constant target; else the setpoints
+                                      target(t) of every evaluation (pom_dyn_set_setpoint_path) */
+  void *setpoint_ctx;              /* its context, not owned */
+  double u_inject[POM_MECH_MAX_ACTUATORS]; /* V added to each controller's raw voltage: zero
+                                              except while dyn_freq.c breaks a loop */
 };
 
 /* ---- formulations --------------------------------------------------------

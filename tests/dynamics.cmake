@@ -72,3 +72,7 @@ target_link_libraries(test_dyn_honest PRIVATE pom_dynamics pom_kinematics pom_co
 pom_add_test(test_dyn_sliding test_dyn_sliding.c)
 target_include_directories(test_dyn_sliding PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
 target_link_libraries(test_dyn_sliding PRIVATE pom_dynamics pom_kinematics pom_core)
+# small-signal frequency response: the analytic single-axis loop and sine sweeps (docs/capability.md)
+pom_add_test(test_dyn_freq test_dyn_freq.c)
+target_include_directories(test_dyn_freq PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
+target_link_libraries(test_dyn_freq PRIVATE pom_dynamics pom_kinematics pom_core)
