@@ -215,6 +215,13 @@ pom_status pom_cap_run(const pom_kin_arch *arch, const pom_kin_ws_opts *ws,
   r->kind = p->actuator.kind;
   r->pose = calloc((size_t)r->n_poses, sizeof *r->pose);
   if (!r->pose) POM_FAIL(err, POM_ERR_NOMEM, "allocating %d poses", r->n_poses);
+  for (int k = 0; k < r->n_poses; ++k) {
+    pom_cap_pose *pp = &r->pose[k];
+    pp->bw_axis_hz[0] = pp->bw_axis_hz[1] = pp->bw_axis_hz[2] = NAN;
+    pp->bw_worst_hz = pp->peak_db_worst = pp->pm_deg_min = pp->gm_db_min = NAN;
+  }
+  r->worst_bw = -1;
+  r->bw_worst_hz = r->pm_worst_deg = NAN;
 
   pom_dyn_params pr = *p;
   pr.joints.model = POM_JOINTS_RIGID;

@@ -93,6 +93,12 @@ typedef struct {
   int rate_binding;          /* actuator binding the inscribed rate (0-based, +3: current) */
   double rate_emf_inscribed; /* the same without the velocity terms (back-EMF only) (rad/s) */
   double rate_emf_axis[3];   /* rad/s */
+  /* small-signal closed loop at the pose (dynamics/pom_dyn_freq.h); NaN where not evaluated */
+  double bw_axis_hz[3]; /* -3 dB bandwidth of a setpoint rotation about fixed x, y, z (Hz) */
+  double bw_worst_hz;   /* the same in the worst direction (Hz) */
+  double peak_db_worst; /* resonant peak (dB) */
+  double pm_deg_min;    /* smallest phase margin of the actuator loops (deg) */
+  double gm_db_min;     /* smallest gain margin of the actuator loops (dB; inf: none) */
 } pom_cap_pose;
 
 /* The slews about one direction. */
@@ -112,11 +118,14 @@ typedef struct {
   double half_width; /* the workspace cube's half-width (rad) */
   double step;       /* grid step (rad), 0 for a single pose */
   int n_poses;
-  pom_cap_pose *pose; /* [n_poses], psi-major; owned (pom_cap_result_free) */
-  int home;           /* index of home */
-  int worst_acc;      /* pose of the smallest inscribed acceleration */
-  int worst_rate;     /* pose of the smallest inscribed rate */
-  double f_max;       /* effort limit from rest K min(I_max, V/R_c) (N or N m) */
+  pom_cap_pose *pose;  /* [n_poses], psi-major; owned (pom_cap_result_free) */
+  int home;            /* index of home */
+  int worst_acc;       /* pose of the smallest inscribed acceleration */
+  int worst_rate;      /* pose of the smallest inscribed rate */
+  int worst_bw;        /* pose of the smallest worst-direction bandwidth (-1: not evaluated) */
+  double bw_worst_hz;  /* smallest worst-direction bandwidth over the poses (Hz; NaN: none) */
+  double pm_worst_deg; /* smallest phase margin over the poses (deg; NaN: none) */
+  double f_max;        /* effort limit from rest K min(I_max, V/R_c) (N or N m) */
   pom_actuator_kind kind;
   int n_dirs;
   pom_cap_slew slew[POM_CAP_MAX_DIRECTIONS];
