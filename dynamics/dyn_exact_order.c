@@ -116,12 +116,12 @@ static int loop_polynomial(const pom_dyn_model *m, const pom_dyn_ctrl_partials *
   return 4;
 }
 
-void pom_dyn_exact_order_cap(pom_dyn_model *m) {
+void pom_dyn_order_cap(pom_dyn_model *m, const double M[9], const double J[9]) {
   dyn_drive_mode *dm = &m->drive;
   memset(dm, 0, sizeof *dm);
   if (!m->ctrl_analytic || m->n_actuators != 3) return;
-  double M[9], J[9], Minv[9], JMi[9], A[9];
-  if (pom_dyn_exact_home_terms(m, M, J) != 0 || pom_m3_inverse(Minv, M, 1e-14) != POM_OK) return;
+  double Minv[9], JMi[9], A[9];
+  if (pom_m3_inverse(Minv, M, 1e-14) != POM_OK) return;
   /* A = J M^-1 J^T: its eigenvalues are the inverse modal masses */
   for (int r = 0; r < 3; ++r)
     for (int k = 0; k < 3; ++k)

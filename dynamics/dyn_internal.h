@@ -492,19 +492,15 @@ pom_status pom_dyn_structured_ls_create(SUNLinearSolver *out, const pom_dyn_mode
 /* The counts of a structured solver; 0 (stats untouched) for another solver. */
 int pom_dyn_structured_ls_stats(SUNLinearSolver S, pom_dyn_sls_stats *stats);
 
-/* dyn_exact.c: mass matrix M (kg m^2, about omega) and actuator Jacobian J
- * (rows in actuator order, q_dot = J omega) of an exact model at home, at
- * rest; 0, or 1 when the mechanism cannot be assembled there. Needs no data
- * (model set-up). */
-int pom_dyn_exact_home_terms(const pom_dyn_model *m, double M[9], double J[9]);
-
 /* dyn_exact_order.c (docs/dynamics.md section 7, "Order and stability"):
  * the A(alpha) angle of BDF order k = 1..5 (deg; 90 for the A-stable 1, 2). */
 double pom_dyn_bdf_alpha_deg(int order);
-/* Fills m->drive from the linearized loop at rest at home and caps
- * m->max_order at 2 when the drive mode lies outside BDF 3's sector.
- * Called at the end of the exact formulation's init. */
-void pom_dyn_exact_order_cap(pom_dyn_model *m);
+/* Fills m->drive from the linearized loop at rest at home, M the mass
+ * matrix about omega (kg m^2) and J the actuator Jacobian (rows in actuator
+ * order, q_dot = J omega) there, and caps m->max_order at 2 when the drive
+ * mode lies outside BDF 3's sector. Called at the end of the exact
+ * formulation's init. */
+void pom_dyn_order_cap(pom_dyn_model *m, const double M[9], const double J[9]);
 /* The roots of the real polynomial c[0] s^n + ... + c[n] (n <= 6, c[0] != 0)
  * into re[n], im[n]; returns 1 when every root's relative residual is below
  * 1e-9, 0 otherwise (Aberth-Ehrlich iteration, Newton polish). */
