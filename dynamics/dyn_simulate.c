@@ -116,7 +116,7 @@ pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_e
       CVodeSetUserData(d->cvode, d) != CV_SUCCESS ||
       (m->relative && CVodeWFtolerances(d->cvode, error_weights) != CV_SUCCESS) ||
       CVodeSetMaxNumSteps(d->cvode, p->solver.max_steps) != CV_SUCCESS ||
-      CVodeSetMaxOrd(d->cvode, p->solver.max_order) != CV_SUCCESS ||
+      CVodeSetMaxOrd(d->cvode, m->max_order) != CV_SUCCESS ||
       CVodeSetStabLimDet(d->cvode, p->solver.stability_limit_detection ? 1 : 0) != CV_SUCCESS ||
       (p->solver.max_step > 0 && CVodeSetMaxStep(d->cvode, p->solver.max_step) != CV_SUCCESS))
     POM_FAIL_GOTO(err, POM_ERR_SOLVER, fail, "configuring CVODE: %s", d->cvode_msg);

@@ -111,7 +111,7 @@ typedef struct {
   double max_step;   /* s, 0 = unlimited */
   long max_steps;    /* per maneuver */
   pom_linsol_kind linear_solver;
-  int max_order;                 /* largest BDF order, 1..5 (default 5) */
+  int max_order; /* largest BDF order, 1..5 (default 5); the rigid path may cap it at 2 */
   int stability_limit_detection; /* 1: CVODE's BDF stability limit detection (default 1; the
                                     closed loop has lightly damped fast poles, docs 7) */
   /* added for the extreme cases (issue 6, docs/dynamics.md section 14) */

@@ -76,3 +76,7 @@ target_link_libraries(test_dyn_sliding PRIVATE pom_dynamics pom_kinematics pom_c
 pom_add_test(test_dyn_freq test_dyn_freq.c)
 target_include_directories(test_dyn_freq PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
 target_link_libraries(test_dyn_freq PRIVATE pom_dynamics pom_kinematics pom_core)
+# the rigid path at high loop gain: the drive mode, the BDF order cap, cost and message (issue 30 item 3)
+pom_add_test(test_dyn_rigid_gain test_dyn_rigid_gain.c)
+target_include_directories(test_dyn_rigid_gain PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
+target_link_libraries(test_dyn_rigid_gain PRIVATE pom_dynamics pom_kinematics pom_core)
