@@ -10,6 +10,7 @@
 #include "pom_run.h"
 #include "pom_dyn_print.h"
 #include "pom_dyn_ctrl.h"
+#include "pom_dyn_freq.h"
 #include "pom_dyn_metrics_schema.h"
 #include "pom_dyn_params_schema.h"
 #include "pom_dynamics.h"
@@ -67,9 +68,64 @@ static int check_trace_cost(const char *cfg_path, const pom_dyn_params *p, const
   return 0;
 }
 
+/* ---- --bode --------------------------------------------------------------- */
+/* Bode data grid (Hz) and density of `--bode` */
+#define BODE_F_LO       0.1
+#define BODE_F_HI       1e5
+#define BODE_PER_DECADE 40
+
+/* The frequency response about the pose q (SI): the JSON into path, the
+ * figures on stdout (text, or the same JSON with --json); the exit status. */
+static int bode(const char *path, int json, const char *name, const pom_dyn_model *model,
+                pom_dyn_data *data, const double q[3], const pom_act_desc *u) {
+  pom_error err;
+  pom_error_clear(&err);
+  pom_dyn_freq_figures F;
+  pom_status st = json ? POM_OK : pom_dyn_freq_figures_at(model, data, q, &F, &err);
+  FILE *fp = st == POM_OK ? fopen(path, json ? "w+" : "w") : NULL;
+  if (st == POM_OK && !fp)
+    st = pom_error_set(&err, POM_ERR_IO, __FILE__, __LINE__, "cannot write '%s'", path);
+  if (st == POM_OK)
+    st = pom_dyn_freq_json(fp, model, data, q, BODE_F_LO, BODE_F_HI, BODE_PER_DECADE, &err);
+  if (st == POM_OK && json) { /* the same JSON on stdout */
+    char buf[4096];
+    size_t got;
+    rewind(fp);
+    while ((got = fread(buf, 1, sizeof buf, fp)) > 0)
+      fwrite(buf, 1, got, stdout);
+  }
+  if (fp && fclose(fp) != 0 && st == POM_OK)
+    st = pom_error_set(&err, POM_ERR_IO, __FILE__, __LINE__, "cannot write '%s'", path);
+  if (st != POM_OK) {
+    pom_cli_report("simulate --bode", &err);
+    return pom_cli_exit_code(st);
+  }
+  if (json) return 0;
+  const double f = u->to_display;
+  printf("%s: small-signal frequency response about q = (%.6g, %.6g, %.6g) %s\n", name, q[0] * f,
+         q[1] * f, q[2] * f, u->display);
+  printf("  bandwidth (-3 dB, setpoint rotation about x, y, z): %.4g, %.4g, %.4g Hz\n",
+         F.bandwidth_hz[0], F.bandwidth_hz[1], F.bandwidth_hz[2]);
+  printf("  worst direction: %.4g Hz along (%.3f, %.3f, %.3f)\n", F.bandwidth_worst_hz,
+         F.worst_dir[0], F.worst_dir[1], F.worst_dir[2]);
+  printf("  resonant peak: %.3g, %.3g, %.3g dB; any direction %.3g dB\n", F.peak_db[0],
+         F.peak_db[1], F.peak_db[2], F.peak_db_worst);
+  for (int a = 0; a < F.n_actuators; ++a)
+    printf("  loop %d (broken at its voltage input): crossover %.5g Hz, phase margin %.3g deg, "
+           "gain margin %.3g dB\n",
+           a + 1, F.crossover_hz[a], F.phase_margin_deg[a], F.gain_margin_db[a]);
+  printf("  closed loop %s; slowest pole %.4g Hz\n", F.stable ? "stable" : "UNSTABLE",
+         F.slowest_pole_hz);
+  printf("  parasitic modes above the band (Hz, damping ratio):");
+  for (int k = 0; k < F.n_modes; ++k)
+    printf("%s %.4g (%.3f)", k ? "," : "", F.mode_hz[k], F.mode_zeta[k]);
+  printf("%s\n  Bode data: %s\n", F.n_modes ? "" : " none", path);
+  return 0;
+}
+
 /* ---- command ------------------------------------------------------------- */
 int pom_cmd_simulate(int argc, char **argv) {
-  const char *cfg_path = NULL, *out_path = NULL, *target_text = NULL;
+  const char *cfg_path = NULL, *out_path = NULL, *target_text = NULL, *bode_path = NULL;
   const char *form = NULL, *orient = NULL, *linsol = NULL, *joints = NULL, *controller = NULL;
   const char *kp = NULL, *ki = NULL, *kd = NULL, *rtol = NULL;
   int json = 0;
@@ -93,6 +149,14 @@ int pom_cmd_simulate(int argc, char **argv) {
        .arg = "FILE",
        .help = "write traces: FILE.h5 (HDF5) or FILE.csv (SI units)",
        .text = &out_path},
+      {.name = "--bode",
+       .kind = POM_OPT_TEXT,
+       .arg = "FILE.json",
+       .help = "instead of the maneuver: the small-signal frequency response of the closed loop "
+               "about the pose --target (bandwidth per axis and worst, peaks, each actuator "
+               "loop's margins, parasitic modes; docs/capability.md) in Hz, dB and deg, and its "
+               "Bode data as JSON in FILE.json (scripts/plot_bode.py draws it)",
+       .text = &bode_path},
       {.name = "--controller",
        .kind = POM_OPT_CHOICE,
        .arg = "NAME",
@@ -176,6 +240,11 @@ int pom_cmd_simulate(int argc, char **argv) {
                     "display unit), 'q1,q2,q3'\n");
     return 2;
   }
+  if (bode_path && (out_path || !ends_with(bode_path, ".json"))) {
+    fprintf(stderr, "pomlab simulate: --bode expects a FILE.json and no --out, got '%s'\n",
+            bode_path);
+    return 2;
+  }
   if (out_path && !ends_with(out_path, ".h5") && !ends_with(out_path, ".csv")) {
     fprintf(stderr, "pomlab simulate: --out must end in .h5 or .csv, got '%s'\n", out_path);
     return 2;
@@ -195,8 +264,10 @@ int pom_cmd_simulate(int argc, char **argv) {
   if (!cfg) rc = 2; /* a config that cannot be read is a config error */
   if (!cfg || !mech) goto done;
   /* the traces must not overwrite the config or a file it includes */
-  int path_rc =
-      pom_job_check_output("simulate", cfg_path, out_path, "the traces (--out)", stderr, NULL);
+  int path_rc = bode_path ? pom_job_check_output("simulate", cfg_path, bode_path,
+                                                 "the Bode data (--bode)", stderr, NULL)
+                          : pom_job_check_output("simulate", cfg_path, out_path,
+                                                 "the traces (--out)", stderr, NULL);
   if (path_rc) {
     rc = path_rc;
     goto done;
@@ -245,6 +316,10 @@ int pom_cmd_simulate(int argc, char **argv) {
   if (st != POM_OK) {
     pom_cli_report("simulate", &err);
     rc = pom_cli_exit_code(st);
+    goto done;
+  }
+  if (bode_path) {
+    rc = bode(bode_path, json, arch.name, model, data, target, u);
     goto done;
   }
   st = pom_dyn_simulate(model, data, target, &mt, trace, &err);

@@ -62,5 +62,6 @@ int pom_cmd_study(int argc, char **argv);
 int pom_cmd_tradeoff(int argc, char **argv);
 int pom_cmd_sensitivity(int argc, char **argv);
 int pom_cmd_view(int argc, char **argv);
+int pom_cmd_capability(int argc, char **argv);
 
 #endif

@@ -62,6 +62,7 @@ double pom_dyn_actuator_law(const pom_dyn_model *m, pom_dyn_data *d, int a, doub
     double *zdot = (ydot && ac->ctrl_state >= 0) ? ydot + ac->ctrl_state : NULL;
     u_raw = pom_dyn_controller_law(m, d, a, q, qd, y, zdot, NULL);
   }
+  u_raw += d->u_inject[a]; /* 0 but where a loop is broken (dyn_freq.c) */
   double lim = ap->voltage_limit;
   double u = u_raw > lim ? lim : (u_raw < -lim ? -lim : u_raw);
   double i;

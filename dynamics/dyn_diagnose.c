@@ -1,6 +1,8 @@
 /* dyn_diagnose.c - what a maneuver that reached solver.max_steps was held
- * up by (docs/dynamics.md section 14, "Ranges"): the stiffest joint mode of
- * the parasitic springs against the step size, or the tolerance. */
+ * up by (docs/dynamics.md section 14, "Ranges"): on the rigid path the drive
+ * mode against the BDF order's stability sector or the step size
+ * (dyn_exact_order.c); the stiffest joint mode of the parasitic springs
+ * against the step size; or the tolerance. */
 #include "dyn_internal.h"
 #include "pom_math.h"
 
@@ -81,7 +83,28 @@ void pom_dyn_max_steps_reason(const pom_dyn_model *m, double t, char *buf, size_
       snprintf(buf, n, "CVODE reached solver.max_steps = %ld at t = %.3g s (mean step %.2g s)",
                s->max_steps, t, h_mean);
   if (len < 0 || (size_t)len >= n) return;
-  if (j >= 0 && w * h_mean >= DIAG_OMEGA_H_LO && w * h_mean < DIAG_OMEGA_H_HI)
+  const dyn_drive_mode *dm = &m->drive;
+  const double wd = dm->oscillating ? hypot(dm->re, dm->im) : 0.0;
+  if (dm->analysed && dm->oscillating && m->max_order > dm->stable_order &&
+      !s->stability_limit_detection)
+    /* the order in use can leave the drive mode's sector and nothing guards
+     * it (with the detection on, orders 4-5 outside it cost 1.0-1.3x:
+     * docs/dynamics.md section 7): stability holds the steps */
+    snprintf(buf + len, n - (size_t)len,
+             ": the drive mode (coil and controller loop) at %.2g rad/s lies %.2f deg from the "
+             "negative real axis, outside BDF order %d's stability sector (%.2f deg); set "
+             "solver.max_order = %d",
+             wd, dm->angle_deg, m->max_order, pom_dyn_bdf_alpha_deg(m->max_order),
+             dm->stable_order > 2 ? dm->stable_order : 2);
+  else if (dm->analysed && dm->oscillating && wd * h_mean >= DIAG_OMEGA_H_LO &&
+           wd * h_mean < DIAG_OMEGA_H_HI)
+    /* A-stable or inside the sector: the error test resolves the ringing */
+    snprintf(buf + len, n - (size_t)len,
+             ": the steps resolve the drive mode (coil and controller loop, omega ~ %.2g rad/s, "
+             "damping ratio %.2g, BDF order <= %d) ringing after saturation exits, omega x step "
+             "%.2g; lower controller.kp, loosen solver.rtol or raise solver.max_steps",
+             wd, -dm->re / wd, m->max_order, wd * h_mean);
+  else if (j >= 0 && w * h_mean >= DIAG_OMEGA_H_LO && w * h_mean < DIAG_OMEGA_H_HI)
     snprintf(buf + len, n - (size_t)len,
              ": joint %d (%s) at joints.%s = %g has omega ~ %.2g rad/s (damping ratio %.2g), "
              "omega x step %.2g; lower it or raise solver.max_steps",

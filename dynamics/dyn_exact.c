@@ -229,6 +229,8 @@ static pom_status consistency_check(dyn_exact *ex, const pom_mechanism *mech, po
   return POM_OK;
 }
 
+static int home_terms(const pom_dyn_model *m, double M[9], double J[9]);
+
 static pom_status exact_init(pom_dyn_model *m, const pom_mechanism *mech, const pom_kin_arch *arch,
                              pom_error *err) {
   const pom_dyn_params *p = &m->par;
@@ -393,6 +395,10 @@ static pom_status exact_init(pom_dyn_model *m, const pom_mechanism *mech, const 
   }
   for (int a = 0; a < m->n_actuators; ++a) /* discontinuous indicator: no error test */
     m->atol[m->act[a].acc_state + DYN_ACC_SATURATED] = 1e30;
+  /* the BDF order the drive mode allows (dyn_exact_order.c), from M and J
+   * at home */
+  double M_home[9], J_home[9];
+  if (home_terms(m, M_home, J_home) == 0) pom_dyn_order_cap(m, M_home, J_home);
   return POM_OK;
 }
 
@@ -1279,6 +1285,21 @@ const dyn_formulation pom_dyn_form_exact = {
     .body_pose = exact_body_pose,
     .solver_failure = exact_solver_failure,
 };
+
+/* Mass matrix M (about omega) and actuator Jacobian J (rows in actuator
+ * order) at home, at rest; 0, or 1 when the mechanism cannot be assembled. */
+static int home_terms(const pom_dyn_model *m, double M[9], double J[9]) {
+  const dyn_exact *ex = exact_of(m);
+  pom_kin_twists tw;
+  double I3[9], w[3] = {0.0, 0.0, 0.0}, f[3] = {0.0, 0.0, 0.0}, pe = 0.0;
+  pom_m3_identity(I3);
+  if (pom_kin_body_twists(&ex->arch, I3, w, &tw, NULL) != POM_OK) return 1;
+  memset(M, 0, 9 * sizeof *M);
+  body_terms(m, &tw, w, M, f, &pe);
+  for (int a = 0; a < m->n_actuators; ++a)
+    memcpy(J + 3 * a, tw.J + 3 * ex->act_limb[a], 3 * sizeof *J);
+  return 0;
+}
 
 /* ---- the controller's view (model-based control) ----------------------------- */
 int pom_dyn_exact_terms(const pom_dyn_model *m, pom_dyn_data *d, const double R[9],

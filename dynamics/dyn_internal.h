@@ -80,6 +80,20 @@ typedef struct {
 
 typedef struct dyn_formulation dyn_formulation;
 
+/* The closed loop's drive mode (dyn_exact_order.c, docs/dynamics.md section
+ * 7, "Order and stability"): the least damped oscillating root of the
+ * linearized actuator loop (reflected inertia, bearing, coil, controller) at
+ * rest at home, over the actuator-space modal masses, against the A(alpha)
+ * sectors of the BDF orders. */
+typedef struct {
+  int analysed;      /* 1: computed; 0: not (a coupled law, more than one state, no partials) */
+  int oscillating;   /* 1: the loop has a complex pair; 0: every root real */
+  double re, im;     /* the pair's root (1/s), im > 0 */
+  double angle_deg;  /* its angle from the negative real axis, atan2(im, -re) (deg) */
+  double modal_mass; /* the actuator-space modal mass it belongs to (kg or kg m^2) */
+  int stable_order;  /* highest BDF order whose A(alpha) sector holds the root (0: none) */
+} dyn_drive_mode;
+
 struct pom_dyn_model {
   const dyn_formulation *form;   /* the formulation's operations (never NULL once created) */
   const pom_dyn_ctrl_type *ctrl; /* the controller's type (never NULL once created) */
@@ -120,6 +134,11 @@ struct pom_dyn_model {
    * caller gave none (the pointing metrics are then NaN) */
   int has_arch;
   pom_kin_arch arch;
+  /* the largest BDF order CVODE is given: solver.max_order, capped at 2 on
+   * the rigid path when the drive mode lies outside BDF 3's sector
+   * (dyn_exact_order.c, docs/dynamics.md section 7) */
+  int max_order;
+  dyn_drive_mode drive; /* analysed 0 on the parasitic path */
 };
 
 /* Per-body kinematic quantities at one evaluation. */
@@ -245,6 +264,12 @@ struct pom_dyn_data {
                                             evaluation (V), set by pom_dyn_controller_pass */
   long kin_fail_count;     /* exact path: RHS calls of this run at an unassemblable pose */
   int below_min_dexterity; /* 1 when this run stopped at out.dexterity_bound < min_dexterity */
+  /* added for the frequency response (issue 28, docs/capability.md) */
+  pom_dyn_setpoint_fn setpoint_fn; /* NULL: the maneuver's constant target; else the setpoints
+                                      target(t) of every evaluation (pom_dyn_set_setpoint_path) */
+  void *setpoint_ctx;              /* its context, not owned */
+  double u_inject[POM_MECH_MAX_ACTUATORS]; /* V added to each controller's raw voltage: zero
+                                              except while dyn_freq.c breaks a loop */
 };
 
 /* ---- formulations --------------------------------------------------------
@@ -363,8 +388,10 @@ int pom_dyn_parasitic_jacobian(const pom_dyn_model *m, pom_dyn_data *d, const do
  * damping ratio; 0 (joint -1) on the rigid path. */
 double pom_dyn_stiffest_joint_mode(const pom_dyn_model *m, int *joint, int *angular, double *zeta);
 /* The message of a maneuver that reached solver.max_steps at t: the step
- * sizes and what holds them down, the stiffest joint mode when the steps
- * resolve it, the tolerance otherwise (into buf[n]). */
+ * sizes and what holds them down: the rigid path's drive mode when the BDF
+ * order in use can leave its stability sector or the steps resolve it, the
+ * stiffest joint mode when the steps resolve it, the tolerance otherwise
+ * (into buf[n]). */
 void pom_dyn_max_steps_reason(const pom_dyn_model *m, double t, char *buf, size_t n);
 
 /* ---- shared pieces -------------------------------------------------------- */
@@ -500,6 +527,20 @@ pom_status pom_dyn_structured_ls_create(SUNLinearSolver *out, const pom_dyn_mode
                                         SUNContext ctx, pom_error *err);
 /* The counts of a structured solver; 0 (stats untouched) for another solver. */
 int pom_dyn_structured_ls_stats(SUNLinearSolver S, pom_dyn_sls_stats *stats);
+
+/* dyn_exact_order.c (docs/dynamics.md section 7, "Order and stability"):
+ * the A(alpha) angle of BDF order k = 1..5 (deg; 90 for the A-stable 1, 2). */
+double pom_dyn_bdf_alpha_deg(int order);
+/* Fills m->drive from the linearized loop at rest at home, M the mass
+ * matrix about omega (kg m^2) and J the actuator Jacobian (rows in actuator
+ * order, q_dot = J omega) there, and caps m->max_order at 2 when the drive
+ * mode lies outside BDF 3's sector. Called at the end of the exact
+ * formulation's init. */
+void pom_dyn_order_cap(pom_dyn_model *m, const double M[9], const double J[9]);
+/* The roots of the real polynomial c[0] s^n + ... + c[n] (n <= 6, c[0] != 0)
+ * into re[n], im[n]; returns 1 when every root's relative residual is below
+ * 1e-9, 0 otherwise (Aberth-Ehrlich iteration, Newton polish). */
+int pom_dyn_poly_roots(const double *c, int n, double *re, double *im);
 
 /* ---- exact formulation queries (dyn_exact.c; tests and diagnostics) ------- */
 /* State layout of an exact model: first orientation state, their number (3

@@ -77,6 +77,7 @@ pom_status pom_dyn_model_create_ex(pom_dyn_model **out, const pom_mechanism *mec
   /* an rtol below atol_scale / 1e3 tightens the absolute tolerances with it
    * (docs/dynamics.md section 7, "Tolerances") */
   m->par.solver.atol_scale = pom_dyn_atol_scale_used(&m->par.solver);
+  m->max_order = m->par.solver.max_order; /* the rigid path's init may cap it */
   POM_TRY_GOTO(m->form->init(m, mech, arch, err), fail);
   if (arch) { /* the target orientation of a maneuver is FK(setpoints) */
     m->arch = *arch;

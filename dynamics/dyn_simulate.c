@@ -57,6 +57,7 @@ static double sample_time(const pom_dyn_params *p, int k) {
 
 /* ---- the formulation's RHS ---------------------------------------------- */
 int pom_dyn_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot) {
+  if (d->setpoint_fn) d->setpoint_fn(d->setpoint_ctx, d->t, d->target);
   return m->form->eval(m, d, y, ydot);
 }
 
@@ -68,6 +69,7 @@ int pom_dyn_cvode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
   pom_dyn_data *d = user_data;
   d->t = t;
   ++d->rhs_count;
+  if (d->setpoint_fn) d->setpoint_fn(d->setpoint_ctx, t, d->target);
   int r = d->m->form->eval(d->m, d, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
   d->last_euler_singular = d->out.euler_singular;
   d->last_nonfinite = d->out.nonfinite;
@@ -114,7 +116,7 @@ pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_e
       CVodeSetUserData(d->cvode, d) != CV_SUCCESS ||
       (m->relative && CVodeWFtolerances(d->cvode, error_weights) != CV_SUCCESS) ||
       CVodeSetMaxNumSteps(d->cvode, p->solver.max_steps) != CV_SUCCESS ||
-      CVodeSetMaxOrd(d->cvode, p->solver.max_order) != CV_SUCCESS ||
+      CVodeSetMaxOrd(d->cvode, m->max_order) != CV_SUCCESS ||
       CVodeSetStabLimDet(d->cvode, p->solver.stability_limit_detection ? 1 : 0) != CV_SUCCESS ||
       (p->solver.max_step > 0 && CVodeSetMaxStep(d->cvode, p->solver.max_step) != CV_SUCCESS))
     POM_FAIL_GOTO(err, POM_ERR_SOLVER, fail, "configuring CVODE: %s", d->cvode_msg);
@@ -541,6 +543,11 @@ pom_status pom_dyn_simulate(const pom_dyn_model *m, pom_dyn_data *d, const doubl
 }
 
 /* ---- end-of-run queries -------------------------------------------------- */
+void pom_dyn_set_setpoint_path(pom_dyn_data *d, pom_dyn_setpoint_fn fn, void *ctx) {
+  d->setpoint_fn = fn;
+  d->setpoint_ctx = ctx;
+}
+
 pom_status pom_dyn_body_pose(const pom_dyn_model *m, const pom_dyn_data *d, int k, double R[9],
                              double x[3], pom_error *err) {
   if (!m || !d || k < 1 || k >= POM_MECH_MAX_BODIES || m->slot_of_mech[k] < 0)

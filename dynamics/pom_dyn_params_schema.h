@@ -124,7 +124,7 @@
     "Newton Jacobian: analytic, or finite differences (parasitic path: coloured, docs/dynamics.md " \
     "section 7; exact path: its orientation and omega columns, docs/dynamics-exact.md section 5)")                                                                \
   X(solver, "max_order", "max_order", solver.max_order, INT, 0, 1.0, "1", 1, 5, 5,                 \
-    "solver_max_order", "largest BDF order")                                                       \
+    "solver_max_order", "largest BDF order (rigid path: 2 at most when its drive mode needs it)") \
   X(solver, "stability_limit_detection", "stability_limit_detection",                              \
     solver.stability_limit_detection, BOOL, 0, 1.0, "-", 0, 0, 1,                                  \
     "solver_stability_limit_detection", "CVODE's BDF stability limit detection")                   \

@@ -111,7 +111,7 @@ typedef struct {
   double max_step;   /* s, 0 = unlimited */
   long max_steps;    /* per maneuver */
   pom_linsol_kind linear_solver;
-  int max_order;                 /* largest BDF order, 1..5 (default 5) */
+  int max_order; /* largest BDF order, 1..5 (default 5); the rigid path may cap it at 2 */
   int stability_limit_detection; /* 1: CVODE's BDF stability limit detection (default 1; the
                                     closed loop has lightly damped fast poles, docs 7) */
   /* added for the extreme cases (issue 6, docs/dynamics.md section 14) */
@@ -352,6 +352,18 @@ typedef struct {
 pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const double target[3],
                                const pom_dyn_initial *init, pom_dyn_metrics *metrics,
                                pom_dyn_trace *trace, pom_error *err);
+
+/* A setpoint path (issue 28, docs/capability.md): fills target[n_actuators]
+ * (m or rad) with the setpoints at time t (s) of the maneuver. A pure
+ * function of t: the engine calls it at every evaluation, in any order of t. */
+typedef void (*pom_dyn_setpoint_fn)(void *ctx, double t, double *target);
+
+/* Makes the following pom_dyn_simulate runs on d follow fn(ctx, t) instead
+ * of their constant target (which still sets the stroke check, the target
+ * orientation and the settling bands); fn NULL restores the constant target.
+ * ctx is not owned. The frequency response's time-domain check drives a
+ * small sine about a pose with it. */
+void pom_dyn_set_setpoint_path(pom_dyn_data *d, pom_dyn_setpoint_fn fn, void *ctx);
 
 /* Parameters the model was built with (never NULL for a valid model). */
 const pom_dyn_params *pom_dyn_model_params(const pom_dyn_model *m);

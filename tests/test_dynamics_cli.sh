@@ -119,5 +119,24 @@ for k in ('final_q','max_abs_q','energy_J'): assert r[k]==[None]*3, (k, r[k])
 assert r['peak_voltage_V']==[24,24,24] and r['peak_angular_rate_rad_per_s']>100
 " || { echo "FAIL: a failed maneuver's not-computed metrics not null"; fail=1; }
 
+# --bode: the small-signal frequency response about a pose (docs/capability.md):
+# the JSON file and stdout agree, the figures are there, the plot script draws it
+expect_rc 0 "$POMLAB" simulate "$SRC/configs/3rrr.cfg" --target 2,-1,3 --bode "$TMP/bode.json" --json
+$PY -c "
+import json; f=json.load(open('$TMP/bode.json')); o=json.load(open('$TMP/out'))
+assert f == o
+assert len(f['bandwidth_hz']) == 3 and all(30 < b < 80 for b in f['bandwidth_hz']), f['bandwidth_hz']
+assert f['bandwidth_worst_hz'] <= min(f['bandwidth_hz']) * 1.000001
+assert f['stable'] is True and len(f['loop']) == 3 and len(f['axis'][0]['mag_db']) == len(f['f_hz'])
+assert all(p > 0 for p in f['phase_margin_deg']) and f['mode_hz']
+" || { echo "FAIL: --bode JSON"; fail=1; }
+if $PY -c "import matplotlib" 2>/dev/null; then
+  $PY "$SRC/scripts/plot_bode.py" "$TMP/bode.json" "$TMP/bode.png" >/dev/null 2>&1 && [ -s "$TMP/bode.png" ] \
+    || { echo "FAIL: plot_bode.py"; fail=1; }
+fi
+expect_rc 0 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target 0,0,0 --bode "$TMP/b.json"
+grep -q "worst direction" "$TMP/out" || { echo "FAIL: --bode text"; fail=1; }
+expect_rc 2 "$POMLAB" simulate "$SRC/configs/3pss.cfg" --target 0,0,0 --bode "$TMP/b.txt"
+
 if [ $fail -eq 0 ]; then echo "test_dynamics_cli: passed"; fi
 exit $fail
