@@ -156,7 +156,8 @@ void pom_dyn_report_text(FILE *out, const char *name, const pom_dyn_params *p,
         out,
         "rigid limit: ratio %.3g, joint dissipation share %.3g%s (docs/dynamics.md section 13b)\n",
         mt->rigid_limit_ratio, mt->joint_dissipation_share,
-        pom_dyn_rigid_limit_exceeded(mt) ? " (> 1e-2 or > 2e-4): NOT at the rigid limit" : "");
+        pom_dyn_rigid_limit_exceeded(mt) ? ": NOT at the rigid limit (ratio > 1e-2 or share > 2e-4)"
+                                         : "");
   fprintf(out,
           "solver: %ld steps, %ld RHS evaluations (%ld in %ld Jacobians), %ld Newton iterations, "
           "%ld factorizations, %ld error-test and %ld convergence failures; %.3f ms wall\n",
