@@ -442,7 +442,9 @@ program's outcome, or a figure beyond the comparison tolerance below,
 differs from this file; the bench without `--write` checks every row.
 When a change of the program moves a row, regenerate the file and read the
 diff: a row that turns WRONG is a regression, one that leaves WRONG is
-the fix of an item of issue 30. Each row is one `pomlab simulate
+the fix of an item of issue 30.
+
+Each row is one `pomlab simulate
 CONFIG --target ... --json --joints PATH` of a shipped config
 (configs/3pss.cfg, 3sps.cfg, 3rrr.cfg; targets in mm, or degrees for the 3-RRR's
 rotary actuators; the shipped maneuver is (3, -3, 3)) with one thing pushed to
@@ -506,7 +508,6 @@ with this file takes figures equal within a factor 3 (errors) or 10 %
 cent, never a class.
 
 ## Table
-
 """
 
 
