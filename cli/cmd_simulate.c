@@ -336,6 +336,15 @@ int pom_cmd_simulate(int argc, char **argv) {
             "%.6g, %.6g %s); the model has no end stops\n",
             0.5 * arch.stroke * u->to_display, u->display, mt.max_abs_q[0] * u->to_display,
             mt.max_abs_q[1] * u->to_display, mt.max_abs_q[2] * u->to_display, u->display);
+  double w_drive = 0.0, z_drive = 0.0;
+  if (pom_dyn_drive_mode_light(model, &w_drive, &z_drive))
+    fprintf(stderr,
+            "pomlab simulate: warning: high loop gain: the drive mode (coil and controller "
+            "loop) rings at %.3g rad/s with damping ratio %.3g (below 0.070): saturation "
+            "switching makes the energy and settling times sensitive to the tolerance (energy "
+            "errors up to ~3e4 x solver.rtol measured, docs/extremes.md); confirm with a tighter "
+            "solver.rtol\n",
+            w_drive, z_drive);
   if (trace && trace->n > 0) {
     pom_error werr;
     pom_error_clear(&werr);
