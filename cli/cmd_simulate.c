@@ -345,6 +345,15 @@ int pom_cmd_simulate(int argc, char **argv) {
             "\"rigid\" (docs/dynamics.md section 13b)\n",
             mt.rigid_limit_ratio, POM_DYN_RIGID_LIMIT_WARN, mt.joint_dissipation_share,
             POM_DYN_JOINT_SHARE_WARN);
+  double w_drive = 0.0, z_drive = 0.0;
+  if (pom_dyn_drive_mode_light(model, &w_drive, &z_drive))
+    fprintf(stderr,
+            "pomlab simulate: warning: high loop gain: the drive mode (coil and controller "
+            "loop) rings at %.3g rad/s with damping ratio %.3g (below 0.070): saturation "
+            "switching makes the energy and settling times sensitive to the tolerance (energy "
+            "errors up to ~3e4 x solver.rtol measured, docs/extremes.md); confirm with a tighter "
+            "solver.rtol\n",
+            w_drive, z_drive);
   if (trace && trace->n > 0) {
     pom_error werr;
     pom_error_clear(&werr);

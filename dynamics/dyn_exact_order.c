@@ -11,6 +11,7 @@
  * then held by stability, not accuracy (1.5 M steps at 1e3 x K_P). The
  * maneuver is then integrated at order 2 (A-stable). */
 #include "dyn_internal.h"
+#include "pom_dyn_print.h"
 #include "pom_math.h"
 
 #include <complex.h>
@@ -170,4 +171,15 @@ void pom_dyn_order_cap(pom_dyn_model *m, const double M[9], const double J[9]) {
   }
   if (dm->stable_order < ORDER_GUARDED && m->max_order > ORDER_A_STABLE)
     m->max_order = ORDER_A_STABLE;
+}
+
+int pom_dyn_drive_mode_light(const pom_dyn_model *m, double *omega, double *zeta) {
+  if (!m) return 0;
+  const dyn_drive_mode *dm = &m->drive;
+  if (!dm->analysed || !dm->oscillating || !(dm->angle_deg > bdf_alpha_deg[ORDER_GUARDED - 1]))
+    return 0;
+  const double w = hypot(dm->re, dm->im);
+  if (omega) *omega = w;
+  if (zeta) *zeta = -dm->re / w;
+  return 1;
 }

@@ -30,6 +30,26 @@ pom_status pom_dyn_model_create(pom_dyn_model **out, const pom_mechanism *mech,
   return pom_dyn_model_create_ex(out, mech, arch, p, NULL, NULL, NULL, err);
 }
 
+/* The parasitic path's drive mode is the rigid mechanism's (its joint modes
+ * lie far above it, docs/dynamics.md section 7, "Order and stability"): the
+ * rigid model built from the same mechanism analyses it, and its BDF order
+ * cap applies to both paths. A scene the rigid path does not take (lumped
+ * limbs, no universal joint) or a model that cannot be built leaves the
+ * order as configured. */
+static void parasitic_order_cap(pom_dyn_model *m, const pom_mechanism *mech,
+                                const pom_kin_arch *arch) {
+  if (!arch || !m->ctrl_analytic || m->par.scene.limb_inertia != POM_INERTIA_FULL ||
+      !m->par.scene.universal_joint)
+    return;
+  pom_dyn_params pr = m->par;
+  pr.joints.model = POM_JOINTS_RIGID;
+  pom_dyn_model *rm = NULL;
+  if (pom_dyn_model_create(&rm, mech, arch, &pr, NULL) != POM_OK) return;
+  m->drive = rm->drive;
+  if (rm->max_order < m->max_order) m->max_order = rm->max_order;
+  pom_dyn_model_destroy(rm);
+}
+
 pom_status pom_dyn_model_create_ex(pom_dyn_model **out, const pom_mechanism *mech,
                                    const pom_kin_arch *arch, const pom_dyn_params *p,
                                    const pom_mechanism *ctrl_mech, const pom_kin_arch *ctrl_arch,
@@ -77,8 +97,9 @@ pom_status pom_dyn_model_create_ex(pom_dyn_model **out, const pom_mechanism *mec
   /* an rtol below atol_scale / 1e3 tightens the absolute tolerances with it
    * (docs/dynamics.md section 7, "Tolerances") */
   m->par.solver.atol_scale = pom_dyn_atol_scale_used(&m->par.solver);
-  m->max_order = m->par.solver.max_order; /* the rigid path's init may cap it */
+  m->max_order = m->par.solver.max_order; /* the drive mode may cap it */
   POM_TRY_GOTO(m->form->init(m, mech, arch, err), fail);
+  if (m->form != &pom_dyn_form_exact) parasitic_order_cap(m, mech, arch);
   if (arch) { /* the target orientation of a maneuver is FK(setpoints) */
     m->arch = *arch;
     m->has_arch = 1;

@@ -36,6 +36,15 @@ void pom_dyn_ctrl_list(FILE *out, int json);
  * has no end stops, so such a maneuver is not physical. */
 int pom_dyn_stroke_excursions(const pom_dyn_metrics *mt, double half, int out[3]);
 
+/* 1 when the closed loop's drive mode (the actuator loop linearized at rest
+ * at home, docs/dynamics.md section 7, "Order and stability") is a lightly
+ * damped pair outside BDF order 3's stability sector (damping ratio below
+ * cos 86.03 deg = 0.070): the high-gain regime where saturation switching
+ * makes the energy and the settling times sensitive to the tolerance
+ * (docs/extremes.md); its angular frequency (rad/s) and damping ratio in
+ * *omega and *zeta. 0 when it is not, or was not analysed. */
+int pom_dyn_drive_mode_light(const pom_dyn_model *m, double *omega, double *zeta);
+
 /* The maneuver of mechanism `name` run with p: every metric of the schema
  * (pom_dyn_metrics_schema.h) under its key in SI units (JSON), or the
  * human report in display units (text). */

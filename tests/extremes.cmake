@@ -14,3 +14,10 @@ add_test(NAME test_tradeoff_units
 add_test(NAME test_tradeoff_cli
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_tradeoff_cli.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# docs/extremes.md, the generated table of extreme scenarios, against the
+# program: every row but the costly high-gain ones runs (~25 s) and must read as the file
+# says (bench/extremes.py; the full set is the bench, bench/README.md).
+add_test(NAME test_extremes_table
+  COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/bench/extremes.py $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR} --quick
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+set_tests_properties(test_extremes_table PROPERTIES TIMEOUT 300)
