@@ -336,6 +336,15 @@ int pom_cmd_simulate(int argc, char **argv) {
             "%.6g, %.6g %s); the model has no end stops\n",
             0.5 * arch.stroke * u->to_display, u->display, mt.max_abs_q[0] * u->to_display,
             mt.max_abs_q[1] * u->to_display, mt.max_abs_q[2] * u->to_display, u->display);
+  if (pom_dyn_rigid_limit_exceeded(&mt))
+    fprintf(stderr,
+            "pomlab simulate: warning: the parasitic model is not at its rigid limit "
+            "(rigid_limit_ratio %.3g, above %g when the drive outruns the joints; "
+            "joint_dissipation_share %.3g, above %g when the joints move on their own): its energy "
+            "may be far from the rigid one; raise joints.stiffness_N_per_m or use joints.model = "
+            "\"rigid\" (docs/dynamics.md section 13b)\n",
+            mt.rigid_limit_ratio, POM_DYN_RIGID_LIMIT_WARN, mt.joint_dissipation_share,
+            POM_DYN_JOINT_SHARE_WARN);
   double w_drive = 0.0, z_drive = 0.0;
   if (pom_dyn_drive_mode_light(model, &w_drive, &z_drive))
     fprintf(stderr,

@@ -215,6 +215,21 @@ typedef struct {
   long evals;          /* interpolant evaluations of the last maneuver (nodes + root finding) */
 } dyn_settle;
 
+/* The rigid-limit watch (dyn_validity.c, docs/dynamics.md section 13b):
+ * the drive's electrical power P = sum |u i| integrated over the accepted
+ * steps (trapezoidal) into the duration T_E = (int P dt)^2 / int P^2 dt over
+ * which the drive spends its energy, against the lowest joint frequency. */
+typedef struct {
+  int on;           /* 1 on a formulation with parasitic springs */
+  double omega_low; /* lowest two-body joint frequency sqrt(k_p (1/m0 + 1/m1)) (rad/s) */
+  double t_prev;    /* end of the previous step (s) */
+  double p_prev;    /* P there (W) */
+  double e1;        /* int P dt (J) */
+  double e2;        /* int P^2 dt (W J) */
+  double pm_prev;   /* drive's mechanical power sum max(0, effort q_dot) at t_prev (W) */
+  double w_mech;    /* its integral, the mechanical work the drive puts in (J) */
+} dyn_validity;
+
 struct pom_dyn_data {
   const pom_dyn_model *m;
   SUNContext ctx;
@@ -237,6 +252,7 @@ struct pom_dyn_data {
   char cvode_msg[256];       /* last CVODE error message (from its handler) */
   int n_samples;             /* output grid size (traces only) */
   dyn_settle settle;         /* settling on the dense output (dyn_settle.c) */
+  dyn_validity validity;     /* the rigid-limit watch (dyn_validity.c) */
   double R_target[9];        /* target orientation of the maneuver, FK(setpoints) */
   int have_target_rotation;  /* 1 when R_target is known */
   double *yfinal;            /* [n_states] state at the end of the last run */
@@ -267,6 +283,9 @@ struct dyn_formulation {
    * 0: the driver turns atol_scale 0 into min(1e-3, 1e3 rtol) first (both
    * shipped formulations have natural sizes) */
   int natural_tolerances;
+  /* 1: the joints are parasitic springs and eval sets out.spring_energy
+   * (the rigid-limit ratio is measured); 0: rigid joints (it is NaN) */
+  int parasitic_springs;
   /* Fills bodies, actuators, the state layout (n_states, offsets), scale,
    * atol and the Jacobian pattern (dep, color, CSC) of m; m->par, gravity,
    * slot_of_mech (all -1) and platform_slot (-1) are set by the caller. arch
@@ -303,6 +322,17 @@ struct dyn_formulation {
   /* Records why CVODE failed at t (after the generic causes were ruled out). */
   pom_status (*solver_failure)(const pom_dyn_model *m, pom_dyn_data *d, double t, pom_error *err);
 };
+
+/* dyn_validity.c (docs/dynamics.md section 13b): begin at t = 0 and one
+ * call per accepted step, each with the outputs of that state evaluated;
+ * the ratio (NaN on rigid joints) at the end. */
+void pom_dyn_validity_begin(const pom_dyn_model *m, pom_dyn_data *d);
+void pom_dyn_validity_step(const pom_dyn_model *m, pom_dyn_data *d, double t);
+double pom_dyn_validity_ratio(const pom_dyn_model *m, const pom_dyn_data *d);
+/* energy_parasitic / the drive's positive mechanical work (NaN on rigid
+ * joints, 0 without mechanical work) */
+double pom_dyn_validity_share(const pom_dyn_model *m, const pom_dyn_data *d,
+                              double energy_parasitic);
 
 /* dyn_settle.c (docs/dynamics.md section 8). A root of g in [a, b] by the
  * Illinois method, g(a) and g(b) of opposite signs (ga = g(a), gb = g(b)),

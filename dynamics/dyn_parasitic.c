@@ -492,6 +492,7 @@ static void parasitic_model_free(pom_dyn_model *m) {
 const dyn_formulation pom_dyn_form_parasitic = {
     .name = "parasitic",
     .natural_tolerances = 1,
+    .parasitic_springs = 1,
     .init = pom_dyn_parasitic_init,
     .model_free = parasitic_model_free,
     .data_init = parasitic_data_init,

@@ -151,6 +151,13 @@ void pom_dyn_report_text(FILE *out, const char *name, const pom_dyn_params *p,
           mt->energy_parasitic, mt->energy_stored_change, mt->energy_balance_error);
   fprintf(out, "largest parasitic deflection: %.3g mm, %.3g deg\n", mt->max_deflection * 1e3,
           mt->max_angular_deflection / POM_DEG);
+  if (!isnan(mt->rigid_limit_ratio))
+    fprintf(
+        out,
+        "rigid limit: ratio %.3g, joint dissipation share %.3g%s (docs/dynamics.md section 13b)\n",
+        mt->rigid_limit_ratio, mt->joint_dissipation_share,
+        pom_dyn_rigid_limit_exceeded(mt) ? ": NOT at the rigid limit (ratio > 1e-2 or share > 2e-4)"
+                                         : "");
   fprintf(out,
           "solver: %ld steps, %ld RHS evaluations (%ld in %ld Jacobians), %ld Newton iterations, "
           "%ld factorizations, %ld error-test and %ld convergence failures; %.3f ms wall\n",

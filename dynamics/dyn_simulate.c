@@ -315,7 +315,8 @@ static void unset_not_computed(pom_dyn_metrics *mt, int reached_end, int watched
     mt->energy_total = mt->energy_supplied = mt->energy_dissipated = NAN;
     mt->energy_stored_change = mt->energy_parasitic = NAN;
     mt->energy_balance_scale = mt->energy_balance_error = NAN;
-    mt->final_pointing_error = mt->tracking_rms_error = NAN;
+    mt->final_pointing_error = mt->tracking_rms_error = mt->rigid_limit_ratio = NAN;
+    mt->joint_dissipation_share = NAN;
   }
   if (!watched) {
     for (int a = 0; a < 3; ++a)
@@ -334,6 +335,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
   memset(mt, 0, sizeof *mt);
   mt->horizon = p->maneuver.horizon;
   mt->pointing_settling_time = mt->final_pointing_error = mt->tracking_rms_error = NAN;
+  mt->rigid_limit_ratio = mt->joint_dissipation_share = NAN;
   for (int a = 0; a < 3; ++a)
     mt->target[a] = target[a];
   for (int a = 0; a < 3; ++a)
@@ -404,6 +406,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
   }
   if (tr) record_sample(m, d, 0, 0.0, y, tr);
   pom_dyn_settle_begin(m, d, y);
+  pom_dyn_validity_begin(m, d);
   track_extremes(m, d, mt);
   watched = 1;
 
@@ -448,6 +451,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
       goto finish;
     }
     track_extremes(m, d, mt);
+    pom_dyn_validity_step(m, d, t);
     st = pom_dyn_settle_step(m, d, t, y, err);
     if (st != POM_OK) {
       mt->status = st;
@@ -495,6 +499,8 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
     mt->energy_balance_error = scale > 0 ? fabs(imbalance) / scale : 0.0;
   }
   pom_dyn_settle_metrics(m, d, mt);
+  mt->rigid_limit_ratio = pom_dyn_validity_ratio(m, d);
+  mt->joint_dissipation_share = pom_dyn_validity_share(m, d, mt->energy_parasitic);
   if (p->solver.max_balance_error > 0 &&
       !(mt->energy_balance_error <= p->solver.max_balance_error)) {
     /* the audit exposes an inaccurate (too loose) or unstable integration

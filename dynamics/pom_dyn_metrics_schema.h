@@ -90,7 +90,13 @@
   M(tracking_rms_error, DOUBLE, 1, ANGLE,                                                          \
     "RMS angle between the platform and the controller's reference (NaN without a trajectory)")  \
   M(stepinfo_unresolved, INT, 3, FLAG,                                                             \
-    "1 when the stepinfo band lies below what the integration resolves (settling_time_final NaN)")
+    "1 when the stepinfo band lies below what the integration resolves (settling_time_final NaN)") \
+  M(rigid_limit_ratio, DOUBLE, 1, RATIO,                                                           \
+    "1/(omega_low T_E)^2: lowest joint frequency against the drive's energy duration; "          \
+    "above 1e-2 not at the rigid limit (NaN on rigid joints)")                                      \
+  M(joint_dissipation_share, DOUBLE, 1, RATIO,                                                     \
+    "parasitic damper energy over the drive's positive mechanical work; "                          \
+    "above 2e-4 not at the rigid limit (NaN on rigid joints)")
 /* clang-format on */
 
 /* Unit classes of metrics. */

@@ -219,6 +219,18 @@ pom_status pom_dyn_model_create_ex(pom_dyn_model **out, const pom_mechanism *mec
 pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_error *err);
 void pom_dyn_data_destroy(pom_dyn_data *d);
 
+/* rigid_limit_ratio above which the parasitic model is not at its rigid
+ * limit (docs/dynamics.md section 13b: the joints' dynamic deviation from
+ * their quasi-static response is of order the ratio; 1e-2 = a drive time
+ * ten times the joint's 1/omega). `pomlab simulate` warns, studies count. */
+#define POM_DYN_RIGID_LIMIT_WARN 1e-2
+/* joint_dissipation_share above which the parasitic model is not at its
+ * rigid limit (docs/dynamics.md section 13b: the joints' own motion, of
+ * relative amplitude ~sqrt(share), moves the energy by at most 2.5
+ * sqrt(share) in every measured case; 2e-4 separates the 3S-P-S/S k_p
+ * sweep's 2.5 % gap (6.7e-4) from its 0.5 % one (7.5e-5)). */
+#define POM_DYN_JOINT_SHARE_WARN 2e-4
+
 /* Metrics of one maneuver. Times in s, energies in J. */
 typedef struct {
   pom_status status;       /* POM_OK or why it failed */
@@ -269,7 +281,31 @@ typedef struct {
                                     deviation from the final value) is narrower than what the
                                     integration resolves of that position: settling_time_final is
                                     then NaN (docs/results.md section 1c) */
+  double rigid_limit_ratio;      /* parasitic joints: 1 / (omega_low T_E)^2, omega_low the lowest
+                                    joint frequency (rad/s) and T_E the duration over which the
+                                    drive spends its energy (s); above POM_DYN_RIGID_LIMIT_WARN the
+                                    parasitic model is not at its rigid limit (docs/dynamics.md
+                                    section 13b). NaN on rigid joints and when the maneuver did
+                                    not finish */
+  /* parasitic joints: energy_parasitic over the drive's positive mechanical
+   * work int sum max(0, effort q_dot) dt, the share of what the drive puts
+   * into the mechanism that the joints' own motion dissipates; above
+   * POM_DYN_JOINT_SHARE_WARN not at the rigid limit (docs/dynamics.md
+   * section 13b). NaN as rigid_limit_ratio */
+  double joint_dissipation_share;
 } pom_dyn_metrics;
+
+/* The validity rule (docs/dynamics.md section 13b): 1 when a finished
+ * parasitic maneuver is not at its rigid limit, i.e. when its
+ * rigid_limit_ratio exceeds POM_DYN_RIGID_LIMIT_WARN (the drive outruns the
+ * joints) or its joint_dissipation_share exceeds POM_DYN_JOINT_SHARE_WARN
+ * (the joints move on their own); 0 otherwise, also for NaN (rigid joints,
+ * failed maneuvers). */
+int pom_dyn_rigid_limit_exceeded(const pom_dyn_metrics *mt);
+/* The same rule on the two values (as a results row stores them): 1
+ * flagged, 0 at the rigid limit, -1 not measured (both NaN: rigid joints or
+ * a maneuver that did not finish). */
+int pom_dyn_rigid_limit_flag(double rigid_limit_ratio, double joint_dissipation_share);
 
 /* Optional traces of a maneuver, sampled every output_dt. Owned by caller:
  * create with pom_dyn_trace_create, free with pom_dyn_trace_destroy. */

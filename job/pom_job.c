@@ -398,6 +398,35 @@ static void print_unresolved(FILE *out, const pom_doe_study *study, const pom_do
                "(docs/results.md section 1c).\n");
 }
 
+/* The parasitic model's validity rule (docs/dynamics.md section 13b): per
+ * candidate, the maneuvers flagged not at the rigid limit ("n/a" on rigid
+ * joints); nothing when no candidate has parasitic joints. */
+static void print_rigid_limit(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
+  long checked = 0, flagged = 0;
+  int na = 0;
+  for (int c = 0; c < rep->n_candidates; ++c) {
+    checked += rep->cand[c].n_validity;
+    flagged += rep->cand[c].n_rigid_limit;
+    na |= rep->cand[c].n_validity == 0;
+  }
+  if (checked <= 0) return;
+  fprintf(out, "\nparasitic model not at its rigid limit (docs/dynamics.md section 13b):");
+  for (int c = 0; c < rep->n_candidates; ++c) {
+    const pom_doe_candidate_stats *cs = &rep->cand[c];
+    fprintf(out, "%s %s ", c ? "," : "", study->candidates[c].name);
+    if (cs->n_validity > 0)
+      fprintf(out, "%ld of %ld", cs->n_rigid_limit, cs->n_validity);
+    else
+      fprintf(out, "n/a");
+  }
+  fprintf(out, " maneuver(s) flagged%s.\n", na ? " (n/a: rigid joints or none finished)" : "");
+  if (flagged > 0)
+    fprintf(out, "Note: a flagged maneuver's parasitic result may be far from the rigid model's "
+                 "(rigid_limit_ratio > 1e-2: the drive outruns the joints; "
+                 "joint_dissipation_share > 2e-4: the joints move on their own); compare with "
+                 "joints.model = \"rigid\" or study.fidelity = \"auto\".\n");
+}
+
 /* ---- the report ---------------------------------------------------------------------- */
 void pom_job_print_report(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
   int nc = rep->n_candidates;
@@ -443,6 +472,7 @@ void pom_job_print_report(FILE *out, const pom_doe_study *study, const pom_doe_r
                "at the horizon, about that value (the paper's MATLAB post-processing most likely "
                "used it); defined for tiny steps too, as far as the integration resolves them.\n");
   print_unresolved(out, study, rep);
+  print_rigid_limit(out, study, rep);
   robustness_table(out, study, rep);
 
   if (nc < 2) return; /* one candidate: nothing to compare or rank */
@@ -674,6 +704,12 @@ void pom_job_print_json(FILE *out, const pom_doe_study *study, const pom_doe_rep
       json_double(out, study->candidates[c].factor_value[f]);
     }
     fprintf(out, "}");
+    /* the validity rule's count: null where not measured (rigid joints) */
+    if (cs->n_validity > 0)
+      fprintf(out, ", \"rigid_limit_flagged\": %ld, \"rigid_limit_checked\": %ld",
+              cs->n_rigid_limit, cs->n_validity);
+    else
+      fprintf(out, ", \"rigid_limit_flagged\": null, \"rigid_limit_checked\": 0");
     pom_job_fidelity_json(out, &study->candidates[c]);
     /* the statistics of every reduced metric of the schema */
     for (int s = 0; s < POM_DYN_N_STATS; ++s) {

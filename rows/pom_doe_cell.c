@@ -20,6 +20,11 @@ void pom_doe_cell_from_row(pom_doe_cell *cell, const pom_doe_row *row,
   int settled =
       time_metric == POM_DOE_TIME_POINTING ? cell->ok && row->pointing_settled == 1 : cell->settled;
   cell->censored = (int8_t)(cell->ok && !(settled && isfinite(t)));
+  cell->rigid_limit =
+      (int8_t)(!cell->ok ? -1
+                         : pom_dyn_rigid_limit_flag(
+                               pom_doe_row_value(row, POM_DYN_METRIC_rigid_limit_ratio, 0),
+                               pom_doe_row_value(row, POM_DYN_METRIC_joint_dissipation_share, 0)));
   /* a row without a horizon (an evaluator that does not set it) cannot be
    * censored: its unsettled time stays out, as before the censoring */
   double horizon = row->horizon > 0 ? row->horizon : NAN;

@@ -10,12 +10,14 @@
 
 /* ---- ranges -------------------------------------------------------------------- */
 /* Metrics that are NaN by definition when an actuator or the platform did
- * not settle, when the target orientation is unknown (no architecture) or
- * when the controller has no reference trajectory. */
+ * not settle, when the target orientation is unknown (no architecture),
+ * when the controller has no reference trajectory or when the joints are
+ * rigid (the rigid-limit ratio). */
 static int may_be_nan(int j) {
   return j == POM_DYN_METRIC_settling_time || j == POM_DYN_METRIC_settling_time_final ||
          j == POM_DYN_METRIC_execution_time || j == POM_DYN_METRIC_pointing_settling_time ||
-         j == POM_DYN_METRIC_final_pointing_error || j == POM_DYN_METRIC_tracking_rms_error;
+         j == POM_DYN_METRIC_final_pointing_error || j == POM_DYN_METRIC_tracking_rms_error ||
+         j == POM_DYN_METRIC_rigid_limit_ratio || j == POM_DYN_METRIC_joint_dissipation_share;
 }
 
 /* Energies with a sign (a source may take energy back, the stored energy may

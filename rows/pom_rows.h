@@ -70,11 +70,13 @@ typedef enum { POM_DOE_METRIC_TIME = 0, POM_DOE_METRIC_ENERGY = 1 } pom_doe_metr
 
 /* Compact per-row values kept in memory for the statistics. */
 typedef struct {
-  int8_t done;     /* 1 when finished */
-  int8_t ok;       /* status == POM_OK */
-  int8_t settled;  /* every actuator settled */
-  int8_t censored; /* ok, and the primary time metric did not settle */
-  double time;     /* primary time metric (s); the horizon when censored; NaN when failed */
+  int8_t done;        /* 1 when finished */
+  int8_t ok;          /* status == POM_OK */
+  int8_t settled;     /* every actuator settled */
+  int8_t censored;    /* ok, and the primary time metric did not settle */
+  int8_t rigid_limit; /* the parasitic model's validity rule (docs/dynamics.md section 13b): 1
+                         flagged, 0 at its rigid limit, -1 not measured (rigid joints, failed) */
+  double time;        /* primary time metric (s); the horizon when censored; NaN when failed */
   double stat[POM_DYN_N_STATS]; /* per reduced metric (pom_dyn_stat_id): the value its statistics
                                    use (combined over actuators), NaN when it does not count */
 } pom_doe_cell;

@@ -170,6 +170,8 @@ pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *stu
       else if (!col[k].settled)
         ++cs->n_unsettled;
       if (col[k].censored) ++cs->n_censored;
+      if (col[k].rigid_limit >= 0) ++cs->n_validity;
+      if (col[k].rigid_limit == 1) ++cs->n_rigid_limit;
     }
     /* every reduced metric of the schema over the maneuvers that count */
     for (int s = 0; s < POM_DYN_N_STATS; ++s) {

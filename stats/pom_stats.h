@@ -112,11 +112,14 @@ void pom_doe_holm(double *adjusted, const double *p, size_t m, size_t *order);
  * POM_DYN_METRICS_LIST, by name (execution_time, energy, energy_positive,
  * execution_time_final, ...) or as stat[pom_dyn_stat_id]. */
 typedef struct {
-  long n_done;      /* maneuvers finished */
-  long n_failed;    /* status != ok */
-  long n_unsettled; /* ok but some actuator never settled */
-  long n_censored;  /* ok but the primary time metric did not settle within the horizon: its
-                       value is censored at the horizon (docs/results.md section 4) */
+  long n_done;        /* maneuvers finished */
+  long n_failed;      /* status != ok */
+  long n_unsettled;   /* ok but some actuator never settled */
+  long n_censored;    /* ok but the primary time metric did not settle within the horizon: its
+                         value is censored at the horizon (docs/results.md section 4) */
+  long n_validity;    /* ok maneuvers whose parasitic model's validity was measured (0 on rigid
+                         joints) */
+  long n_rigid_limit; /* of those, flagged not at the rigid limit (docs/dynamics.md 13b) */
   union {
     pom_doe_stats stat[POM_DYN_N_STATS];
     struct {

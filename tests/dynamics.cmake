@@ -80,3 +80,8 @@ target_link_libraries(test_dyn_freq PRIVATE pom_dynamics pom_kinematics pom_core
 pom_add_test(test_dyn_rigid_gain test_dyn_rigid_gain.c)
 target_include_directories(test_dyn_rigid_gain PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
 target_link_libraries(test_dyn_rigid_gain PRIVATE pom_dynamics pom_kinematics pom_core)
+
+# the parasitic model's rigid-limit indicator (issue 30 item 4, docs/dynamics.md 13b)
+pom_add_test(test_dyn_validity test_dyn_validity.c)
+target_include_directories(test_dyn_validity PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
+target_link_libraries(test_dyn_validity PRIVATE pom_dynamics pom_kinematics pom_core)

@@ -19,12 +19,18 @@ json_check "all(q < -0.006 for q in d['final_q_m']) and all(m > 0.006 for m in d
 expect_in "$TMP/err" "warning: an actuator left its stroke +-6 mm"
 expect_rc 0 "$POMLAB" simulate "$cfg" --target 1,2,3 --kp 0
 expect_in "$TMP/out" "STROKE EXCEEDED: actuator 2 reached |q| = 6.99"
-# a normal maneuver stays inside and says nothing
+# a normal maneuver stays inside and says nothing about it (the parasitic
+# model's validity warning aside: at the shipped k_p = 1e6 N/m the rule flags
+# it, docs/dynamics.md section 13b); on rigid joints it says nothing at all
 expect_rc 0 "$POMLAB" simulate "$cfg" --target 1,2,3 --json
 json_check "d['stroke_exceeded'] == [False, False, False]"
 checks=$((checks + 1))
-[ ! -s "$TMP/err" ] || fail "a maneuver inside the stroke printed on stderr: $(head -2 "$TMP/err")"
+grep -v "warning: the parasitic model is not at its rigid limit" "$TMP/err" > "$TMP/err2" || true
+[ ! -s "$TMP/err2" ] || fail "a maneuver inside the stroke printed on stderr: $(head -2 "$TMP/err2")"
 cp "$TMP/out" "$TMP/sim.json"
+expect_rc 0 "$POMLAB" simulate "$cfg" --target 1,2,3 --joints rigid --json
+checks=$((checks + 1))
+[ ! -s "$TMP/err" ] || fail "a rigid maneuver inside the stroke printed on stderr: $(head -2 "$TMP/err")"
 
 # --- a refused target shows the digits that put it outside -----------------------------
 expect_rc 2 "$POMLAB" simulate "$cfg" --target 6.000001,0,0

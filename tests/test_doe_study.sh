@@ -85,3 +85,48 @@ if [ -n "$MPIRUN" ]; then
   SAME="$SAME $WORK/mpi.h5 $WORK/mpir.h5"
 fi
 /usr/bin/python3 tests/test_doe_h5.py "$WORK/t2.json" $SAME
+# the parasitic model's validity rule in the report (docs/dynamics.md section
+# 13b): per candidate, the maneuvers flagged, "n/a" on rigid joints; the count
+# is the rule applied to the rows (rigid_limit_ratio > 1e-2 or
+# joint_dissipation_share > 2e-4, over the ok maneuvers). The 3P-S-S/S at
+# k_p = 1e8 lies at the share's threshold: some of its maneuvers are flagged
+# and some not (3 of 6), the shipped k_p = 1e6 all, the rigid joints none.
+cat > "$WORK/validity.cfg" <<CFG
+name = "validity_small";
+montecarlo = { maneuvers = 6; seed = 5; range_mm = 4.0; };
+candidates = (
+  { name = "P6"; config = "$(pwd)/configs/3pss.cfg"; },
+  { name = "P8"; config = "$(pwd)/configs/3pss.cfg";
+    override = { joints = { stiffness_N_per_m = 1.0e8; }; }; },
+  { name = "R"; config = "$(pwd)/configs/3pss.cfg"; override = { joints = { model = "rigid"; }; }; }
+);
+CFG
+"$POMLAB" study "$WORK/validity.cfg" --out "$WORK/validity.h5" --no-plots --quiet \
+  > "$WORK/validity.txt"
+"$POMLAB" study "$WORK/validity.cfg" --out "$WORK/validity_j.h5" --no-plots --no-summary --quiet \
+  --json > "$WORK/validity.json"
+/usr/bin/python3 - "$WORK/validity.h5" "$WORK/validity.json" "$WORK/validity.txt" \
+  "$WORK/validity/summary.md" <<'PY'
+import sys, json, h5py, numpy as np
+f = h5py.File(sys.argv[1], "r")
+js = json.load(open(sys.argv[2]))["candidates"]
+want = []
+for c in range(3):
+    r = f["candidates/%d/maneuvers" % c][:]
+    ok = r["status"] == 0
+    flag = (r["rigid_limit_ratio"] > 1e-2) | (r["joint_dissipation_share"] > 2e-4)
+    measured = ok & ~(np.isnan(r["rigid_limit_ratio"]) & np.isnan(r["joint_dissipation_share"]))
+    want.append((int(np.sum(flag & measured)), int(np.sum(measured))))
+assert want[0] == (6, 6), want          # shipped k_p: every maneuver flagged
+assert 0 < want[1][0] < 6 and want[1][1] == 6, want  # at the threshold: a mix
+assert want[2] == (0, 0), want          # rigid joints: not measured
+for c in range(2):
+    assert js[c]["rigid_limit_flagged"] == want[c][0], (c, js[c], want)
+    assert js[c]["rigid_limit_checked"] == want[c][1], (c, js[c], want)
+assert js[2]["rigid_limit_flagged"] is None and js[2]["rigid_limit_checked"] == 0, js[2]
+line = "P6 %d of %d, P8 %d of %d, R n/a maneuver(s) flagged" % (want[0] + want[1])
+for path in sys.argv[3:]:
+    text = open(path).read()
+    assert line in text, (path, line)
+    assert "Note: a flagged maneuver's parasitic result" in text, path
+PY
