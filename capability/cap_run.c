@@ -178,6 +178,99 @@ static int on_subgrid(int i, int n1, int nb) {
   return 0;
 }
 
+/* ---- one pose, any rotation --------------------------------------------------------- */
+struct pom_cap_ctx {
+  pom_dyn_model *m, *mf; /* rigid; the config's own (NULL: no small-signal figures) */
+  pom_dyn_data *d, *df;
+  pom_cap_opts o;
+  double f_max;
+};
+
+static double effort_limit(const pom_dyn_params *p, const pom_cap_opts *o) {
+  const double i_lim = p->actuator.voltage_limit / p->actuator.resistance;
+  return p->actuator.force_constant *
+         (o->current_limit > 0 ? fmin(o->current_limit, i_lim) : i_lim);
+}
+
+void pom_cap_ctx_destroy(pom_cap_ctx *c) {
+  if (!c) return;
+  pom_dyn_data_destroy(c->df);
+  pom_dyn_model_destroy(c->mf);
+  pom_dyn_data_destroy(c->d);
+  pom_dyn_model_destroy(c->m);
+  free(c);
+}
+
+pom_status pom_cap_ctx_create(pom_cap_ctx **out, const pom_kin_arch *arch,
+                              const pom_mechanism *mech, const pom_dyn_params *p,
+                              const pom_cap_opts *o, int with_freq, pom_error *err) {
+  pom_status st = POM_OK;
+  *out = NULL;
+  pom_cap_ctx *c = calloc(1, sizeof *c);
+  if (!c) POM_FAIL(err, POM_ERR_NOMEM, "allocating the capability context");
+  c->o = *o;
+  pom_dyn_params pr = *p;
+  pr.joints.model = POM_JOINTS_RIGID;
+  POM_TRY_GOTO(pom_dyn_model_create(&c->m, mech, arch, &pr, err), fail);
+  POM_TRY_GOTO(pom_dyn_data_create(&c->d, c->m, err), fail);
+  if (with_freq) {
+    POM_TRY_GOTO(pom_dyn_model_create(&c->mf, mech, arch, p, err), fail);
+    POM_TRY_GOTO(pom_dyn_data_create(&c->df, c->mf, err), fail);
+  }
+  c->f_max = effort_limit(&pr, o);
+  *out = c;
+  return POM_OK;
+fail:
+  pom_cap_ctx_destroy(c);
+  return st;
+}
+
+pom_status pom_cap_pose_eval(pom_cap_ctx *c, const double R[9], pom_cap_pose *pp, pom_error *err) {
+  memset(pp, 0, sizeof *pp);
+  pp->bw_axis_hz[0] = pp->bw_axis_hz[1] = pp->bw_axis_hz[2] = NAN;
+  pp->bw_worst_hz = pp->peak_db_worst = pp->pm_deg_min = pp->gm_db_min = NAN;
+  pp->mode_hz = pp->mode_zeta = NAN;
+  if (pom_euler_zyx_from_matrix(pp->euler, R) != POM_OK)
+    POM_FAIL(err, POM_ERR_EULER_SINGULAR, "capability: the pose has pitch 90 deg");
+  POM_TRY(pose_eval(c->m, c->d, &c->o, c->f_max, pp, err));
+  if (c->mf) POM_TRY(pose_freq(c->mf, c->df, pp, err));
+  return POM_OK;
+}
+
+#define CAP_RAD_TO_DEG (180.0 / POM_PI)
+static const pom_cap_pose_figure pose_figures[] = {
+    {"acc_inscribed", "deg/s^2", CAP_RAD_TO_DEG, 0,
+     "angular acceleration from rest reachable in every direction"},
+    {"rate_inscribed", "deg/s", CAP_RAD_TO_DEG, 0,
+     "steady angular rate sustained in every direction"},
+    {"rate_emf_inscribed", "deg/s", CAP_RAD_TO_DEG, 0,
+     "steady rate against back-EMF alone (no velocity-product terms)"},
+    {"bw_worst", "Hz", 1.0, 1, "-3 dB bandwidth of the closed loop in the worst direction"},
+    {"pm_min", "deg", 1.0, 1, "smallest phase margin of the actuator loops"},
+    {"mode", "Hz", 1.0, 1, "lowest parasitic joint mode"},
+};
+
+const pom_cap_pose_figure *pom_cap_pose_figures(int *n) {
+  *n = (int)(sizeof pose_figures / sizeof pose_figures[0]);
+  return pose_figures;
+}
+
+const pom_cap_pose_figure *pom_cap_pose_figure_find(const char *name) {
+  int n;
+  const pom_cap_pose_figure *t = pom_cap_pose_figures(&n);
+  for (int k = 0; k < n; ++k)
+    if (name && strcmp(t[k].name, name) == 0) return &t[k];
+  return NULL;
+}
+
+double pom_cap_pose_figure_value(const pom_cap_pose_figure *f, const pom_cap_pose *pp) {
+  const int k = (int)(f - pose_figures);
+  if (!pp->ok || (f->freq && !pp->freq_ok)) return NAN;
+  const double v[] = {pp->acc_inscribed, pp->rate_inscribed, pp->rate_emf_inscribed,
+                      pp->bw_worst_hz,   pp->pm_deg_min,     pp->mode_hz};
+  return v[k] * f->to_display;
+}
+
 /* ---- slews ------------------------------------------------------------------------- */
 /* 1 when the rotation passes the workspace criteria of kin_workspace.c. */
 static int pose_passes(const pom_kin_arch *arch, const pom_kin_ws_opts *ws, const double R[9]) {
@@ -322,9 +415,7 @@ pom_status pom_cap_run(const pom_kin_arch *arch, const pom_kin_ws_opts *ws,
     POM_TRY_GOTO(pom_dyn_model_create(&mf, mech, arch, p, err), done);
     POM_TRY_GOTO(pom_dyn_data_create(&df, mf, err), done);
   }
-  const double i_lim = pr.actuator.voltage_limit / pr.actuator.resistance;
-  r->f_max =
-      pr.actuator.force_constant * (o->current_limit > 0 ? fmin(o->current_limit, i_lim) : i_lim);
+  r->f_max = effort_limit(&pr, o);
 
   int n_slews = 0;
   r->n_dirs = o->slew_directions;

@@ -108,6 +108,37 @@ typedef struct {
   int freq_ok;          /* 1 when the small-signal figures were evaluated there */
 } pom_cap_pose;
 
+/* ---- one pose, any rotation (pom_cap_run's evaluation, for callers that
+ * sample other poses: `pomlab view --capability`) ------------------------- */
+typedef struct pom_cap_ctx pom_cap_ctx;
+/* The rigid model of the envelope and, when with_freq, the config's own
+ * model of the small-signal figures (as pom_cap_run). */
+pom_status pom_cap_ctx_create(pom_cap_ctx **out, const pom_kin_arch *arch,
+                              const pom_mechanism *mech, const pom_dyn_params *p,
+                              const pom_cap_opts *o, int with_freq, pom_error *err);
+void pom_cap_ctx_destroy(pom_cap_ctx *c);
+/* Every figure at rotation R into *pp (euler set from R; the small-signal
+ * ones when the context has them, else NaN). Fails as pom_cap_rate_model_at
+ * or pom_dyn_freq_figures_at (pp->ok and pp->freq_ok say how far it got). */
+pom_status pom_cap_pose_eval(pom_cap_ctx *c, const double R[9], pom_cap_pose *pp, pom_error *err);
+
+/* A figure of one pose by name, for colouring maps: name, display unit and
+ * the factor from SI to it, whether it needs the small-signal model, and
+ * what it is. */
+typedef struct {
+  const char *name;
+  const char *unit;
+  double to_display;
+  int freq;
+  const char *description;
+} pom_cap_pose_figure;
+/* The table (n entries, static). */
+const pom_cap_pose_figure *pom_cap_pose_figures(int *n);
+/* By name; NULL when unknown. */
+const pom_cap_pose_figure *pom_cap_pose_figure_find(const char *name);
+/* Its value at pp in display units (NaN when not evaluated there). */
+double pom_cap_pose_figure_value(const pom_cap_pose_figure *f, const pom_cap_pose *pp);
+
 /* The slews about one direction. */
 typedef struct {
   double dir[3];                             /* unit axis (fixed frame) */
