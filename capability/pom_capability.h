@@ -2,8 +2,10 @@
  * specified by (docs/capability.md): over the regular dexterous workspace,
  * the platform's peak angular acceleration from rest and steady angular rate
  * under the voltage (and current) limits, inscribed (every direction) and per
- * fixed axis, and large-angle slew times simulated with the controller. Uses
- * the rigid model (dynamics/pom_dyn_rigid.h) whatever joints.model says.
+ * fixed axis, and large-angle slew times simulated with the controller, on
+ * the rigid model (dynamics/pom_dyn_rigid.h) whatever joints.model says; the
+ * small-signal bandwidth and margins (dynamics/pom_dyn_freq.h) on the
+ * config's own joints.model.
  * Layered right after dynamics (docs/layers.txt). */
 #ifndef POM_CAPABILITY_H
 #define POM_CAPABILITY_H
