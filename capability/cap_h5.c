@@ -11,8 +11,10 @@
 /* Pose columns of /poses/figures, in this order (SI). */
 static const char *const pose_columns =
     "psi, theta, phi (rad); ok; acc_inscribed, acc_x, acc_y, acc_z (rad/s^2); rate_inscribed, "
-    "rate_x, rate_y, rate_z (rad/s); rate_emf_inscribed (rad/s)";
-#define POSE_COLS 13
+    "rate_x, rate_y, rate_z (rad/s); rate_emf_inscribed (rad/s); q1, q2, q3 (m or rad); "
+    "freq_ok; bw_worst, bw_x, bw_y, bw_z (Hz); peak_db_worst (dB); pm_deg_min (deg); gm_db_min "
+    "(dB, inf: no phase crossover); mode (Hz); mode_zeta (1) (NaN: not evaluated)";
+#define POSE_COLS 26
 
 pom_status pom_cap_write_h5(const char *path, const char *program, const pom_cfg *cfg,
                             const char *name, const pom_cap_opts *o, const pom_cap_result *r,
@@ -33,14 +35,42 @@ pom_status pom_cap_write_h5(const char *path, const char *program, const pom_cfg
   POM_TRY_GOTO(pom_h5_attr_int64(file, "home", r->home, err), done);
   POM_TRY_GOTO(pom_h5_attr_int64(file, "worst_acc", r->worst_acc, err), done);
   POM_TRY_GOTO(pom_h5_attr_int64(file, "worst_rate", r->worst_rate, err), done);
+  POM_TRY_GOTO(pom_h5_attr_int64(file, "worst_bw", r->worst_bw, err), done);
+  POM_TRY_GOTO(pom_h5_attr_int64(file, "worst_pm", r->worst_pm, err), done);
+  POM_TRY_GOTO(pom_h5_attr_double(file, "bw_worst_hz", r->bw_worst_hz, err), done);
+  POM_TRY_GOTO(pom_h5_attr_double(file, "pm_worst_deg", r->pm_worst_deg, err), done);
+  POM_TRY_GOTO(pom_h5_attr_string(file, "bandwidth_joints",
+                                  r->freq_joints == POM_JOINTS_RIGID ? "rigid" : "parasitic", err),
+               done);
   for (int k = 0; k < r->n_poses; ++k) {
     const pom_cap_pose *p = &r->pose[k];
     double *row = tab + (size_t)k * POSE_COLS;
-    const double v[POSE_COLS] = {
-        p->euler[0],          p->euler[1],     p->euler[2],     p->ok,
-        p->acc_inscribed,     p->acc_axis[0],  p->acc_axis[1],  p->acc_axis[2],
-        p->rate_inscribed,    p->rate_axis[0], p->rate_axis[1], p->rate_axis[2],
-        p->rate_emf_inscribed};
+    const double v[POSE_COLS] = {p->euler[0],
+                                 p->euler[1],
+                                 p->euler[2],
+                                 p->ok,
+                                 p->acc_inscribed,
+                                 p->acc_axis[0],
+                                 p->acc_axis[1],
+                                 p->acc_axis[2],
+                                 p->rate_inscribed,
+                                 p->rate_axis[0],
+                                 p->rate_axis[1],
+                                 p->rate_axis[2],
+                                 p->rate_emf_inscribed,
+                                 p->q[0],
+                                 p->q[1],
+                                 p->q[2],
+                                 p->freq_ok,
+                                 p->bw_worst_hz,
+                                 p->bw_axis_hz[0],
+                                 p->bw_axis_hz[1],
+                                 p->bw_axis_hz[2],
+                                 p->peak_db_worst,
+                                 p->pm_deg_min,
+                                 p->gm_db_min,
+                                 p->mode_hz,
+                                 p->mode_zeta};
     for (int j = 0; j < POSE_COLS; ++j)
       row[j] = v[j];
   }

@@ -2,8 +2,10 @@
  * specified by (docs/capability.md): over the regular dexterous workspace,
  * the platform's peak angular acceleration from rest and steady angular rate
  * under the voltage (and current) limits, inscribed (every direction) and per
- * fixed axis, and large-angle slew times simulated with the controller. Uses
- * the rigid model (dynamics/pom_dyn_rigid.h) whatever joints.model says.
+ * fixed axis, and large-angle slew times simulated with the controller, on
+ * the rigid model (dynamics/pom_dyn_rigid.h) whatever joints.model says; the
+ * small-signal bandwidth and margins (dynamics/pom_dyn_freq.h) on the
+ * config's own joints.model.
  * Layered right after dynamics (docs/layers.txt). */
 #ifndef POM_CAPABILITY_H
 #define POM_CAPABILITY_H
@@ -27,6 +29,9 @@ typedef struct {
   double current_limit; /* I_max (A), 0 = the voltage limit alone (default 0) */
   int rate_directions;  /* Fibonacci-sphere points of the inscribed rate search (default 200) */
   int slew_directions;  /* 0..4 of x, y, z, (1,1,1)/sqrt 3 (default 4; 0 = no slews) */
+  int bandwidth_grid;   /* poses per Euler angle of the small-signal figures, odd, a sub-grid
+                           of grid_points (default 3; 1 = home alone, 0 = none); home and the
+                           worst envelope poses are always evaluated when > 0 */
   int n_amplitudes;     /* amplitudes asked for */
   double amplitude[POM_CAP_MAX_AMPLITUDES]; /* rad, ascending (default 1, 3, 10, 30 deg) */
   /* progress: called after each pose and each slew with (done, total); NULL = none */
@@ -83,6 +88,7 @@ double pom_cap_rate_inscribed(const pom_cap_rate_model *rm, int n, double worst[
 /* Every figure of one pose. */
 typedef struct {
   double euler[3];           /* ZYX Euler angles (psi, theta, phi) (rad) */
+  double q[3];               /* its actuator coordinates (m or rad; the home branch's IK) */
   int ok;                    /* 1 when evaluated (the rigid terms exist there) */
   double acc_inscribed;      /* rad/s^2 */
   double acc_axis[3];        /* per fixed axis, the smaller of the two senses (rad/s^2) */
@@ -99,7 +105,41 @@ typedef struct {
   double peak_db_worst; /* resonant peak (dB) */
   double pm_deg_min;    /* smallest phase margin of the actuator loops (deg) */
   double gm_db_min;     /* smallest gain margin of the actuator loops (dB; inf: none) */
+  double mode_hz;       /* lowest parasitic joint mode (Hz; NaN: none, the rigid path) */
+  double mode_zeta;     /* its damping ratio */
+  int freq_ok;          /* 1 when the small-signal figures were evaluated there */
 } pom_cap_pose;
+
+/* ---- one pose, any rotation (pom_cap_run's evaluation, for callers that
+ * sample other poses: `pomlab view --capability`) ------------------------- */
+typedef struct pom_cap_ctx pom_cap_ctx;
+/* The rigid model of the envelope and, when with_freq, the config's own
+ * model of the small-signal figures (as pom_cap_run). */
+pom_status pom_cap_ctx_create(pom_cap_ctx **out, const pom_kin_arch *arch,
+                              const pom_mechanism *mech, const pom_dyn_params *p,
+                              const pom_cap_opts *o, int with_freq, pom_error *err);
+void pom_cap_ctx_destroy(pom_cap_ctx *c);
+/* Every figure at rotation R into *pp (euler set from R; the small-signal
+ * ones when the context has them, else NaN). Fails as pom_cap_rate_model_at
+ * or pom_dyn_freq_figures_at (pp->ok and pp->freq_ok say how far it got). */
+pom_status pom_cap_pose_eval(pom_cap_ctx *c, const double R[9], pom_cap_pose *pp, pom_error *err);
+
+/* A figure of one pose by name, for colouring maps: name, display unit and
+ * the factor from SI to it, whether it needs the small-signal model, and
+ * what it is. */
+typedef struct {
+  const char *name;
+  const char *unit;
+  double to_display;
+  int freq;
+  const char *description;
+} pom_cap_pose_figure;
+/* The table (n entries, static). */
+const pom_cap_pose_figure *pom_cap_pose_figures(int *n);
+/* By name; NULL when unknown. */
+const pom_cap_pose_figure *pom_cap_pose_figure_find(const char *name);
+/* Its value at pp in display units (NaN when not evaluated there). */
+double pom_cap_pose_figure_value(const pom_cap_pose_figure *f, const pom_cap_pose *pp);
 
 /* The slews about one direction. */
 typedef struct {
@@ -118,14 +158,19 @@ typedef struct {
   double half_width; /* the workspace cube's half-width (rad) */
   double step;       /* grid step (rad), 0 for a single pose */
   int n_poses;
-  pom_cap_pose *pose;  /* [n_poses], psi-major; owned (pom_cap_result_free) */
-  int home;            /* index of home */
-  int worst_acc;       /* pose of the smallest inscribed acceleration */
-  int worst_rate;      /* pose of the smallest inscribed rate */
-  int worst_bw;        /* pose of the smallest worst-direction bandwidth (-1: not evaluated) */
-  double bw_worst_hz;  /* smallest worst-direction bandwidth over the poses (Hz; NaN: none) */
-  double pm_worst_deg; /* smallest phase margin over the poses (deg; NaN: none) */
-  double f_max;        /* effort limit from rest K min(I_max, V/R_c) (N or N m) */
+  pom_cap_pose *pose;     /* [n_poses], psi-major; owned (pom_cap_result_free) */
+  int home;               /* index of home */
+  int worst_acc;          /* pose of the smallest inscribed acceleration */
+  int worst_rate;         /* pose of the smallest inscribed rate */
+  int worst_bw;           /* pose of the smallest worst-direction bandwidth (-1: not evaluated) */
+  double bw_worst_hz;     /* smallest worst-direction bandwidth over the poses (Hz; NaN: none) */
+  double pm_worst_deg;    /* smallest phase margin over the poses (deg; NaN: none) */
+  int worst_pm;           /* its pose (-1: not evaluated) */
+  int n_freq;             /* poses where the small-signal figures were evaluated */
+  int n_freq_failed;      /* poses where they were asked for and failed (NaN kept) */
+  pom_status freq_status; /* the first failure's status (POM_OK: none) */
+  int freq_joints; /* pom_joint_model of the small-signal model (the config's joints.model) */
+  double f_max;    /* effort limit from rest K min(I_max, V/R_c) (N or N m) */
   pom_actuator_kind kind;
   int n_dirs;
   pom_cap_slew slew[POM_CAP_MAX_DIRECTIONS];
@@ -133,12 +178,23 @@ typedef struct {
 } pom_cap_result;
 
 /* Everything: the workspace (pom_kin_workspace with ws), the envelope over
- * its grid, the slews. mech and arch as pom_dyn_model_create; p is the
- * config's parameters (joints.model is replaced by "rigid"). */
+ * its grid, the small-signal figures (dynamics/pom_dyn_freq.h) on the
+ * bandwidth sub-grid, the slews. mech and arch as pom_dyn_model_create; p is
+ * the config's parameters: the envelope and the slews replace joints.model
+ * by "rigid", the small-signal figures keep it (the parasitic joints' modes
+ * belong to the loop's response). */
 pom_status pom_cap_run(const pom_kin_arch *arch, const pom_kin_ws_opts *ws,
                        const pom_mechanism *mech, const pom_dyn_params *p, const pom_cap_opts *o,
                        pom_cap_result *res, pom_error *err);
 void pom_cap_result_free(pom_cap_result *res);
+
+/* The small-signal Bode data at the pose q_pose (actuator coordinates, as
+ * pom_cap_pose.q) as pom_dyn_freq_json writes it (scripts/plot_bode.py draws
+ * it), f_lo .. f_hi Hz at per_decade points, on the model of p with its own
+ * joints.model, into path. */
+pom_status pom_cap_write_bode(const char *path, const pom_kin_arch *arch, const pom_mechanism *mech,
+                              const pom_dyn_params *p, const double q_pose[3], double f_lo,
+                              double f_hi, int per_decade, pom_error *err);
 
 /* ---- outputs (cap_report.c) ---------------------------------------------------- */
 /* Text in device units (deg/s, deg/s^2, ms); JSON in SI. */

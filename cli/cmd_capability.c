@@ -49,8 +49,37 @@ static int write_h5(const char *out, const pom_cfg *cfg, const char *name, const
   return 0;
 }
 
-/* The map: DIR/capability_map.csv and its figure by scripts/plot_capability.py. */
-static int write_plots(const char *dir, const pom_cap_result *r) {
+/* Bode data grid (Hz) and density of the plots, as `simulate --bode` */
+#define BODE_F_LO       0.1
+#define BODE_F_HI       1e5
+#define BODE_PER_DECADE 40
+
+/* DIR/bode_<what>.json at pose k and its figure by scripts/plot_bode.py; 0
+ * or 1. */
+static int write_bode(const char *dir, const char *scripts, const char *what,
+                      const pom_kin_arch *arch, const pom_mechanism *mech,
+                      const pom_dyn_params *par, const pom_cap_pose *p) {
+  char json[4200], png[4200];
+  pom_error err;
+  pom_error_clear(&err);
+  snprintf(json, sizeof json, "%s/bode_%s.json", dir, what);
+  snprintf(png, sizeof png, "%s/bode_%s.png", dir, what);
+  if (pom_cap_write_bode(json, arch, mech, par, p->q, BODE_F_LO, BODE_F_HI, BODE_PER_DECADE,
+                         &err) != POM_OK) {
+    pom_cli_report("capability --plots (Bode data)", &err);
+    return 1;
+  }
+  if (!scripts) return 0;
+  int rc = pom_job_run_script(scripts, "plot_bode.py", json, png, stderr);
+  if (rc != 0)
+    fprintf(stderr, "pomlab capability: warning: %s not drawn: plot_bode.py exited %d\n", png, rc);
+  return 0;
+}
+
+/* The map: DIR/capability_map.csv and its figure by scripts/plot_capability.py;
+ * the Bode plots at home and at the worst-bandwidth pose. */
+static int write_plots(const char *dir, const pom_cap_result *r, const pom_kin_arch *arch,
+                       const pom_mechanism *mech, const pom_dyn_params *par) {
   char csv[4200], png[4200], failed[4200], scripts[1024];
   pom_error err;
   pom_error_clear(&err);
@@ -65,16 +94,21 @@ static int write_plots(const char *dir, const pom_cap_result *r) {
     pom_cli_report("capability --plots", &err);
     return 1;
   }
-  if (pom_cli_scripts_dir(scripts, sizeof scripts) != 0) {
+  const int have_scripts = pom_cli_scripts_dir(scripts, sizeof scripts) == 0;
+  if (!have_scripts)
     fprintf(stderr, "pomlab capability: warning: no plotting scripts (%s): map left as %s\n",
             scripts, csv);
-    return 0;
-  }
-  int rc = pom_job_run_script(scripts, "plot_capability.py", csv, png, stderr);
+  int rc = have_scripts ? pom_job_run_script(scripts, "plot_capability.py", csv, png, stderr) : 0;
   if (rc != 0)
     fprintf(stderr, "pomlab capability: warning: map not drawn: plot_capability.py exited %d\n",
             rc);
-  return 0;
+  int fail = 0;
+  const char *sd = have_scripts ? scripts : NULL;
+  if (r->home >= 0 && r->pose[r->home].freq_ok)
+    fail |= write_bode(dir, sd, "home", arch, mech, par, &r->pose[r->home]);
+  if (r->worst_bw >= 0 && r->worst_bw != r->home)
+    fail |= write_bode(dir, sd, "worst", arch, mech, par, &r->pose[r->worst_bw]);
+  return fail;
 }
 
 int pom_cmd_capability(int argc, char **argv) {
@@ -96,7 +130,9 @@ int pom_cmd_capability(int argc, char **argv) {
       {.name = "--plots",
        .kind = POM_OPT_TEXT,
        .arg = "DIR",
-       .help = "write DIR/capability_map.csv and its figure DIR/capability_map.png",
+       .help = "write DIR/capability_map.csv and its figure DIR/capability_map.png, and the "
+               "Bode data and plots at home and the worst-bandwidth pose (DIR/bode_home.json, "
+               "bode_home.png, bode_worst.json, bode_worst.png)",
        .text = &plots},
       {.name = "--grid",
        .kind = POM_OPT_NUMBER,
@@ -133,13 +169,17 @@ int pom_cmd_capability(int argc, char **argv) {
                "velocity-product terms, each inscribed (every direction) and per fixed axis, at\n"
                "home and at the worst pose; then slews from home about x, y, z and (1,1,1)/sqrt3\n"
                "(capability.slew_amplitudes_deg up to the workspace edge) simulated with the\n"
-               "controller and the saturation: slew (pointing settling) time and peak rate\n"
-               "(docs/capability.md).",
+               "controller and the saturation: slew (pointing settling) time and peak rate;\n"
+               "then the small-signal closed loop on the config's own joints.model (parasitic\n"
+               "by default): -3 dB bandwidth per axis and in the worst direction, resonant\n"
+               "peak, the actuator loops' phase and gain margins, the lowest parasitic mode,\n"
+               "on capability.bandwidth_grid_points per angle (docs/capability.md).",
       .notes = "Text in deg/s, deg/s^2 and ms; SI in --json and --out (rad/s, rad/s^2, s).\n"
                "Reads the config groups of the model (architecture, geometry, limits,\n"
                "inertia, actuator, controller, scene, solver, maneuver), workspace and\n"
                "capability (grid_points, current_limit_A, rate_directions, slew_directions,\n"
-               "slew_amplitudes_deg). joints.model is replaced by \"rigid\".\n"
+               "slew_amplitudes_deg, bandwidth_grid_points). The envelope and the slews replace\n"
+               "joints.model by \"rigid\"; the bandwidth and margins keep it.\n"
                "Exit status: 0 ok; 1 the evaluation or an output failed; 2 usage or config\n"
                "error (also an --out that exists).",
       .opts = opts,
@@ -212,7 +252,7 @@ int pom_cmd_capability(int argc, char **argv) {
     pom_cap_print_text(stdout, arch.name, &o, &res);
   rc = 0;
   if (out) rc |= write_h5(out, cfg, arch.name, &o, &res);
-  if (plots) rc |= write_plots(plots, &res);
+  if (plots) rc |= write_plots(plots, &res, &arch, mech, &par);
 done:
   pom_cap_result_free(&res);
   pom_cfg_destroy(cfg);

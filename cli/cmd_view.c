@@ -46,6 +46,36 @@ static int load_model(const char *path, view_model *vm) {
   return 0;
 }
 
+/* The workspace's directions coloured by the capability figure f: the
+ * config's dynamics and capability groups read again; the exit status. */
+static int capability(const char *path, const view_model *vm, const pom_cap_pose_figure *f,
+                      pom_view_workspace *w, pom_view_cap_grid *g, pom_view_capability *c) {
+  pom_error err;
+  pom_error_clear(&err);
+  pom_cfg *cfg = pom_cli_load_config(path);
+  if (!cfg) return 2;
+  pom_dyn_params par;
+  pom_cap_opts o;
+  pom_dyn_params_defaults(&par);
+  pom_status st = pom_dyn_params_load(&par, cfg, &err);
+  if (st == POM_OK) st = pom_cap_load(&o, cfg, &err);
+  pom_cfg_destroy(cfg);
+  if (st != POM_OK) {
+    pom_cli_report("view: --capability: config", &err);
+    return pom_cli_exit_code(st);
+  }
+  st = pom_view_capability_compute(&vm->arch, &vm->mech, &par, &o, f, w, g, c, &err);
+  if (st != POM_OK) {
+    pom_cli_report("view: --capability", &err);
+    return 1;
+  }
+  if (c->n_failed)
+    fprintf(stderr,
+            "pomlab view: warning: --capability %s: %d of %d directions failed (left pale)\n",
+            f->name, c->n_failed, c->n_failed + c->n_evaluated);
+  return 0;
+}
+
 /* ---- the command -------------------------------------------------------------------- */
 static int ends_with(const char *s, const char *suffix) {
   size_t n = strlen(s), k = strlen(suffix);
@@ -61,7 +91,7 @@ static int fail(const char *context, const pom_error *err) {
 
 int pom_cmd_view(int argc, char **argv) {
   const char *cfg_path = NULL, *out = NULL, *pose_text = NULL, *trace_path = NULL;
-  const char *png = NULL, *mp4 = NULL, *size_text = NULL;
+  const char *png = NULL, *mp4 = NULL, *size_text = NULL, *cap_figure = NULL;
   const char *compare[POM_VIEW_MAX_MECHS];
   int n_compare = 0, workspace = 0, frame = 0, fps = 25, max_frames = POM_VIEW_MAX_FRAMES;
   const pom_opt opts[] = {
@@ -102,6 +132,15 @@ int pom_cmd_view(int argc, char **argv) {
                "outlined (workspace group of CONFIG)",
        .flag = &workspace,
        .set = 1},
+      {.name = "--capability",
+       .kind = POM_OPT_TEXT,
+       .arg = "FIGURE",
+       .help = "with the workspace: pointing directions coloured by a capability figure of the "
+               "pose instead of the dexterity: acc_inscribed, rate_inscribed, rate_emf_inscribed "
+               "(rigid joints, every direction), bw_worst, pm_min, mode (the config's "
+               "joints.model, every 6 deg of tilt and 15 deg of azimuth; seconds) "
+               "(docs/capability.md)",
+       .text = &cap_figure},
       {.name = "--compare",
        .kind = POM_OPT_LIST,
        .arg = "CFG2 ...",
@@ -177,6 +216,20 @@ int pom_cmd_view(int argc, char **argv) {
                     "pose)\n");
     return 2;
   }
+  const pom_cap_pose_figure *cap_fig = NULL;
+  if (cap_figure) {
+    cap_fig = pom_cap_pose_figure_find(cap_figure);
+    if (!cap_fig) {
+      int nf;
+      const pom_cap_pose_figure *t = pom_cap_pose_figures(&nf);
+      fprintf(stderr, "pomlab view: --capability: unknown figure '%s'; one of:", cap_figure);
+      for (int k = 0; k < nf; ++k)
+        fprintf(stderr, "%s %s", k ? "," : "", t[k].name);
+      fprintf(stderr, "\n");
+      return 2;
+    }
+    workspace = 1;
+  }
   int w = mp4 && !png ? 640 : 1200, h = mp4 && !png ? 480 : 800;
   if (size_text) {
     char x;
@@ -239,6 +292,8 @@ int pom_cmd_view(int argc, char **argv) {
   memset(&tf, 0, sizeof tf);
   pom_view_frames *frames = NULL;
   pom_view_ws_grid *grid = NULL;
+  pom_view_cap_grid cap_grid;
+  pom_view_capability vcap;
   pom_view_trace vtrace;
   pom_view_workspace vws;
   pom_view_page page;
@@ -300,6 +355,10 @@ int pom_cmd_view(int argc, char **argv) {
       goto done;
     }
     page.workspace = &vws;
+    if (cap_fig) {
+      rc = capability(cfg_path, &models[0], cap_fig, &vws, &cap_grid, &vcap);
+      if (rc) goto done;
+    }
   }
 
   /* the page: -o, or a temporary one for the pictures */

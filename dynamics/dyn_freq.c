@@ -74,6 +74,10 @@ typedef struct {
   int n_idle;             /* dimension of the idle modes' subspace left out of lambda */
   int n_lambda;           /* eigenvalues in lambda */
   double complex *lambda; /* [n] eigenvalues of A (1/s) */
+  /* each system's response on the search grid, computed once: the searches
+   * (bandwidths, peaks, margins) walk the same grid several times */
+  double complex *grid_Y[4]; /* [grid points][NIO][NIO] */
+  unsigned char *grid_ok[4]; /* [grid points] 0 not yet, 1 computed, 2 singular */
 } freq_lin;
 
 static void lin_free(freq_lin *L) {
@@ -91,6 +95,10 @@ static void lin_free(freq_lin *L) {
   free(L->M);
   free(L->X);
   free(L->lambda);
+  for (int k = 0; k < 4; ++k) {
+    free(L->grid_Y[k]);
+    free(L->grid_ok[k]);
+  }
   memset(L, 0, sizeof *L);
 }
 
@@ -242,16 +250,18 @@ static gsl_matrix *active_matrix(const double *As, const double *Cs, int n, int 
         cv = fmax(cv, fabs(acc));
       }
       if (cv > FREQ_IDLE_UNSEEN * sqrt(cn)) continue;
+      double ur[512]; /* (U^T v)_r / s_r over the kept singular values */
+      for (int r = 0; r < n; ++r) {
+        double sr = gsl_vector_get(S, (size_t)r), acc = 0.0;
+        if (sr > FREQ_SV_TRUNC * smax)
+          for (int l = 0; l < n; ++l)
+            acc += gsl_matrix_get(U, (size_t)l, (size_t)r) * v[0][l];
+        ur[r] = sr > FREQ_SV_TRUNC * smax ? acc / sr : 0.0;
+      }
       for (int i = 0; i < n; ++i) {
         double acc = 0.0;
-        for (int r = 0; r < n; ++r) {
-          double sr = gsl_vector_get(S, (size_t)r);
-          if (!(sr > FREQ_SV_TRUNC * smax)) continue;
-          double ur = 0.0;
-          for (int l = 0; l < n; ++l)
-            ur += gsl_matrix_get(U, (size_t)l, (size_t)r) * v[0][l];
-          acc += gsl_matrix_get(V, (size_t)i, (size_t)r) * ur / sr;
-        }
+        for (int r = 0; r < n; ++r)
+          if (ur[r] != 0.0) acc += gsl_matrix_get(V, (size_t)i, (size_t)r) * ur[r];
         v[1][i] = acc;
       }
       ++n0;
@@ -315,20 +325,28 @@ static gsl_matrix *active_matrix(const double *As, const double *Cs, int n, int 
   {
     const int m = n - k;
     out = gsl_matrix_alloc((size_t)m, (size_t)m);
-    if (!out) goto fallback;
+    double *aq = malloc((size_t)n * (size_t)m * sizeof *aq); /* A Q_P, n x m */
+    if (!out || !aq) {
+      free(aq);
+      goto fallback;
+    }
+    for (int i = 0; i < n; ++i)
+      for (int b = 0; b < m; ++b) {
+        double row = 0.0;
+        for (int j = 0; j < n; ++j)
+          row += As[i * n + j] * gsl_matrix_get(Q, (size_t)j, (size_t)(k + b));
+        aq[i * m + b] = row;
+      }
     for (int a = 0; a < m; ++a)
       for (int b = 0; b < m; ++b) {
         double acc = 0.0;
         for (int i = 0; i < n; ++i) {
           double qa = gsl_matrix_get(Q, (size_t)i, (size_t)(k + a));
-          if (qa == 0.0) continue;
-          double row = 0.0;
-          for (int j = 0; j < n; ++j)
-            row += As[i * n + j] * gsl_matrix_get(Q, (size_t)j, (size_t)(k + b));
-          acc += qa * row;
+          if (qa != 0.0) acc += qa * aq[i * m + b];
         }
         gsl_matrix_set(out, (size_t)a, (size_t)b, acc);
       }
+    free(aq);
     *m_out = m;
     *n_idle = k;
   }
@@ -691,18 +709,23 @@ done:
 
 /* ---- T(jw) ---------------------------------------------------------------- */
 /* Y[NIO][NIO] = C (jw I - A)^-1 B at f_hz by the Hessenberg form: rows 0-2
- * platform rotation, 3-5 controller voltages; columns 0-2 setpoint rotations,
- * 3-5 voltage injections. Returns 0, or 1 when jw I - A is singular. */
-static int response_sys(freq_lin *L, int sy, double f_hz, double complex Y[NIO][NIO]) {
+ * platform rotation, 3-5 controller voltages; columns 0-2 setpoint rotations
+ * (system 0, the closed loop, computes these alone), 3-5 voltage injections
+ * (system 1 + k, the loop of actuator k broken, computes column 3 + k alone;
+ * the others are NaN). Returns 0, or 1 when jw I - A is singular. */
+static int response_solve(freq_lin *L, int sy, double f_hz, double complex Y[NIO][NIO]) {
   const int n = L->n;
   const double *H = L->H[sy], *UB = L->UB[sy], *CU = L->CU[sy];
   const double complex s = I * 2.0 * POM_PI * f_hz;
   double complex *M = L->M, *X = L->X;
+  /* the columns a caller reads: the setpoint rotations of the closed loop,
+   * the own injection of a broken loop (the others are left NaN) */
+  const int c0 = sy == 0 ? 0 : 3 + (sy - 1), c1 = sy == 0 ? 3 : c0 + 1;
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j)
       M[i * n + j] = (j >= i - 1) ? -H[i * n + j] : 0.0;
     M[i * n + i] += s;
-    for (int c = 0; c < NIO; ++c)
+    for (int c = c0; c < c1; ++c)
       X[i * NIO + c] = UB[i * NIO + c];
   }
   /* Gaussian elimination of the upper Hessenberg matrix, pivoting between
@@ -714,7 +737,7 @@ static int response_sys(freq_lin *L, int sy, double f_hz, double complex Y[NIO][
         M[j * n + k] = M[(j + 1) * n + k];
         M[(j + 1) * n + k] = t;
       }
-      for (int c = 0; c < NIO; ++c) {
+      for (int c = c0; c < c1; ++c) {
         double complex t = X[j * NIO + c];
         X[j * NIO + c] = X[(j + 1) * NIO + c];
         X[(j + 1) * NIO + c] = t;
@@ -724,12 +747,12 @@ static int response_sys(freq_lin *L, int sy, double f_hz, double complex Y[NIO][
     double complex l = M[(j + 1) * n + j] / M[j * n + j];
     for (int k = j + 1; k < n; ++k)
       M[(j + 1) * n + k] -= l * M[j * n + k];
-    for (int c = 0; c < NIO; ++c)
+    for (int c = c0; c < c1; ++c)
       X[(j + 1) * NIO + c] -= l * X[j * NIO + c];
   }
   for (int i = n - 1; i >= 0; --i) {
     if (M[i * n + i] == 0.0) return 1;
-    for (int c = 0; c < NIO; ++c) {
+    for (int c = c0; c < c1; ++c) {
       double complex acc = X[i * NIO + c];
       for (int k = i + 1; k < n; ++k)
         acc -= M[i * n + k] * X[k * NIO + c];
@@ -738,11 +761,42 @@ static int response_sys(freq_lin *L, int sy, double f_hz, double complex Y[NIO][
   }
   for (int r = 0; r < NIO; ++r)
     for (int c = 0; c < NIO; ++c) {
-      double complex acc = 0.0;
-      for (int k = 0; k < n; ++k)
-        acc += CU[r * n + k] * X[k * NIO + c];
+      double complex acc = c >= c0 && c < c1 ? 0.0 : NAN;
+      if (c >= c0 && c < c1)
+        for (int k = 0; k < n; ++k)
+          acc += CU[r * n + k] * X[k * NIO + c];
       Y[r][c] = acc;
     }
+  return 0;
+}
+
+static int grid_size(void);
+static double grid_f(int i);
+
+/* response_solve, memoized on the search grid (grid_f(i) exactly). */
+static int response_sys(freq_lin *L, int sy, double f_hz, double complex Y[NIO][NIO]) {
+  const int ng = grid_size();
+  long i = lround(log10(f_hz / FREQ_F_LO) * FREQ_PER_DEC);
+  if (i < 0 || i >= ng || grid_f((int)i) != f_hz) return response_solve(L, sy, f_hz, Y);
+  if (!L->grid_Y[sy]) {
+    L->grid_Y[sy] = malloc((size_t)ng * NIO * NIO * sizeof *L->grid_Y[sy]);
+    L->grid_ok[sy] = calloc((size_t)ng, 1);
+    if (!L->grid_Y[sy] || !L->grid_ok[sy]) { /* no memory: no cache */
+      free(L->grid_Y[sy]);
+      free(L->grid_ok[sy]);
+      L->grid_Y[sy] = NULL;
+      L->grid_ok[sy] = NULL;
+      return response_solve(L, sy, f_hz, Y);
+    }
+  }
+  double complex *c = L->grid_Y[sy] + (size_t)i * NIO * NIO;
+  if (!L->grid_ok[sy][i]) {
+    int r = response_solve(L, sy, f_hz, Y);
+    L->grid_ok[sy][i] = r == 0 ? 1 : 2;
+    if (r == 0) memcpy(c, Y, NIO * NIO * sizeof *c);
+  }
+  if (L->grid_ok[sy][i] == 2) return 1;
+  memcpy(Y, c, NIO * NIO * sizeof *c);
   return 0;
 }
 

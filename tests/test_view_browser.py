@@ -226,6 +226,23 @@ def main():
         attrs = render(exe, man, "play", os.path.join(work, "playing.png"))
         check(attrs.get("errors") == "0" and int(attrs.get("frame", "0")) > 0,
               cfg + ": #play animates (frame %s after the time budget)" % attrs.get("frame"))
+        # the workspace coloured by a capability figure: drawn without a script error,
+        # and the sphere's colours differ from the dexterity's
+        cap, wsp = os.path.join(work, "cap.html"), os.path.join(work, "ws.html")
+        ok = pomlab([pom, "view", cfg_path, "--capability", "acc_inscribed", "-o", cap]
+                    ).returncode == 0
+        ok = pomlab([pom, "view", cfg_path, "--workspace", "-o", wsp]).returncode == 0 and ok
+        if check(ok, cfg + ": view --capability acc_inscribed and --workspace"):
+            attrs = render(exe, cap, "", os.path.join(work, "cap.png"))
+            page_ok(attrs, cfg + " --capability", bodies)
+            check(attrs.get("capability") == "acc_inscribed",
+                  cfg + ": the page colours by acc_inscribed (data-capability=%s)"
+                  % attrs.get("capability"))
+            render(exe, wsp, "", os.path.join(work, "ws.png"))
+            d = differing(drawn(os.path.join(work, "cap.png"), cfg + " --capability"),
+                          drawn(os.path.join(work, "ws.png"), cfg + " --workspace"))
+            check(d > 0.002, cfg + ": --capability colours differ from the dexterity's "
+                  "(%.2f%% of pixels)" % (100 * d))
         # pictures for papers: the page by headless Chromium, the film by ffmpeg
         pic = os.path.join(work, "picture.png")
         r = pomlab([pom, "view", cfg_path, "--pose", "8,-6,10", "--png", pic, "--size", "480x320"])

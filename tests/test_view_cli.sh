@@ -43,6 +43,19 @@ scene "$TMP/pose.html" "abs(s['mechs'][0]['frames'][0][12] - 0.984808) < 1e-5 an
 expect_rc 0 "$POMLAB" view "$C/3rrr.cfg" --workspace -o "$TMP/ws.html"
 scene "$TMP/ws.html" "sum(x['kind'] == 'arc' for x in s['mechs'][0]['shapes']) == 6 and any(x['kind'] == 'disc' for x in s['mechs'][0]['shapes'])"
 scene "$TMP/ws.html" "s['workspace']['n_tilt'] * s['workspace']['n_azimuth'] == len(s['workspace']['state']) and s['workspace']['rdw_half_width'] > 0 and len(s['workspace']['outline']) > 12"
+# --capability: the directions coloured by a capability figure; at tilt 0 (home, every
+# azimuth) the value is `pomlab capability`'s home figure in the same display unit
+expect_rc 0 "$POMLAB" capability "$C/3pss.cfg" --grid 1 --json --quiet
+cp "$TMP/out" "$TMP/cap.json"
+expect_rc 0 "$POMLAB" view "$C/3pss.cfg" --capability acc_inscribed -o "$TMP/cap_acc.html"
+scene "$TMP/cap_acc.html" "(lambda c, h: c['name'] == 'acc_inscribed' and c['unit'] == 'deg/s^2' and (c['n_tilt'], c['n_azimuth']) == (s['workspace']['n_tilt'], s['workspace']['n_azimuth']) and len(c['value']) == c['n_tilt'] * c['n_azimuth'] and c['n_failed'] == 0 and all(abs(v - h['acc_inscribed_rad_per_s2'] * 57.29577951308232) < 1e-5 * v for v in c['value'][:c['n_azimuth']]) and c['lo'] < c['hi'] == max(v for v in c['value'] if v is not None))(s['workspace']['capability'], json.load(open('$TMP/cap.json'))['home'])"
+# unusable directions are not evaluated; usable ones are
+scene "$TMP/cap_acc.html" "all((v is None) == (st != 0) for v, st in zip(s['workspace']['capability']['value'], s['workspace']['state']))"
+expect_rc 0 "$POMLAB" view "$C/3pss.cfg" --capability bw_worst -o "$TMP/cap_bw.html"
+scene "$TMP/cap_bw.html" "(lambda c, h: c['unit'] == 'Hz' and c['joints'] == 'parasitic' and (c['stride_tilt'], c['stride_azimuth']) == (2, 3) and c['n_evaluated'] > 20 and abs(c['value'][0] - h['bw_worst_hz']) < 1e-4 * h['bw_worst_hz'] and c['lo'] < h['bw_worst_hz'] * (1 + 1e-5) and c['hi'] > h['bw_worst_hz'] * (1 - 1e-5))(s['workspace']['capability'], json.load(open('$TMP/cap.json'))['home'])"
+expect_rc 2 "$POMLAB" view "$C/3pss.cfg" --capability bogus -o "$TMP/bogus.html"
+expect_err "unknown figure 'bogus'" "acc_inscribed" "bw_worst"
+
 # side by side
 expect_rc 0 "$POMLAB" view "$C/3pss.cfg" --compare "$C/3sps.cfg" "$C/3rrr.cfg" --pose 3,4,-5 -o "$TMP/cmp.html"
 scene "$TMP/cmp.html" "[m['arch'] for m in s['mechs']] == ['3PSS', '3SPS', '3RRR']"

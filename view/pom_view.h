@@ -12,6 +12,7 @@
 #ifndef POM_VIEW_H
 #define POM_VIEW_H
 
+#include "pom_capability.h"
 #include "pom_kinematics.h"
 #include "pom_mechanism.h"
 #include "pom_status.h"
@@ -43,6 +44,22 @@ typedef struct {
   const char *source;           /* the trace file, shown on the page */
 } pom_view_trace;
 
+/* The pointing directions coloured by a capability figure of the pose
+ * (pom_capability.h, pom_cap_pose_figure) instead of the dexterity: values
+ * on the workspace grid sampled every stride_tilt-th tilt and
+ * stride_azimuth-th azimuth (the page colours each direction by the nearest
+ * sample), NaN where not evaluated (not usable, or the evaluation failed). */
+typedef struct {
+  const char *name, *unit, *description;
+  const char *joints; /* the small-signal figures' model, "rigid" or "parasitic"; NULL for
+                         the envelope's (rigid joints) */
+  int stride_tilt, stride_azimuth; /* of the workspace grid */
+  int n_tilt, n_azimuth;           /* the samples */
+  const double *value;             /* [n_tilt][n_azimuth] display units */
+  double lo, hi;                   /* range of the finite values (NaN: none) */
+  int n_evaluated, n_failed;       /* samples evaluated, and failed */
+} pom_view_capability;
+
 /* Pointing directions n = R e_z of the platform on a tilt x azimuth grid
  * (torsion 0) with the dexterity there, and the regular dexterous
  * workspace's outline. */
@@ -56,6 +73,7 @@ typedef struct {
   const double *outline;   /* [n_outline][3] unit pointing directions around it */
   double rdw_half_width;   /* its half-width (rad), -1 when home fails */
   double dexterity_min;    /* the threshold it was found with */
+  const pom_view_capability *capability; /* NULL: coloured by dexterity */
 } pom_view_workspace;
 
 /* Everything on one page. */
@@ -133,6 +151,21 @@ typedef struct {
  * pom_kin_workspace(arch, ws) outlined; w points into g. */
 pom_status pom_view_workspace_compute(const pom_kin_arch *arch, const pom_kin_ws_opts *ws,
                                       pom_view_ws_grid *g, pom_view_workspace *w, pom_error *err);
+
+/* The storage of a pom_view_capability. */
+typedef struct {
+  double value[(POM_VIEW_WS_TILT_STEPS + 1) * POM_VIEW_WS_AZIMUTHS];
+} pom_view_cap_grid;
+
+/* The figure `f` at the usable directions of w (state 0) sampled with the
+ * strides (1, 1 for the envelope; 2, 3 = 6 and 15 deg for the small-signal
+ * figures, ~70 ms a pose), on the models of p (pom_cap_ctx_create); c points
+ * into g and w->capability at c. Fails as pom_cap_ctx_create. */
+pom_status pom_view_capability_compute(const pom_kin_arch *arch, const pom_mechanism *mech,
+                                       const pom_dyn_params *p, const pom_cap_opts *o,
+                                       const pom_cap_pose_figure *f, pom_view_workspace *w,
+                                       pom_view_cap_grid *g, pom_view_capability *c,
+                                       pom_error *err);
 
 /* ---- pictures: headless Chromium and ffmpeg (docs/view.md section 5) -------------- */
 /* The first of names (NULL-terminated) found in PATH, or names[k] itself

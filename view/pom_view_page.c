@@ -222,6 +222,28 @@ static void write_workspace(FILE *f, const pom_view_workspace *w) {
     fprintf(f, "%s%d", k ? "," : "", w->state[k]);
   fputs("],\n\"outline\":", f);
   json_vec(f, w->outline, 3 * w->n_outline);
+  const pom_view_capability *c = w->capability;
+  if (c) {
+    fputs(",\n\"capability\":{\"name\":", f);
+    json_str(f, c->name);
+    fputs(",\"unit\":", f);
+    json_str(f, c->unit);
+    fputs(",\"description\":", f);
+    json_str(f, c->description);
+    fputs(",\"joints\":", f);
+    json_str(f, c->joints);
+    fprintf(f,
+            ",\"stride_tilt\":%d,\"stride_azimuth\":%d,\"n_tilt\":%d,\"n_azimuth\":%d,"
+            "\"n_evaluated\":%d,\"n_failed\":%d,\"lo\":",
+            c->stride_tilt, c->stride_azimuth, c->n_tilt, c->n_azimuth, c->n_evaluated,
+            c->n_failed);
+    json_num(f, c->lo);
+    fputs(",\"hi\":", f);
+    json_num(f, c->hi);
+    fputs(",\n\"value\":", f);
+    json_vec(f, c->value, c->n_tilt * c->n_azimuth);
+    fputs("}", f);
+  }
   fputs("}", f);
 }
 

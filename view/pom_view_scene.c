@@ -206,3 +206,64 @@ pom_status pom_view_workspace_compute(const pom_kin_arch *arch, const pom_kin_ws
   }
   return POM_OK;
 }
+
+/* ---- the workspace coloured by a capability figure ------------------------------- */
+/* R = Rz(a) Ry(t) Rz(-a): pointing direction (sin t cos a, sin t sin a, cos t). */
+static void tilt_rotation(double R[9], double t, double a) {
+  double e1[3] = {a, t, 0.0}, e2[3] = {-a, 0.0, 0.0}, R1[9], R2[9];
+  pom_euler_zyx_to_matrix(R1, e1);
+  pom_euler_zyx_to_matrix(R2, e2);
+  pom_m3_mul(R, R1, R2);
+}
+
+pom_status pom_view_capability_compute(const pom_kin_arch *arch, const pom_mechanism *mech,
+                                       const pom_dyn_params *p, const pom_cap_opts *o,
+                                       const pom_cap_pose_figure *f, pom_view_workspace *w,
+                                       pom_view_cap_grid *g, pom_view_capability *c,
+                                       pom_error *err) {
+  memset(c, 0, sizeof *c);
+  c->name = f->name;
+  c->unit = f->unit;
+  c->description = f->description;
+  c->joints = !f->freq ? NULL : p->joints.model == POM_JOINTS_RIGID ? "rigid" : "parasitic";
+  c->stride_tilt = f->freq ? 2 : 1;
+  c->stride_azimuth = f->freq ? 3 : 1;
+  c->n_tilt = (w->n_tilt - 1) / c->stride_tilt + 1;
+  c->n_azimuth = (w->n_azimuth - 1) / c->stride_azimuth + 1;
+  c->value = g->value;
+  c->lo = c->hi = NAN;
+  pom_cap_ctx *ctx = NULL;
+  POM_TRY(pom_cap_ctx_create(&ctx, arch, mech, p, o, f->freq, err));
+  double home = NAN;
+  int have_home = 0;
+  for (int it = 0; it < c->n_tilt; ++it)
+    for (int ia = 0; ia < c->n_azimuth; ++ia) {
+      const int wt = it * c->stride_tilt, wa = ia * c->stride_azimuth;
+      double *v = &g->value[it * c->n_azimuth + ia];
+      *v = NAN;
+      if (w->state[wt * w->n_azimuth + wa] != 0) continue;
+      if (wt == 0 && have_home) { /* every azimuth at tilt 0 is home */
+        *v = home;
+        continue;
+      }
+      double R[9];
+      tilt_rotation(R, wt * w->tilt_step, 2.0 * POM_PI * wa / (w->n_azimuth - 1));
+      pom_cap_pose pp;
+      pom_error pe;
+      pom_error_clear(&pe);
+      if (pom_cap_pose_eval(ctx, R, &pp, &pe) != POM_OK) {
+        c->n_failed++;
+      } else {
+        *v = pom_cap_pose_figure_value(f, &pp);
+        c->n_evaluated++;
+      }
+      if (wt == 0) home = *v, have_home = 1;
+      if (isfinite(*v)) {
+        c->lo = isnan(c->lo) ? *v : fmin(c->lo, *v);
+        c->hi = isnan(c->hi) ? *v : fmax(c->hi, *v);
+      }
+    }
+  pom_cap_ctx_destroy(ctx);
+  w->capability = c;
+  return POM_OK;
+}

@@ -246,6 +246,19 @@
     return [a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1]), a[2] + f * (b[2] - a[2])];
   }
   var pointer = null, wsRadius = 0;
+  /* --capability: a figure per sampled direction, the nearest sample colours
+   * each vertex; pale grey where not evaluated (a limit, a failure) */
+  var CAP = S.workspace && S.workspace.capability ? S.workspace.capability : null;
+  function capValue(it, ia) {
+    var jt = Math.min(CAP.n_tilt - 1, Math.round(it / CAP.stride_tilt));
+    var ja = Math.min(CAP.n_azimuth - 1, Math.round(ia / CAP.stride_azimuth));
+    return CAP.value[jt * CAP.n_azimuth + ja];
+  }
+  function capColor(it, ia) {
+    var v = capValue(it, ia);
+    if (v === null || !isFinite(v)) return [0.93, 0.93, 0.93];
+    return cmap(CAP.hi > CAP.lo ? (v - CAP.lo) / (CAP.hi - CAP.lo) : 0.5);
+  }
   if (S.workspace) {
     var W = S.workspace, sc0 = S.mechs[0].scale;
     wsRadius = 1.1 * sc0;
@@ -261,6 +274,7 @@
         pos.push(wsRadius * Math.sin(th) * Math.cos(az), wsRadius * Math.sin(th) * Math.sin(az),
                  wsRadius * Math.cos(th));
         var c = W.state[k] === 2 ? [0.86, 0.86, 0.86] : cmap(W.dexterity[k]);
+        if (CAP && W.state[k] !== 2) c = capColor(it, ia);
         if (W.state[k] === 1) c = [0.55 + 0.45 * c[0] * 0.5, 0.55 + 0.45 * c[1] * 0.5,
                                    0.55 + 0.45 * c[2] * 0.5];
         col.push(c[0], c[1], c[2]);
@@ -288,7 +302,8 @@
     pointer = new THREE.ArrowHelper(new THREE.Vector3(0, 0, 1), new THREE.Vector3(0, 0, 0),
                                     1.3 * wsRadius, 0x000000, 0.12 * wsRadius, 0.06 * wsRadius);
     wroot.add(pointer);
-    var wl = el('div', labels, 'pointing directions, 1/kappa', 'label');
+    var wl = el('div', labels, 'pointing directions, ' +
+                (CAP ? CAP.name + ' (' + CAP.unit + ')' : '1/kappa'), 'label');
     mechs.push({M: null, root: wroot, groups: [], label: wl, top: 1.3 * wsRadius});
   }
 
@@ -409,17 +424,21 @@
     el('div', side, 'workspace of ' + S.mechs[0].label, 'ptitle');
     el('div', side, 'sphere: platform normal R e_z for tilts 0-' +
        ((W2.n_tilt - 1) * W2.tilt_step * 180 / Math.PI).toFixed(0) +
-       ' deg, torsion 0; colour: dexterity 1/kappa (grey: not assemblable, pale: a limit ' +
-       'violated)', 'note');
+       ' deg, torsion 0; colour: ' + (CAP ? CAP.name + ', ' + CAP.description + ' (' + CAP.unit +
+       '), sampled every ' + (CAP.stride_tilt * W2.tilt_step * 180 / Math.PI).toFixed(0) +
+       ' deg of tilt and ' + (360 * CAP.stride_azimuth / (W2.n_azimuth - 1)).toFixed(0) +
+       ' deg of azimuth' + (CAP.joints ? ', ' + CAP.joints + ' joints' : '') + ' (grey: not assemblable, pale: not evaluated)'
+         : 'dexterity 1/kappa (grey: not assemblable, pale: a limit violated)'), 'note');
     var cb = el('div', side, '', 'colorbar');
     cb.style.background = 'linear-gradient(to right,' + [0, 0.25, 0.5, 0.75, 1].map(function (x) {
       var c = cmap(x);
       return 'rgb(' + c.map(function (v) { return Math.round(255 * v); }).join(',') + ')';
     }).join(',') + ')';
     var cbl = el('div', side, '', 'cbl');
-    el('span', cbl, '0');
-    el('span', cbl, 'dexterity 1/kappa');
-    el('span', cbl, '1');
+    function capNum(v) { return v === null ? 'none' : (+v).toPrecision(4); }
+    el('span', cbl, CAP ? capNum(CAP.lo) : '0');
+    el('span', cbl, CAP ? CAP.name + ' (' + CAP.unit + ')' : 'dexterity 1/kappa');
+    el('span', cbl, CAP ? capNum(CAP.hi) : '1');
     el('div', side, W2.rdw_half_width >= 0
       ? 'red outline: regular dexterous workspace, Euler cube +-' +
         (W2.rdw_half_width * 180 / Math.PI).toFixed(1) + ' deg at 1/kappa >= ' +
@@ -586,6 +605,7 @@
   statusEl.setAttribute('data-frames', String(nFrames));
   statusEl.setAttribute('data-failed-frames', String(S.failed_frames || 0));
   statusEl.setAttribute('data-errors', String(errors.length));
+  statusEl.setAttribute('data-capability', CAP ? CAP.name : '');
   statusEl.setAttribute('data-ready', '1');
   if (hash.play && playBtn) togglePlay(); /* #play: start the animation at once */
 })();
