@@ -10,6 +10,7 @@
 #ifndef POM_CAPABILITY_H
 #define POM_CAPABILITY_H
 
+#include "pom_cap_figures.h"
 #include "pom_config.h"
 #include "pom_dyn_rigid.h"
 #include "pom_dynamics.h"
@@ -208,5 +209,39 @@ pom_status pom_cap_write_csv(const char *path, const pom_cap_result *r, pom_erro
 pom_status pom_cap_write_h5(const char *path, const char *program, const pom_cfg *cfg,
                             const char *name, const pom_cap_opts *o, const pom_cap_result *r,
                             pom_error *err);
+
+/* ---- candidate figures (pom_cap_figures.h; cap_figures.c) ------------------------------- */
+/* Figure i's key, SI unit, description; 1 when it needs the slews. */
+const char *pom_cap_figure_name(int i);
+const char *pom_cap_figure_unit(int i);
+const char *pom_cap_figure_description(int i);
+int pom_cap_figure_needs_slews(int i);
+/* The index of the figure called name, -1 when there is none. */
+int pom_cap_figure_index(const char *name);
+/* "a, b, c": every figure's name, for messages (cap bytes). */
+void pom_cap_figure_list(char *buf, size_t cap);
+/* Figure i of r in SI; NaN where not computed. */
+double pom_cap_figure_value(const pom_cap_result *r, int i);
+/* The longest slew time over the directions at amplitude a (rad, matched to
+ * 1e-9 rad); NaN when no direction ran it or one did not settle. */
+double pom_cap_slew_worst_time(const pom_cap_result *r, double a);
+/* The options a run needs for the figures want[POM_CAP_N_FIGURES] (1 =
+ * asked): o as loaded, with grid_points replaced when grid > 0 and the slews
+ * cut to what the asked figures read (none, or 10 deg about every
+ * direction). */
+void pom_cap_opts_for_figures(pom_cap_opts *o, const int *want, int grid);
+
+/* A requirement on a figure: "bw_worst_hz >= 100" (figure, >= or <=, value
+ * in the figure's SI unit). */
+typedef struct {
+  int figure;   /* pom_cap_figure_id */
+  int at_most;  /* 0: value >= bound; 1: value <= bound */
+  double bound; /* SI */
+} pom_cap_requirement;
+/* Parses text into *q; POM_ERR_ARG with a message naming the text and the
+ * figures when it is not "NAME >= NUMBER" or "NAME <= NUMBER". */
+pom_status pom_cap_requirement_parse(pom_cap_requirement *q, const char *text, pom_error *err);
+/* 1 when value meets q, 0 when not (a NaN value, not computed, never does). */
+int pom_cap_requirement_met(const pom_cap_requirement *q, double value);
 
 #endif

@@ -711,6 +711,7 @@ void pom_job_print_json(FILE *out, const pom_doe_study *study, const pom_doe_rep
     else
       fprintf(out, ", \"rigid_limit_flagged\": null, \"rigid_limit_checked\": 0");
     pom_job_fidelity_json(out, &study->candidates[c]);
+    pom_job_capability_json(out, study, &study->candidates[c]);
     /* the statistics of every reduced metric of the schema */
     for (int s = 0; s < POM_DYN_N_STATS; ++s) {
       fprintf(out, ",\n     ");
@@ -891,6 +892,7 @@ static pom_status write_summary(const pom_doe_study *study, const pom_doe_report
   if (o->pipeline) pom_job_pipeline_report(f, study);
   pom_job_print_report(f, study, rep);
   pom_job_fidelity_report(f, study, rep);
+  pom_job_capability_report(f, study);
   write_metric_listing(f);
   if (plots_ok) {
     /* the figures scripts/plot_study.py made for this study (it removes the
@@ -1073,6 +1075,10 @@ static void fidelity_progress(void *user, const pom_doe_candidate *cand, int don
           f->select_time, f->select_energy, f->bound_time, f->bound_energy, f->wall);
 }
 
+static void capability_progress(void *user, const pom_doe_candidate *cand, int done, int total) {
+  fprintf(user, "capability [%d/%d] %s\n", done, total, cand->name);
+}
+
 pom_status pom_job_prepare(pom_doe_study *study, const pom_job_options *o, pom_error *err) {
   FILE *msg = job_msg(o);
   /* the pipeline's files go with the summary: results/x.h5 -> results/x/ */
@@ -1095,6 +1101,15 @@ pom_status pom_job_prepare(pom_doe_study *study, const pom_job_options *o, pom_e
   if (st != POM_OK) {
     pom_job_report_error(msg, "pipeline", err);
     return st;
+  }
+  /* study.capability: each candidate's figures, on the geometry and gains
+     the pipeline made, before the fidelity changes its model's settings */
+  if (study->capability_n > 0) {
+    st = pom_doe_capability_run(study, !o->quiet && msg ? capability_progress : NULL, msg, err);
+    if (st != POM_OK) {
+      pom_job_report_error(msg, "capability", err);
+      return st;
+    }
   }
   /* study.fidelity = "auto": each candidate's setting, after its tuning
      (docs/results.md section 12) */
@@ -1238,6 +1253,7 @@ pom_status pom_job_execute(const pom_doe_study *study, const pom_job_options *o,
     if (o->pipeline) pom_job_pipeline_report(out, study);
     pom_job_print_report(out, study, rep);
     pom_job_fidelity_report(out, study, rep);
+    pom_job_capability_report(out, study);
   }
   if (tabular[0]) {
     char cand[POM_DOE_PATH_LEN + 32];

@@ -173,6 +173,16 @@ void pom_job_fidelity_report(FILE *out, const pom_doe_study *study, const pom_do
  * candidate's JSON object when study.fidelity = "auto" chose its setting. */
 void pom_job_fidelity_json(FILE *out, const pom_doe_candidate *cand);
 
+/* Prints each candidate's capability figures (study.capability) and whether
+ * it meets study.capability_require as a Markdown table; nothing when the
+ * study asks for none. pom_job_capability.c. */
+void pom_job_capability_report(FILE *out, const pom_doe_study *study);
+
+/* Appends `, "capability": {name: value or null, ...}` (SI) and
+ * `"capability_met"` (with requirements) to a candidate's JSON object when
+ * the study asks for capability figures. */
+void pom_job_capability_json(FILE *out, const pom_doe_study *study, const pom_doe_candidate *cand);
+
 /* Writes the "Pipeline" section (Markdown) for the candidates the pipeline
  * synthesized or tuned: geometry, gains, criterion, the synthesis choice and
  * warnings, and where the files are. Nothing when no candidate went through

@@ -230,7 +230,12 @@ int pom_job_sensitivity(pom_doe_study *study, pom_doe_sens *sens, const pom_job_
   pom_error_clear(&err);
   /* study.fidelity = "auto": each candidate's earned setting, as in the
      study (docs/results.md section 12) */
-  pom_status st = pom_doe_fidelity_run(study, NULL, NULL, &err);
+  pom_status st = pom_doe_capability_run(study, NULL, NULL, &err);
+  if (st != POM_OK) {
+    pom_job_report_error(msg, "capability", &err);
+    return pom_job_exit_code(st, NULL);
+  }
+  st = pom_doe_fidelity_run(study, NULL, NULL, &err);
   if (st != POM_OK) {
     pom_job_report_error(msg, "fidelity", &err);
     return pom_job_exit_code(st, NULL);

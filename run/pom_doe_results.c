@@ -309,6 +309,7 @@ static pom_status write_candidate(pom_doe_results *res, hid_t parent, const pom_
   POM_TRY_GOTO(pom_h5_write_text(g, "config", cand->resolved ? cand->resolved : "", err), done);
   if (cand->eval.describe) POM_TRY_GOTO(cand->eval.describe(cand->eval.ctx, g, err), done);
   POM_TRY_GOTO(pom_doe_fidelity_describe(study, c, g, err), done);
+  POM_TRY_GOTO(pom_doe_capability_describe(study, c, g, err), done);
   hsize_t n = (hsize_t)res->n_maneuvers;
   hsize_t chunk = n < ROWS_PER_CHUNK ? n : ROWS_PER_CHUNK;
   space = H5Screate_simple(1, &n, NULL);

@@ -165,6 +165,11 @@ static void write_candidates(FILE *f, const pom_doe_study *study, const pom_doe_
   for (int s = 0; s < POM_DYN_N_STATS; ++s)
     for (int j = 0; j < POM_DOE_STATS_FIELDS; ++j)
       fprintf(f, ",%s_%s", pom_dyn_stat_metric(s)->stat_key, fields[j]);
+  /* study.capability: one column per figure asked (SI), then whether the
+     requirements hold */
+  for (int i = 0; i < POM_CAP_N_FIGURES; ++i)
+    if (study->capability_want[i]) fprintf(f, ",capability_%s", pom_cap_figure_name(i));
+  if (study->n_requirements > 0) fputs(",capability_met", f);
   fputc('\n', f);
   for (int c = 0; c < study->n_candidates; ++c) {
     const pom_doe_candidate_stats *cs = &rep->cand[c];
@@ -178,6 +183,12 @@ static void write_candidates(FILE *f, const pom_doe_study *study, const pom_doe_
       for (int j = 0; j < POM_DOE_STATS_FIELDS; ++j)
         csv_number(f, v[j]);
     }
+    const pom_doe_candidate *cand = &study->candidates[c];
+    for (int i = 0; i < POM_CAP_N_FIGURES; ++i)
+      if (study->capability_want[i])
+        csv_number(f, cand->capability_done ? cand->capability[i] : NAN);
+    if (study->n_requirements > 0)
+      fprintf(f, ",%s", cand->capability_done ? (cand->capability_met ? "1" : "0") : "");
     fputc('\n', f);
   }
 }

@@ -453,6 +453,7 @@ static pom_status load_study_group(pom_doe_study *study, const pom_cfg *cfg, pom
                                                ? POM_DOE_TIME_POINTING
                                                : POM_DOE_TIME_EXECUTION)
                                         : (pom_doe_time_metric)(time_metric - 1);
+  POM_TRY(pom_doe_capability_load(study, cfg, err));
   return load_fidelity(study, cfg, err);
 }
 

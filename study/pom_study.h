@@ -14,6 +14,7 @@
 #ifndef POM_STUDY_H
 #define POM_STUDY_H
 
+#include "pom_capability.h"
 #include "pom_config.h"
 #include "pom_dyn_metrics_schema.h"
 #include "pom_dynamics.h"
@@ -409,6 +410,10 @@ typedef struct {
   pom_doe_evaluator eval;                                 /* owned */
   int fidelity_chosen;          /* 1: study.fidelity = "auto" set this candidate's setting */
   pom_fidelity_result fidelity; /* what it chose and measured (when fidelity_chosen) */
+  int capability_done;          /* 1: pom_doe_capability_run filled the line below */
+  double capability[POM_CAP_N_FIGURES]; /* the figures of pom_cap_figures.h (SI; NaN: not
+                                           computed or not asked) */
+  int capability_met;                   /* 1: every study.capability_require holds */
 } pom_doe_candidate;
 
 typedef enum { POM_DOE_RANK_TIME = 0, POM_DOE_RANK_ENERGY = 1 } pom_doe_rank_by;
@@ -441,6 +446,13 @@ typedef struct {
   int fidelity_auto;          /* 1: "auto"; 0: "config" (the candidates' settings as given) */
   pom_fidelity_opts fidelity; /* accuracy, margin, set sizes, reference rtol */
   uint64_t fidelity_seed;     /* seed of the selection set (not montecarlo.seed) */
+  /* study.capability (docs/capability.md, "As study responses and constraints"): per-candidate
+   * capability figures computed before the maneuvers, columns of every output */
+  int capability_n;                       /* figures asked (0: none, the default) */
+  int capability_want[POM_CAP_N_FIGURES]; /* 1: figure i asked (or required) */
+  int capability_grid;                    /* study.capability_grid_points (default 3) */
+  int n_requirements;                     /* study.capability_require entries */
+  pom_cap_requirement requirement[POM_CAP_N_FIGURES * 2];
 } pom_doe_study;
 
 /* The top-level names a study file holds (`name`, `montecarlo`, `study`,
@@ -485,6 +497,20 @@ pom_status pom_doe_fidelity_run(pom_doe_study *study,
  * fidelity_error_time, fidelity_error_energy, ...; docs/results.md section
  * 5) to group g; nothing when the fidelity was not chosen. */
 pom_status pom_doe_fidelity_describe(const pom_doe_study *study, int c, hid_t g, pom_error *err);
+
+/* study.capability: each candidate's capability figures (pom_cap_run on its
+ * model, rigid joints, the study's coarse grid; slews only when a slew
+ * figure is asked), and whether it meets study.capability_require. progress
+ * (may be NULL) after each candidate. Nothing when capability_n is 0.
+ * POM_ERR_CONFIG for a candidate whose evaluator is not a dynamics one. */
+pom_status pom_doe_capability_run(pom_doe_study *study,
+                                  void (*progress)(void *user, const pom_doe_candidate *cand,
+                                                   int done, int total),
+                                  void *user, pom_error *err);
+
+/* Writes candidate c's figures as attributes "capability:<name>" (SI, NaN:
+ * not computed) and capability_met of group g; nothing when not computed. */
+pom_status pom_doe_capability_describe(const pom_doe_study *study, int c, hid_t g, pom_error *err);
 
 /* Frees everything a study owns (NULL allowed); leaves it zeroed. */
 void pom_doe_study_clear(pom_doe_study *study);

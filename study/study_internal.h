@@ -42,4 +42,9 @@ void pom_doe_evaluator_group_list(char *buf, size_t cap, const pom_doe_evaluator
  * that both ends of every distribution give a valid candidate (messages
  * name the study file cfg). */
 pom_status pom_doe_uncertain_prepare(pom_doe_study *study, const pom_cfg *cfg, pom_error *err);
+
+/* ---- study.capability (pom_doe_capability.c) ---- */
+/* Reads study.capability, study.capability_grid_points and
+ * study.capability_require (docs/config.md). */
+pom_status pom_doe_capability_load(pom_doe_study *study, const pom_cfg *cfg, pom_error *err);
 #endif

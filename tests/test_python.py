@@ -362,3 +362,21 @@ def test_unresolved_and_not_computed_are_nan():
         assert all(math.isnan(v) for v in f[key]), key
     assert all(v == 24.0 for v in f["peak_voltage_V"]) and f["peak_angular_rate_rad_per_s"] > 100
     assert f["steps"] > 0
+
+
+def test_study_capability_columns(tmp_path):
+    """study.capability: the candidates table and the report carry the figures
+    (docs/capability.md, "As study responses and constraints"), equal to
+    `pomlab capability CFG --grid 3 --json` for the same candidate."""
+    r = pomlab.study(os.path.join(SRC, "tests", "doe_study_capability.cfg"), output=tmp_path / "c.h5")
+    for i, arch in enumerate(("3pss", "3sps")):
+        cap = run_json("capability", CFG[arch], "--grid", "3", "--quiet")
+        want = cap["worst_acc"]["acc_inscribed_rad_per_s2"]
+        assert math.isclose(r.candidates["capability_acc_inscribed_worst"][i], want, rel_tol=1e-12)
+        assert math.isclose(r.report["candidates"][i]["capability"]["acc_inscribed_worst"], want, rel_tol=1e-12)
+        want = cap["worst_rate"]["rate_inscribed_rad_per_s"]
+        assert math.isclose(r.candidates["capability_rate_inscribed_worst"][i], want, rel_tol=1e-12)
+        # the bandwidth: NaN in the table exactly where the report says null
+        bw = r.report["candidates"][i]["capability"]["bw_worst_hz"]
+        t = r.candidates["capability_bw_worst_hz"][i]
+        assert (bw is None and math.isnan(t)) or t == bw

@@ -667,8 +667,10 @@ StudyResult = namedtuple("StudyResult", ["rows", "candidates", "results", "repor
 StudyResult.__doc__ = """rows: a pandas DataFrame, one row per candidate x maneuver
 (candidate, factors, maneuver, drawn values, actuator_unit, every metric,
 status, reason: the tabular file of docs/results.md); candidates: one row per
-candidate (counts and statistics); results: the path of the HDF5 results
-file; report: the report as `pomlab study --json` prints it, parsed (a
+candidate (counts and statistics; with study.capability, a column
+capability_<figure> per capability figure asked, in SI, NaN where not
+computed, and capability_met with study.capability_require); results: the
+path of the HDF5 results file; report: the report as `pomlab study --json` prints it, parsed (a
 dict); summary: the path of summary.md (None when not written)."""
 
 # How often the calling thread looks for Ctrl-C while a run goes (s).
