@@ -170,8 +170,8 @@ typedef struct {
   int n_freq;             /* poses where the small-signal figures were evaluated */
   int n_freq_failed;      /* poses where they were asked for and failed (NaN kept) */
   pom_status freq_status; /* the first failure's status (POM_OK: none) */
-  int freq_joints; /* pom_joint_model of the small-signal model (the config's joints.model) */
-  double f_max;    /* effort limit from rest K min(I_max, V/R_c) (N or N m) */
+  pom_joint_model freq_joints; /* the small-signal model's joints (the config's joints.model) */
+  double f_max;                /* effort limit from rest K min(I_max, V/R_c) (N or N m) */
   pom_actuator_kind kind;
   int n_dirs;
   pom_cap_slew slew[POM_CAP_MAX_DIRECTIONS];
