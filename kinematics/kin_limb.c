@@ -552,6 +552,14 @@ static int twist_with_jets(const pom_kin_arch *arch, int i, const double R[9], c
       for (int k = 0; k < 9; ++k)
         bt->R[k] = lj[0].Rb[b][k].c[JET_1];
     }
+    /* a body map that does not exist here (a U-P-S limb along its U-joint
+     * axis, an R-R-R distal link with w parallel to v): not assembled */
+    double sum = 0.0;
+    for (int k = 0; k < 9; ++k)
+      sum += bt->A[k] + bt->B[k] + bt->R[k];
+    for (int k = 0; k < 3; ++k)
+      sum += bt->a_bias[k] + bt->alpha_bias[k];
+    if (!isfinite(sum + out->q_bias[i])) return 0;
   }
   return 1;
 }

@@ -390,7 +390,13 @@ static void ad_vs_fd(const char *title, const pom_kin_arch *g, pom_rng *rng, dou
     double Rf[9], D[9], rv[3];
     pom_error err;
     pom_error_clear(&err);
-    if (pom_kin_forward(g, q, NULL, NULL, Rf, NULL, &err) == POM_OK) {
+    /* the FK stops at |q residual| <= residual_tol, i.e. a rotation error of
+     * about residual_tol / sv_min(J): 1e-14 (m or rad) keeps that far
+     * below 1e-10 rad for the linear limbs too (J ~ 0.03 m/rad) */
+    pom_kin_fk_opts fo;
+    pom_kin_fk_defaults(&fo);
+    fo.residual_tol = 1e-14;
+    if (pom_kin_forward(g, q, NULL, &fo, Rf, NULL, &err) == POM_OK) {
       pom_m3_mult(D, Rf, R);
       pom_m3_rotvec(rv, D);
       fk_worst = fmax(fk_worst, pom_v3_norm(rv));
@@ -573,6 +579,35 @@ static int make_rrr(pom_kin_arch *g, pom_kin_arch_type *t) {
   return 1;
 }
 
+/* The shipped 3S-P-S/S with spherical joints at the ground: S-P-S limbs
+ * whose cylinder and piston spin freely. */
+static int make_sps(pom_kin_arch *g, pom_kin_arch_type *t) {
+  pom_kin_arch h;
+  pom_kin_inertia in;
+  if (!load("3sps.cfg", &h, &in)) return 0;
+  *t = *h.type;
+  pom_limb_type_ops(t);
+  *g = h;
+  g->type = t;
+  memset(g->data, 0, sizeof g->data);
+  pom_limb_table *tb = POM_LIMB_TABLE(g);
+  table_of(tb, &h);
+  for (int i = 0; i < 3; ++i) {
+    tb->limb[i].joint[0].type = POM_LIMB_JOINT_S;
+    pom_v3_set(tb->limb[i].joint[0].axis, 0.0, 0.0, 0.0);
+  }
+  pom_error err;
+  pom_error_clear(&err);
+  if (pom_kin_arch_finish(g, &err) != POM_OK) {
+    printf("S-P-S: %s\n", err.message);
+    return 0;
+  }
+  pom_mechanism m;
+  check_true(pom_kin_mechanism_from(&m, g, &in, &err) == POM_OK && m.n_bodies == 8 &&
+             m.joint[1].type == POM_JOINT_SPHERICAL);
+  return 1;
+}
+
 /* finish refuses what no kernel covers, and a branch that is not home's. */
 static void refusals(void) {
   pom_kin_arch g;
@@ -619,6 +654,8 @@ int main(void) {
     ad_vs_fd("R-S-S: AD vs central differences", &g, &rng, 15.0, 40, 0.03, 1e-7);
   if (check_true(make_rrr(&g, &t)))
     ad_vs_fd("general 3-RRR: AD vs central differences", &g, &rng, 20.0, 40, 0.05, 1e-7);
+  if (check_true(make_sps(&g, &t)))
+    ad_vs_fd("S-P-S: AD vs central differences", &g, &rng, 15.0, 40, 0.03, 1e-7);
   refusals();
   return check_summary("test_limb_table");
 }
