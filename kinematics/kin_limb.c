@@ -854,7 +854,7 @@ static pom_status finish_limb(pom_limb *L, int i, double scale, pom_error *err) 
         !(pom_v3_normalize(J[j].axis, J[j].axis) > 0.0))
       POM_FAIL(err, POM_ERR_ARG, "limb %d: joint %d's axis has zero length", i + 1, j + 1);
   }
-  L->kernel = pom_limb_kernel_of(types, L->actuated);
+  L->kernel = (int)pom_limb_kernel_of(types, L->actuated);
   if (L->kernel == POM_LIMB_KERNEL_NONE)
     POM_FAIL(err, POM_ERR_ARG,
              "limb %d: no IK kernel for this joint sequence with joint %d actuated (covered: "
