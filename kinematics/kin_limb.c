@@ -1,0 +1,1086 @@
+/* kin_limb.c - the generic operations of an architecture given as a numeric
+ * limb table (pom_limb.h): a closed-form IK kernel chosen from each limb's
+ * joint sequence, the Jacobian row from the limb's actuation wrench, and
+ * every body pose, twist map and bias (and their first derivatives) by
+ * forward-mode automatic differentiation through the same kernel
+ * (kin_jet.h). Derivations: docs/kinematics-tables.md. */
+#include "pom_limb.h"
+
+#include "kin_internal.h"
+#include "kin_jet.h"
+#include "pom_math.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+/* ---- kernels ---------------------------------------------------------------- */
+pom_limb_kernel pom_limb_kernel_of(const int t[POM_LIMB_JOINTS], int actuated) {
+  enum { R = POM_LIMB_JOINT_R, P = POM_LIMB_JOINT_P, U = POM_LIMB_JOINT_U, S = POM_LIMB_JOINT_S };
+  if (t[0] == R && t[1] == R && t[2] == R && actuated == 0) return POM_LIMB_KERNEL_RRR;
+  if (t[0] == P && t[1] == S && t[2] == S && actuated == 0) return POM_LIMB_KERNEL_PSS;
+  if (t[0] == R && t[1] == S && t[2] == S && actuated == 0) return POM_LIMB_KERNEL_RSS;
+  if (t[0] == S && t[1] == P && t[2] == S && actuated == 1) return POM_LIMB_KERNEL_SPS;
+  if (t[0] == U && t[1] == P && t[2] == S && actuated == 1) return POM_LIMB_KERNEL_UPS;
+  return POM_LIMB_KERNEL_NONE;
+}
+
+const char *pom_limb_kernel_name(pom_limb_kernel k) {
+  switch (k) {
+  case POM_LIMB_KERNEL_RRR:
+    return "R-R-R";
+  case POM_LIMB_KERNEL_PSS:
+    return "P-S-S";
+  case POM_LIMB_KERNEL_RSS:
+    return "R-S-S";
+  case POM_LIMB_KERNEL_SPS:
+    return "S-P-S";
+  case POM_LIMB_KERNEL_UPS:
+    return "U-P-S";
+  default:
+    return "none";
+  }
+}
+
+/* ---- plain evaluation (the IK op and the limits) ------------------------------ */
+/* A limb at one platform rotation: q, the Jacobian row, the joints' current
+ * centres (carried by the body after the joint) and first axes (carried by
+ * the body before it). */
+typedef struct {
+  double q, row[3];
+  double p[POM_LIMB_JOINTS][3];
+  double ax[POM_LIMB_JOINTS][3];
+} limb_state;
+
+/* The root of A cos t + B sin t + C = 0 on the branch: t = atan2(B, A) +
+ * branch acos(-C / hypot(A, B)), in [-pi, pi] (docs/kinematics-tables.md 2.1). */
+static int angle_root(double A, double B, double C, double branch, double *t) {
+  double rho = hypot(A, B);
+  if (!(rho > 0.0)) return 0;
+  double c = -C / rho;
+  if (!(c >= -1.0 && c <= 1.0)) return 0; /* also false for NaN */
+  *t = remainder(atan2(B, A) + branch * acos(c), 2.0 * POM_PI);
+  return 1;
+}
+
+/* R-R-R: w(theta) . v = cos alpha2 with w(theta) = Rot(u, theta) w0. */
+static void rrr_coef(const pom_limb *L, const double v[3], double *A, double *B, double *C) {
+  const double *u = L->joint[0].axis, *w0 = L->joint[1].axis;
+  double uw = pom_v3_dot(u, w0), uv = pom_v3_dot(u, v), uxw[3];
+  pom_v3_cross(uxw, u, w0);
+  *A = pom_v3_dot(w0, v) - uw * uv;
+  *B = pom_v3_dot(uxw, v);
+  *C = uw * uv - L->cos_distal;
+}
+
+/* R-S-S crank: p1(theta) = p0 + r_par + cos r_perp + sin (a x r), r = p1h - p0h. */
+typedef struct {
+  double rpar[3], rperp[3], axr[3];
+} rss_crank;
+
+static void rss_crank_of(const pom_limb *L, rss_crank *k) {
+  const double *a = L->joint[0].axis;
+  double r[3];
+  pom_v3_sub(r, L->joint[1].point, L->joint[0].point);
+  pom_v3_scale(k->rpar, pom_v3_dot(a, r), a);
+  pom_v3_sub(k->rperp, r, k->rpar);
+  pom_v3_cross(k->axr, a, r);
+}
+
+/* |p2 - p1(theta)|^2 = L^2 as A cos + B sin + C = 0, d = p2 - p0h - r_par. */
+static void rss_coef(const pom_limb *L, const rss_crank *k, const double p2[3], double *A,
+                     double *B, double *C) {
+  double d[3];
+  pom_v3_sub(d, p2, L->joint[0].point);
+  pom_v3_sub(d, d, k->rpar);
+  *A = -2.0 * pom_v3_dot(d, k->rperp);
+  *B = -2.0 * pom_v3_dot(d, k->axr);
+  *C = pom_v3_dot(d, d) + pom_v3_dot(k->rperp, k->rperp) - L->length * L->length;
+}
+
+/* Limb at rotation R; need_row: fail (0) at a leg singularity too. */
+static int limb_eval(const pom_limb *L, const double R[9], int need_row, limb_state *s) {
+  const pom_limb_joint *J = L->joint;
+  memset(s->ax, 0, sizeof s->ax);
+  switch (L->kernel) {
+  case POM_LIMB_KERNEL_RRR: {
+    const double *u = J[0].axis, *w0 = J[1].axis;
+    double v[3], w[3], A, B, C, t, uxw[3], wxv[3], uxw0[3];
+    pom_m3_apply(v, R, J[2].axis);
+    rrr_coef(L, v, &A, &B, &C);
+    if (!angle_root(A, B, C, L->branch, &t)) return 0;
+    double ct = cos(t), st = sin(t), uw = pom_v3_dot(u, w0);
+    pom_v3_cross(uxw0, u, w0);
+    for (int k = 0; k < 3; ++k)
+      w[k] = ct * w0[k] + st * uxw0[k] + (1.0 - ct) * uw * u[k];
+    s->q = t;
+    pom_v3_cross(uxw, u, w);
+    double den = pom_v3_dot(uxw, v);
+    if (den == 0.0) {
+      if (need_row) return 0;
+      pom_v3_set(s->row, 0.0, 0.0, 0.0);
+    } else {
+      pom_v3_cross(wxv, w, v);
+      pom_v3_scale(s->row, 1.0 / den, wxv);
+    }
+    pom_v3_copy(s->ax[0], u);
+    pom_v3_copy(s->ax[1], w);
+    pom_v3_copy(s->ax[2], v);
+    for (int j = 0; j < 3; ++j) /* centres on their axes through O */
+      pom_v3_scale(s->p[j], pom_v3_dot(J[j].point, J[j].axis), s->ax[j]);
+    return 1;
+  }
+  case POM_LIMB_KERNEL_PSS: {
+    const double *u = J[0].axis, *Bm = J[1].point;
+    double c[3], d[3], l[3], cl[3];
+    pom_m3_apply(c, R, J[2].point);
+    pom_v3_sub(d, c, Bm);
+    double Lk = L->length, du = pom_v3_dot(d, u);
+    double disc = du * du - pom_v3_dot(d, d) + Lk * Lk;
+    if (!(disc >= 0.0)) return 0;
+    double root = sqrt(disc), q = du - L->branch * root, lu = L->branch * root;
+    s->q = q;
+    if (lu == 0.0) {
+      if (need_row) return 0;
+      pom_v3_set(s->row, 0.0, 0.0, 0.0);
+    } else {
+      pom_v3_axpy(l, d, -q, u);
+      pom_v3_cross(cl, c, l);
+      pom_v3_scale(s->row, 1.0 / lu, cl);
+    }
+    pom_v3_axpy(s->p[0], J[0].point, q, u);
+    pom_v3_axpy(s->p[1], Bm, q, u);
+    pom_v3_copy(s->p[2], c);
+    pom_v3_copy(s->ax[0], u);
+    return 1;
+  }
+  case POM_LIMB_KERNEL_RSS: {
+    rss_crank k;
+    double p2[3], A, B, C, t, l[3], arm[3], axarm[3], pl[3];
+    rss_crank_of(L, &k);
+    pom_m3_apply(p2, R, J[2].point);
+    rss_coef(L, &k, p2, &A, &B, &C);
+    if (!angle_root(A, B, C, L->branch, &t)) return 0;
+    double ct = cos(t), st = sin(t);
+    for (int c = 0; c < 3; ++c) {
+      arm[c] = k.rpar[c] + ct * k.rperp[c] + st * k.axr[c];
+      s->p[1][c] = J[0].point[c] + arm[c];
+    }
+    s->q = t;
+    pom_v3_sub(l, p2, s->p[1]);
+    pom_v3_cross(axarm, J[0].axis, arm);
+    double den = pom_v3_dot(l, axarm);
+    if (den == 0.0) {
+      if (need_row) return 0;
+      pom_v3_set(s->row, 0.0, 0.0, 0.0);
+    } else {
+      pom_v3_cross(pl, p2, l);
+      pom_v3_scale(s->row, 1.0 / den, pl);
+    }
+    pom_v3_copy(s->p[0], J[0].point);
+    pom_v3_copy(s->p[2], p2);
+    pom_v3_copy(s->ax[0], J[0].axis);
+    return 1;
+  }
+  case POM_LIMB_KERNEL_SPS:
+  case POM_LIMB_KERNEL_UPS: {
+    double b[3], v[3], sdir[3], h[3];
+    pom_m3_apply(b, R, J[2].point);
+    pom_v3_sub(v, b, J[0].point);
+    double n = pom_v3_norm(v);
+    if (!(n > 0.0 && n < INFINITY)) return 0;
+    s->q = n - L->length;
+    pom_v3_scale(sdir, 1.0 / n, v);
+    pom_v3_cross(s->row, b, sdir);
+    pom_v3_copy(s->p[0], J[0].point);
+    pom_v3_sub(h, J[2].point, J[1].point);
+    pom_v3_axpy(s->p[1], b, -pom_v3_dot(h, L->dir_home), sdir);
+    pom_v3_copy(s->p[2], b);
+    if (L->kernel == POM_LIMB_KERNEL_UPS) pom_v3_copy(s->ax[0], J[0].axis);
+    pom_v3_copy(s->ax[1], sdir);
+    return 1;
+  }
+  default:
+    return 0;
+  }
+}
+
+int pom_limb_ik(const pom_kin_arch *arch, int i, const double R[9], double *q, double row[3]) {
+  const pom_limb_table *tb = POM_LIMB_CTABLE(arch);
+  limb_state s;
+  if (!limb_eval(&tb->limb[i], R, row != NULL, &s)) return 0;
+  *q = s.q;
+  if (row) pom_v3_copy(row, s.row);
+  return 1;
+}
+
+/* ---- jets: the limb along a platform motion (docs/kinematics-tables.md 5) ----- */
+/* The limb's fields as jets in (t, s): q, each body's reference point and
+ * either its rotation (spin fixed) or its unit direction (idle spin). */
+typedef struct {
+  pom_jet q;
+  pom_jet ref[POM_LIMB_BODIES][3];
+  pom_jet Rb[POM_LIMB_BODIES][9];
+  pom_jet dir[POM_LIMB_BODIES][3];
+  int spin_free[POM_LIMB_BODIES];
+} limb_jet;
+
+enum { MODE_THETA = 0, MODE_OMEGA = 1 };
+
+/* The platform rotation as a jet: MODE_THETA R(t, s) = exp(t [T]) exp(s
+ * [S]) R; MODE_OMEGA R(t, s) = exp(t [T + s S]) R; truncated at t^2, s. */
+static void platform_jet(pom_jet P[9], const double R[9], const double T[3], const double S[3],
+                         int mode) {
+  double W[9], E[9], W2[9], WE[9], EW[9], M[JET_N][9];
+  pom_m3_skew(W, T);
+  pom_m3_skew(E, S);
+  pom_m3_mul(W2, W, W);
+  pom_m3_mul(WE, W, E);
+  pom_m3_mul(EW, E, W);
+  pom_m3_identity(M[JET_1]);
+  pom_m3_copy(M[JET_T], W);
+  for (int k = 0; k < 9; ++k) {
+    M[JET_T2][k] = 0.5 * W2[k];
+    if (mode == MODE_THETA) {
+      M[JET_S][k] = E[k];
+      M[JET_TS][k] = WE[k];
+    } else {
+      M[JET_S][k] = 0.0;
+      M[JET_TS][k] = E[k];
+    }
+  }
+  if (mode == MODE_THETA) {
+    double W2E[9];
+    pom_m3_mul(W2E, W2, E);
+    for (int k = 0; k < 9; ++k)
+      M[JET_T2S][k] = 0.5 * W2E[k];
+  } else {
+    for (int k = 0; k < 9; ++k)
+      M[JET_T2S][k] = 0.5 * (WE[k] + EW[k]);
+  }
+  for (int c = 0; c < JET_N; ++c) {
+    double MR[9];
+    pom_m3_mul(MR, M[c], R);
+    for (int k = 0; k < 9; ++k)
+      P[k].c[c] = MR[k];
+  }
+}
+
+/* The root of A cos t + B sin t + C = 0 as a jet, its constant term t0 from
+ * the closed form: Newton on jets, each step doubles the order that is
+ * right (1, 2, 4 > 3: two steps; a third costs little and absorbs rounding);
+ * the constant term stays t0. */
+static pom_jet angle_jet(double t0, pom_jet A, pom_jet B, pom_jet C) {
+  pom_jet t = jet_const(t0);
+  for (int it = 0; it < 3; ++it) {
+    pom_jet c = jet_cos(t), s = jet_sin(t);
+    pom_jet g = jet_add(jet_add(jet_mul(A, c), jet_mul(B, s)), C);
+    pom_jet gp = jet_sub(jet_mul(B, c), jet_mul(A, s));
+    t = jet_sub(t, jet_div(g, gp));
+    t.c[JET_1] = t0;
+  }
+  return t;
+}
+
+/* Rot(u, t) for a constant unit u and an angle jet t. */
+static void rot_jet(pom_jet Rt[9], const double u[3], pom_jet t) {
+  pom_jet c = jet_cos(t), s = jet_sin(t), one_c = jet_sub(jet_const(1.0), c);
+  double K[9];
+  pom_m3_skew(K, u);
+  for (int r = 0; r < 3; ++r)
+    for (int k = 0; k < 3; ++k) {
+      pom_jet e = jet_axpy(jet_scale(K[3 * r + k], s), u[r] * u[k], one_c);
+      Rt[3 * r + k] = r == k ? jet_add(e, c) : e;
+    }
+}
+
+/* Orthonormal frame (columns) of the pair (a, b): a, unit(b - (a.b) a), a x
+ * that (arch_3rrr.c's pair_frame), doubles and jets. */
+static void pair_frame(double F[9], const double a[3], const double b[3]) {
+  double e2[3], e3[3];
+  pom_v3_axpy(e2, b, -pom_v3_dot(a, b), a);
+  pom_v3_normalize(e2, e2);
+  pom_v3_cross(e3, a, e2);
+  for (int r = 0; r < 3; ++r) {
+    F[3 * r + 0] = a[r];
+    F[3 * r + 1] = e2[r];
+    F[3 * r + 2] = e3[r];
+  }
+}
+
+static void pair_frame_jet(pom_jet e[3][3], const pom_jet a[3], const pom_jet b[3]) {
+  pom_jet ab = jv_dot(a, b), e2[3];
+  for (int k = 0; k < 3; ++k)
+    e2[k] = jet_sub(b[k], jet_mul(ab, a[k]));
+  pom_jet inv = jet_recip(jet_sqrt(jv_dot(e2, e2)));
+  for (int k = 0; k < 3; ++k) {
+    e[0][k] = a[k];
+    e[1][k] = jet_mul(inv, e2[k]);
+  }
+  jv_cross(e[2], e[0], e[1]);
+}
+
+/* out = sum_k e_k f_k^T: columns e_k (jets), F's columns f_k (constant). */
+static void frame_product(pom_jet out[9], pom_jet e[3][3], const double F[9]) {
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) {
+      pom_jet x = jet_const(0.0);
+      for (int k = 0; k < 3; ++k)
+        x = jet_axpy(x, F[3 * c + k], e[k][r]);
+      out[3 * r + c] = x;
+    }
+}
+
+static void ref_rotated(pom_jet ref[3], const pom_jet Rb[9], const double p[3]) {
+  jm_applyc(ref, Rb, p);
+}
+
+/* The limb's jets along the platform motion (T, S, mode); s is the plain
+ * evaluation at R (its constant terms). */
+static void limb_jet_eval(const pom_limb *L, const double R[9], const limb_state *st,
+                          const double T[3], const double S[3], int mode, limb_jet *o) {
+  const pom_limb_joint *J = L->joint;
+  pom_jet P[9];
+  platform_jet(P, R, T, S, mode);
+  o->spin_free[0] = o->spin_free[1] = 0;
+  switch (L->kernel) {
+  case POM_LIMB_KERNEL_RRR: {
+    const double *u = J[0].axis, *w0 = J[1].axis;
+    pom_jet v[3], w[3], e[3][3], uj[3], w0j[3];
+    jm_applyc(v, P, J[2].axis);
+    jv_const(uj, u);
+    jv_const(w0j, w0);
+    double uw = pom_v3_dot(u, w0), uxw[3];
+    pom_v3_cross(uxw, u, w0);
+    pom_jet uv = jv_dotc(v, u);
+    pom_jet A = jet_sub(jv_dotc(v, w0), jet_scale(uw, uv));
+    pom_jet B = jv_dotc(v, uxw);
+    pom_jet C = jet_sub(jet_scale(uw, uv), jet_const(L->cos_distal));
+    o->q = angle_jet(st->q, A, B, C);
+    rot_jet(o->Rb[0], u, o->q);
+    jm_applyc(w, o->Rb[0], w0);
+    double F0[9];
+    pair_frame(F0, w0, J[2].axis);
+    pair_frame_jet(e, w, v);
+    frame_product(o->Rb[1], e, F0);
+    ref_rotated(o->ref[0], o->Rb[0], J[L->ref_joint[0]].point);
+    ref_rotated(o->ref[1], o->Rb[1], J[L->ref_joint[1]].point);
+    break;
+  }
+  case POM_LIMB_KERNEL_PSS: {
+    const double *u = J[0].axis, *Bm = J[1].point;
+    pom_jet c[3], d[3], l[3], Bj[3];
+    jm_applyc(c, P, J[2].point);
+    jv_const(Bj, Bm);
+    jv_sub(d, c, Bj);
+    pom_jet du = jv_dotc(d, u);
+    pom_jet disc =
+        jet_add(jet_sub(jet_mul(du, du), jv_dot(d, d)), jet_const(L->length * L->length));
+    o->q = jet_sub(du, jet_scale(L->branch, jet_sqrt(disc)));
+    jv_sxpy(o->ref[0], o->q, u, Bj);
+    memcpy(o->ref[1], o->ref[0], sizeof o->ref[1]);
+    for (int k = 0; k < 9; ++k)
+      o->Rb[0][k] = jet_const(k % 4 == 0 ? 1.0 : 0.0);
+    jv_sub(l, c, o->ref[1]);
+    for (int k = 0; k < 3; ++k)
+      o->dir[1][k] = jet_scale(1.0 / L->length, l[k]);
+    o->spin_free[1] = 1;
+    break;
+  }
+  case POM_LIMB_KERNEL_RSS: {
+    rss_crank k;
+    pom_jet p2[3], d[3], l[3], p0[3];
+    rss_crank_of(L, &k);
+    jm_applyc(p2, P, J[2].point);
+    jv_const(p0, J[0].point);
+    jv_sub(d, p2, p0);
+    for (int c = 0; c < 3; ++c)
+      d[c] = jet_sub(d[c], jet_const(k.rpar[c]));
+    pom_jet A = jet_scale(-2.0, jv_dotc(d, k.rperp));
+    pom_jet B = jet_scale(-2.0, jv_dotc(d, k.axr));
+    pom_jet C =
+        jet_add(jv_dot(d, d), jet_const(pom_v3_dot(k.rperp, k.rperp) - L->length * L->length));
+    o->q = angle_jet(st->q, A, B, C);
+    rot_jet(o->Rb[0], J[0].axis, o->q);
+    pom_jet ct = jet_cos(o->q), sn = jet_sin(o->q);
+    memcpy(o->ref[0], p0, sizeof p0);
+    for (int c = 0; c < 3; ++c)
+      o->ref[1][c] =
+          jet_axpy(jet_axpy(jet_const(J[0].point[c] + k.rpar[c]), k.rperp[c], ct), k.axr[c], sn);
+    jv_sub(l, p2, o->ref[1]);
+    for (int c = 0; c < 3; ++c)
+      o->dir[1][c] = jet_scale(1.0 / L->length, l[c]);
+    o->spin_free[1] = 1;
+    break;
+  }
+  case POM_LIMB_KERNEL_SPS:
+  case POM_LIMB_KERNEL_UPS: {
+    pom_jet b[3], l[3], s[3], p0[3];
+    jm_applyc(b, P, J[2].point);
+    jv_const(p0, J[0].point);
+    jv_sub(l, b, p0);
+    pom_jet n = jet_sqrt(jv_dot(l, l)), inv = jet_recip(n);
+    o->q = jet_sub(n, jet_const(L->length));
+    jv_scale(s, inv, l);
+    memcpy(o->ref[0], p0, sizeof p0);
+    memcpy(o->ref[1], b, sizeof b);
+    if (L->kernel == POM_LIMB_KERNEL_SPS) {
+      memcpy(o->dir[0], s, sizeof s);
+      memcpy(o->dir[1], s, sizeof s);
+      o->spin_free[0] = o->spin_free[1] = 1;
+      break;
+    }
+    /* U-joint: R = E Rx(al) Ry(be) E^T, E = [a1 a2 s0]; x = s.s0 = cb ca,
+     * y = -s.a2 = cb sa, z = s.a1 = sb (arch_3sps.c) */
+    const double *a1 = J[0].axis, *a2 = J[0].axis2, *s0 = L->dir_home;
+    pom_jet x = jv_dotc(s, s0), y = jet_scale(-1.0, jv_dotc(s, a2)), z = jv_dotc(s, a1);
+    pom_jet rho = jet_sqrt(jet_add(jet_mul(x, x), jet_mul(y, y))), ir = jet_recip(rho);
+    pom_jet ca = jet_mul(x, ir), sa = jet_mul(y, ir), cb = rho, sb = z;
+    pom_jet Rl[9] = {cb,
+                     jet_const(0.0),
+                     sb,
+                     jet_mul(sa, sb),
+                     ca,
+                     jet_scale(-1.0, jet_mul(sa, cb)),
+                     jet_scale(-1.0, jet_mul(ca, sb)),
+                     sa,
+                     jet_mul(ca, cb)};
+    double E[9];
+    for (int c = 0; c < 3; ++c) {
+      E[3 * c + 0] = a1[c];
+      E[3 * c + 1] = a2[c];
+      E[3 * c + 2] = s0[c];
+    }
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) {
+        pom_jet acc = jet_const(0.0);
+        for (int a = 0; a < 3; ++a)
+          for (int bb = 0; bb < 3; ++bb)
+            acc = jet_axpy(acc, E[3 * r + a] * E[3 * c + bb], Rl[3 * a + bb]);
+        o->Rb[0][3 * r + c] = acc;
+      }
+    memcpy(o->Rb[1], o->Rb[0], sizeof o->Rb[1]);
+    break;
+  }
+  default:
+    break;
+  }
+}
+
+/* The body's angular velocity along t as a jet: vee(dR/dt R^T) for a body
+ * whose rotation is fixed, dir x d(dir)/dt (zero spin) for an idle spin. */
+static void omega_jet(pom_jet w[3], const limb_jet *o, int b) {
+  if (o->spin_free[b]) {
+    pom_jet dd[3];
+    for (int k = 0; k < 3; ++k)
+      dd[k] = jet_dt(o->dir[b][k]);
+    jv_cross(w, o->dir[b], dd);
+    return;
+  }
+  pom_jet X[9];
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) {
+      pom_jet acc = jet_const(0.0);
+      for (int k = 0; k < 3; ++k)
+        acc = jet_add(acc, jet_mul(jet_dt(o->Rb[b][3 * r + k]), o->Rb[b][3 * c + k]));
+      X[3 * r + c] = acc;
+    }
+  w[0] = jet_scale(0.5, jet_sub(X[7], X[5]));
+  w[1] = jet_scale(0.5, jet_sub(X[2], X[6]));
+  w[2] = jet_scale(0.5, jet_sub(X[3], X[1]));
+}
+
+/* The body's angular velocity along s at s = t = 0 (a column of B when S =
+ * e_k): vee(R_s R^T) or dir x dir_s. */
+static void omega_s(double w[3], const limb_jet *o, int b) {
+  if (o->spin_free[b]) {
+    double d0[3], ds[3];
+    jv_coef(d0, o->dir[b], JET_1);
+    jv_coef(ds, o->dir[b], JET_S);
+    pom_v3_cross(w, d0, ds);
+    return;
+  }
+  double X[9];
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) {
+      double acc = 0.0;
+      for (int k = 0; k < 3; ++k)
+        acc += o->Rb[b][3 * r + k].c[JET_S] * o->Rb[b][3 * c + k].c[JET_1];
+      X[3 * r + c] = acc;
+    }
+  pom_v3_set(w, 0.5 * (X[7] - X[5]), 0.5 * (X[2] - X[6]), 0.5 * (X[3] - X[1]));
+}
+
+static const double unit_e[3][3] = {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}};
+
+/* limb_twist with the three jets along (T = w, S = e_k) kept for the
+ * derivatives. */
+static int twist_with_jets(const pom_kin_arch *arch, int i, const double R[9], const double w[3],
+                           pom_kin_twists *out, limb_state *st, limb_jet lj[3]) {
+  const pom_limb *L = &POM_LIMB_CTABLE(arch)->limb[i];
+  if (!limb_eval(L, R, 1, st)) return 0;
+  for (int k = 0; k < 3; ++k)
+    limb_jet_eval(L, R, st, w, unit_e[k], MODE_THETA, &lj[k]);
+  out->q[i] = st->q;
+  pom_v3_copy(out->J + 3 * i, st->row);
+  out->q_bias[i] = 2.0 * lj[0].q.c[JET_T2];
+  for (int b = 0; b < POM_LIMB_BODIES; ++b) {
+    pom_kin_body_twist *bt = &out->body[2 + 2 * i + b];
+    pom_jet wj[3];
+    pom_kin_twist_rest(bt);
+    pom_v3_copy(bt->ref_home, L->joint[L->ref_joint[b]].point);
+    jv_coef(bt->ref, lj[0].ref[b], JET_1);
+    for (int k = 0; k < 3; ++k) {
+      double col[3];
+      omega_s(col, &lj[k], b);
+      for (int r = 0; r < 3; ++r) {
+        bt->A[3 * r + k] = lj[k].ref[b][r].c[JET_S];
+        bt->B[3 * r + k] = col[r];
+      }
+    }
+    for (int r = 0; r < 3; ++r)
+      bt->a_bias[r] = 2.0 * lj[0].ref[b][r].c[JET_T2];
+    omega_jet(wj, &lj[0], b);
+    jv_coef(bt->alpha_bias, wj, JET_T);
+    if (lj[0].spin_free[b]) {
+      double d0[3];
+      jv_coef(d0, lj[0].dir[b], JET_1);
+      pom_kin_min_rotation(bt->R, L->dir_home, d0);
+      bt->spin_free = 1;
+      pom_v3_copy(bt->spin_axis, d0);
+    } else {
+      for (int k = 0; k < 9; ++k)
+        bt->R[k] = lj[0].Rb[b][k].c[JET_1];
+    }
+    /* a body map that does not exist here (a U-P-S limb along its U-joint
+     * axis, an R-R-R distal link with w parallel to v): not assembled */
+    double sum = 0.0;
+    for (int k = 0; k < 9; ++k)
+      sum += bt->A[k] + bt->B[k] + bt->R[k];
+    for (int k = 0; k < 3; ++k)
+      sum += bt->a_bias[k] + bt->alpha_bias[k];
+    if (!isfinite(sum + out->q_bias[i])) return 0;
+  }
+  return 1;
+}
+
+int pom_limb_twist(const pom_kin_arch *arch, int i, const double R[9], const double w[3],
+                   pom_kin_twists *out) {
+  limb_state st;
+  limb_jet lj[3];
+  return twist_with_jets(arch, i, R, w, out, &st, lj);
+}
+
+int pom_limb_twist_diff(const pom_kin_arch *arch, int i, const double R[9], const double w[3],
+                        pom_kin_twists *out, pom_kin_twists_diff *dout) {
+  limb_state st;
+  limb_jet lj[3];
+  if (!twist_with_jets(arch, i, R, w, out, &st, lj)) return 0;
+  const pom_limb *L = &POM_LIMB_CTABLE(arch)->limb[i];
+  for (int k = 0; k < 3; ++k) {
+    /* rotation increment about e_k: the jets (w, e_k) give the biases'
+     * derivatives (t^2 s) and q's (s); the jets (e_j, e_k) the columns' (t s) */
+    pom_kin_twists *dt = &dout->d_theta[k], *dw = &dout->d_omega[k];
+    limb_jet ej[3], om;
+    for (int j = 0; j < 3; ++j)
+      limb_jet_eval(L, R, &st, unit_e[j], unit_e[k], MODE_THETA, &ej[j]);
+    limb_jet_eval(L, R, &st, w, unit_e[k], MODE_OMEGA, &om);
+    dt->q[i] = lj[k].q.c[JET_S];
+    for (int j = 0; j < 3; ++j)
+      dt->J[3 * i + j] = ej[j].q.c[JET_TS];
+    dt->q_bias[i] = 2.0 * lj[k].q.c[JET_T2S];
+    dw->q[i] = 0.0;
+    pom_v3_set(dw->J + 3 * i, 0.0, 0.0, 0.0);
+    dw->q_bias[i] = 2.0 * om.q.c[JET_T2S];
+    for (int b = 0; b < POM_LIMB_BODIES; ++b) {
+      pom_kin_body_twist *tb = &dt->body[2 + 2 * i + b], *wb = &dw->body[2 + 2 * i + b];
+      pom_jet wj[3];
+      for (int j = 0; j < 3; ++j) {
+        omega_jet(wj, &ej[j], b);
+        for (int r = 0; r < 3; ++r) {
+          tb->A[3 * r + j] = ej[j].ref[b][r].c[JET_TS];
+          tb->B[3 * r + j] = wj[r].c[JET_S];
+        }
+      }
+      for (int r = 0; r < 3; ++r)
+        tb->a_bias[r] = 2.0 * lj[k].ref[b][r].c[JET_T2S];
+      omega_jet(wj, &lj[k], b);
+      jv_coef(tb->alpha_bias, wj, JET_TS);
+      memset(wb->A, 0, sizeof wb->A);
+      memset(wb->B, 0, sizeof wb->B);
+      for (int r = 0; r < 3; ++r)
+        wb->a_bias[r] = 2.0 * om.ref[b][r].c[JET_T2S];
+      omega_jet(wj, &om, b);
+      jv_coef(wb->alpha_bias, wj, JET_TS);
+    }
+  }
+  return 1;
+}
+
+/* ---- limits, footprint ------------------------------------------------------- */
+void pom_limb_limit_values(const pom_kin_arch *arch, const double R[9], const double q[3],
+                           double value[9]) {
+  const pom_limb_table *tb = POM_LIMB_CTABLE(arch);
+  limb_state s[3];
+  (void)q; /* the kernels recompute q (the same closed form) with the joint centres */
+  for (int i = 0; i < 3; ++i)
+    if (!limb_eval(&tb->limb[i], R, 0, &s[i])) {
+      for (int j = 0; j < 3; ++j) {
+        pom_v3_set(s[i].p[j], NAN, NAN, NAN);
+        pom_v3_set(s[i].ax[j], NAN, NAN, NAN);
+      }
+    }
+  for (int kind = 1; kind < POM_KIN_LIM_KINDS; ++kind) {
+    const pom_limb_measure *m = &tb->measure[kind];
+    double *val = value + 3 * (kind - 1);
+    for (int k = 0; k < 3; ++k) {
+      int i = k, j = (k + 1) % 3;
+      double l[3], lp[3], home[3];
+      switch (m->kind) {
+      case POM_LIMB_MEASURE_CONE_FIXED:
+      case POM_LIMB_MEASURE_CONE_PLATFORM:
+        pom_v3_sub(l, s[i].p[m->b], s[i].p[m->a]);
+        pom_v3_sub(home, tb->limb[i].joint[m->b].point, tb->limb[i].joint[m->a].point);
+        pom_v3_normalize(home, home);
+        if (m->kind == POM_LIMB_MEASURE_CONE_PLATFORM) {
+          pom_m3_tapply(lp, R, l);
+          val[k] = pom_kin_angle_between(lp, home);
+        } else {
+          val[k] = pom_kin_angle_between(l, home);
+        }
+        break;
+      case POM_LIMB_MEASURE_DISTANCE:
+        val[k] = pom_kin_segment_distance(s[i].p[m->a], s[i].p[m->b], s[j].p[m->a], s[j].p[m->b]);
+        break;
+      case POM_LIMB_MEASURE_AXIS_ANGLE:
+        val[k] = pom_kin_angle_between(s[i].ax[m->a], s[j].ax[m->a]);
+        break;
+      default:
+        val[k] = 0.0;
+        break;
+      }
+    }
+  }
+}
+
+double pom_limb_footprint(const pom_kin_arch *arch) {
+  const pom_limb_table *tb = POM_LIMB_CTABLE(arch);
+  double r = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const pom_limb *L = &tb->limb[i];
+    if (L->actuated == 0 && L->joint[0].type == POM_LIMB_JOINT_P) {
+      for (int s = -1; s <= 1; s += 2) {
+        double p[3];
+        pom_v3_axpy(p, L->motor, 0.5 * s * arch->stroke, L->joint[0].axis);
+        r = fmax(r, hypot(p[0], p[1]));
+      }
+    } else {
+      r = fmax(r, hypot(L->motor[0], L->motor[1]));
+    }
+  }
+  return r;
+}
+
+/* ---- mechanism ------------------------------------------------------------------- */
+/* A direction of limb L at home (pom_limb_dir); 0 when it has zero length. */
+static int limb_dir(double out[3], const pom_limb *L, pom_limb_dir d) {
+  if (d.b < 0) {
+    pom_v3_copy(out, L->joint[d.a].axis);
+  } else {
+    pom_v3_sub(out, L->joint[d.b].point, L->joint[d.a].point);
+  }
+  return pom_v3_normalize(out, out) > 0.0;
+}
+
+/* Thin circular arc of radius r from unit a to unit b, linear density lam:
+ * mass, CM and inertia about O (arch_3rrr.c, docs/kinematics-3rrr.md 6). */
+static void arc_inertia(double *mass, double cm[3], double IO[9], const double a[3],
+                        const double b[3], double r, double lam) {
+  double F[9];
+  pair_frame(F, a, b);
+  double e1[3] = {F[0], F[3], F[6]}, e2[3] = {F[1], F[4], F[7]};
+  double al = pom_kin_angle_between(a, b), m = lam * r * al;
+  double c11 = 0.5 * al + 0.25 * sin(2.0 * al), c22 = 0.5 * al - 0.25 * sin(2.0 * al);
+  double c12 = 0.5 * sin(al) * sin(al), k = lam * r * r * r;
+  *mass = m;
+  for (int i = 0; i < 3; ++i) {
+    cm[i] = r / al * (sin(al) * e1[i] + (1.0 - cos(al)) * e2[i]);
+    for (int j = 0; j < 3; ++j) {
+      double S =
+          k * (c11 * e1[i] * e1[j] + c22 * e2[i] * e2[j] + c12 * (e1[i] * e2[j] + e2[i] * e1[j]));
+      IO[3 * i + j] = (i == j ? m * r * r : 0.0) - S;
+    }
+  }
+}
+
+static void add_point(double *mass, double s[3], double IO[9], double m, const double p[3]) {
+  double pp = pom_v3_dot(p, p);
+  *mass += m;
+  for (int i = 0; i < 3; ++i) {
+    s[i] += m * p[i];
+    for (int j = 0; j < 3; ++j)
+      IO[3 * i + j] += m * ((i == j ? pp : 0.0) - p[i] * p[j]);
+  }
+}
+
+static int body_from_O(pom_mechanism *mech, const char *name, int limb_no, double mass,
+                       const double s[3], const double IO[9]) {
+  double I3[9], cm[3];
+  pom_m3_identity(I3);
+  pom_v3_scale(cm, 1.0 / mass, s);
+  int k = pom_kin_build_body(mech, name, limb_no, NULL, I3, cm);
+  pom_mech_body *b = &mech->body[k];
+  pom_v3_copy(b->cm, cm);
+  double cc = pom_v3_dot(cm, cm);
+  b->mass = mass;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      b->inertia[3 * i + j] = IO[3 * i + j] - mass * ((i == j ? cc : 0.0) - cm[i] * cm[j]);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < i; ++j)
+      b->inertia[3 * i + j] = b->inertia[3 * j + i];
+  return k;
+}
+
+static pom_status build_body(pom_mechanism *mech, int *index, const pom_limb_table *tb,
+                             const pom_limb *L, int i, int b, const pom_kin_inertia *in,
+                             pom_error *err) {
+  const pom_limb_body *bd = &tb->body[b];
+  double I3[9], O[3] = {0.0, 0.0, 0.0};
+  pom_m3_identity(I3);
+  switch (bd->model) {
+  case POM_LIMB_MASS_GROUP: {
+    const pom_kin_body_inertia *bi = &in->body[bd->group];
+    double z[3], x[3], Q[9], cm[3], d[3];
+    limb_dir(z, L, bd->z_dir);
+    int has_x = bd->x_dir.a >= 0 && limb_dir(x, L, bd->x_dir);
+    pom_kin_limb_axes(Q, z, L->radial, has_x ? x : NULL);
+    if (bd->place == 1) {
+      limb_dir(d, L, bd->cm_dir);
+      pom_v3_axpy(cm, L->joint[bd->cm_from].point, bi->cm_offset, d);
+    } else if (bd->place == 2) {
+      const double *pa = L->joint[bd->cm_dir.a].point, *pb = L->joint[bd->cm_dir.b].point;
+      for (int k = 0; k < 3; ++k)
+        cm[k] = pa[k] + bi->cm_fraction * (pb[k] - pa[k]);
+    } else {
+      pom_v3_copy(cm, L->joint[L->ref_joint[b]].point);
+    }
+    *index = pom_kin_build_body(mech, bd->name, i + 1, bi, Q, cm);
+    return POM_OK;
+  }
+  case POM_LIMB_MASS_ARC: {
+    const double r = tb->arc_radius, lam = in->value[bd->v_density] * in->value[bd->v_section];
+    double m, c[3], IO[9], s[3], p[3];
+    arc_inertia(&m, c, IO, L->joint[bd->arc_a].axis, L->joint[bd->arc_b].axis, r, lam);
+    pom_v3_scale(s, m, c);
+    if (bd->v_point_mass >= 0) {
+      pom_v3_scale(p, r, L->joint[bd->point_joint].axis);
+      add_point(&m, s, IO, in->value[bd->v_point_mass], p);
+    }
+    if (bd->v_rotor >= 0) {
+      const double *u = L->joint[bd->rotor_joint].axis, Jr = in->value[bd->v_rotor];
+      for (int a = 0; a < 3; ++a)
+        for (int k = 0; k < 3; ++k)
+          IO[3 * a + k] += 0.5 * Jr * ((a == k ? 1.0 : 0.0) + u[a] * u[k]);
+    }
+    if (!(m > 0.0))
+      POM_FAIL(err, POM_ERR_ARG, "limb %d: the %s has no mass (its arc model)", i + 1, bd->name);
+    *index = body_from_O(mech, bd->name, i + 1, m, s, IO);
+    return POM_OK;
+  }
+  default:
+    *index = pom_kin_build_body(mech, bd->name, i + 1, NULL, I3, O);
+    return POM_OK;
+  }
+}
+
+static pom_joint_type joint_kind(int t) {
+  switch (t) {
+  case POM_LIMB_JOINT_R:
+    return POM_JOINT_REVOLUTE;
+  case POM_LIMB_JOINT_P:
+    return POM_JOINT_PRISMATIC;
+  case POM_LIMB_JOINT_U:
+    return POM_JOINT_UNIVERSAL;
+  default:
+    return POM_JOINT_SPHERICAL;
+  }
+}
+
+pom_status pom_limb_mechanism(pom_mechanism *mech, const pom_kin_arch *arch,
+                              const pom_kin_inertia *in, pom_error *err) {
+  const pom_limb_table *tb = POM_LIMB_CTABLE(arch);
+  for (int i = 0; i < 3; ++i) {
+    const pom_limb *L = &tb->limb[i];
+    int body[POM_LIMB_BODIES + 2];
+    body[0] = 0;
+    for (int b = 0; b < POM_LIMB_BODIES; ++b)
+      POM_TRY(build_body(mech, &body[1 + b], tb, L, i, b, in, err));
+    body[3] = mech->platform;
+    for (int j = 0; j < POM_LIMB_JOINTS; ++j) {
+      const pom_limb_joint *jt = &L->joint[j];
+      const double *axis = jt->type == POM_LIMB_JOINT_S ? NULL : jt->axis;
+      const double *axis2 = jt->type == POM_LIMB_JOINT_U ? jt->axis2 : NULL;
+      int k = pom_kin_build_joint(mech, tb->joint_name[j], i + 1, joint_kind(jt->type), body[j],
+                                  body[j + 1], jt->point, axis, axis2);
+      if (j == L->actuated) pom_kin_build_actuator(mech, k, body[j + 1], arch->stroke);
+    }
+  }
+  return POM_OK;
+}
+
+/* ---- finish ---------------------------------------------------------------------- */
+static int valid_joint(int j) {
+  return j >= 0 && j < POM_LIMB_JOINTS;
+}
+
+static pom_status check_dir(pom_limb_dir d, const char *what, const char *body, pom_error *err) {
+  if (!valid_joint(d.a) || d.b >= POM_LIMB_JOINTS)
+    POM_FAIL(err, POM_ERR_ARG, "body %s: %s names joint %d/%d, not one of 0..2", body, what, d.a,
+             d.b);
+  return POM_OK;
+}
+
+/* The kernel's derived fields of limb L (number i + 1 in messages). */
+static pom_status finish_limb(pom_limb *L, int i, double scale, pom_error *err) {
+  pom_limb_joint *J = L->joint;
+  int types[POM_LIMB_JOINTS];
+  for (int j = 0; j < POM_LIMB_JOINTS; ++j) {
+    types[j] = J[j].type;
+    if (J[j].type < POM_LIMB_JOINT_R || J[j].type > POM_LIMB_JOINT_S)
+      POM_FAIL(err, POM_ERR_ARG, "limb %d: joint %d has no type (R, P, U or S)", i + 1, j + 1);
+    /* a U-joint's zero axis is derived below (U-P-S) */
+    if ((J[j].type == POM_LIMB_JOINT_R || J[j].type == POM_LIMB_JOINT_P) &&
+        !(pom_v3_normalize(J[j].axis, J[j].axis) > 0.0))
+      POM_FAIL(err, POM_ERR_ARG, "limb %d: joint %d's axis has zero length", i + 1, j + 1);
+  }
+  L->kernel = (int)pom_limb_kernel_of(types, L->actuated);
+  if (L->kernel == POM_LIMB_KERNEL_NONE)
+    POM_FAIL(err, POM_ERR_ARG,
+             "limb %d: no IK kernel for this joint sequence with joint %d actuated (covered: "
+             "R-R-R with joint 1 actuated, P-S-S and R-S-S with joint 1 actuated, S-P-S and "
+             "U-P-S with joint 2 actuated)",
+             i + 1, L->actuated + 1);
+  if (!(L->branch == 0.0 || L->branch == 1.0 || L->branch == -1.0))
+    POM_FAIL(err, POM_ERR_ARG, "limb %d: branch %g must be +1, -1 or 0 (the root through home)",
+             i + 1, L->branch);
+  double derived = 1.0;
+  switch (L->kernel) {
+  case POM_LIMB_KERNEL_RRR: {
+    for (int j = 0; j < 3; ++j) {
+      double c[3];
+      pom_v3_cross(c, J[j].point, J[j].axis);
+      if (pom_v3_norm(c) > 1e-9 * (1.0 + pom_v3_norm(J[j].point)))
+        POM_FAIL(err, POM_ERR_ARG, "limb %d: R-R-R joint %d's axis does not pass through O", i + 1,
+                 j + 1);
+    }
+    L->cos_distal = pom_v3_dot(J[1].axis, J[2].axis);
+    double A, B, C;
+    rrr_coef(L, J[2].axis, &A, &B, &C);
+    if (fabs(B) < POM_KIN_HOME_MIN_COS * hypot(A, B))
+      POM_FAIL(err, POM_ERR_ARG,
+               "limb %d: the three axes are coplanar at home (a leg singularity: the two working "
+               "modes meet)",
+               i + 1);
+    derived = atan2(B, A) > 0.0 ? -1.0 : 1.0;
+    pom_v3_set(L->dir_home, 0.0, 0.0, 0.0);
+    L->length = 0.0;
+    break;
+  }
+  case POM_LIMB_KERNEL_PSS:
+  case POM_LIMB_KERNEL_RSS: {
+    double l[3];
+    pom_v3_sub(l, J[2].point, J[1].point);
+    L->length = pom_v3_normalize(L->dir_home, l);
+    if (!(L->length > 0.0))
+      POM_FAIL(err, POM_ERR_ARG, "limb %d: the link's two spherical joints coincide", i + 1);
+    if (L->kernel == POM_LIMB_KERNEL_PSS) {
+      double c = pom_v3_dot(L->dir_home, J[0].axis);
+      if (fabs(c) < POM_KIN_HOME_MIN_COS)
+        POM_FAIL(err, POM_ERR_ARG,
+                 "limb %d: link is perpendicular to its slider axis at home (cos = %.3g): the "
+                 "home pose is singular",
+                 i + 1, c);
+      derived = c > 0.0 ? 1.0 : -1.0;
+    } else {
+      rss_crank k;
+      double A, B, C;
+      rss_crank_of(L, &k);
+      if (!(pom_v3_norm(k.rperp) > 0.0))
+        POM_FAIL(err, POM_ERR_ARG, "limb %d: the crank's spherical joint lies on its axis", i + 1);
+      rss_coef(L, &k, J[2].point, &A, &B, &C);
+      if (fabs(B) < POM_KIN_HOME_MIN_COS * hypot(A, B))
+        POM_FAIL(err, POM_ERR_ARG,
+                 "limb %d: the link lies in the plane of the crank's axis at home (a leg "
+                 "singularity: the two IK roots meet)",
+                 i + 1);
+      derived = atan2(B, A) > 0.0 ? -1.0 : 1.0;
+    }
+    break;
+  }
+  case POM_LIMB_KERNEL_SPS:
+  case POM_LIMB_KERNEL_UPS: {
+    double l[3], c[3], h[3];
+    pom_v3_sub(l, J[2].point, J[0].point);
+    L->length = pom_v3_normalize(L->dir_home, l);
+    if (!(L->length > 0.0))
+      POM_FAIL(err, POM_ERR_ARG, "limb %d: the base joint coincides with the platform joint",
+               i + 1);
+    pom_v3_cross(c, J[1].axis, L->dir_home);
+    if (pom_v3_norm(c) > 1e-9 || pom_v3_dot(J[1].axis, L->dir_home) < 0.0)
+      POM_FAIL(err, POM_ERR_ARG,
+               "limb %d: the prismatic axis must point along the limb, from the base joint to the "
+               "platform joint",
+               i + 1);
+    pom_v3_sub(h, J[1].point, J[0].point);
+    pom_v3_cross(c, h, L->dir_home);
+    if (pom_v3_norm(c) > 1e-9 * L->length)
+      POM_FAIL(err, POM_ERR_ARG, "limb %d: the prismatic joint's point is off the limb's line",
+               i + 1);
+    if (L->kernel == POM_LIMB_KERNEL_UPS) {
+      double *a = J[0].axis, *a2 = J[0].axis2, d2[3];
+      if (pom_v3_norm(a) == 0.0) {
+        double ez[3] = {0.0, 0.0, 1.0};
+        pom_v3_cross(a, ez, l);
+      }
+      pom_v3_axpy(a, a, -pom_v3_dot(a, L->dir_home), L->dir_home);
+      if (!(pom_v3_normalize(a, a) > POM_KIN_HOME_MIN_COS))
+        POM_FAIL(err, POM_ERR_ARG,
+                 "limb %d: U-joint axis is zero or parallel to the limb (a vertical limb needs "
+                 "an explicit axis)",
+                 i + 1);
+      pom_v3_cross(d2, L->dir_home, a);
+      pom_v3_normalize(d2, d2);
+      if (pom_v3_norm(a2) > 0.0) {
+        pom_v3_cross(c, a2, d2);
+        if (pom_v3_norm(c) > 1e-9 * pom_v3_norm(a2))
+          POM_FAIL(err, POM_ERR_ARG,
+                   "limb %d: the U-joint's second axis must be normal to its first axis and to "
+                   "the limb",
+                   i + 1);
+      }
+      pom_v3_copy(a2, d2);
+    }
+    derived = 1.0;
+    break;
+  }
+  default:
+    break;
+  }
+  if (L->kernel == POM_LIMB_KERNEL_RRR || L->kernel == POM_LIMB_KERNEL_PSS ||
+      L->kernel == POM_LIMB_KERNEL_RSS) {
+    if (L->branch != 0.0 && L->branch != derived)
+      POM_FAIL(err, POM_ERR_ARG,
+               "limb %d: branch %+g is not the IK root through the home configuration (%+g)", i + 1,
+               L->branch, derived);
+  }
+  L->branch = derived;
+  for (int b = 0; b < POM_LIMB_BODIES; ++b)
+    L->ref_joint[b] = J[b].type == POM_LIMB_JOINT_P ? b + 1 : b;
+  /* radial: toward the platform joint, else its axis, else e_x */
+  const double *src = J[2].point;
+  if (!(hypot(src[0], src[1]) > 0.0)) src = J[2].axis;
+  double h = hypot(src[0], src[1]);
+  if (h > 0.0)
+    pom_v3_set(L->radial, src[0] / h, src[1] / h, 0.0);
+  else
+    pom_v3_set(L->radial, 1.0, 0.0, 0.0);
+  if (pom_v3_norm(L->motor) == 0.0) {
+    if (L->kernel == POM_LIMB_KERNEL_RRR && pom_v3_norm(J[0].point) == 0.0)
+      pom_v3_scale(L->motor, scale, J[0].axis);
+    else
+      pom_v3_copy(L->motor, J[0].point);
+  }
+  return POM_OK;
+}
+
+pom_status pom_limb_finish(pom_kin_arch *arch, pom_error *err) {
+  pom_limb_table *tb = POM_LIMB_TABLE(arch);
+  const pom_kin_arch_type *type = arch->type;
+  int holds_O = 1;
+  for (int i = 0; i < 3; ++i) {
+    tb->limb[i].kernel = 0;
+    POM_TRY(finish_limb(&tb->limb[i], i, arch->design.scale, err));
+    if (tb->limb[i].kernel != POM_LIMB_KERNEL_RRR) holds_O = 0;
+    if (i > 0 && tb->limb[i].kernel != tb->limb[0].kernel)
+      POM_FAIL(err, POM_ERR_ARG, "limb %d is a %s limb, limb 1 a %s: the three must be alike",
+               i + 1, pom_limb_kernel_name((pom_limb_kernel)tb->limb[i].kernel),
+               pom_limb_kernel_name((pom_limb_kernel)tb->limb[0].kernel));
+  }
+  const int act = tb->limb[0].joint[tb->limb[0].actuated].type;
+  const pom_actuator_kind kind = act == POM_LIMB_JOINT_P ? POM_ACT_PRISMATIC : POM_ACT_REVOLUTE;
+  if (type && type->actuator != kind)
+    POM_FAIL(err, POM_ERR_ARG, "the actuated joints are %s but the type's actuators are not",
+             act == POM_LIMB_JOINT_P ? "prismatic" : "revolute");
+  if (!(tb->central == 1 || tb->central == 0 || tb->central == -1))
+    POM_FAIL(err, POM_ERR_ARG, "central joint: %d is not 1 (required), 0 (none) or -1 (optional)",
+             tb->central);
+  if (tb->central != 1 && !holds_O)
+    POM_FAIL(err, POM_ERR_ARG,
+             "the %s limbs do not hold the platform at O: the central spherical joint is needed",
+             pom_limb_kernel_name((pom_limb_kernel)tb->limb[0].kernel));
+  if (type && (tb->central == -1) != (type->optional_central_joint != 0))
+    POM_FAIL(err, POM_ERR_ARG,
+             "central joint: the table says %s, the type's optional_central_joint %d",
+             tb->central == -1 ? "optional" : "fixed", type->optional_central_joint);
+  for (int b = 0; b < POM_LIMB_BODIES; ++b) {
+    const pom_limb_body *bd = &tb->body[b];
+    if (!memchr(bd->name, '\0', sizeof bd->name) || bd->name[0] == '\0')
+      POM_FAIL(err, POM_ERR_ARG, "limb body %d has no name", b + 1);
+    if (bd->model == POM_LIMB_MASS_GROUP) {
+      if (type && (bd->group < 0 || bd->group >= type->n_inertia_bodies))
+        POM_FAIL(err, POM_ERR_ARG, "body %s: inertia group %d is not one of the type's %d",
+                 bd->name, bd->group, type->n_inertia_bodies);
+      POM_TRY(check_dir(bd->z_dir, "z axis", bd->name, err));
+      if (bd->x_dir.a >= 0) POM_TRY(check_dir(bd->x_dir, "x axis", bd->name, err));
+      if (bd->place == 1 || bd->place == 2) POM_TRY(check_dir(bd->cm_dir, "CM", bd->name, err));
+      if (bd->place == 1 && !valid_joint(bd->cm_from))
+        POM_FAIL(err, POM_ERR_ARG, "body %s: CM offset from joint %d", bd->name, bd->cm_from);
+      if (bd->place == 2 && bd->cm_dir.b < 0)
+        POM_FAIL(err, POM_ERR_ARG, "body %s: cm_fraction needs two joints", bd->name);
+    } else if (bd->model == POM_LIMB_MASS_ARC) {
+      const int v[3] = {bd->v_point_mass, bd->v_rotor, -1};
+      if (!valid_joint(bd->arc_a) || !valid_joint(bd->arc_b))
+        POM_FAIL(err, POM_ERR_ARG, "body %s: the arc's joints %d, %d", bd->name, bd->arc_a,
+                 bd->arc_b);
+      if (type && (bd->v_density < 0 || bd->v_density >= type->n_inertia_values ||
+                   bd->v_section < 0 || bd->v_section >= type->n_inertia_values ||
+                   v[0] >= type->n_inertia_values || v[1] >= type->n_inertia_values))
+        POM_FAIL(err, POM_ERR_ARG, "body %s: an inertia value index is out of the type's %d",
+                 bd->name, type->n_inertia_values);
+      if ((v[0] >= 0 && !valid_joint(bd->point_joint)) ||
+          (v[1] >= 0 && !valid_joint(bd->rotor_joint)))
+        POM_FAIL(err, POM_ERR_ARG, "body %s: a point mass or rotor on no joint", bd->name);
+      if (!(tb->arc_radius > 0.0))
+        POM_FAIL(err, POM_ERR_ARG, "body %s: the arc radius (%g m) must be positive", bd->name,
+                 tb->arc_radius);
+    } else if (bd->model != POM_LIMB_MASS_NONE) {
+      POM_FAIL(err, POM_ERR_ARG, "body %s: mass model %d", bd->name, bd->model);
+    }
+  }
+  for (int k = 1; k < POM_KIN_LIM_KINDS; ++k) {
+    const pom_limb_measure *m = &tb->measure[k];
+    if (m->kind == POM_LIMB_MEASURE_NONE) continue;
+    if (m->kind < 0 || m->kind > POM_LIMB_MEASURE_AXIS_ANGLE)
+      POM_FAIL(err, POM_ERR_ARG, "limit kind %d: measure %d", k, m->kind);
+    if (!valid_joint(m->a) || (m->kind != POM_LIMB_MEASURE_AXIS_ANGLE && !valid_joint(m->b)))
+      POM_FAIL(err, POM_ERR_ARG, "limit kind %d: joints %d, %d are not among 0..2", k, m->a, m->b);
+    int pair = m->kind == POM_LIMB_MEASURE_DISTANCE || m->kind == POM_LIMB_MEASURE_AXIS_ANGLE;
+    if (type && type->limits[k].name && type->limits[k].per_pair != pair)
+      POM_FAIL(err, POM_ERR_ARG, "limit kind %d (%s): its measure is %s, its descriptor not", k,
+               type->limits[k].name, pair ? "per limb pair" : "per limb");
+  }
+  return POM_OK;
+}
+
+void pom_limb_type_ops(pom_kin_arch_type *type) {
+  type->data_size = sizeof(pom_limb_table);
+  type->finish = pom_limb_finish;
+  type->limb = pom_limb_ik;
+  type->limb_twist = pom_limb_twist;
+  type->limb_twist_diff = pom_limb_twist_diff;
+  type->limit_values = pom_limb_limit_values;
+  type->footprint = pom_limb_footprint;
+  type->mechanism = pom_limb_mechanism;
+  type->shapes = NULL;
+}
