@@ -1,16 +1,21 @@
 /* kin_arch_file.c - architecture files (pom_arch_file.h, format of
  * docs/architecture-files.md): the loader that checks a file and compiles
  * its expressions, and the evaluation of the expressions at a design. */
+#define _DEFAULT_SOURCE /* DIR, struct dirent, readlink */
 #include "pom_arch_file.h"
 
 #include "kin_internal.h"
 #include "pom_config.h"
 #include "pom_math.h"
 
+#include <dirent.h>
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 /* ---- variables ------------------------------------------------------------------- */
 /* The variables visible to an expression: a table grown scope by scope. */
@@ -827,4 +832,71 @@ static pom_status from_design(pom_kin_arch *arch, const pom_kin_design *d, pom_e
   pom_af_geometry g;
   POM_TRY(pom_arch_file_eval(f, d, &g, err));
   POM_FAIL(err, POM_ERR_INTERNAL, "%s: the numeric limb table is not wired yet", f->name);
+}
+
+/* ---- discovery ------------------------------------------------------------------------ */
+#ifndef POM_CATALOG_SOURCE_DIR
+#define POM_CATALOG_SOURCE_DIR "catalog"
+#endif
+
+static int is_dir(const char *path) {
+  struct stat sb;
+  return path && path[0] && stat(path, &sb) == 0 && S_ISDIR(sb.st_mode);
+}
+
+/* The installed layout: PREFIX/bin/program -> PREFIX/share/pomlab/catalog. */
+static int installed_dir(char *buf, size_t cap) {
+  char exe[4096];
+  ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+  if (n <= 0 || (size_t)n >= sizeof exe - 1) return 0;
+  exe[n] = '\0';
+  char *slash = strrchr(exe, '/');
+  if (!slash) return 0;
+  *slash = '\0';
+  snprintf(buf, cap, "%s/../share/pomlab/catalog", exe);
+  return is_dir(buf);
+}
+
+const char *pom_arch_catalog_dir(void) {
+  static _Thread_local char found[4200];
+  const char *env = getenv("POMLAB_CATALOG");
+  if (env && env[0]) return env;
+  if (installed_dir(found, sizeof found)) return found;
+  if (is_dir(POM_CATALOG_SOURCE_DIR)) return POM_CATALOG_SOURCE_DIR;
+  return NULL;
+}
+
+static int name_cmp(const void *a, const void *b) {
+  return strcmp(*(const char *const *)a, *(const char *const *)b);
+}
+
+pom_status pom_arch_catalog_each(const char *dir,
+                                 pom_status (*fn)(const char *path, void *user, pom_error *err),
+                                 void *user, pom_error *err) {
+  enum { MAX_FILES = 64 };
+  char names[MAX_FILES][256];
+  const char *sorted[MAX_FILES];
+  int n = 0;
+  DIR *dp = opendir(dir);
+  if (!dp) POM_FAIL(err, POM_ERR_IO, "%s: cannot open the architecture catalog: %s", dir,
+                    strerror(errno));
+  for (struct dirent *e = readdir(dp); e; e = readdir(dp)) {
+    size_t len = strlen(e->d_name);
+    if (len < 6 || len >= sizeof names[0] || strcmp(e->d_name + len - 5, ".arch") != 0) continue;
+    if (n == MAX_FILES) {
+      closedir(dp);
+      POM_FAIL(err, POM_ERR_ARG, "%s: more than %d architecture files", dir, MAX_FILES);
+    }
+    snprintf(names[n], sizeof names[n], "%s", e->d_name);
+    sorted[n] = names[n];
+    ++n;
+  }
+  closedir(dp);
+  qsort(sorted, (size_t)n, sizeof sorted[0], name_cmp);
+  for (int k = 0; k < n; ++k) {
+    char path[4400];
+    snprintf(path, sizeof path, "%s/%s", dir, sorted[k]);
+    POM_TRY(fn(path, user, err));
+  }
+  return POM_OK;
 }

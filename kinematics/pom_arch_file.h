@@ -187,9 +187,10 @@ pom_status pom_arch_file_eval(const pom_arch_file *f, const pom_kin_design *d, p
 const pom_arch_file *pom_arch_file_of(const pom_kin_arch_type *t);
 
 /* ---- discovery -------------------------------------------------------------- */
-/* Folder of the shipped catalog: $POMLAB_CATALOG when set, else the build
- * tree's or the installed catalog folder (the first that exists), NULL when
- * none does. */
+/* Folder of the shipped catalog: $POMLAB_CATALOG when set, else the
+ * installed PREFIX/share/pomlab/catalog beside the running program
+ * (PREFIX/bin), else the source tree's catalog/ (a build tree); NULL when
+ * none exists. The string is static storage of the calling thread. */
 const char *pom_arch_catalog_dir(void);
 
 /* Calls fn for every "*.arch" file of folder dir, in name order (at most
