@@ -217,14 +217,16 @@ static char *read_text(const char *path) {
 
 /* The catalog's 3pss.arch with `from` replaced by `to` (once), loaded: the
  * failure's message must hold every string of want (NULL-terminated). */
-static void bad_file(const char *base_file, const char *from, const char *to,
-                     const char *const want[]) {
+static void bad_file_nth(const char *base_file, int nth, const char *from, const char *to,
+                         const char *const want[]) {
   char path[512], out[512];
-  snprintf(path, sizeof path, "%s/catalog/%s", POM_SOURCE_DIR, base_file);
+  snprintf(path, sizeof path, "%s/%s", POM_SOURCE_DIR, base_file);
   char *text = read_text(path);
   check_true(text != NULL);
   if (!text) return;
   char *at = strstr(text, from);
+  for (int k = 1; k < nth && at; ++k)
+    at = strstr(at + 1, from);
   if (!check_true(at != NULL)) {
     printf("  '%s' not in %s\n", from, base_file);
     free(text);
@@ -254,69 +256,82 @@ static void bad_file(const char *base_file, const char *from, const char *to,
   remove(out);
 }
 
+static void bad_file(const char *base_file, const char *from, const char *to,
+                     const char *const want[]) {
+  bad_file_nth(base_file, 1, from, to, want);
+}
+
 #define WANT(...) ((const char *const[]){__VA_ARGS__, NULL})
 
 static void bad_files(void) {
   const char *F = "test_arch_file_bad.arch:";
   /* an unknown name in an expression: file, line, key, value, column, token */
-  bad_file("3pss.arch", "B = \"C - r*L*l\"", "B = \"C - r*LL*l\"",
+  bad_file("catalog/3pss.arch", "B = \"C - r*L*l\"", "B = \"C - r*LL*l\"",
            WANT(F, "key 'limbs.let.B' = \"C - r*LL*l\"", "column 7: unknown name (at 'LL')"));
   /* a type error */
-  bad_file("3pss.arch", "C = \"r*er + r*h*ez\"", "C = \"r*er + h\"",
+  bad_file("catalog/3pss.arch", "C = \"r*er + r*h*ez\"", "C = \"r*er + h\"",
            WANT("key 'limbs.let.C'", "a vector plus a scalar"));
   /* a scalar where a point is needed */
-  bad_file("3pss.arch", "point = \"C\"; }", "point = \"r\"; }",
+  bad_file("catalog/3pss.arch", "point = \"C\"; }", "point = \"r\"; }",
            WANT("key 'limbs.joints.[2].point' = \"r\"", "expected a vector expression"));
   /* two actuated joints */
-  bad_file("3pss.arch", "type = \"S\"; point = \"B\";",
+  bad_file("catalog/3pss.arch", "type = \"S\"; point = \"B\";",
            "type = \"S\"; point = \"B\"; actuated = true;",
            WANT("key 'limbs.joints.[1].actuated' = true",
                 "the actuated joint of a linear actuator is prismatic, not spherical"));
   /* no actuated joint */
-  bad_file("3pss.arch", "axis = \"d\"; actuated = true;", "axis = \"d\";",
+  bad_file("catalog/3pss.arch", "axis = \"d\"; actuated = true;", "axis = \"d\";",
            WANT("key 'limbs.joints'", "exactly one joint of a limb is actuated"));
   /* a spherical joint with an axis, a universal joint without its second */
-  bad_file("3pss.arch", "type = \"S\"; point = \"C\";",
+  bad_file("catalog/3pss.arch", "type = \"S\"; point = \"C\";",
            "type = \"S\"; point = \"C\"; axis = \"d\";",
            WANT("key 'limbs.joints.[2].axis'", "a spherical joint (S) has no axis"));
-  bad_file("3sps.arch", "axis2 = \"a2\";", "", WANT("key 'limbs.joints.[0].axis2'", "missing"));
+  bad_file("catalog/3sps.arch", "axis2 = \"a2\";", "",
+           WANT("key 'limbs.joints.[0].axis2'", "missing"));
   /* an unknown joint type and an unknown top-level key */
-  bad_file("3pss.arch", "type = \"P\";", "type = \"Q\";",
+  bad_file("catalog/3pss.arch", "type = \"P\";", "type = \"Q\";",
            WANT("key 'limbs.joints.[0].type' = \"Q\""));
-  bad_file("3pss.arch", "central_joint = \"S\";", "central_joint = \"S\";\nfoo = 1;",
+  bad_file("catalog/3pss.arch", "central_joint = \"S\";", "central_joint = \"S\";\nfoo = 1;",
            WANT("key 'foo' = 1", "unknown top-level key"));
   /* a symbol that shadows a function or a limb variable, a taken let name */
-  bad_file("3pss.arch", "symbol = \"lean\"", "symbol = \"sin\"",
+  bad_file("catalog/3pss.arch", "symbol = \"lean\"", "symbol = \"sin\"",
            WANT("key 'parameters.[3].symbol' = \"sin\"", "reserved"));
-  bad_file("3pss.arch", "symbol = \"laz\"", "symbol = \"eta\"",
+  bad_file("catalog/3pss.arch", "symbol = \"laz\"", "symbol = \"eta\"",
            WANT("key 'parameters.[4].symbol' = \"eta\"", "the limb variables"));
-  bad_file("3pss.arch", "d = \"sin(tilt)", "L = \"sin(tilt)",
+  bad_file("catalog/3pss.arch", "d = \"sin(tilt)", "L = \"sin(tilt)",
            WANT("key 'limbs.let.L'", "already defined"));
   /* limbs: a list of 2, an unknown symmetry */
-  bad_file("3pss.arch", "symmetry = \"C3\";", "symmetry = \"C4\";",
+  bad_file("catalog/3pss.arch", "symmetry = \"C3\";", "symmetry = \"C4\";",
            WANT("key 'limbs.symmetry' = \"C4\""));
+  /* the list form: 2 tables; limbs whose joint types differ */
+  bad_file("tests/arch_per_limb.arch", "limbs = (\n  { azimuth",
+           "limbs = (\n  { azimuth = \"0\"; }, { azimuth",
+           WANT("key 'limbs' = (list of 4)", "exactly 3"));
+  bad_file_nth("tests/arch_per_limb.arch", 3, "{ name = \"B\"; type = \"S\"; point = \"B\"; }",
+               "{ name = \"B\"; type = \"R\"; point = \"B\"; axis = \"d\"; }",
+               WANT("key 'limbs.[2].joints.[1].type' = \"R\"", "the same joint types"));
   /* the format version, the actuator kind, a parameter's unit */
-  bad_file("3pss.arch", "format = 1;", "format = 2;",
+  bad_file("catalog/3pss.arch", "format = 1;", "format = 2;",
            WANT("key 'format' = 2", "reads architecture format 1"));
-  bad_file("3pss.arch", "actuator = \"linear\";", "actuator = \"hydraulic\";",
+  bad_file("catalog/3pss.arch", "actuator = \"linear\";", "actuator = \"hydraulic\";",
            WANT("key 'actuator' = \"hydraulic\"", "\"linear\" or \"rotary\""));
-  bad_file("3pss.arch", "key = \"limb_length\"", "key = \"limb_length_mm\"",
+  bad_file("catalog/3pss.arch", "key = \"limb_length\"", "key = \"limb_length_mm\"",
            WANT("key 'parameters.[2].key' = \"limb_length_mm\"", "a ratio to the scale"));
   /* a default outside its range */
-  bad_file("3pss.arch", "default = 90.0; range = [-360.0, 360.0]",
+  bad_file("catalog/3pss.arch", "default = 90.0; range = [-360.0, 360.0]",
            "default = 900.0; range = [-360.0, 360.0]",
            WANT("key 'parameters.[0].default' = 900", "out of range"));
   /* limits: a distance with a degree key, joints out of order */
-  bad_file("3pss.arch", "key = \"min_limb_distance_mm\"", "key = \"min_limb_distance_deg\"",
+  bad_file("catalog/3pss.arch", "key = \"min_limb_distance_mm\"", "key = \"min_limb_distance_deg\"",
            WANT("key 'limits.[2].key'", "ends in _mm"));
-  bad_file("3pss.arch", "frame = \"fixed\"; joints = [2, 3]", "frame = \"fixed\"; joints = [3, 2]",
-           WANT("key 'limits.[0].joints'", "joints a < b"));
+  bad_file("catalog/3pss.arch", "frame = \"fixed\"; joints = [2, 3]",
+           "frame = \"fixed\"; joints = [3, 2]", WANT("key 'limits.[0].joints'", "joints a < b"));
   /* bodies: one only, an unknown inertia value */
-  bad_file("3rrr.arch", "mass = \"elbow_mass_kg\"", "mass = \"elbow_mas_kg\"",
+  bad_file("catalog/3rrr.arch", "mass = \"elbow_mass_kg\"", "mass = \"elbow_mas_kg\"",
            WANT("key 'limbs.bodies.[1].point_mass.mass' = \"elbow_mas_kg\"",
                 "not one of the inertia_values keys"));
   /* a syntax error inside a file that libconfig reads: line of the parse error */
-  bad_file("3pss.arch", "format = 1;", "format = = 1;", WANT("test_arch_file_bad.arch:"));
+  bad_file("catalog/3pss.arch", "format = 1;", "format = = 1;", WANT("test_arch_file_bad.arch:"));
 }
 
 /* A design that cannot be evaluated: the 3-RRR with links too short to join
@@ -346,10 +361,44 @@ static void bad_designs(void) {
   check_true(strstr(err.message, "no/such/file.arch") != NULL);
 }
 
+/* The list form (one table per limb, tests/arch_per_limb.arch) evaluates as
+ * the C3 form: limb i's azimuth written as phi1 + 2*pi*i/3 is the C3 rule's
+ * phi1 + 2 pi i / 3 in the same order of operations, so exactly. */
+static void per_limb_form(void) {
+  char path[512];
+  pom_error err;
+  pom_error_clear(&err);
+  snprintf(path, sizeof path, "%s/tests/arch_per_limb.arch", POM_SOURCE_DIR);
+  pom_arch_file *a = NULL, *b = load_catalog("3pss.arch");
+  if (pom_arch_file_load(&a, path, &err) != POM_OK) printf("%s\n", err.message);
+  check_true(a != NULL && a->per_limb == 1);
+  if (!a || !b) {
+    pom_arch_file_destroy(a);
+    pom_arch_file_destroy(b);
+    return;
+  }
+  check_true(b->per_limb == 0);
+  pom_kin_design d;
+  config_design("3pss.cfg", &d);
+  pom_af_geometry ga, gb;
+  check_true(pom_arch_file_eval(a, &d, &ga, &err) == POM_OK);
+  check_true(pom_arch_file_eval(b, &d, &gb, &err) == POM_OK);
+  for (int i = 0; i < 3; ++i) {
+    check_abs(ga.limb[i].azimuth, gb.limb[i].azimuth, 0.0);
+    for (int j = 0; j < 3; ++j) {
+      close3(ga.limb[i].joint[j].point, gb.limb[i].joint[j].point, 0.0, "list-form point", i);
+      close3(ga.limb[i].joint[j].axis, gb.limb[i].joint[j].axis, 0.0, "list-form axis", i);
+    }
+  }
+  pom_arch_file_destroy(a);
+  pom_arch_file_destroy(b);
+}
+
 int main(void) {
   check_type("3pss.arch", "3PSS", "3pss.cfg");
   check_type("3sps.arch", "3SPS", "3sps.cfg");
   check_type("3rrr.arch", "3RRR", "3rrr.cfg");
+  per_limb_form();
   bad_files();
   bad_designs();
   return check_summary("test_arch_file");
