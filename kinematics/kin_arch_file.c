@@ -878,8 +878,8 @@ pom_status pom_arch_catalog_each(const char *dir,
   const char *sorted[MAX_FILES];
   int n = 0;
   DIR *dp = opendir(dir);
-  if (!dp) POM_FAIL(err, POM_ERR_IO, "%s: cannot open the architecture catalog: %s", dir,
-                    strerror(errno));
+  if (!dp)
+    POM_FAIL(err, POM_ERR_IO, "%s: cannot open the architecture catalog: %s", dir, strerror(errno));
   for (struct dirent *e = readdir(dp); e; e = readdir(dp)) {
     size_t len = strlen(e->d_name);
     if (len < 6 || len >= sizeof names[0] || strcmp(e->d_name + len - 5, ".arch") != 0) continue;
@@ -899,4 +899,53 @@ pom_status pom_arch_catalog_each(const char *dir,
     POM_TRY(fn(path, user, err));
   }
   return POM_OK;
+}
+
+/* ---- a process's files ------------------------------------------------------------------ */
+static pom_status set_add(const char *path, void *user, pom_error *err) {
+  pom_arch_file_set *set = user;
+  if (set->n == POM_AF_MAX_FILES)
+    POM_FAIL(err, POM_ERR_ARG, "%s: more than %d architecture files", path, POM_AF_MAX_FILES);
+  pom_arch_file *f = NULL;
+  POM_TRY(pom_arch_file_load(&f, path, err));
+  for (int k = 0; k < set->n; ++k)
+    if (strcmp(set->file[k]->name, f->name) == 0) {
+      pom_status st = pom_error_set(err, POM_ERR_ARG, __FILE__, __LINE__,
+                                    "%s: architecture name \"%s\" is already given by %s", path,
+                                    f->name, set->file[k]->path);
+      pom_arch_file_destroy(f);
+      return st;
+    }
+  set->file[set->n++] = f;
+  return POM_OK;
+}
+
+pom_status pom_arch_file_set_load(pom_arch_file_set *set, const char *catalog_dir,
+                                  const char *extra, pom_error *err) {
+  memset(set, 0, sizeof *set);
+  pom_status st = POM_OK;
+  if (catalog_dir) st = pom_arch_catalog_each(catalog_dir, set_add, set, err);
+  for (const char *p = extra; st == POM_OK && p && *p;) {
+    const char *colon = strchr(p, ':');
+    size_t n = colon ? (size_t)(colon - p) : strlen(p);
+    char path[4096];
+    if (n >= sizeof path) {
+      st = pom_error_set(err, POM_ERR_ARG, __FILE__, __LINE__,
+                         "an architecture path of %zu characters is too long", n);
+      break;
+    }
+    memcpy(path, p, n);
+    path[n] = '\0';
+    if (n > 0)
+      st = is_dir(path) ? pom_arch_catalog_each(path, set_add, set, err) : set_add(path, set, err);
+    p = colon ? colon + 1 : p + n;
+  }
+  if (st != POM_OK) pom_arch_file_set_free(set);
+  return st;
+}
+
+void pom_arch_file_set_free(pom_arch_file_set *set) {
+  for (int k = 0; k < set->n; ++k)
+    pom_arch_file_destroy(set->file[k]);
+  set->n = 0;
 }

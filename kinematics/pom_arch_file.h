@@ -199,4 +199,20 @@ pom_status pom_arch_catalog_each(const char *dir,
                                  pom_status (*fn)(const char *path, void *user, pom_error *err),
                                  void *user, pom_error *err);
 
+/* The architecture files of a process: those of the catalog folder
+ * catalog_dir (NULL: none) and those named by `extra` (NULL or ""; a
+ * ':'-separated list of files and folders, as $POMLAB_ARCHITECTURES),
+ * loaded in that order into set (at most POM_AF_MAX_FILES; the caller
+ * frees them with pom_arch_file_set_free). A name given twice is refused,
+ * naming both files. */
+#define POM_AF_MAX_FILES 64
+typedef struct {
+  int n;
+  pom_arch_file *file[POM_AF_MAX_FILES];
+} pom_arch_file_set;
+
+pom_status pom_arch_file_set_load(pom_arch_file_set *set, const char *catalog_dir,
+                                  const char *extra, pom_error *err);
+void pom_arch_file_set_free(pom_arch_file_set *set);
+
 #endif

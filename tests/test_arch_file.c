@@ -6,6 +6,7 @@
  * arch_3rrr.c) to 1e-15 m or 1e-15 for unit axes: the same formulas in the
  * same order of operations, so the difference is a few ulps at most. Then
  * every kind of bad file: the message names file, line, key and value. */
+#define _POSIX_C_SOURCE 200809L /* setenv */
 #include "check.h"
 #include "pom_arch.h"
 #include "pom_arch_file.h"
@@ -394,11 +395,46 @@ static void per_limb_form(void) {
   pom_arch_file_destroy(b);
 }
 
+/* Discovery: the catalog folder, the extra list, a name given twice. */
+static void discovery(void) {
+  char cat[512], extra[1200];
+  pom_error err;
+  pom_error_clear(&err);
+  snprintf(cat, sizeof cat, "%s/catalog", POM_SOURCE_DIR);
+  unsetenv("POMLAB_CATALOG");
+  const char *dir = pom_arch_catalog_dir();
+  check_true(dir && strcmp(dir, cat) == 0); /* a build tree: the source tree's */
+  setenv("POMLAB_CATALOG", "/some/where", 1);
+  check_true(strcmp(pom_arch_catalog_dir(), "/some/where") == 0);
+  unsetenv("POMLAB_CATALOG");
+  pom_arch_file_set set;
+  check_true(pom_arch_file_set_load(&set, cat, NULL, &err) == POM_OK);
+  check_true(set.n == 3); /* name order: 3pss, 3rrr, 3sps */
+  if (set.n == 3)
+    check_true(strcmp(set.file[0]->name, "3PSS-table") == 0 &&
+               strcmp(set.file[1]->name, "3RRR-table") == 0 &&
+               strcmp(set.file[2]->name, "3SPS-table") == 0);
+  pom_arch_file_set_free(&set);
+  snprintf(extra, sizeof extra, "%s/tests/arch_per_limb.arch::", POM_SOURCE_DIR);
+  check_true(pom_arch_file_set_load(&set, cat, extra, &err) == POM_OK);
+  check_true(set.n == 4 && strcmp(set.file[3]->name, "3PSS-per-limb") == 0);
+  pom_arch_file_set_free(&set);
+  check_true(set.n == 0);
+  /* the catalog twice: the second 3pss.arch names the first */
+  check_true(pom_arch_file_set_load(&set, cat, cat, &err) == POM_ERR_ARG && set.n == 0);
+  check_true(strstr(err.message, "architecture name \"3PSS-table\" is already given by") != NULL);
+  check_true(pom_arch_file_set_load(&set, NULL, "no/such.arch", &err) != POM_OK && set.n == 0);
+  check_true(strstr(err.message, "no/such.arch") != NULL);
+  check_true(pom_arch_file_set_load(&set, "no/such/folder", NULL, &err) == POM_ERR_IO);
+  check_true(strstr(err.message, "no/such/folder: cannot open the architecture catalog") != NULL);
+}
+
 int main(void) {
   check_type("3pss.arch", "3PSS", "3pss.cfg");
   check_type("3sps.arch", "3SPS", "3sps.cfg");
   check_type("3rrr.arch", "3RRR", "3rrr.cfg");
   per_limb_form();
+  discovery();
   bad_files();
   bad_designs();
   return check_summary("test_arch_file");
