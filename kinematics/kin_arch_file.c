@@ -322,79 +322,55 @@ static pom_status joint_type_of(const pom_cfg *cfg, const char *key, pom_joint_t
   return POM_OK;
 }
 
-/* The two bodies of the limb table at `base` (`<base>.bodies`, a list of
- * 2): names, models, inertia groups and placement rules into out; their
- * expressions are compiled by load_limb_table. */
-static pom_status load_bodies(pom_arch_file *f, const pom_cfg *cfg, const char *base,
-                              pom_af_body out[2], pom_error *err) {
-  char key[160];
-  snprintf(key, sizeof key, "%s.bodies", base);
-  if (!pom_cfg_is_list(cfg, key) || pom_cfg_length(cfg, key) != 2)
-    return pom_cfg_error(cfg, key, NULL, err,
-                         "expected a list of exactly 2 limb bodies (between joints 1-2 and 2-3)");
-  for (int b = 0; b < 2; ++b) {
-    pom_af_body *bd = &out[b];
-    memset(bd, 0, sizeof *bd);
-    snprintf(key, sizeof key, "%s.bodies.[%d].name", base, b);
-    POM_TRY(pom_cfg_string(cfg, key, bd->name, sizeof bd->name - 2, err));
-    if (!pom_expr_identifier(bd->name))
-      return pom_cfg_error(cfg, key, NULL, err, "a body name: letters, digits and '_'");
-    if (b == 1 && strcmp(bd->name, out[0].name) == 0)
-      return pom_cfg_error(cfg, key, NULL, err, "the two bodies need different names");
-    static const char *const models[] = {"rigid", "arc", NULL};
-    int model = 0;
-    snprintf(key, sizeof key, "%s.bodies.[%d].model", base, b);
-    POM_TRY(pom_cfg_choice_opt(cfg, key, models, 0, &model, err));
-    bd->model = (pom_af_body_model)model;
-    bd->value_mass = bd->value_axial = bd->value_density = bd->value_section = -1;
-    if (bd->model == POM_AF_BODY_RIGID) {
-      snprintf(key, sizeof key, "%s.bodies.[%d].inertia", base, b);
-      POM_TRY(pom_cfg_string(cfg, key, bd->group, sizeof bd->group, err));
-      if (!pom_expr_identifier(bd->group) || strcmp(bd->group, "platform") == 0)
-        return pom_cfg_error(cfg, key, NULL, err,
-                             "an inertia group name (letters, digits, '_'; not platform)");
-      if (b == 1 && out[0].model == POM_AF_BODY_RIGID && strcmp(bd->group, out[0].group) == 0)
-        return pom_cfg_error(cfg, key, NULL, err, "the two bodies need different groups");
-      static const char *const rules[] = {"at", "offset", "fraction", NULL};
-      int rule = 0;
-      snprintf(key, sizeof key, "%s.bodies.[%d].cm", base, b);
-      POM_TRY(pom_cfg_choice(cfg, key, rules, &rule, err));
-      bd->cm = (pom_af_cm_rule)rule;
-      snprintf(key, sizeof key, "%s.bodies.[%d].x_axis", base, b);
-      bd->has_x_axis = pom_cfg_has(cfg, key);
-    } else {
-      snprintf(key, sizeof key, "%s.bodies.[%d].density", base, b);
-      POM_TRY(value_index(f, cfg, key, 1, &bd->value_density, err));
-      snprintf(key, sizeof key, "%s.bodies.[%d].section", base, b);
-      POM_TRY(value_index(f, cfg, key, 1, &bd->value_section, err));
-      snprintf(key, sizeof key, "%s.bodies.[%d].point_mass", base, b);
-      if (pom_cfg_has(cfg, key)) {
-        snprintf(key, sizeof key, "%s.bodies.[%d].point_mass.mass", base, b);
-        POM_TRY(value_index(f, cfg, key, 1, &bd->value_mass, err));
-        snprintf(key, sizeof key, "%s.bodies.[%d].point_mass.axial_inertia", base, b);
-        POM_TRY(value_index(f, cfg, key, 0, &bd->value_axial, err));
-      }
-    }
+/* pom_joint_type -> pom_limb_joint_type */
+static int limb_joint_type(pom_joint_type t) {
+  switch (t) {
+  case POM_JOINT_REVOLUTE:
+    return POM_LIMB_JOINT_R;
+  case POM_JOINT_PRISMATIC:
+    return POM_LIMB_JOINT_P;
+  case POM_JOINT_UNIVERSAL:
+    return POM_LIMB_JOINT_U;
+  case POM_JOINT_SPHERICAL:
+    return POM_LIMB_JOINT_S;
   }
+  return POM_LIMB_JOINT_NONE;
+}
+
+/* A joint number 1..3 at key (0-based into *j). */
+static pom_status read_joint(const pom_cfg *cfg, const char *key, int *j, pom_error *err) {
+  long v = 0;
+  POM_TRY(pom_cfg_int(cfg, key, 1, 3, &v, err));
+  *j = (int)v - 1;
   return POM_OK;
 }
 
-/* Limb tables after the first describe the same bodies. */
-static int same_bodies(const pom_af_body a[2], const pom_af_body b[2]) {
-  for (int k = 0; k < 2; ++k)
-    if (strcmp(a[k].name, b[k].name) != 0 || a[k].model != b[k].model ||
-        strcmp(a[k].group, b[k].group) != 0 || a[k].cm != b[k].cm ||
-        a[k].has_x_axis != b[k].has_x_axis || a[k].value_density != b[k].value_density ||
-        a[k].value_section != b[k].value_section || a[k].value_mass != b[k].value_mass ||
-        a[k].value_axial != b[k].value_axial)
-      return 0;
-  return 1;
+/* A direction by joints at key: [a] the axis of joint a (not spherical),
+ * [a, b] the unit segment from joint a's point to joint b's (1-based in the
+ * file). types: the joint types of limb 1 (all limbs alike). */
+static pom_status read_dir(const pom_cfg *cfg, const char *key, const pom_af_limb_table *t,
+                           pom_limb_dir *d, pom_error *err) {
+  int n = pom_cfg_length(cfg, key);
+  double v[2] = {0.0, 0.0};
+  if (!pom_cfg_has(cfg, key) || (n != 1 && n != 2))
+    return pom_cfg_error(cfg, key, NULL, err,
+                         "expected [a] (the axis of joint a) or [a, b] (from joint a's point to "
+                         "joint b's), joints 1, 2, 3");
+  POM_TRY(pom_cfg_reals(cfg, key, n, 1.0, 1.0, 3.0, v, err));
+  if (v[0] != floor(v[0]) || (n == 2 && (v[1] != floor(v[1]) || v[1] == v[0])))
+    return pom_cfg_error(cfg, key, NULL, err, "expected whole joint numbers, two different ones");
+  d->a = (int)v[0] - 1;
+  d->b = n == 2 ? (int)v[1] - 1 : -1;
+  if (n == 1 && t->joint[d->a].type == POM_JOINT_SPHERICAL)
+    return pom_cfg_error(cfg, key, NULL, err, "joint %d is spherical: it has no axis", d->a + 1);
+  return POM_OK;
 }
 
 /* One limb table at cfg group `base` ("limbs" or "limbs.[1]"); s holds the
- * global scope. */
+ * global scope. Its joint names and types are the table's when first, else
+ * they must equal those of the first. */
 static pom_status load_limb_table(pom_arch_file *f, const pom_cfg *cfg, const char *base, scope s,
-                                  pom_af_limb_table *t, pom_error *err) {
+                                  pom_af_limb_table *t, int first, pom_error *err) {
   char key[160];
   add_var(&s, "i", POM_EXPR_SCALAR);
   snprintf(key, sizeof key, "%s.azimuth", base);
@@ -405,7 +381,6 @@ static pom_status load_limb_table(pom_arch_file *f, const pom_cfg *cfg, const ch
   add_var(&s, "ez", POM_EXPR_VECTOR);
   snprintf(key, sizeof key, "%s.let", base);
   POM_TRY(load_lets(cfg, key, &s, t->let, &t->n_lets, err));
-  t->n_slots = s.slots;
 
   /* joints */
   snprintf(key, sizeof key, "%s.joints", base);
@@ -416,8 +391,22 @@ static pom_status load_limb_table(pom_arch_file *f, const pom_cfg *cfg, const ch
   int n_act = 0;
   for (int j = 0; j < 3; ++j) {
     pom_af_joint *jt = &t->joint[j];
+    char name[POM_MECH_NAME_LEN];
     snprintf(key, sizeof key, "%s.joints.[%d].name", base, j);
-    POM_TRY(pom_cfg_string(cfg, key, jt->name, sizeof jt->name - 2, err));
+    POM_TRY(pom_cfg_string(cfg, key, name, sizeof name, err));
+    if (!pom_expr_identifier(name) || strlen(name) >= sizeof f->table.joint_name[j])
+      return pom_cfg_error(cfg, key, NULL, err,
+                           "a joint name: letters, digits and '_', at most %zu characters (the "
+                           "mechanism appends the limb number)",
+                           sizeof f->table.joint_name[j] - 1);
+    if (first) {
+      snprintf(f->table.joint_name[j], sizeof f->table.joint_name[j], "%s", name);
+    } else if (strcmp(name, f->table.joint_name[j]) != 0) {
+      return pom_cfg_error(cfg, key, NULL, err,
+                           "the three limbs name their joints alike (limb "
+                           "1's joint %d is %s)",
+                           j + 1, f->table.joint_name[j]);
+    }
     snprintf(key, sizeof key, "%s.joints.[%d].type", base, j);
     POM_TRY(joint_type_of(cfg, key, &jt->type, err));
     snprintf(key, sizeof key, "%s.joints.[%d].point", base, j);
@@ -429,21 +418,19 @@ static pom_status load_limb_table(pom_arch_file *f, const pom_cfg *cfg, const ch
       return pom_cfg_error(cfg, key, NULL, err, "a spherical joint (S) has no axis");
     }
     snprintf(key, sizeof key, "%s.joints.[%d].axis2", base, j);
-    if (jt->type == POM_JOINT_UNIVERSAL) {
-      POM_TRY(compile_at(cfg, key, &s, POM_EXPR_VECTOR, &jt->axis2, err));
-    } else if (pom_cfg_has(cfg, key)) {
+    jt->has_axis2 = pom_cfg_has(cfg, key);
+    if (jt->has_axis2 && jt->type != POM_JOINT_UNIVERSAL)
       return pom_cfg_error(cfg, key, NULL, err, "only a universal joint (U) has a second axis");
-    }
+    if (jt->has_axis2) POM_TRY(compile_at(cfg, key, &s, POM_EXPR_VECTOR, &jt->axis2, err));
     snprintf(key, sizeof key, "%s.joints.[%d].actuated", base, j);
     POM_TRY(pom_cfg_bool_opt(cfg, key, 0, &jt->actuated, err));
     if (jt->actuated) {
       ++n_act;
-      if (jt->type != pom_act_kind_desc(f->type.actuator)->joint)
+      const pom_act_desc *u = pom_act_kind_desc(f->type.actuator);
+      if (jt->type != u->joint)
         return pom_cfg_error(cfg, key, NULL, err,
-                             "the actuated joint of a %s actuator is %s, not %s",
-                             pom_act_kind_desc(f->type.actuator)->name,
-                             pom_joint_type_name(pom_act_kind_desc(f->type.actuator)->joint),
-                             pom_joint_type_name(jt->type));
+                             "the actuated joint of a %s actuator is %s, not %s", u->name,
+                             pom_joint_type_name(u->joint), pom_joint_type_name(jt->type));
     }
   }
   snprintf(key, sizeof key, "%s.joints", base);
@@ -451,10 +438,44 @@ static pom_status load_limb_table(pom_arch_file *f, const pom_cfg *cfg, const ch
     return pom_cfg_error(cfg, key, NULL, err,
                          "exactly one joint of a limb is actuated (actuated = true), here %d",
                          n_act);
+  if (!first)
+    for (int j = 0; j < 3; ++j)
+      if (t->joint[j].type != f->limb[0].joint[j].type ||
+          t->joint[j].actuated != f->limb[0].joint[j].actuated) {
+        snprintf(key, sizeof key, "%s.joints.[%d].type", base, j);
+        return pom_cfg_error(cfg, key, NULL, err,
+                             "the three limbs have the same joint types and actuated joint "
+                             "(limb 1's joint %d differs)",
+                             j + 1);
+      }
+  /* a chain the numerics solve: the kernels of kinematics/pom_limb.h (its
+   * header comment; finish refuses any other) */
+  static const struct {
+    pom_joint_type j[3];
+    int actuated;
+  } kernels[] = {
+      {{POM_JOINT_REVOLUTE, POM_JOINT_REVOLUTE, POM_JOINT_REVOLUTE}, 0},
+      {{POM_JOINT_PRISMATIC, POM_JOINT_SPHERICAL, POM_JOINT_SPHERICAL}, 0},
+      {{POM_JOINT_REVOLUTE, POM_JOINT_SPHERICAL, POM_JOINT_SPHERICAL}, 0},
+      {{POM_JOINT_SPHERICAL, POM_JOINT_PRISMATIC, POM_JOINT_SPHERICAL}, 1},
+      {{POM_JOINT_UNIVERSAL, POM_JOINT_PRISMATIC, POM_JOINT_SPHERICAL}, 1},
+  };
+  int known = 0;
+  for (size_t k = 0; k < sizeof kernels / sizeof kernels[0]; ++k)
+    known |= kernels[k].j[0] == t->joint[0].type && kernels[k].j[1] == t->joint[1].type &&
+             kernels[k].j[2] == t->joint[2].type && t->joint[kernels[k].actuated].actuated;
+  if (!known)
+    return pom_cfg_error(cfg, key, NULL, err,
+                         "no inverse-kinematics kernel solves this chain with this actuated "
+                         "joint: R-R-R (axes through O), P-S-S and R-S-S actuated at joint 1; "
+                         "S-P-S and U-P-S actuated at joint 2 (docs/architecture-files.md 1)");
 
-  /* working mode */
+  /* footprint point and working mode */
+  snprintf(key, sizeof key, "%s.motor", base);
+  t->has_motor = pom_cfg_has(cfg, key);
+  if (t->has_motor) POM_TRY(compile_at(cfg, key, &s, POM_EXPR_VECTOR, &t->motor, err));
   snprintf(key, sizeof key, "%s.branch", base);
-  t->branch = 0;
+  t->branch = 0.0;
   if (pom_cfg_has(cfg, key)) {
     char b[16];
     long v = 0;
@@ -464,63 +485,122 @@ static pom_status load_limb_table(pom_arch_file *f, const pom_cfg *cfg, const ch
     } else {
       POM_TRY(pom_cfg_int(cfg, key, -1, 1, &v, err));
       if (v == 0) return pom_cfg_error(cfg, key, NULL, err, "expected \"home\", +1 or -1");
-      t->branch = (int)v;
+      t->branch = (double)v;
     }
   }
+  return POM_OK;
+}
 
-  /* bodies: the first table's define them, the others repeat them */
-  pom_af_body bodies[2];
-  POM_TRY(load_bodies(f, cfg, base, bodies, err));
-  if (t == &f->limb[0]) {
-    memcpy(f->body, bodies, sizeof bodies);
-    int n_groups = 0;
-    for (int b = 0; b < 2; ++b)
-      if (bodies[b].model == POM_AF_BODY_RIGID) {
-        f->inertia_bodies[n_groups].group = f->body[b].group;
-        f->inertia_bodies[n_groups].place = (int)f->body[b].cm;
-        ++n_groups;
-      }
-    f->type.n_inertia_bodies = n_groups;
-    f->type.inertia_bodies = n_groups ? f->inertia_bodies : NULL;
-  } else if (!same_bodies(bodies, f->body)) {
-    snprintf(key, sizeof key, "%s.bodies", base);
-    return pom_cfg_error(cfg, key, NULL, err,
-                         "the three limb tables describe the same bodies (name, model, inertia, "
-                         "cm, x_axis given or not, values) as limb 1's");
-  }
+/* The two limb bodies (`bodies`, a list of 2, chain order) into the
+ * table's body rules and the type's inertia groups. */
+static pom_status load_bodies(pom_arch_file *f, const pom_cfg *cfg, pom_error *err) {
+  char key[160];
+  const pom_af_limb_table *t = &f->limb[0];
+  if (!pom_cfg_is_list(cfg, "bodies") || pom_cfg_length(cfg, "bodies") != 2)
+    return pom_cfg_error(cfg, "bodies", NULL, err,
+                         "expected a list of exactly 2 limb bodies (between joints 1-2 and 2-3)");
+  int n_groups = 0, n_arcs = 0;
   for (int b = 0; b < 2; ++b) {
-    const pom_af_body *bd = &f->body[b];
-    if (bd->model == POM_AF_BODY_RIGID) {
-      snprintf(key, sizeof key, "%s.bodies.[%d].from", base, b);
-      POM_TRY(compile_at(cfg, key, &s, POM_EXPR_VECTOR, &t->body_from[b], err));
-      snprintf(key, sizeof key, "%s.bodies.[%d].axis", base, b);
-      POM_TRY(compile_at(cfg, key, &s, POM_EXPR_VECTOR, &t->body_axis[b], err));
-      snprintf(key, sizeof key, "%s.bodies.[%d].x_axis", base, b);
-      if (bd->has_x_axis) POM_TRY(compile_at(cfg, key, &s, POM_EXPR_VECTOR, &t->body_x[b], err));
-      if (bd->cm == POM_AF_CM_OFFSET) {
-        snprintf(key, sizeof key, "%s.bodies.[%d].along", base, b);
-        POM_TRY(compile_at(cfg, key, &s, POM_EXPR_VECTOR, &t->body_to[b], err));
-      } else if (bd->cm == POM_AF_CM_FRACTION) {
-        snprintf(key, sizeof key, "%s.bodies.[%d].to", base, b);
-        POM_TRY(compile_at(cfg, key, &s, POM_EXPR_VECTOR, &t->body_to[b], err));
+    pom_limb_body *bd = &f->table.body[b];
+    memset(bd, 0, sizeof *bd);
+    bd->cm_dir = bd->z_dir = bd->x_dir = (pom_limb_dir){-1, -1};
+    bd->group = bd->arc_a = bd->arc_b = -1;
+    bd->v_density = bd->v_section = bd->v_point_mass = bd->v_rotor = -1;
+    bd->point_joint = bd->rotor_joint = -1;
+    snprintf(key, sizeof key, "bodies.[%d].name", b);
+    POM_TRY(pom_cfg_string(cfg, key, bd->name, sizeof bd->name, err));
+    if (!pom_expr_identifier(bd->name) || strlen(bd->name) + 2 >= sizeof bd->name)
+      return pom_cfg_error(cfg, key, NULL, err,
+                           "a body name: letters, digits and '_', at most %zu characters (the "
+                           "mechanism appends the limb number)",
+                           sizeof bd->name - 3);
+    if (b == 1 && strcmp(bd->name, f->table.body[0].name) == 0)
+      return pom_cfg_error(cfg, key, NULL, err, "the two bodies need different names");
+    static const char *const models[] = {"rigid", "arc", NULL};
+    int model = 0;
+    snprintf(key, sizeof key, "bodies.[%d].model", b);
+    POM_TRY(pom_cfg_choice_opt(cfg, key, models, 0, &model, err));
+    if (model == 0) {
+      char *group = f->body_group[b];
+      snprintf(key, sizeof key, "bodies.[%d].inertia", b);
+      POM_TRY(pom_cfg_string(cfg, key, group, sizeof f->body_group[b], err));
+      if (!pom_expr_identifier(group) || strcmp(group, "platform") == 0)
+        return pom_cfg_error(cfg, key, NULL, err,
+                             "an inertia group name (letters, digits, '_'; not platform)");
+      if (n_groups == 1 && strcmp(group, f->inertia_bodies[0].group) == 0)
+        return pom_cfg_error(cfg, key, NULL, err, "the two bodies need different groups");
+      bd->model = POM_LIMB_MASS_GROUP;
+      bd->group = n_groups;
+      static const char *const rules[] = {"at", "offset", "fraction", NULL};
+      int rule = 0;
+      snprintf(key, sizeof key, "bodies.[%d].cm", b);
+      POM_TRY(pom_cfg_choice(cfg, key, rules, &rule, err));
+      bd->place = rule;
+      if (rule == 1) {
+        snprintf(key, sizeof key, "bodies.[%d].from", b);
+        POM_TRY(read_joint(cfg, key, &bd->cm_from, err));
+        snprintf(key, sizeof key, "bodies.[%d].along", b);
+        POM_TRY(read_dir(cfg, key, t, &bd->cm_dir, err));
+      } else if (rule == 2) {
+        snprintf(key, sizeof key, "bodies.[%d].between", b);
+        POM_TRY(read_dir(cfg, key, t, &bd->cm_dir, err));
+        if (bd->cm_dir.b < 0)
+          return pom_cfg_error(cfg, key, NULL, err, "a fraction lies between two joints [a, b]");
+        bd->cm_from = bd->cm_dir.a;
       }
+      snprintf(key, sizeof key, "bodies.[%d].axis", b);
+      POM_TRY(read_dir(cfg, key, t, &bd->z_dir, err));
+      snprintf(key, sizeof key, "bodies.[%d].x_axis", b);
+      if (pom_cfg_has(cfg, key)) POM_TRY(read_dir(cfg, key, t, &bd->x_dir, err));
+      f->inertia_bodies[n_groups].group = group;
+      f->inertia_bodies[n_groups].place = rule;
+      ++n_groups;
     } else {
-      snprintf(key, sizeof key, "%s.bodies.[%d].from", base, b);
-      POM_TRY(compile_at(cfg, key, &s, POM_EXPR_VECTOR, &t->body_from[b], err));
-      snprintf(key, sizeof key, "%s.bodies.[%d].to", base, b);
-      POM_TRY(compile_at(cfg, key, &s, POM_EXPR_VECTOR, &t->body_to[b], err));
-      snprintf(key, sizeof key, "%s.bodies.[%d].radius", base, b);
-      POM_TRY(compile_at(cfg, key, &s, POM_EXPR_SCALAR, &t->body_radius[b], err));
-      if (bd->value_mass >= 0) {
-        snprintf(key, sizeof key, "%s.bodies.[%d].point_mass.at", base, b);
-        POM_TRY(compile_at(cfg, key, &s, POM_EXPR_VECTOR, &t->body_at[b], err));
+      bd->model = POM_LIMB_MASS_ARC;
+      ++n_arcs;
+      snprintf(key, sizeof key, "bodies.[%d].arc", b);
+      POM_TRY(read_dir(cfg, key, t, &bd->cm_dir, err));
+      if (bd->cm_dir.b < 0 || t->joint[bd->cm_dir.b].type == POM_JOINT_SPHERICAL)
+        return pom_cfg_error(cfg, key, NULL, err,
+                             "an arc joins the axes of two joints [a, b] (not spherical)");
+      bd->arc_a = bd->cm_dir.a;
+      bd->arc_b = bd->cm_dir.b;
+      bd->cm_dir = (pom_limb_dir){-1, -1};
+      snprintf(key, sizeof key, "bodies.[%d].density", b);
+      POM_TRY(value_index(f, cfg, key, 1, &bd->v_density, err));
+      snprintf(key, sizeof key, "bodies.[%d].section", b);
+      POM_TRY(value_index(f, cfg, key, 1, &bd->v_section, err));
+      snprintf(key, sizeof key, "bodies.[%d].point_mass", b);
+      if (pom_cfg_has(cfg, key)) {
+        snprintf(key, sizeof key, "bodies.[%d].point_mass.mass", b);
+        POM_TRY(value_index(f, cfg, key, 1, &bd->v_point_mass, err));
+        snprintf(key, sizeof key, "bodies.[%d].point_mass.joint", b);
+        POM_TRY(read_joint(cfg, key, &bd->point_joint, err));
+        if (t->joint[bd->point_joint].type == POM_JOINT_SPHERICAL)
+          return pom_cfg_error(cfg, key, NULL, err,
+                               "the point mass sits at arc_radius times the joint's axis: not a "
+                               "spherical joint");
       }
-      if (bd->value_axial >= 0) {
-        snprintf(key, sizeof key, "%s.bodies.[%d].point_mass.axis", base, b);
-        POM_TRY(compile_at(cfg, key, &s, POM_EXPR_VECTOR, &t->body_mass_axis[b], err));
+      snprintf(key, sizeof key, "bodies.[%d].rotor", b);
+      if (pom_cfg_has(cfg, key)) {
+        snprintf(key, sizeof key, "bodies.[%d].rotor.inertia", b);
+        POM_TRY(value_index(f, cfg, key, 1, &bd->v_rotor, err));
+        snprintf(key, sizeof key, "bodies.[%d].rotor.joint", b);
+        POM_TRY(read_joint(cfg, key, &bd->rotor_joint, err));
+        if (t->joint[bd->rotor_joint].type == POM_JOINT_SPHERICAL)
+          return pom_cfg_error(cfg, key, NULL, err,
+                               "a rotor turns about a joint's axis: not a "
+                               "spherical joint");
       }
     }
   }
+  f->type.n_inertia_bodies = n_groups;
+  f->type.inertia_bodies = n_groups ? f->inertia_bodies : NULL;
+  if (n_arcs && !f->has_arc_radius)
+    return pom_cfg_error(cfg, "arc_radius", NULL, err,
+                         "missing: arc bodies need their radius (an expression, m)");
+  if (!n_arcs && f->has_arc_radius)
+    return pom_cfg_error(cfg, "arc_radius", NULL, err, "no arc body uses it");
   return POM_OK;
 }
 
@@ -533,7 +613,7 @@ static pom_status load_limits(pom_arch_file *f, const pom_cfg *cfg, pom_error *e
                          POM_KIN_LIM_KINDS - 1);
   for (int k = 0; k < n; ++k) {
     pom_kin_limit_desc *ld = &f->type.limits[k + 1];
-    pom_af_limit *lm = &f->limit[k + 1];
+    pom_limb_measure *lm = &f->table.measure[k + 1];
     snprintf(key, sizeof key, "limits.[%d].name", k);
     POM_TRY(pom_cfg_string(cfg, key, f->limit_name[k + 1], sizeof f->limit_name[k + 1], err));
     snprintf(key, sizeof key, "limits.[%d].key", k);
@@ -544,39 +624,40 @@ static pom_status load_limits(pom_arch_file *f, const pom_cfg *cfg, pom_error *e
     int m = 0;
     snprintf(key, sizeof key, "limits.[%d].measure", k);
     POM_TRY(pom_cfg_choice(cfg, key, measures, &m, err));
-    lm->measure = (pom_af_measure)m;
-    const char *want = lm->measure == POM_AF_MEASURE_DISTANCE ? "_mm" : "_deg";
+    const char *want = m == 1 ? "_mm" : "_deg";
     size_t kl = strlen(f->limit_key[k + 1]);
     snprintf(key, sizeof key, "limits.[%d].key", k);
-    if (kl < 4 || strcmp(f->limit_key[k + 1] + kl - strlen(want), want) != 0)
+    if (kl < 5 || strcmp(f->limit_key[k + 1] + kl - strlen(want), want) != 0)
       return pom_cfg_error(cfg, key, NULL, err, "a %s limit's key ends in %s", measures[m], want);
-    long ja = 0, jb = 0;
-    snprintf(key, sizeof key, "limits.[%d].joints", k);
-    if (lm->measure == POM_AF_MEASURE_AXIS_ANGLE) {
+    if (m == 2) {
       snprintf(key, sizeof key, "limits.[%d].joint", k);
-      POM_TRY(pom_cfg_int(cfg, key, 1, 3, &ja, err));
-      jb = ja;
+      POM_TRY(read_joint(cfg, key, &lm->a, err));
+      lm->b = -1;
+      if (f->limb[0].joint[lm->a].type == POM_JOINT_SPHERICAL)
+        return pom_cfg_error(cfg, key, NULL, err, "joint %d is spherical: it has no axis",
+                             lm->a + 1);
     } else {
       double jj[2];
+      snprintf(key, sizeof key, "limits.[%d].joints", k);
       POM_TRY(pom_cfg_reals(cfg, key, 2, 1.0, 1.0, 3.0, jj, err));
       if (jj[0] != floor(jj[0]) || jj[1] != floor(jj[1]) || !(jj[0] < jj[1]))
         return pom_cfg_error(cfg, key, NULL, err,
                              "expected [a, b]: joints a < b of the limb (1, 2, 3) whose points "
                              "bound the segment");
-      ja = (long)jj[0];
-      jb = (long)jj[1];
+      lm->a = (int)jj[0] - 1;
+      lm->b = (int)jj[1] - 1;
     }
-    lm->joint_a = (int)ja - 1;
-    lm->joint_b = (int)jb - 1;
     static const char *const frames[] = {"fixed", "platform", NULL};
     int fr = 0;
     snprintf(key, sizeof key, "limits.[%d].frame", k);
-    if (lm->measure == POM_AF_MEASURE_CONE) {
+    if (m == 0) {
       POM_TRY(pom_cfg_choice(cfg, key, frames, &fr, err));
     } else if (pom_cfg_has(cfg, key)) {
       return pom_cfg_error(cfg, key, NULL, err, "only a cone has a frame");
     }
-    lm->frame_platform = fr;
+    lm->kind = m == 0   ? (fr ? POM_LIMB_MEASURE_CONE_PLATFORM : POM_LIMB_MEASURE_CONE_FIXED)
+               : m == 1 ? POM_LIMB_MEASURE_DISTANCE
+                        : POM_LIMB_MEASURE_AXIS_ANGLE;
     static const char *const bounds[] = {"upper", "lower", NULL};
     int lower = 0;
     snprintf(key, sizeof key, "limits.[%d].bound", k);
@@ -584,12 +665,11 @@ static pom_status load_limits(pom_arch_file *f, const pom_cfg *cfg, pom_error *e
     ld->name = f->limit_name[k + 1];
     ld->key = f->limit_key[k + 1];
     ld->json = f->limit_json[k + 1];
-    ld->per_pair = lm->measure != POM_AF_MEASURE_CONE;
+    ld->per_pair = m != 0;
     ld->lower = lower;
-    ld->unit = lm->measure == POM_AF_MEASURE_DISTANCE ? "mm" : "deg";
-    ld->to_display = lm->measure == POM_AF_MEASURE_DISTANCE ? 1e3 : 1.0 / POM_DEG;
-    ld->cls =
-        lm->measure == POM_AF_MEASURE_CONE ? POM_KIN_LIMCLASS_CONE : POM_KIN_LIMCLASS_INTERFERENCE;
+    ld->unit = m == 1 ? "mm" : "deg";
+    ld->to_display = m == 1 ? 1e3 : 1.0 / POM_DEG;
+    ld->cls = m == 0 ? POM_KIN_LIMCLASS_CONE : POM_KIN_LIMCLASS_INTERFERENCE;
     snprintf(key, sizeof key, "limits.[%d].range", k);
     POM_TRY(read_range(cfg, key, &ld->lo, &ld->hi, err));
     double def;
@@ -624,7 +704,9 @@ static pom_status load(pom_arch_file *f, const pom_cfg *cfg, pom_error *err) {
                                     "parameters",
                                     "inertia_values",
                                     "let",
+                                    "arc_radius",
                                     "limbs",
+                                    "bodies",
                                     "limits",
                                     NULL};
   scope s;
@@ -633,6 +715,9 @@ static pom_status load(pom_arch_file *f, const pom_cfg *cfg, pom_error *err) {
   POM_TRY(load_params(f, cfg, &s, err));
   POM_TRY(load_values(f, cfg, err));
   POM_TRY(load_lets(cfg, "let", &s, f->global, &f->n_globals, err));
+  f->has_arc_radius = pom_cfg_has(cfg, "arc_radius");
+  if (f->has_arc_radius)
+    POM_TRY(compile_at(cfg, "arc_radius", &s, POM_EXPR_SCALAR, &f->arc_radius, err));
   f->global_slots = s.slots;
   if (!pom_cfg_has(cfg, "limbs"))
     return pom_cfg_error(cfg, "limbs", NULL, err,
@@ -645,26 +730,20 @@ static pom_status load(pom_arch_file *f, const pom_cfg *cfg, pom_error *err) {
     f->per_limb = 1;
     for (int i = 0; i < 3; ++i) {
       snprintf(base, sizeof base, "limbs.[%d]", i);
-      POM_TRY(load_limb_table(f, cfg, base, s, &f->limb[i], err));
-      for (int j = 0; j < 3; ++j)
-        if (i > 0 && (f->limb[i].joint[j].type != f->limb[0].joint[j].type ||
-                      f->limb[i].joint[j].actuated != f->limb[0].joint[j].actuated)) {
-          char key[96];
-          snprintf(key, sizeof key, "limbs.[%d].joints.[%d].type", i, j);
-          return pom_cfg_error(cfg, key, NULL, err,
-                               "the three limbs have the same joint types and actuated joint "
-                               "(limb 1's joint %d differs)",
-                               j + 1);
-        }
+      POM_TRY(load_limb_table(f, cfg, base, s, &f->limb[i], i == 0, err));
     }
   } else {
     static const char *const sym[] = {"C3", NULL};
     int k = 0;
     POM_TRY(pom_cfg_choice(cfg, "limbs.symmetry", sym, &k, err));
-    POM_TRY(load_limb_table(f, cfg, "limbs", s, &f->limb[0], err));
+    POM_TRY(load_limb_table(f, cfg, "limbs", s, &f->limb[0], 1, err));
   }
+  POM_TRY(load_bodies(f, cfg, err));
   POM_TRY(load_limits(f, cfg, err));
   POM_TRY(pom_cfg_check_unknown(cfg, NULL, top, err));
+  f->table.central = f->central == POM_AF_CENTRAL_S      ? 1
+                     : f->central == POM_AF_CENTRAL_NONE ? 0
+                                                         : -1;
 
   pom_kin_arch_type *t = &f->type;
   t->name = f->name;
@@ -674,6 +753,7 @@ static pom_status load(pom_arch_file *f, const pom_cfg *cfg, pom_error *err) {
   t->optional_central_joint = f->central == POM_AF_CENTRAL_OPTIONAL;
   t->n_points = 0;
   t->points = NULL;
+  t->data_size = sizeof(pom_limb_table);
   t->from_design = from_design;
   return POM_OK;
 }
@@ -736,11 +816,11 @@ static pom_status eval_unit(const pom_arch_file *f, const pom_af_expr *x, const 
 
 #define AF_MAX_SLOTS (POM_KIN_MAX_PARAMS + 1 + 3 * 2 * POM_AF_MAX_LETS + LV_COUNT)
 
-pom_status pom_arch_file_eval(const pom_arch_file *f, const pom_kin_design *d, pom_af_geometry *g,
+pom_status pom_arch_file_eval(const pom_arch_file *f, const pom_kin_design *d, pom_limb_table *tb,
                               pom_error *err) {
   double slots[AF_MAX_SLOTS], v[3];
   const int np = f->type.n_params;
-  memset(g, 0, sizeof *g);
+  *tb = f->table;
   for (int k = 0; k < np; ++k)
     slots[k] = d->x[k];
   slots[np] = d->scale;
@@ -749,15 +829,19 @@ pom_status pom_arch_file_eval(const pom_arch_file *f, const pom_kin_design *d, p
     POM_TRY(eval_expr(f, &l->value, slots, -1, v, err));
     memcpy(slots + l->slot, v, sizeof(double) * (size_t)l->value.e.kind);
   }
+  if (f->has_arc_radius) {
+    POM_TRY(eval_expr(f, &f->arc_radius, slots, -1, v, err));
+    if (!(v[0] > 0.0)) return eval_fail(f, &f->arc_radius, -1, err, "a radius is positive");
+    tb->arc_radius = v[0];
+  }
   const int lv = f->global_slots;
   for (int i = 0; i < 3; ++i) {
     const pom_af_limb_table *t = &f->limb[f->per_limb ? i : 0];
-    pom_af_limb_num *L = &g->limb[i];
+    pom_limb *L = &tb->limb[i];
     slots[lv + LV_I] = (double)i;
     POM_TRY(eval_expr(f, &t->azimuth, slots, i, v, err));
     /* C3 symmetry: limb i at the azimuth of limb 1 plus i 120 deg */
     double eta = f->per_limb ? v[0] : v[0] + 2.0 * POM_PI * i / 3.0;
-    L->azimuth = eta;
     double *s = slots + lv;
     s[LV_ETA] = eta;
     s[LV_ER] = cos(eta);
@@ -769,7 +853,6 @@ pom_status pom_arch_file_eval(const pom_arch_file *f, const pom_kin_design *d, p
     s[LV_EZ] = 0.0;
     s[LV_EZ + 1] = 0.0;
     s[LV_EZ + 2] = 1.0;
-    pom_v3_copy(L->er, s + LV_ER);
     for (int k = 0; k < t->n_lets; ++k) {
       const pom_af_let *l = &t->let[k];
       POM_TRY(eval_expr(f, &l->value, slots, i, v, err));
@@ -777,12 +860,12 @@ pom_status pom_arch_file_eval(const pom_arch_file *f, const pom_kin_design *d, p
     }
     for (int j = 0; j < 3; ++j) {
       const pom_af_joint *jt = &t->joint[j];
-      pom_af_joint_num *J = &L->joint[j];
-      J->type = jt->type;
-      J->actuated = jt->actuated;
+      pom_limb_joint *J = &L->joint[j];
+      J->type = limb_joint_type(jt->type);
+      if (jt->actuated) L->actuated = j;
       POM_TRY(eval_expr(f, &jt->point, slots, i, J->point, err));
       if (jt->type != POM_JOINT_SPHERICAL) POM_TRY(eval_unit(f, &jt->axis, slots, i, J->axis, err));
-      if (jt->type == POM_JOINT_UNIVERSAL) {
+      if (jt->has_axis2) {
         POM_TRY(eval_unit(f, &jt->axis2, slots, i, J->axis2, err));
         double c = pom_v3_dot(J->axis, J->axis2);
         if (fabs(c) > 1e-9) {
@@ -794,34 +877,7 @@ pom_status pom_arch_file_eval(const pom_arch_file *f, const pom_kin_design *d, p
       }
     }
     L->branch = t->branch;
-    for (int b = 0; b < 2; ++b) {
-      const pom_af_body *bd = &f->body[b];
-      pom_af_body_num *B = &L->body[b];
-      B->model = bd->model;
-      if (bd->model == POM_AF_BODY_RIGID) {
-        POM_TRY(eval_expr(f, &t->body_from[b], slots, i, B->from, err));
-        POM_TRY(eval_unit(f, &t->body_axis[b], slots, i, B->axis, err));
-        if (bd->has_x_axis) {
-          POM_TRY(eval_unit(f, &t->body_x[b], slots, i, B->x_axis, err));
-          if (fabs(pom_v3_dot(B->x_axis, B->axis)) > 1e-9)
-            return eval_fail(f, &t->body_x[b], i, err,
-                             "a body's x axis is normal to its principal z axis");
-        }
-        if (bd->cm == POM_AF_CM_OFFSET)
-          POM_TRY(eval_unit(f, &t->body_to[b], slots, i, B->dir, err));
-        if (bd->cm == POM_AF_CM_FRACTION)
-          POM_TRY(eval_expr(f, &t->body_to[b], slots, i, B->to, err));
-      } else {
-        POM_TRY(eval_unit(f, &t->body_from[b], slots, i, B->arc_from, err));
-        POM_TRY(eval_unit(f, &t->body_to[b], slots, i, B->arc_to, err));
-        POM_TRY(eval_expr(f, &t->body_radius[b], slots, i, v, err));
-        if (!(v[0] > 0.0)) return eval_fail(f, &t->body_radius[b], i, err, "a radius is positive");
-        B->radius = v[0];
-        if (bd->value_mass >= 0) POM_TRY(eval_expr(f, &t->body_at[b], slots, i, B->mass_at, err));
-        if (bd->value_axial >= 0)
-          POM_TRY(eval_unit(f, &t->body_mass_axis[b], slots, i, B->mass_axis, err));
-      }
-    }
+    if (t->has_motor) POM_TRY(eval_expr(f, &t->motor, slots, i, L->motor, err));
   }
   return POM_OK;
 }
@@ -829,9 +885,8 @@ pom_status pom_arch_file_eval(const pom_arch_file *f, const pom_kin_design *d, p
 /* ---- the type's from_design --------------------------------------------------------- */
 static pom_status from_design(pom_kin_arch *arch, const pom_kin_design *d, pom_error *err) {
   const pom_arch_file *f = pom_arch_file_of(arch->type);
-  pom_af_geometry g;
-  POM_TRY(pom_arch_file_eval(f, d, &g, err));
-  POM_FAIL(err, POM_ERR_INTERNAL, "%s: the numeric limb table is not wired yet", f->name);
+  if (!f) POM_FAIL(err, POM_ERR_INTERNAL, "from_design of an architecture file on another type");
+  return pom_arch_file_eval(f, d, POM_LIMB_TABLE(arch), err);
 }
 
 /* ---- discovery ------------------------------------------------------------------------ */

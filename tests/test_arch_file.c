@@ -80,42 +80,103 @@ static void close3(const double *got, const double *want, double tol, const char
     if (!check_abs(got[c], want[c], tol)) printf("  %s, limb %d, component %d\n", what, i + 1, c);
 }
 
-/* Design d evaluated by the file and by the hand-coded type; returns 0 when
- * the hand-coded type refuses the design (singular home: skipped). */
+static void same_dir(pom_limb_dir got, int a, int b, const char *what) {
+  if (!check_true(got.a == a && got.b == b))
+    printf("  %s: {%d, %d}, want {%d, %d}\n", what, got.a, got.b, a, b);
+}
+
+/* The design-independent part of the table: the rules of arch_3pss.c,
+ * arch_3sps.c, arch_3rrr.c written as pom_limb.h's fields. */
+static void check_rules(const pom_limb_table *t, const char *name, double scale) {
+  const pom_limb_body *b0 = &t->body[0], *b1 = &t->body[1];
+  if (strcmp(name, "3PSS") == 0) {
+    /* piston: CM from B along d, z = d; link: CM a fraction of B -> C, z = B -> C */
+    check_true(strcmp(b0->name, "piston") == 0 && strcmp(b1->name, "link") == 0);
+    check_true(b0->model == POM_LIMB_MASS_GROUP && b0->group == 0 && b0->place == 1);
+    check_true(b0->cm_from == 0);
+    same_dir(b0->cm_dir, 0, -1, "piston cm_dir");
+    same_dir(b0->z_dir, 0, -1, "piston z");
+    same_dir(b0->x_dir, -1, -1, "piston x");
+    check_true(b1->model == POM_LIMB_MASS_GROUP && b1->group == 1 && b1->place == 2);
+    same_dir(b1->cm_dir, 1, 2, "link cm_dir");
+    same_dir(b1->z_dir, 1, 2, "link z");
+    check_true(strcmp(t->joint_name[0], "P") == 0 && strcmp(t->joint_name[1], "B") == 0 &&
+               strcmp(t->joint_name[2], "C") == 0);
+    for (int k = 1; k <= 3; ++k)
+      check_true(t->measure[k].a == 1 && t->measure[k].b == 2);
+    check_true(t->measure[1].kind == POM_LIMB_MEASURE_CONE_FIXED &&
+               t->measure[2].kind == POM_LIMB_MEASURE_CONE_PLATFORM &&
+               t->measure[3].kind == POM_LIMB_MEASURE_DISTANCE);
+    check_true(t->central == 1);
+  } else if (strcmp(name, "3SPS") == 0) {
+    /* cylinder: CM from A toward B; piston: from B toward A; both z = A -> B, x = U axis 1 */
+    check_true(strcmp(b0->name, "cylinder") == 0 && strcmp(b1->name, "piston") == 0);
+    check_true(b0->group == 0 && b0->place == 1 && b0->cm_from == 0);
+    same_dir(b0->cm_dir, 0, 2, "cylinder cm_dir");
+    same_dir(b0->z_dir, 0, 2, "cylinder z");
+    same_dir(b0->x_dir, 0, -1, "cylinder x");
+    check_true(b1->group == 1 && b1->place == 1 && b1->cm_from == 2);
+    same_dir(b1->cm_dir, 2, 0, "piston cm_dir");
+    same_dir(b1->z_dir, 0, 2, "piston z");
+    same_dir(b1->x_dir, 0, -1, "piston x");
+    check_true(strcmp(t->joint_name[0], "A") == 0 && strcmp(t->joint_name[1], "P") == 0 &&
+               strcmp(t->joint_name[2], "B") == 0);
+    for (int k = 1; k <= 3; ++k)
+      check_true(t->measure[k].a == 0 && t->measure[k].b == 2);
+    check_true(t->central == 1);
+  } else {
+    /* arcs u -> w and w -> v at the link radius; density, section, elbow mass,
+     * rotor mass, rotor inertia are inertia values 0..4 */
+    check_true(strcmp(b0->name, "proximal") == 0 && strcmp(b1->name, "distal") == 0);
+    check_true(b0->model == POM_LIMB_MASS_ARC && b1->model == POM_LIMB_MASS_ARC);
+    check_true(b0->arc_a == 0 && b0->arc_b == 1 && b1->arc_a == 1 && b1->arc_b == 2);
+    check_true(b0->v_density == 0 && b0->v_section == 1 && b1->v_density == 0 &&
+               b1->v_section == 1);
+    check_true(b0->v_point_mass == 3 && b0->point_joint == 0 && b0->v_rotor == 4 &&
+               b0->rotor_joint == 0);
+    check_true(b1->v_point_mass == 2 && b1->point_joint == 1 && b1->v_rotor == -1);
+    check_true(strcmp(t->joint_name[0], "U") == 0 && strcmp(t->joint_name[1], "W") == 0 &&
+               strcmp(t->joint_name[2], "V") == 0);
+    check_true(t->measure[1].kind == POM_LIMB_MEASURE_AXIS_ANGLE && t->measure[1].a == 1 &&
+               t->measure[1].b == -1 && t->measure[2].kind == POM_LIMB_MEASURE_NONE);
+    check_true(t->central == -1);
+    check_rel(t->arc_radius, scale, 1e-15);
+  }
+}
+
+/* Design d evaluated by the file (into the numeric table, through the
+ * type's from_design) and by the hand-coded type; returns 0 when the
+ * hand-coded type refuses the design (singular home: skipped). */
 static int compare_at(const pom_arch_file *f, const pom_kin_arch_type *h, const pom_kin_design *d) {
-  pom_kin_arch arch;
+  pom_kin_arch arch, ga;
   pom_error err;
   pom_error_clear(&err);
   if (pom_kin_arch_from_design(&arch, h, d, &err) != POM_OK) return 0;
-  pom_af_geometry g;
-  if (!check_true(pom_arch_file_eval(f, d, &g, &err) == POM_OK)) {
+  memset(&ga, 0, sizeof ga);
+  ga.type = &f->type;
+  if (!check_true(f->type.from_design(&ga, d, &err) == POM_OK)) {
     printf("  %s\n", err.message);
     return 0;
   }
+  const pom_limb_table *tb = POM_LIMB_CTABLE(&ga);
   const double tol = 1e-15; /* m for points (~1e-2 m), 1 for unit axes: a few ulps */
   const char *name = h->name;
+  check_rules(tb, name, d->scale);
   for (int i = 0; i < 3; ++i) {
-    const pom_af_limb_num *L = &g.limb[i];
-    check_true(L->branch == 0);
+    const pom_limb *L = &tb->limb[i];
+    check_true(L->branch == 0.0 && L->kernel == 0 && L->length == 0.0);
+    check_true(L->motor[0] == 0.0 && L->motor[1] == 0.0 && L->motor[2] == 0.0);
     if (strcmp(name, "3PSS") == 0) {
       const double *C = pom_kin_arch_points(&arch, "platform_points_m") + 3 * i;
       const double *B = pom_kin_arch_points(&arch, "slider_points_m") + 3 * i;
       const double *dd = pom_kin_arch_points(&arch, "slider_axes") + 3 * i;
-      check_true(L->joint[0].type == POM_JOINT_PRISMATIC && L->joint[0].actuated);
-      check_true(L->joint[1].type == POM_JOINT_SPHERICAL && !L->joint[1].actuated);
-      check_true(L->joint[2].type == POM_JOINT_SPHERICAL && !L->joint[2].actuated);
+      check_true(L->actuated == 0);
+      check_true(L->joint[0].type == POM_LIMB_JOINT_P && L->joint[1].type == POM_LIMB_JOINT_S &&
+                 L->joint[2].type == POM_LIMB_JOINT_S);
       close3(L->joint[0].point, B, tol, "3PSS slider point", i);
       close3(L->joint[0].axis, dd, tol, "3PSS slider axis", i);
       close3(L->joint[1].point, B, tol, "3PSS joint B", i);
       close3(L->joint[2].point, C, tol, "3PSS joint C", i);
-      /* bodies: the piston along d from B, the link B -> C */
-      close3(L->body[0].from, B, tol, "3PSS piston cm start", i);
-      close3(L->body[0].dir, dd, tol, "3PSS piston offset direction", i);
-      close3(L->body[1].to, C, tol, "3PSS link fraction end", i);
-      double s[3];
-      pom_v3_sub(s, C, B);
-      pom_v3_normalize(s, s);
-      close3(L->body[1].axis, s, tol, "3PSS link axis", i);
     } else if (strcmp(name, "3SPS") == 0) {
       const double *B = pom_kin_arch_points(&arch, "platform_points_m") + 3 * i;
       const double *A = pom_kin_arch_points(&arch, "base_points_m") + 3 * i;
@@ -126,35 +187,27 @@ static int compare_at(const pom_arch_file *f, const pom_kin_arch_type *h, const 
       pom_v3_cross(a2, s, a1);
       pom_v3_normalize(a2, a2);
       pom_v3_axpy(mid, A, 0.5 * L0, s);
-      check_true(L->joint[0].type == POM_JOINT_UNIVERSAL && !L->joint[0].actuated);
-      check_true(L->joint[1].type == POM_JOINT_PRISMATIC && L->joint[1].actuated);
-      check_true(L->joint[2].type == POM_JOINT_SPHERICAL);
+      check_true(L->actuated == 1);
+      check_true(L->joint[0].type == POM_LIMB_JOINT_U && L->joint[1].type == POM_LIMB_JOINT_P &&
+                 L->joint[2].type == POM_LIMB_JOINT_S);
       close3(L->joint[0].point, A, tol, "3SPS U-joint A", i);
       close3(L->joint[0].axis, a1, tol, "3SPS U axis 1", i);
       close3(L->joint[0].axis2, a2, tol, "3SPS U axis 2", i);
       close3(L->joint[1].point, mid, tol, "3SPS prismatic mid point", i);
       close3(L->joint[1].axis, s, tol, "3SPS limb axis", i);
       close3(L->joint[2].point, B, tol, "3SPS platform joint B", i);
-      close3(L->body[0].x_axis, a1, tol, "3SPS cylinder x axis", i);
-      close3(L->body[1].from, B, tol, "3SPS piston cm start", i);
     } else {
       const double *u = pom_kin_arch_points(&arch, "base_axes") + 3 * i;
       const double *w = pom_kin_arch_points(&arch, "elbow_axes") + 3 * i;
       const double *v = pom_kin_arch_points(&arch, "platform_axes") + 3 * i;
+      check_true(L->actuated == 0);
       for (int j = 0; j < 3; ++j) {
-        check_true(L->joint[j].type == POM_JOINT_REVOLUTE && L->joint[j].actuated == (j == 0));
+        check_true(L->joint[j].type == POM_LIMB_JOINT_R);
         close3(L->joint[j].point, (const double[3]){0, 0, 0}, 0.0, "3RRR joint at O", i);
       }
       close3(L->joint[0].axis, u, tol, "3RRR base axis u", i);
       close3(L->joint[1].axis, w, tol, "3RRR elbow axis w", i);
       close3(L->joint[2].axis, v, tol, "3RRR platform axis v", i);
-      close3(L->body[0].arc_from, u, tol, "3RRR proximal arc start", i);
-      close3(L->body[1].arc_to, v, tol, "3RRR distal arc end", i);
-      check_rel(L->body[0].radius, d->scale, 1e-15);
-      double ru[3];
-      pom_v3_scale(ru, d->scale, u);
-      close3(L->body[0].mass_at, ru, tol, "3RRR rotor position", i);
-      close3(L->body[0].mass_axis, u, tol, "3RRR rotor axis", i);
     }
   }
   return 1;
@@ -262,6 +315,51 @@ static void bad_file(const char *base_file, const char *from, const char *to,
   bad_file_nth(base_file, 1, from, to, want);
 }
 
+/* A variant that loads: the stored branch and the footprint point reach
+ * the table. */
+static void branch_and_motor(void) {
+  char path[512];
+  snprintf(path, sizeof path, "%s/catalog/3pss.arch", POM_SOURCE_DIR);
+  char *text = read_text(path);
+  char *at = text ? strstr(text, "branch = \"home\";") : NULL;
+  check_true(at != NULL);
+  if (!at) {
+    free(text);
+    return;
+  }
+  FILE *fp = fopen("test_arch_file_var.arch", "wb");
+  check_true(fp != NULL);
+  if (!fp) {
+    free(text);
+    return;
+  }
+  fwrite(text, 1, (size_t)(at - text), fp);
+  fputs("branch = -1; motor = \"B + 0.25*r*d\";", fp);
+  fputs(at + strlen("branch = \"home\";"), fp);
+  check_true(fclose(fp) == 0);
+  free(text);
+  pom_arch_file *f = NULL;
+  pom_error err;
+  pom_error_clear(&err);
+  if (!check_true(pom_arch_file_load(&f, "test_arch_file_var.arch", &err) == POM_OK)) {
+    printf("  %s\n", err.message);
+    return;
+  }
+  pom_kin_design d;
+  config_design("3pss.cfg", &d);
+  pom_limb_table t;
+  check_true(pom_arch_file_eval(f, &d, &t, &err) == POM_OK);
+  for (int i = 0; i < 3; ++i) {
+    const pom_limb_joint *P = &t.limb[i].joint[0];
+    double want[3];
+    pom_v3_axpy(want, P->point, 0.25 * d.scale, P->axis);
+    check_true(t.limb[i].branch == -1.0);
+    close3(t.limb[i].motor, want, 1e-17, "motor", i);
+  }
+  pom_arch_file_destroy(f);
+  remove("test_arch_file_var.arch");
+}
+
 #define WANT(...) ((const char *const[]){__VA_ARGS__, NULL})
 
 static void bad_files(void) {
@@ -287,8 +385,8 @@ static void bad_files(void) {
   bad_file("catalog/3pss.arch", "type = \"S\"; point = \"C\";",
            "type = \"S\"; point = \"C\"; axis = \"d\";",
            WANT("key 'limbs.joints.[2].axis'", "a spherical joint (S) has no axis"));
-  bad_file("catalog/3sps.arch", "axis2 = \"a2\";", "",
-           WANT("key 'limbs.joints.[0].axis2'", "missing"));
+  bad_file("catalog/3sps.arch", "axis = \"s\"; actuated", "axis = \"s\"; axis2 = \"a2\"; actuated",
+           WANT("key 'limbs.joints.[1].axis2'", "only a universal joint (U) has a second axis"));
   /* an unknown joint type and an unknown top-level key */
   bad_file("catalog/3pss.arch", "type = \"P\";", "type = \"Q\";",
            WANT("key 'limbs.joints.[0].type' = \"Q\""));
@@ -329,8 +427,18 @@ static void bad_files(void) {
            "frame = \"fixed\"; joints = [3, 2]", WANT("key 'limits.[0].joints'", "joints a < b"));
   /* bodies: one only, an unknown inertia value */
   bad_file("catalog/3rrr.arch", "mass = \"elbow_mass_kg\"", "mass = \"elbow_mas_kg\"",
-           WANT("key 'limbs.bodies.[1].point_mass.mass' = \"elbow_mas_kg\"",
+           WANT("key 'bodies.[1].point_mass.mass' = \"elbow_mas_kg\"",
                 "not one of the inertia_values keys"));
+  bad_file("catalog/3rrr.arch", "arc_radius = \"r\";", "",
+           WANT("key 'arc_radius'", "arc bodies need their radius"));
+  bad_file("catalog/3pss.arch", "along = [1]; axis = [1]", "along = [2]; axis = [1]",
+           WANT("key 'bodies.[0].along' = [array of 1]", "joint 2 is spherical: it has no axis"));
+  bad_file("catalog/3pss.arch", "between = [2, 3]", "between = [1]",
+           WANT("key 'bodies.[1].between'", "a fraction lies between two joints"));
+  /* a chain no kernel solves: P-S-S actuated at its second joint */
+  bad_file("catalog/3pss.arch", "{ name = \"B\"; type = \"S\"; point = \"B\"; }",
+           "{ name = \"B\"; type = \"P\"; point = \"B\"; axis = \"d\"; }",
+           WANT("key 'limbs.joints'", "no inverse-kinematics kernel solves this chain"));
   /* a syntax error inside a file that libconfig reads: line of the parse error */
   bad_file("catalog/3pss.arch", "format = 1;", "format = = 1;", WANT("test_arch_file_bad.arch:"));
 }
@@ -342,7 +450,7 @@ static void bad_designs(void) {
   if (!f) return;
   pom_kin_design d;
   config_design("3rrr.cfg", &d);
-  pom_af_geometry g;
+  pom_limb_table g;
   pom_error err;
   pom_error_clear(&err);
   pom_kin_design e = d;
@@ -381,11 +489,11 @@ static void per_limb_form(void) {
   check_true(b->per_limb == 0);
   pom_kin_design d;
   config_design("3pss.cfg", &d);
-  pom_af_geometry ga, gb;
+  pom_limb_table ga, gb;
   check_true(pom_arch_file_eval(a, &d, &ga, &err) == POM_OK);
   check_true(pom_arch_file_eval(b, &d, &gb, &err) == POM_OK);
   for (int i = 0; i < 3; ++i) {
-    check_abs(ga.limb[i].azimuth, gb.limb[i].azimuth, 0.0);
+    check_true(ga.limb[i].actuated == gb.limb[i].actuated);
     for (int j = 0; j < 3; ++j) {
       close3(ga.limb[i].joint[j].point, gb.limb[i].joint[j].point, 0.0, "list-form point", i);
       close3(ga.limb[i].joint[j].axis, gb.limb[i].joint[j].axis, 0.0, "list-form axis", i);
@@ -434,6 +542,7 @@ int main(void) {
   check_type("3sps.arch", "3SPS", "3sps.cfg");
   check_type("3rrr.arch", "3RRR", "3rrr.cfg");
   per_limb_form();
+  branch_and_motor();
   discovery();
   bad_files();
   bad_designs();

@@ -32,14 +32,17 @@ static int finite3(const double v[3]) {
   return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
 }
 
-static void check_geometry(const pom_af_geometry *g) {
-  for (int i = 0; i < 3; ++i)
+static void check_geometry(const pom_limb_table *g) {
+  for (int i = 0; i < 3; ++i) {
+    if (!finite3(g->limb[i].motor)) abort();
     for (int j = 0; j < 3; ++j) {
-      const pom_af_joint_num *J = &g->limb[i].joint[j];
+      const pom_limb_joint *J = &g->limb[i].joint[j];
       if (!finite3(J->point)) abort();
-      if (J->type != POM_JOINT_SPHERICAL && fabs(pom_v3_norm(J->axis) - 1.0) > 1e-12) abort();
-      if (J->type == POM_JOINT_UNIVERSAL && fabs(pom_v3_norm(J->axis2) - 1.0) > 1e-12) abort();
+      if (J->type != POM_LIMB_JOINT_S && fabs(pom_v3_norm(J->axis) - 1.0) > 1e-12) abort();
+      if (pom_v3_norm(J->axis2) != 0.0 && fabs(pom_v3_norm(J->axis2) - 1.0) > 1e-12) abort();
     }
+  }
+  if (!isfinite(g->arc_radius)) abort();
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
@@ -54,7 +57,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (f) abort();
     return 0;
   }
-  pom_af_geometry *g = malloc(sizeof *g);
+  pom_limb_table *g = malloc(sizeof *g);
   if (!g) abort();
   for (int end = -1; end <= 1; ++end) {
     pom_kin_design d;
