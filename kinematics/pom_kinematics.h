@@ -23,7 +23,7 @@
 
 typedef struct pom_kin_arch_type pom_kin_arch_type; /* an architecture's op table (pom_arch.h) */
 
-#define POM_KIN_MAX_PARAMS 12 /* design parameters of one architecture */
+#define POM_KIN_MAX_PARAMS 12  /* design parameters of one architecture */
 #define POM_KIN_ARCH_DATA  192 /* doubles of private geometry data of one architecture */
 
 /* Design parameters of an architecture: its dimensionless parameters (ratios
