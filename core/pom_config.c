@@ -815,6 +815,12 @@ int pom_cfg_length(const pom_cfg *cfg, const char *key) {
   return config_setting_length(s);
 }
 
+const char *pom_cfg_member_name(const pom_cfg *cfg, const char *key, int k) {
+  config_setting_t *s = lookup(cfg, key);
+  if (!s || !config_setting_is_group(s) || k < 0 || k >= config_setting_length(s)) return NULL;
+  return config_setting_name(config_setting_get_elem(s, (unsigned int)k));
+}
+
 void pom_cfg_mark_used(const pom_cfg *cfg, const char *key) {
   config_setting_t *s = lookup(cfg, key);
   if (!s) return;

@@ -58,6 +58,11 @@ int pom_cfg_is_list(const pom_cfg *cfg, const char *key);
 /* Number of elements of a list/array/group at key, 0 when absent. */
 int pom_cfg_length(const pom_cfg *cfg, const char *key);
 
+/* Name of member k (0-based) of the group at key, NULL when key is not a
+ * group or k is out of range (does not mark it used). The name lives as
+ * long as cfg. */
+const char *pom_cfg_member_name(const pom_cfg *cfg, const char *key, int k);
+
 /* Marks a key (and everything below it) as used without reading it. */
 void pom_cfg_mark_used(const pom_cfg *cfg, const char *key);
 

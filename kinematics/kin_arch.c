@@ -158,6 +158,12 @@ pom_status pom_kin_arch_load(pom_kin_arch *arch, const pom_cfg *cfg, pom_error *
     if (pom_kin_arch_from_design(arch, type, &d, &sub) != POM_OK)
       return pom_cfg_error(cfg, "geometry", NULL, err, "degenerate design: %s", sub.message);
   } else {
+    /* a type described by a file has its design parameters only */
+    if (type->n_points == 0)
+      return pom_cfg_error(cfg, "geometry.mode", NULL, err,
+                           "architecture %s has no points form: give its design parameters "
+                           "(mode = \"parameters\")",
+                           type->name);
     memset(arch, 0, sizeof *arch);
     arch->type = type;
     arch->central_joint = !type->optional_central_joint;

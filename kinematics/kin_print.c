@@ -92,7 +92,7 @@ void pom_kin_mechanism_json(FILE *out, const pom_kin_arch *a, const pom_mechanis
     } else {
       fprintf(out, "null");
     }
-    fprintf(out, ", \"actuator\": ");
+    fprintf(out, ", \"actuated\": %s, \"actuator\": ", jt->actuator >= 0 ? "true" : "false");
     if (jt->actuator >= 0) {
       fprintf(out, "%d", jt->actuator);
     } else {

@@ -136,3 +136,8 @@ if(NOT POM_SANITIZE)
     WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
   set_tests_properties(test_docs_long PROPERTIES SKIP_RETURN_CODE 77 LABELS long)
 endif()
+# pomlab model --json describes every body and joint well enough to rebuild
+# the mechanism (issue 27 item 4)
+add_test(NAME test_model_json
+  COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/test_model_json.py $<TARGET_FILE:pomlab>
+          ${CMAKE_SOURCE_DIR})

@@ -4,7 +4,7 @@
 # Usage: run_fuzzer.sh FUZZER WORKDIR SECONDS MAX_LEN DICT SEED_DIR CONFIG_DIR...
 #   DICT        libFuzzer dictionary (tests/fuzz/pomlab.dict)
 #   SEED_DIR    committed seeds of this target (every file in it)
-#   CONFIG_DIR  folders whose *.cfg files are seeds too
+#   CONFIG_DIR  folders whose *.cfg and *.arch files are seeds too
 # Fails (exit 1) on any crash, leak, undefined behaviour, timeout or memory
 # blow-up; the input that did it is left in WORKDIR with the command that
 # replays it.
@@ -22,7 +22,7 @@ for f in "$seed_dir"/*; do
   n=$((n + 1))
 done
 for d in "$@"; do
-  for f in "$d"/*.cfg; do
+  for f in "$d"/*.cfg "$d"/*.arch; do
     [ -f "$f" ] || continue
     cp "$f" "$work/seeds/$(basename "$d")-$(basename "$f")"
     n=$((n + 1))
