@@ -6,6 +6,7 @@
 #if POM_CLI_LIGHT
 #define _POSIX_C_SOURCE 200809L /* readlink, execv */
 #endif
+#include "pom_arch_file.h"
 #include "pom_cli.h"
 #include "pom_version.h"
 #if !POM_CLI_LIGHT
@@ -125,7 +126,17 @@ int main(int argc, char **argv) {
     if (strcmp(argv[1], commands[k].name) == 0) {
 #if POM_CLI_LIGHT
       if (!commands[k].fn) return run_full(argv);
-#else
+#endif
+      /* the architecture files: the catalog and $POMLAB_ARCHITECTURES
+       * (docs/architecture-files.md section 4), registered before any
+       * config is read */
+      pom_error aerr;
+      pom_error_clear(&aerr);
+      if (pom_arch_files_register_all(&aerr) != POM_OK) {
+        fprintf(stderr, "pomlab: architecture files: %s\n", aerr.message);
+        return 2;
+      }
+#if !POM_CLI_LIGHT
       /* a file that failed to close must not crash HDF5's exit handler */
       pom_h5_startup();
 #endif

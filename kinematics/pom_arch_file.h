@@ -151,4 +151,18 @@ pom_status pom_arch_file_set_load(pom_arch_file_set *set, const char *catalog_di
                                   const char *extra, pom_error *err);
 void pom_arch_file_set_free(pom_arch_file_set *set);
 
+/* ---- registration (kin_arch_file_register.c: needs the numerics,
+ * kinematics/pom_limb.h) ------------------------------------------------------ */
+/* Fills f's operations (pom_limb_type_ops) and registers its type
+ * (pom_kin_arch_register: refused when the name is taken). f must outlive
+ * every use of the registry. */
+pom_status pom_arch_file_register(pom_arch_file *f, pom_error *err);
+
+/* Registers, once per process, the files of pom_arch_catalog_dir() and of
+ * $POMLAB_ARCHITECTURES (a ':'-separated list of files and folders), kept
+ * for the process's lifetime; later calls do nothing. Call it before any
+ * config names one of them and before any thread reads the registry. The
+ * first failure names its file; the files registered before it stay. */
+pom_status pom_arch_files_register_all(pom_error *err);
+
 #endif

@@ -141,3 +141,6 @@ endif()
 add_test(NAME test_model_json
   COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/test_model_json.py $<TARGET_FILE:pomlab>
           ${CMAKE_SOURCE_DIR})
+add_test(NAME test_arch_file_cli
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_arch_file_cli.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
