@@ -73,12 +73,6 @@ void pom_job_capability_json(FILE *out, const pom_doe_study *study, const pom_do
                                    : "false");
 }
 
-/* "bw_worst_hz >= 100" */
-static void requirement_text(char *buf, size_t cap, const pom_cap_requirement *q) {
-  snprintf(buf, cap, "%s %s %.6g", pom_cap_figure_name(q->figure),
-           q->at_most ? "<=" : ">=", q->bound);
-}
-
 static double figure_of(const pom_doe_candidate *cand, int i) {
   return cand->capability_done ? cand->capability[i] : NAN;
 }
@@ -140,7 +134,7 @@ void pom_job_capability_excluded_json(FILE *out, const pom_doe_study *study,
       double v = figure_of(cand, q->figure);
       if (pom_cap_requirement_met(q, v)) continue;
       char text[96];
-      requirement_text(text, sizeof text, q);
+      pom_cap_requirement_text(text, sizeof text, q);
       fprintf(out, "%s{\"requirement\": \"%s\", \"figure\": \"%s\", \"value\": ", k++ ? ", " : "",
               text, pom_cap_figure_name(q->figure));
       if (isfinite(v))

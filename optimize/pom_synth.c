@@ -257,7 +257,7 @@ pom_status pom_syn_load(pom_syn_problem *pb, const pom_cfg *cfg, pom_error *err)
   long scan = pb->scale_scan;
   POM_TRY(pom_cfg_int_opt(cfg, "synthesis.scale_scan", 2, 1000, scan, &scan, err));
   pb->scale_scan = (int)scan;
-  return POM_OK;
+  return pom_syn_cap_load(pb, cfg, err);
 }
 
 /* ---- geometry and responses --------------------------------------------- */
@@ -668,6 +668,8 @@ pom_status pom_syn_finish(pom_syn_run *run, pom_error *err) {
   POM_TRY_GOTO(pom_syn_arch(pb, run->x_written, run->scale, &run->scaled, err), done);
   POM_TRY_GOTO(pom_syn_responses(pb, &run->scaled, run->scaled_resp, err), done);
   run->scaled_done = 1;
+  /* the capability floor on the final optima (synthesis.capability_require) */
+  POM_TRY_GOTO(pom_syn_cap_filter(run, err), done);
   goto done;
 
 surrogate_failed:
