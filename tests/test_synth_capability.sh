@@ -126,7 +126,14 @@ assert c['met'] is False and c['switched'] is False and len(c['checks']) == 2, c
 for k in c['checks']:
     q = k['requirements'][0]
     assert q['figure'] == 'bw_worst_hz' and q['bound'] == 100 and 40 < q['value'] < 100, q
-" || { echo "FAIL: unmet floor JSON"; fail=1; }
+import glob, h5py
+with h5py.File(glob.glob('$TMP/n_*.h5')[0], 'r') as f:
+    g = f['capability']
+    assert g.attrs['met'] == 0 and g['checks'].shape == (2, 5), g['checks'].shape
+    for row, k in zip(g['checks'][:], c['checks']):
+        assert row[3] == k['requirements'][0]['value'] or abs(row[3] / k['requirements'][0]['value'] - 1) < 1e-9
+        assert row[4] == 0 and row[2] == 0
+" || { echo "FAIL: unmet floor JSON and HDF5"; fail=1; }
 
 # the syntax is study.capability_require's: refused naming file, key, value
 syn "$TMP/bad.cfg" '"bw_worst_hz > 100"'
