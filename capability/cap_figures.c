@@ -157,6 +157,6 @@ pom_status pom_cap_requirements_load(const pom_cfg *cfg, const char *key, pom_ca
 }
 
 void pom_cap_requirement_text(char *buf, size_t cap, const pom_cap_requirement *q) {
-  snprintf(buf, cap, "%s %s %.6g", pom_cap_figure_name(q->figure), q->at_most ? "<=" : ">=",
-           q->bound);
+  snprintf(buf, cap, "%s %s %.6g", pom_cap_figure_name(q->figure),
+           q->at_most ? "<=" : ">=", q->bound);
 }

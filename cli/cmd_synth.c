@@ -165,7 +165,7 @@ int pom_cmd_synth(int argc, char **argv) {
       /* the floor holds for no optimum: the files are written for
        * inspection, and the exit status says it */
       char why[1024];
-      pom_syn_cap_failure_text(runs[c], why, sizeof why);
+      pom_syn_cap_failure(runs[c], why, sizeof why);
       fprintf(stderr, "pomlab synth: %s: no optimum meets synthesis.capability_require: %s\n",
               cfg_paths[c], why);
       code = 1;

@@ -206,7 +206,7 @@ static pom_status synthesize(pipe_ctx *ctx, const pom_pipeline_options *o, relay
     /* the capability floor (synthesis.capability_require) holds for no
      * optimum: the study would run a design that fails it */
     char why[1024];
-    pom_syn_cap_failure_text(run, why, sizeof why);
+    pom_syn_cap_failure(run, why, sizeof why);
     POM_FAIL_GOTO(err, POM_ERR_LIMIT, done, "no optimum meets synthesis.capability_require: %s",
                   why);
   }

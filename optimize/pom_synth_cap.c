@@ -4,7 +4,8 @@
  * with the config's inertia, actuator and controller, checked on the final
  * optima (the written one, then the other when it fails), never inside the
  * optimizers: one capability run costs seconds, the optimizers make
- * thousands of evaluations. */
+ * thousands of evaluations. The choice of the optima to check and the
+ * switch are pom_syn_finish's (pom_synth.c); this file only evaluates. */
 #include "pom_synth.h"
 
 #include "pom_math.h"
@@ -14,10 +15,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-pom_status pom_syn_cap_load(pom_syn_problem *pb, const pom_cfg *cfg, pom_error *err) {
+pom_status pom_syn_cap_load(pom_syn_cap *c, const pom_kin_arch *base, const pom_cfg *cfg,
+                            pom_error *err) {
   static const char *const key = "synthesis.capability_require";
   static const char *const gkey = "synthesis.capability_grid_points";
-  pom_syn_cap *c = &pb->cap;
   memset(c, 0, sizeof *c);
   POM_TRY(pom_cap_requirements_load(cfg, key, c->req, POM_SYN_MAX_CAP_REQUIRE, &c->n, err));
   if (c->n == 0) {
@@ -32,7 +33,7 @@ pom_status pom_syn_cap_load(pom_syn_problem *pb, const pom_cfg *cfg, pom_error *
   for (int j = 0; j < c->n; ++j)
     c->want[c->req[j].figure] = 1;
   /* the model the figures need besides the geometry: the config's own */
-  POM_TRY(pom_kin_inertia_load(&c->inertia, &pb->base, cfg, err));
+  POM_TRY(pom_kin_inertia_load(&c->inertia, base, cfg, err));
   pom_dyn_params_defaults(&c->params);
   POM_TRY(pom_dyn_params_load(&c->params, cfg, err));
   POM_TRY(pom_cap_load(&c->opts, cfg, err));
@@ -48,31 +49,7 @@ static void judge(const pom_syn_cap *c, pom_syn_cap_check *ck) {
   }
 }
 
-/* The figures of the scaled geometry arch into ck; a failed capability run
- * leaves them NaN (not met) with a note. POM_ERR_NOMEM only. */
-static pom_status check_arch(const pom_syn_problem *pb, const pom_kin_arch *arch,
-                             pom_syn_cap_check *ck, pom_error *err) {
-  pom_mechanism *mech = calloc(1, sizeof *mech);
-  if (!mech) POM_FAIL(err, POM_ERR_NOMEM, "synthesis.capability_require: out of memory");
-  pom_cap_result res;
-  memset(&res, 0, sizeof res);
-  pom_error e;
-  pom_error_clear(&e);
-  pom_status st = pom_kin_mechanism_from(mech, arch, &pb->cap.inertia, &e);
-  if (st == POM_OK) st = pom_cap_run(arch, &pb->ws, mech, &pb->cap.params, &pb->cap.opts, &res, &e);
-  if (st == POM_OK)
-    for (int i = 0; i < POM_CAP_N_FIGURES; ++i)
-      ck->value[i] = pb->cap.want[i] ? pom_cap_figure_value(&res, i) : NAN;
-  else
-    snprintf(ck->note, sizeof ck->note, "capability run failed: %s", e.message);
-  judge(&pb->cap, ck);
-  pom_cap_result_free(&res);
-  free(mech);
-  return st == POM_ERR_NOMEM ? pom_error_set(err, st, __FILE__, __LINE__, "%s", e.message)
-                             : POM_OK;
-}
-
-static void start_check(pom_syn_cap_check *ck, int direct, const double *x, double d) {
+void pom_syn_cap_check_start(pom_syn_cap_check *ck, int direct, const double *x, double d) {
   memset(ck, 0, sizeof *ck);
   ck->direct = direct;
   memcpy(ck->x, x, sizeof ck->x);
@@ -82,66 +59,38 @@ static void start_check(pom_syn_cap_check *ck, int direct, const double *x, doub
     ck->value[i] = NAN;
 }
 
-static void progress(pom_syn_run *run, long done, long total) {
-  if (run->progress) run->progress(run->progress_user, "capability", done, total);
+void pom_syn_cap_check_unevaluated(const pom_syn_cap *c, pom_syn_cap_check *ck, const char *why) {
+  snprintf(ck->note, sizeof ck->note, "%s", why);
+  judge(c, ck);
 }
 
-pom_status pom_syn_cap_filter(pom_syn_run *run, pom_error *err) {
-  const pom_syn_problem *pb = run->pb;
-  run->n_cap_checks = 0;
-  run->cap_met = 0;
-  run->cap_switched = 0;
-  if (pb->cap.n == 0 || !run->scaled_done) return POM_OK;
-  int other = run->direct_done; /* a second optimum exists */
-  if (other) other = memcmp(run->x_opt, run->x_direct, sizeof(double) * (size_t)pb->n_vars) != 0;
-  /* the optimum synthesis.write chose, as scaled */
-  pom_syn_cap_check *a = &run->cap_check[run->n_cap_checks++];
-  start_check(a, run->written_direct, run->x_written, run->d_written);
-  a->scale = run->scale;
-  progress(run, 0, 1 + other);
-  POM_TRY(check_arch(pb, &run->scaled, a, err));
-  progress(run, 1, 1 + other);
-  run->cap_met = a->all_met;
-  if (a->all_met || !other) return POM_OK;
-  /* it fails: the other optimum, scaled and checked; written when it meets the floor */
-  pom_syn_cap_check *b = &run->cap_check[run->n_cap_checks++];
-  int direct = !a->direct;
-  start_check(b, direct, direct ? run->x_direct : run->x_opt,
-              direct ? run->d_direct : run->d_confirmed);
+pom_status pom_syn_cap_check_arch(const pom_syn_cap *c, const pom_kin_ws_opts *ws,
+                                  const pom_kin_arch *arch, pom_syn_cap_check *ck, pom_error *err) {
+  pom_mechanism *mech = calloc(1, sizeof *mech);
+  if (!mech) POM_FAIL(err, POM_ERR_NOMEM, "synthesis.capability_require: out of memory");
+  pom_cap_result res;
+  memset(&res, 0, sizeof res);
   pom_error e;
   pom_error_clear(&e);
-  int evals = 0;
-  pom_kin_arch arch;
-  pom_status st = pom_syn_scale(pb, b->x, &b->scale, &evals, &e);
-  if (st == POM_OK) st = pom_syn_arch(pb, b->x, b->scale, &arch, &e);
-  if (st != POM_OK) {
-    snprintf(b->note, sizeof b->note, "not scaled to the stroke: %s", e.message);
-    b->scale = NAN;
-    judge(&pb->cap, b);
-    progress(run, 2, 2);
-    return POM_OK;
-  }
-  POM_TRY(check_arch(pb, &arch, b, err));
-  progress(run, 2, 2);
-  if (!b->all_met) return POM_OK;
-  run->written_direct = b->direct;
-  memcpy(run->x_written, b->x, sizeof run->x_written);
-  run->d_written = b->d;
-  run->scale = b->scale;
-  run->scaled = arch;
-  run->scale_evals += evals;
-  POM_TRY(pom_syn_responses(pb, &run->scaled, run->scaled_resp, err));
-  run->cap_met = 1;
-  run->cap_switched = 1;
-  return POM_OK;
+  pom_status st = pom_kin_mechanism_from(mech, arch, &c->inertia, &e);
+  if (st == POM_OK) st = pom_cap_run(arch, ws, mech, &c->params, &c->opts, &res, &e);
+  if (st == POM_OK)
+    for (int i = 0; i < POM_CAP_N_FIGURES; ++i)
+      ck->value[i] = c->want[i] ? pom_cap_figure_value(&res, i) : NAN;
+  else
+    snprintf(ck->note, sizeof ck->note, "capability run failed: %s", e.message);
+  judge(c, ck);
+  pom_cap_result_free(&res);
+  free(mech);
+  return st == POM_ERR_NOMEM ? pom_error_set(err, st, __FILE__, __LINE__, "%s", e.message) : POM_OK;
 }
 
-void pom_syn_cap_failure_text(const pom_syn_run *run, char *buf, size_t cap) {
-  const pom_syn_cap *c = &run->pb->cap;
+void pom_syn_cap_failure_text(const pom_syn_cap *c, const pom_syn_cap_check *checks, int n,
+                              char *buf, size_t cap) {
   size_t used = 0;
   buf[0] = '\0';
-  for (int k = 0; k < run->n_cap_checks; ++k) {
-    const pom_syn_cap_check *ck = &run->cap_check[k];
+  for (int k = 0; k < n; ++k) {
+    const pom_syn_cap_check *ck = &checks[k];
     int w = snprintf(buf + used, cap - used, "%s%s optimum:", k ? "; " : "",
                      ck->direct ? "direct-search" : "surrogate");
     if (w > 0 && (size_t)w < cap - used) used += (size_t)w;

@@ -70,8 +70,9 @@ static void cap_text(FILE *out, const pom_syn_run *run) {
             run->written_direct ? "direct-search" : "surrogate",
             run->written_direct ? "surrogate" : "direct-search");
   else if (!run->cap_met)
-    fprintf(out, "  NO optimum meets the floor: the %s one is written for inspection; exit "
-                 "status 1\n",
+    fprintf(out,
+            "  NO optimum meets the floor: the %s one is written for inspection; exit "
+            "status 1\n",
             run->written_direct ? "direct-search" : "surrogate");
 }
 

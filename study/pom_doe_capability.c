@@ -41,8 +41,8 @@ pom_status pom_doe_capability_load(pom_doe_study *study, const pom_cfg *cfg, pom
       want(study, i);
   }
   int max = (int)(sizeof study->requirement / sizeof study->requirement[0]);
-  POM_TRY(pom_cap_requirements_load(cfg, keys[1], study->requirement, max,
-                                    &study->n_requirements, err));
+  POM_TRY(pom_cap_requirements_load(cfg, keys[1], study->requirement, max, &study->n_requirements,
+                                    err));
   for (int j = 0; j < study->n_requirements; ++j)
     want(study, study->requirement[j].figure); /* a required figure is computed and shown */
   if (study->capability_n == 0) {
