@@ -132,3 +132,31 @@ int pom_cap_requirement_met(const pom_cap_requirement *q, double value) {
   if (isnan(value)) return 0;
   return q->at_most ? value <= q->bound : value >= q->bound;
 }
+
+pom_status pom_cap_requirements_load(const pom_cfg *cfg, const char *key, pom_cap_requirement *q,
+                                     int max, int *n, pom_error *err) {
+  *n = 0;
+  if (!pom_cfg_has(cfg, key)) return POM_OK;
+  int nq = pom_cfg_length(cfg, key);
+  if (nq < 1)
+    return pom_cfg_error(cfg, key, NULL, err,
+                         "expected a list of requirements [\"FIGURE >= NUMBER\", ...]");
+  if (nq > max) return pom_cfg_error(cfg, key, NULL, err, "at most %d requirements", max);
+  for (int j = 0; j < nq; ++j) {
+    char k[160], text[128];
+    pom_error e;
+    pom_error_clear(&e);
+    snprintf(k, sizeof k, "%s.[%d]", key, j);
+    POM_TRY(pom_cfg_string(cfg, k, text, sizeof text, err));
+    if (pom_cap_requirement_parse(&q[j], text, &e) != POM_OK)
+      return pom_cfg_error(cfg, k, text, err, "%s", e.message);
+  }
+  pom_cfg_mark_used(cfg, key);
+  *n = nq;
+  return POM_OK;
+}
+
+void pom_cap_requirement_text(char *buf, size_t cap, const pom_cap_requirement *q) {
+  snprintf(buf, cap, "%s %s %.6g", pom_cap_figure_name(q->figure),
+           q->at_most ? "<=" : ">=", q->bound);
+}

@@ -243,5 +243,13 @@ typedef struct {
 pom_status pom_cap_requirement_parse(pom_cap_requirement *q, const char *text, pom_error *err);
 /* 1 when value meets q, 0 when not (a NaN value, not computed, never does). */
 int pom_cap_requirement_met(const pom_cap_requirement *q, double value);
+/* "bw_worst_hz >= 100" (%.6g) into buf. */
+void pom_cap_requirement_text(char *buf, size_t cap, const pom_cap_requirement *q);
+/* The one syntax of a list of requirements, for every group that has one
+ * (study.capability_require, synthesis.capability_require): key = ["FIGURE
+ * >= NUMBER", ...] into q[max], *n of them (0 when key is absent);
+ * POM_ERR_CONFIG naming the file, the key ("KEY.[j]") and the text. */
+pom_status pom_cap_requirements_load(const pom_cfg *cfg, const char *key, pom_cap_requirement *q,
+                                     int max, int *n, pom_error *err);
 
 #endif

@@ -51,8 +51,12 @@ int pom_cmd_synth(int argc, char **argv) {
                "and synthesis groups. Writes PREFIX<name>.geometry.cfg (the scaled geometry, a\n"
                "`geometry` group for simulate/montecarlo/study) and PREFIX<name>.h5 (design,\n"
                "fits, optimum, confirmation). PREFIX defaults to results/synth_.",
-      .notes = "Exit status: 0 ok; 1 a run failed or a file cannot be written; 2 usage or\n"
-               "config error.",
+      .notes = "With synthesis.capability_require the scaled optimum (then the other one) is\n"
+               "checked against the capability floor on the config's full model (inertia,\n"
+               "actuator, controller groups; docs/optimize.md 6b).\n"
+               "Exit status: 0 ok; 1 a run failed, a file cannot be written or no optimum\n"
+               "meets synthesis.capability_require (the files are written); 2 usage or config\n"
+               "error.",
       .opts = opts,
       .n_opts = POM_CLI_N(opts),
       .args = cfg_paths,
@@ -69,6 +73,10 @@ int pom_cmd_synth(int argc, char **argv) {
    * other commands */
   const char *const *const scopes[] = {pom_kin_arch_groups(), pom_kin_ws_groups(), pom_syn_groups(),
                                        NULL};
+  /* with a capability floor the model's groups are read too, so checked */
+  const char *const *const cap_scopes[] = {pom_kin_model_groups(), pom_kin_ws_groups(),
+                                           pom_syn_groups(),       pom_dyn_param_groups(),
+                                           pom_cap_groups(),       NULL};
   pom_cfg *cfgs[MAX_CFGS] = {NULL};
   pom_syn_problem *pbs = calloc(MAX_CFGS, sizeof *pbs);
   pom_syn_run *runs[MAX_CFGS] = {NULL};
@@ -89,7 +97,7 @@ int pom_cmd_synth(int argc, char **argv) {
     pom_status st = pom_syn_load(&pbs[c], cfgs[c], &err);
     if (st == POM_OK) {
       /* inertia etc. belong to other commands: accept but do not check them */
-      st = pom_cli_check_unknown(cfgs[c], scopes, &err);
+      st = pom_cli_check_unknown(cfgs[c], pbs[c].cap.n > 0 ? cap_scopes : scopes, &err);
     }
     if (st != POM_OK) {
       pom_cli_report("synth", &err);
@@ -153,6 +161,15 @@ int pom_cmd_synth(int argc, char **argv) {
       pom_syn_report_text(stdout, runs[c], paths[c][0], paths[c][1]);
     else
       pom_syn_fit_warnings(stderr, runs[c]);
+    if (runs[c]->n_cap_checks > 0 && !runs[c]->cap_met) {
+      /* the floor holds for no optimum: the files are written for
+       * inspection, and the exit status says it */
+      char why[1024];
+      pom_syn_cap_failure(runs[c], why, sizeof why);
+      fprintf(stderr, "pomlab synth: %s: no optimum meets synthesis.capability_require: %s\n",
+              cfg_paths[c], why);
+      code = 1;
+    }
   }
   if (json)
     pom_syn_report_json(stdout, runs, ncfg, paths);

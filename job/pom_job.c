@@ -194,9 +194,10 @@ static void robustness_table(FILE *out, const pom_doe_study *study, const pom_do
  * best of each metric against each other one; Holm-adjusted p over each
  * metric's comparisons. */
 static void print_comparisons(FILE *out, const pom_doe_study *study, const pom_doe_report *rep) {
-  int nc = rep->n_candidates;
+  int nc = rep->n_ranked;
   if (nc >= 3) {
-    fprintf(out, "\n### Friedman test (all %d candidates, maneuvers every one completed)\n\n", nc);
+    fprintf(out, "\n### Friedman test (all %d %scandidates, maneuvers every one completed)\n\n", nc,
+            nc < rep->n_candidates ? "competing " : "");
     fprintf(out, "| response | maneuvers | censored | chi-square | df | p |\n"
                  "|---|---:|---:|---:|---:|---:|\n");
     for (int m = 0; m < 2; ++m) {
@@ -475,13 +476,21 @@ void pom_job_print_report(FILE *out, const pom_doe_study *study, const pom_doe_r
   print_rigid_limit(out, study, rep);
   robustness_table(out, study, rep);
 
-  if (nc < 2) return; /* one candidate: nothing to compare or rank */
+  if (nc < 2) { /* one candidate: nothing to compare or rank */
+    pom_job_capability_exclusions(out, study, rep);
+    return;
+  }
   print_effects(out, study, rep);
+  pom_job_capability_effects(out, study, rep);
   print_heat_map(out, study, rep);
   print_pareto(out, study, rep);
   print_comparisons(out, study, rep);
 
-  fprintf(out, "\n### Ranking (mean over the maneuvers every candidate completed)\n\n");
+  int nr = rep->n_ranked;
+  fprintf(out, "\n### Ranking (mean over the maneuvers every %scandidate completed)\n\n",
+          nr < nc ? "competing " : "");
+  pom_job_capability_exclusions(out, study, rep);
+  if (nr == 0) return; /* nothing ranked: the exclusions say why */
   /* the primary metric (study.rank_by) first */
   const int metrics[2] = {study->rank_by == POM_DOE_RANK_ENERGY,
                           study->rank_by != POM_DOE_RANK_ENERGY};
@@ -492,23 +501,24 @@ void pom_job_print_report(FILE *out, const pom_doe_study *study, const pom_doe_r
     fprintf(out, "- %s%s: ", metric_label(study, (pom_doe_metric)m), j == 0 ? " (primary)" : "");
     /* equal means share a place */
     int place = 1;
-    for (int r = 0; r < nc; ++r) {
+    for (int r = 0; r < nr; ++r) {
       if (r && !(mean[order[r]] == mean[order[r - 1]])) place = r + 1;
       int tied = (r && mean[order[r]] == mean[order[r - 1]]) ||
-                 (r + 1 < nc && mean[order[r]] == mean[order[r + 1]]);
+                 (r + 1 < nr && mean[order[r]] == mean[order[r + 1]]);
       fprintf(out, "%s%d.%s %s", r ? ", " : "", place, tied ? "=" : "",
               study->candidates[order[r]].name);
     }
     if (m == POM_DOE_METRIC_TIME) {
       fprintf(out, " (restricted mean: a time that did not settle counts at the horizon; "
                    "censored among the common maneuvers:");
-      for (int r = 0; r < nc; ++r)
+      for (int r = 0; r < nr; ++r)
         fprintf(out, "%s %s %ld", r ? "," : "", study->candidates[order[r]].name,
                 rep->censored_common[order[r]]);
       fprintf(out, ")");
     }
     fprintf(out, "\n");
   }
+  if (nr < 2) return; /* one competing candidate: no verdict */
 
   fprintf(out, "\n### Verdict\n\n");
   for (int j = 0; j < 2; ++j) {
@@ -757,13 +767,15 @@ void pom_job_print_json(FILE *out, const pom_doe_study *study, const pom_doe_rep
   for (int m = 0; m < 2; ++m) {
     const int *order = m == 0 ? rep->rank_time : rep->rank_energy;
     fprintf(out, "%s\"%s\": [", m ? ", " : "", m == 0 ? "execution_time" : "energy");
-    for (int r = 0; r < rep->n_candidates; ++r) {
+    for (int r = 0; r < rep->n_ranked; ++r) {
       if (r) fprintf(out, ", ");
       json_string(out, study->candidates[order[r]].name);
     }
     fprintf(out, "]");
   }
-  fprintf(out, "}\n}\n");
+  fprintf(out, "}");
+  pom_job_capability_excluded_json(out, study, rep);
+  fprintf(out, "\n}\n");
 }
 
 /* ---- summary.md and figures ------------------------------------------------------------- */
@@ -1239,6 +1251,9 @@ pom_status pom_job_execute(const pom_doe_study *study, const pom_job_options *o,
               study->name, done, total, output[0] ? h5 : "(no file)");
     res->interrupted = cancelled;
   }
+  if (msg && study->n_requirements > 0 && rep->n_ranked == 0)
+    fprintf(msg, "pomlab: warning: no candidate meets study.capability_require: nothing is "
+                 "ranked (the report lists each one's failed requirement)\n");
   if (out && o->json) {
     pom_job_print_json(out, study, rep);
   } else if (out) {

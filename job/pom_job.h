@@ -183,6 +183,24 @@ void pom_job_capability_report(FILE *out, const pom_doe_study *study);
  * the study asks for capability figures. */
 void pom_job_capability_json(FILE *out, const pom_doe_study *study, const pom_doe_candidate *cand);
 
+/* With study.capability_require: which candidates the ranking excluded and
+ * by which requirement (the figure's value and the bound), or that every
+ * one competes, or that none does and nothing is ranked. Nothing without
+ * requirements. */
+void pom_job_capability_exclusions(FILE *out, const pom_doe_study *study,
+                                   const pom_doe_report *rep);
+
+/* Appends `, "excluded": [{"name", "failed": [{"requirement", "figure",
+ * "value", "bound", "op"}]}]` after the JSON report's ranking when the study
+ * has requirements (an empty list when every candidate competes). */
+void pom_job_capability_excluded_json(FILE *out, const pom_doe_study *study,
+                                      const pom_doe_report *rep);
+
+/* The main effects of the sweep factors on the asked capability figures
+ * (mean over each level's candidates and their range) as a Markdown table;
+ * nothing without factors or figures. */
+void pom_job_capability_effects(FILE *out, const pom_doe_study *study, const pom_doe_report *rep);
+
 /* Writes the "Pipeline" section (Markdown) for the candidates the pipeline
  * synthesized or tuned: geometry, gains, criterion, the synthesis choice and
  * warnings, and where the files are. Nothing when no candidate went through

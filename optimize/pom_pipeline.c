@@ -202,6 +202,14 @@ static pom_status synthesize(pipe_ctx *ctx, const pom_pipeline_options *o, relay
     run->progress_user = rl;
   }
   POM_TRY_GOTO(pom_syn_finish(run, err), done);
+  if (run->n_cap_checks > 0 && !run->cap_met) {
+    /* the capability floor (synthesis.capability_require) holds for no
+     * optimum: the study would run a design that fails it */
+    char why[1024];
+    pom_syn_cap_failure(run, why, sizeof why);
+    POM_FAIL_GOTO(err, POM_ERR_LIMIT, done, "no optimum meets synthesis.capability_require: %s",
+                  why);
+  }
   if (!o->no_files) {
     snprintf(r->geometry_file, sizeof r->geometry_file, "%s%s.geometry.cfg", o->output_prefix,
              r->stem);

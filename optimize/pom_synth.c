@@ -257,7 +257,7 @@ pom_status pom_syn_load(pom_syn_problem *pb, const pom_cfg *cfg, pom_error *err)
   long scan = pb->scale_scan;
   POM_TRY(pom_cfg_int_opt(cfg, "synthesis.scale_scan", 2, 1000, scan, &scan, err));
   pb->scale_scan = (int)scan;
-  return POM_OK;
+  return pom_syn_cap_load(&pb->cap, &pb->base, cfg, err);
 }
 
 /* ---- geometry and responses --------------------------------------------- */
@@ -409,6 +409,8 @@ fail:
   pom_syn_destroy(run);
   return st;
 }
+
+static pom_status cap_filter(pom_syn_run *run, pom_error *err); /* below */
 
 static void report(const pom_syn_run *run, const char *phase, long done, long total) {
   if (run->progress) run->progress(run->progress_user, phase, done, total);
@@ -668,6 +670,8 @@ pom_status pom_syn_finish(pom_syn_run *run, pom_error *err) {
   POM_TRY_GOTO(pom_syn_arch(pb, run->x_written, run->scale, &run->scaled, err), done);
   POM_TRY_GOTO(pom_syn_responses(pb, &run->scaled, run->scaled_resp, err), done);
   run->scaled_done = 1;
+  /* the capability floor on the final optima (synthesis.capability_require) */
+  POM_TRY_GOTO(cap_filter(run, err), done);
   goto done;
 
 surrogate_failed:
@@ -682,6 +686,63 @@ done:
   free(y);
   free(uh);
   return st;
+}
+
+/* ---- the capability floor (docs/optimize.md 6b) ----------------------------------- */
+/* The optimum pb->write chose, as scaled, is checked; when it fails and the
+ * direct search found another point, that one is scaled and checked, and
+ * written when it meets the floor. pom_synth_cap.c evaluates. */
+static pom_status cap_filter(pom_syn_run *run, pom_error *err) {
+  const pom_syn_problem *pb = run->pb;
+  run->n_cap_checks = 0;
+  run->cap_met = 0;
+  run->cap_switched = 0;
+  if (pb->cap.n == 0 || !run->scaled_done) return POM_OK;
+  int other = run->direct_done; /* a second optimum exists */
+  if (other) other = memcmp(run->x_opt, run->x_direct, sizeof(double) * (size_t)pb->n_vars) != 0;
+  pom_syn_cap_check *a = &run->cap_check[run->n_cap_checks++];
+  pom_syn_cap_check_start(a, run->written_direct, run->x_written, run->d_written);
+  a->scale = run->scale;
+  report(run, "capability", 0, 1 + other);
+  POM_TRY(pom_syn_cap_check_arch(&pb->cap, &pb->ws, &run->scaled, a, err));
+  report(run, "capability", 1, 1 + other);
+  run->cap_met = a->all_met;
+  if (a->all_met || !other) return POM_OK;
+  pom_syn_cap_check *b = &run->cap_check[run->n_cap_checks++];
+  int direct = !a->direct;
+  pom_syn_cap_check_start(b, direct, direct ? run->x_direct : run->x_opt,
+                          direct ? run->d_direct : run->d_confirmed);
+  pom_error e;
+  pom_error_clear(&e);
+  int evals = 0;
+  pom_kin_arch arch;
+  pom_status st = pom_syn_scale(pb, b->x, &b->scale, &evals, &e);
+  if (st == POM_OK) st = pom_syn_arch(pb, b->x, b->scale, &arch, &e);
+  if (st != POM_OK) {
+    char why[sizeof b->note];
+    snprintf(why, sizeof why, "not scaled to the stroke: %s", e.message);
+    b->scale = NAN;
+    pom_syn_cap_check_unevaluated(&pb->cap, b, why);
+    report(run, "capability", 2, 2);
+    return POM_OK;
+  }
+  POM_TRY(pom_syn_cap_check_arch(&pb->cap, &pb->ws, &arch, b, err));
+  report(run, "capability", 2, 2);
+  if (!b->all_met) return POM_OK;
+  run->written_direct = b->direct;
+  memcpy(run->x_written, b->x, sizeof run->x_written);
+  run->d_written = b->d;
+  run->scale = b->scale;
+  run->scaled = arch;
+  run->scale_evals += evals;
+  POM_TRY(pom_syn_responses(pb, &run->scaled, run->scaled_resp, err));
+  run->cap_met = 1;
+  run->cap_switched = 1;
+  return POM_OK;
+}
+
+void pom_syn_cap_failure(const pom_syn_run *run, char *buf, size_t cap) {
+  pom_syn_cap_failure_text(&run->pb->cap, run->cap_check, run->n_cap_checks, buf, cap);
 }
 
 /* ---- scaling ---------------------------------------------------------------- */

@@ -12,6 +12,7 @@
 #ifndef POM_SYNTH_H
 #define POM_SYNTH_H
 
+#include "pom_capability.h"
 #include "pom_config.h"
 #include "pom_design.h"
 #include "pom_desirability.h"
@@ -53,6 +54,34 @@ typedef enum {
 /* Config name of a choice ("surrogate", "direct", "best"). */
 const char *pom_syn_write_name(pom_syn_write w);
 
+/* A capability floor on the scaled optimum (synthesis.capability_require,
+ * docs/optimize.md 6b): the figures of capability/pom_cap_figures.h on the
+ * full mechanism (the scaled geometry, the config's inertia, actuator,
+ * controller and capability groups), checked on the final optima, not
+ * inside the optimizers. */
+#define POM_SYN_MAX_CAP_REQUIRE 8
+typedef struct {
+  int n; /* requirements (0: no check, the default) */
+  pom_cap_requirement req[POM_SYN_MAX_CAP_REQUIRE];
+  int want[POM_CAP_N_FIGURES]; /* 1: figure computed (the required ones) */
+  int grid;                    /* synthesis.capability_grid_points, odd (default 3) */
+  pom_kin_inertia inertia;     /* the config's mass properties (rebuilt on the new geometry) */
+  pom_dyn_params params;       /* the config's actuator, controller, joints, scene, solver */
+  pom_cap_opts opts;           /* the config's capability group, cut to the figures asked */
+} pom_syn_cap;
+
+/* One optimum checked against the floor. */
+typedef struct {
+  int direct;                       /* 1: the direct search's optimum; 0: the surrogate's */
+  double x[POM_SYN_N_VARS];         /* design point (SI) */
+  double d;                         /* its true desirability at the base scale */
+  double scale;                     /* platform radius it was scaled to (m; NaN: not scaled) */
+  double value[POM_CAP_N_FIGURES];  /* the figures asked (SI; NaN: not computed) */
+  int met[POM_SYN_MAX_CAP_REQUIRE]; /* per requirement */
+  int all_met;                      /* every requirement holds */
+  char note[256];                   /* why it was not evaluated, or "" */
+} pom_syn_cap_check;
+
 /* The synthesis problem of one architecture (const during a run). */
 typedef struct pom_syn_problem pom_syn_problem;
 struct pom_syn_problem {
@@ -80,6 +109,7 @@ struct pom_syn_problem {
   double refine_shrink; /* each stage's box width / the previous one's (default 0.5) */
   int scale_optimum;    /* 1: scale the optimum to the stroke in pom_syn_finish (default 1) */
   pom_syn_write write;  /* which optimum is scaled and written (default surrogate) */
+  pom_syn_cap cap;      /* capability floor on the scaled optimum (cap.n = 0: none) */
 };
 
 /* Config name of variable i of pb ("limb_lean_deg") and the factor from SI
@@ -98,6 +128,13 @@ const char *const *pom_syn_groups(void);
 /* Loads `architecture`, `geometry` (mode "parameters"), `limits`,
  * `workspace` and `synthesis` (docs/optimize.md 7). */
 pom_status pom_syn_load(pom_syn_problem *pb, const pom_cfg *cfg, pom_error *err);
+
+/* Reads synthesis.capability_require and synthesis.capability_grid_points
+ * and, when there are requirements, the model they need (inertia for the
+ * architecture of base, the dynamics groups, capability) into c;
+ * pom_syn_load calls it (pom_synth_cap.c). */
+pom_status pom_syn_cap_load(pom_syn_cap *c, const pom_kin_arch *base, const pom_cfg *cfg,
+                            pom_error *err);
 
 /* Geometry of design point x[n_vars] (SI) at platform radius scale (m), with
  * the base limits. POM_ERR_ARG when the design is degenerate. */
@@ -158,6 +195,13 @@ typedef struct pom_syn_run_ {
   double scaled_resp[POM_SYN_N_RESP]; /* its responses */
   int scale_evals;                    /* workspace evaluations of the bisection */
   int scaled_done;                    /* 1 when the scaling ran */
+  /* the capability floor (pb->cap.n > 0): the optimum chosen by pb->write is
+     checked; when it fails and the other optimum exists, that one is scaled
+     and checked, and written instead when it meets the floor */
+  int n_cap_checks;               /* 0: no floor; 1 or 2 */
+  pom_syn_cap_check cap_check[2]; /* in the order checked */
+  int cap_met;                    /* 1: the written optimum meets every requirement */
+  int cap_switched;               /* 1: the other optimum was written because it meets them */
   /* sequential refinement: stage k + 1 is a new design in a box shrunk about
      the optimum of stage k; x_opt, predicted, confirmed and the
      desirabilities above are those of the best confirmed stage */
@@ -187,6 +231,26 @@ pom_status pom_syn_finish(pom_syn_run *run, pom_error *err);
 
 /* Frees; NULL allowed. */
 void pom_syn_destroy(pom_syn_run *run);
+
+/* The capability floor (docs/optimize.md 6b). pom_syn_finish checks it after
+ * the scaling when pb->cap.n > 0: the written optimum, then the other one
+ * when it fails (see pom_syn_run). pom_synth_cap.c evaluates: */
+/* ck for the optimum x (SI) of true desirability d; figures NaN. */
+void pom_syn_cap_check_start(pom_syn_cap_check *ck, int direct, const double *x, double d);
+/* The figures of the scaled geometry arch (its mechanism from c->inertia,
+ * pom_cap_run with c's parameters and options over the workspace ws) into
+ * ck and the verdict per requirement. A capability run that fails leaves
+ * the figures NaN (not met) with a note; fails only on out of memory. */
+pom_status pom_syn_cap_check_arch(const pom_syn_cap *c, const pom_kin_ws_opts *ws,
+                                  const pom_kin_arch *arch, pom_syn_cap_check *ck, pom_error *err);
+/* ck not evaluated (why in its note): every requirement unmet. */
+void pom_syn_cap_check_unevaluated(const pom_syn_cap *c, pom_syn_cap_check *ck, const char *why);
+/* One line naming, per check, each failed requirement with its value and
+ * bound ("surrogate optimum: bw_worst_hz = 53.3 Hz, required >= 100 Hz"). */
+void pom_syn_cap_failure_text(const pom_syn_cap *c, const pom_syn_cap_check *checks, int n,
+                              char *buf, size_t cap);
+/* The same for run's checks. */
+void pom_syn_cap_failure(const pom_syn_run *run, char *buf, size_t cap);
 
 /* Finds the largest platform radius in [scale_min, scale_max] at which the
  * regular dexterous workspace of design point x still covers

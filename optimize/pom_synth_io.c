@@ -219,6 +219,46 @@ static pom_status write_body(hid_t file, const pom_syn_run *run, const char *con
     g = -1;
   }
 
+  if (run->n_cap_checks > 0) { /* the capability floor (synthesis.capability_require) */
+    const pom_syn_cap *c = &pb->cap;
+    POM_TRY_GOTO(pom_h5_create_group(&g, file, "capability", err), out);
+    POM_TRY_GOTO(pom_h5_attr_int64(g, "met", run->cap_met, err), out);
+    POM_TRY_GOTO(pom_h5_attr_int64(g, "switched", run->cap_switched, err), out);
+    POM_TRY_GOTO(pom_h5_attr_int64(g, "grid_points", c->grid, err), out);
+    char text[POM_SYN_MAX_CAP_REQUIRE][96];
+    const char *req[POM_SYN_MAX_CAP_REQUIRE];
+    for (int j = 0; j < c->n; ++j) {
+      pom_cap_requirement_text(text[j], sizeof text[j], &c->req[j]);
+      req[j] = text[j];
+    }
+    POM_TRY_GOTO(pom_h5_write_strings(g, "requirements", (size_t)c->n, req, 96, err), out);
+    /* per check (rows, in the order checked): direct (1) or surrogate (0),
+       platform radius (m), all met, then per requirement its figure's value
+       (SI) and met (1/0) */
+    size_t cols = 3 + 2 * (size_t)c->n, rows = (size_t)run->n_cap_checks;
+    double tab[2 * (3 + 2 * POM_SYN_MAX_CAP_REQUIRE)];
+    for (size_t i = 0; i < rows; ++i) {
+      const pom_syn_cap_check *ck = &run->cap_check[i];
+      double *r = tab + i * cols;
+      r[0] = ck->direct;
+      r[1] = ck->scale;
+      r[2] = ck->all_met;
+      for (int j = 0; j < c->n; ++j) {
+        r[3 + 2 * j] = ck->value[c->req[j].figure];
+        r[4 + 2 * j] = ck->met[j];
+      }
+    }
+    size_t dims[2] = {rows, cols};
+    POM_TRY_GOTO(pom_h5_write_doubles(g, "checks", 2, dims, tab, err), out);
+    POM_TRY_GOTO(pom_h5_attr_string(g, "checks_columns",
+                                    "direct (1) or surrogate (0), platform_radius_m, met, then per "
+                                    "requirement: value (SI), met",
+                                    err),
+                 out);
+    H5Gclose(g);
+    g = -1;
+  }
+
   if (run->refined) {
     hid_t rg = -1;
     POM_TRY_GOTO(pom_h5_create_group(&rg, file, "refine", err), out);

@@ -38,6 +38,44 @@ void pom_syn_fit_warnings(FILE *out, const pom_syn_run *run) {
                 stage, pom_syn_resp_name((pom_syn_resp)r), s->fit[r].r2_pred);
 }
 
+/* The capability floor (synthesis.capability_require): each optimum checked,
+ * each requirement with its value and bound, and what was written. */
+static void cap_text(FILE *out, const pom_syn_run *run) {
+  const pom_syn_cap *c = &run->pb->cap;
+  if (run->n_cap_checks == 0) return;
+  fprintf(out,
+          "\ncapability floor (synthesis.capability_require; the scaled geometry with the "
+          "config's inertia, actuator and controller, %d x %d x %d poses):\n",
+          c->grid, c->grid, c->grid);
+  for (int k = 0; k < run->n_cap_checks; ++k) {
+    const pom_syn_cap_check *ck = &run->cap_check[k];
+    fprintf(out, "  %s optimum (D = %.4f), platform radius %.4f mm: %s\n",
+            ck->direct ? "direct-search" : "surrogate", ck->d, ck->scale * 1e3,
+            ck->all_met ? "meets every requirement" : "does NOT meet them");
+    for (int j = 0; j < c->n; ++j) {
+      const pom_cap_requirement *q = &c->req[j];
+      double v = ck->value[q->figure];
+      fprintf(out, "    %s = ", pom_cap_figure_name(q->figure));
+      if (isnan(v))
+        fprintf(out, "n/a (not computed)");
+      else
+        fprintf(out, "%.6g %s", v, pom_cap_figure_unit(q->figure));
+      fprintf(out, ", required %s %.6g %s: %s\n", q->at_most ? "<=" : ">=", q->bound,
+              pom_cap_figure_unit(q->figure), ck->met[j] ? "holds" : "FAILS");
+    }
+    if (ck->note[0]) fprintf(out, "    (%s)\n", ck->note);
+  }
+  if (run->cap_switched)
+    fprintf(out, "  the %s optimum meets the floor: it is the one written (the %s one fails)\n",
+            run->written_direct ? "direct-search" : "surrogate",
+            run->written_direct ? "surrogate" : "direct-search");
+  else if (!run->cap_met)
+    fprintf(out,
+            "  NO optimum meets the floor: the %s one is written for inspection; exit "
+            "status 1\n",
+            run->written_direct ? "direct-search" : "surrogate");
+}
+
 void pom_syn_report_text(FILE *out, const pom_syn_run *run, const char *geo_path,
                          const char *h5_path) {
   const pom_syn_problem *pb = run->pb;
@@ -168,6 +206,7 @@ void pom_syn_report_text(FILE *out, const pom_syn_run *run, const char *geo_path
           run->written_direct ? "direct-search" : "surrogate", pom_syn_write_name(pb->write),
           pb->base.stroke * 1e3, pb->target_half_width / POM_DEG, run->scale * 1e3,
           run->scale_evals);
+  cap_text(out, run);
   fprintf(out, "  wrote %s and %s\n\n", geo_path, h5_path);
 }
 
@@ -200,6 +239,41 @@ static const char *jn(char *buf, double v) {
   else
     snprintf(buf, 32, "null");
   return buf;
+}
+
+/* "capability": {"requirements": [...], "checks": [...], "met", "switched"},
+ * or nothing without a floor. SI values, null where not computed. */
+static void cap_json(FILE *out, const pom_syn_run *run) {
+  const pom_syn_cap *c = &run->pb->cap;
+  char b1[32], b2[32], text[96];
+  if (run->n_cap_checks == 0) return;
+  fprintf(out, " \"capability\": {\"grid_points\": %d, \"requirements\": [", c->grid);
+  for (int j = 0; j < c->n; ++j) {
+    pom_cap_requirement_text(text, sizeof text, &c->req[j]);
+    fprintf(out, "%s\"%s\"", j ? ", " : "", text);
+  }
+  fprintf(out, "], \"checks\": [");
+  for (int k = 0; k < run->n_cap_checks; ++k) {
+    const pom_syn_cap_check *ck = &run->cap_check[k];
+    fprintf(out, "%s{\"optimum\": \"%s\", \"desirability\": %s, \"platform_radius_mm\": %s, ",
+            k ? ", " : "", ck->direct ? "direct" : "surrogate", jn(b1, ck->d),
+            jn(b2, ck->scale * 1e3));
+    fprintf(out, "\"met\": %s, \"requirements\": [", ck->all_met ? "true" : "false");
+    for (int j = 0; j < c->n; ++j) {
+      const pom_cap_requirement *q = &c->req[j];
+      pom_cap_requirement_text(text, sizeof text, q);
+      fprintf(out,
+              "%s{\"requirement\": \"%s\", \"figure\": \"%s\", \"value\": %s, \"op\": "
+              "\"%s\", \"bound\": %s, \"met\": %s}",
+              j ? ", " : "", text, pom_cap_figure_name(q->figure), jn(b1, ck->value[q->figure]),
+              q->at_most ? "<=" : ">=", jn(b2, q->bound), ck->met[j] ? "true" : "false");
+    }
+    fprintf(out, "], \"note\": ");
+    pom_json_string(out, ck->note);
+    fprintf(out, "}");
+  }
+  fprintf(out, "], \"met\": %s, \"switched\": %s},", run->cap_met ? "true" : "false",
+          run->cap_switched ? "true" : "false");
 }
 
 void pom_syn_report_json(FILE *out, pom_syn_run *const runs[], int n, char paths[][2][512]) {
@@ -242,6 +316,7 @@ void pom_syn_report_json(FILE *out, pom_syn_run *const runs[], int n, char paths
               jn(b2, run->direct.wall_time));
     fprintf(out, " \"direct_better\": %s, \"written\": \"%s\",",
             run->direct_better ? "true" : "false", run->written_direct ? "direct" : "surrogate");
+    cap_json(out, run);
     fprintf(out, " \"platform_radius_mm\": %s, \"geometry_file\": ", jn(b1, run->scale * 1e3));
     pom_json_string(out, paths[c][0]);
     fprintf(out, ", \"h5_file\": ");

@@ -985,12 +985,19 @@ static pom_status write_ranking(hid_t file, const pom_doe_study *study, const po
   const char **names = malloc(nc * sizeof *names);
   if (!buf || !names) POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "results: out of memory");
   POM_TRY_GOTO(replace_group(&g, file, "ranking", err), done);
-  for (size_t c = 0; c < nc; ++c)
+  /* the competing candidates only (study.capability_require excludes the others) */
+  size_t nr = (size_t)rep->n_ranked;
+  for (size_t c = 0; c < nr; ++c)
     buf[c] = rep->rank_time[c];
-  POM_TRY_GOTO(pom_h5_write_int64s(g, "execution_time", nc, buf, err), done);
-  for (size_t c = 0; c < nc; ++c)
+  POM_TRY_GOTO(pom_h5_write_int64s(g, "execution_time", nr, buf, err), done);
+  for (size_t c = 0; c < nr; ++c)
     buf[c] = rep->rank_energy[c];
-  POM_TRY_GOTO(pom_h5_write_int64s(g, "energy", nc, buf, err), done);
+  POM_TRY_GOTO(pom_h5_write_int64s(g, "energy", nr, buf, err), done);
+  if (study->n_requirements > 0) { /* the excluded ones, in index order */
+    for (size_t c = nr; c < nc; ++c)
+      buf[c - nr] = rep->rank_time[c];
+    POM_TRY_GOTO(pom_h5_write_int64s(g, "excluded", nc - nr, buf, err), done);
+  }
   for (size_t c = 0; c < nc; ++c)
     names[c] = study->candidates[c].name;
   POM_TRY_GOTO(pom_h5_write_strings(g, "candidate_names", nc, names, POM_DOE_NAME_LEN, err), done);
@@ -1042,6 +1049,37 @@ static pom_status write_effects(hid_t file, const pom_doe_report *rep, pom_error
     buf[4 * c + 1] = rep->mean_energy[c];
     buf[4 * c + 2] = rep->pareto[c];
     buf[4 * c + 3] = (double)rep->censored_common[c];
+  }
+  if (rep->n_cap_effects > 0) { /* the capability figures' main effects (study.capability) */
+    size_t ne = (size_t)rep->n_cap_effects;
+    double *cb = malloc(ne * 10 * sizeof *cb);
+    if (!cb) POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "results: out of memory");
+    for (size_t j = 0; j < ne; ++j) {
+      const pom_doe_cap_effect *e = &rep->cap_effects[j];
+      double *r = cb + 10 * j;
+      r[0] = e->factor;
+      r[1] = e->level;
+      r[2] = e->lo;
+      r[3] = e->hi;
+      r[4] = e->n_candidates;
+      r[5] = e->figure;
+      r[6] = e->n;
+      r[7] = e->mean;
+      r[8] = e->min;
+      r[9] = e->max;
+    }
+    size_t edims[2] = {ne, 10};
+    st = pom_h5_write_doubles(g, "capability", 2, edims, cb, err);
+    free(cb);
+    if (st != POM_OK) goto done;
+    char figs[256];
+    pom_cap_figure_list(figs, sizeof figs);
+    POM_TRY_GOTO(pom_h5_attr_string(g, "capability_columns",
+                                    "factor,level,lo,hi,n_candidates,figure,n_computed,mean,min,"
+                                    "max (SI; figure indexes capability_figures)",
+                                    err),
+                 done);
+    POM_TRY_GOTO(pom_h5_attr_string(g, "capability_figures", figs, err), done);
   }
   size_t cdims[2] = {nc, 4};
   POM_TRY_GOTO(pom_h5_write_doubles(g, "common_means", 2, cdims, buf, err), done);

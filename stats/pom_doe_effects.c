@@ -117,6 +117,44 @@ pom_status pom_doe_effects_compute(pom_doe_report *rep, const pom_doe_study *stu
         level_effect(e, cells, m, level_of, nc, study->confidence, y);
       }
   }
+  /* the capability figures (study.capability): every candidate, competing or not */
+  if (study->capability_n > 0) {
+    rep->cap_effects = calloc((size_t)(nf * study->capability_n * (nc > BINS ? nc : BINS) + 1),
+                              sizeof *rep->cap_effects);
+    if (!rep->cap_effects) POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "effects: out of memory");
+  }
+  rep->n_cap_effects = 0;
+  for (int f = 0; f < nf && study->capability_n > 0; ++f) {
+    int nl = pom_doe_factor_levels(study, f, level_of, lo, hi);
+    if (nl < 0) POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "effects: out of memory");
+    for (int i = 0; i < POM_CAP_N_FIGURES; ++i) {
+      if (!study->capability_want[i]) continue;
+      for (int l = 0; l < nl; ++l) {
+        pom_doe_cap_effect *e = &rep->cap_effects[rep->n_cap_effects++];
+        e->factor = f;
+        e->level = l;
+        e->lo = lo[l];
+        e->hi = hi[l];
+        e->figure = i;
+        e->min = INFINITY;
+        e->max = -INFINITY;
+        double sum = 0;
+        for (int c = 0; c < nc; ++c) {
+          if (level_of[c] != l) continue;
+          ++e->n_candidates;
+          const pom_doe_candidate *cand = &study->candidates[c];
+          double v = cand->capability_done ? cand->capability[i] : NAN;
+          if (!isfinite(v)) continue;
+          ++e->n;
+          sum += v;
+          e->min = fmin(e->min, v);
+          e->max = fmax(e->max, v);
+        }
+        e->mean = e->n ? sum / e->n : NAN;
+        if (!e->n) e->min = e->max = NAN;
+      }
+    }
+  }
   /* Pareto front of the common-maneuver means: c is on it when no other
    * candidate is at least as good on both and better on one */
   for (int c = 0; c < nc; ++c) {

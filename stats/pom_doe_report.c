@@ -17,6 +17,8 @@ void pom_doe_report_destroy(pom_doe_report *r) {
   free(r->censored_common);
   free(r->effects);
   free(r->pareto);
+  free(r->ranked);
+  free(r->cap_effects);
   free(r);
 }
 
@@ -41,35 +43,40 @@ static int cmp_rank(const void *a, const void *b) {
 
 static void rank(int *order, double *means, long *censored, const pom_doe_study *study,
                  const pom_doe_report *rep, const pom_doe_cell *cells, pom_doe_metric metric,
-                 rank_item *items) {
-  int nc = study->n_candidates;
+                 const int *idx, rank_item *items) {
+  int nc = study->n_candidates, nr = rep->n_ranked;
   long m = study->maneuvers.count;
   for (int c = 0; c < nc; ++c) {
-    items[c].index = c;
-    items[c].bad = rep->cand[c].n_failed + rep->cand[c].n_censored;
-    items[c].mean = 0;
+    means[c] = NAN;
     if (censored) censored[c] = 0;
+  }
+  for (int i = 0; i < nr; ++i) {
+    items[i].index = idx[i];
+    items[i].bad = rep->cand[idx[i]].n_failed + rep->cand[idx[i]].n_censored;
+    items[i].mean = 0;
   }
   long n = 0;
   for (long k = 0; k < m; ++k) {
     int all = 1;
-    for (int c = 0; c < nc && all; ++c)
-      all = pom_doe_cell_usable(&cells[(size_t)c * (size_t)m + (size_t)k], metric);
+    for (int i = 0; i < nr && all; ++i)
+      all = pom_doe_cell_usable(&cells[(size_t)idx[i] * (size_t)m + (size_t)k], metric);
     if (!all) continue;
     ++n;
-    for (int c = 0; c < nc; ++c) {
-      const pom_doe_cell *cell = &cells[(size_t)c * (size_t)m + (size_t)k];
-      items[c].mean += pom_doe_cell_value(cell, metric);
-      if (censored) censored[c] += cell->censored;
+    for (int i = 0; i < nr; ++i) {
+      const pom_doe_cell *cell = &cells[(size_t)idx[i] * (size_t)m + (size_t)k];
+      items[i].mean += pom_doe_cell_value(cell, metric);
+      if (censored) censored[idx[i]] += cell->censored;
     }
   }
-  for (int c = 0; c < nc; ++c) {
-    items[c].mean = n ? items[c].mean / (double)n : NAN;
-    means[c] = items[c].mean;
+  for (int i = 0; i < nr; ++i) {
+    items[i].mean = n ? items[i].mean / (double)n : NAN;
+    means[idx[i]] = items[i].mean;
   }
-  qsort(items, (size_t)nc, sizeof *items, cmp_rank);
-  for (int c = 0; c < nc; ++c)
-    order[c] = items[c].index;
+  qsort(items, (size_t)nr, sizeof *items, cmp_rank);
+  for (int i = 0; i < nr; ++i)
+    order[i] = items[i].index;
+  for (int c = 0, r = nr; c < nc; ++c) /* the excluded ones last, in index order */
+    if (!rep->ranked[c]) order[r++] = c;
 }
 
 /* The paired comparison of candidates x and y (differences x - y) on the
@@ -97,8 +104,8 @@ static void compare(pom_doe_comparison *out, const pom_doe_cell *cells, size_t m
  * maneuver at a time so nothing grows with their number; values, rank:
  * nc doubles each, scratch 4 nc. */
 static void friedman(pom_doe_friedman_result *out, long *censored, const pom_doe_cell *cells,
-                     size_t m, int nc, pom_doe_metric metric, double *values, double *rank,
-                     double *scratch) {
+                     size_t m, const int *idx, int nc, pom_doe_metric metric, double *values,
+                     double *rank, double *scratch) {
   double *rank_sum = scratch, *pairs = scratch + nc;
   double tie_sum = 0;
   long n = 0, n_censored = 0;
@@ -107,13 +114,13 @@ static void friedman(pom_doe_friedman_result *out, long *censored, const pom_doe
   for (size_t k = 0; k < m; ++k) {
     int all = 1;
     for (int c = 0; c < nc && all; ++c) {
-      const pom_doe_cell *cell = &cells[(size_t)c * m + k];
+      const pom_doe_cell *cell = &cells[(size_t)idx[c] * m + k];
       all = pom_doe_cell_usable(cell, metric);
       values[c] = all ? pom_doe_cell_value(cell, metric) : NAN;
     }
     if (!all) continue;
     for (int c = 0; c < nc; ++c)
-      n_censored += metric == POM_DOE_METRIC_TIME && cells[(size_t)c * m + k].censored;
+      n_censored += metric == POM_DOE_METRIC_TIME && cells[(size_t)idx[c] * m + k].censored;
     tie_sum += pom_doe_rank_average(rank, values, nc, pairs);
     for (int c = 0; c < nc; ++c)
       rank_sum[c] += rank[c];
@@ -121,6 +128,12 @@ static void friedman(pom_doe_friedman_result *out, long *censored, const pom_doe
   }
   pom_doe_friedman_from_ranks(out, rank_sum, nc, n, tie_sum);
   if (metric == POM_DOE_METRIC_TIME) *censored = n_censored;
+}
+
+int pom_doe_candidate_competes(const pom_doe_study *study, int c) {
+  if (study->n_requirements == 0) return 1;
+  const pom_doe_candidate *cand = &study->candidates[c];
+  return cand->capability_done && cand->capability_met;
 }
 
 pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *study,
@@ -131,14 +144,21 @@ pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *stu
   double *a = NULL, *b = NULL, *scratch = NULL;
   size_t *order_scratch = NULL;
   rank_item *items = NULL;
+  int *idx = NULL; /* the competing candidates' indices */
   pom_doe_report *rep = calloc(1, sizeof *rep);
   if (!rep) POM_FAIL(err, POM_ERR_NOMEM, "report: out of memory");
   *out = NULL;
   rep->n_candidates = nc;
   rep->n_maneuvers = (long)m;
   rep->alpha = study->alpha;
-  rep->all_pairs = nc <= POM_DOE_ALL_PAIRS_MAX;
-  rep->n_comparisons = rep->all_pairs ? nc * (nc - 1) : 2 * (nc - 1); /* two metrics */
+  rep->ranked = calloc((size_t)(nc ? nc : 1), sizeof *rep->ranked);
+  idx = malloc((size_t)(nc ? nc : 1) * sizeof *idx);
+  if (!rep->ranked || !idx) POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "report: out of memory");
+  for (int c = 0; c < nc; ++c)
+    if ((rep->ranked[c] = pom_doe_candidate_competes(study, c))) idx[rep->n_ranked++] = c;
+  int nr = rep->n_ranked;
+  rep->all_pairs = nr <= POM_DOE_ALL_PAIRS_MAX;
+  rep->n_comparisons = rep->all_pairs ? nr * (nr - 1) : 2 * (nr - 1); /* two metrics */
   rep->cand = calloc((size_t)nc, sizeof *rep->cand);
   rep->cmp = calloc(rep->n_comparisons ? (size_t)rep->n_comparisons : 1, sizeof *rep->cmp);
   rep->rank_time = calloc((size_t)nc, sizeof *rep->rank_time);
@@ -183,16 +203,17 @@ pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *stu
   }
 
   rank(rep->rank_time, rep->mean_time, rep->censored_common, study, rep, cells, POM_DOE_METRIC_TIME,
+       idx, items);
+  rank(rep->rank_energy, rep->mean_energy, NULL, study, rep, cells, POM_DOE_METRIC_ENERGY, idx,
        items);
-  rank(rep->rank_energy, rep->mean_energy, NULL, study, rep, cells, POM_DOE_METRIC_ENERGY, items);
   POM_TRY_GOTO(pom_doe_effects_compute(rep, study, cells, err), fail);
   int j = 0;
   for (int metric = 0; metric < 2; ++metric) {
     int first = j;
     const int *order = metric == 0 ? rep->rank_time : rep->rank_energy;
-    for (int ca = 0; ca < nc; ++ca)
-      for (int cb = ca + 1; cb < nc; ++cb) {
-        int x = ca, y = cb;
+    for (int ca = 0; ca < nr; ++ca)
+      for (int cb = ca + 1; cb < nr; ++cb) {
+        int x = idx[ca], y = idx[cb];
         if (!rep->all_pairs) { /* the best against each other one */
           if (ca > 0) break;
           x = order[0];
@@ -210,8 +231,8 @@ pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *stu
     pom_doe_holm(b, a, (size_t)(j - first), order_scratch);
     for (int i = first; i < j; ++i)
       rep->cmp[i].p_holm = b[i - first];
-    friedman(&rep->friedman[metric], &rep->friedman_censored, cells, m, nc, (pom_doe_metric)metric,
-             a, b, scratch);
+    friedman(&rep->friedman[metric], &rep->friedman_censored, cells, m, idx, nr,
+             (pom_doe_metric)metric, a, b, scratch);
   }
   *out = rep;
   goto done;
@@ -223,5 +244,6 @@ done:
   free(scratch);
   free(order_scratch);
   free(items);
+  free(idx);
   return st;
 }

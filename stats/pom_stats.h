@@ -154,6 +154,21 @@ typedef struct {
   double ci_low, ci_high;
 } pom_doe_effect;
 
+/* The main effect of one level of a sweep factor on a capability figure
+ * (study.capability; capability/pom_cap_figures.h): one value per candidate,
+ * deterministic, so the mean over the level's candidates where the figure
+ * was computed and their range (no interval: nothing is sampled). */
+typedef struct {
+  int factor;       /* index into study->factor_key */
+  int level;        /* 0-based, ascending factor values */
+  double lo, hi;    /* factor values of the level (equal unless binned) */
+  int n_candidates; /* candidates at this level */
+  int figure;       /* pom_cap_figure_id */
+  int n;            /* of those, with the figure computed (finite) */
+  double mean;      /* SI (the figure's unit); NaN when n = 0 */
+  double min, max;  /* over those n candidates */
+} pom_doe_cap_effect;
+
 /* Up to this many candidates every pair is compared; beyond, the best of
  * each metric against each other one (docs/results.md, section 4). */
 #define POM_DOE_ALL_PAIRS_MAX 4
@@ -162,21 +177,33 @@ typedef struct {
   int n_candidates;
   long n_maneuvers;
   pom_doe_candidate_stats *cand; /* [n_candidates] */
-  int all_pairs;                 /* 1: every pair compared; 0: the best against each other */
+  /* Which candidates compete (docs/results.md section 4, "Requirements"): with
+   * study.capability_require, only those meeting every requirement; the
+   * others are excluded from the comparisons, the Friedman test, the ranking,
+   * the verdict, the Pareto front and the heat map (their statistics and the
+   * main effects keep them). Without requirements, every candidate. */
+  int *ranked;   /* [n_candidates] 1: competes; 0: excluded by a requirement */
+  int n_ranked;  /* candidates that compete (0: none meets the requirements, nothing ranked) */
+  int all_pairs; /* 1: every pair compared; 0: the best against each other */
   int n_comparisons;
   pom_doe_comparison *cmp;             /* [n_comparisons]: both metrics */
   pom_doe_friedman_result friedman[2]; /* per pom_doe_metric, over the common maneuvers */
   long friedman_censored;              /* censored time values among the Friedman blocks */
-  int *rank_time;        /* [n_candidates] candidate indices, best (lowest mean) first */
+  int *rank_time;        /* [n_candidates] candidate indices, best (lowest mean) first: the
+                            n_ranked competing ones, then the excluded ones in index order */
   int *rank_energy;      /* [n_candidates] */
-  double *mean_time;     /* [n_candidates] mean primary time over the common maneuvers, unsettled
-                            ones censored at the horizon: the restricted mean (s) */
+  double *mean_time;     /* [n_candidates] mean primary time over the common maneuvers (those
+                            every competing candidate completed), unsettled ones censored at
+                            the horizon: the restricted mean (s); NaN when excluded */
   long *censored_common; /* [n_candidates] censored times among the common maneuvers */
   double *mean_energy;   /* [n_candidates] mean expended energy over the common maneuvers (J) */
   double alpha;          /* level used for "significant" */
   int n_effects;
   pom_doe_effect *effects; /* [n_effects] main effects: factor-major, then metric, then level */
   int *pareto;             /* [n_candidates] 1 on the Pareto front of (mean_time, mean_energy) */
+  int n_cap_effects;
+  pom_doe_cap_effect *cap_effects; /* [n_cap_effects] the asked capability figures' main effects:
+                                      factor-major, then figure, then level; every candidate */
 } pom_doe_report;
 
 /* The levels of sweep factor f: its distinct values (ascending) when there
@@ -187,6 +214,11 @@ typedef struct {
 int pom_doe_factor_levels(const pom_doe_study *study, int f, int *level_of, double *lo, double *hi);
 
 void pom_doe_report_destroy(pom_doe_report *r);
+
+/* 1 when candidate c of study competes in the ranking: no
+ * study.capability_require, or its figures computed and every requirement
+ * met (a figure not computed meets none). */
+int pom_doe_candidate_competes(const pom_doe_study *study, int c);
 
 /* Report from cells[c * count + k] (c candidates, count maneuvers each). */
 pom_status pom_doe_report_compute(pom_doe_report **out, const pom_doe_study *study,

@@ -40,26 +40,11 @@ pom_status pom_doe_capability_load(pom_doe_study *study, const pom_cfg *cfg, pom
     for (int i = 0; all && i < POM_CAP_N_FIGURES; ++i)
       want(study, i);
   }
-  int nq = pom_cfg_length(cfg, keys[1]);
-  if (nq > (int)(sizeof study->requirement / sizeof study->requirement[0]))
-    return pom_cfg_error(cfg, keys[1], NULL, err, "at most %d requirements",
-                         (int)(sizeof study->requirement / sizeof study->requirement[0]));
-  if (pom_cfg_has(cfg, keys[1]) && nq < 1)
-    return pom_cfg_error(cfg, keys[1], NULL, err,
-                         "expected a list of requirements [\"FIGURE >= NUMBER\", ...]");
-  for (int j = 0; j < nq; ++j) {
-    char text[128];
-    pom_error e;
-    pom_error_clear(&e);
-    snprintf(k, sizeof k, "%s.[%d]", keys[1], j);
-    POM_TRY(pom_cfg_string(cfg, k, text, sizeof text, err));
-    pom_cap_requirement *q = &study->requirement[study->n_requirements];
-    if (pom_cap_requirement_parse(q, text, &e) != POM_OK)
-      return pom_cfg_error(cfg, k, text, err, "%s", e.message);
-    ++study->n_requirements;
-    want(study, q->figure); /* a required figure is computed and shown */
-  }
-  if (nq > 0) pom_cfg_mark_used(cfg, keys[1]);
+  int max = (int)(sizeof study->requirement / sizeof study->requirement[0]);
+  POM_TRY(pom_cap_requirements_load(cfg, keys[1], study->requirement, max, &study->n_requirements,
+                                    err));
+  for (int j = 0; j < study->n_requirements; ++j)
+    want(study, study->requirement[j].figure); /* a required figure is computed and shown */
   if (study->capability_n == 0) {
     if (pom_cfg_has(cfg, keys[0]))
       return pom_cfg_error(cfg, keys[0], NULL, err,

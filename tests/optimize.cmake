@@ -11,3 +11,9 @@ target_link_libraries(test_optimize_pipeline PRIVATE pom_optimize)
 add_test(NAME test_optimize_cli
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_optimize_cli.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# synthesis.capability_require: the capability floor on the scaled optimum
+# (docs/optimize.md 6b): figures equal to pomlab capability, the switch to the
+# direct optimum, an unmet floor's exit status and message, the syntax
+add_test(NAME test_synth_capability
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_synth_capability.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})

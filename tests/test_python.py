@@ -11,6 +11,7 @@ PYTHONPATH (python/) and POMLAB_PROGRAM (the built pomlab) set.
 import json
 import math
 import os
+import re
 import subprocess
 import tempfile
 import threading
@@ -380,3 +381,21 @@ def test_study_capability_columns(tmp_path):
         bw = r.report["candidates"][i]["capability"]["bw_worst_hz"]
         t = r.candidates["capability_bw_worst_hz"][i]
         assert (bw is None and math.isnan(t)) or t == bw
+
+
+def test_study_capability_require_excludes(tmp_path):
+    """study.capability_require: the 3S-P-S/S (~3.8e3 rad/s^2 at its worst
+    pose) fails a floor of 1e4 the 3P-S-S/S (~2.4e4) meets: it is out of the
+    ranking, and the report names the requirement, its value and bound."""
+    text = open(os.path.join(SRC, "tests", "doe_study_capability.cfg")).read()
+    text = re.sub(r"capability = \[.*\];", 'capability_require = ["acc_inscribed_worst >= 1e4"];', text)
+    text = text.replace('"../configs/', '"%s/configs/' % SRC)
+    (tmp_path / "req.cfg").write_text(text)
+    r = pomlab.study(str(tmp_path / "req.cfg"), output=tmp_path / "r.h5")
+    assert list(r.candidates["capability_met"]) == [1, 0]
+    assert r.report["ranking"]["execution_time"] == ["3PSS"]
+    (ex,) = r.report["excluded"]
+    assert ex["name"] == "3SPS" and ex["failed"][0]["bound"] == 1e4
+    # the table's digits against the report's %.17g: equal to rounding
+    v = ex["failed"][0]["value"]
+    assert v < 1e4 and math.isclose(v, r.candidates["capability_acc_inscribed_worst"][1], rel_tol=1e-12)
