@@ -4,6 +4,7 @@
 #include "pom_api.h"
 
 #include "pom_arch.h"
+#include "pom_arch_file.h"
 #include "pom_run.h"
 #include "pom_dyn_ctrl.h"
 #include "pom_dyn_metrics_schema.h"
@@ -45,9 +46,21 @@ size_t pom_api_struct_size(const char *name) {
 }
 
 /* ---- registries ---------------------------------------------------------------- */
+pom_status pom_api_register_architecture_files(pom_error *err) {
+  pom_error local; /* err may be NULL: the status alone */
+  pom_error_clear(&local);
+  return pom_arch_files_register_all(err ? err : &local);
+}
+
 pom_status pom_api_arch_type_info(int k, const char **name, const char **label,
                                   const char **actuator_kind) {
-  /* every output optional (NULL = not wanted) */
+  /* every output optional (NULL = not wanted); a file that fails to load is
+   * reported by the calls that take an error (pom_api_arch_create, ...) */
+  if (k == 0) {
+    pom_error ignored;
+    pom_error_clear(&ignored);
+    (void)pom_arch_files_register_all(&ignored);
+  }
   const pom_kin_arch_type *t = pom_kin_arch_type_at(k);
   if (!t) return POM_ERR_ARG;
   if (name) *name = pom_kin_type_name(t);
@@ -70,6 +83,7 @@ pom_status pom_api_ctrl_type_info(int k, const char **name, const char **label,
 pom_status pom_api_arch_create(pom_kin_arch **out, const pom_cfg *cfg, pom_error *err) {
   if (!out || !cfg) POM_FAIL(err, POM_ERR_ARG, "pom_api_arch_create: NULL argument");
   *out = NULL;
+  POM_TRY(pom_arch_files_register_all(err));
   pom_kin_arch *arch = calloc(1, sizeof *arch);
   if (!arch) POM_FAIL(err, POM_ERR_NOMEM, "pom_api_arch_create: out of memory");
   pom_status st = pom_kin_arch_load(arch, cfg, err);
@@ -134,6 +148,7 @@ struct pom_api_sim {
 
 pom_status pom_api_sim_create(pom_api_sim **out, const pom_cfg *cfg, int traces, pom_error *err) {
   if (!out || !cfg) POM_FAIL(err, POM_ERR_ARG, "pom_api_sim_create: NULL argument");
+  POM_TRY(pom_arch_files_register_all(err));
   *out = NULL;
   pom_status st = POM_OK;
   pom_api_sim *s = calloc(1, sizeof *s);
@@ -268,6 +283,7 @@ pom_status pom_api_study_run_json(const pom_cfg *cfg, const pom_api_study_opts *
                                   long *total, char **json, pom_error *err) {
   if (json) *json = NULL;
   if (!cfg || !o) POM_FAIL(err, POM_ERR_ARG, "pom_api_study_run: NULL argument");
+  POM_TRY(pom_arch_files_register_all(err));
   if (!o->output || !o->output[0])
     POM_FAIL(err, POM_ERR_ARG, "pom_api_study_run: a results file (output) is required");
   POM_TRY(pom_api_check_threads(o->threads, "pom_api_study_opts.threads", err));

@@ -74,6 +74,14 @@ pom_status pom_api_check_threads(long threads, const char *origin, pom_error *er
 
 /* ---- registries ------------------------------------------------------------ */
 
+/* Registers the architecture files (docs/architecture-files.md section 4:
+ * the shipped catalog and $POMLAB_ARCHITECTURES) once per process; later
+ * calls do nothing. pom_api_arch_create, pom_api_sim_create and the study
+ * runs call it themselves, and pom_api_arch_type_info(0, ...) too; call it
+ * first, before any thread, to see a broken file's message at once (err
+ * may be NULL). Not thread-safe on its first call. */
+pom_status pom_api_register_architecture_files(pom_error *err);
+
 /* Registered architecture k (0-based, pom_kin_arch_type_at): its config name
  * ("3PSS"), label ("3P-S-S/S") and actuator kind ("prismatic" or "revolute") into
  * the pointers (static strings; any may be NULL). POM_ERR_ARG when k is out

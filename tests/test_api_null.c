@@ -86,6 +86,7 @@ static void test_registries(void) {
   /* every output optional */
   check_true(pom_api_arch_type_info(0, NULL, NULL, NULL) == POM_OK);
   check_true(pom_api_ctrl_type_info(0, NULL, NULL, NULL) == POM_OK);
+  check_true(pom_api_register_architecture_files(NULL) == POM_OK);
   char buf[96];
   check_true(pom_api_metric_count() > 0);
   check_true(pom_api_metric_key(0, NULL, sizeof buf) == NULL);
