@@ -9,7 +9,8 @@
  * K G tau_D)/(mu L)) for the PID at high gain) leaves the A(alpha) sector of
  * BDF 3 once K_P is ~10x the shipped one: CVODE's steps at orders 3-5 are
  * then held by stability, not accuracy (1.5 M steps at 1e3 x K_P). The
- * maneuver is then integrated at order 2 (A-stable). */
+ * maneuver is then integrated at order 2 (A-stable). Also the Newton
+ * coefficient the drive voltage needs at high gain (pom_dyn_newton_coef). */
 #include "dyn_internal.h"
 #include "pom_dyn_print.h"
 #include "pom_math.h"
@@ -185,8 +186,8 @@ void pom_dyn_order_cap(pom_dyn_model *m, const double M[9], const double J[9]) {
  * through the saturation and the error test resolves the ringing (docs/
  * dynamics.md section 7, "Newton accuracy at high gain"). The coefficient
  * is lowered until the tolerated Newton error moves the voltage by at most
- * NEWTON_VOLTAGE_SHARE of its limit (0.1: measured, the cheapest of 1, 0.3,
- * 0.1, 0.03, 0.01 that cures the 3S-P-S/S at 1e4 x K_P). */
+ * NEWTON_VOLTAGE_SHARE of its limit (a tenth; shares 1, 0.3, 0.03, 0.01
+ * measured against it in docs/dynamics.md section 7). */
 #define NEWTON_VOLTAGE_SHARE 0.1
 
 void pom_dyn_newton_coef(pom_dyn_model *m, const double J[9], double atol_angle, double atol_rate,
