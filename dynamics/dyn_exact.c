@@ -398,7 +398,20 @@ static pom_status exact_init(pom_dyn_model *m, const pom_mechanism *mech, const 
   /* the BDF order the drive mode allows (dyn_exact_order.c), from M and J
    * at home */
   double M_home[9], J_home[9];
-  if (home_terms(m, M_home, J_home) == 0) pom_dyn_order_cap(m, M_home, J_home);
+  if (home_terms(m, M_home, J_home) == 0) {
+    pom_dyn_order_cap(m, M_home, J_home);
+    /* the Newton accuracy the drive voltage needs (dyn_exact_order.c): the
+     * largest tolerances of a rotation, an omega component and the
+     * controller state */
+    double a_angle = 0.0, a_rate = 0.0, a_ctrl = 0.0;
+    for (int i = 0; i < ex->n_ori; ++i)
+      a_angle = fmax(a_angle, (ex->n_ori == 4 ? 2.0 : 1.0) * m->atol[ex->ori + i]);
+    for (int i = 0; i < 3; ++i)
+      a_rate = fmax(a_rate, m->atol[ex->omega + i]);
+    for (int a = 0; a < m->n_actuators; ++a)
+      if (m->act[a].ctrl_state >= 0) a_ctrl = fmax(a_ctrl, m->atol[m->act[a].ctrl_state]);
+    pom_dyn_newton_coef(m, J_home, a_angle, a_rate, a_ctrl);
+  }
   return POM_OK;
 }
 

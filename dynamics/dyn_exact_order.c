@@ -9,7 +9,8 @@
  * K G tau_D)/(mu L)) for the PID at high gain) leaves the A(alpha) sector of
  * BDF 3 once K_P is ~10x the shipped one: CVODE's steps at orders 3-5 are
  * then held by stability, not accuracy (1.5 M steps at 1e3 x K_P). The
- * maneuver is then integrated at order 2 (A-stable). */
+ * maneuver is then integrated at order 2 (A-stable). Also the Newton
+ * coefficient the drive voltage needs at high gain (pom_dyn_newton_coef). */
 #include "dyn_internal.h"
 #include "pom_dyn_print.h"
 #include "pom_math.h"
@@ -171,6 +172,42 @@ void pom_dyn_order_cap(pom_dyn_model *m, const double M[9], const double J[9]) {
   }
   if (dm->stable_order < ORDER_GUARDED && m->max_order > ORDER_A_STABLE)
     m->max_order = ORDER_A_STABLE;
+}
+
+/* The Newton solve of a BDF step stops when its weighted correction falls
+ * below the coefficient (CVODE's default POM_DYN_NEWTON_COEF_DEFAULT) times
+ * the error test's bound: each state may keep an error of about that
+ * fraction of its tolerance. The drive voltage reads the mechanical states
+ * through the controller's partials and J; the voltage their absolute
+ * tolerances move, u_tol = sum |du/dq| |J| atol_angle + |du/dq_dot| |J|
+ * atol_rate + |du/dz| atol_ctrl, is 0.03-0.06 V with the shipped gains but
+ * 330-630 V at 1e4 x K_P: the Newton error then throws the voltage across
+ * its limit, each such step starts the lightly damped drive mode ringing
+ * through the saturation and the error test resolves the ringing (docs/
+ * dynamics.md section 7, "Newton accuracy at high gain"). The coefficient
+ * is lowered until the tolerated Newton error moves the voltage by at most
+ * NEWTON_VOLTAGE_SHARE of its limit (a tenth; shares 1, 0.3, 0.03, 0.01
+ * measured against it in docs/dynamics.md section 7). */
+#define NEWTON_VOLTAGE_SHARE 0.1
+
+void pom_dyn_newton_coef(pom_dyn_model *m, const double J[9], double atol_angle, double atol_rate,
+                         double atol_ctrl) {
+  m->newton_coef = m->newton_voltage = 0.0;
+  if (!m->ctrl_analytic || !m->ctrl->partials) return;
+  const pom_dyn_ctrl_input in = {0.0, 0.0, 0.0, m->par.actuator.sensor_gain};
+  const double z0[POM_DYN_CTRL_MAX_STATES] = {0.0};
+  pom_dyn_ctrl_partials cp;
+  m->ctrl->partials(&m->par.controller, &in, z0, &cp);
+  double worst = 0.0;
+  for (int a = 0; a < m->n_actuators && a < 3; ++a) {
+    const double lever = fabs(J[3 * a]) + fabs(J[3 * a + 1]) + fabs(J[3 * a + 2]);
+    double u = fabs(cp.du_dq) * lever * atol_angle + fabs(cp.du_dqd) * lever * atol_rate;
+    if (m->ctrl->n_states > 0) u += fabs(cp.du_dz[0]) * atol_ctrl;
+    worst = fmax(worst, u);
+  }
+  m->newton_voltage = worst;
+  const double c = NEWTON_VOLTAGE_SHARE * m->par.actuator.voltage_limit / worst;
+  if (isfinite(c) && c < POM_DYN_NEWTON_COEF_DEFAULT) m->newton_coef = c;
 }
 
 int pom_dyn_drive_mode_light(const pom_dyn_model *m, double *omega, double *zeta) {

@@ -139,6 +139,15 @@ struct pom_dyn_model {
    * (dyn_exact_order.c, docs/dynamics.md section 7) */
   int max_order;
   dyn_drive_mode drive; /* analysed 0 on the parasitic path */
+  /* CVODE's Newton convergence coefficient (CVodeSetNonlinConvCoef): 0 =
+   * CVODE's default 0.1; below it on the rigid path when the tolerated
+   * Newton error of the mechanical states would move the drive voltage by
+   * more than a fraction of its limit (dyn_exact_order.c, docs/dynamics.md
+   * section 7, "Newton accuracy at high gain") */
+  double newton_coef;
+  /* the drive voltage the absolute tolerances of the orientation, omega and
+   * controller states move at rest at home (V; 0 where not analysed) */
+  double newton_voltage;
 };
 
 /* Per-body kinematic quantities at one evaluation. */
@@ -537,6 +546,16 @@ double pom_dyn_bdf_alpha_deg(int order);
  * mode lies outside BDF 3's sector. Called at the end of the exact
  * formulation's init. */
 void pom_dyn_order_cap(pom_dyn_model *m, const double M[9], const double J[9]);
+/* The Newton convergence coefficient CVODE's default (0.1) leaves. */
+#define POM_DYN_NEWTON_COEF_DEFAULT 0.1
+/* Sets m->newton_voltage, the drive voltage the tolerances move at rest at
+ * home, and from it m->newton_coef. J is the actuator Jacobian there (rows
+ * in actuator order, m or rad per rad), atol_angle and atol_rate the largest
+ * absolute tolerances of a rotation (rad; twice a quaternion component's)
+ * and of an omega component (rad/s), atol_ctrl that of the controller state
+ * (0 if none). Called at the end of the exact formulation's init. */
+void pom_dyn_newton_coef(pom_dyn_model *m, const double J[9], double atol_angle, double atol_rate,
+                         double atol_ctrl);
 /* The roots of the real polynomial c[0] s^n + ... + c[n] (n <= 6, c[0] != 0)
  * into re[n], im[n]; returns 1 when every root's relative residual is below
  * 1e-9, 0 otherwise (Aberth-Ehrlich iteration, Newton polish). */

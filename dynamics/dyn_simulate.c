@@ -120,6 +120,9 @@ pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_e
       CVodeSetStabLimDet(d->cvode, p->solver.stability_limit_detection ? 1 : 0) != CV_SUCCESS ||
       (p->solver.max_step > 0 && CVodeSetMaxStep(d->cvode, p->solver.max_step) != CV_SUCCESS))
     POM_FAIL_GOTO(err, POM_ERR_SOLVER, fail, "configuring CVODE: %s", d->cvode_msg);
+  /* the rigid path's Newton accuracy at high loop gain (dyn_exact_order.c) */
+  if (m->newton_coef > 0.0 && CVodeSetNonlinConvCoef(d->cvode, m->newton_coef) != CV_SUCCESS)
+    POM_FAIL_GOTO(err, POM_ERR_SOLVER, fail, "configuring CVODE: %s", d->cvode_msg);
 
   /* the formulation's scratch, Newton matrix and linear solver */
   POM_TRY_GOTO(m->form->data_init(m, d, err), fail);
