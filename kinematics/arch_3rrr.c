@@ -290,20 +290,6 @@ static void axis_rotation(double R[9], const double u[3], double t) {
   R[8] = c + C * u[2] * u[2];
 }
 
-/* Orthonormal frame (columns) of the pair (a, b): a, unit(b - (a.b) a), and
- * their cross product. */
-static void pair_frame(double F[9], const double a[3], const double b[3]) {
-  double e2[3], e3[3];
-  pom_v3_axpy(e2, b, -pom_v3_dot(a, b), a);
-  pom_v3_normalize(e2, e2);
-  pom_v3_cross(e3, a, e2);
-  for (int r = 0; r < 3; ++r) {
-    F[3 * r + 0] = a[r];
-    F[3 * r + 1] = e2[r];
-    F[3 * r + 2] = e3[r];
-  }
-}
-
 /* The quantities of limb_twist that limb_twist_diff differentiates (names as
  * in docs/kinematics-3rrr.md section 4). */
 typedef struct {
@@ -355,8 +341,8 @@ static int twist_eval(const pom_kin_arch *arch, int i, const double R[9], const 
   /* distal: keeps w and v; omega_d = omega + beta v, beta = -(omega . n) / (v . n) */
   pom_kin_twist_rest(ds);
   double F0[9], F[9];
-  pair_frame(F0, g->elbow_axis[i], g->platform_axis[i]);
-  pair_frame(F, w, v);
+  pom_kin_pair_frame(F0, g->elbow_axis[i], g->platform_axis[i]);
+  pom_kin_pair_frame(F, w, v);
   pom_m3_mult(ds->R, F, F0);
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c)
@@ -498,58 +484,6 @@ static double footprint(const pom_kin_arch *arch) {
 }
 
 /* ---- mechanism (link model: docs/kinematics-3rrr.md section 6) ------------------- */
-/* Mass, CM and inertia about O of a thin circular arc of radius r from unit a
- * to unit b (angle acos(a . b)), linear density lam (kg/m). */
-static void arc_inertia(double *mass, double cm[3], double IO[9], const double a[3],
-                        const double b[3], double r, double lam) {
-  double F[9];
-  pair_frame(F, a, b);
-  double e1[3] = {F[0], F[3], F[6]}, e2[3] = {F[1], F[4], F[7]};
-  double al = pom_kin_angle_between(a, b), m = lam * r * al;
-  double c11 = 0.5 * al + 0.25 * sin(2.0 * al), c22 = 0.5 * al - 0.25 * sin(2.0 * al);
-  double c12 = 0.5 * sin(al) * sin(al), k = lam * r * r * r;
-  *mass = m;
-  for (int i = 0; i < 3; ++i) {
-    cm[i] = r / al * (sin(al) * e1[i] + (1.0 - cos(al)) * e2[i]);
-    for (int j = 0; j < 3; ++j) {
-      double S =
-          k * (c11 * e1[i] * e1[j] + c22 * e2[i] * e2[j] + c12 * (e1[i] * e2[j] + e2[i] * e1[j]));
-      IO[3 * i + j] = (i == j ? m * r * r : 0.0) - S;
-    }
-  }
-}
-
-/* Adds a point mass m at p to (mass, first moment s = sum m x, IO). */
-static void add_point(double *mass, double s[3], double IO[9], double m, const double p[3]) {
-  double pp = pom_v3_dot(p, p);
-  *mass += m;
-  for (int i = 0; i < 3; ++i) {
-    s[i] += m * p[i];
-    for (int j = 0; j < 3; ++j)
-      IO[3 * i + j] += m * ((i == j ? pp : 0.0) - p[i] * p[j]);
-  }
-}
-
-/* Writes a body given its mass, first moment about O and inertia about O. */
-static int body_from_O(pom_mechanism *mech, const char *name, int limb_no, double mass,
-                       const double s[3], const double IO[9]) {
-  double I3[9], cm[3];
-  pom_m3_identity(I3);
-  pom_v3_scale(cm, 1.0 / mass, s);
-  int k = pom_kin_build_body(mech, name, limb_no, NULL, I3, cm);
-  pom_mech_body *b = &mech->body[k];
-  pom_v3_copy(b->cm, cm); /* pom_kin_build_body keeps cm only with mass properties */
-  double cc = pom_v3_dot(cm, cm);
-  b->mass = mass;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      b->inertia[3 * i + j] = IO[3 * i + j] - mass * ((i == j ? cc : 0.0) - cm[i] * cm[j]);
-  for (int i = 0; i < 3; ++i) /* exactly symmetric */
-    for (int j = 0; j < i; ++j)
-      b->inertia[3 * i + j] = b->inertia[3 * j + i];
-  return k;
-}
-
 static pom_status mechanism(pom_mechanism *mech, const pom_kin_arch *arch,
                             const pom_kin_inertia *in, pom_error *err) {
   const rrr *g = POM_KIN_CDATA(rrr, arch);
@@ -560,22 +494,22 @@ static pom_status mechanism(pom_mechanism *mech, const pom_kin_arch *arch,
     double m, c[3], IO[9], s[3], p[3];
     /* proximal: arc u -> w plus the rotor (mass on u at r, axisymmetric
      * about u: J_r axial, J_r / 2 transverse) */
-    arc_inertia(&m, c, IO, u, w, r, lam);
+    pom_kin_arc_inertia(&m, c, IO, u, w, r, lam);
     pom_v3_scale(s, m, c);
     pom_v3_scale(p, r, u);
-    add_point(&m, s, IO, in->value[V_ROTOR_MASS], p);
+    pom_kin_add_point_mass(&m, s, IO, in->value[V_ROTOR_MASS], p);
     double Jr = in->value[V_ROTOR_INERTIA];
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b)
         IO[3 * a + b] += 0.5 * Jr * ((a == b ? 1.0 : 0.0) + u[a] * u[b]);
     if (!(m > 0.0)) POM_FAIL(err, POM_ERR_ARG, "leg %d: the proximal link has no mass", i + 1);
-    int prox = body_from_O(mech, "proximal", i + 1, m, s, IO);
+    int prox = pom_kin_body_from_O(mech, "proximal", i + 1, m, s, IO);
     /* distal: arc w -> v plus the elbow housing at r w */
-    arc_inertia(&m, c, IO, w, v, r, lam);
+    pom_kin_arc_inertia(&m, c, IO, w, v, r, lam);
     pom_v3_scale(s, m, c);
     pom_v3_scale(p, r, w);
-    add_point(&m, s, IO, in->value[V_ELBOW_MASS], p);
-    int dist = body_from_O(mech, "distal", i + 1, m, s, IO);
+    pom_kin_add_point_mass(&m, s, IO, in->value[V_ELBOW_MASS], p);
+    int dist = pom_kin_body_from_O(mech, "distal", i + 1, m, s, IO);
     int ju = pom_kin_build_joint(mech, "U", i + 1, POM_JOINT_REVOLUTE, 0, prox, O, u, NULL);
     pom_kin_build_actuator(mech, ju, prox, arch->stroke);
     pom_kin_build_joint(mech, "W", i + 1, POM_JOINT_REVOLUTE, prox, dist, O, w, NULL);

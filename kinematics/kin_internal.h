@@ -76,4 +76,20 @@ void pom_kin_segment_limits(const double R[9], const double *from, const double 
 pom_status pom_kin_require_known_key(const pom_cfg *cfg, const char *group,
                                      const char *const known[], pom_error *err);
 
+/* ---- the 3-RRR's arc links (kin_arc.c; docs/kinematics-3rrr.md section 6),
+ * shared by arch_3rrr.c and the limb tables (kin_limb.c) ---------------- */
+/* Orthonormal frame (columns) of the pair (a, b): a, unit(b - (a.b) a), and
+ * their cross product. */
+void pom_kin_pair_frame(double F[9], const double a[3], const double b[3]);
+/* Mass, CM and inertia about O of a thin circular arc of radius r from unit a
+ * to unit b (angle acos(a . b)), linear density lam (kg/m). */
+void pom_kin_arc_inertia(double *mass, double cm[3], double IO[9], const double a[3],
+                         const double b[3], double r, double lam);
+/* Adds a point mass m at p to (mass, first moment s = sum m x, IO). */
+void pom_kin_add_point_mass(double *mass, double s[3], double IO[9], double m, const double p[3]);
+/* Writes a body given its mass, first moment about O and inertia about O;
+ * returns its index. */
+int pom_kin_body_from_O(pom_mechanism *mech, const char *name, int limb_no, double mass,
+                        const double s[3], const double IO[9]);
+
 #endif

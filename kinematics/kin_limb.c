@@ -294,19 +294,8 @@ static void rot_jet(pom_jet Rt[9], const double u[3], pom_jet t) {
     }
 }
 
-/* Orthonormal frame (columns) of the pair (a, b): a, unit(b - (a.b) a), a x
- * that (arch_3rrr.c's pair_frame), doubles and jets. */
-static void pair_frame(double F[9], const double a[3], const double b[3]) {
-  double e2[3], e3[3];
-  pom_v3_axpy(e2, b, -pom_v3_dot(a, b), a);
-  pom_v3_normalize(e2, e2);
-  pom_v3_cross(e3, a, e2);
-  for (int r = 0; r < 3; ++r) {
-    F[3 * r + 0] = a[r];
-    F[3 * r + 1] = e2[r];
-    F[3 * r + 2] = e3[r];
-  }
-}
+/* pom_kin_pair_frame (kin_arc.c) on jets: the orthonormal frame of the pair
+ * (a, b), columns a, unit(b - (a.b) a) and a x that. */
 
 static void pair_frame_jet(pom_jet e[3][3], const pom_jet a[3], const pom_jet b[3]) {
   pom_jet ab = jv_dot(a, b), e2[3];
@@ -360,7 +349,7 @@ static void limb_jet_eval(const pom_limb *L, const double R[9], const limb_state
     rot_jet(o->Rb[0], u, o->q);
     jm_applyc(w, o->Rb[0], w0);
     double F0[9];
-    pair_frame(F0, w0, J[2].axis);
+    pom_kin_pair_frame(F0, w0, J[2].axis);
     pair_frame_jet(e, w, v);
     frame_product(o->Rb[1], e, F0);
     ref_rotated(o->ref[0], o->Rb[0], J[L->ref_joint[0]].point);
@@ -694,53 +683,6 @@ static int limb_dir(double out[3], const pom_limb *L, pom_limb_dir d) {
 
 /* Thin circular arc of radius r from unit a to unit b, linear density lam:
  * mass, CM and inertia about O (arch_3rrr.c, docs/kinematics-3rrr.md 6). */
-static void arc_inertia(double *mass, double cm[3], double IO[9], const double a[3],
-                        const double b[3], double r, double lam) {
-  double F[9];
-  pair_frame(F, a, b);
-  double e1[3] = {F[0], F[3], F[6]}, e2[3] = {F[1], F[4], F[7]};
-  double al = pom_kin_angle_between(a, b), m = lam * r * al;
-  double c11 = 0.5 * al + 0.25 * sin(2.0 * al), c22 = 0.5 * al - 0.25 * sin(2.0 * al);
-  double c12 = 0.5 * sin(al) * sin(al), k = lam * r * r * r;
-  *mass = m;
-  for (int i = 0; i < 3; ++i) {
-    cm[i] = r / al * (sin(al) * e1[i] + (1.0 - cos(al)) * e2[i]);
-    for (int j = 0; j < 3; ++j) {
-      double S =
-          k * (c11 * e1[i] * e1[j] + c22 * e2[i] * e2[j] + c12 * (e1[i] * e2[j] + e2[i] * e1[j]));
-      IO[3 * i + j] = (i == j ? m * r * r : 0.0) - S;
-    }
-  }
-}
-
-static void add_point(double *mass, double s[3], double IO[9], double m, const double p[3]) {
-  double pp = pom_v3_dot(p, p);
-  *mass += m;
-  for (int i = 0; i < 3; ++i) {
-    s[i] += m * p[i];
-    for (int j = 0; j < 3; ++j)
-      IO[3 * i + j] += m * ((i == j ? pp : 0.0) - p[i] * p[j]);
-  }
-}
-
-static int body_from_O(pom_mechanism *mech, const char *name, int limb_no, double mass,
-                       const double s[3], const double IO[9]) {
-  double I3[9], cm[3];
-  pom_m3_identity(I3);
-  pom_v3_scale(cm, 1.0 / mass, s);
-  int k = pom_kin_build_body(mech, name, limb_no, NULL, I3, cm);
-  pom_mech_body *b = &mech->body[k];
-  pom_v3_copy(b->cm, cm);
-  double cc = pom_v3_dot(cm, cm);
-  b->mass = mass;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      b->inertia[3 * i + j] = IO[3 * i + j] - mass * ((i == j ? cc : 0.0) - cm[i] * cm[j]);
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < i; ++j)
-      b->inertia[3 * i + j] = b->inertia[3 * j + i];
-  return k;
-}
 
 static pom_status build_body(pom_mechanism *mech, int *index, const pom_limb_table *tb,
                              const pom_limb *L, int i, int b, const pom_kin_inertia *in,
@@ -771,11 +713,11 @@ static pom_status build_body(pom_mechanism *mech, int *index, const pom_limb_tab
   case POM_LIMB_MASS_ARC: {
     const double r = tb->arc_radius, lam = in->value[bd->v_density] * in->value[bd->v_section];
     double m, c[3], IO[9], s[3], p[3];
-    arc_inertia(&m, c, IO, L->joint[bd->arc_a].axis, L->joint[bd->arc_b].axis, r, lam);
+    pom_kin_arc_inertia(&m, c, IO, L->joint[bd->arc_a].axis, L->joint[bd->arc_b].axis, r, lam);
     pom_v3_scale(s, m, c);
     if (bd->v_point_mass >= 0) {
       pom_v3_scale(p, r, L->joint[bd->point_joint].axis);
-      add_point(&m, s, IO, in->value[bd->v_point_mass], p);
+      pom_kin_add_point_mass(&m, s, IO, in->value[bd->v_point_mass], p);
     }
     if (bd->v_rotor >= 0) {
       const double *u = L->joint[bd->rotor_joint].axis, Jr = in->value[bd->v_rotor];
@@ -785,7 +727,7 @@ static pom_status build_body(pom_mechanism *mech, int *index, const pom_limb_tab
     }
     if (!(m > 0.0))
       POM_FAIL(err, POM_ERR_ARG, "limb %d: the %s has no mass (its arc model)", i + 1, bd->name);
-    *index = body_from_O(mech, bd->name, i + 1, m, s, IO);
+    *index = pom_kin_body_from_O(mech, bd->name, i + 1, m, s, IO);
     return POM_OK;
   }
   default:
