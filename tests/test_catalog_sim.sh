@@ -2,7 +2,7 @@
 # test_catalog_sim.sh - one `pomlab simulate CONFIG --json` per file of
 # catalog/ (its run config as test_catalog.c finds it: configs/catalog/<stem>.cfg,
 # else configs/<stem>.cfg with architecture = the file's name) on the rigid
-# and on the parasitic joint model: the run succeeds and its energy audit
+# and on the parasitic joint model (and `pomlab model --json` parses): the run succeeds and its energy audit
 # closes, energy_balance_error < 1e-3 (the bound of test_dynamics_cli.sh for
 # the shipped designs). Targets: 5, -3, 2 deg for rotary actuators (a
 # quarter of the +-30 deg range or less), 2, -1, 1 mm for linear ones (a
@@ -24,6 +24,9 @@ for arch in "$SRC"/catalog/*.arch; do
   fi
   sed "s/^architecture = \".*\";/architecture = \"$name\";/" "$cfg" >"$TMP/$stem.cfg"
   if grep -q '^actuator = "rotary";' "$arch"; then target=5,-3,2; else target=2,-1,1; fi
+  # the model as JSON parses (a file's type has design values but no points)
+  expect_rc 0 "$POMLAB" model "$TMP/$stem.cfg" --json
+  json_check 'd["architecture"] == "'"$name"'" and "design" in d["geometry"]'
   for joints in rigid parasitic; do
     expect_rc 0 "$POMLAB" simulate "$TMP/$stem.cfg" --target "$target" --joints "$joints" --json
     e=$("$PY" -c "import json; print(json.load(open('$TMP/out'))['energy_balance_error'])" 2>/dev/null)
