@@ -37,7 +37,7 @@ void pom_kin_mechanism_json(FILE *out, const pom_kin_arch *a, const pom_mechanis
       fprintf(out, "%s\"%s\": ", k ? ", " : "", t->params[k].key);
       pom_json_number(out, a->design.x[k] / t->params[k].to_si);
     }
-    fprintf(out, "},\n");
+    fprintf(out, "}%s\n", t->n_points > 0 ? "," : ""); /* a file's type has no points */
   }
   for (int k = 0; k < t->n_points; ++k) {
     const double(*p)[3] =

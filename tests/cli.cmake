@@ -144,3 +144,7 @@ add_test(NAME test_model_json
 add_test(NAME test_arch_file_cli
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_arch_file_cli.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# every catalog file simulated on both joint models, energy audit closed
+add_test(NAME test_catalog_sim
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_catalog_sim.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
