@@ -29,7 +29,8 @@ The stated errors (each plus the same bound for the reference):
   times       |t - t_ref| <= max(100 rtol x 10 ms, 1e-9 s) (10 ms: the
               shipped maneuvers' settling time), for the execution time and
               each actuator's stepinfo settling time (settling_time_final_s;
-              a null one is flagged, not a figure)
+              a null one is flagged, not a figure; a reference stepinfo
+              time unresolved at rtol 1e-10 is taken at 1e-8)
 
 A parasitic-path run (except the gain rows, whose rigid references are the
 costly ones of issue 30 item 3) is compared with the rigid path's reference
@@ -217,8 +218,25 @@ class Runner:
                 o = self.run(arch, path, e, args, target)
                 if o["rc"] == 0 and o["json"] and o["json"].get("status") == "POM_OK":
                     o["rtol"] = rtol
+                    # the rtol each stepinfo time was taken at: at 1e-10 a
+                    # slow crossing may be unresolved (its stated error is
+                    # 1 ns, docs/results.md 1c); take it from 1e-8 then
+                    o["st_rtol"] = [rtol] * len(o["json"].get("settling_time_final_s") or [])
                     self.refs[key] = o
                     break
+            o = self.refs[key]
+            if o is not None and o["rtol"] != REF_RTOL_FALLBACK and \
+                    any(o["json"].get("stepinfo_unresolved") or []):
+                e = dict(edits)
+                e.update({"solver.rtol": "%g" % REF_RTOL_FALLBACK, "solver.atol_scale": "0",
+                          "solver.max_steps": "500000", "solver.max_wall_s": "0"})
+                f = self.run(arch, path, e, args, target)
+                if f["rc"] == 0 and f["json"] and f["json"].get("status") == "POM_OK":
+                    st = o["json"]["settling_time_final_s"]
+                    for i, u in enumerate(o["json"]["stepinfo_unresolved"]):
+                        if u and not f["json"]["stepinfo_unresolved"][i]:
+                            st[i] = f["json"]["settling_time_final_s"][i]
+                            o["st_rtol"][i] = REF_RTOL_FALLBACK
         return self.refs[key]
 
 
@@ -315,6 +333,7 @@ def evaluate(r, s, path):
                                        rj.get("settling_time_final_s") or [])):
             if a is None:
                 continue
+            claim_t = max(100 * rtol * 0.01, 1e-9) + max(100 * ref["st_rtol"][i] * 0.01, 1e-9)
             if not finite(b) or abs(a - b) > claim_t:
                 step.append("stepinfo time %d off %.2g ms of %.3g ms (stated %.2g ms)" % (
                     i + 1, 1e3 * abs(a - b), 1e3 * b, 1e3 * claim_t) if finite(b) else
@@ -484,12 +503,13 @@ or a huge maneuver, a short-link 3P-S-S/S driven to a near-singular pose.
   (`settling_time_final_s`) within max(100 rtol x 10 ms, 1 ns) plus the
   reference's (10 ms: the shipped maneuvers' settling time); a finite time
   against an unsettled reference (or the reverse) is off; a null
-  (unresolved) stepinfo time is a flag, not a figure. A stepinfo band wider
-  than the position's resolution res (docs/results.md section 1c) is
-  reported as resolved, but that bounds the time's error only to about
-  tau res / band (tau the time constant of the final approach: a
-  millisecond or more when the integral action creeps), not to the
-  tolerance: such rows show as WRONG against the bound above.
+  (unresolved) stepinfo time is a flag, not a figure. The program states
+  the same error for a stepinfo time (max(rtol x 1 s, 1 ns), docs/results.md
+  section 1c): a crossing whose position resolution res over the slope
+  there exceeds it is integrated again with tightened tolerances, or
+  flagged. At the reference's rtol 1e-10 that error is 1 ns, which a slow
+  crossing may not reach: such a reference time is taken from the rtol 1e-8
+  reference (stated 10 ns) instead.
 - *The rigid limit* (parasitic path only, column "vs rigid"; not for the
   gain rows, whose rigid references are what issue 30 item 3 is about): the parasitic
   model's energy against the rigid path's reference of the same maneuver,
