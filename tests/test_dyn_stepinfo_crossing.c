@@ -1,10 +1,10 @@
 /* test_dyn_stepinfo_crossing.c - a stepinfo settling time is right within
  * its stated error or flagged (docs/results.md section 1c, issue 30 items 1
  * and 9): a slow crossing, whose position resolution over the slope there
- * exceeds the stated error max(rtol x 1 s, 1 ns), is located again with
+ * exceeds the stated error max(rtol x 10 s, 1 ns), is located again with
  * tightened tolerances, or reported NaN with stepinfo_unresolved when the
  * needed tightening is beyond the cap. Before, the tiny maneuvers below gave
- * times 0.10-0.18 ms off with a stated error of 1 us. */
+ * times 0.10-0.18 ms off with a stated error of 10 us. */
 #include "check.h"
 #include "dyn_internal.h"
 #include "dyn_test_util.h"
@@ -35,15 +35,15 @@ static long last_steps(const run_t *r) {
   return CVodeGetNumSteps(r->d->cvode, &v) == CV_SUCCESS ? v : -1;
 }
 
-/* A tiny maneuver on the shipped tolerances (rtol 1e-6: stated error 1 us)
+/* A tiny maneuver on the shipped tolerances (rtol 1e-6: stated error 10 us)
  * against the converged reference (natural tolerances, rtol 1e-10: stated
- * 1 ns): each stepinfo time resolved, by a re-run, and within 1 us + 1 ns. */
+ * 1 ns): each stepinfo time resolved, by a re-run, and within 10 us + 1 ns. */
 static void check_tiny(const char *file, const double target[3], const char *what) {
   run_t r, ref;
   check_true(run_rigid(&ref, file, target, 1e-10, 0.0) == POM_OK);
   check_true(run_rigid(&r, file, target, -1, -1) == POM_OK);
   const double stated = pom_dyn_stepinfo_time_tol(1e-6) + pom_dyn_stepinfo_time_tol(1e-10);
-  check_abs(stated, 1.001e-6, 1e-15);
+  check_abs(stated, 10.001e-6, 1e-15);
   for (int a = 0; a < 3; ++a) {
     printf("%s actuator %d: %.10g ms (reference %.10g ms), %ld steps (%ld in the re-run)\n", what,
            a + 1, 1e3 * r.mt.settling_time_final[a], 1e3 * ref.mt.settling_time_final[a],
@@ -70,24 +70,37 @@ static void test_tiny_resolved(void) {
   check_tiny("3rrr.cfg", rrr, "3-RRR (1, -1, 1) mdeg");
 }
 
-/* The 3S-P-S/S at zero (a 0.18 um gravity sag): the crossing would need the
- * tolerances some 1.7e4 x tighter than shipped, beyond the cap of 1e4:
- * flagged, no re-run (before: 0.10 ms off, unflagged). */
-static void test_zero_flagged(void) {
+/* The 3S-P-S/S at zero (a 0.18 um gravity sag): the crossing needs the
+ * tolerances some 1.7e3 x tighter than shipped (1.7e4 against the stated
+ * 1 us of rtol x 1 s), within the cap of 1e4 once the safety factor is
+ * applied: re-run, and each time right within its stated error against the
+ * converged reference or flagged (before the re-run: 0.10 ms off,
+ * unflagged). */
+static void test_zero_right_or_flagged(void) {
   const double zero[3] = {0, 0, 0};
-  run_t r;
+  run_t r, ref;
+  check_true(run_rigid(&ref, "3sps.cfg", zero, 1e-10, 0.0) == POM_OK);
   check_true(run_rigid(&r, "3sps.cfg", zero, -1, -1) == POM_OK);
+  const double stated = pom_dyn_stepinfo_time_tol(1e-6) + pom_dyn_stepinfo_time_tol(1e-10);
   for (int a = 0; a < 3; ++a) {
-    check_true(isnan(r.mt.settling_time_final[a]) && r.mt.stepinfo_unresolved[a] == 1);
-    check_true(r.d->settle.stepinfo_need[a] * POM_DYN_STEPINFO_SAFETY >
-               POM_DYN_STEPINFO_MAX_TIGHTEN);
+    printf("3S-P-S/S (0, 0, 0) actuator %d: %.10g ms (reference %.10g ms), flag %d\n", a + 1,
+           1e3 * r.mt.settling_time_final[a], 1e3 * ref.mt.settling_time_final[a],
+           (int)r.mt.stepinfo_unresolved[a]);
+    if (r.mt.stepinfo_unresolved[a]) {
+      check_true(isnan(r.mt.settling_time_final[a]));
+    } else {
+      check_true(ref.mt.stepinfo_unresolved[a] == 0);
+      check_abs(r.mt.settling_time_final[a], ref.mt.settling_time_final[a], stated);
+    }
   }
-  check_true(r.mt.steps == last_steps(&r));
+  /* the re-run happened (it was flagged without one before) */
+  check_true(r.mt.steps > last_steps(&r) && last_steps(&r) > 0);
   run_free(&r);
+  run_free(&ref);
 }
 
 /* The shipped maneuver (3, -3, 3) mm: every crossing fast enough (res /
- * slope 0.3-0.6 us under 1 us), no re-run, the times unchanged. */
+ * slope 0.3-0.6 us under 10 us), no re-run, the times unchanged. */
 static void test_shipped_untouched(void) {
   const double step[3] = {3e-3, -3e-3, 3e-3};
   const char *files[2] = {"3pss.cfg", "3sps.cfg"};
@@ -105,7 +118,7 @@ static void test_shipped_untouched(void) {
 
 int main(void) {
   test_tiny_resolved();
-  test_zero_flagged();
+  test_zero_right_or_flagged();
   test_shipped_untouched();
   return check_summary("test_dyn_stepinfo_crossing");
 }
