@@ -27,9 +27,12 @@ The stated errors (each plus the same bound for the reference):
               section 7 measures 0.5-45 x rtol on the three architectures;
               1e-8 is the 9 printed digits
   times       |t - t_ref| <= max(100 rtol x 10 ms, 1e-9 s) (10 ms: the
-              shipped maneuvers' settling time), for the execution time and
+              shipped maneuvers' settling time) for the execution time;
+              max(rtol x 10 s, 1e-9 s), the program's stated error, for
               each actuator's stepinfo settling time (settling_time_final_s;
-              a null one is flagged, not a figure)
+              a null one is flagged, not a figure; a reference stepinfo
+              time unresolved at rtol 1e-10 is taken at 1e-8); each plus
+              the reference's
 
 A parasitic-path run (except the gain rows, whose rigid references are the
 costly ones of issue 30 item 3) is compared with the rigid path's reference
@@ -74,6 +77,9 @@ ARCH_NAME = {"3pss": "3P-S-S/S", "3sps": "3S-P-S/S", "3rrr": "3-RRR"}
 TARGET = "3,-3,3"  # mm (prismatic) or deg (the 3-RRR's rotary actuators)
 REF_RTOL = 1e-10
 REF_RTOL_FALLBACK = 1e-8
+# the stated error of a stepinfo time: max(rtol x this, 1 ns) s, as
+# pom_dyn_stepinfo_time_tol (POM_DYN_STEPINFO_TIME_SCALE, dynamics/dyn_internal.h)
+STEPINFO_TIME_SCALE = 10.0
 # the documented parasitic-vs-rigid relative energy gap at the paper's k_p,
 # (lowest, highest): docs/tradeoff.md (3P-S-S/S 2 %), docs/dynamics-exact.md
 # section 9 (3S-P-S/S 26-88 % high, converging from above; 2 % below allowed
@@ -217,8 +223,25 @@ class Runner:
                 o = self.run(arch, path, e, args, target)
                 if o["rc"] == 0 and o["json"] and o["json"].get("status") == "POM_OK":
                     o["rtol"] = rtol
+                    # the rtol each stepinfo time was taken at: at 1e-10 a
+                    # slow crossing may be unresolved (its stated error is
+                    # 1 ns, docs/results.md 1c); take it from 1e-8 then
+                    o["st_rtol"] = [rtol] * len(o["json"].get("settling_time_final_s") or [])
                     self.refs[key] = o
                     break
+            o = self.refs[key]
+            if o is not None and o["rtol"] != REF_RTOL_FALLBACK and \
+                    any(o["json"].get("stepinfo_unresolved") or []):
+                e = dict(edits)
+                e.update({"solver.rtol": "%g" % REF_RTOL_FALLBACK, "solver.atol_scale": "0",
+                          "solver.max_steps": "500000", "solver.max_wall_s": "0"})
+                f = self.run(arch, path, e, args, target)
+                if f["rc"] == 0 and f["json"] and f["json"].get("status") == "POM_OK":
+                    st = o["json"]["settling_time_final_s"]
+                    for i, u in enumerate(o["json"]["stepinfo_unresolved"]):
+                        if u and not f["json"]["stepinfo_unresolved"][i]:
+                            st[i] = f["json"]["settling_time_final_s"][i]
+                            o["st_rtol"][i] = REF_RTOL_FALLBACK
         return self.refs[key]
 
 
@@ -315,6 +338,8 @@ def evaluate(r, s, path):
                                        rj.get("settling_time_final_s") or [])):
             if a is None:
                 continue
+            claim_t = (max(rtol * STEPINFO_TIME_SCALE, 1e-9)
+                       + max(ref["st_rtol"][i] * STEPINFO_TIME_SCALE, 1e-9))
             if not finite(b) or abs(a - b) > claim_t:
                 step.append("stepinfo time %d off %.2g ms of %.3g ms (stated %.2g ms)" % (
                     i + 1, 1e3 * abs(a - b), 1e3 * b, 1e3 * claim_t) if finite(b) else
@@ -480,16 +505,18 @@ or a huge maneuver, a short-link 3P-S-S/S driven to a near-singular pose.
   (`solver.atol_scale = 0`, `max_steps` 5e5; at 1e-8 when that fails).
   docs/dynamics.md section 7 measures 0.5-45 x rtol on the shipped
   maneuvers; 1e-8 is what 9 printed digits resolve.
-- *Times*: the execution time and each actuator's stepinfo settling time
-  (`settling_time_final_s`) within max(100 rtol x 10 ms, 1 ns) plus the
-  reference's (10 ms: the shipped maneuvers' settling time); a finite time
-  against an unsettled reference (or the reverse) is off; a null
-  (unresolved) stepinfo time is a flag, not a figure. A stepinfo band wider
-  than the position's resolution res (docs/results.md section 1c) is
-  reported as resolved, but that bounds the time's error only to about
-  tau res / band (tau the time constant of the final approach: a
-  millisecond or more when the integral action creeps), not to the
-  tolerance: such rows show as WRONG against the bound above.
+- *Times*: the execution time within max(100 rtol x 10 ms, 1 ns) plus the
+  reference's (10 ms: the shipped maneuvers' settling time), each
+  actuator's stepinfo settling time (`settling_time_final_s`) within the
+  error the program states for it, max(rtol x 10 s, 1 ns) (10 us at rtol
+  1e-6, Table 1b's printed 0.01 ms; docs/results.md section 1c), plus the
+  reference's; a finite time against an unsettled reference (or the
+  reverse) is off; a null (unresolved) stepinfo time is a flag, not a
+  figure. A stepinfo crossing whose position resolution res over the slope
+  there exceeds the stated error is integrated again with tightened
+  tolerances, or flagged. At the reference's rtol 1e-10 that error is 1 ns,
+  which a slow crossing may not reach: such a reference time is taken from
+  the rtol 1e-8 reference (stated 100 ns) instead.
 - *The rigid limit* (parasitic path only, column "vs rigid"; not for the
   gain rows, whose rigid references are what issue 30 item 3 is about): the parasitic
   model's energy against the rigid path's reference of the same maneuver,

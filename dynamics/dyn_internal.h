@@ -222,6 +222,9 @@ typedef struct {
   long rec_n;          /* rows used (row 0: t = 0) */
   long rec_cap;        /* rows allocated (grows geometrically, kept across maneuvers) */
   long evals;          /* interpolant evaluations of the last maneuver (nodes + root finding) */
+  /* per actuator, after the metrics: the factor by which the tolerances fall
+   * short of resolving the stepinfo crossing (> 1: unresolved; 0: resolved) */
+  double stepinfo_need[POM_MECH_MAX_ACTUATORS];
 } dyn_settle;
 
 /* The rigid-limit watch (dyn_validity.c, docs/dynamics.md section 13b):
@@ -265,6 +268,9 @@ struct pom_dyn_data {
   double R_target[9];        /* target orientation of the maneuver, FK(setpoints) */
   int have_target_rotation;  /* 1 when R_target is known */
   double *yfinal;            /* [n_states] state at the end of the last run */
+  double *ysave;             /* [n_states] yfinal kept across a stepinfo re-run */
+  double tol_tighten;        /* 1, or the factor every tolerance is divided by in a stepinfo
+                                re-run (docs/results.md section 1c) */
   int have_final;
   void *form_data; /* the formulation's per-worker scratch, owned (NULL if none) */
   void *ctrl_work; /* the controller's per-worker scratch (work_create), owned, or NULL */
@@ -359,12 +365,29 @@ pom_status pom_dyn_settle_data(pom_dyn_data *d, pom_error *err);
 void pom_dyn_settle_begin(const pom_dyn_model *m, pom_dyn_data *d, const double *y0);
 pom_status pom_dyn_settle_step(const pom_dyn_model *m, pom_dyn_data *d, double t, const double *y,
                                pom_error *err);
-void pom_dyn_settle_metrics(const pom_dyn_model *m, const pom_dyn_data *d, pom_dyn_metrics *mt);
+void pom_dyn_settle_metrics(const pom_dyn_model *m, pom_dyn_data *d, pom_dyn_metrics *mt);
+/* The stated error of a stepinfo settling time at solver.rtol (s):
+ * max(rtol x POM_DYN_STEPINFO_TIME_SCALE, POM_DYN_STEPINFO_TIME_FLOOR),
+ * 10 us at the shipped rtol 1e-6 = the printed precision of Table 1b
+ * (0.01 ms); finer times by a lower rtol, which scales it (docs/results.md
+ * section 1c, docs/dynamics.md section 7). */
+#define POM_DYN_STEPINFO_TIME_SCALE 10.0
+#define POM_DYN_STEPINFO_TIME_FLOOR 1e-9
+double pom_dyn_stepinfo_time_tol(double rtol);
+/* A stepinfo crossing the tolerances do not resolve is re-integrated with
+ * every tolerance divided by POM_DYN_STEPINFO_SAFETY x the factor they fall
+ * short by, at most POM_DYN_STEPINFO_MAX_TIGHTEN and not below rtol
+ * POM_DYN_STEPINFO_MIN_RTOL; beyond that it is flagged unresolved. */
+#define POM_DYN_STEPINFO_SAFETY      4.0
+#define POM_DYN_STEPINFO_MAX_TIGHTEN 1e4
+#define POM_DYN_STEPINFO_MIN_RTOL    1e-12
 /* What the error test resolves of each actuator position at state y: the
  * states' tolerances (atol_i + rtol |y_i|) carried through the positions op
  * (docs/results.md section 1c); work holds n_states doubles. */
 void pom_dyn_position_resolution(const pom_dyn_model *m, const double *y, double *work,
                                  double res[3]);
+void pom_dyn_position_resolution_tight(const pom_dyn_model *m, const double *y, double *work,
+                                       double tighten, double res[3]);
 
 /* dyn_parasitic.c: the parasitic bond-graph formulation (docs/dynamics.md). */
 extern const dyn_formulation pom_dyn_form_parasitic;

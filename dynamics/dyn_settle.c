@@ -298,10 +298,36 @@ static double band_on_cubic(double t, void *vctx) {
   return fabs(P - c->ref) - c->band;
 }
 
+/* dP/dt of the cubic through a step's 4 nodes (the Lagrange form). */
+static double cubic_slope(const cubic_ctx *c, double t) {
+  double dP = 0.0;
+  for (int i = 0; i < 4; ++i)
+    for (int k = 0; k < 4; ++k) {
+      if (k == i) continue;
+      double L = 1.0 / (c->t[i] - c->t[k]);
+      for (int j = 0; j < 4; ++j)
+        if (j != i && j != k) L *= (t - c->t[j]) / (c->t[i] - c->t[j]);
+      dP += L * c->q[i];
+    }
+  return dP;
+}
+
+/* The crossing on the cubic c from node ia to ia + 1; *slope receives
+ * |dq/dt| there. */
+static double cubic_crossing(const cubic_ctx *c, int ia, double *slope) {
+  cubic_ctx *cc = (cubic_ctx *)c;
+  double tc = pom_dyn_illinois(band_on_cubic, cc, c->t[ia], band_on_cubic(c->t[ia], cc),
+                               c->t[ia + 1], band_on_cubic(c->t[ia + 1], cc), POM_DYN_SETTLE_XTOL);
+  *slope = fabs(cubic_slope(c, tc));
+  return tc;
+}
+
 /* Last time |q_a - yf| > band over the record (0 when never), located on
- * the cubic through the step's four nodes (O(h^4), section 8). */
-static double record_last_exit(const dyn_settle *s, int a, double yf, double band) {
+ * the cubic through the step's four nodes (O(h^4), section 8); *slope
+ * receives |dq_a/dt| at the crossing (0 when there is none). */
+static double record_last_exit(const dyn_settle *s, int a, double yf, double band, double *slope) {
   double t;
+  *slope = 0.0;
   for (long r = s->rec_n - 1; r >= 1; --r)
     for (int i = 3; i >= 1; --i) {
       if (!(fabs(rec_q(s, r, i, a, &t) - yf) > band)) continue;
@@ -313,16 +339,14 @@ static double record_last_exit(const dyn_settle *s, int a, double yf, double ban
       cubic_ctx c = {.ref = yf, .band = band};
       for (int k = 0; k < 4; ++k)
         c.q[k] = rec_q(s, rr, k, a, &c.t[k]);
-      return pom_dyn_illinois(band_on_cubic, &c, c.t[ia], band_on_cubic(c.t[ia], &c), c.t[ia + 1],
-                              band_on_cubic(c.t[ia + 1], &c), POM_DYN_SETTLE_XTOL);
+      return cubic_crossing(&c, ia, slope);
     }
   /* only the start (row 0) is outside: the crossing lies in the first step */
   if (s->rec_n > 1 && fabs(s->rec[DYN_REC_Q + a] - yf) > band) {
     cubic_ctx c = {.ref = yf, .band = band};
     for (int k = 0; k < 4; ++k)
       c.q[k] = rec_q(s, 1, k, a, &c.t[k]);
-    return pom_dyn_illinois(band_on_cubic, &c, c.t[0], band_on_cubic(c.t[0], &c), c.t[1],
-                            band_on_cubic(c.t[1], &c), POM_DYN_SETTLE_XTOL);
+    return cubic_crossing(&c, 0, slope);
   }
   return 0.0;
 }
@@ -338,6 +362,12 @@ static double record_last_exit(const dyn_settle *s, int a, double yf, double ban
  * accumulators) add nothing. work holds n_states doubles. */
 void pom_dyn_position_resolution(const pom_dyn_model *m, const double *y, double *work,
                                  double res[3]) {
+  pom_dyn_position_resolution_tight(m, y, work, 1.0, res);
+}
+
+/* The same with every tolerance divided by tighten (a stepinfo re-run). */
+void pom_dyn_position_resolution_tight(const pom_dyn_model *m, const double *y, double *work,
+                                       double tighten, double res[3]) {
   const double rtol = m->par.solver.rtol;
   double q0[POM_MECH_MAX_ACTUATORS], q1[POM_MECH_MAX_ACTUATORS];
   m->form->positions(m, y, q0);
@@ -347,6 +377,7 @@ void pom_dyn_position_resolution(const pom_dyn_model *m, const double *y, double
   for (int i = 0; i < m->n_states; ++i) {
     double tol = m->atol[i] + (!m->relative || m->relative[i] ? rtol * fabs(y[i]) : 0.0);
     if (!(tol > 0.0 && tol < 1e20)) continue; /* an unchecked accumulator (atol 1e30) */
+    tol /= tighten;
     work[i] = y[i] + tol;
     m->form->positions(m, work, q1);
     work[i] = y[i];
@@ -356,18 +387,26 @@ void pom_dyn_position_resolution(const pom_dyn_model *m, const double *y, double
 }
 
 /* ---- metrics ------------------------------------------------------------- */
-void pom_dyn_settle_metrics(const pom_dyn_model *m, const pom_dyn_data *d, pom_dyn_metrics *mt) {
+double pom_dyn_stepinfo_time_tol(double rtol) {
+  return fmax(rtol * POM_DYN_STEPINFO_TIME_SCALE, POM_DYN_STEPINFO_TIME_FLOOR);
+}
+
+void pom_dyn_settle_metrics(const pom_dyn_model *m, pom_dyn_data *d, pom_dyn_metrics *mt) {
   const pom_dyn_params *p = &m->par;
-  const dyn_settle *s = &d->settle;
+  dyn_settle *s = &d->settle;
   /* the resolution of each position at the horizon, where the stepinfo band
-   * sits (section 1c); the end state is d->yfinal, d->ytmp is free */
+   * sits (section 1c), under the tolerances this run used (tightened by
+   * d->tol_tighten in a stepinfo re-run); the end state is d->yfinal,
+   * d->ytmp is free */
   double res[3];
-  pom_dyn_position_resolution(m, d->yfinal, N_VGetArrayPointer(d->ytmp), res);
+  pom_dyn_position_resolution_tight(m, d->yfinal, N_VGetArrayPointer(d->ytmp), d->tol_tighten, res);
+  const double t_tol = pom_dyn_stepinfo_time_tol(p->solver.rtol);
   mt->execution_time = 0.0;
   for (int a = 0; a < 3; ++a) {
     mt->settling_time[a] = mt->settling_time_final[a] = 0.0;
     mt->settled[a] = 1;
     mt->stepinfo_unresolved[a] = 0;
+    s->stepinfo_need[a] = 0.0;
   }
   for (int a = 0; a < m->n_actuators; ++a) {
     const dyn_band *b = &s->act[a];
@@ -385,13 +424,20 @@ void pom_dyn_settle_metrics(const pom_dyn_model *m, const pom_dyn_data *d, pom_d
       }
     mt->max_abs_q[a] = qmax;
     double band_final = p->maneuver.settle_band * peak;
-    double tf = peak > 0 ? record_last_exit(s, a, yf, band_final) : 0.0;
+    double slope = 0.0;
+    double tf = peak > 0 ? record_last_exit(s, a, yf, band_final, &slope) : 0.0;
     mt->settling_time_final[a] = tf >= 0 ? tf : NAN;
-    /* a band narrower than what the error test resolves of this position:
-     * its crossing is integration noise, not a result (section 1c) */
-    if (band_final < res[a]) {
+    /* what the error test resolves of this position must resolve the band
+     * (res <= band) and place its crossing within the stated error of a
+     * time (res / |dq/dt| <= t_tol); otherwise the time is integration
+     * noise, not a result (section 1c): the factor by which the tolerances
+     * fall short is kept for a re-run (pom_dyn_simulate_ex) */
+    double need = band_final < res[a] ? res[a] / fmax(band_final, 1e-300) : 0.0;
+    if (tf > 0.0) need = fmax(need, slope > 0.0 ? res[a] / (slope * t_tol) : INFINITY);
+    if (need > 1.0) {
       mt->settling_time_final[a] = NAN;
       mt->stepinfo_unresolved[a] = 1;
+      s->stepinfo_need[a] = need;
     }
     mt->final_q[a] = yf;
     if (!mt->settled[a])

@@ -28,6 +28,33 @@ static pom_status run_cfg(run_t *r, const char *file, pom_joint_model joints,
   return run_arch(r, &mech, &arch, &p, target, NULL);
 }
 
+/* Item 1 with the re-run (section 1c): a stepinfo time of r is right
+ * within its stated error against the converged run (natural tolerances,
+ * rtol 1e-10, or 1e-8 where 1e-10 leaves the band unresolved, as
+ * bench/extremes.py) or flagged NaN. */
+static void check_right_or_flagged(const run_t *r, const char *file, pom_joint_model joints,
+                                   const double target[3], int a) {
+  run_t ref;
+  double ref_rtol = 1e-10;
+  check_true(run_cfg(&ref, file, joints, target, ref_rtol, 0.0) == POM_OK);
+  if (ref.mt.stepinfo_unresolved[a]) { /* a band 1e-10 does not resolve: 1e-8's */
+    run_free(&ref);
+    ref_rtol = 1e-8;
+    check_true(run_cfg(&ref, file, joints, target, ref_rtol, 0.0) == POM_OK);
+  }
+  const double stated = pom_dyn_stepinfo_time_tol(1e-6) + pom_dyn_stepinfo_time_tol(ref_rtol);
+  printf("%s actuator %d: %.10g ms (converged %.10g ms), flag %d\n", file, a + 1,
+         1e3 * r->mt.settling_time_final[a], 1e3 * ref.mt.settling_time_final[a],
+         (int)r->mt.stepinfo_unresolved[a]);
+  if (r->mt.stepinfo_unresolved[a]) {
+    check_true(isnan(r->mt.settling_time_final[a]));
+  } else {
+    check_true(ref.mt.stepinfo_unresolved[a] == 0);
+    check_abs(r->mt.settling_time_final[a], ref.mt.settling_time_final[a], stated);
+  }
+  run_free(&ref);
+}
+
 /* Item 1: a band below the resolution gives NaN and the flag; a resolved one
  * a time that agrees with the converged one. */
 static void test_unresolved_stepinfo(void) {
@@ -54,18 +81,35 @@ static void test_unresolved_stepinfo(void) {
     check_abs(r.mt.settling_time_final[a], 11.703e-3, 0.01e-3);
   }
   run_free(&r);
-  /* (3, 0, -3) mm: the zero actuator unresolved (6.63 ms printed, 5.06 ms
-   * converged), the moving ones resolved and unchanged */
+  /* (3, 0, -3) mm: the zero actuator (6.63 ms printed, 5.06 ms converged)
+   * re-run (stated 10 us) and right, or flagged; the moving ones resolved
+   * and unchanged */
   check_true(run_cfg(&r, "3pss.cfg", POM_JOINTS_RIGID, mixed, -1, -1) == POM_OK);
-  check_true(isnan(r.mt.settling_time_final[1]) && r.mt.stepinfo_unresolved[1] == 1);
+  check_right_or_flagged(&r, "3pss.cfg", POM_JOINTS_RIGID, mixed, 1);
   check_true(r.mt.stepinfo_unresolved[0] == 0 && r.mt.stepinfo_unresolved[2] == 0);
   check_abs(r.mt.settling_time_final[0], 12.8236e-3, 0.001e-3);
   check_abs(r.mt.settling_time_final[2], 12.7865e-3, 0.001e-3);
   run_free(&r);
-  /* 3-RRR at zero on the parasitic path (printed 5 % off): unresolved */
+  /* 3-RRR at zero on the parasitic path (printed 5 % off before the
+   * re-run; flagged beyond the cap while the stated error was rtol x 1 s).
+   * OPEN (issue 30 item 1, stated error 10 us): the re-run now resolves it
+   * by its own test and reports 11.597 ms unflagged, but neither converged
+   * run (rtol 1e-10 nor 1e-8, natural tolerances) resolves its band, so
+   * the time is not verified; the run carries the rigid-limit warning
+   * (docs/extremes.md, zero-3rrr-parasitic). Checked: the references stay
+   * unresolved (when one resolves, this must become right-or-flagged). */
   check_true(run_cfg(&r, "3rrr.cfg", POM_JOINTS_PARASITIC, zero, -1, -1) == POM_OK);
-  for (int a = 0; a < 3; ++a)
-    check_true(isnan(r.mt.settling_time_final[a]) && r.mt.stepinfo_unresolved[a] == 1);
+  for (int a = 0; a < 3; ++a) {
+    run_t ref;
+    printf("3rrr.cfg parasitic zero actuator %d: %.10g ms, flag %d (unverified)\n", a + 1,
+           1e3 * r.mt.settling_time_final[a], (int)r.mt.stepinfo_unresolved[a]);
+    check_true(isnan(r.mt.settling_time_final[a]) == (r.mt.stepinfo_unresolved[a] == 1));
+    for (double rt = 1e-10; rt < 2e-8; rt *= 100) {
+      check_true(run_cfg(&ref, "3rrr.cfg", POM_JOINTS_PARASITIC, zero, rt, 0.0) == POM_OK);
+      check_true(ref.mt.stepinfo_unresolved[a] == 1);
+      run_free(&ref);
+    }
+  }
   run_free(&r);
   /* an ordinary maneuver: every band resolved */
   const double step[3] = {3e-3, -3e-3, 3e-3};

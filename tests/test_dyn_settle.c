@@ -173,6 +173,10 @@ static void test_accuracy(pom_joint_model joints) {
   const pom_dyn_trace *tr = r.tr;
   const int n = tr->n;
   const char *name = joints == POM_JOINTS_RIGID ? "rigid" : "parasitic";
+  long last_steps = -1;
+  const int rerun =
+      CVodeGetNumSteps(r.d->cvode, &last_steps) == CV_SUCCESS && r.mt.steps > last_steps;
+  printf("  %s: %ld steps%s\n", name, r.mt.steps, rerun ? " (with the stepinfo re-run)" : "");
   for (int a = 0; a < 3; ++a) {
     grid_exit g = grid_last_exit(tr->t, tr->q + a, n, 3, q[a], p.maneuver.settle_band * fabs(q[a]));
     /* stepinfo on the grid: band about the final value */
@@ -185,7 +189,12 @@ static void test_accuracy(pom_joint_model joints) {
            name, a + 1, r.mt.settling_time[a] * 1e3, g.t * 1e3, r.mt.settling_time[a] - g.t,
            2.0 * g.bound + 1e-12, r.mt.settling_time_final[a] - gf.t);
     check_abs(r.mt.settling_time[a], g.t, 2.0 * g.bound + 1e-12);
-    check_abs(r.mt.settling_time_final[a], gf.t, 5e-8);
+    /* a slow stepinfo crossing is taken from a re-run at tighter tolerances
+     * (docs/results.md section 1c; mt.steps then counts both runs): it lies
+     * on a more accurate trajectory than this trace, within the stated
+     * error of the trace's run */
+    check_abs(r.mt.settling_time_final[a], gf.t,
+              rerun ? pom_dyn_stepinfo_time_tol(p.solver.rtol) : 5e-8);
   }
   double *ang = malloc((size_t)n * sizeof *ang);
   check_true(ang != NULL);
