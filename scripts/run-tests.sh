@@ -32,7 +32,7 @@ echo "== fuzz targets: config loading, a study's setup, the flat C layer's overr
 # POM_FUZZ_TIME seconds (20) from the shipped and test configs.
 cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPOM_FUZZ=ON \
   -DPOM_WERROR=ON >/dev/null
-cmake --build build-fuzz -j"$(nproc)" --target fuzz_config fuzz_study fuzz_api
+cmake --build build-fuzz -j"$(nproc)" --target fuzz_config fuzz_study fuzz_api fuzz_arch_file
 ctest --test-dir build-fuzz --output-on-failure -L fuzz -j2
 
 echo "== MPI build: 2-rank study against the threaded run =="
