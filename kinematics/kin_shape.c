@@ -68,14 +68,35 @@ static int body_points(const pom_mechanism *m, int b, double tol, double pts[][3
   return n;
 }
 
+/* The hinge axes of body b's revolute joints (up to cap), in joint order:
+ * when the joints of a body coincide (a spherical linkage, every axis
+ * through one point), the axes, not the points, say where the body is. */
+static int body_hinges(const pom_mechanism *m, int b, double axes[][3], int cap) {
+  int n = 0;
+  for (int j = 0; j < m->n_joints && n < cap; ++j) {
+    const pom_mech_joint *jt = &m->joint[j];
+    if ((jt->body[0] == b || jt->body[1] == b) && jt->type == POM_JOINT_REVOLUTE)
+      pom_v3_copy(axes[n++], jt->axis);
+  }
+  return n;
+}
+
 /* The platform: a disc through its joint points away from O (normal of
- * their plane, or e_z), else a disc about O. */
+ * their plane, or e_z); when they are all at O, through the points at the
+ * drawing scale along its hinge axes (a spherical linkage's platform); else
+ * a disc about O. */
 static void derive_platform(const pom_mechanism *m, int b, double scale, pom_kin_shape *s) {
   double pts[POM_MECH_MAX_JOINTS][3], far[POM_MECH_MAX_JOINTS][3];
   int prismatic, n = body_points(m, b, SAME_POINT * scale, pts, POM_MECH_MAX_JOINTS, &prismatic);
   int nf = 0;
   for (int k = 0; k < n; ++k)
     if (pom_v3_norm(pts[k]) > SAME_POINT * scale) pom_v3_copy(far[nf++], pts[k]);
+  if (nf == 0) {
+    double axes[POM_MECH_MAX_JOINTS][3];
+    int na = body_hinges(m, b, axes, POM_MECH_MAX_JOINTS);
+    for (int k = 0; k < na && na >= 2; ++k)
+      pom_v3_axpy(far[nf++], pts[0], scale, axes[k]);
+  }
   shape_init(s, POM_SHAPE_DISC, b);
   pom_v3_set(s->axis, 0.0, 0.0, 1.0);
   s->radius = 0.5 * scale;
@@ -103,8 +124,9 @@ static void derive_platform(const pom_mechanism *m, int b, double scale, pom_kin
   s->thickness = DISC_THICKNESS * s->radius;
 }
 
-/* A limb body: the segment between its farthest joint points; a slider rod
- * ending at its joint; a segment to its CM; or a small cube. */
+/* A limb body: the segment between its farthest joint points; when its
+ * joints meet in one point, the arc between two of its hinge axes there; a
+ * slider rod ending at its joint; a segment to its CM; or a small cube. */
 static void derive_limb(const pom_mechanism *m, int b, double scale, pom_kin_shape *s) {
   double pts[POM_MECH_MAX_JOINTS][3];
   double tol = SAME_POINT * scale;
@@ -124,6 +146,23 @@ static void derive_limb(const pom_mechanism *m, int b, double scale, pom_kin_sha
         }
       }
     return;
+  }
+  double axes[POM_MECH_MAX_JOINTS][3];
+  int na = n == 1 ? body_hinges(m, b, axes, POM_MECH_MAX_JOINTS) : 0;
+  if (na >= 2) {
+    /* hinges through one point: the arc on the sphere of the drawing scale
+     * from its first axis to the next one that is not parallel to it */
+    for (int k = 1; k < na; ++k) {
+      double c[3];
+      pom_v3_cross(c, axes[0], axes[k]);
+      if (pom_v3_norm(c) <= SAME_POINT) continue;
+      shape_init(s, POM_SHAPE_ARC, b);
+      s->radius = ROD_RADIUS * scale;
+      pom_v3_copy(s->center, pts[0]);
+      pom_v3_axpy(s->from, pts[0], scale, axes[0]);
+      pom_v3_axpy(s->to, pts[0], scale, axes[k]);
+      return;
+    }
   }
   if (n == 1 && prismatic >= 0) {
     /* the body slides along the axis: a rod behind its joint */

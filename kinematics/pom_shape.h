@@ -55,8 +55,11 @@ double pom_kin_draw_scale(const pom_kin_arch *arch, const pom_mechanism *mech);
  * home: first those of the type's `shapes` operation (when it has one),
  * then, for every body other than the ground that got none, one derived from
  * its joint points (docs/view.md section 3): the platform a disc through its
- * joint points away from O; a body with two distinct joint points the
- * segment between the farthest two; a body whose joints coincide and that
+ * joint points away from O (through the points at the drawing scale along
+ * its hinge axes when every joint point is O); a body with two distinct
+ * joint points the segment between the farthest two; a body whose joints
+ * coincide in hinges of different axes the arc between two axes at the
+ * drawing scale about that point; a body whose joints coincide and that
  * slides on a prismatic joint a rod along its axis ending at the joint; any
  * other body a segment from its joint to its centre of mass, or a small
  * cube. *n receives the count (<= cap). POM_ERR_ARG when cap is too small or

@@ -109,6 +109,16 @@ add_test(NAME test_view_browser_radial
   COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/test_view_browser.py --radial
           $<TARGET_FILE:test_arch_registry> ${CMAKE_CURRENT_BINARY_DIR}/view_radial)
 set_tests_properties(test_view_browser_radial PROPERTIES SKIP_RETURN_CODE 77 LABELS browser)
+# pomlab view of every catalog/ file: the scene holds every body and joint,
+# finite and drawable (no browser), and in headless Chromium (label browser)
+add_test(NAME test_view_catalog
+  COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/test_view_catalog.py
+          $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR} ${CMAKE_CURRENT_BINARY_DIR}/view_catalog)
+add_test(NAME test_view_browser_catalog
+  COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/test_view_catalog.py
+          $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR} ${CMAKE_CURRENT_BINARY_DIR}/view_catalog_browser
+          --browser)
+set_tests_properties(test_view_browser_catalog PROPERTIES SKIP_RETURN_CODE 77 LABELS browser)
 # pomlab view without a browser: the page's scene, self-containment, refusals
 add_test(NAME test_view_cli
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_view_cli.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}

@@ -21,7 +21,7 @@
 
 #include <stdio.h>
 
-#define POM_VIEW_MAX_MECHS  8   /* mechanisms side by side (--compare) */
+#define POM_VIEW_MAX_MECHS  16  /* mechanisms side by side (--compare) */
 #define POM_VIEW_MAX_FRAMES 400 /* frames of an animation kept in a page */
 
 /* One mechanism on the page. */

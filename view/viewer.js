@@ -185,7 +185,7 @@
   /* ---- the mechanisms -------------------------------------------------------- */
   var mechs = [], bodiesDrawn = 0, nFrames = 1;
   var slotX = 0;
-  S.mechs.forEach(function (M, k) {
+  S.mechs.forEach(function (M) {
     var root = new THREE.Group();
     scene.add(root);
     var sc = M.scale, groups = [], drawn = {};
@@ -215,18 +215,36 @@
     root.add(O);
     bodiesDrawn += Object.keys(drawn).length;
     nFrames = Math.max(nFrames, M.frames.length);
-    /* side by side: each at the right of the previous, spaced by their size */
+    /* its size, for the layout below */
     scene.updateMatrixWorld(true);
     setPose(groups, M.frames[0]);
     root.updateMatrixWorld(true);
     var box = new THREE.Box3().setFromObject(root);
     var half = Math.max(Math.abs(box.min.x), Math.abs(box.max.x), 0.5 * sc);
-    if (k > 0) slotX += half;
-    root.position.x = slotX;
-    slotX += half + 0.6 * sc;
     var lab = el('div', labels, M.arch_label + ' \u00b7 ' + M.label, 'label');
-    mechs.push({M: M, root: root, groups: groups, label: lab, top: box.max.z});
+    mechs.push({M: M, root: root, groups: groups, label: lab, top: box.max.z, half: half,
+                bottom: Math.min(box.min.z, -0.5 * sc), sc: sc});
   });
+  /* side by side: each at the right of the previous, spaced by their size;
+   * more than four in rows of ceil(sqrt(n)), the next row below */
+  (function () {
+    var n = mechs.length, cols = n <= 4 ? n : Math.ceil(Math.sqrt(n)), z = 0, below = 0;
+    for (var r0 = 0; r0 < n; r0 += cols) {
+      var row = mechs.slice(r0, r0 + cols), x = 0, top = 0, bottom = 0, sc = 0;
+      row.forEach(function (m, i) {
+        if (i > 0) x += m.half;
+        m.root.position.x = x;
+        x += m.half + 0.6 * m.sc;
+        top = Math.max(top, m.top);
+        bottom = Math.min(bottom, m.bottom);
+        sc = Math.max(sc, m.sc);
+      });
+      if (r0 > 0) z -= below + top + 0.8 * sc;
+      row.forEach(function (m) { m.root.position.z = z; });
+      below = -bottom;
+      if (r0 === 0) slotX = x;
+    }
+  })();
 
   function setPose(groups, pose) {
     for (var b = 0; b < groups.length; ++b) {
