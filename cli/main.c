@@ -75,6 +75,9 @@ static const command commands[] = {
     {.name = "view",
      .fn = HEAVY(pom_cmd_view),
      .summary = "the mechanism in 3-D in a browser page; --png, --mp4"},
+    {.name = "export",
+     .fn = pom_cmd_export,
+     .summary = "the mechanism for another program: MuJoCo MJCF (--mjcf)"},
     {.name = NULL, .fn = NULL, .summary = NULL} /* end */
 };
 

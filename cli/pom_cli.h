@@ -51,6 +51,7 @@ pom_cfg *pom_cli_load_config(const char *path);
 int pom_cli_scripts_dir(char *buf, size_t cap);
 
 int pom_cmd_model(int argc, char **argv);
+int pom_cmd_export(int argc, char **argv);
 int pom_cmd_ik(int argc, char **argv);
 int pom_cmd_fk(int argc, char **argv);
 int pom_cmd_workspace(int argc, char **argv);

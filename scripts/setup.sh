@@ -12,6 +12,7 @@ packages=(
   libhdf5-dev hdf5-tools libopenmpi-dev openmpi-bin
   python3 python3-numpy python3-scipy python3-h5py python3-matplotlib python3-pandas python3-pytest
   chromium libjs-three ffmpeg
+  libmujoco-dev   # optional: tests/test_mjcf.c loads `pomlab export --mjcf` (skipped without)
 )
 missing=()
 for p in "${packages[@]}"; do

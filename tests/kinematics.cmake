@@ -16,3 +16,18 @@ pom_add_test(test_arch_file_e2e test_arch_file_e2e.c)
 target_link_libraries(test_arch_file_e2e PRIVATE pom_kinematics pom_core)
 pom_add_test(test_catalog test_catalog.c)
 target_link_libraries(test_catalog PRIVATE pom_kinematics pom_core)
+# the MJCF export loaded by MuJoCo (docs/export.md): Debian's libmujoco-dev
+# when installed (scripts/setup.sh), else a stub that reports the skip. The
+# package's CMake config names a folder it does not ship, so the header and
+# library are found directly.
+find_path(MUJOCO_INCLUDE_DIR mujoco/mujoco.h)
+find_library(MUJOCO_LIBRARY mujoco)
+if(MUJOCO_INCLUDE_DIR AND MUJOCO_LIBRARY)
+  pom_add_test(test_mjcf test_mjcf.c)
+  target_include_directories(test_mjcf PRIVATE ${MUJOCO_INCLUDE_DIR})
+  target_link_libraries(test_mjcf PRIVATE pom_kinematics pom_core ${MUJOCO_LIBRARY})
+else()
+  add_test(NAME test_mjcf COMMAND sh -c
+           "echo 'skipped: MuJoCo not found (Debian package libmujoco-dev)'; exit 77")
+endif()
+set_tests_properties(test_mjcf PROPERTIES SKIP_RETURN_CODE 77)
