@@ -88,7 +88,9 @@ int pom_cmd_export(int argc, char **argv) {
       pom_io_abort(&wf);
   }
   if (st != POM_OK) {
-    pom_cli_report("export", &err);
+    char context[1200];
+    snprintf(context, sizeof context, "export: %s", mjcf);
+    pom_cli_report(context, &err);
     return 1;
   }
   printf("pomlab export: %s (%s) written to %s\n", path, pom_kin_arch_name(&arch), mjcf);

@@ -8,6 +8,7 @@
 #include "pom_math.h"
 #include "pom_shape.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <string.h>
@@ -70,14 +71,14 @@ pom_status pom_mjcf_tree_build(const pom_mechanism *m, pom_mjcf_tree *t, pom_err
   }
   for (int b = 0; b < m->n_bodies; ++b)
     if (!in[b])
-      POM_FAIL(err, POM_ERR_ARG, "export: body %s is not connected to the ground by joints",
+      POM_FAIL(err, POM_ERR_ARG, "MJCF: body %s is not connected to the ground by joints",
                m->body[b].name);
   for (int j = 0; j < m->n_joints; ++j) {
     if (used[j]) continue;
     const pom_mech_joint *jt = &m->joint[j];
     if (cut_rank(jt) == 0)
       POM_FAIL(err, POM_ERR_ARG,
-               "export: joint %s (%s%s) would close a loop; MJCF's equality constraints "
+               "MJCF: joint %s (%s%s) would close a loop; MJCF's equality constraints "
                "here close loops at passive spherical, revolute and universal joints only",
                jt->name, jt->actuator >= 0 ? "actuated " : "", pom_joint_type_name(jt->type));
     t->closes[j] = 1;
@@ -389,11 +390,11 @@ static pom_status unique_names(const pom_mechanism *m, pom_error *err) {
   for (int a = 0; a < m->n_bodies; ++a)
     for (int b = a + 1; b < m->n_bodies; ++b)
       if (strcmp(m->body[a].name, m->body[b].name) == 0)
-        POM_FAIL(err, POM_ERR_ARG, "export: two bodies are named '%s'", m->body[a].name);
+        POM_FAIL(err, POM_ERR_ARG, "MJCF: two bodies are named '%s'", m->body[a].name);
   for (int a = 0; a < m->n_joints; ++a)
     for (int b = a + 1; b < m->n_joints; ++b)
       if (strcmp(m->joint[a].name, m->joint[b].name) == 0)
-        POM_FAIL(err, POM_ERR_ARG, "export: two joints are named '%s'", m->joint[a].name);
+        POM_FAIL(err, POM_ERR_ARG, "MJCF: two joints are named '%s'", m->joint[a].name);
   return POM_OK;
 }
 
@@ -478,6 +479,7 @@ pom_status pom_mjcf_write(FILE *f, const char *name, const pom_kin_arch *arch,
     out(&w, "  </actuator>\n");
   }
   out(&w, "</mujoco>\n");
-  if (w.failed || ferror(f)) POM_FAIL(err, POM_ERR_IO, "export: writing the MJCF model failed");
+  if (w.failed || ferror(f))
+    POM_FAIL(err, POM_ERR_IO, "writing the MJCF model failed: %s", strerror(errno));
   return POM_OK;
 }

@@ -158,3 +158,9 @@ add_test(NAME test_arch_file_cli
 add_test(NAME test_catalog_sim
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_catalog_sim.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# pomlab export --mjcf: every config's model well-formed and the mechanism's,
+# refusals, nothing left by a failed write (docs/export.md); MuJoCo itself
+# loads the files in test_mjcf (tests/kinematics.cmake)
+add_test(NAME test_export_cli
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_export_cli.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
