@@ -26,6 +26,7 @@ declare -A options=(
   [sensitivity]="--candidate --threads --out --resume --stop-after --json --no-plots --quiet"
   [tradeoff]="--accuracy --maneuvers --repeats --csv --quiet"
   [view]="-o --pose --trace --frame --frames --workspace --compare --png --mp4 --size --fps"
+  [export]="--mjcf"
 )
 for cmd in "${!options[@]}"; do
   expect_rc 0 "$POMLAB" "$cmd" --help

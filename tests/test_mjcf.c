@@ -24,8 +24,9 @@
  *        efc_J) moves the unactuated joints until the residual is below
  *        1e-13 m. The platform's orientation must then be pomlab's R within
  *        1e-9 rad: a residual r moves the platform by about kappa r / l
- *        (l ~ 10 mm the lever of a joint, kappa <= 20 in this catalog at
- *        these poses): 1e-13 * 20 / 1e-2 = 2e-10 rad.
+ *        (l ~ 10 mm the lever of a joint, kappa the condition number of J,
+ *        printed: at most 2.33, Orbita 3D, in this catalog at these poses): with
+ *        kappa <= 20, 1e-13 * 20 / 1e-2 = 2e-10 rad.
  * Exit 77 (skipped) is decided in CMake: without libmujoco-dev this test is
  * not built and a stub exits 77 (tests/kinematics.cmake). */
 #include "check.h"
@@ -274,7 +275,7 @@ static void check_arch(const char *label, const pom_kin_arch *g, const pom_mecha
   if (!check_true(pom_kin_body_twists(g, I, NULL, &tw0, NULL) == POM_OK)) goto done;
   int used = 0;
   double pos_worst = 0.0, rot_worst = 0.0, q_worst = 0.0, res_worst = 0.0, asm_res = 0.0,
-         asm_worst = 0.0;
+         asm_worst = 0.0, kappa_worst = 0.0;
   for (int p = 0; p < 5; ++p) {
     double e[3], R[9];
     for (int k = 0; k < 3; ++k)
@@ -282,6 +283,10 @@ static void check_arch(const char *label, const pom_kin_arch *g, const pom_mecha
     pom_euler_zyx_to_matrix(R, e);
     if (pom_kin_body_twists(g, R, NULL, &tw, NULL) != POM_OK) continue;
     ++used;
+    double qk[3], Jk[9], kappa = NAN;
+    if (pom_kin_inverse_jacobian(g, R, qk, Jk, NULL) == POM_OK)
+      pom_kin_dexterity(Jk, NULL, &kappa, NULL);
+    kappa_worst = fmax(kappa_worst, kappa);
     /* (a) */
     int free[MAXN];
     qpos_from_pomlab(m, d, &bm, &tw, free);
@@ -313,9 +318,9 @@ static void check_arch(const char *label, const pom_kin_arch *g, const pom_mecha
     asm_worst = fmax(asm_worst, rot_dist(R, d->xmat + 9 * bm.mj_of[mech->platform]));
   }
   printf("%-16s nbody %2d nv %2d ne %2d poses %d: (a) body %.1e m %.1e rad, q %.1e, "
-         "residual %.1e m; (b) residual %.1e m, platform %.1e rad\n",
+         "residual %.1e m; (b) residual %.1e m, platform %.1e rad; kappa <= %.2f\n",
          label, m->nbody, m->nv, d->ne, used, pos_worst, rot_worst, q_worst, res_worst, asm_res,
-         asm_worst);
+         asm_worst, kappa_worst);
   check_true(used >= 3);
   check_true(pos_worst <= 1e-12);
   check_true(rot_worst <= 1e-12);
