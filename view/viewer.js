@@ -226,24 +226,30 @@
                 bottom: Math.min(box.min.z, -0.5 * sc), sc: sc});
   });
   /* side by side: each at the right of the previous, spaced by their size;
-   * more than four in rows of ceil(sqrt(n)), the next row below */
+   * more than four in a regular grid of ceil(sqrt(n)) columns, the cells as
+   * large as the largest mechanism, the next row below */
   (function () {
-    var n = mechs.length, cols = n <= 4 ? n : Math.ceil(Math.sqrt(n)), z = 0, below = 0;
-    for (var r0 = 0; r0 < n; r0 += cols) {
-      var row = mechs.slice(r0, r0 + cols), x = 0, top = 0, bottom = 0, sc = 0;
-      row.forEach(function (m, i) {
-        if (i > 0) x += m.half;
-        m.root.position.x = x;
-        x += m.half + 0.6 * m.sc;
-        top = Math.max(top, m.top);
-        bottom = Math.min(bottom, m.bottom);
-        sc = Math.max(sc, m.sc);
+    var n = mechs.length;
+    if (n <= 4) {
+      mechs.forEach(function (m, i) {
+        if (i > 0) slotX += m.half;
+        m.root.position.x = slotX;
+        slotX += m.half + 0.6 * m.sc;
       });
-      if (r0 > 0) z -= below + top + 0.8 * sc;
-      row.forEach(function (m) { m.root.position.z = z; });
-      below = -bottom;
-      if (r0 === 0) slotX = x;
+      return;
     }
+    var cols = Math.ceil(Math.sqrt(n)), w = 0, h = 0, sc = 0;
+    mechs.forEach(function (m) {
+      w = Math.max(w, 2 * m.half);
+      h = Math.max(h, m.top - m.bottom);
+      sc = Math.max(sc, m.sc);
+    });
+    var cw = w + 0.6 * sc, ch = h + 0.8 * sc;
+    mechs.forEach(function (m, i) {
+      m.root.position.x = (i % cols) * cw;
+      m.root.position.z = -Math.floor(i / cols) * ch;
+    });
+    slotX = (cols - 1) * cw + 0.5 * w + 0.6 * sc;
   })();
 
   function setPose(groups, pose) {
