@@ -1015,6 +1015,15 @@ pom_status pom_limb_finish(pom_kin_arch *arch, pom_error *err) {
   return POM_OK;
 }
 
+int pom_limb_flip_branch(pom_kin_arch *arch, int i) {
+  pom_limb *L = &POM_LIMB_TABLE(arch)->limb[i];
+  if (!(L->kernel == POM_LIMB_KERNEL_RRR || L->kernel == POM_LIMB_KERNEL_PSS ||
+        L->kernel == POM_LIMB_KERNEL_RSS))
+    return 0; /* S-P-S, U-P-S: q = |p2 - p0| - L0, one root */
+  L->branch = -L->branch;
+  return 1;
+}
+
 void pom_limb_type_ops(pom_kin_arch_type *type) {
   type->data_size = sizeof(pom_limb_table);
   type->finish = pom_limb_finish;
@@ -1025,4 +1034,5 @@ void pom_limb_type_ops(pom_kin_arch_type *type) {
   type->footprint = pom_limb_footprint;
   type->mechanism = pom_limb_mechanism;
   type->shapes = NULL;
+  type->flip_branch = pom_limb_flip_branch;
 }

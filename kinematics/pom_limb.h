@@ -146,7 +146,7 @@ typedef struct {
 #define POM_LIMB_CTABLE(arch_) POM_KIN_CDATA(pom_limb_table, arch_)
 
 /* Fills the operations of a catalog type: finish, limb, limb_twist,
- * limb_twist_diff, limit_values, footprint, mechanism (shapes = NULL: the
+ * limb_twist_diff, limit_values, footprint, mechanism, flip_branch (shapes = NULL: the
  * derived shapes) and data_size = sizeof(pom_limb_table). Leaves every
  * descriptor and from_design to the caller. */
 void pom_limb_type_ops(pom_kin_arch_type *type);
@@ -162,6 +162,9 @@ int pom_limb_twist_diff(const pom_kin_arch *arch, int i, const double R[9], cons
 void pom_limb_limit_values(const pom_kin_arch *arch, const double R[9], const double q[3],
                            double value[9]);
 double pom_limb_footprint(const pom_kin_arch *arch);
+/* The other IK root of limb i (R-R-R, P-S-S, R-S-S: branch -> -branch;
+ * S-P-S and U-P-S have one root: returns 0). */
+int pom_limb_flip_branch(pom_kin_arch *arch, int i);
 pom_status pom_limb_mechanism(pom_mechanism *mech, const pom_kin_arch *arch,
                               const pom_kin_inertia *in, pom_error *err);
 
