@@ -35,8 +35,8 @@ pom_status pom_kin_arch_with_branches(pom_kin_arch *out, const pom_kin_arch *arc
   for (int i = 0; i < 3; ++i) {
     if (branch[i] == 1) continue;
     if (branch[i] != -1)
-      POM_FAIL(err, POM_ERR_ARG, "working mode: branch %d of limb %d must be +1 or -1",
-               branch[i], i + 1);
+      POM_FAIL(err, POM_ERR_ARG, "working mode: branch %d of limb %d must be +1 or -1", branch[i],
+               i + 1);
     if (!(arch->type->flip_branch && arch->type->flip_branch(out, i)))
       POM_FAIL(err, POM_ERR_ARG, "working mode: limb %d of %s has a single IK root (branch +1)",
                i + 1, arch->type->name);
@@ -151,8 +151,7 @@ static void seed_rotation(int k, double R[9]) {
 static double residual_at(const pom_kin_arch *ab, const double target[3], const double R[9],
                           double r[3], double J[9]) {
   double q[3];
-  pom_status st =
-      J ? pom_kin_inverse_jacobian(ab, R, q, J, NULL) : pom_kin_inverse(ab, R, q, NULL);
+  pom_status st = J ? pom_kin_inverse_jacobian(ab, R, q, J, NULL) : pom_kin_inverse(ab, R, q, NULL);
   if (st != POM_OK) return INFINITY;
   const int rotary = pom_kin_type_actuator(ab->type) == POM_ACT_REVOLUTE;
   double m = 0.0;

@@ -94,6 +94,33 @@ static void rot(double out[3], const double axis[3], double t, const double x[3]
  * w1 . v1 = cos a2; leg 2's constraint gives psi (two roots, A cos + B sin
  * + C = 0), leg 3's residual f is counted for sign changes along each closed
  * loop of the curve of leg 2's solutions. */
+/* The roots the sweep found: the rotation at the sample of smaller |f| on
+ * either side of a sign change (within pi / samples of the root in phi). */
+#define SWEEP_MAX 16
+static double sweep_R[SWEEP_MAX][9];
+static double *Rs, *fp;
+static int changed(int s0, int b0, int s1, int b1, int *changes) {
+  double f0 = fp[2 * s0 + b0], f1 = fp[2 * s1 + b1];
+  if ((f0 > 0.0) == (f1 > 0.0)) return 0;
+  if (*changes < SWEEP_MAX) {
+    /* linear interpolation on the geodesic between the two samples */
+    const double *R0 = Rs + 9 * (2 * s0 + b0), *R1 = Rs + 9 * (2 * s1 + b1);
+    double D[9], rv[3], E[9], t = f0 / (f0 - f1);
+    pom_m3_tmul(D, R0, R1);
+    pom_m3_rotvec(rv, D);
+    double ang = pom_v3_norm(rv);
+    if (ang > 0.0) {
+      pom_v3_scale(rv, 1.0 / ang, rv);
+      pom_m3_axis_angle(E, rv, t * ang);
+      pom_m3_mul(sweep_R[*changes], R0, E);
+    } else {
+      memcpy(sweep_R[*changes], R0, 9 * sizeof(double));
+    }
+  }
+  ++*changes;
+  return 1;
+}
+
 static int sweep_count(const pom_kin_arch *a, const double theta[3], int samples) {
   double u[3][3], w0[3][3], v0[3][3], w[3][3], c[3];
   if (!rrr_axes(a, u, w0, v0)) return -1;
@@ -109,10 +136,12 @@ static int sweep_count(const pom_kin_arch *a, const double theta[3], int samples
   for (int k = 0; k < 3; ++k)
     e[k] = c[0] * w[0][k] + s1 * p[k];
   pom_kin_min_rotation(R0, v0[0], e);
-  double *fp = malloc(sizeof(double) * (size_t)samples * 2);
+  fp = malloc(sizeof(double) * (size_t)samples * 2);
   int *valid = malloc(sizeof(int) * (size_t)samples);
   double *psi_at = malloc(sizeof(double) * (size_t)samples * 2);
-  if (!fp || !valid || !psi_at) {
+  Rs = malloc(sizeof(double) * (size_t)samples * 18);
+  if (!fp || !valid || !psi_at || !Rs) {
+    free(Rs);
     free(fp);
     free(psi_at);
     free(valid);
@@ -158,17 +187,13 @@ static int sweep_count(const pom_kin_arch *a, const double theta[3], int samples
       pom_m3_mul(R, Rv, Q);
       pom_m3_apply(z, R, v0[2]);
       fp[2 * s + b] = pom_v3_dot(w[2], z) - c[2];
+      memcpy(Rs + 9 * (2 * s + b), R, sizeof R);
       (void)x;
-
     }
   }
   /* walk the loops: runs of valid samples (cyclic) */
   int changes = 0, start = -1;
-  if (verbose) {
-    int nv = 0;
-    for (int s = 0; s < samples; ++s) nv += valid[s];
-    printf("  valid %d of %d\n", nv, samples);
-  }
+
   for (int s = 0; s < samples; ++s)
     if (!valid[s]) start = s;
   if (start < 0) {
@@ -182,11 +207,7 @@ static int sweep_count(const pom_kin_arch *a, const double theta[3], int samples
     for (int b = 0; b < 2; ++b)
       for (int s = 0; s < samples; ++s) {
         int last = s == samples - 1;
-        double f0 = fp[2 * s + b], f1 = fp[2 * ((s + 1) % samples) + (last && swap ? 1 - b : b)];
-        changes += (f0 > 0.0) != (f1 > 0.0);
-        if (verbose && (f0 > 0.0) != (f1 > 0.0))
-          printf("  change b%d s%d f %.3g -> %.3g psi %.4f -> %.4f\n", b, s, f0, f1, psi_at[2 * s + b],
-                 psi_at[2 * ((s + 1) % samples) + b]);
+        changed(s, b, (s + 1) % samples, last && swap ? 1 - b : b, &changes);
       }
   } else {
     for (int k = 1; k <= samples; ++k) {
@@ -198,24 +219,26 @@ static int sweep_count(const pom_kin_arch *a, const double theta[3], int samples
         t = (t + 1) % samples;
         ++len;
       }
-      double prev = fp[2 * s + 0];
+      int ps_ = s, pb = 0;
       for (int j = 1; j < len; ++j) {
-        double f = fp[2 * ((s + j) % samples) + 0];
-        changes += (prev > 0.0) != (f > 0.0);
-        prev = f;
+        int sj = (s + j) % samples;
+        changed(ps_, pb, sj, 0, &changes);
+        ps_ = sj;
       }
       for (int j = len - 1; j >= 0; --j) {
-        double f = fp[2 * ((s + j) % samples) + 1];
-        changes += (prev > 0.0) != (f > 0.0);
-        prev = f;
+        int sj = (s + j) % samples;
+        changed(ps_, pb, sj, 1, &changes);
+        ps_ = sj;
+        pb = 1;
       }
-      changes += (prev > 0.0) != (fp[2 * s + 0] > 0.0);
+      changed(ps_, pb, s, 0, &changes);
       k += len - 1;
     }
   }
   free(fp);
   free(valid);
   free(psi_at);
+  free(Rs);
   return changes;
 }
 
@@ -235,7 +258,186 @@ static void print_modes(const char *what, const pom_kin_mode *m, int n) {
   }
 }
 
-static pom_kin_mode modes[POM_KIN_MAX_MODES];
+static pom_kin_mode modes[POM_KIN_MAX_MODES], modes2[POM_KIN_MAX_MODES];
+static double worst_match = 0.0; /* largest sweep-to-Newton root distance (rad) */
+
+static double rot_distance(const double A[9], const double B[9]) {
+  double D[9], rv[3];
+  pom_m3_tmul(D, A, B);
+  pom_m3_rotvec(rv, D);
+  return pom_v3_norm(rv);
+}
+
+/* A sweep root is degenerate when a leg's base and platform axes are
+ * collinear there (u_i x R v0_i = 0: the leg's self-motion, its IK
+ * undefined; docs/kinematics-modes.md section 3). Threshold 1e-2: the sweep
+ * root is within pi / 20000 of the true one. */
+static int degenerate(const pom_kin_arch *a, const double R[9]) {
+  double u[3][3], w[3][3], v[3][3];
+  rrr_axes(a, u, w, v);
+  for (int i = 0; i < 3; ++i) {
+    double x[3], c[3];
+    pom_m3_apply(x, R, v[i]);
+    pom_v3_cross(c, u[i], x);
+    if (pom_v3_norm(c) < 1e-2) return 1;
+  }
+  return 0;
+}
+
+/* FK roots of a 3-RRR at theta against the sweep: every non-degenerate
+ * sweep root within 2e-3 rad of a Newton root and as many of each; returns
+ * the number of Newton roots (-1 when they disagree) and the degenerate
+ * sweep roots in *n_deg. */
+static int fk_checked(const char *what, const pom_kin_arch *a, const double th[3], int *n_deg) {
+  int n = 0;
+  pom_error err;
+  pom_error_clear(&err);
+  if (!check_true(pom_kin_forward_all(a, th, NULL, modes, POM_KIN_MAX_MODES, &n, &err) == POM_OK)) {
+    printf("%s: %s\n", what, err.message);
+    return -1;
+  }
+  int ns = sweep_count(a, th, 20000), nd = 0, ok = ns >= 0 && ns <= SWEEP_MAX;
+  unsigned long long taken = 0;
+  for (int k = 0; ok && k < ns; ++k) {
+    if (degenerate(a, sweep_R[k])) {
+      ++nd;
+      continue;
+    }
+    /* its nearest Newton root, each taken once */
+    int best = -1;
+    double dbest = INFINITY;
+    for (int j = 0; j < n; ++j) {
+      double d = rot_distance(sweep_R[k], modes[j].R);
+      if (d < dbest) {
+        dbest = d;
+        best = j;
+      }
+    }
+    ok = best >= 0 && !(taken >> best & 1u) && dbest < 1e-3;
+    if (best >= 0) taken |= 1u << best;
+    worst_match = fmax(worst_match, dbest);
+  }
+  ok = ok && ns - nd == n;
+  for (int j = 0; ok && j < n; ++j)
+    ok = modes[j].residual <= 1e-12 && modes[j].pose.reachable && !modes[j].serial &&
+         !modes[j].parallel;
+  *n_deg = nd;
+  if (!check_true(ok) || verbose) {
+    printf("%s at theta (%.2f, %.2f, %.2f) deg: Newton %d roots, sweep %d sign changes (%d "
+           "degenerate)\n",
+           what, th[0] / POM_DEG, th[1] / POM_DEG, th[2] / POM_DEG, n, ns, nd);
+    print_modes(what, modes, n);
+  }
+  return ok ? n : -1;
+}
+
+/* The Agile Eye: 8 working modes at generic orientations, the other root of
+ * each leg at theta + 180 deg (u . w0 = 0 makes w(theta + pi) = -w(theta));
+ * 4 assembly modes at generic inputs, R and R times a half-turn about each
+ * platform axis (the same |det| and kappa), on 4 distinct working modes; 4
+ * more roots of the sweep, degenerate (every leg's u_i parallel to v_i). */
+static void test_agile_eye(const pom_kin_arch *eye, const pom_kin_arch *table, pom_rng *rng) {
+  int n_ik = 0, n_fk = 0;
+  for (int t = 0; t < 20; ++t) {
+    double e[3], R[9];
+    for (int k = 0; k < 3; ++k)
+      e[k] = (2.0 * pom_rng_uniform(rng) - 1.0) * 40.0 * POM_DEG;
+    pom_euler_zyx_to_matrix(R, e);
+    int n = 0;
+    check_true(pom_kin_inverse_all(eye, R, modes, &n, NULL) == POM_OK);
+    int ok = n == 8;
+    for (int k = 0; ok && k < n; ++k) {
+      ok = modes[k].pose.reachable && !modes[k].serial;
+      for (int i = 0; ok && i < 3; ++i) {
+        double d = fabs(remainder(modes[k].pose.q[i] - modes[0].pose.q[i], 2.0 * POM_PI));
+        ok = modes[k].branch[i] == modes[0].branch[i] ? d < 1e-12 : fabs(d - POM_PI) < 1e-12;
+      }
+    }
+    n_ik += check_true(ok);
+  }
+  check_true(n_ik == 20);
+  for (int t = 0; t < 10; ++t) {
+    double th[3];
+    for (int k = 0; k < 3; ++k)
+      th[k] = (2.0 * pom_rng_uniform(rng) - 1.0) * 60.0 * POM_DEG;
+    int nd = 0, n = fk_checked("Agile Eye", eye, th, &nd);
+    if (!check_true(n == 4 && nd == 4)) continue;
+    double u[3][3], w[3][3], v[3][3];
+    rrr_axes(eye, u, w, v);
+    int ok = 1;
+    for (int j = 1; j < n; ++j) {
+      /* R_j = R_0 Rot(v0_k, pi) for one k */
+      double D[9], rv[3];
+      pom_m3_tmul(D, modes[0].R, modes[j].R);
+      pom_m3_rotvec(rv, D);
+      double ang = pom_v3_norm(rv), best = 0.0;
+      for (int k = 0; k < 3; ++k)
+        best = fmax(best, fabs(pom_v3_dot(rv, v[k])) / ang);
+      ok = ok && fabs(ang - POM_PI) < 1e-9 && best > 1.0 - 1e-9;
+      ok = ok && fabs(fabs(modes[j].det_unit) - fabs(modes[0].det_unit)) < 1e-9;
+      for (int i = 0; i < j; ++i)
+        ok = ok && memcmp(modes[i].branch, modes[j].branch, sizeof modes[i].branch) != 0;
+    }
+    /* the table gives the same roots */
+    int m = 0;
+    check_true(pom_kin_forward_all(table, th, NULL, modes2, POM_KIN_MAX_MODES, &m, NULL) == POM_OK);
+    ok = ok && m == n;
+    for (int j = 0; ok && j < n; ++j)
+      ok = rot_distance(modes[j].R, modes2[j].R) < 1e-9 &&
+           memcmp(modes[j].branch, modes2[j].branch, sizeof modes[j].branch) == 0;
+    n_fk += check_true(ok);
+  }
+  check_true(n_fk == 10);
+  if (verbose)
+    printf("Agile Eye: 8 working modes at 20 orientations, 4 assembly modes at %d inputs\n", n_fk);
+}
+
+/* The general 3-RRR: at most 8 FK roots, all found (the sweep), even in
+ * number (the real roots of a real polynomial of degree 8 at a generic
+ * input). */
+static void test_general(const pom_kin_arch *g, pom_rng *rng) {
+  int hist[9] = {0};
+  for (int t = 0; t < 30; ++t) {
+    double th[3];
+    for (int k = 0; k < 3; ++k)
+      th[k] = (2.0 * pom_rng_uniform(rng) - 1.0) * 90.0 * POM_DEG;
+    int nd = 0, n = fk_checked("general 3-RRR", g, th, &nd);
+    if (check_true(n >= 0 && n <= 8 && n % 2 == 0 && nd == 0)) ++hist[n];
+  }
+  if (verbose)
+    printf("general 3-RRR, FK roots at 30 inputs: 0:%d 2:%d 4:%d 6:%d 8:%d\n", hist[0], hist[2],
+           hist[4], hist[6], hist[8]);
+}
+
+/* Pointing at azimuth phi and tilt tau with zero torsion: R = Rz(phi)
+ * Ry(tau) Rz(-phi) (tilt-and-torsion angles, docs/kinematics-modes.md
+ * section 4), or with spin R = Rz(phi) Ry(tau) (the platform turns with
+ * the azimuth: each actuator one full turn). Over phi = -180..180 deg in 0.5 deg steps on the home
+ * working mode: every pose reachable, no leg singular, |det_unit| >= floor with one sign; returns
+ * the smallest |det_unit| (0 when a pose fails) and the actuator travel of limb 1 (unwrapped, deg)
+ * in *travel. */
+static double azimuth_sweep(const pom_kin_arch *a, double tilt, int spin, double *travel) {
+  double worst = INFINITY, sign = 0.0, q_prev = 0.0, path = 0.0;
+  for (int k = -360; k <= 360; ++k) {
+    double phi = 0.5 * k * POM_DEG, A[9], B[9], C[9], T[9], R[9];
+    pom_m3_axis_angle(A, (double[3]){0, 0, 1}, phi);
+    pom_m3_axis_angle(B, (double[3]){0, 1, 0}, tilt);
+    pom_m3_axis_angle(C, (double[3]){0, 0, 1}, spin ? 0.0 : -phi);
+    pom_m3_mul(T, A, B);
+    pom_m3_mul(R, T, C);
+    int n = 0;
+    if (pom_kin_inverse_all(a, R, modes, &n, NULL) != POM_OK || n < 1) return 0.0;
+    const pom_kin_mode *m = &modes[0]; /* the home working mode (+1, +1, +1) */
+    if (!m->pose.reachable || m->serial || m->parallel) return 0.0;
+    if (sign == 0.0) sign = m->det_unit > 0.0 ? 1.0 : -1.0;
+    if (m->det_unit * sign <= 0.0) return 0.0;
+    worst = fmin(worst, fabs(m->det_unit));
+    if (k > -360) path += remainder(m->pose.q[0] - q_prev, 2.0 * POM_PI);
+    q_prev = m->pose.q[0];
+  }
+  *travel = path / POM_DEG;
+  return worst;
+}
 
 int main(int argc, char **argv) {
   verbose = argc > 1 && strcmp(argv[1], "-v") == 0;
@@ -246,26 +448,27 @@ int main(int argc, char **argv) {
   check_true(load("configs/3rrr.cfg", NULL, &eye));
   check_true(load("configs/catalog/3rrr_general.cfg", NULL, &general));
   check_true(load("configs/catalog/3rrr_coaxial.cfg", NULL, &coax));
-  double th[3] = {20.0 * POM_DEG, -35.0 * POM_DEG, 50.0 * POM_DEG};
-  int n = 0;
-  check_true(pom_kin_forward_all(&eye, th, NULL, modes, POM_KIN_MAX_MODES, &n, &err) == POM_OK);
-  print_modes("eye fk", modes, n);
-  if (getenv("SEEDS")) {
-    pom_kin_fk_all_opts o;
-    pom_kin_fk_all_defaults(&o);
-    o.seeds = atoi(getenv("SEEDS"));
-    o.max_iterations = 500;
-    check_true(pom_kin_forward_all(&eye, th, &o, modes, POM_KIN_MAX_MODES, &n, &err) == POM_OK);
-    print_modes("eye fk many", modes, n);
-  }
-  printf("eye sweep %d\n", sweep_count(&eye, th, 20000));
-  check_true(pom_kin_forward_all(&general, th, NULL, modes, POM_KIN_MAX_MODES, &n, &err) ==
-             POM_OK);
-  print_modes("general fk", modes, n);
-  printf("general sweep %d\n", sweep_count(&general, th, 20000));
-  double e[3] = {10 * POM_DEG, 20 * POM_DEG, -15 * POM_DEG}, R[9];
-  pom_euler_zyx_to_matrix(R, e);
-  check_true(pom_kin_inverse_all(&eye, R, modes, &n, &err) == POM_OK);
-  print_modes("eye ik", modes, n);
+  pom_kin_arch eye_table;
+  check_true(load("configs/3rrr.cfg", "3RRR-table", &eye_table));
+  pom_rng rng;
+  pom_rng_seed(&rng, 27u, 5u);
+  test_agile_eye(&eye, &eye_table, &rng);
+  test_general(&general, &rng);
+  if (verbose) printf("sweep roots within %.3g rad of the Newton roots\n", worst_match);
+  /* the coaxial 3-RRR at 20 deg tilt: pointing at every azimuth with the
+   * torsion held (the actuators swing back: no net travel), and turning
+   * with it (each actuator one full turn); home |det_unit| = 0.992, 0.895
+   * measured at worst, bound 0.5 */
+  double travel = NAN;
+  check_true(azimuth_sweep(&coax, 20.0 * POM_DEG, 0, &travel) >= 0.5);
+  check_abs(travel, 0.0, 1e-9);
+  check_true(azimuth_sweep(&coax, 20.0 * POM_DEG, 1, &travel) >= 0.5);
+  check_abs(fabs(travel), 360.0, 1e-9);
+  if (verbose)
+    for (int t = 18; t <= 26; ++t) {
+      double tr = 0.0, w0 = azimuth_sweep(&coax, t * POM_DEG, 0, &tr),
+             w1 = azimuth_sweep(&coax, t * POM_DEG, 1, &tr);
+      printf("coaxial tilt %d deg: min |det_unit| pointing %.4f, turning %.4f\n", t, w0, w1);
+    }
   return check_summary("test_kin_modes");
 }
