@@ -437,8 +437,8 @@ pom_status pom_kin_body_twists_diff(const pom_kin_arch *arch, const double R[9],
 
 /* One mode: a pose and what is known there. */
 typedef struct {
-  double R[9];      /* platform rotation */
-  int branch[3];    /* per limb: +1 the home IK root, -1 the other, 0 the limb has one root */
+  double R[9];       /* platform rotation */
+  int branch[3];     /* per limb: +1 the home IK root, -1 the other, 0 the limb has one root */
   pom_status status; /* pom_kin_pose_evaluate on this working mode: POM_OK, POM_ERR_LIMIT,
                        POM_ERR_UNREACHABLE (then pose.q and the rest are not set) */
   pom_kin_pose pose; /* q, J, singular values, kappa, dexterity, limits, violations */

@@ -98,13 +98,17 @@ typedef enum {
                                          direction, fixed frame */
   POM_LIMB_MEASURE_CONE_PLATFORM = 2, /* per limb: the same in the platform frame */
   POM_LIMB_MEASURE_DISTANCE = 3,      /* per pair: distance of the segments a -> b */
-  POM_LIMB_MEASURE_AXIS_ANGLE = 4     /* per pair: angle between the current axes of joint a */
+  POM_LIMB_MEASURE_AXIS_ANGLE = 4,    /* per pair: angle between the current axes of joint a */
+  POM_LIMB_MEASURE_ARM_ANGLE = 5      /* per pair: angle about +z from limb i's joint-a axis to
+                                         limb i+1's (azimuth difference, in [0, 2 pi)): the
+                                         arms of coaxial actuators (Orbita's gamma; every
+                                         actuated joint an R on the z axis) */
 } pom_limb_measure_kind;
 
 /* What limit kind k (1..3) of the type measures; segments join the joints'
  * current centres (a joint's centre moves with the body after it). The
  * type's limits[k] descriptor (name, per_pair, lower, key, ...) must agree:
- * per_pair = 1 exactly for DISTANCE and AXIS_ANGLE. */
+ * per_pair = 1 exactly for DISTANCE, AXIS_ANGLE and ARM_ANGLE. */
 typedef struct {
   int kind; /* pom_limb_measure_kind */
   int a, b; /* joints */

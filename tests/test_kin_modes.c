@@ -439,6 +439,56 @@ static double azimuth_sweep(const pom_kin_arch *a, double tilt, int spin, double
   return worst;
 }
 
+/* Orbita 3D's arm-angle limit (catalog/orbita3d.arch, measure "arm_angle",
+ * docs/architecture-files.md 2.6): at random reachable orientations the
+ * values are the angles between successive arms, 120 deg + q_i - q_(i+1)
+ * mod 360 (docs/catalog.md C06: the arms are 120 deg apart at home and arm i
+ * turns by -q_i about +z), to 1e-9 rad; the "min" bit is set exactly when a
+ * value is below 40 deg, the "max" bit exactly when above 175 deg; both
+ * occur, and poses inside both bounds occur. */
+static void test_orbita_arm_angle(const pom_kin_arch *orb, pom_rng *rng) {
+  int kmin = 0, kmax = 0;
+  for (int k = 1; k < POM_KIN_LIM_KINDS; ++k) {
+    const char *nm = orb->type->limits[k].name;
+    if (nm && strcmp(nm, "arm angle min") == 0) kmin = k;
+    if (nm && strcmp(nm, "arm angle max") == 0) kmax = k;
+  }
+  if (!check_true(kmin > 0 && kmax > 0)) return;
+  check_abs(orb->limit_bound[kmin] / POM_DEG, 40.0, 1e-12);
+  check_abs(orb->limit_bound[kmax] / POM_DEG, 175.0, 1e-12);
+  int n_low = 0, n_high = 0, n_in = 0, bad = 0;
+  for (int t = 0; t < 4000; ++t) {
+    double e[3] = {(2.0 * pom_rng_uniform(rng) - 1.0) * 180.0 * POM_DEG,
+                   (2.0 * pom_rng_uniform(rng) - 1.0) * 70.0 * POM_DEG,
+                   (2.0 * pom_rng_uniform(rng) - 1.0) * 70.0 * POM_DEG},
+           R[9];
+    pom_euler_zyx_to_matrix(R, e);
+    pom_kin_pose p;
+    pom_kin_pose_evaluate(orb, R, &p, NULL);
+    if (!p.reachable) continue;
+    int low = 0, high = 0;
+    for (int i = 0; i < 3; ++i) {
+      double want = 120.0 * POM_DEG + p.q[i] - p.q[(i + 1) % 3];
+      want -= 2.0 * POM_PI * floor(want / (2.0 * POM_PI));
+      double vmin = p.limit[3 * kmin + i], vmax = p.limit[3 * kmax + i];
+      bad += fabs(remainder(vmin - want, 2.0 * POM_PI)) > 1e-9 || vmax != vmin;
+      int lo = vmin<40.0 * POM_DEG, hi = vmax> 175.0 * POM_DEG;
+      bad += lo != (int)(p.violations >> (3 * kmin + i) & 1u);
+      bad += hi != (int)(p.violations >> (3 * kmax + i) & 1u);
+      low |= lo;
+      high |= hi;
+    }
+    n_low += low;
+    n_high += high;
+    n_in += !low && !high;
+  }
+  check_true(bad == 0);
+  check_true(n_low > 0 && n_high > 0 && n_in > 0);
+  if (verbose)
+    printf("Orbita arm angle: %d poses below 40 deg, %d above 175 deg, %d inside; %d wrong\n",
+           n_low, n_high, n_in, bad);
+}
+
 int main(int argc, char **argv) {
   verbose = argc > 1 && strcmp(argv[1], "-v") == 0;
   pom_error err;
@@ -448,12 +498,15 @@ int main(int argc, char **argv) {
   check_true(load("configs/3rrr.cfg", NULL, &eye));
   check_true(load("configs/catalog/3rrr_general.cfg", NULL, &general));
   check_true(load("configs/catalog/3rrr_coaxial.cfg", NULL, &coax));
+  pom_kin_arch orbita;
+  check_true(load("configs/catalog/orbita3d.cfg", NULL, &orbita));
   pom_kin_arch eye_table;
   check_true(load("configs/3rrr.cfg", "3RRR-table", &eye_table));
   pom_rng rng;
   pom_rng_seed(&rng, 27u, 5u);
   test_agile_eye(&eye, &eye_table, &rng);
   test_general(&general, &rng);
+  test_orbita_arm_angle(&orbita, &rng);
   if (verbose) printf("sweep roots within %.3g rad of the Newton roots\n", worst_match);
   /* the coaxial 3-RRR at 20 deg tilt: pointing at every azimuth with the
    * torsion held (the actuators swing back: no net travel), and turning
