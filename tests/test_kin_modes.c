@@ -11,9 +11,13 @@
  *  - completeness: for every 3-RRR input tested the number of FK roots the
  *    seeded Newton finds equals the number of sign changes of an independent
  *    one-dimensional sweep (section 2.3), which misses no simple root;
+ *  - the Agile Eye reaches every orientation on its home working mode and
+ *    det J never changes sign there (its singularities are curves, not
+ *    surfaces), unlike the general 3-RRR (section 3);
  *  - the coaxial 3-RRR (catalog/3rrr_coaxial.arch) turns through every
  *    azimuth -180..180 deg at a fixed tilt, non-singular on its home working
- *    mode (section 4). */
+ *    mode (section 4);
+ *  - Orbita 3D's arm-angle limit (section 5). */
 #include "check.h"
 #include "pom_arch.h"
 #include "pom_arch_file.h"
@@ -489,6 +493,31 @@ static void test_orbita_arm_angle(const pom_kin_arch *orb, pom_rng *rng) {
            n_low, n_high, n_in, bad);
 }
 
+/* Sign of det_unit on the home working mode over random rotations (uniform
+ * quaternions): counts of each sign and the smallest |det_unit| seen. */
+static void det_signs(const pom_kin_arch *a, pom_rng *rng, int n, int *pos, int *neg,
+                      double *smallest) {
+  *pos = *neg = 0;
+  *smallest = INFINITY;
+  for (int t = 0; t < n; ++t) {
+    double q[4], R[9], s2 = 0.0;
+    for (int k = 0; k < 4; ++k) {
+      /* Gaussian by Box-Muller: uniform over the sphere of quaternions */
+      double u1 = pom_rng_uniform(rng), u2 = pom_rng_uniform(rng);
+      q[k] = sqrt(-2.0 * log(u1 > 0.0 ? u1 : 1e-300)) * cos(2.0 * POM_PI * u2);
+      s2 += q[k] * q[k];
+    }
+    for (int k = 0; k < 4; ++k)
+      q[k] /= sqrt(s2);
+    pom_quat_to_matrix(R, q);
+    int nm = 0;
+    if (pom_kin_inverse_all(a, R, modes, &nm, NULL) != POM_OK || !modes[0].pose.reachable) continue;
+    if (modes[0].det_unit > 0.0) ++*pos;
+    if (modes[0].det_unit < 0.0) ++*neg;
+    *smallest = fmin(*smallest, fabs(modes[0].det_unit));
+  }
+}
+
 int main(int argc, char **argv) {
   verbose = argc > 1 && strcmp(argv[1], "-v") == 0;
   pom_error err;
@@ -507,6 +536,18 @@ int main(int argc, char **argv) {
   test_agile_eye(&eye, &eye_table, &rng);
   test_general(&general, &rng);
   test_orbita_arm_angle(&orbita, &rng);
+  /* the Agile Eye's singularities are curves, not surfaces (Bonev, Chablat
+   * and Wenger): on its home working mode every orientation is reachable and
+   * det_unit never changes sign (it touches 0 on the curves only); the
+   * general 3-RRR's parallel singularities are surfaces, crossed: both signs */
+  int pos = 0, neg = 0;
+  double sm = 0.0;
+  det_signs(&eye, &rng, 20000, &pos, &neg, &sm);
+  check_true(pos == 0 && neg == 20000);
+  if (verbose) printf("Agile Eye det_unit: + %d, - %d, min |det_unit| %.3g\n", pos, neg, sm);
+  det_signs(&general, &rng, 20000, &pos, &neg, &sm);
+  check_true(pos > 0 && neg > 0);
+  if (verbose) printf("general 3-RRR det_unit: + %d, - %d, min |det_unit| %.3g\n", pos, neg, sm);
   if (verbose) printf("sweep roots within %.3g rad of the Newton roots\n", worst_match);
   /* the coaxial 3-RRR at 20 deg tilt: pointing at every azimuth with the
    * torsion held (the actuators swing back: no net travel), and turning
