@@ -12,7 +12,7 @@
 
 int pom_cmd_fk(int argc, char **argv) {
   const char *path = NULL, *qtext = NULL;
-  int json = 0;
+  int json = 0, all = 0, seeds = 0;
   const pom_opt opts[] = {
       {.name = "--q",
        .kind = POM_OPT_TEXT,
@@ -25,19 +25,36 @@ int pom_cmd_fk(int argc, char **argv) {
        .help = "machine-readable output on stdout",
        .flag = &json,
        .set = 1},
+      {.name = "--all",
+       .kind = POM_OPT_FLAG,
+       .help = "every assembly mode (FK root) instead of the one reached from home",
+       .flag = &all,
+       .set = 1},
+      {.name = "--seeds",
+       .kind = POM_OPT_INT,
+       .arg = "N",
+       .help = "with --all: Newton starts per working mode (default 128)",
+       .ival = &seeds,
+       .lo = 1,
+       .hi = 100000},
   };
   const pom_cli_spec spec = {
       .name = "fk",
-      .usage = "CONFIG --q Q1,Q2,Q3 [--json]",
+      .usage = "CONFIG --q Q1,Q2,Q3 [--all [--seeds N]] [--json]",
       .about = "Forward kinematics: the platform orientation on the home assembly branch for\n"
                "actuator displacements Q1,Q2,Q3 in MILLIMETRES from mid-stroke (positive =\n"
                "extension). Newton with the analytic Jacobian from home, continued along\n"
                "q(t) = t q when direct Newton fails. Prints the rotation matrix, the ZYX Euler\n"
                "angles (degrees) and the unit quaternion (w, x, y, z), the iterations, the\n"
-               "residual max|q(R) - q| (m or rad), the dexterity and the limits at that pose.",
+               "residual max|q(R) - q| (m or rad), the dexterity and the limits at that pose.\n"
+               "--all: every assembly mode instead: damped Newton from N quasi-uniform starts\n"
+               "on each working mode, equal roots merged; per mode the orientation, the\n"
+               "working mode it lies on (branch per limb, + the home root), det J, det J with\n"
+               "unit rows, kappa, singular flags and limits (docs/kinematics-modes.md).",
       .notes = "Reads the config groups name, architecture, geometry, limits.\n"
-               "Exit status: 0 solved and within limits; 1 no solution, or a limit violated at\n"
-               "the solution (the report is still printed); 2 usage or config error.",
+               "Exit status: 0 solved and within limits (--all: some mode is); 1 no solution,\n"
+               "or a limit violated at the solution (the report is still printed); 2 usage or\n"
+               "config error.",
       .opts = opts,
       .n_opts = POM_CLI_N(opts),
       .args = &path,
@@ -70,6 +87,29 @@ int pom_cmd_fk(int argc, char **argv) {
   pom_kin_fk_info info = {0, 0, 0.0};
   pom_error err;
   pom_error_clear(&err);
+  if (seeds && !all) {
+    fprintf(stderr, "pomlab fk: --seeds %d: only with --all\n", seeds);
+    pom_cfg_destroy(cfg);
+    return 2;
+  }
+  if (all) {
+    static pom_kin_mode modes[POM_KIN_MAX_MODES];
+    pom_kin_fk_all_opts fo;
+    pom_kin_fk_all_defaults(&fo);
+    if (seeds) fo.seeds = seeds;
+    int n = 0, any = 0;
+    pom_status st = pom_kin_forward_all(&arch, q, &fo, modes, POM_KIN_MAX_MODES, &n, &err);
+    if (st != POM_OK) {
+      pom_cli_report("fk", &err);
+      pom_cfg_destroy(cfg);
+      return 1;
+    }
+    pom_kin_modes_report(stdout, json, path, &arch, NULL, q_disp, fo.seeds, modes, n);
+    for (int k = 0; k < n; ++k)
+      any = any || modes[k].status == POM_OK;
+    pom_cfg_destroy(cfg);
+    return any ? 0 : 1;
+  }
   pom_status st = pom_kin_forward(&arch, q, NULL, NULL, R, &info, &err);
   if (st != POM_OK) {
     if (json) {

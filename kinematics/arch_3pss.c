@@ -347,6 +347,14 @@ static void limit_values(const pom_kin_arch *arch, const double R[9], const doub
 }
 
 /* Radius of the slider joints about z over the whole stroke (m). */
+/* The other IK root of limb i: the link on the other side of the normal to
+ * the slider axis through C_i (branch_sign -> -branch_sign). */
+static int flip_branch(pom_kin_arch *arch, int i) {
+  pss *g = POM_KIN_DATA(pss, arch);
+  g->branch_sign[i] = -g->branch_sign[i];
+  return 1;
+}
+
 static double footprint(const pom_kin_arch *arch) {
   const pss *g = POM_KIN_CDATA(pss, arch);
   double r = 0.0;
@@ -446,4 +454,5 @@ const pom_kin_arch_type pom_kin_arch_3pss = {
     .footprint = footprint,
     .mechanism = mechanism,
     .shapes = shapes,
+    .flip_branch = flip_branch,
 };

@@ -475,6 +475,14 @@ static void limit_values(const pom_kin_arch *arch, const double R[9], const doub
 }
 
 /* The motors sit on u_i at the link radius. */
+/* The other IK root of leg i: s -> -s in theta = phi + s acos(-C / rho)
+ * (docs/kinematics-3rrr.md section 2). */
+static int flip_branch(pom_kin_arch *arch, int i) {
+  rrr *g = POM_KIN_DATA(rrr, arch);
+  g->branch[i] = -g->branch[i];
+  return 1;
+}
+
 static double footprint(const pom_kin_arch *arch) {
   const rrr *g = POM_KIN_CDATA(rrr, arch);
   double r = 0.0;
@@ -619,4 +627,5 @@ const pom_kin_arch_type pom_kin_arch_3rrr = {
     .footprint = footprint,
     .mechanism = mechanism,
     .shapes = shapes,
+    .flip_branch = flip_branch,
 };

@@ -615,22 +615,38 @@ static pom_status load_limits(pom_arch_file *f, const pom_cfg *cfg, pom_error *e
     POM_TRY(pom_cfg_string(cfg, key, f->limit_key[k + 1], sizeof f->limit_key[k + 1], err));
     snprintf(key, sizeof key, "limits.[%d].json", k);
     POM_TRY(pom_cfg_string(cfg, key, f->limit_json[k + 1], sizeof f->limit_json[k + 1], err));
-    static const char *const measures[] = {"cone", "distance", "axis_angle", NULL};
+    static const char *const measures[] = {"cone", "distance", "axis_angle", "arm_angle", NULL};
     int m = 0;
     snprintf(key, sizeof key, "limits.[%d].measure", k);
     POM_TRY(pom_cfg_choice(cfg, key, measures, &m, err));
+    f->limit_line[k + 1] = pom_cfg_line(cfg, key);
     const char *want = m == 1 ? "_mm" : "_deg";
     size_t kl = strlen(f->limit_key[k + 1]);
     snprintf(key, sizeof key, "limits.[%d].key", k);
     if (kl < 5 || strcmp(f->limit_key[k + 1] + kl - strlen(want), want) != 0)
       return pom_cfg_error(cfg, key, NULL, err, "a %s limit's key ends in %s", measures[m], want);
-    if (m == 2) {
+    if (m >= 2) {
       snprintf(key, sizeof key, "limits.[%d].joint", k);
       POM_TRY(read_joint(cfg, key, &lm->a, err));
       lm->b = -1;
       if (f->limb[0].joint[lm->a].type == POM_JOINT_SPHERICAL)
         return pom_cfg_error(cfg, key, NULL, err, "joint %d is spherical: it has no axis",
                              lm->a + 1);
+      if (m == 3 && f->limb[0].joint[lm->a].type == POM_JOINT_PRISMATIC)
+        return pom_cfg_error(cfg, key, NULL, err,
+                             "joint %d is prismatic: an arm angle is the azimuth of a joint "
+                             "axis that turns with the actuator",
+                             lm->a + 1);
+      for (int l = 0; m == 3 && l < (f->per_limb ? 3 : 1); ++l)
+        for (int j = 0; j < 3; ++j)
+          if (f->limb[l].joint[j].actuated && f->limb[l].joint[j].type != POM_JOINT_REVOLUTE) {
+            snprintf(key, sizeof key, "limits.[%d].measure", k);
+            return pom_cfg_error(cfg, key, NULL, err,
+                                 "an arm angle is measured between revolute actuators turning "
+                                 "about the z axis; joint %d of the limbs is actuated and not "
+                                 "revolute",
+                                 j + 1);
+          }
     } else {
       double jj[2];
       snprintf(key, sizeof key, "limits.[%d].joints", k);
@@ -652,7 +668,8 @@ static pom_status load_limits(pom_arch_file *f, const pom_cfg *cfg, pom_error *e
     }
     lm->kind = m == 0   ? (fr ? POM_LIMB_MEASURE_CONE_PLATFORM : POM_LIMB_MEASURE_CONE_FIXED)
                : m == 1 ? POM_LIMB_MEASURE_DISTANCE
-                        : POM_LIMB_MEASURE_AXIS_ANGLE;
+               : m == 2 ? POM_LIMB_MEASURE_AXIS_ANGLE
+                        : POM_LIMB_MEASURE_ARM_ANGLE;
     static const char *const bounds[] = {"upper", "lower", NULL};
     int lower = 0;
     snprintf(key, sizeof key, "limits.[%d].bound", k);
@@ -667,6 +684,10 @@ static pom_status load_limits(pom_arch_file *f, const pom_cfg *cfg, pom_error *e
     ld->cls = m == 0 ? POM_KIN_LIMCLASS_CONE : POM_KIN_LIMCLASS_INTERFERENCE;
     snprintf(key, sizeof key, "limits.[%d].range", k);
     POM_TRY(read_range(cfg, key, &ld->lo, &ld->hi, err));
+    if (m == 3 && (ld->lo < 0.0 || ld->hi > 360.0))
+      return pom_cfg_error(cfg, key, NULL, err,
+                           "an arm angle lies in [0, 360] deg: the range [%g, %g] leaves it",
+                           ld->lo, ld->hi);
     double def;
     snprintf(key, sizeof key, "limits.[%d].default", k);
     POM_TRY(pom_cfg_real(cfg, key, 1.0, ld->lo, ld->hi, &def, err));
@@ -873,6 +894,19 @@ pom_status pom_arch_file_eval(const pom_arch_file *f, const pom_kin_design *d, p
     }
     L->branch = t->branch;
     if (t->has_motor) POM_TRY(eval_expr(f, &t->motor, slots, i, L->motor, err));
+  }
+  /* an arm angle (Orbita's gamma) is an azimuth about z: coaxial actuators */
+  for (int k = 1; k < POM_KIN_LIM_KINDS; ++k) {
+    if (tb->measure[k].kind != POM_LIMB_MEASURE_ARM_ANGLE) continue;
+    for (int i = 0; i < 3; ++i) {
+      const double *a = tb->limb[i].joint[tb->limb[i].actuated].axis;
+      if (hypot(a[0], a[1]) > 1e-9 * fabs(a[2]))
+        POM_FAIL(err, POM_ERR_ARG,
+                 "%s:%d: key 'limits.[%d].measure' = \"arm_angle\" (limb %d): an arm angle "
+                 "needs coaxial actuators, every actuated axis on the z axis; this design puts "
+                 "limb %d's at (%.6g, %.6g, %.6g)",
+                 f->path, f->limit_line[k], k - 1, i + 1, i + 1, a[0], a[1], a[2]);
+    }
   }
   return POM_OK;
 }

@@ -644,6 +644,14 @@ void pom_limb_limit_values(const pom_kin_arch *arch, const double R[9], const do
       case POM_LIMB_MEASURE_AXIS_ANGLE:
         val[k] = pom_kin_angle_between(s[i].ax[m->a], s[j].ax[m->a]);
         break;
+      case POM_LIMB_MEASURE_ARM_ANGLE: {
+        /* docs/architecture-files.md 2.6: counterclockwise about +z, [0, 2 pi) */
+        double d =
+            atan2(s[j].ax[m->a][1], s[j].ax[m->a][0]) - atan2(s[i].ax[m->a][1], s[i].ax[m->a][0]);
+        d -= 2.0 * POM_PI * floor(d / (2.0 * POM_PI));
+        val[k] = d < 2.0 * POM_PI ? d : 0.0;
+        break;
+      }
       default:
         val[k] = 0.0;
         break;
@@ -1003,16 +1011,39 @@ pom_status pom_limb_finish(pom_kin_arch *arch, pom_error *err) {
   for (int k = 1; k < POM_KIN_LIM_KINDS; ++k) {
     const pom_limb_measure *m = &tb->measure[k];
     if (m->kind == POM_LIMB_MEASURE_NONE) continue;
-    if (m->kind < 0 || m->kind > POM_LIMB_MEASURE_AXIS_ANGLE)
+    if (m->kind < 0 || m->kind > POM_LIMB_MEASURE_ARM_ANGLE)
       POM_FAIL(err, POM_ERR_ARG, "limit kind %d: measure %d", k, m->kind);
-    if (!valid_joint(m->a) || (m->kind != POM_LIMB_MEASURE_AXIS_ANGLE && !valid_joint(m->b)))
+    const int one_joint =
+        m->kind == POM_LIMB_MEASURE_AXIS_ANGLE || m->kind == POM_LIMB_MEASURE_ARM_ANGLE;
+    if (!valid_joint(m->a) || (!one_joint && !valid_joint(m->b)))
       POM_FAIL(err, POM_ERR_ARG, "limit kind %d: joints %d, %d are not among 0..2", k, m->a, m->b);
-    int pair = m->kind == POM_LIMB_MEASURE_DISTANCE || m->kind == POM_LIMB_MEASURE_AXIS_ANGLE;
+    if (m->kind == POM_LIMB_MEASURE_ARM_ANGLE)
+      for (int i = 0; i < 3; ++i) {
+        const pom_limb *L = &tb->limb[i];
+        const pom_limb_joint *a = &L->joint[L->actuated];
+        if (a->type != POM_LIMB_JOINT_R || hypot(a->axis[0], a->axis[1]) > 1e-9 * fabs(a->axis[2]))
+          POM_FAIL(err, POM_ERR_ARG,
+                   "limit kind %d (%s): an arm angle needs coaxial actuators, every actuated "
+                   "joint revolute on the z axis; limb %d's is %s with axis (%.6g, %.6g, %.6g)",
+                   k, type && type->limits[k].name ? type->limits[k].name : "arm angle", i + 1,
+                   a->type == POM_LIMB_JOINT_R ? "revolute" : "not revolute", a->axis[0],
+                   a->axis[1], a->axis[2]);
+      }
+    int pair = m->kind == POM_LIMB_MEASURE_DISTANCE || one_joint;
     if (type && type->limits[k].name && type->limits[k].per_pair != pair)
       POM_FAIL(err, POM_ERR_ARG, "limit kind %d (%s): its measure is %s, its descriptor not", k,
                type->limits[k].name, pair ? "per limb pair" : "per limb");
   }
   return POM_OK;
+}
+
+int pom_limb_flip_branch(pom_kin_arch *arch, int i) {
+  pom_limb *L = &POM_LIMB_TABLE(arch)->limb[i];
+  if (!(L->kernel == POM_LIMB_KERNEL_RRR || L->kernel == POM_LIMB_KERNEL_PSS ||
+        L->kernel == POM_LIMB_KERNEL_RSS))
+    return 0; /* S-P-S, U-P-S: q = |p2 - p0| - L0, one root */
+  L->branch = -L->branch;
+  return 1;
 }
 
 void pom_limb_type_ops(pom_kin_arch_type *type) {
@@ -1025,4 +1056,5 @@ void pom_limb_type_ops(pom_kin_arch_type *type) {
   type->footprint = pom_limb_footprint;
   type->mechanism = pom_limb_mechanism;
   type->shapes = NULL;
+  type->flip_branch = pom_limb_flip_branch;
 }

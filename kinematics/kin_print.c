@@ -401,3 +401,132 @@ void pom_kin_fk_report(FILE *out, int json, const char *config, const pom_kin_ar
             lst == POM_OK ? "" : message);
   }
 }
+
+/* "+ + -" / "+ 1 -": the branch per limb (1: the limb has one root). */
+static void branch_text(char buf[8], const int b[3]) {
+  for (int i = 0; i < 3; ++i) {
+    buf[2 * i] = b[i] > 0 ? '+' : b[i] < 0 ? '-' : '1';
+    buf[2 * i + 1] = i < 2 ? ' ' : '\0';
+  }
+}
+
+void pom_kin_modes_report(FILE *out, int json, const char *config, const pom_kin_arch *arch,
+                          const double e_deg[3], const double q_disp[3], int seeds,
+                          const pom_kin_mode *modes, int n) {
+  const pom_act_desc *u = pom_act_kind_desc(pom_kin_type_actuator(arch->type));
+  const int ik = e_deg != NULL;
+  int two[3];
+  const int n2 = pom_kin_two_root_limbs(arch, two);
+  if (json) {
+    fprintf(out, "{\n  \"config\": ");
+    pom_json_string(out, config);
+    fprintf(out, ",\n  \"name\": ");
+    pom_json_string(out, arch->name);
+    fprintf(out, ",\n  \"architecture\": \"%s\",\n  \"kind\": \"%s\",\n  ", pom_kin_arch_name(arch),
+            ik ? "working_modes" : "assembly_modes");
+    if (ik) {
+      fprintf(out, "\"euler_zyx_deg\": ");
+      pom_json_vec(out, e_deg, 3, 1.0);
+    } else {
+      double q[3] = {q_disp[0] / u->to_display, q_disp[1] / u->to_display,
+                     q_disp[2] / u->to_display};
+      fprintf(out, "\"q_target\": ");
+      pom_json_vec(out, q, 3, 1.0);
+      fprintf(out, ",\n  \"seeds_per_working_mode\": %d", seeds);
+    }
+    fprintf(out, ",\n  \"working_modes\": %d,\n  \"count\": %d,\n  \"modes\": [", 1 << n2, n);
+    for (int k = 0; k < n; ++k) {
+      const pom_kin_mode *m = &modes[k];
+      double e[3], quat[4];
+      pom_status est = pom_euler_zyx_from_matrix(e, m->R);
+      pom_quat_from_matrix(quat, m->R);
+      fprintf(out, "%s\n  {\n  \"mode\": %d,\n  \"branch\": [%d, %d, %d],\n  \"rotation\": ",
+              k ? "," : "", k + 1, m->branch[0], m->branch[1], m->branch[2]);
+      pom_json_mat3(out, m->R, 1.0);
+      fprintf(out, ",\n  \"euler_zyx_deg\": ");
+      pom_json_vec(out, e, 3, 1.0 / POM_DEG);
+      fprintf(out, ",\n  \"euler_singular\": %s,\n  \"quaternion_wxyz\": ",
+              est == POM_OK ? "false" : "true");
+      pom_json_vec(out, quat, 4, 1.0);
+      fprintf(out, ",\n  \"det_jacobian\": ");
+      pom_json_number(out, m->det);
+      fprintf(out, ",\n  \"det_unit_rows\": ");
+      pom_json_number(out, m->det_unit);
+      fprintf(out, ",\n  \"serial_singular_limbs\": [");
+      int first = 1;
+      for (int i = 0; i < 3; ++i)
+        if (m->serial >> i & 1u) {
+          fprintf(out, "%s%d", first ? "" : ", ", i + 1);
+          first = 0;
+        }
+      fprintf(out, "],\n  \"parallel_singular\": %s", m->parallel ? "true" : "false");
+      if (!ik) {
+        fprintf(out, ",\n  \"residual\": ");
+        pom_json_number(out, m->residual);
+      }
+      fprintf(out, ",\n  ");
+      pom_kin_pose_json(out, arch, &m->pose);
+      fprintf(out, "\n  }");
+    }
+    fprintf(out, "\n  ]\n}\n");
+    return;
+  }
+  fprintf(out, "%s (%s), config %s\n", arch->name, pom_kin_arch_name(arch), config);
+  char limbs[32] = "";
+  for (int i = 0, c = 0; i < 3; ++i)
+    if (two[i]) {
+      size_t l = strlen(limbs);
+      snprintf(limbs + l, sizeof limbs - l, "%s%d", c++ ? ", " : "", i + 1);
+    }
+  if (ik) {
+    fprintf(out, "orientation: ZYX Euler psi = %g deg, theta = %g deg, phi = %g deg\n", e_deg[0],
+            e_deg[1], e_deg[2]);
+    fprintf(out, "working modes: %d (two IK roots on limb%s %s; branch + is the home root)\n", n,
+            n2 == 1 ? "" : "s", n2 ? limbs : "none");
+  } else {
+    fprintf(out, "q (%s): %g %g %g\n", u->display, q_disp[0], q_disp[1], q_disp[2]);
+    if (n2)
+      fprintf(out,
+              "assembly modes: %d (damped Newton from %d starts on each of the %d working modes; "
+              "branch + is the home root)\n",
+              n, seeds, 1 << n2);
+    else
+      fprintf(out,
+              "assembly modes: %d (damped Newton from %d starts; one IK root per limb: branch "
+              "1)\n",
+              n, seeds);
+  }
+  fprintf(out, "%-4s %-6s %10s %10s %10s  %10s %10s %10s  %11s %8s %10s %9s  %s\n", "mode",
+          "branch", "psi", "theta", "phi", "q1", "q2", "q3", "det J", "det unit", "kappa",
+          "1/kappa", "singular, limits");
+  fprintf(out, "%-4s %-6s %10s %10s %10s  %10s %10s %10s  %11s\n", "", "", "(deg)", "(deg)",
+          "(deg)", u->display, u->display, u->display, u->lever_unit);
+  const double fj = u->lever_to_display;
+  for (int k = 0; k < n; ++k) {
+    const pom_kin_mode *m = &modes[k];
+    char b[8], viol[256], sing[64] = "";
+    double e[3];
+    pom_euler_zyx_from_matrix(e, m->R);
+    branch_text(b, m->branch);
+    fprintf(out, "%-4d %-6s %10.4f %10.4f %10.4f  ", k + 1, b, e[0] / POM_DEG, e[1] / POM_DEG,
+            e[2] / POM_DEG);
+    if (!m->pose.reachable) {
+      fprintf(out, "unreachable (limb %d)\n", m->pose.unreachable_limb + 1);
+      continue;
+    }
+    for (int i = 0; i < 3; ++i)
+      if (m->serial >> i & 1u) {
+        size_t l = strlen(sing);
+        snprintf(sing + l, sizeof sing - l, "serial limb %d, ", i + 1);
+      }
+    if (m->parallel) {
+      size_t l = strlen(sing);
+      snprintf(sing + l, sizeof sing - l, "parallel, ");
+    }
+    pom_kin_violations_text(arch, m->pose.violations, viol, sizeof viol);
+    fprintf(out, "%10.4f %10.4f %10.4f  %11.4g %8.4f %10.4g %9.6f  %slimits %s\n",
+            m->pose.q[0] * u->to_display, m->pose.q[1] * u->to_display,
+            m->pose.q[2] * u->to_display, m->det * fj * fj * fj, m->det_unit, m->pose.kappa,
+            m->pose.dexterity, sing, m->pose.violations ? viol : "ok");
+  }
+}

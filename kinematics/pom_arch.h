@@ -154,6 +154,12 @@ struct pom_kin_arch_type {
    * cap is too small). Bodies it gives no shape get the derived one
    * (pom_kin_body_shapes; docs/view.md section 3). */
   int (*shapes)(const pom_kin_arch *arch, const pom_mechanism *mech, pom_kin_shape *shape, int cap);
+  /* optional (NULL: every limb has one IK root, a single working mode) */
+  /* Switches limb i of arch (a copy of an instance) to its other IK root
+   * (working mode; docs/kinematics-modes.md section 1) and returns 1; returns
+   * 0 and leaves arch untouched when limb i has a single root. Flipping
+   * twice restores the home root. */
+  int (*flip_branch)(pom_kin_arch *arch, int i);
 };
 
 /* Private geometry of arch as the implementation's struct (data_size bytes,

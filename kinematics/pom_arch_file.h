@@ -81,6 +81,7 @@ typedef struct pom_arch_file {
   char body_group[POM_LIMB_BODIES][POM_AF_NAME_LEN];
   char limit_name[POM_KIN_LIM_KINDS][48], limit_key[POM_KIN_LIM_KINDS][64];
   char limit_json[POM_KIN_LIM_KINDS][64];
+  int limit_line[POM_KIN_LIM_KINDS]; /* line of limits.[k - 1].measure (messages) */
   pom_af_central central;
   /* the design-independent part of the numeric table: bodies, joint names,
    * limit measures, central joint (pom_arch_file_eval adds the limbs) */

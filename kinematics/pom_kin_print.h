@@ -41,6 +41,15 @@ void pom_kin_fk_report(FILE *out, int json, const char *config, const pom_kin_ar
                        const double q_disp[3], const double R[9], const pom_kin_fk_info *info,
                        const pom_kin_pose *p, pom_status lst, const char *message);
 
+/* `pomlab ik --all` (e_deg non-NULL: the working modes at ZYX Euler angles
+ * e_deg) and `pomlab fk --all` (q_disp non-NULL: the assembly modes at the
+ * actuator coordinates q_disp, display units, found from `seeds` starts per
+ * working mode): modes[0..n) (pom_kin_inverse_all, pom_kin_forward_all) as
+ * JSON (SI) or a text table (display units). */
+void pom_kin_modes_report(FILE *out, int json, const char *config, const pom_kin_arch *arch,
+                          const double e_deg[3], const double q_disp[3], int seeds,
+                          const pom_kin_mode *modes, int n);
+
 /* ---- the workspace (kin_ws_print.c) ---------------------------------------------- */
 /* Why the regular dexterous workspace ends where it does: the search cap or
  * budget, "not assemblable", the limit violated, or the dexterity there. */

@@ -428,4 +428,67 @@ pom_status pom_kin_body_twists_diff(const pom_kin_arch *arch, const double R[9],
                                     const double omega[3], pom_kin_twists *out,
                                     pom_kin_twists_diff *dout, pom_error *err);
 
+/* ---- all solutions: working modes and assembly modes -------------------- */
+/* (docs/kinematics-modes.md) A working mode is one IK root per limb (the
+ * branch combination); an assembly mode is one platform orientation R whose
+ * IK on some working mode gives the actuator coordinates q (one FK root). */
+
+#define POM_KIN_MAX_MODES 64 /* assembly modes kept by pom_kin_forward_all (more: refused) */
+
+/* One mode: a pose and what is known there. */
+typedef struct {
+  double R[9];       /* platform rotation */
+  int branch[3];     /* per limb: +1 the home IK root, -1 the other, 0 the limb has one root */
+  pom_status status; /* pom_kin_pose_evaluate on this working mode: POM_OK, POM_ERR_LIMIT,
+                       POM_ERR_UNREACHABLE (then pose.q and the rest are not set) */
+  pom_kin_pose pose; /* q, J, singular values, kappa, dexterity, limits, violations */
+  double det;        /* det J (unit of q per rad, cubed); 0 when unreachable */
+  double det_unit;   /* det of J with each row scaled to unit length, in [-1, 1]: 0 at a
+                        platform (parallel) singularity, +-1 when the rows are orthonormal */
+  unsigned serial;   /* bit i: limb i at a leg (serial) singularity: its two IK roots closer
+                        than 1e-6 of the actuator range (they meet there) */
+  int parallel;      /* 1: platform (parallel) singularity, |det_unit| <= singular_tol */
+  double residual;   /* FK: max_i |q_i(R) - q_i| (m or rad); IK: 0 */
+} pom_kin_mode;
+
+/* Options of pom_kin_forward_all. */
+typedef struct {
+  int seeds;           /* start rotations per working mode (quasi-uniform over SO(3)); 128 */
+  double residual_tol; /* converged when max_i |q_i(R) - q_i| <= this (m or rad); 1e-12 */
+  int max_iterations;  /* damped Newton iterations per start; 60 */
+  double max_rotation; /* largest rotation of one Newton update (rad); 0.3 */
+  double same_tol;     /* two roots closer than this rotation angle (rad) are one; 1e-7 */
+  double singular_tol; /* |det_unit| at or below this: parallel singularity; 1e-9 */
+} pom_kin_fk_all_opts;
+
+void pom_kin_fk_all_defaults(pom_kin_fk_all_opts *opts);
+
+/* Working modes: how many limbs of arch have two IK roots (n2; the arch has
+ * 2^n2 working modes), and arch with the given branch per limb (+1 home
+ * root, -1 the other; a limb with one root takes only +1) in *out.
+ * POM_ERR_ARG when a branch is not +-1 or -1 on a one-root limb. */
+int pom_kin_two_root_limbs(const pom_kin_arch *arch, int two_roots[3]);
+pom_status pom_kin_arch_with_branches(pom_kin_arch *out, const pom_kin_arch *arch,
+                                      const int branch[3], pom_error *err);
+
+/* Every working mode at rotation R: modes[k] for k < *n (*n = 2^n2 <= 8), in
+ * binary order of the branches (limb 1 slowest; +1 before -1), each with its
+ * status (reachable or not), q, J, conditioning, limits and singular flags.
+ * POM_ERR_NONFINITE when R holds NaN or Inf; else POM_OK (unreachable modes
+ * are listed with their status). */
+pom_status pom_kin_inverse_all(const pom_kin_arch *arch, const double R[9], pom_kin_mode modes[8],
+                               int *n, pom_error *err);
+
+/* Every assembly mode at actuator coordinates q: damped Newton on SO(3) on
+ * every working mode from opts->seeds quasi-uniform starts, converged roots
+ * merged when closer than same_tol; sorted by rotation angle from home.
+ * modes[k] for k < *n. POM_ERR_ARG when cap < POM_KIN_MAX_MODES or the options are invalid,
+ * POM_ERR_NONFINITE when q holds NaN or Inf; POM_ERR_NOCONVERGE when more
+ * than POM_KIN_MAX_MODES distinct roots appear (a self-motion: a continuum of
+ * solutions). *n = 0 (POM_OK) when no orientation gives q. opts NULL =
+ * defaults. */
+pom_status pom_kin_forward_all(const pom_kin_arch *arch, const double q[3],
+                               const pom_kin_fk_all_opts *opts, pom_kin_mode *modes, int cap,
+                               int *n, pom_error *err);
+
 #endif

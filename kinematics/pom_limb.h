@@ -98,13 +98,17 @@ typedef enum {
                                          direction, fixed frame */
   POM_LIMB_MEASURE_CONE_PLATFORM = 2, /* per limb: the same in the platform frame */
   POM_LIMB_MEASURE_DISTANCE = 3,      /* per pair: distance of the segments a -> b */
-  POM_LIMB_MEASURE_AXIS_ANGLE = 4     /* per pair: angle between the current axes of joint a */
+  POM_LIMB_MEASURE_AXIS_ANGLE = 4,    /* per pair: angle between the current axes of joint a */
+  POM_LIMB_MEASURE_ARM_ANGLE = 5      /* per pair: angle about +z from limb i's joint-a axis to
+                                         limb i+1's (azimuth difference, in [0, 2 pi)): the
+                                         arms of coaxial actuators (Orbita's gamma; every
+                                         actuated joint an R on the z axis) */
 } pom_limb_measure_kind;
 
 /* What limit kind k (1..3) of the type measures; segments join the joints'
  * current centres (a joint's centre moves with the body after it). The
  * type's limits[k] descriptor (name, per_pair, lower, key, ...) must agree:
- * per_pair = 1 exactly for DISTANCE and AXIS_ANGLE. */
+ * per_pair = 1 exactly for DISTANCE, AXIS_ANGLE and ARM_ANGLE. */
 typedef struct {
   int kind; /* pom_limb_measure_kind */
   int a, b; /* joints */
@@ -146,7 +150,7 @@ typedef struct {
 #define POM_LIMB_CTABLE(arch_) POM_KIN_CDATA(pom_limb_table, arch_)
 
 /* Fills the operations of a catalog type: finish, limb, limb_twist,
- * limb_twist_diff, limit_values, footprint, mechanism (shapes = NULL: the
+ * limb_twist_diff, limit_values, footprint, mechanism, flip_branch (shapes = NULL: the
  * derived shapes) and data_size = sizeof(pom_limb_table). Leaves every
  * descriptor and from_design to the caller. */
 void pom_limb_type_ops(pom_kin_arch_type *type);
@@ -162,6 +166,9 @@ int pom_limb_twist_diff(const pom_kin_arch *arch, int i, const double R[9], cons
 void pom_limb_limit_values(const pom_kin_arch *arch, const double R[9], const double q[3],
                            double value[9]);
 double pom_limb_footprint(const pom_kin_arch *arch);
+/* The other IK root of limb i (R-R-R, P-S-S, R-S-S: branch -> -branch;
+ * S-P-S and U-P-S have one root: returns 0). */
+int pom_limb_flip_branch(pom_kin_arch *arch, int i);
 pom_status pom_limb_mechanism(pom_mechanism *mech, const pom_kin_arch *arch,
                               const pom_kin_inertia *in, pom_error *err);
 

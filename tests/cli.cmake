@@ -163,4 +163,8 @@ add_test(NAME test_catalog_sim
 # loads the files in test_mjcf (tests/kinematics.cmake)
 add_test(NAME test_export_cli
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_export_cli.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+# All solutions: `ik --all` working modes, `fk --all` assembly modes, and
+# Orbita's arm-angle limit in the reports (issue 27, items 2 and 5).
+add_test(NAME test_modes_cli
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_modes_cli.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})

@@ -440,6 +440,35 @@ static void bad_files(void) {
   bad_file("catalog/3pss.arch", "{ name = \"B\"; type = \"S\"; point = \"B\"; }",
            "{ name = \"B\"; type = \"P\"; point = \"B\"; axis = \"d\"; }",
            WANT("key 'limbs.joints'", "no inverse-kinematics kernel solves this chain"));
+  /* the arm-angle limit (Orbita's gamma): a misspelt measure, a key in mm, a
+   * range beyond a turn, a default outside it, a prismatic or spherical
+   * joint, on a linear architecture */
+  bad_file("catalog/orbita3d.arch", "measure = \"arm_angle\"; joint = 2; bound = \"lower\"",
+           "measure = \"arm_angel\"; joint = 2; bound = \"lower\"",
+           WANT(F, "key 'limits.[1].measure' = \"arm_angel\""));
+  bad_file("catalog/orbita3d.arch", "key = \"max_arm_angle_deg\"", "key = \"max_arm_angle_mm\"",
+           WANT(F, "key 'limits.[2].key'", "a arm_angle limit's key ends in _deg"));
+  bad_file_nth("catalog/orbita3d.arch", 2, "range = [0.0, 360.0]", "range = [0.0, 400.0]",
+               WANT(F, "key 'limits.[2].range'", "an arm angle lies in [0, 360] deg"));
+  bad_file("catalog/orbita3d.arch", "default = 175.0", "default = 375.0",
+           WANT(F, "key 'limits.[2].default' = 375", "out of range"));
+  bad_file("catalog/orbita3d.arch", "measure = \"arm_angle\"; joint = 2; bound = \"upper\"",
+           "measure = \"arm_angle\"; joint = 4; bound = \"upper\"",
+           WANT(F, "key 'limits.[2].joint' = 4"));
+  bad_file("catalog/3pss.arch", "measure = \"distance\"; joints = [2, 3]",
+           "measure = \"arm_angle\"; joint = 1", WANT(F, "key 'limits.[2].key'", "ends in _deg"));
+  bad_file("catalog/3pss.arch",
+           "key = \"min_limb_distance_mm\"; json = \"limb_distance_mm\";\n    measure = "
+           "\"distance\"; joints = [2, 3]",
+           "key = \"min_limb_distance_deg\"; json = \"limb_distance_mm\";\n    measure = "
+           "\"arm_angle\"; joint = 1",
+           WANT(F, "key 'limits.[2].joint' = 1", "joint 1 is prismatic"));
+  bad_file("catalog/3pss.arch",
+           "key = \"min_limb_distance_mm\"; json = \"limb_distance_mm\";\n    measure = "
+           "\"distance\"; joints = [2, 3]",
+           "key = \"min_limb_distance_deg\"; json = \"limb_distance_mm\";\n    measure = "
+           "\"arm_angle\"; joint = 2",
+           WANT(F, "key 'limits.[2].joint' = 2", "joint 2 is spherical"));
   /* a syntax error inside a file that libconfig reads: line of the parse error */
   bad_file("catalog/3pss.arch", "format = 1;", "format = = 1;", WANT("test_arch_file_bad.arch:"));
 }
@@ -469,6 +498,47 @@ static void bad_designs(void) {
   pom_arch_file *none = NULL;
   check_true(pom_arch_file_load(&none, "no/such/file.arch", &err) != POM_OK && none == NULL);
   check_true(strstr(err.message, "no/such/file.arch") != NULL);
+}
+
+/* An arm-angle limit on a 3-RRR whose actuated axes are not on the z axis
+ * (the Agile Eye's): the file loads, the design is refused naming the file,
+ * the limit's line and key, the limb and its axis. */
+static void arm_angle_not_coaxial(void) {
+  char path[512];
+  snprintf(path, sizeof path, "%s/catalog/3rrr.arch", POM_SOURCE_DIR);
+  char *text = read_text(path);
+  char *at = text ? strstr(text, "measure = \"axis_angle\"") : NULL;
+  if (!check_true(at != NULL)) {
+    free(text);
+    return;
+  }
+  const char *out = "test_arch_file_arm.arch";
+  FILE *fp = fopen(out, "wb");
+  if (!check_true(fp != NULL)) {
+    free(text);
+    return;
+  }
+  fwrite(text, 1, (size_t)(at - text), fp);
+  fputs("measure = \"arm_angle\"", fp);
+  fputs(at + strlen("measure = \"axis_angle\""), fp);
+  check_true(fclose(fp) == 0);
+  free(text);
+  pom_arch_file *f = NULL;
+  pom_error err;
+  pom_error_clear(&err);
+  check_true(pom_arch_file_load(&f, out, &err) == POM_OK);
+  if (f) {
+    pom_kin_design d;
+    config_design("3rrr.cfg", &d);
+    pom_limb_table g;
+    check_true(pom_arch_file_eval(f, &d, &g, &err) == POM_ERR_ARG);
+    check_true(strstr(err.message, "test_arch_file_arm.arch:93:") != NULL);
+    check_true(strstr(err.message, "key 'limits.[0].measure' = \"arm_angle\" (limb 1)") != NULL);
+    if (!check_true(strstr(err.message, "needs coaxial actuators") != NULL))
+      printf("  message: %s\n", err.message);
+  }
+  pom_arch_file_destroy(f);
+  remove(out);
 }
 
 /* The list form (one table per limb, tests/arch_per_limb.arch) evaluates as
@@ -558,5 +628,6 @@ int main(void) {
   discovery();
   bad_files();
   bad_designs();
+  arm_angle_not_coaxial();
   return check_summary("test_arch_file");
 }
