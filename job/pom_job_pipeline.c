@@ -128,12 +128,12 @@ void pom_job_pipeline_report(FILE *out, const pom_doe_study *study) {
     if (!r || !(r->synthesized || r->tuned || r->sized)) continue;
     if (r->sized)
       fprintf(out,
-              "- %s, sizing (docs/optimize.md 6c): %s; its regular dexterous workspace covers the "
-              "target +-%.4g deg (searched to +-%.4g deg).\n",
-              name,
-              r->sizing_scaled ? "linear actuators: scaled to the largest scale whose stroke "
-                                 "covers the target"
-                               : "scale kept (it changes none of the angles its actuators see)",
+              "- %s, sizing (docs/optimize.md 6c): %s %.4g mm (config %.4g mm), %s; its regular "
+              "dexterous workspace covers the target +-%.4g deg (searched to +-%.4g deg).\n",
+              name, r->arch.type->scale_key, r->arch.design.scale * 1e3,
+              r->config_arch.design.scale * 1e3,
+              r->sizing_scaled ? "the largest whose stroke covers the target (linear actuators)"
+                               : "kept (rotary actuators: no scale changes their angles)",
               r->sizing_target / POM_DEG, r->sizing_rdw / POM_DEG);
     if (r->synthesized) {
       fprintf(out,

@@ -1,5 +1,5 @@
-/* pom_pipeline.c - synthesize -> scale -> tune inside a study's candidate
- * evaluator (docs/optimize.md, section 10). */
+/* pom_pipeline.c - synthesize -> scale -> size -> tune inside a study's
+ * candidate evaluator (docs/optimize.md, sections 6c and 10). */
 #define _XOPEN_SOURCE 700 /* mkdir */
 #include "pom_pipeline.h"
 

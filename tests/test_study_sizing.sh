@@ -67,9 +67,9 @@ $PY -c "import sys; sys.exit(not ($w >= 8.0 and $w_more < 8.0))" ||
   { echo "FAIL: C01 at $r_lin mm covers $w deg, at 0.3 % more $w_more deg (target 8)"; fail=1; }
 # the config's radius (12.25 mm) covers 13 deg: sizing to 8 deg must enlarge it
 $PY -c "import sys; sys.exit(not $r_lin > 12.3)" || { echo "FAIL: C01 radius $r_lin"; fail=1; }
-grep -q "C01, sizing (docs/optimize.md 6c): linear actuators: scaled" "$TMP/out" ||
+grep -q "C01, sizing (docs/optimize.md 6c): platform_radius_mm .* the largest whose stroke covers the target (linear" "$TMP/out" ||
   { echo "FAIL: no sizing line for C01"; fail=1; }
-grep -q "C05, sizing (docs/optimize.md 6c): scale kept" "$TMP/out" ||
+grep -q "C05, sizing (docs/optimize.md 6c): link_radius_mm 30 mm (config 30 mm), kept (rotary" "$TMP/out" ||
   { echo "FAIL: no sizing line for C05"; fail=1; }
 
 # C05's range covers +-9 deg only: a target of 12 deg is refused, named
