@@ -94,7 +94,7 @@ void pom_job_pipeline_report(FILE *out, const pom_doe_study *study) {
   int any = 0;
   for (int c = 0; c < study->n_candidates; ++c) {
     const pom_pipeline_record *r = pom_pipeline_record_of(&study->candidates[c].eval);
-    any |= r && (r->synthesized || r->tuned);
+    any |= r && (r->synthesized || r->tuned || r->sized);
   }
   if (!any) return;
   fprintf(out,
@@ -104,9 +104,9 @@ void pom_job_pipeline_report(FILE *out, const pom_doe_study *study) {
           "tuning |\n|---|---|---|---|---|\n");
   for (int c = 0; c < study->n_candidates; ++c) {
     const pom_pipeline_record *r = pom_pipeline_record_of(&study->candidates[c].eval);
-    if (!r || !(r->synthesized || r->tuned)) continue;
+    if (!r || !(r->synthesized || r->tuned || r->sized)) continue;
     char geo[1024] = "config's";
-    if (r->synthesized) geometry_text(geo, sizeof geo, r);
+    if (r->synthesized || r->sized) geometry_text(geo, sizeof geo, r);
     char crit[96] = "-";
     if (r->tuned)
       snprintf(crit, sizeof crit, "%.2f -> %.2f", r->config_eval.criterion * 1e3,
@@ -118,13 +118,23 @@ void pom_job_pipeline_report(FILE *out, const pom_doe_study *study) {
       len += snprintf(gains + len, sizeof gains - (size_t)len, "%s %s %.5g", k ? "," : "",
                       t->gains[k].key, pom_dyn_ctrl_gain(&r->tuned_gains, k));
     fprintf(out, "| %s | %s | %s%s | %s | %.1f, %.1f |\n", study->candidates[c].name, geo, gains,
-            r->tuned ? " (tuned)" : " (config's)", crit, r->synthesis_time, r->tuning_time);
+            r->tuned ? " (tuned)" : " (config's)", crit, r->synthesis_time + r->sizing_time,
+            r->tuning_time);
   }
   fprintf(out, "\n");
   for (int c = 0; c < study->n_candidates; ++c) {
     const pom_pipeline_record *r = pom_pipeline_record_of(&study->candidates[c].eval);
     const char *name = study->candidates[c].name;
-    if (!r || !(r->synthesized || r->tuned)) continue;
+    if (!r || !(r->synthesized || r->tuned || r->sized)) continue;
+    if (r->sized)
+      fprintf(out,
+              "- %s, sizing (docs/optimize.md 6c): %s %.4g mm (config %.4g mm), %s; its regular "
+              "dexterous workspace covers the target +-%.4g deg (searched to +-%.4g deg).\n",
+              name, r->arch.type->scale_key, r->arch.design.scale * 1e3,
+              r->config_arch.design.scale * 1e3,
+              r->sizing_scaled ? "the largest whose stroke covers the target (linear actuators)"
+                               : "kept (rotary actuators: no scale changes their angles)",
+              r->sizing_target / POM_DEG, r->sizing_rdw / POM_DEG);
     if (r->synthesized) {
       fprintf(out,
               "- %s, synthesis: the %s optimum is run (synthesis.write = \"%s\"); true "

@@ -1,11 +1,12 @@
-/* pom_pipeline.c - synthesize -> scale -> tune inside a study's candidate
- * evaluator (docs/optimize.md, section 10). */
+/* pom_pipeline.c - synthesize -> scale -> size -> tune inside a study's
+ * candidate evaluator (docs/optimize.md, sections 6c and 10). */
 #define _XOPEN_SOURCE 700 /* mkdir */
 #include "pom_pipeline.h"
 
 #include "pom_dyn_ctrl.h"
 #include "pom_h5.h"
 #include "pom_kinematics.h"
+#include "pom_math.h"
 
 #include <errno.h>
 #include <math.h>
@@ -19,6 +20,7 @@ typedef struct {
   pom_doe_dyn_base base;   /* first: the doe dynamics callbacks take this context */
   pom_kin_inertia inertia; /* mass properties of the config (rebuilt on a new geometry) */
   pom_syn_problem *synth;  /* the synthesis to run (owned), NULL when none or done */
+  pom_syn_problem *sizing; /* the sizing to run (owned, no design variables), NULL when none */
   pom_tune_problem *tune;  /* the tuning to run (owned), NULL when none or done */
   int pending;             /* 1 until pom_pipeline_prepare built the model */
   char *config_text;       /* the resolved config, for the synthesis record (owned) */
@@ -36,6 +38,7 @@ static void ctx_destroy(void *p) {
   if (!ctx) return;
   pom_dyn_model_destroy(ctx->base.model);
   free(ctx->synth);
+  free(ctx->sizing);
   free(ctx->tune);
   free(ctx->config_text);
   free(ctx);
@@ -47,6 +50,12 @@ static pom_status describe(const void *p, hid_t g, pom_error *err) {
   POM_TRY(pom_doe_dyn_describe_base(&ctx->base, g, err));
   POM_TRY(pom_h5_attr_int64(g, "pipeline_synthesized", r->synthesized, err));
   POM_TRY(pom_h5_attr_int64(g, "pipeline_tuned", r->tuned, err));
+  POM_TRY(pom_h5_attr_int64(g, "pipeline_sized", r->sized, err));
+  if (r->sized) {
+    POM_TRY(pom_h5_attr_double(g, "sizing_target_half_width_rad", r->sizing_target, err));
+    POM_TRY(pom_h5_attr_double(g, "sizing_rdw_rad", r->sizing_rdw, err));
+    POM_TRY(pom_h5_attr_int64(g, "sizing_scaled", r->sizing_scaled, err));
+  }
   if (ctx->base.arch.has_design)
     POM_TRY(pom_h5_attr_double(g, "platform_radius_m", ctx->base.arch.design.scale, err));
   if (r->synthesized) {
@@ -107,14 +116,56 @@ static pom_status make_prefix_dirs(const char *prefix, pom_error *err) {
   return POM_OK;
 }
 
+/* The sizing group (docs/optimize.md 6c): the target workspace and the
+ * scale bracket of pom_syn_scale, with no design variable. The RDW search
+ * stops one grid step above the target: whether the target is covered is
+ * all the rule asks, and a rotary 3-RRR's full workspace costs up to 30 s. */
+static const char *const sizing_groups[] = {"sizing", "workspace", NULL};
+
+static pom_status sizing_load(pom_syn_problem *pb, const pom_kin_arch *arch, const pom_cfg *cfg,
+                              pom_error *err) {
+  memset(pb, 0, sizeof *pb);
+  pb->base = *arch;
+  if (!arch->has_design)
+    return pom_cfg_error(cfg, "sizing.run_in_study", NULL, err,
+                         "the geometry must be in design-parameter form (geometry.mode = "
+                         "\"parameters\") to be sized");
+  POM_TRY(pom_kin_ws_load(&pb->ws, cfg, err));
+  POM_TRY(pom_cfg_real(cfg, "sizing.target_half_width_deg", POM_DEG, 0.1, 80.0,
+                       &pb->target_half_width, err));
+  if (pb->target_half_width > pb->ws.max_half_width)
+    return pom_cfg_error(cfg, "sizing.target_half_width_deg", NULL, err,
+                         "exceeds workspace.max_half_width_deg (%.4g deg)",
+                         pb->ws.max_half_width / POM_DEG);
+  pb->ws.max_half_width = fmin(pb->ws.max_half_width, pb->target_half_width + pb->ws.resolution);
+  pb->scale_min = 1e-3;
+  pb->scale_max = 0.2;
+  pb->scale_rel_tol = 1e-3;
+  pb->scale_scan = 24;
+  POM_TRY(pom_cfg_real_opt(cfg, "sizing.scale_min_mm", 1e-3, 0.01, 1e5, pb->scale_min,
+                           &pb->scale_min, err));
+  POM_TRY(pom_cfg_real_opt(cfg, "sizing.scale_max_mm", 1e-3, 0.01, 1e5, pb->scale_max,
+                           &pb->scale_max, err));
+  if (!(pb->scale_min < pb->scale_max))
+    return pom_cfg_error(cfg, "sizing.scale_max_mm", NULL, err, "must exceed scale_min_mm");
+  POM_TRY(pom_cfg_real_opt(cfg, "sizing.scale_rel_tol", 1.0, 1e-9, 0.1, pb->scale_rel_tol,
+                           &pb->scale_rel_tol, err));
+  long scan = pb->scale_scan;
+  POM_TRY(pom_cfg_int_opt(cfg, "sizing.scale_scan", 2, 1000, scan, &scan, err));
+  pb->scale_scan = (int)scan;
+  pom_cfg_mark_used(cfg, "sizing.run_in_study");
+  return POM_OK;
+}
+
 /* ---- factory ---------------------------------------------------------------- */
 pom_status pom_pipeline_evaluator_create(pom_doe_evaluator *eval, const pom_cfg *cfg, void *user,
                                          pom_error *err) {
   (void)user;
   pom_status st = POM_OK;
-  int do_synth = 0, do_tune = 0;
+  int do_synth = 0, do_tune = 0, do_size = 0;
   memset(eval, 0, sizeof *eval);
   POM_TRY(pom_cfg_bool_opt(cfg, "synthesis.run_in_study", 0, &do_synth, err));
+  POM_TRY(pom_cfg_bool_opt(cfg, "sizing.run_in_study", 0, &do_size, err));
   POM_TRY(pom_cfg_bool_opt(cfg, "tuning.run_in_study", 0, &do_tune, err));
   pipe_ctx *ctx = calloc(1, sizeof *ctx);
   if (!ctx) POM_FAIL(err, POM_ERR_NOMEM, "evaluator: out of memory");
@@ -132,6 +183,11 @@ pom_status pom_pipeline_evaluator_create(pom_doe_evaluator *eval, const pom_cfg 
       memcpy(ctx->config_text, text, len);
     }
   }
+  if (do_size) {
+    ctx->sizing = calloc(1, sizeof *ctx->sizing);
+    if (!ctx->sizing) POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "pipeline: out of memory");
+    POM_TRY_GOTO(sizing_load(ctx->sizing, &ctx->base.arch, cfg, err), fail);
+  }
   POM_TRY_GOTO(pom_kin_inertia_load(&ctx->inertia, &ctx->base.arch, cfg, err), fail);
   POM_TRY_GOTO(pom_kin_mechanism_from(&ctx->base.mech, &ctx->base.arch, &ctx->inertia, err), fail);
   pom_dyn_params_defaults(&ctx->base.params);
@@ -146,11 +202,12 @@ pom_status pom_pipeline_evaluator_create(pom_doe_evaluator *eval, const pom_cfg 
   POM_TRY_GOTO(pom_doe_evaluator_add_groups(eval, pom_dyn_param_groups(), err), fail);
   if (do_synth) POM_TRY_GOTO(pom_doe_evaluator_add_groups(eval, pom_syn_groups(), err), fail);
   if (do_tune) POM_TRY_GOTO(pom_doe_evaluator_add_groups(eval, pom_tune_groups(), err), fail);
+  if (do_size) POM_TRY_GOTO(pom_doe_evaluator_add_groups(eval, sizing_groups, err), fail);
   POM_TRY_GOTO(pom_cfg_check_unknown(cfg, eval->groups, NULL, err), fail);
   POM_TRY_GOTO(pom_doe_mech_actuator_kind(&ctx->base.mech, &eval->actuator_kind, err), fail);
   ctx->rec.arch = ctx->base.arch;
   ctx->rec.config_gains = ctx->rec.tuned_gains = ctx->base.params.controller;
-  ctx->pending = do_synth || do_tune;
+  ctx->pending = do_synth || do_tune || do_size;
   if (!ctx->pending)
     POM_TRY_GOTO(pom_dyn_model_create(&ctx->base.model, &ctx->base.mech, &ctx->base.arch,
                                       &ctx->base.params, err),
@@ -243,6 +300,46 @@ done:
   return st;
 }
 
+/* The sizing rule (docs/optimize.md 6c): a candidate with linear actuators
+ * whose scale sets its kinematics gets the largest scale whose regular
+ * dexterous workspace covers the target (pom_syn_scale: the stroke spans the
+ * target); any other keeps its scale, which changes none of its angles, and
+ * must cover the target as it is. Runs after a synthesis, on its geometry. */
+static pom_status size_geometry(pipe_ctx *ctx, pom_error *err) {
+  pom_status st = POM_OK;
+  pom_syn_problem *pb = ctx->sizing;
+  pom_pipeline_record *r = &ctx->rec;
+  double t0 = now_s();
+  double x[POM_SYN_N_VARS] = {0.0};
+  pb->base = ctx->base.arch;
+  const pom_kin_arch_type *t = pb->base.type;
+  double scale = pb->base.design.scale;
+  r->sizing_scaled = pom_kin_type_actuator(t) == POM_ACT_PRISMATIC && t->scale_sets_kinematics;
+  if (r->sizing_scaled) POM_TRY_GOTO(pom_syn_scale(pb, x, &scale, NULL, err), done);
+  pom_kin_arch arch;
+  pom_kin_ws_result ws;
+  POM_TRY_GOTO(pom_syn_arch(pb, x, scale, &arch, err), done);
+  POM_TRY_GOTO(pom_kin_workspace(&arch, &pb->ws, &ws, err), done);
+  if (ws.half_width < pb->target_half_width - 1e-9 * pb->ws.resolution)
+    POM_FAIL_GOTO(err, POM_ERR_LIMIT, done,
+                  "the %s's regular dexterous workspace is +-%.3g deg, short of the target "
+                  "+-%.3g deg (sizing.target_half_width_deg); its %s actuators' range is fixed "
+                  "and its scale (%s) changes none of its angles, so no sizing reaches it",
+                  t->label, ws.half_width / POM_DEG, pb->target_half_width / POM_DEG,
+                  pom_kin_type_actuator(t) == POM_ACT_PRISMATIC ? "linear" : "rotary",
+                  t->scale_key);
+  ctx->base.arch = arch;
+  r->arch = arch;
+  r->sized = 1;
+  r->sizing_target = pb->target_half_width;
+  r->sizing_rdw = ws.half_width;
+  POM_TRY_GOTO(pom_kin_mechanism_from(&ctx->base.mech, &ctx->base.arch, &ctx->inertia, err), done);
+  r->sizing_time = now_s() - t0;
+done:
+  if (st != POM_OK) pom_error_prefix(err, "pipeline sizing");
+  return st;
+}
+
 /* The tuning, on the mechanism the study will run (possibly just
  * synthesized). After a synthesis, the config's own geometry with the
  * config's gains is scored by the same criterion: tuning never does worse
@@ -304,13 +401,16 @@ pom_status pom_pipeline_prepare(pom_doe_evaluator *eval, const char *stem,
   if (!opts.no_files) POM_TRY(make_prefix_dirs(opts.output_prefix, err));
   relay rl = {&opts, ctx->rec.stem};
   if (ctx->synth) POM_TRY(synthesize(ctx, &opts, &rl, err));
+  if (ctx->sizing) POM_TRY(size_geometry(ctx, err));
   if (ctx->tune) POM_TRY(tune(ctx, &opts, &rl, err));
   ctx->rec.arch = ctx->base.arch;
   POM_TRY(pom_dyn_model_create(&ctx->base.model, &ctx->base.mech, &ctx->base.arch,
                                &ctx->base.params, err));
   free(ctx->synth);
+  free(ctx->sizing);
   free(ctx->tune);
   ctx->synth = NULL;
+  ctx->sizing = NULL;
   ctx->tune = NULL;
   ctx->pending = 0;
   return POM_OK;

@@ -1,6 +1,7 @@
 /* pom_pipeline.h - the design pipeline inside a study: for each candidate
  * whose config asks for it, synthesize and scale the geometry
- * (synthesis.run_in_study = true) and tune the gains
+ * (synthesis.run_in_study = true), size it to a target workspace
+ * (sizing.run_in_study = true, docs/optimize.md 6c) and tune the gains
  * (tuning.run_in_study = true) before its Monte-Carlo maneuvers run
  * (docs/optimize.md, section 10).
  *
@@ -31,6 +32,7 @@ typedef struct {
 /* What the pipeline did for one candidate (read by the CLI's summary). */
 typedef struct {
   int synthesized;                           /* 1: the geometry came from the synthesis */
+  int sized;                                 /* 1: sized to the target workspace (sizing group) */
   int tuned;                                 /* 1: the gains came from the tuning */
   char stem[POM_DOE_NAME_LEN + 8];           /* file stem of the candidate (unique in the study) */
   char geometry_file[POM_PIPELINE_PATH_LEN]; /* "" when not written */
@@ -50,6 +52,13 @@ typedef struct {
                                           none fitted) */
   int n_negative_r2_pred; /* surfaces (any response, any stage) with predicted R^2 < 0 */
   double synthesis_time;  /* s */
+  /* sizing (docs/optimize.md 6c): the geometry's scale set so that the
+     actuator travel spans the target workspace */
+  double sizing_target; /* target half-width of the regular dexterous workspace (rad) */
+  int sizing_scaled;    /* 1: the scale was set (linear actuators); 0: kept and checked */
+  double sizing_rdw;    /* RDW half-width of the sized geometry (rad), searched up to the
+                           target + one grid step: at least the target */
+  double sizing_time;   /* s */
   /* tuning (on the geometry run) */
   int n_tune_maneuvers;
   pom_dyn_controller config_gains, tuned_gains;

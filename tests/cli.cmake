@@ -167,4 +167,13 @@ add_test(NAME test_export_cli
 # Orbita's arm-angle limit in the reports (issue 27, items 2 and 5).
 add_test(NAME test_modes_cli
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_modes_cli.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+# the sizing rule of a study (docs/optimize.md 6c): the largest scale whose
+# workspace covers the target for linear candidates, rotary ones kept
+add_test(NAME test_study_sizing
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_study_sizing.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# docs/extending.md section 15: the walk-through's file, commands and outputs
+add_test(NAME test_walkthrough
+  COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/test_walkthrough.py ${CMAKE_SOURCE_DIR}
+          $<TARGET_FILE:pomlab>
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})

@@ -67,6 +67,7 @@ REFERENCES = [
     ("paper", "configs/paper.cfg", True),
     ("paper-controllers", "configs/paper-controllers.cfg", True),
     ("architectures-controllers", "configs/architectures-controllers.cfg", True),
+    ("catalog", "configs/catalog.cfg", True),
 ]
 
 # lines of a summary.md that differ between identical runs, and the table
