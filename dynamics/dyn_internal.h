@@ -78,6 +78,11 @@ typedef struct {
   double stroke;  /* total stroke (m or rad), targets within +-stroke/2; 0 = not limited */
 } dyn_actuator;
 
+/* A setpoint within this fraction of its actuator's stroke of mid-stroke is
+ * a zero step (no settling band): the rounding an orientation about a limb's
+ * axis leaves through a generic IK (3.5e-18 m on a 12 mm stroke measured) */
+#define DYN_ZERO_STEP 1e-12
+
 typedef struct dyn_formulation dyn_formulation;
 
 /* The closed loop's drive mode (dyn_exact_order.c, docs/dynamics.md section

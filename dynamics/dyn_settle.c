@@ -143,7 +143,10 @@ void pom_dyn_settle_begin(const pom_dyn_model *m, pom_dyn_data *d, const double 
     double q0 = d->out.q[a];
     b->ref = d->target[a];
     b->band = p->maneuver.settle_band * fabs(b->ref);
-    b->active = b->ref != 0.0; /* a zero step has no band: settled from the start */
+    /* a zero step has no band: settled from the start; a setpoint within
+     * DYN_ZERO_STEP of the stroke is one (an orientation about a limb's axis
+     * turns into a setpoint of rounding size through a generic IK) */
+    b->active = fabs(b->ref) > DYN_ZERO_STEP * m->act[a].stroke && b->ref != 0.0;
     b->t_settle = 0.0;
     b->outside = b->active && fabs(q0 - b->ref) > b->band;
     s->q_prev[a] = q0;

@@ -253,9 +253,10 @@ pom_status pom_tune_load(pom_tune_problem *pb, const pom_cfg *cfg, pom_error *er
 /* ---- criterion ------------------------------------------------------------ */
 
 /* Largest overshoot of actuator a beyond its setpoint, as a fraction of its
- * step from mid-stroke; 0 for a zero step (no relative overshoot defined). */
-static double overshoot(const pom_dyn_trace *tr, int a, double target) {
-  if (target == 0.0) return 0.0;
+ * step from mid-stroke; 0 for a zero step (within TUNE_ZERO_STEP of the
+ * stroke: no relative overshoot defined). */
+static double overshoot(const pom_dyn_trace *tr, int a, double target, double stroke) {
+  if (fabs(target) <= TUNE_ZERO_STEP * stroke || target == 0.0) return 0.0;
   double s = target > 0.0 ? 1.0 : -1.0, worst = 0.0;
   for (int k = 0; k < tr->n; ++k)
     worst = fmax(worst, s * (tr->q[3 * k + a] - target));
@@ -293,7 +294,7 @@ pom_status pom_tune_evaluate(const pom_tune_problem *pb, const pom_dyn_controlle
     if (!isfinite(mt.execution_time)) out->unsettled++;
     double os = 0.0, sat = 0.0;
     for (int a = 0; a < 3; ++a) {
-      os = fmax(os, overshoot(trace, a, pb->target[m][a]));
+      os = fmax(os, overshoot(trace, a, pb->target[m][a], pb->arch.stroke));
       sat = fmax(sat, mt.saturation_time[a]);
     }
     out->mean_execution += te / pb->n_maneuvers;

@@ -163,10 +163,12 @@ add_test(NAME test_catalog_sim
 # loads the files in test_mjcf (tests/kinematics.cmake)
 add_test(NAME test_export_cli
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_export_cli.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 # All solutions: `ik --all` working modes, `fk --all` assembly modes, and
 # Orbita's arm-angle limit in the reports (issue 27, items 2 and 5).
 add_test(NAME test_modes_cli
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_modes_cli.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 # the sizing rule of a study (docs/optimize.md 6c): the largest scale whose
 # workspace covers the target for linear candidates, rotary ones kept
 add_test(NAME test_study_sizing

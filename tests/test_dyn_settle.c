@@ -219,8 +219,40 @@ static void test_accuracy(pom_joint_model joints) {
   run_free(&r);
 }
 
+/* ---- 4. a rounding-size setpoint is a zero step ---------------------------
+ * An orientation about a limb's axis leaves that limb's setpoint at 0 through
+ * the hand-coded IK but at rounding size (3.5e-18 m measured) through a
+ * generic one: both must read as a zero step, settled from the start, with
+ * the same execution time; a 1 um step (8e-5 of the stroke) keeps its band. */
+static void test_rounding_zero(void) {
+  pom_kin_arch arch;
+  pom_mechanism mech;
+  pom_dyn_params p;
+  double Rt[9], q[3];
+  check_true(setup(&arch, &mech, &p, Rt, q, POM_JOINTS_RIGID));
+  double q0[3] = {0.0, 2e-3, -1e-3}, qr[3] = {3.5e-18, 2e-3, -1e-3};
+  pom_dyn_metrics a, b;
+  check_true(run_dt(&a, &mech, &arch, p, q0, 1e-4, 0) == POM_OK);
+  check_true(run_dt(&b, &mech, &arch, p, qr, 1e-4, 0) == POM_OK);
+  printf("  zero step: settled %d / rounding step: settled %d, execution %.9f / %.9f ms\n",
+         a.settled[0], b.settled[0], a.execution_time * 1e3, b.execution_time * 1e3);
+  check_true(a.settled[0] && b.settled[0]);
+  check_abs(b.settling_time[0], 0.0, 0.0);
+  /* the two runs differ in the setpoint's last bits, so CVODE's step
+   * sequences part at rounding level: they agree within the stated time
+   * error of the run, max(rtol x 10 s, 1 ns) (docs/results.md section 1c) */
+  check_abs(b.execution_time, a.execution_time, pom_dyn_stepinfo_time_tol(p.solver.rtol));
+  double qm[3] = {1e-6, 2e-3, -1e-3};
+  pom_dyn_metrics c;
+  check_true(run_dt(&c, &mech, &arch, p, qm, 1e-4, 0) == POM_OK);
+  printf("  1 um step: settling %.6g ms (a band of 20 nm: positive or unsettled, never 0)\n",
+         c.settling_time[0] * 1e3);
+  check_true(!(c.settling_time[0] == 0.0));
+}
+
 int main(void) {
   test_locator();
+  test_rounding_zero();
   test_independence(POM_JOINTS_PARASITIC);
   test_independence(POM_JOINTS_RIGID);
   test_accuracy(POM_JOINTS_PARASITIC);
