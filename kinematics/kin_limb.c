@@ -841,9 +841,13 @@ int pom_limb_constraint(const pom_kin_arch *arch, const double R[9], double forc
           if (k != c) a[r][kk++] = tw[r][k];
       z[c] = ((c & 1) ? -1.0 : 1.0) * det_small(a, 5);
     }
-    double fn = pom_v3_norm(z);
-    if (!(fn > 0.0) || !isfinite(fn)) {
-      /* a pure moment (or no single wrench): no force blocks a translation */
+    double fn = pom_v3_norm(z), zn = hypot(fn, pom_v3_norm(z + 3)), scale = 1.0;
+    for (int r = 0; r < 5; ++r)
+      scale *= hypot(pom_v3_norm(tw[r]), pom_v3_norm(tw[r] + 3));
+    if (!(fn > 1e-12 * zn) || !(zn > 1e-12 * scale) || !isfinite(zn)) {
+      /* a pure moment, or the five twists dependent (the limb at a
+       * singularity of its own, e.g. the R axis on the platform U's axis: no
+       * single wrench): no force of this limb blocks a translation */
       pom_v3_set(F + 3 * i, 0.0, 0.0, 0.0);
       pom_v3_set(M + 3 * i, 0.0, 0.0, 0.0);
       continue;
