@@ -454,6 +454,8 @@ static pom_status load_limb_table(pom_arch_file *f, const pom_cfg *cfg, const ch
       {{POM_JOINT_REVOLUTE, POM_JOINT_SPHERICAL, POM_JOINT_SPHERICAL}, 0},
       {{POM_JOINT_SPHERICAL, POM_JOINT_PRISMATIC, POM_JOINT_SPHERICAL}, 1},
       {{POM_JOINT_UNIVERSAL, POM_JOINT_PRISMATIC, POM_JOINT_SPHERICAL}, 1},
+      {{POM_JOINT_REVOLUTE, POM_JOINT_UNIVERSAL, POM_JOINT_UNIVERSAL}, 0},
+      {{POM_JOINT_UNIVERSAL, POM_JOINT_PRISMATIC, POM_JOINT_UNIVERSAL}, 1},
   };
   int known = 0;
   for (size_t k = 0; k < sizeof kernels / sizeof kernels[0]; ++k)
@@ -462,8 +464,9 @@ static pom_status load_limb_table(pom_arch_file *f, const pom_cfg *cfg, const ch
   if (!known)
     return pom_cfg_error(cfg, key, NULL, err,
                          "no inverse-kinematics kernel solves this chain with this actuated "
-                         "joint: R-R-R (axes through O), P-S-S and R-S-S actuated at joint 1; "
-                         "S-P-S and U-P-S actuated at joint 2 (docs/architecture-files.md 1)");
+                         "joint: R-R-R (axes through O), P-S-S, R-S-S and R-U-U actuated at "
+                         "joint 1; S-P-S, U-P-S and U-P-U actuated at joint 2 "
+                         "(docs/architecture-files.md 1)");
 
   /* footprint point and working mode */
   snprintf(key, sizeof key, "%s.motor", base);

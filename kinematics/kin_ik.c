@@ -252,13 +252,31 @@ pom_status pom_kin_pose_evaluate(const pom_kin_arch *arch, const double R[9], po
                                  pom_error *err) {
   memset(pose, 0, sizeof *pose);
   pose->unreachable_limb = -1;
+  pose->constraint_sv = 1.0;
   pom_status st = ik_rows(arch, R, pose->q, pose->J, &pose->unreachable_limb, err);
   if (st != POM_OK) {
     pose->kappa = INFINITY;
+    /* a limb that assembles without its Jacobian row is at a serial (leg)
+     * singularity (the limb op's contract, pom_arch.h) */
+    double qi;
+    int k = pose->unreachable_limb;
+    if (st == POM_ERR_UNREACHABLE && k >= 0 && arch->type->limb(arch, k, R, &qi, NULL))
+      pose->singular |= POM_KIN_SING_SERIAL;
     return st;
   }
   pose->reachable = 1;
   pom_kin_dexterity(pose->J, pose->sv, &pose->kappa, &pose->dexterity);
+  if (!(pose->dexterity > POM_KIN_SING_TOL)) pose->singular |= POM_KIN_SING_PARALLEL;
+  double F[9], M[9];
+  if (arch->type->constraint && arch->type->constraint(arch, R, F, M) == 3) {
+    double sv[3];
+    pose->n_constraint = 3;
+    pom_m3_singular_values(sv, F);
+    pose->constraint_sv = sv[2];
+    for (int i = 0; i < 3; ++i)
+      pose->constraint_offset = fmax(pose->constraint_offset, pom_v3_norm(M + 3 * i));
+    if (!(sv[2] > POM_KIN_SING_TOL)) pose->singular |= POM_KIN_SING_CONSTRAINT;
+  }
   check_limits(arch, R, pose);
   if (pose->violations) {
     if (err) {
@@ -269,4 +287,24 @@ pom_status pom_kin_pose_evaluate(const pom_kin_arch *arch, const double R[9], po
     return POM_ERR_LIMIT;
   }
   return POM_OK;
+}
+
+const char *pom_kin_singular_text(int singular, int serial_limb, char *buf, size_t cap) {
+  size_t n = 0;
+  buf[0] = '\0';
+  if (!singular) {
+    snprintf(buf, cap, "none");
+    return buf;
+  }
+  if (singular & POM_KIN_SING_SERIAL) {
+    if (serial_limb >= 0)
+      n += (size_t)snprintf(buf + n, cap - n, "serial (limb %d)", serial_limb + 1);
+    else
+      n += (size_t)snprintf(buf + n, cap - n, "serial");
+  }
+  if ((singular & POM_KIN_SING_PARALLEL) && n < cap)
+    n += (size_t)snprintf(buf + n, cap - n, "%sparallel", n ? ", " : "");
+  if ((singular & POM_KIN_SING_CONSTRAINT) && n < cap)
+    snprintf(buf + n, cap - n, "%sconstraint", n ? ", " : "");
+  return buf;
 }

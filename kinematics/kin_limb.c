@@ -22,6 +22,8 @@ pom_limb_kernel pom_limb_kernel_of(const int t[POM_LIMB_JOINTS], int actuated) {
   if (t[0] == R && t[1] == S && t[2] == S && actuated == 0) return POM_LIMB_KERNEL_RSS;
   if (t[0] == S && t[1] == P && t[2] == S && actuated == 1) return POM_LIMB_KERNEL_SPS;
   if (t[0] == U && t[1] == P && t[2] == S && actuated == 1) return POM_LIMB_KERNEL_UPS;
+  if (t[0] == R && t[1] == U && t[2] == U && actuated == 0) return POM_LIMB_KERNEL_RUU;
+  if (t[0] == U && t[1] == P && t[2] == U && actuated == 1) return POM_LIMB_KERNEL_UPU;
   return POM_LIMB_KERNEL_NONE;
 }
 
@@ -37,6 +39,10 @@ const char *pom_limb_kernel_name(pom_limb_kernel k) {
     return "S-P-S";
   case POM_LIMB_KERNEL_UPS:
     return "U-P-S";
+  case POM_LIMB_KERNEL_RUU:
+    return "R-U-U";
+  case POM_LIMB_KERNEL_UPU:
+    return "U-P-U";
   default:
     return "none";
   }
@@ -44,13 +50,32 @@ const char *pom_limb_kernel_name(pom_limb_kernel k) {
 
 /* ---- plain evaluation (the IK op and the limits) ------------------------------ */
 /* A limb at one platform rotation: q, the Jacobian row, the joints' current
- * centres (carried by the body after the joint) and first axes (carried by
- * the body before it). */
+ * centres (carried by the body after the joint), first axes (carried by
+ * the body before it) and a U's second axis (carried by the body after). */
 typedef struct {
   double q, row[3];
   double p[POM_LIMB_JOINTS][3];
   double ax[POM_LIMB_JOINTS][3];
+  double ax2[POM_LIMB_JOINTS][3];
 } limb_state;
+
+/* The platform-side axis of an R-R-R or R-U-U limb at home: the last R's
+ * axis, or the platform U's second axis (through O). */
+static const double *platform_axis(const pom_limb *L) {
+  return L->kernel == POM_LIMB_KERNEL_RUU ? L->joint[2].axis2 : L->joint[2].axis;
+}
+
+/* The sign that makes the middle U axes of an R-U-U (d = sign unit(w x v))
+ * or U-P-U (n = sign unit(p0 x p2)) limb their home direction: section 2.5. */
+static double middle_sign(const pom_limb *L) {
+  double c[3];
+  if (L->kernel == POM_LIMB_KERNEL_RUU) {
+    pom_v3_cross(c, L->joint[1].axis, L->joint[2].axis2);
+    return pom_v3_dot(c, L->joint[1].axis2) < 0.0 ? -1.0 : 1.0;
+  }
+  pom_v3_cross(c, L->joint[0].point, L->joint[2].point);
+  return pom_v3_dot(c, L->joint[0].axis2) < 0.0 ? -1.0 : 1.0;
+}
 
 /* The root of A cos t + B sin t + C = 0 on the branch: t = atan2(B, A) +
  * branch acos(-C / hypot(A, B)), in [-pi, pi] (docs/kinematics-tables.md 2.1). */
@@ -102,11 +127,13 @@ static void rss_coef(const pom_limb *L, const rss_crank *k, const double p2[3], 
 static int limb_eval(const pom_limb *L, const double R[9], int need_row, limb_state *s) {
   const pom_limb_joint *J = L->joint;
   memset(s->ax, 0, sizeof s->ax);
+  memset(s->ax2, 0, sizeof s->ax2);
   switch (L->kernel) {
-  case POM_LIMB_KERNEL_RRR: {
+  case POM_LIMB_KERNEL_RRR:
+  case POM_LIMB_KERNEL_RUU: {
     const double *u = J[0].axis, *w0 = J[1].axis;
     double v[3], w[3], A, B, C, t, uxw[3], wxv[3], uxw0[3];
-    pom_m3_apply(v, R, J[2].axis);
+    pom_m3_apply(v, R, platform_axis(L));
     rrr_coef(L, v, &A, &B, &C);
     if (!angle_root(A, B, C, L->branch, &t)) return 0;
     double ct = cos(t), st = sin(t), uw = pom_v3_dot(u, w0);
@@ -126,6 +153,21 @@ static int limb_eval(const pom_limb *L, const double R[9], int need_row, limb_st
     pom_v3_copy(s->ax[0], u);
     pom_v3_copy(s->ax[1], w);
     pom_v3_copy(s->ax[2], v);
+    if (L->kernel == POM_LIMB_KERNEL_RUU) {
+      /* the link's axis d = sign unit(w x v) (section 2.5); the centres on
+       * the axes through O: the crank's on u, B on w, C on v */
+      double d[3];
+      pom_v3_cross(d, w, v);
+      if (!(pom_v3_normalize(d, d) > 0.0)) return 0;
+      pom_v3_scale(d, middle_sign(L), d);
+      pom_v3_copy(s->ax[2], d);
+      pom_v3_copy(s->ax2[1], d);
+      pom_v3_copy(s->ax2[2], v);
+      pom_v3_copy(s->p[0], J[0].point);
+      pom_v3_scale(s->p[1], pom_v3_dot(J[1].point, w0), w);
+      pom_m3_apply(s->p[2], R, J[2].point);
+      return 1;
+    }
     for (int j = 0; j < 3; ++j) /* centres on their axes through O */
       pom_v3_scale(s->p[j], pom_v3_dot(J[j].point, J[j].axis), s->ax[j]);
     return 1;
@@ -183,7 +225,8 @@ static int limb_eval(const pom_limb *L, const double R[9], int need_row, limb_st
     return 1;
   }
   case POM_LIMB_KERNEL_SPS:
-  case POM_LIMB_KERNEL_UPS: {
+  case POM_LIMB_KERNEL_UPS:
+  case POM_LIMB_KERNEL_UPU: {
     double b[3], v[3], sdir[3], h[3];
     pom_m3_apply(b, R, J[2].point);
     pom_v3_sub(v, b, J[0].point);
@@ -196,8 +239,18 @@ static int limb_eval(const pom_limb *L, const double R[9], int need_row, limb_st
     pom_v3_sub(h, J[2].point, J[1].point);
     pom_v3_axpy(s->p[1], b, -pom_v3_dot(h, L->dir_home), sdir);
     pom_v3_copy(s->p[2], b);
-    if (L->kernel == POM_LIMB_KERNEL_UPS) pom_v3_copy(s->ax[0], J[0].axis);
+    if (L->kernel != POM_LIMB_KERNEL_SPS) pom_v3_copy(s->ax[0], J[0].axis);
     pom_v3_copy(s->ax[1], sdir);
+    if (L->kernel == POM_LIMB_KERNEL_UPU) {
+      /* the middle axes n = sign unit(p0 x R p2) (section 2.5) */
+      double nm[3];
+      pom_v3_cross(nm, J[0].point, b);
+      if (!(pom_v3_normalize(nm, nm) > 0.0)) return 0;
+      pom_v3_scale(nm, middle_sign(L), nm);
+      pom_v3_copy(s->ax2[0], nm);
+      pom_v3_copy(s->ax[2], nm);
+      pom_m3_apply(s->ax2[2], R, J[2].axis2);
+    }
     return 1;
   }
   default:
@@ -333,10 +386,11 @@ static void limb_jet_eval(const pom_limb *L, const double R[9], const limb_state
   platform_jet(P, R, T, S, mode);
   o->spin_free[0] = o->spin_free[1] = 0;
   switch (L->kernel) {
-  case POM_LIMB_KERNEL_RRR: {
+  case POM_LIMB_KERNEL_RRR:
+  case POM_LIMB_KERNEL_RUU: {
     const double *u = J[0].axis, *w0 = J[1].axis;
     pom_jet v[3], w[3], e[3][3], uj[3], w0j[3];
-    jm_applyc(v, P, J[2].axis);
+    jm_applyc(v, P, platform_axis(L));
     jv_const(uj, u);
     jv_const(w0j, w0);
     double uw = pom_v3_dot(u, w0), uxw[3];
@@ -349,6 +403,25 @@ static void limb_jet_eval(const pom_limb *L, const double R[9], const limb_state
     rot_jet(o->Rb[0], u, o->q);
     jm_applyc(w, o->Rb[0], w0);
     double F0[9];
+    if (L->kernel == POM_LIMB_KERNEL_RUU) {
+      /* the link B-C: frame (d, C - B) with d = sign unit(w x v), B on the
+       * crank, C on the platform (section 2.5) */
+      pom_jet d[3], Bj[3], Cj[3], cb[3];
+      double cb0[3];
+      jv_cross(d, w, v);
+      pom_jet inv = jet_scale(middle_sign(L), jet_recip(jet_sqrt(jv_dot(d, d))));
+      jv_scale(d, inv, d);
+      jm_applyc(Bj, o->Rb[0], J[1].point);
+      jm_applyc(Cj, P, J[2].point);
+      jv_sub(cb, Cj, Bj);
+      pom_v3_sub(cb0, J[2].point, J[1].point);
+      pom_kin_pair_frame(F0, J[1].axis2, cb0);
+      pair_frame_jet(e, d, cb);
+      frame_product(o->Rb[1], e, F0);
+      ref_rotated(o->ref[0], o->Rb[0], J[0].point);
+      memcpy(o->ref[1], Bj, sizeof Bj);
+      break;
+    }
     pom_kin_pair_frame(F0, w0, J[2].axis);
     pair_frame_jet(e, w, v);
     frame_product(o->Rb[1], e, F0);
@@ -403,7 +476,8 @@ static void limb_jet_eval(const pom_limb *L, const double R[9], const limb_state
     break;
   }
   case POM_LIMB_KERNEL_SPS:
-  case POM_LIMB_KERNEL_UPS: {
+  case POM_LIMB_KERNEL_UPS:
+  case POM_LIMB_KERNEL_UPU: {
     pom_jet b[3], l[3], s[3], p0[3];
     jm_applyc(b, P, J[2].point);
     jv_const(p0, J[0].point);
@@ -417,6 +491,19 @@ static void limb_jet_eval(const pom_limb *L, const double R[9], const limb_state
       memcpy(o->dir[0], s, sizeof s);
       memcpy(o->dir[1], s, sizeof s);
       o->spin_free[0] = o->spin_free[1] = 1;
+      break;
+    }
+    if (L->kernel == POM_LIMB_KERNEL_UPU) {
+      /* cylinder and piston: frame (n, s), n = sign unit(p0 x R p2) (section 2.5) */
+      pom_jet nm[3], e[3][3];
+      double F0[9];
+      jv_cross(nm, p0, b);
+      pom_jet inm = jet_scale(middle_sign(L), jet_recip(jet_sqrt(jv_dot(nm, nm))));
+      jv_scale(nm, inm, nm);
+      pom_kin_pair_frame(F0, J[0].axis2, L->dir_home);
+      pair_frame_jet(e, nm, s);
+      frame_product(o->Rb[0], e, F0);
+      memcpy(o->Rb[1], o->Rb[0], sizeof o->Rb[1]);
       break;
     }
     /* U-joint: R = E Rx(al) Ry(be) E^T, E = [a1 a2 s0]; x = s.s0 = cb ca,
@@ -678,6 +765,109 @@ double pom_limb_footprint(const pom_kin_arch *arch) {
   return r;
 }
 
+/* ---- constraint wrenches (docs/kinematics-tables.md 3.1) ------------------------- */
+/* Determinant of the n x n matrix a (row-major, stride 6, overwritten) by
+ * Gaussian elimination with partial pivoting. */
+static double det_small(double a[5][6], int n) {
+  double det = 1.0;
+  for (int c = 0; c < n; ++c) {
+    int piv = c;
+    for (int r = c + 1; r < n; ++r)
+      if (fabs(a[r][c]) > fabs(a[piv][c])) piv = r;
+    if (a[piv][c] == 0.0) return 0.0;
+    if (piv != c) {
+      for (int k = 0; k < n; ++k) {
+        double t = a[c][k];
+        a[c][k] = a[piv][k];
+        a[piv][k] = t;
+      }
+      det = -det;
+    }
+    det *= a[c][c];
+    for (int r = c + 1; r < n; ++r) {
+      double f = a[r][c] / a[c][c];
+      for (int k = c; k < n; ++k)
+        a[r][k] -= f * a[c][k];
+    }
+  }
+  return det;
+}
+
+/* The unit joint twists of limb state s as rows (v_O, omega), v_O the
+ * velocity of the point at O: a revolute about (p, a) is (p x a, a), a
+ * prismatic (a, 0), a U two revolutes, an S three. Returns how many (at
+ * most 9). */
+static int limb_screws(const pom_limb *L, const limb_state *s, double tw[9][6]) {
+  static const double e[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  int n = 0;
+  for (int j = 0; j < POM_LIMB_JOINTS; ++j) {
+    const double *axes[3];
+    int na = 0;
+    switch (L->joint[j].type) {
+    case POM_LIMB_JOINT_P:
+      pom_v3_copy(tw[n], s->ax[j]);
+      pom_v3_set(tw[n] + 3, 0.0, 0.0, 0.0);
+      ++n;
+      continue;
+    case POM_LIMB_JOINT_R:
+      axes[na++] = s->ax[j];
+      break;
+    case POM_LIMB_JOINT_U:
+      axes[na++] = s->ax[j];
+      axes[na++] = s->ax2[j];
+      break;
+    default:
+      axes[na++] = e[0];
+      axes[na++] = e[1];
+      axes[na++] = e[2];
+      break;
+    }
+    for (int k = 0; k < na; ++k, ++n) {
+      pom_v3_cross(tw[n], s->p[j], axes[k]);
+      pom_v3_copy(tw[n] + 3, axes[k]);
+    }
+  }
+  return n;
+}
+
+int pom_limb_constraint(const pom_kin_arch *arch, const double R[9], double force[9],
+                        double moment[9]) {
+  const pom_limb_table *tb = POM_LIMB_CTABLE(arch);
+  if (tb->central != 0) return 0;
+  double F[9], M[9];
+  for (int i = 0; i < 3; ++i) {
+    const pom_limb *L = &tb->limb[i];
+    limb_state s;
+    double tw[9][6], a[5][6], z[6];
+    if (!limb_eval(L, R, 0, &s)) return 0;
+    if (limb_screws(L, &s, tw) != 5) return 0; /* a spherical limb holds O itself */
+    /* the wrench (f, m) with v_k . f + omega_k . m = 0 for the five twists:
+     * the signed 5 x 5 minors of the 5 x 6 twist matrix (a 6-D cross product) */
+    for (int c = 0; c < 6; ++c) {
+      for (int r = 0; r < 5; ++r)
+        for (int k = 0, kk = 0; k < 6; ++k)
+          if (k != c) a[r][kk++] = tw[r][k];
+      z[c] = ((c & 1) ? -1.0 : 1.0) * det_small(a, 5);
+    }
+    double fn = pom_v3_norm(z), zn = hypot(fn, pom_v3_norm(z + 3)), scale = 1.0;
+    for (int r = 0; r < 5; ++r)
+      scale *= hypot(pom_v3_norm(tw[r]), pom_v3_norm(tw[r] + 3));
+    if (!(fn > 1e-12 * zn) || !(zn > 1e-12 * scale) || !isfinite(zn)) {
+      /* a pure moment, or the five twists dependent (the limb at a
+       * singularity of its own, e.g. the R axis on the platform U's axis: no
+       * single wrench): no force of this limb blocks a translation */
+      pom_v3_set(F + 3 * i, 0.0, 0.0, 0.0);
+      pom_v3_set(M + 3 * i, 0.0, 0.0, 0.0);
+      continue;
+    }
+    pom_v3_scale(F + 3 * i, 1.0 / fn, z);
+    pom_v3_scale(M + 3 * i, 1.0 / fn, z + 3);
+  }
+  memcpy(force, F, sizeof F);
+  memcpy(moment, M, sizeof M);
+  return 3;
+}
+
 /* ---- mechanism ------------------------------------------------------------------- */
 /* A direction of limb L at home (pom_limb_dir); 0 when it has zero length. */
 static int limb_dir(double out[3], const pom_limb *L, pom_limb_dir d) {
@@ -808,8 +998,8 @@ static pom_status finish_limb(pom_limb *L, int i, double scale, pom_error *err) 
   if (L->kernel == POM_LIMB_KERNEL_NONE)
     POM_FAIL(err, POM_ERR_ARG,
              "limb %d: no IK kernel for this joint sequence with joint %d actuated (covered: "
-             "R-R-R with joint 1 actuated, P-S-S and R-S-S with joint 1 actuated, S-P-S and "
-             "U-P-S with joint 2 actuated)",
+             "R-R-R, R-U-U, P-S-S and R-S-S with joint 1 actuated, S-P-S, U-P-S and U-P-U with "
+             "joint 2 actuated)",
              i + 1, L->actuated + 1);
   if (!(L->branch == 0.0 || L->branch == 1.0 || L->branch == -1.0))
     POM_FAIL(err, POM_ERR_ARG, "limb %d: branch %g must be +1, -1 or 0 (the root through home)",
@@ -835,6 +1025,96 @@ static pom_status finish_limb(pom_limb *L, int i, double scale, pom_error *err) 
     derived = atan2(B, A) > 0.0 ? -1.0 : 1.0;
     pom_v3_set(L->dir_home, 0.0, 0.0, 0.0);
     L->length = 0.0;
+    break;
+  }
+  case POM_LIMB_KERNEL_RUU: {
+    /* the layout of section 2.5: u, w, v through O, B on w, C on v, the
+     * link's two axes parallel and normal to w and v */
+    double c[3];
+    const double tol = 1e-9;
+    for (int j = 0; j < 3; ++j)
+      if (!(pom_v3_normalize(J[j].axis, J[j].axis) > 0.0) ||
+          (J[j].type == POM_LIMB_JOINT_U && !(pom_v3_normalize(J[j].axis2, J[j].axis2) > 0.0)))
+        POM_FAIL(err, POM_ERR_ARG, "limb %d: joint %d needs its axes (R-U-U)", i + 1, j + 1);
+    const double *through[3][2] = {
+        {J[0].point, J[0].axis}, {J[1].point, J[1].axis}, {J[2].point, J[2].axis2}};
+    static const char *const what[3] = {"the crank's axis", "the first U's first axis",
+                                        "the second U's second axis"};
+    for (int j = 0; j < 3; ++j) {
+      pom_v3_cross(c, through[j][0], through[j][1]);
+      if (pom_v3_norm(c) > tol * (1.0 + pom_v3_norm(through[j][0])))
+        POM_FAIL(err, POM_ERR_ARG,
+                 "limb %d: R-U-U: %s does not pass through O and its joint centre (the limb "
+                 "would not leave the platform a pure rotation: docs/kinematics-tables.md 2.5)",
+                 i + 1, what[j]);
+    }
+    pom_v3_cross(c, J[1].axis2, J[2].axis);
+    if (pom_v3_norm(c) > tol)
+      POM_FAIL(err, POM_ERR_ARG,
+               "limb %d: R-U-U: the link's two U axes are not parallel (docs/kinematics-tables.md "
+               "2.5)",
+               i + 1);
+    if (fabs(pom_v3_dot(J[1].axis2, J[1].axis)) > tol ||
+        fabs(pom_v3_dot(J[2].axis, J[2].axis2)) > tol)
+      POM_FAIL(err, POM_ERR_ARG, "limb %d: R-U-U: a U's two axes are not normal", i + 1);
+    if (!(fabs(pom_v3_dot(J[1].point, J[1].axis)) > 0.0) ||
+        !(fabs(pom_v3_dot(J[2].point, J[2].axis2)) > 0.0))
+      POM_FAIL(err, POM_ERR_ARG, "limb %d: R-U-U: a U centre lies at O", i + 1);
+    L->cos_distal = pom_v3_dot(J[1].axis, J[2].axis2);
+    double A, B, C;
+    rrr_coef(L, J[2].axis2, &A, &B, &C);
+    if (fabs(B) < POM_KIN_HOME_MIN_COS * hypot(A, B))
+      POM_FAIL(err, POM_ERR_ARG,
+               "limb %d: u, w and v are coplanar at home (a leg singularity: the two working "
+               "modes meet)",
+               i + 1);
+    derived = atan2(B, A) > 0.0 ? -1.0 : 1.0;
+    pom_v3_set(L->dir_home, 0.0, 0.0, 0.0);
+    L->length = 0.0;
+    break;
+  }
+  case POM_LIMB_KERNEL_UPU: {
+    double l[3], c[3], h[3];
+    const double tol = 1e-9;
+    pom_v3_sub(l, J[2].point, J[0].point);
+    L->length = pom_v3_normalize(L->dir_home, l);
+    if (!(L->length > 0.0))
+      POM_FAIL(err, POM_ERR_ARG, "limb %d: the base joint coincides with the platform joint",
+               i + 1);
+    pom_v3_cross(c, J[1].axis, L->dir_home);
+    if (pom_v3_norm(c) > tol || pom_v3_dot(J[1].axis, L->dir_home) < 0.0)
+      POM_FAIL(err, POM_ERR_ARG,
+               "limb %d: the prismatic axis must point along the limb, from the base joint to the "
+               "platform joint",
+               i + 1);
+    pom_v3_sub(h, J[1].point, J[0].point);
+    pom_v3_cross(c, h, L->dir_home);
+    if (pom_v3_norm(c) > tol * L->length)
+      POM_FAIL(err, POM_ERR_ARG, "limb %d: the prismatic joint's point is off the limb's line",
+               i + 1);
+    for (int j = 0; j < 3; j += 2)
+      if (!(pom_v3_normalize(J[j].axis, J[j].axis) > 0.0) ||
+          !(pom_v3_normalize(J[j].axis2, J[j].axis2) > 0.0))
+        POM_FAIL(err, POM_ERR_ARG, "limb %d: joint %d needs its two axes (U-P-U)", i + 1, j + 1);
+    const double *through[2][2] = {{J[0].point, J[0].axis}, {J[2].point, J[2].axis2}};
+    for (int j = 0; j < 2; ++j) {
+      pom_v3_cross(c, through[j][0], through[j][1]);
+      if (pom_v3_norm(c) > tol * (1.0 + pom_v3_norm(through[j][0])))
+        POM_FAIL(err, POM_ERR_ARG,
+                 "limb %d: U-P-U: the %s U's %s axis does not pass through O and its centre "
+                 "(docs/kinematics-tables.md 2.5)",
+                 i + 1, j ? "platform" : "base", j ? "second" : "first");
+    }
+    pom_v3_cross(c, J[0].axis2, J[2].axis);
+    if (pom_v3_norm(c) > tol || fabs(pom_v3_dot(J[0].axis2, L->dir_home)) > tol)
+      POM_FAIL(err, POM_ERR_ARG,
+               "limb %d: U-P-U: the middle U axes must be parallel and normal to the slide "
+               "(docs/kinematics-tables.md 2.5)",
+               i + 1);
+    if (fabs(pom_v3_dot(J[0].axis2, J[0].axis)) > tol ||
+        fabs(pom_v3_dot(J[2].axis, J[2].axis2)) > tol)
+      POM_FAIL(err, POM_ERR_ARG, "limb %d: U-P-U: a U's two axes are not normal", i + 1);
+    derived = 1.0;
     break;
   }
   case POM_LIMB_KERNEL_PSS:
@@ -918,7 +1198,7 @@ static pom_status finish_limb(pom_limb *L, int i, double scale, pom_error *err) 
     break;
   }
   if (L->kernel == POM_LIMB_KERNEL_RRR || L->kernel == POM_LIMB_KERNEL_PSS ||
-      L->kernel == POM_LIMB_KERNEL_RSS) {
+      L->kernel == POM_LIMB_KERNEL_RSS || L->kernel == POM_LIMB_KERNEL_RUU) {
     if (L->branch != 0.0 && L->branch != derived)
       POM_FAIL(err, POM_ERR_ARG,
                "limb %d: branch %+g is not the IK root through the home configuration (%+g)", i + 1,
@@ -951,7 +1231,9 @@ pom_status pom_limb_finish(pom_kin_arch *arch, pom_error *err) {
   for (int i = 0; i < 3; ++i) {
     tb->limb[i].kernel = 0;
     POM_TRY(finish_limb(&tb->limb[i], i, arch->design.scale, err));
-    if (tb->limb[i].kernel != POM_LIMB_KERNEL_RRR) holds_O = 0;
+    int k = tb->limb[i].kernel;
+    if (k != POM_LIMB_KERNEL_RRR && k != POM_LIMB_KERNEL_RUU && k != POM_LIMB_KERNEL_UPU)
+      holds_O = 0;
     if (i > 0 && tb->limb[i].kernel != tb->limb[0].kernel)
       POM_FAIL(err, POM_ERR_ARG, "limb %d is a %s limb, limb 1 a %s: the three must be alike",
                i + 1, pom_limb_kernel_name((pom_limb_kernel)tb->limb[i].kernel),
@@ -973,6 +1255,20 @@ pom_status pom_limb_finish(pom_kin_arch *arch, pom_error *err) {
     POM_FAIL(err, POM_ERR_ARG,
              "central joint: the table says %s, the type's optional_central_joint %d",
              tb->central == -1 ? "optional" : "fixed", type->optional_central_joint);
+  if (tb->central == 0) {
+    /* the limbs alone hold O through one wrench each: independent at home */
+    double I[9], F[9], M[9];
+    pom_m3_identity(I);
+    if (pom_limb_constraint(arch, I, F, M) == 3) {
+      double sv[3];
+      pom_m3_singular_values(sv, F);
+      if (!(sv[2] > POM_KIN_HOME_MIN_COS))
+        POM_FAIL(err, POM_ERR_ARG,
+                 "the limbs' constraint forces are dependent at home (a constraint singularity: "
+                 "smallest singular value %.3g; the platform can translate)",
+                 sv[2]);
+    }
+  }
   for (int b = 0; b < POM_LIMB_BODIES; ++b) {
     const pom_limb_body *bd = &tb->body[b];
     if (!memchr(bd->name, '\0', sizeof bd->name) || bd->name[0] == '\0')
@@ -1040,8 +1336,8 @@ pom_status pom_limb_finish(pom_kin_arch *arch, pom_error *err) {
 int pom_limb_flip_branch(pom_kin_arch *arch, int i) {
   pom_limb *L = &POM_LIMB_TABLE(arch)->limb[i];
   if (!(L->kernel == POM_LIMB_KERNEL_RRR || L->kernel == POM_LIMB_KERNEL_PSS ||
-        L->kernel == POM_LIMB_KERNEL_RSS))
-    return 0; /* S-P-S, U-P-S: q = |p2 - p0| - L0, one root */
+        L->kernel == POM_LIMB_KERNEL_RSS || L->kernel == POM_LIMB_KERNEL_RUU))
+    return 0; /* S-P-S, U-P-S, U-P-U: q = |p2 - p0| - L0, one root */
   L->branch = -L->branch;
   return 1;
 }
@@ -1057,4 +1353,5 @@ void pom_limb_type_ops(pom_kin_arch_type *type) {
   type->mechanism = pom_limb_mechanism;
   type->shapes = NULL;
   type->flip_branch = pom_limb_flip_branch;
+  type->constraint = pom_limb_constraint;
 }

@@ -272,6 +272,7 @@ void pom_kin_pose_json(FILE *out, const pom_kin_arch *arch, const pom_kin_pose *
       if (arch->type->limits[kind].name)
         fprintf(out, ",\n  \"%s\": null", arch->type->limits[kind].json);
     fputs(",\n  \"within_limits\": false,\n  \"violations\": []", out);
+    if (p->singular & POM_KIN_SING_SERIAL) fputs(",\n  \"singularities\": [\"serial\"]", out);
     return;
   }
   fputs(",\n  \"q\": ", out);
@@ -286,6 +287,19 @@ void pom_kin_pose_json(FILE *out, const pom_kin_arch *arch, const pom_kin_pose *
   pom_json_number(out, p->kappa);
   fputs(",\n  \"dexterity\": ", out);
   pom_json_number(out, p->dexterity);
+  /* the three singularities told apart (docs/kinematics-tables.md 3.1): the
+   * constraint figures only for limbs that hold O through one wrench each */
+  fputs(",\n  \"singularities\": [", out);
+  static const char *const sing[3] = {"serial", "parallel", "constraint"};
+  for (int k = 0, n = 0; k < 3; ++k)
+    if (p->singular & (1 << k)) fprintf(out, "%s\"%s\"", n++ ? ", " : "", sing[k]);
+  fputs("]", out);
+  if (p->n_constraint) {
+    fputs(",\n  \"constraint_sv\": ", out);
+    pom_json_number(out, p->constraint_sv);
+    fputs(",\n  \"constraint_offset_m\": ", out);
+    pom_json_number(out, p->constraint_offset);
+  }
   for (int kind = 1; kind < POM_KIN_LIM_KINDS; ++kind) {
     const pom_kin_limit_desc *ld = &arch->type->limits[kind];
     if (!ld->name) continue;
@@ -327,6 +341,9 @@ void pom_kin_ik_report(FILE *out, int json, const char *config, const pom_kin_ar
             e_deg[1], e_deg[2]);
     if (!p->reachable) {
       fprintf(out, "reachable: NO - %s\n", message);
+      if (p->singular & POM_KIN_SING_SERIAL)
+        fprintf(out, "singularity: serial (limb %d assembles, its IK roots meet)\n",
+                p->unreachable_limb + 1);
     } else {
       fprintf(out, "reachable: yes\n");
       const pom_act_desc *u = pom_act_kind_desc(pom_kin_type_actuator(arch->type));
@@ -345,6 +362,16 @@ void pom_kin_ik_report(FILE *out, int json, const char *config, const pom_kin_ar
               p->sv[2] * fj);
       fprintf(out, "condition number kappa: %.6f   dexterity 1/kappa: %.6f\n", p->kappa,
               p->dexterity);
+      if (p->n_constraint)
+        fprintf(out,
+                "constraint forces (one per limb, no central joint): smallest singular value "
+                "%.6f, largest offset from O %.3g mm\n",
+                p->constraint_sv, p->constraint_offset * 1e3);
+      if (p->singular) {
+        char sb[80];
+        fprintf(out, "singularity: %s\n",
+                pom_kin_singular_text(p->singular, p->unreachable_limb, sb, sizeof sb));
+      }
       pom_kin_print_limits(out, arch, p);
       if (st == POM_ERR_LIMIT) fprintf(out, "limit check: FAILED - %s\n", message);
       if (st == POM_OK) fprintf(out, "limit check: ok\n");

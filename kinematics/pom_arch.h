@@ -160,6 +160,13 @@ struct pom_kin_arch_type {
    * 0 and leaves arch untouched when limb i has a single root. Flipping
    * twice restores the home root. */
   int (*flip_branch)(pom_kin_arch *arch, int i);
+  /* optional (NULL: a central joint or the limbs each hold the platform at
+   * O, no constraint singularity). The limbs' constraint wrenches at R when
+   * the limbs alone hold O through one wrench each (3-RUU, 3-UPU): unit
+   * force of limb i in force[3 i ..], its moment about O over the force's
+   * magnitude in moment[3 i ..] (m). Returns 3, or 0 when not applicable
+   * at this instance or a limb cannot be assembled (pom_limb_constraint). */
+  int (*constraint)(const pom_kin_arch *arch, const double R[9], double force[9], double moment[9]);
 };
 
 /* Private geometry of arch as the implementation's struct (data_size bytes,

@@ -194,7 +194,33 @@ typedef struct {
                                       actuator range), [3..11] the type's limit kinds 1..3 (3PSS,
                                       3SPS: base cone angle, platform cone angle, limb distance) */
   unsigned violations;             /* bit k set when limit k is violated (pom_kin_limit_name) */
+  /* the three singularities told apart (docs/kinematics-tables.md 3.1) */
+  int singular;             /* bits POM_KIN_SING_SERIAL, _PARALLEL, _CONSTRAINT; 0 none */
+  int n_constraint;         /* 3 when the limbs alone hold O through one constraint wrench each
+                               (3-RUU, 3-UPU: type op constraint), else 0 (a central joint or
+                               spherical limbs hold O: no constraint singularity) */
+  double constraint_sv;     /* smallest singular value of the limbs' unit constraint forces (1:
+                               orthogonal, 0: a constraint singularity, the platform can
+                               translate); 1 when n_constraint = 0 */
+  double constraint_offset; /* largest distance of a constraint force's line from O (m): 0 when
+                               the limbs leave the platform a pure rotation about O */
 } pom_kin_pose;
+
+/* Bits of pom_kin_pose.singular. SERIAL: a limb assembles but its
+ * actuation wrench does no work on its actuator (the IK's roots meet, the
+ * limb op fails only when the Jacobian row is asked; the pose is then
+ * unreachable). PARALLEL: the three actuation wrenches are dependent,
+ * dexterity <= POM_KIN_SING_TOL: locked actuators leave the platform a
+ * rotation. CONSTRAINT: the limbs' constraint forces are dependent,
+ * constraint_sv <= POM_KIN_SING_TOL: the platform gains a translation. */
+enum { POM_KIN_SING_SERIAL = 1, POM_KIN_SING_PARALLEL = 2, POM_KIN_SING_CONSTRAINT = 4 };
+/* above the closed-form dexterity's worst error (~1e-8 when two singular
+ * values nearly coincide, pom_kin_dexterity) */
+#define POM_KIN_SING_TOL 1e-7
+
+/* "none", or the set bits of `singular` as "serial (limb 2), parallel,
+ * constraint" into buf (serial_limb 0-based, -1 unknown). Returns buf. */
+const char *pom_kin_singular_text(int singular, int serial_limb, char *buf, size_t cap);
 
 /* Evaluates the pose R: IK, J, dexterity and every limit. Returns POM_OK when
  * reachable and within limits; POM_ERR_UNREACHABLE (pose->reachable = 0,

@@ -14,7 +14,10 @@
  * section 2); the actuated joint is fixed by the kernel:
  *   R-R-R, all three axes through O, joint 0 actuated (any 3-RRR wrist);
  *   P-S-S, joint 0 actuated;   R-S-S, joint 0 actuated;
- *   S-P-S and U-P-S, joint 1 actuated (its axis along the limb).
+ *   S-P-S and U-P-S, joint 1 actuated (its axis along the limb);
+ *   R-U-U, joint 0 actuated, and U-P-U, joint 1 actuated: limbs with five
+ *   joint freedoms and one constraint wrench each, in the layout that makes
+ *   that wrench a force through O (docs/kinematics-tables.md section 2.5).
  * Any other sequence is refused by finish with a message. */
 #ifndef POM_LIMB_H
 #define POM_LIMB_H
@@ -39,7 +42,10 @@ typedef enum {
   POM_LIMB_KERNEL_PSS = 2, /* P-S-S: |p2 - p1(q)| = L, quadratic in q */
   POM_LIMB_KERNEL_RSS = 3, /* R-S-S: |p2 - p1(theta)| = L, A cos + B sin + C = 0 */
   POM_LIMB_KERNEL_SPS = 4, /* S-P-S: q = |p2 - p0| - L0 (cylinder and piston spin freely) */
-  POM_LIMB_KERNEL_UPS = 5  /* U-P-S: q = |p2 - p0| - L0 (the U-joint fixes the spin) */
+  POM_LIMB_KERNEL_UPS = 5, /* U-P-S: q = |p2 - p0| - L0 (the U-joint fixes the spin) */
+  POM_LIMB_KERNEL_RUU = 6, /* R-U-U: w(theta) . v = cos alpha2 as R-R-R (v the platform U's
+                              second axis); the link turns about O */
+  POM_LIMB_KERNEL_UPU = 7  /* U-P-U: q = |p2 - p0| - L0; the middle U axes stay parallel */
 } pom_limb_kernel;
 
 /* One joint at home (R = I, q = 0), fixed frame, SI. */
@@ -171,6 +177,18 @@ double pom_limb_footprint(const pom_kin_arch *arch);
 int pom_limb_flip_branch(pom_kin_arch *arch, int i);
 pom_status pom_limb_mechanism(pom_mechanism *mech, const pom_kin_arch *arch,
                               const pom_kin_inertia *in, pom_error *err);
+
+/* The limbs' constraint wrenches at rotation R, for tables whose platform
+ * is held at O by the limbs alone through one wrench per limb (R-U-U,
+ * U-P-U: five joint freedoms): each limb's wrench reciprocal to its five
+ * joint twists, computed from the joint screws at the pose (not from the
+ * layout), written as a unit force force[3 i ..] and its moment about O
+ * divided by the force's magnitude, moment[3 i ..] (m: the force line's
+ * offset from O). Returns 3; 0 when the table has a central joint or its
+ * limbs hold O each (R-R-R), or a limb cannot be assembled (force and
+ * moment then untouched). docs/kinematics-tables.md section 3.1. */
+int pom_limb_constraint(const pom_kin_arch *arch, const double R[9], double force[9],
+                        double moment[9]);
 
 /* The kernel of a joint sequence (types of joints 0..2) with `actuated`,
  * POM_LIMB_KERNEL_NONE when no kernel covers it; its name ("R-S-S"). */

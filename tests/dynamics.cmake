@@ -90,3 +90,6 @@ target_link_libraries(test_dyn_rigid_gain PRIVATE pom_dynamics pom_kinematics po
 pom_add_test(test_dyn_validity test_dyn_validity.c)
 target_include_directories(test_dyn_validity PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
 target_link_libraries(test_dyn_validity PRIVATE pom_dynamics pom_kinematics pom_core)
+pom_add_test(test_catalog_energy test_catalog_energy.c)
+target_include_directories(test_catalog_energy PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
+target_link_libraries(test_catalog_energy PRIVATE pom_dynamics pom_kinematics pom_core)

@@ -5,6 +5,7 @@
  * differences on an R-S-S and a general non-orthogonal 3-RRR that have no
  * hand-coded version, with IK <-> FK round trips. */
 #include "check.h"
+#include "pom_arch_file.h"
 #include "pom_config.h"
 #include "pom_kinematics.h"
 #include "pom_limb.h"
@@ -656,6 +657,16 @@ int main(void) {
     ad_vs_fd("general 3-RRR: AD vs central differences", &g, &rng, 20.0, 40, 0.05, 1e-7);
   if (check_true(make_sps(&g, &t)))
     ad_vs_fd("S-P-S: AD vs central differences", &g, &rng, 15.0, 40, 0.03, 1e-7);
+  /* the R-U-U and U-P-U kernels (catalog C13, C14: no hand-coded version;
+   * docs/kinematics-tables.md 2.5), the same differences and bound */
+  pom_error err;
+  pom_error_clear(&err);
+  if (!check_true(pom_arch_files_register_all(&err) == POM_OK)) printf("%s\n", err.message);
+  pom_kin_inertia in;
+  if (check_true(load("catalog/3ruu_wrist.cfg", &g, &in)))
+    ad_vs_fd("R-U-U (3ruu_wrist): AD vs central differences", &g, &rng, 20.0, 40, 0.025, 1e-7);
+  if (check_true(load("catalog/3upu_wrist.cfg", &g, &in)))
+    ad_vs_fd("U-P-U (3upu_wrist): AD vs central differences", &g, &rng, 15.0, 40, 0.03, 1e-7);
   refusals();
   return check_summary("test_limb_table");
 }

@@ -91,6 +91,10 @@ class _Pose(ctypes.Structure):
         ("dexterity", ctypes.c_double),
         ("limit", ctypes.c_double * 12),
         ("violations", ctypes.c_uint),
+        ("singular", ctypes.c_int),
+        ("n_constraint", ctypes.c_int),
+        ("constraint_sv", ctypes.c_double),
+        ("constraint_offset", ctypes.c_double),
     ]
 
 
@@ -470,12 +474,18 @@ def _pose_dict(arch, pose, st, err):
         d.update(q=None, jacobian=None, singular_values=None, kappa=None, dexterity=None)
         d.update({k: None for _, k, _ in keys})
         d.update(within_limits=False, violations=[])
+        if pose.singular & 1:
+            d["singularities"] = ["serial"]
     else:
         d["q"] = _vec(pose.q, 3)
         d["jacobian"] = _vec(pose.J, 9).reshape(3, 3)
         d["singular_values"] = _vec(pose.sv, 3)
         d["kappa"] = pose.kappa
         d["dexterity"] = pose.dexterity
+        d["singularities"] = [n for b, n in ((1, "serial"), (2, "parallel"), (4, "constraint")) if pose.singular & b]
+        if pose.n_constraint:
+            d["constraint_sv"] = pose.constraint_sv
+            d["constraint_offset_m"] = pose.constraint_offset
         for kind, k, scale in keys:
             d[k] = np.array([pose.limit[3 * kind + i] * scale for i in range(3)])
         d["within_limits"] = pose.violations == 0
