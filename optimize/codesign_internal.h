@@ -18,4 +18,18 @@ pom_status pom_cds_evaluate_many(const pom_cds_problem *pb, int c, const double 
 pom_status pom_cds_rdw_deg(const pom_cds_problem *pb, int c, const double *x, double *deg,
                            pom_error *err);
 
+/* The config keys design x of candidate c sets, their values (config units)
+ * and d(value)/d(x_v) for every variable v (the size law's s^e and the
+ * identity for a key variable): the chain rule from the sensitivity
+ * engine's per-key derivatives (per config unit) to the design variables
+ * (docs/optimize.md 11.5). Returns the number of keys (<= POM_CDS_MAX_VARS +
+ * POM_CDS_MAX_SIZED_KEYS). */
+#define POM_CDS_MAX_KEYS (POM_CDS_MAX_VARS + POM_CDS_MAX_SIZED_KEYS)
+int pom_cds_design_keys(const pom_cds_candidate *cd, const double *x,
+                        const char *key[POM_CDS_MAX_KEYS], double value[POM_CDS_MAX_KEYS],
+                        double dvalue_dx[POM_CDS_MAX_KEYS][POM_CDS_MAX_VARS]);
+
+/* dx_v/du_v of the unit-box map (linear or log10) at x_v. */
+double pom_cds_dx_du(const pom_cds_var *v, double x);
+
 #endif

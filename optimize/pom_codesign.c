@@ -111,6 +111,24 @@ static pom_status sized_keys(pom_cds_candidate *cd, const pom_cfg *ccfg, const p
   return POM_OK;
 }
 
+/* A `geometry.NAME` key the config leaves to its architecture's default (a
+ * catalog file's design parameter): its value in config units. */
+static int arch_default(const pom_cfg *ccfg, const char *key, double *x0) {
+  if (strncmp(key, "geometry.", 9) != 0) return 0;
+  pom_kin_arch arch;
+  pom_error e;
+  pom_error_clear(&e);
+  if (pom_kin_arch_load(&arch, ccfg, &e) != POM_OK || !arch.has_design) return 0;
+  for (int i = 0; i < arch.type->n_params; ++i) {
+    const pom_kin_param_desc *d = &arch.type->params[i];
+    if (d->key && strcmp(d->key, key + 9) == 0 && d->to_si > 0) {
+      *x0 = arch.design.x[i] / d->to_si;
+      return 1;
+    }
+  }
+  return 0;
+}
+
 pom_status pom_cds_load(pom_cds_problem *pb, const pom_cfg *cfg, pom_error *err) {
   memset(pb, 0, sizeof *pb);
   snprintf(pb->source, sizeof pb->source, "%s", pom_cfg_path(cfg));
@@ -237,12 +255,13 @@ pom_status pom_cds_load(pom_cds_problem *pb, const pom_cfg *cfg, pom_error *err)
           if (strcmp(cd->sized[j].key, var->key) == 0)
             s2 = pom_cfg_error(cfg, kk, var->key, err,
                                "the size law sets this key: vary \"size\" instead");
-        if (s2 == POM_OK && !pom_cfg_has(ccfg, var->key))
-          s2 =
-              pom_cfg_error(cfg, kk, var->key, err,
-                            "not a key of the config of candidate '%s' (%s)", cd->name, cd->config);
-        if (s2 == POM_OK)
+        if (s2 == POM_OK && pom_cfg_has(ccfg, var->key))
           s2 = pom_cfg_real(ccfg, var->key, 1.0, -INFINITY, INFINITY, &var->x0, err);
+        else if (s2 == POM_OK && !arch_default(ccfg, var->key, &var->x0))
+          s2 = pom_cfg_error(cfg, kk, var->key, err,
+                             "not a key of the config of candidate '%s' (%s) nor a design "
+                             "parameter of its architecture",
+                             cd->name, cd->config);
       } else {
         var->x0 = 1.0;
       }
@@ -666,4 +685,39 @@ pom_status pom_cds_rdw_deg(const pom_cds_problem *pb, int c, const double *x, do
   st = pom_kin_workspace(&arch, &o, &r, err);
   if (st == POM_OK) *deg = r.half_width * 180.0 / POM_PI;
   return st;
+}
+
+int pom_cds_design_keys(const pom_cds_candidate *cd, const double *x,
+                        const char *key[POM_CDS_MAX_KEYS], double value[POM_CDS_MAX_KEYS],
+                        double dvalue_dx[POM_CDS_MAX_KEYS][POM_CDS_MAX_VARS]) {
+  int n = 0, vs = -1;
+  for (int v = 0; v < cd->n_vars; ++v) {
+    if (cd->var[v].kind == POM_CDS_VAR_SIZE) {
+      vs = v;
+      continue;
+    }
+    key[n] = cd->var[v].key;
+    value[n] = x[v];
+    for (int w = 0; w < POM_CDS_MAX_VARS; ++w)
+      dvalue_dx[n][w] = w == v ? 1.0 : 0.0;
+    ++n;
+  }
+  double s = vs >= 0 ? x[vs] : 1.0;
+  for (int j = 0; j < cd->n_sized; ++j) {
+    key[n] = cd->sized[j].key;
+    value[n] = pom_cds_size_law(cd->sized[j].nominal, cd->sized[j].exponent, s);
+    for (int w = 0; w < POM_CDS_MAX_VARS; ++w)
+      dvalue_dx[n][w] = 0.0;
+    /* d(nominal s^e)/ds = e nominal s^(e - 1) */
+    if (vs >= 0)
+      dvalue_dx[n][vs] =
+          cd->sized[j].exponent * cd->sized[j].nominal * pow(s, cd->sized[j].exponent - 1.0);
+    ++n;
+  }
+  return n;
+}
+
+double pom_cds_dx_du(const pom_cds_var *v, double x) {
+  if (v->log) return x * log(10.0) * (log10(v->hi) - log10(v->lo));
+  return v->hi - v->lo;
 }

@@ -96,9 +96,16 @@ static int feasible_q(const opt_ctx *oc, const double q[NQ]) {
 
 /* The figures at u and, when want_grad, their gradients in the unit box.
  * THE one place the gradient source is chosen (docs/optimize.md 11.5):
- * central differences of whole Monte-Carlo evaluations here; with the
- * sensitivity engine, the per-maneuver derivatives with respect to the
- * design's config keys, chained through dkey/du (pom_cds_key_jacobian). */
+ * central differences of whole Monte-Carlo evaluations (pb->grad ==
+ * POM_CDS_GRAD_CENTRAL, this build). With the sensitivity engine
+ * (study/pom_grad.h of branch x29-sens), POM_CDS_GRAD_SENS replaces the
+ * time and energy rows g[0], g[1]: per maneuver k, a pom_grad on the
+ * design's config (keys and values from pom_cds_design_keys, plus the
+ * uncertain keys at their drawn values), pom_grad_maneuver_orientation to
+ * the drawn R, then dt_k/du_i = sum_j d_j dvalue_j/dx_v dx_v/du_i
+ * (pom_cds_dx_du), dT95/du = sum_k w_k dt_k/du (the smooth quantile's
+ * weights) and dE/du the mean of de_k/du; the other rows stay as here
+ * (kinematics: microseconds; the peak current has no sensitivity). */
 static pom_status point(opt_ctx *oc, const double *u, int want_grad) {
   const int n = oc->n_free;
   if (oc->have && memcmp(u, oc->u, sizeof(double) * (size_t)n) == 0 &&

@@ -3,10 +3,13 @@
  * equation, its limit the order statistic, its implicit-function
  * derivative against central differences) and the actuator size law. */
 #include "check.h"
+#include "codesign_internal.h"
 #include "pom_codesign.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 static double phi_cdf(double z) {
   return 0.5 * erfc(-z / sqrt(2.0));
@@ -63,7 +66,56 @@ static void test_size_law(void) {
   check_rel(km, 3.8 / sqrt(10.0) * pow(s, 1.5), 1e-14);
 }
 
+/* The chain rule's key Jacobian against central differences of the size
+ * law and the unit-box map (step 1e-6: truncation ~1e-12 relative). */
+static void test_key_jacobian(void) {
+  pom_cds_candidate cd;
+  memset(&cd, 0, sizeof cd);
+  cd.n_vars = 2;
+  snprintf(cd.var[0].key, sizeof cd.var[0].key, "controller.kp");
+  cd.var[0].lo = 1e3;
+  cd.var[0].hi = 1e5;
+  cd.var[0].log = 1;
+  cd.var[1].kind = POM_CDS_VAR_SIZE;
+  snprintf(cd.var[1].key, sizeof cd.var[1].key, "size");
+  cd.var[1].lo = 0.5;
+  cd.var[1].hi = 2.0;
+  cd.var[1].log = 1;
+  cd.n_sized = 2;
+  snprintf(cd.sized[0].key, sizeof cd.sized[0].key, "actuator.resistance_ohm");
+  cd.sized[0].exponent = -1.0;
+  cd.sized[0].nominal = 10.0;
+  snprintf(cd.sized[1].key, sizeof cd.sized[1].key, "inertia.piston.mass_kg");
+  cd.sized[1].exponent = 3.0;
+  cd.sized[1].nominal = 0.013;
+  const char *key[POM_CDS_MAX_KEYS];
+  double val[POM_CDS_MAX_KEYS], dv[POM_CDS_MAX_KEYS][POM_CDS_MAX_VARS];
+  double x[2] = {1.2e4, 1.3};
+  int n = pom_cds_design_keys(&cd, x, key, val, dv);
+  check_true(n == 3);
+  check_rel(val[1], 10.0 / 1.3, 1e-15);
+  const double h = 1e-6;
+  for (int k = 0; k < n; ++k)
+    for (int v = 0; v < 2; ++v) {
+      double xp[2] = {x[0], x[1]}, xm[2] = {x[0], x[1]};
+      double hv = h * x[v];
+      xp[v] += hv;
+      xm[v] -= hv;
+      const char *kk[POM_CDS_MAX_KEYS];
+      double vp[POM_CDS_MAX_KEYS], vm[POM_CDS_MAX_KEYS], d2[POM_CDS_MAX_KEYS][POM_CDS_MAX_VARS];
+      pom_cds_design_keys(&cd, xp, kk, vp, d2);
+      pom_cds_design_keys(&cd, xm, kk, vm, d2);
+      check_abs(dv[k][v], (vp[k] - vm[k]) / (2 * hv), 1e-8 * fmax(1.0, fabs(dv[k][v])));
+    }
+  /* log map: x = 10^(log lo + u (log hi - log lo)), dx/du = x ln 10 (log hi - log lo) */
+  double u = 0.37, du = 1e-7;
+  double xa = pow(10.0, 3.0 + (u + du) * 2.0), xb = pow(10.0, 3.0 + (u - du) * 2.0);
+  double xu = pow(10.0, 3.0 + u * 2.0);
+  check_rel(pom_cds_dx_du(&cd.var[0], xu), (xa - xb) / (2 * du), 1e-8);
+}
+
 int main(void) {
+  test_key_jacobian();
   test_quantile();
   test_size_law();
   return check_summary("test_codesign");
