@@ -286,9 +286,9 @@ pom_status pom_cds_write_svg(const pom_cds_problem *pb, const pom_cds_result *re
     }
   }
   double dt = fmax(tmax - tmin, 1e-6) * 0.1, de = fmax(emax - emin, 1e-9) * 0.1;
-  tmin -= dt;
+  tmin = fmax(0.0, tmin - dt);
   tmax += dt;
-  emin -= de;
+  emin = fmax(0.0, emin - de);
   emax += de;
 #define PX(t) (L + ((t)-tmin) / (tmax - tmin) * (W - L - R))
 #define PY(e) (H - B - ((e)-emin) / (emax - emin) * (H - T - B))

@@ -123,4 +123,28 @@ printf 'pomlab codesign journal 1 0123456789abcdef\n' > "$TMP/o.h5.journal"
 "$POMLAB" codesign "$TMP/other.cfg" --out "$TMP/o.h5" --resume --quiet > /dev/null 2> "$TMP/o.err"
 [ $? -ne 0 ] && grep -q "another codesign file" "$TMP/o.err" || bad "resume: a foreign journal was not refused"
 
+# ---- a catalog architecture is one stanza: a design parameter its config
+# leaves to the .arch file's default, a rotary coil sized by the law ----
+cat > "$TMP/cat.cfg" <<EOF
+name = "catalog";
+montecarlo = { maneuvers = 2; seed = 5; space = "orientation"; tilt_max_deg = 5.0; torsion_max_deg = 5.0; };
+codesign = {
+  requirements = { workspace_half_width_deg = 6.0; dexterity_min = 0.3; current_limit_A = 3.0;
+                   envelope_radius_mm = 150.0; time_max_ms = 60.0; };
+  optimizer = { max_evals = 2; starts = 1; };
+  front_points = 2;
+  reevaluate = { maneuvers = 2; };
+};
+candidates = (
+  { name = "C08"; config = "$SRC/configs/catalog/3rss_radial.cfg";
+    variables = ( { key = "geometry.crank_radius"; min = 0.9; max = 1.6; },
+                  { key = "size"; min = 0.7; max = 1.4; },
+                  { key = "controller.kd_s"; min = 1.0e-3; max = 8.0e-3; log = true; } ); }
+);
+EOF
+"$POMLAB" codesign "$TMP/cat.cfg" --out "$TMP/cat.h5" --quiet > "$TMP/cat.txt" 2> "$TMP/cat.err" \
+  || bad "catalog stanza: $(cat "$TMP/cat.err")"
+grep -q "geometry.crank_radius = [0-9.]* \\[1.2247\\]" "$TMP/cat.txt" \
+  || bad "catalog stanza: crank_radius does not start at the .arch default 1.2247: $(grep optimum "$TMP/cat.txt")"
+
 exit $fail
