@@ -61,6 +61,7 @@ int pom_cmd_tune(int argc, char **argv);
 int pom_cmd_montecarlo(int argc, char **argv);
 int pom_cmd_study(int argc, char **argv);
 int pom_cmd_tradeoff(int argc, char **argv);
+int pom_cmd_codesign(int argc, char **argv);
 int pom_cmd_sensitivity(int argc, char **argv);
 int pom_cmd_view(int argc, char **argv);
 int pom_cmd_capability(int argc, char **argv);

@@ -17,3 +17,11 @@ add_test(NAME test_optimize_cli
 add_test(NAME test_synth_capability
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_synth_capability.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# pomlab codesign (docs/optimize.md 11): the smooth quantile and the size law
+pom_add_test(test_codesign test_codesign.c)
+target_link_libraries(test_codesign PRIVATE pom_optimize)
+# pomlab codesign end to end (docs/optimize.md 11): config errors, a small
+# run, the grid-slice check, resume
+add_test(NAME test_codesign_cli
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_codesign.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})

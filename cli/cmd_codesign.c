@@ -1,0 +1,246 @@
+/* cmd_codesign.c - `pomlab codesign CFG`: each architecture at its best
+ * (geometry, actuator size and gains on the closed-loop Monte-Carlo
+ * metrics; docs/optimize.md section 11). Parses and calls. */
+#include "cli_opts.h"
+#include "pom_cli.h"
+#include "pom_codesign.h"
+#include "pom_progress.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static void on_progress(void *user, const char *phase, long done, long total) {
+  pom_progress *bar = user;
+  (void)phase;
+  bar->total = total;
+  pom_progress_update(bar, done);
+}
+
+/* --slice CANDIDATE:V1:V2:N (variables 1-based, as listed in the file). */
+static int parse_slice(const char *s, const pom_cds_problem *pb, int *c, int *v1, int *v2, int *n) {
+  char buf[256];
+  snprintf(buf, sizeof buf, "%s", s);
+  char *p2 = strrchr(buf, ':');
+  if (!p2) return 0;
+  *p2++ = '\0';
+  char *p1 = strrchr(buf, ':');
+  if (!p1) return 0;
+  *p1++ = '\0';
+  char *p0 = strrchr(buf, ':');
+  if (!p0) return 0;
+  *p0++ = '\0';
+  *c = -1;
+  for (int k = 0; k < pb->n_candidates; ++k)
+    if (strcmp(pb->cand[k].name, buf) == 0) *c = k;
+  char *end = NULL;
+  long a = strtol(p0, &end, 10);
+  if (*end) return 0;
+  long b = strtol(p1, &end, 10);
+  if (*end) return 0;
+  long m = strtol(p2, &end, 10);
+  if (*end) return 0;
+  *v1 = (int)a - 1;
+  *v2 = (int)b - 1;
+  *n = (int)m;
+  return *c >= 0;
+}
+
+int pom_cmd_codesign(int argc, char **argv) {
+  const char *cfg_path = NULL, *out = NULL, *slice = NULL, *effic = NULL;
+  int quiet = 0, resume = 0, threads = -1;
+  const pom_opt opts[] = {
+      {.name = "--out",
+       .kind = POM_OPT_TEXT,
+       .arg = "FILE.h5",
+       .help = "results file (default codesign.output); beside it FILE.svg (the fronts) and, "
+               "while it runs, FILE.h5.journal (the resume journal)",
+       .text = &out},
+      {.name = "--resume",
+       .kind = POM_OPT_FLAG,
+       .help = "continue an interrupted run from its journal: finished optimizations are "
+               "taken from it, the rest run",
+       .flag = &resume,
+       .set = 1},
+      {.name = "--threads",
+       .kind = POM_OPT_INT,
+       .arg = "N",
+       .help = "threads for the maneuvers (0 = all cores; default codesign.threads)",
+       .ival = &threads,
+       .lo = 0,
+       .hi = 256},
+      {.name = "--slice",
+       .kind = POM_OPT_TEXT,
+       .arg = "CAND:V1:V2:N",
+       .help = "instead of the co-design: the grid-slice check of candidate CAND over its "
+               "variables V1 and V2 (1-based) on an N x N grid against the optimizer",
+       .text = &slice},
+      {.name = "--efficiency",
+       .kind = POM_OPT_TEXT,
+       .arg = "CAND:BUDGET",
+       .help = "instead of the co-design: the simulations the gradient-based time optimum of "
+               "candidate CAND used against those COBYLA (BUDGET evaluations) needs to reach "
+               "the same objective (within 0.5 %)",
+       .text = &effic},
+      {.name = "--quiet",
+       .kind = POM_OPT_FLAG,
+       .help = "no progress on stderr",
+       .flag = &quiet,
+       .set = 1},
+  };
+  const pom_cli_spec spec = {
+      .name = "codesign",
+      .usage = "CFG [--out FILE.h5] [--resume] [--threads N] [--slice CAND:V1:V2:N]\n"
+               "       [--efficiency CAND:BUDGET] [--quiet]",
+      .about = "Co-designs each candidate architecture: its geometry, an actuator size (one coil\n"
+               "family scaled by size) and its controller gains, on robust statistics of the\n"
+               "closed-loop Monte-Carlo metrics (smooth p95 pointing time, mean energy) under\n"
+               "one requirement set; a time-energy front per candidate by epsilon-constraint,\n"
+               "each optimum re-evaluated on a fresh maneuver set and on the parasitic model,\n"
+               "and the candidates ranked at their best (docs/optimize.md section 11).",
+      .notes = "Exit status: 0 ok; 1 a run or a write failed (the journal keeps the finished\n"
+               "optimizations: --resume); 2 usage or config error.",
+      .opts = opts,
+      .n_opts = POM_CLI_N(opts),
+      .args = &cfg_path,
+      .max_args = 1,
+      .n_args = NULL};
+  int prc = pom_cli_opts_parse(&spec, argc, argv, 0);
+  if (prc >= 0) return prc;
+  if (!cfg_path) {
+    pom_cli_opts_usage(&spec, stderr);
+    return 2;
+  }
+  pom_cfg *cfg = pom_cli_load_config(cfg_path);
+  if (!cfg) return 2;
+  pom_cds_problem *pb = calloc(1, sizeof *pb);
+  pom_cds_result *res = calloc(1, sizeof *res);
+  pom_error err;
+  pom_error_clear(&err);
+  int code = 0;
+  if (!pb || !res) {
+    fprintf(stderr, "pomlab codesign: out of memory\n");
+    code = 1;
+    goto done;
+  }
+  pom_status st = pom_cds_load(pb, cfg, &err);
+  if (st != POM_OK) {
+    pom_cli_report("codesign", &err);
+    code = pom_cli_exit_code(st);
+    goto done;
+  }
+  if (threads >= 0) pb->threads = threads;
+  if (slice) {
+    int c = 0, v1 = 0, v2 = 0, n = 0;
+    if (!parse_slice(slice, pb, &c, &v1, &v2, &n)) {
+      fprintf(stderr,
+              "pomlab codesign: --slice '%s': expected CANDIDATE:V1:V2:N with a "
+              "candidate of %s\n",
+              slice, cfg_path);
+      code = 2;
+      goto done;
+    }
+    pom_cds_slice sl;
+    st = pom_cds_grid_slice(pb, c, v1, v2, n, &sl, &err);
+    if (st != POM_OK) {
+      pom_cli_report("codesign", &err);
+      code = pom_cli_exit_code(st);
+      goto done;
+    }
+    const pom_cds_candidate *cd = &pb->cand[c];
+    printf("grid slice of %s over %s x %s (%d x %d, others at the config's design)\n", cd->name,
+           cd->var[v1].key, cd->var[v2].key, n, n);
+    printf("grid best      p95 %.4f ms at %.6g, %.6g (%ld simulations)%s\n", 1e3 * sl.grid_best,
+           sl.grid_x1, sl.grid_x2, sl.grid_simulations,
+           sl.grid_feasible ? "" : " (no feasible grid point)");
+    printf("optimizer best p95 %.4f ms at %.6g, %.6g (%ld simulations)\n", 1e3 * sl.opt_best,
+           sl.opt_x1, sl.opt_x2, sl.opt_simulations);
+    printf("optimizer / grid = %.5f\n", sl.opt_best / sl.grid_best);
+    goto done;
+  }
+  if (effic) {
+    char name[256];
+    snprintf(name, sizeof name, "%s", effic);
+    char *colon = strrchr(name, ':');
+    char *end = NULL;
+    long budget = colon ? strtol(colon + 1, &end, 10) : 0;
+    int c = -1;
+    if (colon) *colon = '\0';
+    for (int k = 0; k < pb->n_candidates; ++k)
+      if (strcmp(pb->cand[k].name, name) == 0) c = k;
+    if (c < 0 || !end || *end || budget < 2 || budget > 100000) {
+      fprintf(stderr,
+              "pomlab codesign: --efficiency '%s': expected CANDIDATE:BUDGET with a "
+              "candidate of %s and a budget of 2..100000 evaluations\n",
+              effic, cfg_path);
+      code = 2;
+      goto done;
+    }
+    pom_cds_efficiency ef;
+    st = pom_cds_efficiency_run(pb, c, (int)budget, 0.005, &ef, &err);
+    if (st != POM_OK) {
+      pom_cli_report("codesign", &err);
+      code = pom_cli_exit_code(st);
+      goto done;
+    }
+    printf("efficiency, time optimum of %s from the config's design (%ld maneuvers per "
+           "evaluation)\n",
+           pb->cand[c].name, pb->maneuvers.count);
+    printf("gradient-based: p95 %.4f ms, %ld simulations (%ld evaluations)%s\n", 1e3 * ef.grad_best,
+           ef.grad_sims, ef.grad.evaluations,
+           ef.grad.fallback_used ? ", COBYLA fallback included" : "");
+    printf("COBYLA:         p95 %.4f ms, %ld simulations (%ld evaluations)\n", 1e3 * ef.dfree_best,
+           ef.dfree.simulations, ef.dfree.evaluations);
+    if (ef.dfree_sims_to_match >= 0)
+      printf("COBYLA reached the gradient-based objective (+0.5 %%) after %ld simulations: "
+             "ratio %.2f\n",
+             ef.dfree_sims_to_match, (double)ef.dfree_sims_to_match / (double)ef.grad_sims);
+    else
+      printf("COBYLA did not reach the gradient-based objective (+0.5 %%) within its budget: "
+             "ratio > %.2f\n",
+             (double)ef.dfree.simulations / (double)ef.grad_sims);
+    /* and the other way: when the gradient-based run first came within
+     * 0.5 % of COBYLA's final objective */
+    long g_match = -1;
+    for (int i = 0; i < ef.grad.n_hist; ++i)
+      if (ef.grad.hist_best[i] <= ef.dfree_best * 1.005) {
+        g_match = ef.grad.hist_sims[i];
+        break;
+      }
+    if (g_match >= 0)
+      printf("the gradient-based run came within 0.5 %% of COBYLA's final objective after %ld "
+             "simulations: COBYLA used %.2f times as many\n",
+             g_match, (double)ef.dfree.simulations / (double)g_match);
+    goto done;
+  }
+  const char *path = out ? out : pb->output;
+  char journal[1200], svg[1200];
+  snprintf(journal, sizeof journal, "%s.journal", path);
+  snprintf(svg, sizeof svg, "%s", path);
+  size_t L = strlen(svg);
+  if (L > 3 && strcmp(svg + L - 3, ".h5") == 0) svg[L - 3] = '\0';
+  strncat(svg, ".svg", sizeof svg - strlen(svg) - 1);
+  pom_progress bar;
+  pom_progress_init(&bar, quiet ? NULL : stderr, "codesign", 1, 0, 0);
+  st = pom_cds_run(pb, journal, resume, on_progress, &bar, res, &err);
+  pom_progress_finish(&bar, bar.total);
+  if (st == POM_OK) st = pom_cds_write_h5(pb, res, path, &err);
+  if (st == POM_OK) st = pom_cds_write_svg(pb, res, svg, &err);
+  if (st != POM_OK) {
+    pom_cli_report("codesign", &err);
+    if (access(journal, F_OK) == 0)
+      fprintf(stderr, "pomlab codesign: the finished optimizations are kept in '%s' (--resume)\n",
+              journal);
+    code = pom_cli_exit_code(st);
+    goto done;
+  }
+  unlink(journal); /* finished: the results file holds everything */
+  pom_cds_report_text(stdout, pb, res);
+  printf("Results: %s; figure: %s\n", path, svg);
+done:
+  if (pb) pom_cds_clear(pb);
+  free(pb);
+  free(res);
+  pom_cfg_destroy(cfg);
+  return code;
+}

@@ -1,0 +1,150 @@
+#!/bin/bash
+# test_codesign.sh POMLAB SOURCE_DIR - `pomlab codesign` (docs/optimize.md
+# section 11) end to end on a small problem: config errors name file, key
+# and value; a run writes the results file, the figure and the report with
+# the optimizer's and the re-evaluated figures side by side; the time
+# optimum is no worse than the config's design on the optimizer's maneuvers
+# (the search starts there and keeps its best feasible point); the
+# grid-slice check (optimizer within 1 % of the grid's best); an
+# interrupted run resumed from its journal ends with the same optima as an
+# uninterrupted one, and a second run never touches the finished file until
+# it replaces it.
+set -u
+POMLAB=$1
+SRC=$2
+TMP=$(mktemp -d)
+trap 'rm -rf "$TMP"' EXIT
+fail=0
+bad() { echo "FAIL: $*"; fail=1; }
+
+# the candidate: the 3P-S-S/S reference, gains and size free
+cp "$SRC/configs/3pss.cfg" "$TMP/3pss.cfg"
+VARS='{ key = "size"; min = 0.6; max = 1.6; }, { key = "controller.kp"; min = 3.0e3; max = 3.0e4; log = true; }, { key = "controller.kd_s"; min = 1.5e-3; max = 6.0e-3; log = true; }'
+write() { # FILE [EXTRA CODESIGN KEYS] [VARIABLES]
+  cat > "$1" <<EOF
+name = "small";
+montecarlo = { maneuvers = 4; seed = 11; space = "orientation"; tilt_max_deg = 6.0; torsion_max_deg = 6.0; };
+uncertain = ( { key = "actuator.resistance_ohm"; dist = "uniform"; min = 0.95; max = 1.05; relative = true; } );
+codesign = {
+  output = "$TMP/out.h5";
+  threads = 2;
+  requirements = { workspace_half_width_deg = 8.0; dexterity_min = 0.3; current_limit_A = 3.0;
+                   envelope_radius_mm = 150.0; time_max_ms = 40.0; };
+  optimizer = { max_evals = 4; starts = 1; gradient_step = 0.02; };
+  front_points = 2;
+  reevaluate = { seed = 12; maneuvers = 6; };
+  ${2:-}
+};
+candidates = ( { name = "3P-S-S/S"; config = "3pss.cfg";
+  variables = ( ${3:-$VARS} ); } );
+EOF
+}
+
+# ---- config errors: file, key and value named, exit 2 ----
+expect_err() { # NAME PATTERN...
+  local name=$1
+  shift
+  "$POMLAB" codesign "$TMP/$name.cfg" --quiet > "$TMP/$name.out" 2> "$TMP/$name.err"
+  local rc=$?
+  [ $rc -eq 2 ] || bad "$name: exit $rc, expected 2"
+  for p in "$@"; do
+    grep -q -- "$p" "$TMP/$name.err" || bad "$name: stderr lacks '$p': $(cat "$TMP/$name.err")"
+  done
+}
+write "$TMP/e_bounds.cfg" "" '{ key = "controller.kp"; min = 3.0e4; max = 3.0e3; }'
+expect_err e_bounds "e_bounds.cfg" "candidates.\[0\].variables.\[0\].max" "3000"
+write "$TMP/e_key.cfg" "" '{ key = "geometry.no_such_key"; min = 1.0; max = 2.0; }'
+expect_err e_key "e_key.cfg" "geometry.no_such_key" "not a key of the config"
+write "$TMP/e_outside.cfg" "" '{ key = "controller.kp"; min = 2.0e4; max = 3.0e4; }'
+expect_err e_outside "e_outside.cfg" "controller.kp" "12000"
+write "$TMP/e_sized.cfg" "" '{ key = "actuator.resistance_ohm"; min = 5.0; max = 20.0; }'
+expect_err e_sized "e_sized.cfg" "actuator.resistance_ohm" "size law"
+write "$TMP/run.cfg"
+sed 's/seed = 12;/seed = 11;/' "$TMP/run.cfg" > "$TMP/e_seed.cfg"
+expect_err e_seed "e_seed.cfg" "codesign.reevaluate.seed" "fresh"
+sed 's/dexterity_min = 0.3;/workspace_grid = 4; dexterity_min = 0.3;/' "$TMP/run.cfg" > "$TMP/e_grid.cfg"
+expect_err e_grid "e_grid.cfg" "workspace_grid" "odd"
+write "$TMP/e_unknown.cfg" 'frnt_points = 3;'
+expect_err e_unknown "e_unknown.cfg" "frnt_points"
+sed 's/max_evals = 4;/algorithm = "newton"; max_evals = 4;/' "$TMP/run.cfg" > "$TMP/e_alg.cfg"
+expect_err e_alg "e_alg.cfg" "codesign.optimizer.algorithm" "newton"
+
+# ---- a small run end to end ----
+write "$TMP/run.cfg"
+"$POMLAB" codesign "$TMP/run.cfg" --out "$TMP/a.h5" > "$TMP/a.txt" 2> "$TMP/a.err"
+rc=$?
+[ $rc -eq 0 ] || bad "run: exit $rc: $(cat "$TMP/a.err")"
+[ -s "$TMP/a.h5" ] || bad "run: no results file"
+[ -s "$TMP/a.svg" ] || bad "run: no figure"
+[ -e "$TMP/a.h5.journal" ] && bad "run: the journal of a finished run is left"
+grep -q "codesign" "$TMP/a.err" || bad "run: no progress on stderr"
+for p in "config's design" "fresh rigid" "fresh parasitic" "hypervolume" "Ranking"; do
+  grep -q "$p" "$TMP/a.txt" || bad "run: report lacks '$p'"
+done
+for d in front_x front_optimizer front_fresh front_fresh_parasitic front_info config_figures; do
+  h5ls "$TMP/a.h5/candidates/3P_S_S_S/$d" > /dev/null 2>&1 || bad "run: no dataset $d"
+done
+# optimizer's p95 of the time optimum <= the config design's (same maneuvers)
+read -r conf best < <(awk '/config.s design: optimizer set/ {c = $5} /^  1 +min t/ {b = $4} END {print c, b}' "$TMP/a.txt")
+awk -v c="$conf" -v b="$best" 'BEGIN {exit !(b + 0 > 0 && b <= c + 1e-9)}' \
+  || bad "run: time optimum p95 $best ms above the config design's $conf ms"
+
+# ---- grid-slice check: the optimizer within 1 % of a 7 x 7 grid's best ----
+"$POMLAB" codesign "$TMP/run.cfg" --slice "3P-S-S/S:2:3:7" > "$TMP/slice.txt" 2> "$TMP/slice.err" \
+  || bad "slice: $(cat "$TMP/slice.err")"
+ratio=$(awk '/optimizer \/ grid/ {print $NF}' "$TMP/slice.txt")
+awk -v r="$ratio" 'BEGIN {exit !(r > 0 && r <= 1.01)}' || bad "slice: optimizer / grid = '$ratio'"
+
+# ---- resume: kill a run after its first finished task, resume, compare ----
+sum_before=$(md5sum < "$TMP/a.h5")
+"$POMLAB" codesign "$TMP/run.cfg" --out "$TMP/a.h5" --quiet > /dev/null 2>&1 &
+pid=$!
+for _ in $(seq 1 600); do
+  [ -f "$TMP/a.h5.journal" ] && [ "$(grep -c '^task' "$TMP/a.h5.journal")" -ge 1 ] && break
+  sleep 0.1
+done
+kill -9 $pid 2> /dev/null
+wait $pid 2> /dev/null
+[ "$(md5sum < "$TMP/a.h5")" = "$sum_before" ] || bad "resume: the finished file changed during a second run"
+grep -q '^task' "$TMP/a.h5.journal" || bad "resume: no finished task in the journal"
+"$POMLAB" codesign "$TMP/run.cfg" --out "$TMP/a.h5" --resume > "$TMP/r.txt" 2> "$TMP/r.err" \
+  || bad "resume: $(cat "$TMP/r.err")"
+h5dump -d /candidates/3P_S_S_S/front_x "$TMP/a.h5" | grep -v HDF5 > "$TMP/r.x"
+h5dump -d /candidates/3P_S_S_S/front_fresh "$TMP/a.h5" | grep -v HDF5 > "$TMP/r.f"
+"$POMLAB" codesign "$TMP/run.cfg" --out "$TMP/b.h5" --quiet > /dev/null 2>&1 || bad "second run failed"
+h5dump -d /candidates/3P_S_S_S/front_x "$TMP/b.h5" | grep -v HDF5 > "$TMP/b.x"
+h5dump -d /candidates/3P_S_S_S/front_fresh "$TMP/b.h5" | grep -v HDF5 > "$TMP/b.f"
+cmp -s "$TMP/r.x" "$TMP/b.x" || bad "resume: optima differ from an uninterrupted run"
+cmp -s "$TMP/r.f" "$TMP/b.f" || bad "resume: re-evaluated figures differ from an uninterrupted run"
+h5dump -a /resumed_tasks "$TMP/a.h5" | grep -q "(0): [1-9]" || bad "resume: no task was taken from the journal"
+# a journal of another problem is refused
+sed 's/front_points = 2;/front_points = 3;/' "$TMP/run.cfg" > "$TMP/other.cfg"
+printf 'pomlab codesign journal 1 0123456789abcdef\n' > "$TMP/o.h5.journal"
+"$POMLAB" codesign "$TMP/other.cfg" --out "$TMP/o.h5" --resume --quiet > /dev/null 2> "$TMP/o.err"
+[ $? -ne 0 ] && grep -q "another codesign file" "$TMP/o.err" || bad "resume: a foreign journal was not refused"
+
+# ---- a catalog architecture is one stanza: a design parameter its config
+# leaves to the .arch file's default, a rotary coil sized by the law ----
+cat > "$TMP/cat.cfg" <<EOF
+name = "catalog";
+montecarlo = { maneuvers = 2; seed = 5; space = "orientation"; tilt_max_deg = 5.0; torsion_max_deg = 5.0; };
+codesign = {
+  requirements = { workspace_half_width_deg = 6.0; dexterity_min = 0.3; current_limit_A = 3.0;
+                   envelope_radius_mm = 150.0; time_max_ms = 60.0; };
+  optimizer = { max_evals = 2; starts = 1; };
+  front_points = 2;
+  reevaluate = { maneuvers = 2; };
+};
+candidates = (
+  { name = "C08"; config = "$SRC/configs/catalog/3rss_radial.cfg";
+    variables = ( { key = "geometry.crank_radius"; min = 0.9; max = 1.6; },
+                  { key = "size"; min = 0.7; max = 1.4; },
+                  { key = "controller.kd_s"; min = 1.0e-3; max = 8.0e-3; log = true; } ); }
+);
+EOF
+"$POMLAB" codesign "$TMP/cat.cfg" --out "$TMP/cat.h5" --quiet > "$TMP/cat.txt" 2> "$TMP/cat.err" \
+  || bad "catalog stanza: $(cat "$TMP/cat.err")"
+grep -q "geometry.crank_radius = [0-9.]* \\[1.2247\\]" "$TMP/cat.txt" \
+  || bad "catalog stanza: crank_radius does not start at the .arch default 1.2247: $(grep optimum "$TMP/cat.txt")"
+
+exit $fail
