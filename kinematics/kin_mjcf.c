@@ -358,7 +358,9 @@ static void closures(writer *w, const model *md) {
   for (int j = 0; j < m->n_joints; ++j) {
     if (!md->t->closes[j]) continue;
     const pom_mech_joint *jt = &m->joint[j];
-    const char *n0 = m->body[jt->body[0]].name, *n1 = m->body[jt->body[1]].name;
+    /* the ground is MJCF's worldbody, named "world" */
+    const char *n0 = jt->body[0] == 0 ? "world" : m->body[jt->body[0]].name;
+    const char *n1 = jt->body[1] == 0 ? "world" : m->body[jt->body[1]].name;
     const double *o0 = m->body[jt->body[0]].cm;
     double far[3];
     out(w, "    <!-- joint ");
@@ -447,6 +449,9 @@ pom_status pom_mjcf_write(FILE *f, const char *name, const pom_kin_arch *arch,
     if (shape[s].body == 0) geom_shape(&w, 2, m->body[0].cm, &shape[s]);
   for (int b = 1; b < m->n_bodies; ++b)
     if (tree.parent[b] == 0) body(&w, 2, &md, b);
+  for (int j = 0; j < m->n_joints; ++j) /* a universal joint on the ground closing a loop */
+    if (tree.closes[j] && m->joint[j].type == POM_JOINT_UNIVERSAL && m->joint[j].body[0] == 0)
+      cross_body(&w, 2, &md, 0, j);
   out(&w, "  </worldbody>\n");
   if (tree.n_closures) {
     out(&w, "  <equality>\n");

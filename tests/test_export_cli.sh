@@ -36,9 +36,15 @@ joints = {j.get("name"): j.get("type") for j in root.iter("joint")}
 closures = 0
 for j in mech["joints"]:
     n, t = j["name"], j["type"]
-    if t == "universal" and (n + "_1") in joints:
+    if t == "universal" and (n + "_cross") in bodies:
+        # closes a loop: its cross turns on body[0] by the hinge n_1, the
+        # second hinge is two connects
         want(joints.get(n + "_1") == "hinge", n + "_1 a hinge")
-        want(joints.get(n + "_2") == "hinge" or (n + "_cross") in bodies, n + "_2 a hinge")
+        closures += 1
+        want(not j["actuated"], n + " closes a loop")
+    elif t == "universal" and (n + "_1") in joints:
+        want(joints.get(n + "_1") == "hinge", n + "_1 a hinge")
+        want(joints.get(n + "_2") == "hinge", n + "_2 a hinge")
     elif n in joints:
         want(joints[n] == kinds[t], "%s: %s as %s" % (n, t, joints[n]))
     else:
