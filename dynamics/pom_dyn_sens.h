@@ -20,15 +20,15 @@
 
 /* Why a derivative is undefined (docs/optimize.md, "Design gradients"). */
 typedef enum {
-  POM_DYN_GRAD_OK = 0,          /* defined */
-  POM_DYN_GRAD_NEVER_SETTLED,   /* outside the band at the horizon: the time is censored */
+  POM_DYN_GRAD_OK = 0,           /* defined */
+  POM_DYN_GRAD_NEVER_SETTLED,    /* outside the band at the horizon: the time is censored */
   POM_DYN_GRAD_SETTLED_AT_START, /* inside the band from t = 0 on (or no band: zero step) */
-  POM_DYN_GRAD_GRAZING,         /* the last crossing grazes the band (dg/dt ~ 0) or a later
-                                   excursion comes within the grazing margin of it */
-  POM_DYN_GRAD_TIE,             /* execution time: two actuators' settling times tie */
-  POM_DYN_GRAD_UNKNOWN,         /* the metric itself is NaN (no target orientation, no
-                                   reference trajectory, a failed maneuver) */
-  POM_DYN_GRAD_NONFINITE        /* a non-finite sensitivity (an evaluation failed) */
+  POM_DYN_GRAD_GRAZING,          /* the last crossing grazes the band (dg/dt ~ 0) or a later
+                                    excursion comes within the grazing margin of it */
+  POM_DYN_GRAD_TIE,              /* execution time: two actuators' settling times tie */
+  POM_DYN_GRAD_UNKNOWN,          /* the metric itself is NaN (no target orientation, no
+                                    reference trajectory, a failed maneuver) */
+  POM_DYN_GRAD_NONFINITE         /* a non-finite sensitivity (an evaluation failed) */
 } pom_dyn_grad_why;
 
 /* Short text of a reason ("never settled", ...), static storage. */
@@ -58,6 +58,7 @@ typedef struct {
   double crossing_rate[3];
   double pointing_crossing_rate;
   long sens_rhs_evals; /* right-hand sides spent on the sensitivities (both models) */
+  long restarts;       /* restarts at a raw voltage entering its linear band */
 } pom_dyn_grad;
 
 /* Sensitivity corrector: CVODES' staggered (default) or simultaneous. */
@@ -65,16 +66,18 @@ typedef enum { POM_DYN_SENS_STAGGERED = 0, POM_DYN_SENS_SIMULTANEOUS = 1 } pom_d
 
 /* What the caller differentiates with respect to. */
 typedef struct {
-  int n;                                         /* parameters, 1..POM_DYN_SENS_MAX */
-  const pom_dyn_model *plus[POM_DYN_SENS_MAX];   /* model at p_j + h_j */
-  const pom_dyn_model *minus[POM_DYN_SENS_MAX];  /* model at p_j - h_j */
-  double step[POM_DYN_SENS_MAX];                 /* h_j > 0 (the caller's unit of p_j) */
-  double target_plus[POM_DYN_SENS_MAX][3];       /* setpoints of plus[j] (m or rad): the nominal
-                                                    target in joint space; IK of the perturbed
-                                                    geometry for an orientation target */
-  double target_minus[POM_DYN_SENS_MAX][3];      /* of minus[j] */
-  pom_dyn_sens_method method;                    /* default staggered */
-  int error_control; /* 1 (default): the sensitivities enter CVODES' error test */
+  int n;                                        /* parameters, 1..POM_DYN_SENS_MAX */
+  const pom_dyn_model *plus[POM_DYN_SENS_MAX];  /* model at p_j + h_j */
+  const pom_dyn_model *minus[POM_DYN_SENS_MAX]; /* model at p_j - h_j */
+  double step[POM_DYN_SENS_MAX];                /* h_j > 0 (the caller's unit of p_j) */
+  double target_plus[POM_DYN_SENS_MAX][3];      /* setpoints of plus[j] (m or rad): the nominal
+                                                   target in joint space; IK of the perturbed
+                                                   geometry for an orientation target */
+  double target_minus[POM_DYN_SENS_MAX][3];     /* of minus[j] */
+  double scale[POM_DYN_SENS_MAX]; /* typical |p_j| (h_j's unit): CVODES' pbar, the scale of
+                                     s_j in the error test; 0 = 1e4 h_j */
+  pom_dyn_sens_method method;     /* default staggered */
+  int error_control;              /* 1 (default): the sensitivities enter CVODES' error test */
 } pom_dyn_sens_spec;
 
 /* Defaults: n 0, staggered, error control on. */
