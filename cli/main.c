@@ -75,6 +75,9 @@ static const command commands[] = {
     {.name = "view",
      .fn = HEAVY(pom_cmd_view),
      .summary = "the mechanism in 3-D in a browser page; --png, --mp4"},
+    {.name = "gradient",
+     .fn = HEAVY(pom_cmd_gradient),
+     .summary = "design gradients of the maneuver metrics (forward sensitivities)"},
     {.name = NULL, .fn = NULL, .summary = NULL} /* end */
 };
 
