@@ -105,7 +105,7 @@ const pom_dyn_dmetric *pom_grad_metric_grad(const pom_dyn_grad *g, pom_grad_metr
 
 void pom_grad_options_defaults(pom_grad_options *o) {
   memset(o, 0, sizeof *o);
-  o->rel_step = 1e-5;
+  o->rel_step = 3e-6;
   for (int j = 0; j < POM_GRAD_MAX_PARAMS; ++j)
     o->abs_floor[j] = 1.0;
   o->method = POM_DYN_SENS_STAGGERED;

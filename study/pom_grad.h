@@ -67,8 +67,8 @@ typedef struct {
    * 0 (abs_floor given per key, default 1): the step of the model
    * differences inside the sensitivities (docs/optimize.md: rounding
    * O(eps/h) against the saturation's narrow linear band, which a larger
-   * step straddles: 1e-5 measured best) */
-  double rel_step;                       /* default 1e-5 */
+   * step straddles: 3e-6 measured best) */
+  double rel_step;                       /* default 3e-6 */
   double abs_floor[POM_GRAD_MAX_PARAMS]; /* default 1 (config units) */
   pom_dyn_sens_method method;            /* default staggered */
   int error_control;                     /* default 1 */

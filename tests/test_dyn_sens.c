@@ -21,8 +21,8 @@
 #define RTOL 1e-12
 /* The relative step of the model differences inside the sensitivities
  * (docs/optimize.md: the saturation's narrow linear band makes a larger one
- * straddle it: 1e-4 gave 1.7e-3 on d energy / d R). */
-#define HREL 1e-5
+ * straddle it: 1e-4 gave 1.7e-3 on d energy / d R, 1e-5 1e-5, 3e-6 3e-6). */
+#define HREL 3e-6
 
 typedef enum { P_RESISTANCE, P_KP, P_TAU_D, P_FORCE_CONSTANT, P_LIMB_MASS, P_N } param_kind;
 static const char *const param_name[P_N] = {"actuator.resistance", "controller.kp", "controller.kd",
