@@ -6,7 +6,6 @@
 #include "cli_opts.h"
 #include "pom_cli.h"
 #include "pom_grad.h"
-#include "pom_json.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -53,54 +52,6 @@ static void print_text(FILE *out, const pom_grad *g, const pom_dyn_metrics *mt,
     if (!c->defined) fprintf(out, " undefined");
     fprintf(out, "\n");
   }
-}
-
-static void json_grad(FILE *out, const pom_dyn_dmetric *d, int n) {
-  if (!d->defined) {
-    fprintf(out, "null");
-    return;
-  }
-  pom_json_vec(out, d->d, n, 1.0);
-}
-
-static void print_json_one(FILE *out, const pom_grad *g, const pom_dyn_metrics *mt,
-                           const pom_dyn_grad *gr, const pom_dyn_grad *fd) {
-  const int n = pom_grad_n_params(g);
-  fprintf(out, "{\"status\": ");
-  pom_json_string(out, pom_status_name(mt->status));
-  fprintf(out, ", \"reason\": ");
-  pom_json_string(out, mt->reason);
-  fprintf(out, ", \"target\": ");
-  pom_json_vec(out, mt->target, 3, 1.0);
-  fprintf(out, ", \"metrics\": {");
-  for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
-    fprintf(out, "%s\"%s\": ", k ? ", " : "", pom_grad_metric_name((pom_grad_metric)k));
-    pom_json_number(out, pom_grad_metric_value(mt, (pom_grad_metric)k));
-  }
-  fprintf(out, "}, \"gradient\": {");
-  for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
-    fprintf(out, "%s\"%s\": ", k ? ", " : "", pom_grad_metric_name((pom_grad_metric)k));
-    json_grad(out, pom_grad_metric_grad(gr, (pom_grad_metric)k), n);
-  }
-  fprintf(out, "}, \"undefined\": {");
-  int first = 1;
-  for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
-    const pom_dyn_dmetric *d = pom_grad_metric_grad(gr, (pom_grad_metric)k);
-    if (d->defined) continue;
-    fprintf(out, "%s\"%s\": ", first ? "" : ", ", pom_grad_metric_name((pom_grad_metric)k));
-    pom_json_string(out, pom_dyn_grad_why_text(d->why));
-    first = 0;
-  }
-  fprintf(out, "}");
-  if (fd) {
-    fprintf(out, ", \"check\": {");
-    for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
-      fprintf(out, "%s\"%s\": ", k ? ", " : "", pom_grad_metric_name((pom_grad_metric)k));
-      json_grad(out, pom_grad_metric_grad(fd, (pom_grad_metric)k), n);
-    }
-    fprintf(out, "}");
-  }
-  fprintf(out, "}");
 }
 
 int pom_cmd_gradient(int argc, char **argv) {
@@ -222,38 +173,7 @@ int pom_cmd_gradient(int argc, char **argv) {
     return pom_cli_exit_code(st);
   }
   if (json) {
-    printf("{\"config\": ");
-    pom_json_string(stdout, cfg_path);
-    printf(", \"keys\": [");
-    for (int j = 0; j < n; ++j) {
-      printf("%s", j ? ", " : "");
-      pom_json_string(stdout, pom_grad_key(g, j));
-    }
-    printf("], \"values\": [");
-    for (int j = 0; j < n; ++j) {
-      printf("%s", j ? ", " : "");
-      pom_json_number(stdout, pom_grad_value(g, j));
-    }
-    printf("], \"maneuvers\": [");
-    for (long i = 0; i < r.n; ++i) {
-      printf("%s\n  ", i ? "," : "");
-      print_json_one(stdout, g, &r.metrics[i], &r.grads[i], check ? &c.grads[i] : NULL);
-    }
-    printf("],\n \"finished\": %ld, \"mean\": {", r.n_finished);
-    for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
-      printf("%s\"%s\": ", k ? ", " : "", pom_grad_metric_name((pom_grad_metric)k));
-      pom_json_number(stdout, r.mean[k]);
-    }
-    printf("}, \"mean_gradient\": {");
-    for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
-      printf("%s\"%s\": ", k ? ", " : "", pom_grad_metric_name((pom_grad_metric)k));
-      json_grad(stdout, &r.dmean[k], n);
-    }
-    printf("}, \"mean_gradient_defined_in\": {");
-    for (int k = 0; k < POM_GRAD_N_METRICS; ++k)
-      printf("%s\"%s\": %ld", k ? ", " : "", pom_grad_metric_name((pom_grad_metric)k),
-             r.n_defined[k]);
-    printf("}}\n");
+    pom_grad_mc_json(stdout, cfg_path, g, &r, check ? &c : NULL);
   } else {
     printf("pomlab gradient %s: %ld maneuvers, keys:", cfg_path, r.n);
     for (int j = 0; j < n; ++j)

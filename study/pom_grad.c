@@ -4,6 +4,7 @@
  * Monte-Carlo means with their gradients. */
 #include "pom_grad.h"
 #include "study_internal.h"
+#include "pom_json.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -677,4 +678,90 @@ pom_status pom_grad_montecarlo(pom_grad *g, const pom_grad_mc_options *o, pom_gr
     fin += r->metrics[i].status == POM_OK;
   r->n_finished = fin;
   return POM_OK;
+}
+
+/* ---- JSON ---------------------------------------------------------------------------- */
+static void json_grad(FILE *out, const pom_dyn_dmetric *d, int n) {
+  if (!d->defined) {
+    fprintf(out, "null");
+    return;
+  }
+  pom_json_vec(out, d->d, n, 1.0);
+}
+
+static void json_one(FILE *out, const pom_grad *g, const pom_dyn_metrics *mt,
+                     const pom_dyn_grad *gr, const pom_dyn_grad *fd) {
+  const int n = pom_grad_n_params(g);
+  fprintf(out, "{\"status\": ");
+  pom_json_string(out, pom_status_name(mt->status));
+  fprintf(out, ", \"reason\": ");
+  pom_json_string(out, mt->reason);
+  fprintf(out, ", \"target\": ");
+  pom_json_vec(out, mt->target, 3, 1.0);
+  fprintf(out, ", \"metrics\": {");
+  for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
+    fprintf(out, "%s\"%s\": ", k ? ", " : "", pom_grad_metric_name((pom_grad_metric)k));
+    pom_json_number(out, pom_grad_metric_value(mt, (pom_grad_metric)k));
+  }
+  fprintf(out, "}, \"gradient\": {");
+  for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
+    fprintf(out, "%s\"%s\": ", k ? ", " : "", pom_grad_metric_name((pom_grad_metric)k));
+    json_grad(out, pom_grad_metric_grad(gr, (pom_grad_metric)k), n);
+  }
+  fprintf(out, "}, \"undefined\": {");
+  int first = 1;
+  for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
+    const pom_dyn_dmetric *d = pom_grad_metric_grad(gr, (pom_grad_metric)k);
+    if (d->defined) continue;
+    fprintf(out, "%s\"%s\": ", first ? "" : ", ", pom_grad_metric_name((pom_grad_metric)k));
+    pom_json_string(out, pom_dyn_grad_why_text(d->why));
+    first = 0;
+  }
+  fprintf(out, "}");
+  if (fd) {
+    fprintf(out, ", \"check\": {");
+    for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
+      fprintf(out, "%s\"%s\": ", k ? ", " : "", pom_grad_metric_name((pom_grad_metric)k));
+      json_grad(out, pom_grad_metric_grad(fd, (pom_grad_metric)k), n);
+    }
+    fprintf(out, "}");
+  }
+  fprintf(out, "}");
+}
+
+void pom_grad_mc_json(FILE *out, const char *cfg_path, const pom_grad *g,
+                      const pom_grad_mc_result *r, const pom_grad_mc_result *check) {
+  const int n = pom_grad_n_params(g);
+  fprintf(out, "{\"config\": ");
+  pom_json_string(out, cfg_path);
+  fprintf(out, ", \"keys\": [");
+  for (int j = 0; j < n; ++j) {
+    fprintf(out, "%s", j ? ", " : "");
+    pom_json_string(out, pom_grad_key(g, j));
+  }
+  fprintf(out, "], \"values\": [");
+  for (int j = 0; j < n; ++j) {
+    fprintf(out, "%s", j ? ", " : "");
+    pom_json_number(out, pom_grad_value(g, j));
+  }
+  fprintf(out, "], \"maneuvers\": [");
+  for (long i = 0; i < r->n; ++i) {
+    fprintf(out, "%s\n  ", i ? "," : "");
+    json_one(out, g, &r->metrics[i], &r->grads[i], check ? &check->grads[i] : NULL);
+  }
+  fprintf(out, "],\n \"finished\": %ld, \"mean\": {", r->n_finished);
+  for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
+    fprintf(out, "%s\"%s\": ", k ? ", " : "", pom_grad_metric_name((pom_grad_metric)k));
+    pom_json_number(out, r->mean[k]);
+  }
+  fprintf(out, "}, \"mean_gradient\": {");
+  for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
+    fprintf(out, "%s\"%s\": ", k ? ", " : "", pom_grad_metric_name((pom_grad_metric)k));
+    json_grad(out, &r->dmean[k], n);
+  }
+  fprintf(out, "}, \"mean_gradient_defined_in\": {");
+  for (int k = 0; k < POM_GRAD_N_METRICS; ++k)
+    fprintf(out, "%s\"%s\": %ld", k ? ", " : "", pom_grad_metric_name((pom_grad_metric)k),
+            r->n_defined[k]);
+  fprintf(out, "}}\n");
 }

@@ -23,7 +23,13 @@
  * value x draw and the derivative carries the draw; absolute -> the draw
  * replaces the value and the derivative is exactly 0.
  *
- * Library code: never prints. Not thread-safe per pom_grad (one per thread). */
+ * The models are built from the config's file text with its @includes:
+ * values set with pom_cfg_set_number reach the `montecarlo` group (read
+ * from cfg) but not the models; move design values with
+ * pom_grad_set_values.
+ *
+ * Library code: never prints (pom_grad_mc_json writes where it is told). Not thread-safe per
+ * pom_grad (one per thread). */
 #ifndef POM_GRAD_H
 #define POM_GRAD_H
 
@@ -34,6 +40,7 @@
 #include "pom_status.h"
 
 #include <stdint.h>
+#include <stdio.h>
 
 #define POM_GRAD_MAX_PARAMS POM_DYN_SENS_MAX
 #define POM_GRAD_KEY_LEN    96
@@ -150,6 +157,15 @@ typedef struct {
 pom_status pom_grad_montecarlo(pom_grad *g, const pom_grad_mc_options *o, pom_grad_mc_result *r,
                                pom_error *err);
 void pom_grad_mc_free(pom_grad_mc_result *r);
+
+/* Writes a Monte-Carlo result as JSON (SI; derivatives per config unit of
+ * each key; an undefined gradient is null with its reason under
+ * "undefined"): config, keys, values, per maneuver status, target, metrics,
+ * gradient (and "check": check's whole-run differences when check is not
+ * NULL), finished, mean, mean_gradient, mean_gradient_defined_in. What
+ * `pomlab gradient --json` prints and the Python module returns. */
+void pom_grad_mc_json(FILE *out, const char *cfg_path, const pom_grad *g,
+                      const pom_grad_mc_result *r, const pom_grad_mc_result *check);
 
 /* ---- the check ------------------------------------------------------------------- */
 /* Central differences of whole simulations of one maneuver (joint q or
