@@ -239,12 +239,13 @@ static pom_status build_set(model_set *s, const pom_grad *g, const double *value
   memset(s, 0, sizeof *s);
   pom_status st = evaluator(&s->nom, g, values, x, err);
   if (st != POM_OK) return st;
-  if (base(&s->nom)->params.joints.model != POM_JOINTS_RIGID) {
+  const pom_joint_model joints = base(&s->nom)->params.joints.model;
+  if (joints != POM_JOINTS_RIGID) {
     set_clear(s, 0);
     POM_FAIL(err, POM_ERR_ARG,
              "%s: design gradients need joints.model = \"rigid\" (the exact formulation); the "
              "config has \"%s\"",
-             g->name, pom_dyn_joint_model_name(base(&s->nom)->params.joints.model));
+             g->name, pom_dyn_joint_model_name(joints));
   }
   double v[POM_GRAD_MAX_PARAMS];
   memcpy(v, values, (size_t)g->n * sizeof *v);
