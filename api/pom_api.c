@@ -9,7 +9,7 @@
 #include "pom_dyn_ctrl.h"
 #include "pom_dyn_metrics_schema.h"
 #include "pom_dynamics.h"
-#include "pom_grad.h"
+#include "pom_study.h"
 #include "pom_h5.h"
 #include "pom_job.h"
 #include "pom_math.h"

@@ -5,7 +5,7 @@
  * central differences of whole simulations. */
 #include "cli_opts.h"
 #include "pom_cli.h"
-#include "pom_grad.h"
+#include "pom_study.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -595,17 +595,22 @@ int pom_dyn_poly_roots(const double *c, int n, double *re, double *im);
  * (CVODES' sensitivities on), after each step's settling watch (t0 the
  * step's start; the band times and the pointing band's time before the
  * watch, to find the crossings it located), and at the horizon. */
-pom_status pom_dyn_sens_begin(const pom_dyn_model *m, pom_dyn_data *d, pom_error *err);
-pom_status pom_dyn_sens_step(const pom_dyn_model *m, pom_dyn_data *d, double t0, double t,
-                             const double *t_settle_before, int point_before_valid,
-                             double point_before, pom_error *err);
-void pom_dyn_sens_end(const pom_dyn_model *m, pom_dyn_data *d);
-/* After a root return of a sensitivity run (an actuator's raw voltage
- * entering its linear band): the integration restarts there with the
- * sensitivities as they are, so that the band is resolved (dyn_sens.c). */
-pom_status pom_dyn_sens_restart(const pom_dyn_model *m, pom_dyn_data *d, double t, pom_error *err);
-/* Turns CVODES' sensitivities off for a plain re-run inside a sensitivity run. */
-void pom_dyn_sens_off(pom_dyn_data *d);
+typedef struct {
+  pom_status (*begin)(const pom_dyn_model *m, pom_dyn_data *d, pom_error *err);
+  pom_status (*step)(const pom_dyn_model *m, pom_dyn_data *d, double t0, double t,
+                     const double *t_settle_before, int point_before_valid, double point_before,
+                     pom_error *err);
+  void (*end)(const pom_dyn_model *m, pom_dyn_data *d);
+  /* after a root return of a sensitivity run (a raw voltage entering its
+   * linear band): the integration restarts there with the sensitivities
+   * as they are, so that the band is resolved */
+  pom_status (*restart)(const pom_dyn_model *m, pom_dyn_data *d, double t, pom_error *err);
+  /* CVODES' sensitivities off for a plain re-run inside a sensitivity run */
+  void (*off)(pom_dyn_data *d);
+} dyn_sens_ops;
+/* The driver reaches dyn_sens.c through this table, as it reaches the
+ * formulations through theirs (no circle of calls between the files). */
+extern const dyn_sens_ops pom_dyn_sens_ops;
 
 /* ---- exact formulation queries (dyn_exact.c; tests and diagnostics) ------- */
 /* State layout of an exact model: first orientation state, their number (3

@@ -186,7 +186,8 @@ static int band_roots(sunrealtype t, N_Vector yv, sunrealtype *gout, void *user_
   return 0;
 }
 
-pom_status pom_dyn_sens_restart(const pom_dyn_model *m, pom_dyn_data *d, double t, pom_error *err) {
+static pom_status pom_dyn_sens_restart(const pom_dyn_model *m, pom_dyn_data *d, double t,
+                                       pom_error *err) {
   struct dyn_sens *w = d->sens;
   double tret = t;
   long steps = 0;
@@ -204,7 +205,7 @@ pom_status pom_dyn_sens_restart(const pom_dyn_model *m, pom_dyn_data *d, double 
 }
 
 /* ---- hooks of the driver (dyn_simulate.c) ------------------------------------ */
-pom_status pom_dyn_sens_begin(const pom_dyn_model *m, pom_dyn_data *d, pom_error *err) {
+static pom_status pom_dyn_sens_begin(const pom_dyn_model *m, pom_dyn_data *d, pom_error *err) {
   struct dyn_sens *w = d->sens;
   const pom_dyn_sens_spec *sp = w->spec;
   for (int j = 0; j < w->n; ++j)
@@ -277,9 +278,9 @@ static void after_crossing(struct dyn_sens *w, int k, double g) {
   ++w->n_after[k];
 }
 
-pom_status pom_dyn_sens_step(const pom_dyn_model *m, pom_dyn_data *d, double t0, double t,
-                             const double *t_settle_before, int point_before_valid,
-                             double point_before, pom_error *err) {
+static pom_status pom_dyn_sens_step(const pom_dyn_model *m, pom_dyn_data *d, double t0, double t,
+                                    const double *t_settle_before, int point_before_valid,
+                                    double point_before, pom_error *err) {
   struct dyn_sens *w = d->sens;
   const pom_dyn_sens_spec *sp = w->spec;
   const dyn_settle *s = &d->settle;
@@ -340,7 +341,7 @@ pom_status pom_dyn_sens_step(const pom_dyn_model *m, pom_dyn_data *d, double t0,
   return POM_OK;
 }
 
-void pom_dyn_sens_end(const pom_dyn_model *m, pom_dyn_data *d) {
+static void pom_dyn_sens_end(const pom_dyn_model *m, pom_dyn_data *d) {
   struct dyn_sens *w = d->sens;
   const pom_dyn_sens_spec *sp = w->spec;
   double tret = 0.0;
@@ -368,9 +369,17 @@ void pom_dyn_sens_end(const pom_dyn_model *m, pom_dyn_data *d) {
   w->have_final = 1;
 }
 
-void pom_dyn_sens_off(pom_dyn_data *d) {
+static void pom_dyn_sens_off(pom_dyn_data *d) {
   (void)CVodeSensToggleOff(d->cvode);
 }
+
+const dyn_sens_ops pom_dyn_sens_ops = {
+    .begin = pom_dyn_sens_begin,
+    .step = pom_dyn_sens_step,
+    .end = pom_dyn_sens_end,
+    .restart = pom_dyn_sens_restart,
+    .off = pom_dyn_sens_off,
+};
 
 /* ---- the run ------------------------------------------------------------------ */
 static void ws_free(struct dyn_sens *w) {

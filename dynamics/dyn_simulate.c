@@ -371,7 +371,7 @@ static void stepinfo_rerun(const pom_dyn_model *m, pom_dyn_data *d, const double
    * run's (they were read at the horizon) */
   struct dyn_sens *sens = d->sens;
   d->sens = NULL;
-  if (sens) pom_dyn_sens_off(d);
+  if (sens) pom_dyn_sens_ops.off(d);
   if (set_tolerances(m, d, tighten) == 0)
     st2 = pom_dyn_simulate_ex(m, d, target, init, m2, NULL, NULL);
   d->sens = sens;
@@ -471,7 +471,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
     goto finish;
   }
   if (d->sens) { /* design gradients (dyn_sens.c) */
-    st = pom_dyn_sens_begin(m, d, err);
+    st = pom_dyn_sens_ops.begin(m, d, err);
     if (st != POM_OK) {
       mt->status = st;
       snprintf(mt->reason, sizeof mt->reason, "%s", err ? err->message : pom_strerror(st));
@@ -540,14 +540,15 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
       sens_t0 = d->settle.t_prev;
     }
     st = pom_dyn_settle_step(m, d, t, y, err);
-    if (st == POM_OK && d->sens) st = pom_dyn_sens_step(m, d, sens_t0, t, sens_ts, 1, sens_tp, err);
+    if (st == POM_OK && d->sens)
+      st = pom_dyn_sens_ops.step(m, d, sens_t0, t, sens_ts, 1, sens_tp, err);
     if (st != POM_OK) {
       mt->status = st;
       snprintf(mt->reason, sizeof mt->reason, "%s", err ? err->message : pom_strerror(st));
       goto finish;
     }
     if (d->sens && flag == CV_ROOT_RETURN) {
-      st = pom_dyn_sens_restart(m, d, t, err);
+      st = pom_dyn_sens_ops.restart(m, d, t, err);
       if (st != POM_OK) {
         mt->status = st;
         snprintf(mt->reason, sizeof mt->reason, "%s", err ? err->message : pom_strerror(st));
@@ -569,7 +570,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
   }
 
   /* energy audit at the horizon (docs/dynamics.md section 6) */
-  if (d->sens) pom_dyn_sens_end(m, d);
+  if (d->sens) pom_dyn_sens_ops.end(m, d);
   memcpy(d->yfinal, y, (size_t)m->n_states * sizeof(double));
   d->have_final = 1;
   {
