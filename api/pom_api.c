@@ -9,6 +9,7 @@
 #include "pom_dyn_ctrl.h"
 #include "pom_dyn_metrics_schema.h"
 #include "pom_dynamics.h"
+#include "pom_study.h"
 #include "pom_h5.h"
 #include "pom_job.h"
 #include "pom_math.h"
@@ -350,5 +351,43 @@ done:
   if (report) fclose(report);
   free(text);
   pom_doe_study_clear(&study);
+  return st;
+}
+
+pom_status pom_api_gradient_json(const pom_cfg *cfg, const char *const *keys, int n, long maneuvers,
+                                 char **json, pom_error *err) {
+  if (!json) POM_FAIL(err, POM_ERR_ARG, "pom_api_gradient_json: NULL argument");
+  *json = NULL;
+  if (!cfg || !keys) POM_FAIL(err, POM_ERR_ARG, "pom_api_gradient_json: NULL argument");
+  if (maneuvers < 0)
+    POM_FAIL(err, POM_ERR_ARG, "pom_api_gradient_json: maneuvers = %ld (0 = the config's)",
+             maneuvers);
+  POM_TRY(pom_arch_files_register_all(err));
+  pom_grad *g = NULL;
+  pom_grad_mc_result r;
+  memset(&r, 0, sizeof r);
+  pom_status st = pom_grad_create(&g, cfg, keys, n, NULL, err);
+  pom_grad_mc_options o;
+  pom_grad_mc_options_defaults(&o);
+  o.count = maneuvers;
+  if (st == POM_OK) st = pom_grad_montecarlo(g, &o, &r, err);
+  char *text = NULL;
+  size_t len = 0;
+  if (st == POM_OK) {
+    FILE *f = open_memstream(&text, &len);
+    if (!f) {
+      st = pom_error_set(err, POM_ERR_NOMEM, __FILE__, __LINE__, "gradient: out of memory");
+    } else {
+      pom_grad_mc_json(f, pom_cfg_path(cfg), g, &r, NULL);
+      if (fclose(f) != 0) {
+        free(text);
+        text = NULL;
+        st = pom_error_set(err, POM_ERR_NOMEM, __FILE__, __LINE__, "gradient: out of memory");
+      }
+    }
+  }
+  pom_grad_mc_free(&r);
+  pom_grad_destroy(g);
+  *json = text;
   return st;
 }

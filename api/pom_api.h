@@ -219,6 +219,14 @@ pom_status pom_api_study_run(const pom_cfg *cfg, const pom_api_study_opts *o, lo
 pom_status pom_api_study_run_json(const pom_cfg *cfg, const pom_api_study_opts *o, long *done,
                                   long *total, char **json, pom_error *err);
 
+/* Design gradients (study/pom_grad.h, docs/optimize.md section 12) of the
+ * Monte-Carlo maneuvers of a single-mechanism config with joints.model =
+ * "rigid": keys[n] its numeric design keys, maneuvers the count (0 = the
+ * config's montecarlo.maneuvers); *json (malloc'd: pom_api_free) receives
+ * what `pomlab gradient --json` prints. */
+pom_status pom_api_gradient_json(const pom_cfg *cfg, const char *const *keys, int n, long maneuvers,
+                                 char **json, pom_error *err);
+
 /* Frees memory the layer returned (pom_api_study_run_json's report); NULL
  * is allowed. */
 void pom_api_free(void *p);

@@ -81,6 +81,9 @@ static const command commands[] = {
     {.name = "export",
      .fn = pom_cmd_export,
      .summary = "the mechanism for another program: MuJoCo MJCF (--mjcf)"},
+    {.name = "gradient",
+     .fn = HEAVY(pom_cmd_gradient),
+     .summary = "design gradients of the maneuver metrics (forward sensitivities)"},
     {.name = NULL, .fn = NULL, .summary = NULL} /* end */
 };
 

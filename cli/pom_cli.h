@@ -59,6 +59,7 @@ int pom_cmd_simulate(int argc, char **argv);
 int pom_cmd_synth(int argc, char **argv);
 int pom_cmd_tune(int argc, char **argv);
 int pom_cmd_montecarlo(int argc, char **argv);
+int pom_cmd_gradient(int argc, char **argv);
 int pom_cmd_study(int argc, char **argv);
 int pom_cmd_tradeoff(int argc, char **argv);
 int pom_cmd_codesign(int argc, char **argv);

@@ -73,6 +73,7 @@ double pom_dyn_actuator_law(const pom_dyn_model *m, pom_dyn_data *d, int a, doub
   double b = m->par.scene.bearing_friction ? ap->bearing_friction : 0.0;
   o->q[a] = q;
   o->q_dot[a] = qd;
+  o->u_raw[a] = u_raw;
   o->current[a] = i;
   o->voltage[a] = u;
   if (ydot) {

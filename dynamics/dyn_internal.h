@@ -188,6 +188,9 @@ typedef struct {
    * factor 3 (pom_kin_dexterity_bound); NaN where not measured (the parasitic
    * path, the RHS evaluations, an unassemblable pose) */
   double dexterity_bound;
+  /* added by the design gradients (issue 29): the controller's raw voltage
+   * before the saturation (V), the root functions of a sensitivity run */
+  double u_raw[POM_MECH_MAX_ACTUATORS];
 } dyn_outputs;
 
 /* ---- settling on the integrator's dense output (dyn_settle.c) ------------
@@ -290,6 +293,9 @@ struct pom_dyn_data {
   void *setpoint_ctx;              /* its context, not owned */
   double u_inject[POM_MECH_MAX_ACTUATORS]; /* V added to each controller's raw voltage: zero
                                               except while dyn_freq.c breaks a loop */
+  /* added by the design gradients (issue 29, dyn_sens.c): the forward
+   * sensitivities of the run under way, NULL on a plain run */
+  struct dyn_sens *sens;
 };
 
 /* ---- formulations --------------------------------------------------------
@@ -588,6 +594,28 @@ void pom_dyn_newton_coef(pom_dyn_model *m, const double J[9], double atol_angle,
  * into re[n], im[n]; returns 1 when every root's relative residual is below
  * 1e-9, 0 otherwise (Aberth-Ehrlich iteration, Newton polish). */
 int pom_dyn_poly_roots(const double *c, int n, double *re, double *im);
+
+/* ---- forward sensitivities (dyn_sens.c, docs/optimize.md) --------------
+ * Hooks of the driver, called only when d->sens is set: after CVodeReInit
+ * (CVODES' sensitivities on), after each step's settling watch (t0 the
+ * step's start; the band times and the pointing band's time before the
+ * watch, to find the crossings it located), and at the horizon. */
+typedef struct {
+  pom_status (*begin)(const pom_dyn_model *m, pom_dyn_data *d, pom_error *err);
+  pom_status (*step)(const pom_dyn_model *m, pom_dyn_data *d, double t0, double t,
+                     const double *t_settle_before, int point_before_valid, double point_before,
+                     pom_error *err);
+  void (*end)(const pom_dyn_model *m, pom_dyn_data *d);
+  /* after a root return of a sensitivity run (a raw voltage entering its
+   * linear band): the integration restarts there with the sensitivities
+   * as they are, so that the band is resolved */
+  pom_status (*restart)(const pom_dyn_model *m, pom_dyn_data *d, double t, pom_error *err);
+  /* CVODES' sensitivities off for a plain re-run inside a sensitivity run */
+  void (*off)(pom_dyn_data *d);
+} dyn_sens_ops;
+/* The driver reaches dyn_sens.c through this table, as it reaches the
+ * formulations through theirs (no circle of calls between the files). */
+extern const dyn_sens_ops pom_dyn_sens_ops;
 
 /* ---- exact formulation queries (dyn_exact.c; tests and diagnostics) ------- */
 /* State layout of an exact model: first orientation state, their number (3

@@ -367,8 +367,14 @@ static void stepinfo_rerun(const pom_dyn_model *m, pom_dyn_data *d, const double
   if (!m2) return; /* flagged, as unresolved */
   memcpy(d->ysave, d->yfinal, (size_t)m->n_states * sizeof(double));
   pom_status st2 = POM_ERR_SOLVER;
+  /* a sensitivity run's re-run is plain: its sensitivities stay the first
+   * run's (they were read at the horizon) */
+  struct dyn_sens *sens = d->sens;
+  d->sens = NULL;
+  if (sens) pom_dyn_sens_ops.off(d);
   if (set_tolerances(m, d, tighten) == 0)
     st2 = pom_dyn_simulate_ex(m, d, target, init, m2, NULL, NULL);
+  d->sens = sens;
   if (set_tolerances(m, d, 1.0) != 0) st2 = POM_ERR_SOLVER; /* cannot happen: as configured */
   memcpy(d->yfinal, d->ysave, (size_t)m->n_states * sizeof(double));
   /* the re-run is the more accurate integration: every stepinfo time it
@@ -464,6 +470,14 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
     st = fail_status(d, CV_ILL_INPUT, 0.0, mt, err);
     goto finish;
   }
+  if (d->sens) { /* design gradients (dyn_sens.c) */
+    st = pom_dyn_sens_ops.begin(m, d, err);
+    if (st != POM_OK) {
+      mt->status = st;
+      snprintf(mt->reason, sizeof mt->reason, "%s", err ? err->message : pom_strerror(st));
+      goto finish;
+    }
+  }
   d->t = 0.0;
   pom_dyn_eval(m, d, y, NULL);
   if (below_dexterity_floor(m, d)) { /* a design singular at home */
@@ -480,6 +494,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
    * kept; the metrics come from the steps (docs/dynamics.md section 8) */
   int k = 1;
   long n_steps = 0;
+  double sens_ts[POM_MECH_MAX_ACTUATORS], sens_tp = 0.0, sens_t0 = 0.0;
   double t = 0.0;
   while (t < p->maneuver.horizon) {
     /* one internal step at a time: CVODE's own mxstep counts per call, so
@@ -518,11 +533,27 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
     }
     track_extremes(m, d, mt);
     pom_dyn_validity_step(m, d, t);
+    if (d->sens) { /* the band times before the watch: the crossings it locates */
+      for (int a = 0; a < m->n_actuators; ++a)
+        sens_ts[a] = d->settle.act[a].t_settle;
+      sens_tp = d->settle.point.t_settle;
+      sens_t0 = d->settle.t_prev;
+    }
     st = pom_dyn_settle_step(m, d, t, y, err);
+    if (st == POM_OK && d->sens)
+      st = pom_dyn_sens_ops.step(m, d, sens_t0, t, sens_ts, 1, sens_tp, err);
     if (st != POM_OK) {
       mt->status = st;
       snprintf(mt->reason, sizeof mt->reason, "%s", err ? err->message : pom_strerror(st));
       goto finish;
+    }
+    if (d->sens && flag == CV_ROOT_RETURN) {
+      st = pom_dyn_sens_ops.restart(m, d, t, err);
+      if (st != POM_OK) {
+        mt->status = st;
+        snprintf(mt->reason, sizeof mt->reason, "%s", err ? err->message : pom_strerror(st));
+        goto finish;
+      }
     }
     while (tr && k < d->n_samples && sample_time(p, k) <= t) {
       double tk = sample_time(p, k);
@@ -539,6 +570,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
   }
 
   /* energy audit at the horizon (docs/dynamics.md section 6) */
+  if (d->sens) pom_dyn_sens_ops.end(m, d);
   memcpy(d->yfinal, y, (size_t)m->n_states * sizeof(double));
   d->have_final = 1;
   {

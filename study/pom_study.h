@@ -18,6 +18,7 @@
 #include "pom_config.h"
 #include "pom_dyn_metrics_schema.h"
 #include "pom_dynamics.h"
+#include "pom_grad.h" /* design gradients from a config (pom_grad.c) */
 #include "pom_kinematics.h"
 #include "pom_mechanism.h"
 #include "pom_rows.h"

@@ -52,3 +52,10 @@ add_test(NAME test_doe_sweep
   COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/test_doe_sweep.sh $<TARGET_FILE:pomlab>
           ${CMAKE_CURRENT_BINARY_DIR}/doe_sweep
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+
+# design gradients against whole-run differences on random designs and maneuvers (issue 29):
+# 10 cases in the plain suite, 100 long-labelled
+pom_add_test(test_grad_random test_grad_random.c)
+target_link_libraries(test_grad_random PRIVATE pom_study pom_dynamics pom_kinematics pom_core)
+add_test(NAME test_grad_random_long COMMAND test_grad_random 100 WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+set_tests_properties(test_grad_random_long PROPERTIES LABELS long)

@@ -93,3 +93,8 @@ target_link_libraries(test_dyn_validity PRIVATE pom_dynamics pom_kinematics pom_
 pom_add_test(test_catalog_energy test_catalog_energy.c)
 target_include_directories(test_catalog_energy PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
 target_link_libraries(test_catalog_energy PRIVATE pom_dynamics pom_kinematics pom_core)
+
+# design gradients: forward sensitivities on the exact path against whole-run differences (issue 29)
+pom_add_test(test_dyn_sens test_dyn_sens.c)
+target_include_directories(test_dyn_sens PRIVATE ${CMAKE_SOURCE_DIR}/dynamics)
+target_link_libraries(test_dyn_sens PRIVATE pom_dynamics pom_kinematics pom_core)

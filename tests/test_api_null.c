@@ -170,6 +170,13 @@ static void test_study(void) {
   refused(pom_api_study_run_json(cfg, NULL, NULL, NULL, &json, &err), &err,
           "study_run_json(NULL opts)");
   check_true(json == NULL);
+  /* the design gradients: every pointer argument NULL in turn */
+  const char *gkeys[1] = {"actuator.resistance_ohm"};
+  refused(pom_api_gradient_json(NULL, gkeys, 1, 1, &json, &err), &err, "gradient_json(NULL cfg)");
+  refused(pom_api_gradient_json(cfg, NULL, 1, 1, &json, &err), &err, "gradient_json(NULL keys)");
+  refused(pom_api_gradient_json(cfg, gkeys, 1, 1, NULL, &err), &err, "gradient_json(NULL json)");
+  check_true(pom_api_gradient_json(cfg, gkeys, 1, 1, &json, NULL) != POM_OK); /* parasitic */
+  check_true(json == NULL);
   pom_api_free(NULL);
   /* NULL done, total, tabular and err: a run all the same */
   char dir[] = "/tmp/pom_test_api_null_XXXXXX", h5[128];

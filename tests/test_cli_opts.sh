@@ -27,6 +27,7 @@ declare -A options=(
   [tradeoff]="--accuracy --maneuvers --repeats --csv --quiet"
   [view]="-o --pose --trace --frame --frames --workspace --compare --png --mp4 --size --fps"
   [export]="--mjcf"
+  [gradient]="--params --maneuvers --seed --check --json"
 )
 for cmd in "${!options[@]}"; do
   expect_rc 0 "$POMLAB" "$cmd" --help
@@ -80,4 +81,16 @@ expect_rc 0 "$POMLAB" ik "$C/3pss.cfg" --euler-zyx=5,-3,2
 # --- the multi-config commands: at most 4 configs ------------------------------------------
 expect_rc 2 "$POMLAB" tune "$C/3pss.cfg" "$C/3pss.cfg" "$C/3pss.cfg" "$C/3pss.cfg" "$C/3pss.cfg"
 expect_err "at most 4 configs"
+# --- gradient (issue 29): rigid joints only, keys present and numeric ------------------------
+expect_rc 2 "$POMLAB" gradient "$C/3pss.cfg" --params actuator.resistance_ohm --maneuvers 1
+expect_err 'joints.model = "rigid"'
+sed 's/^\(  angular_damping_Nms_per_rad = .*\)$/\1\n  model = "rigid";/' "$C/3pss.cfg" >"$TMP/rigid.cfg"
+expect_rc 2 "$POMLAB" gradient "$TMP/rigid.cfg" --params actuator.no_such_key --maneuvers 1
+expect_err "design key 'actuator.no_such_key' is not a number in the config"
+expect_rc 0 "$POMLAB" gradient "$TMP/rigid.cfg" --params actuator.resistance_ohm --maneuvers 1 --json
+check "gradient --json is JSON with a defined energy gradient" python3 -c "
+import json, sys, math
+d = json.load(open('$TMP/out'))
+g = d['maneuvers'][0]['gradient']['energy_total']
+sys.exit(0 if len(g) == 1 and math.isfinite(g[0]) and d['keys'] == ['actuator.resistance_ohm'] else 1)"
 finish test_cli_opts

@@ -399,3 +399,32 @@ def test_study_capability_require_excludes(tmp_path):
     # the table's digits against the report's %.17g: equal to rounding
     v = ex["failed"][0]["value"]
     assert v < 1e4 and math.isclose(v, r.candidates["capability_acc_inscribed_worst"][1], rel_tol=1e-12)
+
+
+def _rigid_3pss(tmp_path):
+    text = open(CFG["3pss"]).read()
+    text = re.sub(r"(angular_damping_Nms_per_rad = [^;]*;)", r'\1\n  model = "rigid";', text)
+    path = tmp_path / "rigid.cfg"
+    path.write_text(text)
+    return str(path)
+
+
+def test_gradient(tmp_path):
+    """pomlab.gradient returns exactly what `pomlab gradient --json` prints
+    (issue 29): per maneuver the metrics and their design gradients, the
+    means and theirs; a parasitic config and a model override are refused."""
+    cfg = _rigid_3pss(tmp_path)
+    keys = ["actuator.resistance_ohm", "controller.kd_s"]
+    got = pomlab.gradient(cfg, keys, maneuvers=2)
+    want = run_json("gradient", cfg, "--params", ",".join(keys), "--maneuvers", "2")
+    assert got["keys"] == keys and len(got["maneuvers"]) == 2
+    for g, w in zip(got["maneuvers"], want["maneuvers"]):
+        assert same(g["metrics"]["energy_total"], w["metrics"]["energy_total"])
+        assert same(g["gradient"]["energy_total"], w["gradient"]["energy_total"])
+        assert len(g["gradient"]["energy_total"]) == 2
+    assert same(got["mean_gradient"]["energy_total"], want["mean_gradient"]["energy_total"])
+    with pytest.raises(pomlab.PomlabError) as e:
+        pomlab.gradient(CFG["3pss"], keys, maneuvers=1)
+    assert "rigid" in str(e.value)
+    with pytest.raises(pomlab.PomlabError):
+        pomlab.gradient(cfg, keys, maneuvers=1, overrides={"controller.kp": 1e4})

@@ -201,6 +201,10 @@ def _declare(lib):
             ],
         ),
         "pom_api_free": (None, [ctypes.c_void_p]),
+        "pom_api_gradient_json": (
+            _I,
+            [_P, ctypes.POINTER(ctypes.c_char_p), _I, ctypes.c_long, ctypes.POINTER(ctypes.c_void_p), _E],
+        ),
     }
     for name, (res, args) in sig.items():
         f = getattr(lib, name)
@@ -802,3 +806,41 @@ def study(cfg, *, n=None, threads=0, output=None, resume=False, summary=True, pl
     extra = {"montecarlo.maneuvers": n} if n is not None else {}
     extra.update(dict(_flatten(overrides or {})))
     return _run_study(_as_config(cfg, extra), False, output, threads, resume, summary, plots)
+
+
+def gradient(cfg, params, *, maneuvers=None, overrides=None):
+    """Design gradients (docs/optimize.md section 12): the metrics of the
+    config's Monte-Carlo maneuvers and their derivatives with respect to
+    the numeric config keys `params` (a list, at most 16; an array element
+    as "key[i]"), by forward sensitivities through the exact formulation
+    (the config must say joints.model = "rigid"). Derivatives are per unit
+    of each key as written in the config. Returns the dict `pomlab gradient
+    --json` prints: per maneuver "metrics", "gradient" (a list per metric,
+    None where undefined) and "undefined" (the reasons), then "mean" and
+    "mean_gradient". Overrides may set only montecarlo.* keys: the models
+    are built from the file's text (move a design key in the file or pass
+    it in params)."""
+    import json
+
+    cfg = _as_config(cfg, overrides)
+    for key in cfg.overrides:
+        if not key.startswith("montecarlo."):
+            _refuse("gradient: override %r: only montecarlo.* keys reach the gradient's models; "
+                    "set it in the file" % key)
+    keys = [_no_nul("params", str(k)) for k in params]
+    if not keys or len(keys) > 16:
+        _refuse("gradient: give 1 to 16 keys in params")
+    n = 0 if maneuvers is None else int(maneuvers)
+    if n < 0:
+        _refuse("gradient: maneuvers must be >= 0")
+    arr = (ctypes.c_char_p * len(keys))(*[k.encode() for k in keys])
+    err = _Error()
+    report = ctypes.c_void_p()
+    with _Loaded(cfg) as L:
+        st = _lib.pom_api_gradient_json(L.ptr, arr, len(keys), n, ctypes.byref(report), err)
+    try:
+        _check(st, err)
+        return json.loads(ctypes.string_at(report.value).decode())
+    finally:
+        if report.value:
+            _lib.pom_api_free(report)

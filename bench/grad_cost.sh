@@ -1,0 +1,39 @@
+#!/bin/bash
+# grad_cost.sh BUILD [CFG] - instructions (callgrind) of one maneuver with
+# forward sensitivities for p design keys against a plain maneuver on the
+# exact path (issue 29 item 5: at most (1 + p) x). Per maneuver = (Ir of 3
+# maneuvers - Ir of 1) / 2, so that loading, model building and start-up
+# cancel; the same montecarlo targets in both commands. CFG defaults to the
+# shipped 3P-S-S/S with joints.model = "rigid".
+set -eu
+build=${1:?usage: grad_cost.sh BUILD [CFG]}
+src=$(cd "$(dirname "$0")/.." && pwd)
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+cfg=${2:-}
+if [ -z "$cfg" ]; then
+  cfg=$tmp/rigid.cfg
+  sed 's/^\(  angular_damping_Nms_per_rad = .*\)$/\1\n  model = "rigid";/' "$src/configs/3pss.cfg" > "$cfg"
+fi
+ir() { # instructions of a command
+  valgrind --tool=callgrind --callgrind-out-file="$tmp/cg.out" "$@" > /dev/null 2> "$tmp/err" ||
+    { cat "$tmp/err" >&2; exit 1; }
+  callgrind_annotate "$tmp/cg.out" 2> /dev/null | awk '/PROGRAM TOTALS/ {gsub(",", "", $1); print $1; exit}'
+}
+per() { # per-maneuver instructions of a command taking --maneuvers/--n N
+  local flag=$1; shift
+  local a b
+  a=$(ir "$@" "$flag" 1)
+  b=$(ir "$@" "$flag" 3)
+  echo $(( (b - a) / 2 ))
+}
+plain=$(per --n "$build/cli/pomlab-full" montecarlo "$cfg" --threads 1 --quiet)
+echo "plain maneuver: $plain instructions"
+keys=(actuator.resistance_ohm controller.kd_s actuator.force_constant_N_per_A controller.kp
+      inertia.link.mass_kg geometry.limb_length)
+for p in 1 3 6; do
+  list=$(IFS=,; echo "${keys[*]:0:$p}")
+  g=$(per --maneuvers "$build/cli/pomlab-full" gradient "$cfg" --params "$list")
+  awk -v g="$g" -v pl="$plain" -v p="$p" 'BEGIN {
+    printf "p = %d: %d instructions per maneuver = %.2f x plain (bound 1 + p = %d)\n", p, g, g / pl, 1 + p }'
+done

@@ -1,0 +1,214 @@
+/* cmd_gradient.c - `pomlab gradient CFG --params KEY,KEY,...`: the metrics
+ * of the config's Monte-Carlo maneuvers with their design gradients by
+ * forward sensitivities (study/pom_grad.h, docs/optimize.md "Design
+ * gradients"), per maneuver and of the means; --check beside them the
+ * central differences of whole simulations. */
+#include "cli_opts.h"
+#include "pom_cli.h"
+#include "pom_study.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Relative step of the whole-run differences of --check: the runs'
+ * integration error over 2 dh against the O(dh^2) truncation
+ * (docs/optimize.md); at the shipped rtol 1e-6 the check is only as good as
+ * rtol / dh allows, so tighten solver.rtol for a strict one. */
+#define CHECK_REL_STEP 1e-3
+
+static const char *unit_of(pom_grad_metric k) {
+  if (k <= POM_GRAD_ENERGY_3) return "J";
+  if (k <= POM_GRAD_FINAL_POINTING_ERROR) return "rad";
+  return "s";
+}
+
+static void print_text(FILE *out, const pom_grad *g, const pom_dyn_metrics *mt,
+                       const pom_dyn_grad *gr, const pom_dyn_grad *fd) {
+  const int n = pom_grad_n_params(g);
+  fprintf(out, "  %-24s %-16s", "metric", "value");
+  for (int j = 0; j < n; ++j)
+    fprintf(out, " d/d %-18.18s", pom_grad_key(g, j));
+  fprintf(out, "\n");
+  for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
+    double v = pom_grad_metric_value(mt, (pom_grad_metric)k);
+    const pom_dyn_dmetric *d = pom_grad_metric_grad(gr, (pom_grad_metric)k);
+    if (!isfinite(v) && !d->defined && d->why == POM_DYN_GRAD_UNKNOWN) continue;
+    char val[32];
+    snprintf(val, sizeof val, "%.6g %s", v, unit_of((pom_grad_metric)k));
+    fprintf(out, "  %-24s %-16s", pom_grad_metric_name((pom_grad_metric)k), val);
+    if (d->defined)
+      for (int j = 0; j < n; ++j)
+        fprintf(out, " %+-22.9e", d->d[j]);
+    else
+      fprintf(out, " undefined: %s", pom_dyn_grad_why_text(d->why));
+    fprintf(out, "\n");
+    if (!fd) continue;
+    const pom_dyn_dmetric *c = pom_grad_metric_grad(fd, (pom_grad_metric)k);
+    fprintf(out, "  %-24s %-16s", "  (whole-run diff.)", "");
+    for (int j = 0; j < n && c->defined; ++j)
+      fprintf(out, " %+-22.9e", c->d[j]);
+    if (!c->defined) fprintf(out, " undefined");
+    fprintf(out, "\n");
+  }
+}
+
+int pom_cmd_gradient(int argc, char **argv) {
+  const char *cfg_path = NULL, *params = NULL;
+  const char *n_text = NULL, *seed_text = NULL;
+  int json = 0, check = 0;
+  const pom_opt opts[] = {
+      {.name = "--params",
+       .kind = POM_OPT_TEXT,
+       .arg = "KEY,KEY,...",
+       .help = "the design keys (dotted numeric config keys present in the file, an array "
+               "element as key[i]; at most 16); derivatives are per unit of the key as written",
+       .text = &params},
+      {.name = "--maneuvers",
+       .kind = POM_OPT_NUMBER,
+       .arg = "N",
+       .key = "montecarlo.maneuvers",
+       .help = "number of maneuvers (default: the config's montecarlo.maneuvers)",
+       .text = &n_text},
+      {.name = "--seed",
+       .kind = POM_OPT_NUMBER,
+       .arg = "S",
+       .key = "montecarlo.seed",
+       .help = "study seed",
+       .text = &seed_text},
+      {.name = "--check",
+       .kind = POM_OPT_FLAG,
+       .help = "also the central differences of whole simulations (step 1e-3 x |value|) beside "
+               "each gradient",
+       .flag = &check,
+       .set = 1},
+      {.name = "--json",
+       .kind = POM_OPT_FLAG,
+       .help = "JSON on stdout (SI units)",
+       .flag = &json,
+       .set = 1},
+  };
+  const pom_cli_spec spec = {
+      .name = "gradient",
+      .usage = "CONFIG --params KEY,KEY,... [options]",
+      .about = "The metrics of the config's Monte-Carlo maneuvers and their derivatives with\n"
+               "respect to design keys, by forward sensitivities through the exact (rigid-joint)\n"
+               "formulation (docs/optimize.md, \"Design gradients\"): per maneuver and of the\n"
+               "means. A settling time's derivative is undefined where the time is censored,\n"
+               "zero from the start or its last band crossing grazes the band; it is printed as\n"
+               "such, never as a number.",
+      .notes = "Needs joints.model = \"rigid\". Exit status: 0 done (failed maneuvers are\n"
+               "reported); 1 runtime failure; 2 usage or config error.",
+      .opts = opts,
+      .n_opts = POM_CLI_N(opts),
+      .args = &cfg_path,
+      .max_args = 1};
+  int prc = pom_cli_opts_parse(&spec, argc, argv, 0);
+  if (prc >= 0) return prc;
+  if (!cfg_path || !params) {
+    pom_cli_opts_usage(&spec, stderr);
+    return 2;
+  }
+  char list[4096];
+  const char *keys[POM_GRAD_MAX_PARAMS];
+  int n = 0;
+  if (strlen(params) >= sizeof list) {
+    fprintf(stderr, "pomlab gradient: --params: list too long\n");
+    return 2;
+  }
+  snprintf(list, sizeof list, "%s", params);
+  for (char *tok = strtok(list, ","); tok; tok = strtok(NULL, ",")) {
+    if (n == POM_GRAD_MAX_PARAMS) {
+      fprintf(stderr, "pomlab gradient: --params: more than %d keys\n", POM_GRAD_MAX_PARAMS);
+      return 2;
+    }
+    keys[n++] = tok;
+  }
+  if (n == 0) {
+    fprintf(stderr, "pomlab gradient: --params: no key given\n");
+    return 2;
+  }
+  pom_cfg *cfg = pom_cli_load_config(cfg_path);
+  if (!cfg) return 2;
+  pom_error err;
+  pom_error_clear(&err);
+  pom_status st = pom_cli_opts_apply(&spec, cfg, &err);
+  pom_grad *g = NULL;
+  if (st == POM_OK) st = pom_grad_create(&g, cfg, keys, n, NULL, &err);
+  pom_cfg_destroy(cfg);
+  if (st != POM_OK) {
+    pom_cli_report("config", &err);
+    return pom_cli_exit_code(st);
+  }
+  pom_grad_mc_result r;
+  st = pom_grad_montecarlo(g, NULL, &r, &err);
+  pom_grad_mc_result c;
+  memset(&c, 0, sizeof c);
+  if (st == POM_OK && check) {
+    /* the same maneuvers by whole-run differences at CHECK_REL_STEP */
+    pom_grad_destroy(g);
+    g = NULL;
+    pom_grad_options o;
+    pom_grad_options_defaults(&o);
+    o.rel_step = CHECK_REL_STEP;
+    cfg = pom_cli_load_config(cfg_path);
+    if (!cfg) {
+      pom_grad_mc_free(&r);
+      return 2;
+    }
+    st = pom_cli_opts_apply(&spec, cfg, &err);
+    if (st == POM_OK) st = pom_grad_create(&g, cfg, keys, n, &o, &err);
+    pom_cfg_destroy(cfg);
+    pom_grad_mc_options mo;
+    pom_grad_mc_options_defaults(&mo);
+    mo.plain_fd = 1;
+    if (st == POM_OK) st = pom_grad_montecarlo(g, &mo, &c, &err);
+  }
+  if (st != POM_OK) {
+    pom_cli_report("gradient", &err);
+    pom_grad_mc_free(&r);
+    pom_grad_mc_free(&c);
+    pom_grad_destroy(g);
+    return pom_cli_exit_code(st);
+  }
+  if (json) {
+    pom_grad_mc_json(stdout, cfg_path, g, &r, check ? &c : NULL);
+  } else {
+    printf("pomlab gradient %s: %ld maneuvers, keys:", cfg_path, r.n);
+    for (int j = 0; j < n; ++j)
+      printf(" %s = %.10g", pom_grad_key(g, j), pom_grad_value(g, j));
+    printf("\n(derivatives per unit of each key as written in the config; SI metrics)\n");
+    for (long i = 0; i < r.n; ++i) {
+      const pom_dyn_metrics *mt = &r.metrics[i];
+      printf("\nmaneuver %ld: target (%.6g, %.6g, %.6g) SI: %s%s%s\n", i + 1, mt->target[0],
+             mt->target[1], mt->target[2], mt->status == POM_OK ? "finished" : "FAILED",
+             mt->status == POM_OK ? "" : ": ", mt->status == POM_OK ? "" : mt->reason);
+      if (mt->status == POM_OK) print_text(stdout, g, mt, &r.grads[i], check ? &c.grads[i] : NULL);
+    }
+    printf("\nmeans over the %ld finished of %ld maneuvers (a mean's derivative needs every "
+           "maneuver's):\n",
+           r.n_finished, r.n);
+    pom_dyn_metrics mm;
+    pom_dyn_grad gm;
+    memset(&mm, 0, sizeof mm);
+    memset(&gm, 0, sizeof gm);
+    gm.n_params = n;
+    mm.energy_total = r.mean[POM_GRAD_ENERGY_TOTAL];
+    for (int a = 0; a < 3; ++a) {
+      mm.energy[a] = r.mean[POM_GRAD_ENERGY_1 + a];
+      mm.settling_time[a] = r.mean[POM_GRAD_SETTLING_TIME_1 + a];
+    }
+    mm.tracking_rms_error = r.mean[POM_GRAD_TRACKING_RMS_ERROR];
+    mm.final_pointing_error = r.mean[POM_GRAD_FINAL_POINTING_ERROR];
+    mm.execution_time = r.mean[POM_GRAD_EXECUTION_TIME];
+    mm.pointing_settling_time = r.mean[POM_GRAD_POINTING_SETTLING_TIME];
+    for (int k = 0; k < POM_GRAD_N_METRICS; ++k)
+      *(pom_dyn_dmetric *)pom_grad_metric_grad(&gm, (pom_grad_metric)k) = r.dmean[k];
+    print_text(stdout, g, &mm, &gm, NULL);
+  }
+  pom_grad_mc_free(&r);
+  pom_grad_mc_free(&c);
+  pom_grad_destroy(g);
+  return 0;
+}

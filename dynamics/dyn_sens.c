@@ -1,0 +1,589 @@
+/* dyn_sens.c - forward sensitivities of one maneuver on the exact path with
+ * CVODES (docs/optimize.md, "Design gradients"): the sensitivity right-hand
+ * side as a central directional difference between the caller's perturbed
+ * models, the settling times' derivatives by the implicit-function theorem
+ * at the last band crossing, the energies from the accumulator states, the
+ * tracking integral by its quadrature nodes and the final pointing error. */
+#include "dyn_internal.h"
+#include "pom_dyn_sens.h"
+#include "pom_math.h"
+
+#include <cvodes/cvodes.h>
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Gauss-Legendre nodes of the tracking quadrature (dyn_settle.c). */
+static const double gl_node[2] = {0.21132486540518711775, 0.78867513459481288225};
+
+/* Time step of the crossing rate dg/dt by central differences along the
+ * state's rate (a fraction of the horizon): truncation ~ g''' eps^2, rounding
+ * ~ 1e-16 |q| / eps; at 1e-8 x 0.1 s both are below 1e-9 of the rate. */
+#define SENS_RATE_EPS 1e-8
+
+/* How far above the differencing's rounding the sensitivities' relative
+ * tolerance stays (docs/optimize.md, measured: at 10 the error test of
+ * the 3P-S-S/S maneuver (3, -3, 3) mm took 9x the steps). */
+#define SENS_NOISE_MARGIN 1e3
+
+/* The per-run workspace (d->sens). */
+struct dyn_sens {
+  const pom_dyn_sens_spec *spec;
+  int n;
+  pom_dyn_data *dx[2][POM_DYN_SENS_MAX]; /* scratch data of plus (0) and minus (1) models */
+  double Rt[2][POM_DYN_SENS_MAX][9];     /* target orientation of each perturbed model */
+  int have_Rt[2][POM_DYN_SENS_MAX];
+  N_Vector *yS;    /* [n] sensitivities (CVODES' state for them) */
+  N_Vector *ySt;   /* [n] scratch: sensitivities at an interpolated time */
+  N_Vector *atolS; /* [n] absolute tolerances of the sensitivities */
+  double rtol_s;   /* their relative tolerance */
+  int root_dir[2 * POM_MECH_MAX_ACTUATORS];
+  long steps_before; /* steps of the integrations before the last restart */
+  long restarts;
+  double *ybuf; /* [n_states] perturbed state */
+  double *ydot; /* [n_states] rate at an interpolated time */
+  double pbar[POM_DYN_SENS_MAX];
+  long rhs_evals;
+  int failed; /* a non-finite difference */
+  /* the last crossing of each band: time, rate dg/dt, dt/dp, and the
+   * largest later local maximum of g (grazing margin) */
+  double t_cross[POM_MECH_MAX_ACTUATORS + 1];
+  double rate[POM_MECH_MAX_ACTUATORS + 1];
+  double dt[POM_MECH_MAX_ACTUATORS + 1][POM_DYN_SENS_MAX];
+  int have_cross[POM_MECH_MAX_ACTUATORS + 1];
+  int cross_bad[POM_MECH_MAX_ACTUATORS + 1];    /* a non-finite sensitivity at the crossing */
+  double g_prev[POM_MECH_MAX_ACTUATORS + 1][2]; /* two previous band values after the crossing */
+  int n_after[POM_MECH_MAX_ACTUATORS + 1];
+  double later_max[POM_MECH_MAX_ACTUATORS + 1]; /* largest later local maximum of g */
+  /* the tracking integral's derivative */
+  double dtrack[POM_DYN_SENS_MAX];
+  /* at the horizon */
+  double ds_final[POM_DYN_SENS_MAX][POM_MECH_MAX_ACTUATORS]; /* d energy[a]/dp */
+  double dtheta_final[POM_DYN_SENS_MAX];
+  int have_final;
+};
+
+const char *pom_dyn_grad_why_text(pom_dyn_grad_why why) {
+  switch (why) {
+  case POM_DYN_GRAD_OK:
+    return "defined";
+  case POM_DYN_GRAD_NEVER_SETTLED:
+    return "never settled (censored at the horizon)";
+  case POM_DYN_GRAD_SETTLED_AT_START:
+    return "settled from the start";
+  case POM_DYN_GRAD_GRAZING:
+    return "grazing band crossing";
+  case POM_DYN_GRAD_TIE:
+    return "two settling times tie";
+  case POM_DYN_GRAD_UNKNOWN:
+    return "metric undefined";
+  case POM_DYN_GRAD_NONFINITE:
+    return "non-finite sensitivity";
+  }
+  return "?";
+}
+
+void pom_dyn_sens_spec_defaults(pom_dyn_sens_spec *s) {
+  memset(s, 0, sizeof *s);
+  s->method = POM_DYN_SENS_STAGGERED;
+  s->error_control = 1;
+}
+
+/* ---- angles ---------------------------------------------------------------- */
+static double rotation_angle(const double A[9], const double B[9]) {
+  double At[9], E[9], rv[3];
+  pom_m3_transpose(At, A);
+  pom_m3_mul(E, At, B);
+  pom_m3_rotvec(rv, E);
+  return pom_v3_norm(rv);
+}
+
+/* ---- band functions of a state under one model ---------------------------- */
+/* g = |q_a - ref| - settle_band |ref| (a >= 0), or the pointing angle minus
+ * its band (a < 0; Rt the model's target orientation). */
+static double band_g(const pom_dyn_model *m, const double *tgt, const double *Rt, int a,
+                     const double *y) {
+  const pom_dyn_maneuver *mv = &m->par.maneuver;
+  if (a >= 0) {
+    double q[POM_MECH_MAX_ACTUATORS];
+    m->form->positions(m, y, q);
+    return fabs(q[a] - tgt[a]) - mv->settle_band * fabs(tgt[a]);
+  }
+  double R[9], I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  m->form->platform_rotation(m, y, R);
+  double band = fmax(mv->pointing_band, mv->pointing_band_rel * rotation_angle(I, Rt));
+  return rotation_angle(Rt, R) - band;
+}
+
+/* y + c v into out (n states). */
+static void axpy(double *out, const double *y, double c, const double *v, int n) {
+  for (int i = 0; i < n; ++i)
+    out[i] = y[i] + c * v[i];
+}
+
+/* d g / d p_j at state y with sensitivity s: the central directional
+ * difference between the perturbed models along (h, h s). */
+static double band_dp(struct dyn_sens *w, const pom_dyn_model *m, int a, int j, const double *y,
+                      const double *s) {
+  const pom_dyn_sens_spec *sp = w->spec;
+  const double h = sp->step[j];
+  const int n = m->n_states;
+  axpy(w->ybuf, y, h, s, n);
+  double gp = band_g(sp->plus[j], sp->target_plus[j], w->Rt[0][j], a, w->ybuf);
+  axpy(w->ybuf, y, -h, s, n);
+  double gm = band_g(sp->minus[j], sp->target_minus[j], w->Rt[1][j], a, w->ybuf);
+  return (gp - gm) / (2.0 * h);
+}
+
+/* ---- the sensitivity right-hand side ---------------------------------------- */
+/* s_j' = J s_j + df/dp_j = (f_{p+h}(y + h s_j) - f_{p-h}(y - h s_j)) / (2 h)
+ * (docs/optimize.md): one evaluation of each perturbed model. */
+static int sens_rhs(int Ns, sunrealtype t, N_Vector yv, N_Vector ydot, int iS, N_Vector ySv,
+                    N_Vector ySdot, void *user_data, N_Vector tmp1, N_Vector tmp2) {
+  (void)Ns;
+  (void)ydot;
+  pom_dyn_data *d = user_data;
+  struct dyn_sens *w = d->sens;
+  const pom_dyn_sens_spec *sp = w->spec;
+  const int n = d->m->n_states;
+  const double h = sp->step[iS];
+  const double *y = N_VGetArrayPointer(yv), *s = N_VGetArrayPointer(ySv);
+  double *yp = N_VGetArrayPointer(tmp1), *fm = N_VGetArrayPointer(tmp2);
+  double *out = N_VGetArrayPointer(ySdot);
+  pom_dyn_data *dp = w->dx[0][iS], *dm = w->dx[1][iS];
+  dp->t = dm->t = t;
+  axpy(yp, y, h, s, n);
+  int r = pom_dyn_eval(sp->plus[iS], dp, yp, out);
+  axpy(yp, y, -h, s, n);
+  r |= pom_dyn_eval(sp->minus[iS], dm, yp, fm);
+  w->rhs_evals += 2;
+  if (r) return 1; /* recoverable: CVODES retries with a smaller step */
+  const double c = 1.0 / (2.0 * h);
+  for (int i = 0; i < n; ++i)
+    out[i] = (out[i] - fm[i]) * c;
+  return 0;
+}
+
+/* ---- the saturation's linear band ------------------------------------------------ */
+/* The raw voltage enters the linear band |u_raw| < limit in a time that
+ * shrinks with the loop gain (2 limit / (K_S K_P |e_dot|) for the PID): a
+ * step that jumps over it leaves the sensitivities without the band's
+ * contribution, the jump of a discontinuous right-hand side in the limit
+ * (docs/optimize.md). Roots of u_raw -+ limit, entering only, restart the
+ * integration there so that its first steps resolve the band. */
+static int band_roots(sunrealtype t, N_Vector yv, sunrealtype *gout, void *user_data) {
+  pom_dyn_data *d = user_data;
+  const pom_dyn_model *m = d->m;
+  const double lim = m->par.actuator.voltage_limit;
+  d->t = t;
+  int r = pom_dyn_eval(m, d, N_VGetArrayPointer(yv), NULL);
+  for (int a = 0; a < m->n_actuators; ++a) {
+    double u = r ? 0.0 : d->out.u_raw[a];
+    gout[2 * a] = u - lim;
+    gout[2 * a + 1] = u + lim;
+  }
+  return 0;
+}
+
+static pom_status pom_dyn_sens_restart(const pom_dyn_model *m, pom_dyn_data *d, double t,
+                                       pom_error *err) {
+  struct dyn_sens *w = d->sens;
+  double tret = t;
+  long steps = 0;
+  (void)CVodeGetNumSteps(d->cvode, &steps);
+  w->steps_before += steps;
+  int ism = w->spec->method == POM_DYN_SENS_SIMULTANEOUS ? CV_SIMULTANEOUS : CV_STAGGERED;
+  if (CVodeGetSens(d->cvode, &tret, w->yS) != CV_SUCCESS ||
+      CVodeReInit(d->cvode, t, d->y) != CV_SUCCESS ||
+      CVodeSensReInit(d->cvode, ism, w->yS) != CV_SUCCESS ||
+      CVodeSetStopTime(d->cvode, m->par.maneuver.horizon) != CV_SUCCESS)
+    POM_FAIL(err, POM_ERR_SOLVER, "restarting the sensitivities at t = %.9g s: %s", t,
+             d->cvode_msg);
+  ++w->restarts;
+  return POM_OK;
+}
+
+/* ---- hooks of the driver (dyn_simulate.c) ------------------------------------ */
+static pom_status pom_dyn_sens_begin(const pom_dyn_model *m, pom_dyn_data *d, pom_error *err) {
+  struct dyn_sens *w = d->sens;
+  const pom_dyn_sens_spec *sp = w->spec;
+  for (int j = 0; j < w->n; ++j)
+    N_VConst(0.0, w->yS[j]); /* the maneuver starts at rest at home whatever p is */
+  for (int a = 0; a < m->n_actuators; ++a) {
+    w->root_dir[2 * a] = -1;    /* u_raw - limit falling through 0: entering from above */
+    w->root_dir[2 * a + 1] = 1; /* u_raw + limit rising through 0: entering from below */
+  }
+  w->steps_before = 0;
+  w->restarts = 0;
+  int ism = sp->method == POM_DYN_SENS_SIMULTANEOUS ? CV_SIMULTANEOUS : CV_STAGGERED;
+  if (CVodeSensInit1(d->cvode, w->n, ism, sens_rhs, w->yS) != CV_SUCCESS ||
+      CVodeSetSensParams(d->cvode, NULL, w->pbar, NULL) != CV_SUCCESS ||
+      CVodeSensSVtolerances(d->cvode, w->rtol_s, w->atolS) != CV_SUCCESS ||
+      CVodeSetSensErrCon(d->cvode, sp->error_control ? SUNTRUE : SUNFALSE) != CV_SUCCESS ||
+      CVodeRootInit(d->cvode, 2 * m->n_actuators, band_roots) != CV_SUCCESS ||
+      CVodeSetRootDirection(d->cvode, w->root_dir) != CV_SUCCESS ||
+      CVodeSetNoInactiveRootWarn(d->cvode) != CV_SUCCESS)
+    POM_FAIL(err, POM_ERR_SOLVER, "configuring CVODES' sensitivities: %s", d->cvode_msg);
+  for (int k = 0; k <= m->n_actuators; ++k) {
+    w->have_cross[k] = w->cross_bad[k] = 0;
+    w->n_after[k] = 0;
+    w->later_max[k] = -INFINITY;
+  }
+  memset(w->dtrack, 0, sizeof w->dtrack);
+  w->have_final = 0;
+  return POM_OK;
+}
+
+/* Records the derivative of band k's crossing at t* (k = n_actuators: the
+ * pointing band, model index a = -1). */
+static pom_status crossing(const pom_dyn_model *m, pom_dyn_data *d, int k, int a, double ts,
+                           pom_error *err) {
+  struct dyn_sens *w = d->sens;
+  const int n = m->n_states;
+  if (CVodeGetDky(d->cvode, ts, 0, d->ytmp) != CV_SUCCESS ||
+      CVodeGetDky(d->cvode, ts, 1, d->ftmp) != CV_SUCCESS ||
+      CVodeGetSensDky(d->cvode, ts, 0, w->ySt) != CV_SUCCESS)
+    POM_FAIL(err, POM_ERR_SOLVER, "CVODES refused the crossing time %.9g s", ts);
+  const double *y = N_VGetArrayPointer(d->ytmp), *yd = N_VGetArrayPointer(d->ftmp);
+  const double *Rt = d->R_target;
+  const double eps = SENS_RATE_EPS * m->par.maneuver.horizon;
+  axpy(w->ybuf, y, eps, yd, n);
+  double g1 = band_g(m, d->target, Rt, a, w->ybuf);
+  axpy(w->ybuf, y, -eps, yd, n);
+  double g0 = band_g(m, d->target, Rt, a, w->ybuf);
+  double rate = (g1 - g0) / (2.0 * eps);
+  w->t_cross[k] = ts;
+  w->rate[k] = rate;
+  w->have_cross[k] = 1;
+  w->cross_bad[k] = 0;
+  w->n_after[k] = 0;
+  w->later_max[k] = -INFINITY;
+  for (int j = 0; j < w->n; ++j) {
+    double dg = band_dp(w, m, a, j, y, N_VGetArrayPointer(w->ySt[j]));
+    w->dt[k][j] = -dg / rate;
+    if (!isfinite(w->dt[k][j])) w->cross_bad[k] = 1;
+  }
+  return POM_OK;
+}
+
+/* A band value after the last crossing: a local maximum of g among three
+ * consecutive values is a later excursion toward the band edge. */
+static void after_crossing(struct dyn_sens *w, int k, double g) {
+  if (!w->have_cross[k]) return;
+  if (w->n_after[k] >= 2 && w->g_prev[k][1] > w->g_prev[k][0] && w->g_prev[k][1] >= g)
+    w->later_max[k] = fmax(w->later_max[k], w->g_prev[k][1]);
+  w->g_prev[k][0] = w->g_prev[k][1];
+  w->g_prev[k][1] = g;
+  ++w->n_after[k];
+}
+
+static pom_status pom_dyn_sens_step(const pom_dyn_model *m, pom_dyn_data *d, double t0, double t,
+                                    const double *t_settle_before, int point_before_valid,
+                                    double point_before, pom_error *err) {
+  struct dyn_sens *w = d->sens;
+  const pom_dyn_sens_spec *sp = w->spec;
+  const dyn_settle *s = &d->settle;
+  const int na = m->n_actuators;
+  /* crossings located in this step */
+  for (int a = 0; a < na; ++a) {
+    const dyn_band *b = &s->act[a];
+    if (!b->active) continue;
+    if (b->t_settle != t_settle_before[a]) POM_TRY(crossing(m, d, a, a, b->t_settle, err));
+  }
+  if (s->point.active && point_before_valid && s->point.t_settle != point_before)
+    POM_TRY(crossing(m, d, na, -1, s->point.t_settle, err));
+  /* the band values after the crossings, at this step's end and interior
+   * nodes (the record holds the positions; the pointing angle at the end) */
+  const double *row = s->rec + (s->rec_n - 1) * DYN_REC_WIDTH;
+  for (int a = 0; a < na; ++a) {
+    const dyn_band *b = &s->act[a];
+    if (!b->active || !w->have_cross[a]) continue;
+    for (int i = 0; i < 3; ++i) {
+      double ti = i == 2 ? t : t0 + gl_node[i] * (t - t0);
+      if (ti <= w->t_cross[a]) continue;
+      double q = row[DYN_REC_Q + i * POM_MECH_MAX_ACTUATORS + a];
+      after_crossing(w, a, fabs(q - b->ref) - b->band);
+    }
+  }
+  if (s->point.active && w->have_cross[na] && t > w->t_cross[na])
+    after_crossing(w, na, s->theta_end - s->point.band);
+  /* the tracking integral's derivative at the interior nodes */
+  if (s->track_ok && m->ctrl->reference_rotation) {
+    const double h = t - t0;
+    for (int i = 0; i < 2; ++i) {
+      double tn = t0 + gl_node[i] * h;
+      if (CVodeGetDky(d->cvode, tn, 0, d->ytmp) != CV_SUCCESS ||
+          CVodeGetSensDky(d->cvode, tn, 0, w->ySt) != CV_SUCCESS)
+        POM_FAIL(err, POM_ERR_SOLVER, "CVODES refused t = %.9g s", tn);
+      const double *y = N_VGetArrayPointer(d->ytmp);
+      for (int j = 0; j < w->n; ++j) {
+        const double hj = sp->step[j], *sj = N_VGetArrayPointer(w->ySt[j]);
+        double e2[2];
+        for (int side = 0; side < 2; ++side) {
+          const pom_dyn_model *mx = side ? sp->minus[j] : sp->plus[j];
+          pom_dyn_data *dx = w->dx[side][j];
+          const double *tg = side ? sp->target_minus[j] : sp->target_plus[j];
+          double R[9], Rref[9];
+          axpy(w->ybuf, y, side ? -hj : hj, sj, m->n_states);
+          mx->form->platform_rotation(mx, w->ybuf, R);
+          e2[side] = NAN;
+          if (mx->ctrl->reference_rotation(&mx->par.controller, mx->ctrl_model, dx->ctrl_work, tn,
+                                           tg, Rref)) {
+            double e = rotation_angle(Rref, R);
+            e2[side] = e * e;
+          }
+        }
+        w->dtrack[j] += 0.5 * h * (e2[0] - e2[1]) / (2.0 * hj);
+      }
+    }
+  }
+  return POM_OK;
+}
+
+static void pom_dyn_sens_end(const pom_dyn_model *m, pom_dyn_data *d) {
+  struct dyn_sens *w = d->sens;
+  const pom_dyn_sens_spec *sp = w->spec;
+  double tret = 0.0;
+  if (CVodeGetSens(d->cvode, &tret, w->yS) != CV_SUCCESS) return;
+  const double *y = N_VGetArrayPointer(d->y);
+  for (int j = 0; j < w->n; ++j) {
+    const double *sj = N_VGetArrayPointer(w->yS[j]);
+    for (int a = 0; a < m->n_actuators; ++a)
+      w->ds_final[j][a] = sj[m->act[a].acc_state + DYN_ACC_SOURCE];
+    w->dtheta_final[j] = NAN;
+    if (d->have_target_rotation && w->have_Rt[0][j] && w->have_Rt[1][j]) {
+      /* the angle between the platform and each perturbed model's own
+       * target orientation, along (h, h s) */
+      const double h = sp->step[j];
+      double R[9];
+      axpy(w->ybuf, y, h, sj, m->n_states);
+      sp->plus[j]->form->platform_rotation(sp->plus[j], w->ybuf, R);
+      double tp = rotation_angle(w->Rt[0][j], R);
+      axpy(w->ybuf, y, -h, sj, m->n_states);
+      sp->minus[j]->form->platform_rotation(sp->minus[j], w->ybuf, R);
+      double tm = rotation_angle(w->Rt[1][j], R);
+      w->dtheta_final[j] = (tp - tm) / (2.0 * h);
+    }
+  }
+  w->have_final = 1;
+}
+
+static void pom_dyn_sens_off(pom_dyn_data *d) {
+  (void)CVodeSensToggleOff(d->cvode);
+}
+
+const dyn_sens_ops pom_dyn_sens_ops = {
+    .begin = pom_dyn_sens_begin,
+    .step = pom_dyn_sens_step,
+    .end = pom_dyn_sens_end,
+    .restart = pom_dyn_sens_restart,
+    .off = pom_dyn_sens_off,
+};
+
+/* ---- the run ------------------------------------------------------------------ */
+static void ws_free(struct dyn_sens *w) {
+  if (!w) return;
+  for (int side = 0; side < 2; ++side)
+    for (int j = 0; j < POM_DYN_SENS_MAX; ++j)
+      pom_dyn_data_destroy(w->dx[side][j]);
+  if (w->yS) N_VDestroyVectorArray(w->yS, w->n);
+  if (w->ySt) N_VDestroyVectorArray(w->ySt, w->n);
+  if (w->atolS) N_VDestroyVectorArray(w->atolS, w->n);
+  free(w->ybuf);
+  free(w->ydot);
+  free(w);
+}
+
+static pom_status check_spec(const pom_dyn_model *m, const pom_dyn_sens_spec *sp, pom_error *err) {
+  if (m->form != &pom_dyn_form_exact)
+    POM_FAIL(err, POM_ERR_ARG,
+             "design gradients need the exact formulation (joints.model = \"rigid\"); this model "
+             "is %s",
+             m->form->name);
+  if (!(sp->n >= 1 && sp->n <= POM_DYN_SENS_MAX))
+    POM_FAIL(err, POM_ERR_ARG, "design gradients: %d parameters (1 to %d)", sp->n,
+             POM_DYN_SENS_MAX);
+  for (int j = 0; j < sp->n; ++j) {
+    if (!(sp->step[j] > 0.0 && isfinite(sp->step[j])))
+      POM_FAIL(err, POM_ERR_ARG, "design gradients: parameter %d has step %g (must be > 0)", j + 1,
+               sp->step[j]);
+    for (int side = 0; side < 2; ++side) {
+      const pom_dyn_model *x = side ? sp->minus[j] : sp->plus[j];
+      if (!x || x->form != m->form || x->n_states != m->n_states ||
+          x->n_actuators != m->n_actuators || x->ctrl != m->ctrl ||
+          x->body_states != m->body_states)
+        POM_FAIL(err, POM_ERR_ARG,
+                 "design gradients: the %s model of parameter %d is missing or not of the "
+                 "nominal model's formulation, state layout and controller type",
+                 side ? "minus" : "plus", j + 1);
+    }
+  }
+  return POM_OK;
+}
+
+static void undefined(pom_dyn_dmetric *g, int n, pom_dyn_grad_why why) {
+  g->defined = 0;
+  g->why = why;
+  for (int j = 0; j < POM_DYN_SENS_MAX; ++j)
+    g->d[j] = j < n ? NAN : 0.0;
+}
+
+static void defined(pom_dyn_dmetric *g, int n, const double *d) {
+  g->defined = 1;
+  g->why = POM_DYN_GRAD_OK;
+  for (int j = 0; j < POM_DYN_SENS_MAX; ++j)
+    g->d[j] = j < n ? d[j] : 0.0;
+  for (int j = 0; j < n; ++j)
+    if (!isfinite(d[j])) undefined(g, n, POM_DYN_GRAD_NONFINITE);
+}
+
+/* A settling time's derivative from band k (its band b, settled flag and
+ * time ts as the metrics have them). */
+static void settling_grad(pom_dyn_dmetric *g, const struct dyn_sens *w, int k, int active,
+                          int settled, double ts, double band, double horizon) {
+  const int n = w->n;
+  if (!settled || isnan(ts)) {
+    undefined(g, n, POM_DYN_GRAD_NEVER_SETTLED);
+  } else if (!active || ts == 0.0 || !w->have_cross[k]) {
+    undefined(g, n, POM_DYN_GRAD_SETTLED_AT_START);
+  } else if (w->cross_bad[k]) {
+    undefined(g, n, POM_DYN_GRAD_NONFINITE);
+  } else if (!(fabs(w->rate[k]) >= POM_DYN_GRAD_GRAZE * band / horizon) ||
+             w->later_max[k] > -POM_DYN_GRAD_GRAZE_MARGIN * band) {
+    undefined(g, n, POM_DYN_GRAD_GRAZING);
+  } else {
+    defined(g, n, w->dt[k]);
+  }
+}
+
+pom_status pom_dyn_simulate_sens(const pom_dyn_model *m, pom_dyn_data *d, const double target[3],
+                                 const pom_dyn_sens_spec *sp, pom_dyn_metrics *mt, pom_dyn_grad *gr,
+                                 pom_error *err) {
+  if (!m || !d || !target || !sp || !mt || !gr || d->m != m)
+    POM_FAIL(err, POM_ERR_ARG, "pom_dyn_simulate_sens: NULL argument or data of another model");
+  POM_TRY(check_spec(m, sp, err));
+  pom_status st = POM_OK;
+  const int n = sp->n;
+  memset(gr, 0, sizeof *gr);
+  gr->n_params = n;
+  struct dyn_sens *w = calloc(1, sizeof *w);
+  if (!w) POM_FAIL(err, POM_ERR_NOMEM, "allocating the sensitivity workspace");
+  w->spec = sp;
+  w->n = n;
+  /* the sensitivities' relative tolerance: the state's, but not below what
+   * the differencing resolves: rounding leaves eps / (h_j / pbar_j) of
+   * each right-hand side in s_j', and the error test must stay
+   * SENS_NOISE_MARGIN above it or it chases the noise (docs/optimize.md) */
+  w->rtol_s = m->par.solver.rtol;
+  for (int j = 0; j < n; ++j) {
+    double pb = sp->scale[j] > 0.0 ? sp->scale[j] : 1e4 * sp->step[j];
+    w->rtol_s = fmax(w->rtol_s, SENS_NOISE_MARGIN * DBL_EPSILON * pb / sp->step[j]);
+  }
+  w->yS = N_VCloneVectorArray(n, d->y);
+  w->ySt = N_VCloneVectorArray(n, d->y);
+  w->atolS = N_VCloneVectorArray(n, d->y);
+  w->ybuf = calloc((size_t)m->n_states, sizeof *w->ybuf);
+  w->ydot = calloc((size_t)m->n_states, sizeof *w->ydot);
+  if (!w->yS || !w->ySt || !w->atolS || !w->ybuf || !w->ydot)
+    POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "allocating the sensitivity workspace");
+  for (int j = 0; j < n; ++j) {
+    /* the error test scales s_j by a parameter magnitude (CVODES' pbar): the
+     * caller's step over the relative step a design layer would take */
+    w->pbar[j] = sp->scale[j] > 0.0 ? sp->scale[j] : 1e4 * sp->step[j];
+    double *at = N_VGetArrayPointer(w->atolS[j]);
+    for (int i = 0; i < m->n_states; ++i)
+      at[i] = m->atol[i] * (w->rtol_s / m->par.solver.rtol) / w->pbar[j];
+    for (int side = 0; side < 2; ++side) {
+      const pom_dyn_model *x = side ? sp->minus[j] : sp->plus[j];
+      const double *tg = side ? sp->target_minus[j] : sp->target_plus[j];
+      POM_TRY_GOTO(pom_dyn_data_create(&w->dx[side][j], x, err), done);
+      for (int a = 0; a < 3; ++a)
+        w->dx[side][j]->target[a] = tg[a];
+      w->have_Rt[side][j] = x->has_arch && pom_kin_forward(&x->arch, tg, NULL, NULL, w->Rt[side][j],
+                                                           NULL, NULL) == POM_OK;
+    }
+  }
+  d->sens = w;
+  st = pom_dyn_simulate_ex(m, d, target, NULL, mt, NULL, err);
+  d->sens = NULL;
+  (void)CVodeRootInit(d->cvode, 0, NULL);
+  mt->steps += w->steps_before;
+  gr->restarts = w->restarts;
+  CVodeSensFree(d->cvode);
+  gr->sens_rhs_evals = w->rhs_evals;
+
+  /* the gradients */
+  const double horizon = m->par.maneuver.horizon;
+  const int na = m->n_actuators;
+  pom_dyn_dmetric *all[] = {&gr->energy_total,
+                            &gr->energy[0],
+                            &gr->energy[1],
+                            &gr->energy[2],
+                            &gr->tracking_rms_error,
+                            &gr->final_pointing_error,
+                            &gr->settling_time[0],
+                            &gr->settling_time[1],
+                            &gr->settling_time[2],
+                            &gr->execution_time,
+                            &gr->pointing_settling_time};
+  for (size_t k = 0; k < sizeof all / sizeof all[0]; ++k)
+    undefined(all[k], n, POM_DYN_GRAD_UNKNOWN);
+  if (st != POM_OK || mt->status != POM_OK || !w->have_final) goto done;
+  double v[POM_DYN_SENS_MAX];
+  for (int j = 0; j < n; ++j) {
+    v[j] = 0.0;
+    for (int a = 0; a < na; ++a)
+      v[j] += w->ds_final[j][a];
+  }
+  defined(&gr->energy_total, n, v);
+  for (int a = 0; a < na; ++a) {
+    for (int j = 0; j < n; ++j)
+      v[j] = w->ds_final[j][a];
+    defined(&gr->energy[a], n, v);
+  }
+  if (isfinite(mt->final_pointing_error)) defined(&gr->final_pointing_error, n, w->dtheta_final);
+  if (isfinite(mt->tracking_rms_error) && mt->tracking_rms_error > 0.0) {
+    /* rms = sqrt(I / T): d rms = dI / (2 T rms), T the horizon reached */
+    const double T = d->settle.t_prev;
+    for (int j = 0; j < n; ++j)
+      v[j] = w->dtrack[j] / (2.0 * T * mt->tracking_rms_error);
+    defined(&gr->tracking_rms_error, n, v);
+  }
+  const dyn_settle *s = &d->settle;
+  for (int a = 0; a < na; ++a) {
+    settling_grad(&gr->settling_time[a], w, a, s->act[a].active, mt->settled[a],
+                  mt->settling_time[a], s->act[a].band, horizon);
+    gr->crossing_rate[a] = w->have_cross[a] ? w->rate[a] : 0.0;
+  }
+  if (s->point.active) {
+    settling_grad(&gr->pointing_settling_time, w, na, 1, mt->pointing_settled,
+                  mt->pointing_settling_time, s->point.band, horizon);
+    gr->pointing_crossing_rate = w->have_cross[na] ? w->rate[na] : 0.0;
+  }
+  /* execution time: the derivative of the actuator whose time is the max */
+  {
+    int arg = -1, any_unsettled = 0;
+    for (int a = 0; a < na; ++a) {
+      if (!mt->settled[a]) any_unsettled = 1;
+      if (mt->settling_time[a] >= 0.0 && (arg < 0 || mt->settling_time[a] > mt->settling_time[arg]))
+        arg = a;
+    }
+    int tie = 0;
+    for (int a = 0; a < na && arg >= 0; ++a)
+      if (a != arg && fabs(mt->settling_time[a] - mt->settling_time[arg]) <= 1e-12 * horizon)
+        tie = 1;
+    if (any_unsettled || arg < 0)
+      undefined(&gr->execution_time, n, POM_DYN_GRAD_NEVER_SETTLED);
+    else if (mt->settling_time[arg] == 0.0)
+      undefined(&gr->execution_time, n, POM_DYN_GRAD_SETTLED_AT_START);
+    else if (tie)
+      undefined(&gr->execution_time, n, POM_DYN_GRAD_TIE);
+    else
+      gr->execution_time = gr->settling_time[arg];
+  }
+done:
+  d->sens = NULL;
+  ws_free(w);
+  return st;
+}

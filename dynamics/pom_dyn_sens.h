@@ -1,0 +1,105 @@
+/* pom_dyn_sens.h - design gradients of one maneuver's metrics by forward
+ * sensitivities (CVODES) through the exact (rigid-joint) formulation
+ * (derivation: docs/optimize.md, "Design gradients").
+ *
+ * The dynamics know nothing of configs: a parameter p_j is given as the two
+ * models built by the caller at p_j + h_j and p_j - h_j (same architecture,
+ * formulation, state layout and controller type as the nominal model) and
+ * the setpoints each of them runs to. Every derivative the engine needs of
+ * the right-hand side and of the metric functions is the central
+ * directional difference along (p, y) = (1, s_j) between those two models:
+ *   J s_j + df/dp_j = (f_{p+h}(y + h s_j) - f_{p-h}(y - h s_j)) / (2 h),
+ * which holds for any numeric design parameter (geometry, masses and
+ * inertias, coil, gains) without a derivative written per parameter. */
+#ifndef POM_DYN_SENS_H
+#define POM_DYN_SENS_H
+
+#include "pom_dynamics.h"
+
+#define POM_DYN_SENS_MAX 16 /* parameters of one sensitivity run at most */
+
+/* Why a derivative is undefined (docs/optimize.md, "Design gradients"). */
+typedef enum {
+  POM_DYN_GRAD_OK = 0,           /* defined */
+  POM_DYN_GRAD_NEVER_SETTLED,    /* outside the band at the horizon: the time is censored */
+  POM_DYN_GRAD_SETTLED_AT_START, /* inside the band from t = 0 on (or no band: zero step) */
+  POM_DYN_GRAD_GRAZING,          /* the last crossing grazes the band (dg/dt ~ 0) or a later
+                                    excursion comes within the grazing margin of it */
+  POM_DYN_GRAD_TIE,              /* execution time: two actuators' settling times tie */
+  POM_DYN_GRAD_UNKNOWN,          /* the metric itself is NaN (no target orientation, no
+                                    reference trajectory, a failed maneuver) */
+  POM_DYN_GRAD_NONFINITE         /* a non-finite sensitivity (an evaluation failed) */
+} pom_dyn_grad_why;
+
+/* Short text of a reason ("never settled", ...), static storage. */
+const char *pom_dyn_grad_why_text(pom_dyn_grad_why why);
+
+/* d(metric)/dp_j for j < n_params (SI units of the metric per unit of p_j as
+ * the caller counts it: h_j's unit); NaN where undefined. */
+typedef struct {
+  double d[POM_DYN_SENS_MAX];
+  int defined;          /* 1: d[] are derivatives; 0: undefined, d[] NaN */
+  pom_dyn_grad_why why; /* POM_DYN_GRAD_OK when defined */
+} pom_dyn_dmetric;
+
+/* The gradients of one maneuver. */
+typedef struct {
+  int n_params;
+  pom_dyn_dmetric energy_total;           /* J per unit of p */
+  pom_dyn_dmetric energy[3];              /* J */
+  pom_dyn_dmetric tracking_rms_error;     /* rad */
+  pom_dyn_dmetric final_pointing_error;   /* rad */
+  pom_dyn_dmetric settling_time[3];       /* s */
+  pom_dyn_dmetric execution_time;         /* s */
+  pom_dyn_dmetric pointing_settling_time; /* s */
+  /* the crossing rates dg/dt at the last band crossing of each actuator and
+   * of the pointing angle (m/s, rad/s; 0 where there is none): how far from
+   * grazing the derivative was taken */
+  double crossing_rate[3];
+  double pointing_crossing_rate;
+  long sens_rhs_evals; /* right-hand sides spent on the sensitivities (both models) */
+  long restarts;       /* restarts at a raw voltage entering its linear band */
+} pom_dyn_grad;
+
+/* Sensitivity corrector: CVODES' staggered (default) or simultaneous. */
+typedef enum { POM_DYN_SENS_STAGGERED = 0, POM_DYN_SENS_SIMULTANEOUS = 1 } pom_dyn_sens_method;
+
+/* What the caller differentiates with respect to. */
+typedef struct {
+  int n;                                        /* parameters, 1..POM_DYN_SENS_MAX */
+  const pom_dyn_model *plus[POM_DYN_SENS_MAX];  /* model at p_j + h_j */
+  const pom_dyn_model *minus[POM_DYN_SENS_MAX]; /* model at p_j - h_j */
+  double step[POM_DYN_SENS_MAX];                /* h_j > 0 (the caller's unit of p_j) */
+  double target_plus[POM_DYN_SENS_MAX][3];      /* setpoints of plus[j] (m or rad): the nominal
+                                                   target in joint space; IK of the perturbed
+                                                   geometry for an orientation target */
+  double target_minus[POM_DYN_SENS_MAX][3];     /* of minus[j] */
+  double scale[POM_DYN_SENS_MAX]; /* typical |p_j| (h_j's unit): CVODES' pbar, the scale of
+                                     s_j in the error test; 0 = 1e4 h_j */
+  pom_dyn_sens_method method;     /* default staggered */
+  int error_control;              /* 1 (default): the sensitivities enter CVODES' error test */
+} pom_dyn_sens_spec;
+
+/* Defaults: n 0, staggered, error control on. */
+void pom_dyn_sens_spec_defaults(pom_dyn_sens_spec *s);
+
+/* One maneuver of model m on data d to `target` (as pom_dyn_simulate; the
+ * metrics are those of the same run) with the forward sensitivities of
+ * spec: grad receives every derivative with its defined flag. Only the
+ * exact formulation (joints.model = "rigid"): POM_ERR_ARG for a parasitic
+ * model, for perturbed models of another layout or controller type, or for
+ * a step that is not positive. A failed maneuver returns its status with
+ * every derivative undefined (POM_DYN_GRAD_UNKNOWN). d stays usable for
+ * plain runs, which it leaves unchanged bit for bit. */
+pom_status pom_dyn_simulate_sens(const pom_dyn_model *m, pom_dyn_data *d, const double target[3],
+                                 const pom_dyn_sens_spec *spec, pom_dyn_metrics *metrics,
+                                 pom_dyn_grad *grad, pom_error *err);
+
+/* The grazing margin: a crossing whose |dg/dt| is below
+ * POM_DYN_GRAD_GRAZE x band / horizon, or after which the band function
+ * comes back within POM_DYN_GRAD_GRAZE_MARGIN x band of the band edge, is
+ * reported POM_DYN_GRAD_GRAZING (docs/optimize.md). */
+#define POM_DYN_GRAD_GRAZE        1e-2
+#define POM_DYN_GRAD_GRAZE_MARGIN 1e-3
+
+#endif

@@ -1,0 +1,768 @@
+/* pom_grad.c - design gradients from a config (pom_grad.h, docs/optimize.md
+ * "Design gradients"): the nominal and perturbed models built as a study
+ * builds a candidate, then pom_dyn_simulate_sens per maneuver, and the
+ * Monte-Carlo means with their gradients. */
+#include "pom_grad.h"
+#include "study_internal.h"
+#include "pom_json.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct pom_grad {
+  char *text;                  /* the config with its includes resolved (libconfig text) */
+  char name[POM_DOE_PATH_LEN]; /* the config's path, for messages */
+  int n;
+  char key[POM_GRAD_MAX_PARAMS][POM_GRAD_KEY_LEN];
+  double value[POM_GRAD_MAX_PARAMS]; /* current design (config units) */
+  double step[POM_GRAD_MAX_PARAMS];
+  pom_grad_options opt;
+  pom_doe_maneuvers mv;
+  pom_unc unc;
+  double unc_nominal[POM_UNC_MAX]; /* the config's value of each uncertain key (NaN: absent) */
+  pom_doe_evaluator nom, plus[POM_GRAD_MAX_PARAMS], minus[POM_GRAD_MAX_PARAMS];
+  int built;
+  pom_dyn_data *d; /* data of the current nominal model */
+};
+
+/* ---- metric table ------------------------------------------------------------------- */
+static const char *const metric_names[POM_GRAD_N_METRICS] = {"energy_total",
+                                                             "energy_1",
+                                                             "energy_2",
+                                                             "energy_3",
+                                                             "tracking_rms_error",
+                                                             "final_pointing_error",
+                                                             "settling_time_1",
+                                                             "settling_time_2",
+                                                             "settling_time_3",
+                                                             "execution_time",
+                                                             "pointing_settling_time"};
+
+const char *pom_grad_metric_name(pom_grad_metric k) {
+  return (unsigned)k < POM_GRAD_N_METRICS ? metric_names[k] : "?";
+}
+
+double pom_grad_metric_value(const pom_dyn_metrics *mt, pom_grad_metric k) {
+  switch (k) {
+  case POM_GRAD_ENERGY_TOTAL:
+    return mt->energy_total;
+  case POM_GRAD_ENERGY_1:
+    return mt->energy[0];
+  case POM_GRAD_ENERGY_2:
+    return mt->energy[1];
+  case POM_GRAD_ENERGY_3:
+    return mt->energy[2];
+  case POM_GRAD_TRACKING_RMS_ERROR:
+    return mt->tracking_rms_error;
+  case POM_GRAD_FINAL_POINTING_ERROR:
+    return mt->final_pointing_error;
+  case POM_GRAD_SETTLING_TIME_1:
+    return mt->settling_time[0];
+  case POM_GRAD_SETTLING_TIME_2:
+    return mt->settling_time[1];
+  case POM_GRAD_SETTLING_TIME_3:
+    return mt->settling_time[2];
+  case POM_GRAD_EXECUTION_TIME:
+    return mt->execution_time;
+  case POM_GRAD_POINTING_SETTLING_TIME:
+    return mt->pointing_settling_time;
+  default:
+    return NAN;
+  }
+}
+
+static pom_dyn_dmetric *grad_of(pom_dyn_grad *g, pom_grad_metric k) {
+  switch (k) {
+  case POM_GRAD_ENERGY_TOTAL:
+    return &g->energy_total;
+  case POM_GRAD_ENERGY_1:
+    return &g->energy[0];
+  case POM_GRAD_ENERGY_2:
+    return &g->energy[1];
+  case POM_GRAD_ENERGY_3:
+    return &g->energy[2];
+  case POM_GRAD_TRACKING_RMS_ERROR:
+    return &g->tracking_rms_error;
+  case POM_GRAD_FINAL_POINTING_ERROR:
+    return &g->final_pointing_error;
+  case POM_GRAD_SETTLING_TIME_1:
+    return &g->settling_time[0];
+  case POM_GRAD_SETTLING_TIME_2:
+    return &g->settling_time[1];
+  case POM_GRAD_SETTLING_TIME_3:
+    return &g->settling_time[2];
+  case POM_GRAD_EXECUTION_TIME:
+    return &g->execution_time;
+  default:
+    return &g->pointing_settling_time;
+  }
+}
+
+const pom_dyn_dmetric *pom_grad_metric_grad(const pom_dyn_grad *g, pom_grad_metric k) {
+  return grad_of((pom_dyn_grad *)g, k);
+}
+
+void pom_grad_options_defaults(pom_grad_options *o) {
+  memset(o, 0, sizeof *o);
+  o->rel_step = 3e-6;
+  for (int j = 0; j < POM_GRAD_MAX_PARAMS; ++j)
+    o->abs_floor[j] = 1.0;
+  o->method = POM_DYN_SENS_STAGGERED;
+  o->error_control = 1;
+}
+
+void pom_grad_mc_options_defaults(pom_grad_mc_options *o) {
+  memset(o, 0, sizeof *o);
+}
+
+/* ---- config trees -------------------------------------------------------------------- */
+/* Splits "a.b[2]" into the path "a.b" and the index 2 (-1 when none). */
+static int split_index(const char *key, char *path, size_t cap, long *index) {
+  size_t n = strlen(key);
+  *index = -1;
+  if (n >= cap) return 0;
+  memcpy(path, key, n + 1);
+  if (n > 2 && path[n - 1] == ']') {
+    char *lb = strrchr(path, '[');
+    if (!lb) return 0;
+    char *end = NULL;
+    long i = strtol(lb + 1, &end, 10);
+    if (end != path + n - 1 || i < 0) return 0;
+    *lb = '\0';
+    *index = i;
+  }
+  return 1;
+}
+
+/* The numeric setting of key in tree (an array element for "key[i]"), or NULL. */
+static config_setting_t *lookup_number(config_t *tree, const char *key) {
+  char path[POM_GRAD_KEY_LEN];
+  long idx;
+  if (!split_index(key, path, sizeof path, &idx)) return NULL;
+  config_setting_t *s = config_lookup(tree, path);
+  if (!s) return NULL;
+  if (idx >= 0) {
+    if (!config_setting_is_array(s) && !config_setting_is_list(s)) return NULL;
+    s = config_setting_get_elem(s, (unsigned)idx);
+    if (!s) return NULL;
+  }
+  int t = config_setting_type(s);
+  return (t == CONFIG_TYPE_FLOAT || t == CONFIG_TYPE_INT || t == CONFIG_TYPE_INT64) ? s : NULL;
+}
+
+/* Sets key (present, numeric) to value as a real: an integer setting
+ * outside an array is replaced by a real one; an integer array element
+ * takes only integral values (libconfig arrays hold one type). */
+static pom_status set_number(config_t *tree, const char *key, double value, pom_error *err) {
+  config_setting_t *s = lookup_number(tree, key);
+  if (!s) POM_FAIL(err, POM_ERR_CONFIG, "key '%s' is not a number in the config", key);
+  if (config_setting_type(s) == CONFIG_TYPE_FLOAT) {
+    config_setting_set_float(s, value);
+    return POM_OK;
+  }
+  config_setting_t *parent = config_setting_parent(s);
+  if (parent && config_setting_is_group(parent)) {
+    char name[POM_GRAD_KEY_LEN];
+    snprintf(name, sizeof name, "%s", config_setting_name(s));
+    config_setting_remove(parent, name);
+    s = config_setting_add(parent, name, CONFIG_TYPE_FLOAT);
+    if (!s) POM_FAIL(err, POM_ERR_CONFIG, "key '%s': cannot be set to a real", key);
+    config_setting_set_float(s, value);
+    return POM_OK;
+  }
+  return pom_doe_tree_set_number(tree, key, value, err);
+}
+
+/* The config of the design values[] with the uncertain draws x (NULL: none;
+ * controller_only: only those the controller's model takes). */
+static pom_status variant(pom_cfg **out, const pom_grad *g, const double *values, const double *x,
+                          int controller_only, pom_error *err) {
+  pom_status st = POM_OK;
+  char *text = NULL;
+  config_t tree;
+  config_init(&tree);
+  *out = NULL;
+  POM_TRY_GOTO(pom_doe_tree_read_string(&tree, g->text, g->name, NULL, err), done);
+  for (int j = 0; j < g->n; ++j)
+    POM_TRY_GOTO(set_number(&tree, g->key[j], values[j], err), done);
+  for (int u = 0; x && u < g->unc.n; ++u) {
+    const pom_unc_param *p = &g->unc.param[u];
+    if (controller_only && !p->controller_drawn) continue;
+    double nominal = g->unc_nominal[u];
+    for (int j = 0; j < g->n; ++j)
+      if (strcmp(g->key[j], p->key) == 0) nominal = values[j]; /* the design moves it */
+    POM_TRY_GOTO(pom_doe_tree_set_number(&tree, p->key, p->relative ? nominal * x[u] : x[u], err),
+                 done);
+  }
+  POM_TRY_GOTO(pom_doe_tree_write(&tree, &text, err), done);
+  POM_TRY_GOTO(pom_cfg_load_string(out, text, g->name, err), done);
+done:
+  free(text);
+  config_destroy(&tree);
+  return st;
+}
+
+/* The evaluator (architecture, mechanism, parameters, model) of one design. */
+static pom_status evaluator(pom_doe_evaluator *ev, const pom_grad *g, const double *values,
+                            const double *x, pom_error *err) {
+  pom_cfg *cfg = NULL, *ctrl = NULL;
+  pom_status st = variant(&cfg, g, values, x, 0, err);
+  if (st == POM_OK && x && g->unc.n > 0) st = variant(&ctrl, g, values, x, 1, err);
+  if (st == POM_OK) st = pom_doe_dyn_evaluator_create_ex(ev, cfg, ctrl, err);
+  pom_cfg_destroy(cfg);
+  pom_cfg_destroy(ctrl);
+  return st;
+}
+
+static const pom_doe_dyn_base *base(const pom_doe_evaluator *ev) {
+  return ev->ctx;
+}
+
+typedef struct {
+  pom_doe_evaluator nom, plus[POM_GRAD_MAX_PARAMS], minus[POM_GRAD_MAX_PARAMS];
+} model_set;
+
+static void set_clear(model_set *s, int n) {
+  pom_doe_evaluator_clear(&s->nom);
+  for (int j = 0; j < n; ++j) {
+    pom_doe_evaluator_clear(&s->plus[j]);
+    pom_doe_evaluator_clear(&s->minus[j]);
+  }
+}
+
+/* Every model of the design values[] (steps step[]) with draws x. A failure
+ * names the key whose perturbed design failed. */
+static pom_status build_set(model_set *s, const pom_grad *g, const double *values,
+                            const double *step, const double *x, pom_error *err) {
+  memset(s, 0, sizeof *s);
+  pom_status st = evaluator(&s->nom, g, values, x, err);
+  if (st != POM_OK) return st;
+  const pom_joint_model joints = base(&s->nom)->params.joints.model;
+  if (joints != POM_JOINTS_RIGID) {
+    set_clear(s, 0);
+    POM_FAIL(err, POM_ERR_ARG,
+             "%s: design gradients need joints.model = \"rigid\" (the exact formulation); the "
+             "config has \"%s\"",
+             g->name, pom_dyn_joint_model_name(joints));
+  }
+  double v[POM_GRAD_MAX_PARAMS];
+  memcpy(v, values, (size_t)g->n * sizeof *v);
+  for (int j = 0; j < g->n; ++j) {
+    for (int side = 0; side < 2; ++side) {
+      v[j] = values[j] + (side ? -step[j] : step[j]);
+      pom_error e;
+      pom_error_clear(&e);
+      st = evaluator(side ? &s->minus[j] : &s->plus[j], g, v, x, &e);
+      if (st != POM_OK) {
+        set_clear(s, g->n);
+        return pom_error_set(err, st, __FILE__, __LINE__,
+                             "%s: %s = %.10g (the design %s its step): %s", g->name, g->key[j],
+                             v[j], side ? "minus" : "plus", e.message);
+      }
+    }
+    v[j] = values[j];
+  }
+  return POM_OK;
+}
+
+static void steps_of(const pom_grad *g, const double *values, double *step) {
+  for (int j = 0; j < g->n; ++j)
+    step[j] = g->opt.rel_step * (values[j] != 0.0 ? fabs(values[j]) : g->opt.abs_floor[j]);
+}
+
+/* Moves the built models of s into g (freeing g's). */
+static pom_status adopt(pom_grad *g, model_set *s, pom_error *err) {
+  pom_dyn_data *d = NULL;
+  pom_status st = pom_dyn_data_create(&d, base(&s->nom)->model, err);
+  if (st != POM_OK) {
+    set_clear(s, g->n);
+    return st;
+  }
+  if (g->built) {
+    pom_dyn_data_destroy(g->d);
+    pom_doe_evaluator_clear(&g->nom);
+    for (int j = 0; j < g->n; ++j) {
+      pom_doe_evaluator_clear(&g->plus[j]);
+      pom_doe_evaluator_clear(&g->minus[j]);
+    }
+  }
+  g->nom = s->nom;
+  memcpy(g->plus, s->plus, sizeof g->plus);
+  memcpy(g->minus, s->minus, sizeof g->minus);
+  g->d = d;
+  g->built = 1;
+  return POM_OK;
+}
+
+/* ---- create ------------------------------------------------------------------------------ */
+pom_status pom_grad_create(pom_grad **out, const pom_cfg *cfg, const char *const *keys, int n,
+                           const pom_grad_options *o, pom_error *err) {
+  if (!out || !cfg || !keys) POM_FAIL(err, POM_ERR_ARG, "pom_grad_create: NULL argument");
+  *out = NULL;
+  if (n < 1 || n > POM_GRAD_MAX_PARAMS)
+    POM_FAIL(err, POM_ERR_ARG, "%s: %d design keys (1 to %d)", pom_cfg_path(cfg), n,
+             POM_GRAD_MAX_PARAMS);
+  pom_status st = POM_OK;
+  config_t tree;
+  config_init(&tree);
+  pom_grad *g = calloc(1, sizeof *g);
+  if (!g) POM_FAIL(err, POM_ERR_NOMEM, "pom_grad_create: out of memory");
+  if (o)
+    g->opt = *o;
+  else
+    pom_grad_options_defaults(&g->opt);
+  if (!(g->opt.rel_step > 0.0 && g->opt.rel_step < 0.1))
+    POM_FAIL_GOTO(err, POM_ERR_ARG, fail, "design gradients: rel_step %g outside (0, 0.1)",
+                  g->opt.rel_step);
+  snprintf(g->name, sizeof g->name, "%s", pom_cfg_path(cfg));
+  char dir[POM_DOE_PATH_LEN];
+  snprintf(dir, sizeof dir, "%s", g->name);
+  char *slash = strrchr(dir, '/');
+  if (slash)
+    *slash = '\0';
+  else
+    snprintf(dir, sizeof dir, ".");
+  POM_TRY_GOTO(pom_doe_tree_read_string(&tree, pom_cfg_text(cfg), g->name, dir, err), fail);
+  g->n = n;
+  for (int j = 0; j < n; ++j) {
+    if (!keys[j] || strlen(keys[j]) >= POM_GRAD_KEY_LEN)
+      POM_FAIL_GOTO(err, POM_ERR_CONFIG, fail, "%s: design key %d is missing or too long", g->name,
+                    j + 1);
+    snprintf(g->key[j], sizeof g->key[j], "%s", keys[j]);
+    for (int i = 0; i < j; ++i)
+      if (strcmp(g->key[i], g->key[j]) == 0)
+        POM_FAIL_GOTO(err, POM_ERR_CONFIG, fail, "%s: design key '%s' given twice", g->name,
+                      keys[j]);
+    config_setting_t *s = lookup_number(&tree, keys[j]);
+    if (!s)
+      POM_FAIL_GOTO(err, POM_ERR_CONFIG, fail,
+                    "%s: design key '%s' is not a number in the config (give its value there)",
+                    g->name, keys[j]);
+    g->value[j] = config_setting_type(s) == CONFIG_TYPE_FLOAT ? config_setting_get_float(s)
+                                                              : (double)config_setting_get_int64(s);
+  }
+  POM_TRY_GOTO(pom_doe_tree_write(&tree, &g->text, err), fail);
+  POM_TRY_GOTO(pom_doe_maneuvers_load(&g->mv, cfg, err), fail);
+  POM_TRY_GOTO(pom_unc_load(&g->unc, cfg, g->mv.seed, err), fail);
+  for (int u = 0; u < g->unc.n; ++u) {
+    config_setting_t *s = lookup_number(&tree, g->unc.param[u].key);
+    g->unc_nominal[u] = !s ? NAN
+                        : config_setting_type(s) == CONFIG_TYPE_FLOAT
+                            ? config_setting_get_float(s)
+                            : (double)config_setting_get_int64(s);
+    if (g->unc.param[u].relative && !isfinite(g->unc_nominal[u]))
+      POM_FAIL_GOTO(err, POM_ERR_CONFIG, fail,
+                    "%s: uncertain key '%s' is relative but has no value in the config", g->name,
+                    g->unc.param[u].key);
+  }
+  POM_TRY_GOTO(pom_grad_set_values(g, g->value, err), fail);
+  config_destroy(&tree);
+  *out = g;
+  return POM_OK;
+fail:
+  config_destroy(&tree);
+  pom_grad_destroy(g);
+  return st;
+}
+
+void pom_grad_destroy(pom_grad *g) {
+  if (!g) return;
+  if (g->built) {
+    pom_dyn_data_destroy(g->d);
+    pom_doe_evaluator_clear(&g->nom);
+    for (int j = 0; j < g->n; ++j) {
+      pom_doe_evaluator_clear(&g->plus[j]);
+      pom_doe_evaluator_clear(&g->minus[j]);
+    }
+  }
+  free(g->text);
+  free(g);
+}
+
+int pom_grad_n_params(const pom_grad *g) {
+  return g->n;
+}
+const char *pom_grad_key(const pom_grad *g, int j) {
+  return j >= 0 && j < g->n ? g->key[j] : NULL;
+}
+double pom_grad_value(const pom_grad *g, int j) {
+  return j >= 0 && j < g->n ? g->value[j] : NAN;
+}
+double pom_grad_step(const pom_grad *g, int j) {
+  return j >= 0 && j < g->n ? g->step[j] : NAN;
+}
+const pom_kin_arch *pom_grad_arch(const pom_grad *g) {
+  return &base(&g->nom)->arch;
+}
+const pom_dyn_params *pom_grad_params(const pom_grad *g) {
+  return &base(&g->nom)->params;
+}
+const pom_dyn_model *pom_grad_model(const pom_grad *g) {
+  return base(&g->nom)->model;
+}
+
+pom_status pom_grad_set_values(pom_grad *g, const double *values, pom_error *err) {
+  double step[POM_GRAD_MAX_PARAMS];
+  for (int j = 0; j < g->n; ++j)
+    if (!isfinite(values[j]))
+      POM_FAIL(err, POM_ERR_ARG, "%s: %s = %g is not finite", g->name, g->key[j], values[j]);
+  steps_of(g, values, step);
+  model_set s;
+  POM_TRY(build_set(&s, g, values, step, NULL, err));
+  POM_TRY(adopt(g, &s, err));
+  memmove(g->value, values, (size_t)g->n * sizeof *values);
+  memcpy(g->step, step, sizeof step);
+  return POM_OK;
+}
+
+/* ---- one maneuver ------------------------------------------------------------------------ */
+static void all_undefined(pom_dyn_grad *gr, int n) {
+  memset(gr, 0, sizeof *gr);
+  gr->n_params = n;
+  for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
+    pom_dyn_dmetric *d = grad_of(gr, (pom_grad_metric)k);
+    d->defined = 0;
+    d->why = POM_DYN_GRAD_UNKNOWN;
+    for (int j = 0; j < n; ++j)
+      d->d[j] = NAN;
+  }
+}
+
+static void refused(pom_dyn_metrics *mt, pom_status st, const pom_error *e) {
+  memset(mt, 0, sizeof *mt);
+  mt->status = st;
+  snprintf(mt->reason, sizeof mt->reason, "%s", e->message);
+  mt->energy_total = mt->execution_time = mt->final_pointing_error = NAN;
+  mt->tracking_rms_error = mt->pointing_settling_time = NAN;
+  for (int a = 0; a < 3; ++a)
+    mt->settling_time[a] = mt->energy[a] = NAN;
+}
+
+/* One maneuver on a model set: joint targets q (all models) or orientation R
+ * (each model's IK). */
+static pom_status run_set(const pom_grad *g, const model_set *s, pom_dyn_data *d, const double *q,
+                          const double *R, pom_dyn_metrics *mt, pom_dyn_grad *gr, pom_error *err) {
+  pom_dyn_sens_spec sp;
+  pom_dyn_sens_spec_defaults(&sp);
+  sp.n = g->n;
+  sp.method = g->opt.method;
+  sp.error_control = g->opt.error_control;
+  double target[3];
+  pom_error e;
+  pom_error_clear(&e);
+  all_undefined(gr, g->n);
+  pom_status st = POM_OK;
+  if (R) {
+    pom_doe_maneuver man;
+    memset(&man, 0, sizeof man);
+    memcpy(man.R, R, sizeof man.R);
+    st = pom_doe_dyn_targets(s->nom.ctx, &man, target, &e);
+    for (int j = 0; j < g->n && st == POM_OK; ++j) {
+      st = pom_kin_inverse(&base(&s->plus[j])->arch, R, sp.target_plus[j], &e);
+      if (st == POM_OK) st = pom_kin_inverse(&base(&s->minus[j])->arch, R, sp.target_minus[j], &e);
+    }
+  } else {
+    memcpy(target, q, sizeof target);
+    for (int j = 0; j < g->n; ++j) {
+      memcpy(sp.target_plus[j], q, sizeof target);
+      memcpy(sp.target_minus[j], q, sizeof target);
+    }
+  }
+  if (st != POM_OK) {
+    refused(mt, st, &e);
+    if (err) *err = e;
+    return st;
+  }
+  for (int j = 0; j < g->n; ++j) {
+    sp.plus[j] = base(&s->plus[j])->model;
+    sp.minus[j] = base(&s->minus[j])->model;
+    sp.step[j] = g->step[j];
+    sp.scale[j] = g->value[j] != 0.0 ? fabs(g->value[j]) : g->opt.abs_floor[j];
+  }
+  const pom_doe_dyn_base *b = base(&s->nom);
+  st = pom_dyn_simulate_sens(b->model, d, target, &sp, mt, gr, err);
+  if (st == POM_OK) {
+    /* the study's rule: a run that leaves the stroke is a failure */
+    st = pom_doe_check_final_stroke_kind(mt, b->arch.stroke, b->params.actuator.kind, err);
+    if (st != POM_OK) all_undefined(gr, g->n);
+  }
+  return st;
+}
+
+static model_set current(const pom_grad *g) {
+  model_set s;
+  s.nom = g->nom;
+  memcpy(s.plus, g->plus, sizeof s.plus);
+  memcpy(s.minus, g->minus, sizeof s.minus);
+  return s;
+}
+
+pom_status pom_grad_maneuver_joint(pom_grad *g, const double q[3], pom_dyn_metrics *mt,
+                                   pom_dyn_grad *gr, pom_error *err) {
+  model_set s = current(g);
+  return run_set(g, &s, g->d, q, NULL, mt, gr, err);
+}
+
+pom_status pom_grad_maneuver_orientation(pom_grad *g, const double R[9], pom_dyn_metrics *mt,
+                                         pom_dyn_grad *gr, pom_error *err) {
+  model_set s = current(g);
+  return run_set(g, &s, g->d, NULL, R, mt, gr, err);
+}
+
+/* ---- central differences of whole runs --------------------------------------------------- */
+static pom_status plain_run(const pom_doe_evaluator *ev, const double *q, const double *R,
+                            pom_dyn_metrics *mt) {
+  const pom_doe_dyn_base *b = base(ev);
+  pom_dyn_data *d = NULL;
+  pom_error e;
+  pom_error_clear(&e);
+  double target[3];
+  pom_status st = POM_OK;
+  if (R) {
+    pom_doe_maneuver man;
+    memset(&man, 0, sizeof man);
+    memcpy(man.R, R, sizeof man.R);
+    st = pom_doe_dyn_targets(b, &man, target, &e);
+  } else {
+    memcpy(target, q, sizeof target);
+  }
+  if (st == POM_OK) st = pom_dyn_data_create(&d, b->model, &e);
+  if (st == POM_OK)
+    st = pom_doe_dyn_run(b, d, target, mt, &e);
+  else
+    refused(mt, st, &e);
+  pom_dyn_data_destroy(d);
+  return st;
+}
+
+static pom_status fd_set(const pom_grad *g, const double *values, const double *x, const double *q,
+                         const double *R, const double *dh, pom_dyn_metrics *mt, pom_dyn_grad *fd,
+                         pom_error *err) {
+  pom_doe_evaluator ev;
+  all_undefined(fd, g->n);
+  pom_status st = evaluator(&ev, g, values, x, err);
+  if (st != POM_OK) return st;
+  st = plain_run(&ev, q, R, mt);
+  pom_doe_evaluator_clear(&ev);
+  double v[POM_GRAD_MAX_PARAMS];
+  memcpy(v, values, (size_t)g->n * sizeof *v);
+  for (int j = 0; j < g->n; ++j) {
+    pom_dyn_metrics m2[2];
+    pom_status s2[2];
+    for (int side = 0; side < 2; ++side) {
+      v[j] = values[j] + (side ? -dh[j] : dh[j]);
+      pom_status sb = evaluator(&ev, g, v, x, err);
+      if (sb != POM_OK) return sb;
+      s2[side] = plain_run(&ev, q, R, &m2[side]);
+      pom_doe_evaluator_clear(&ev);
+    }
+    v[j] = values[j];
+    for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
+      pom_dyn_dmetric *d = grad_of(fd, (pom_grad_metric)k);
+      double a = pom_grad_metric_value(&m2[0], (pom_grad_metric)k);
+      double b = pom_grad_metric_value(&m2[1], (pom_grad_metric)k);
+      d->d[j] = (a - b) / (2.0 * dh[j]);
+      int ok = s2[0] == POM_OK && s2[1] == POM_OK && isfinite(a) && isfinite(b);
+      if (j == 0)
+        d->defined = ok;
+      else
+        d->defined &= ok;
+      if (!ok) d->d[j] = NAN;
+    }
+  }
+  for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
+    pom_dyn_dmetric *d = grad_of(fd, (pom_grad_metric)k);
+    d->why = d->defined ? POM_DYN_GRAD_OK : POM_DYN_GRAD_UNKNOWN;
+  }
+  return st;
+}
+
+pom_status pom_grad_fd_maneuver(pom_grad *g, const double *q, const double *R, const double *dh,
+                                pom_dyn_metrics *mt, pom_dyn_grad *fd, pom_error *err) {
+  if (!q == !R) POM_FAIL(err, POM_ERR_ARG, "pom_grad_fd_maneuver: give exactly one of q and R");
+  return fd_set(g, g->value, NULL, q, R, dh ? dh : g->step, mt, fd, err);
+}
+
+/* ---- Monte-Carlo ------------------------------------------------------------------------- */
+void pom_grad_mc_free(pom_grad_mc_result *r) {
+  if (!r) return;
+  free(r->metrics);
+  free(r->grads);
+  memset(r, 0, sizeof *r);
+}
+
+pom_status pom_grad_montecarlo(pom_grad *g, const pom_grad_mc_options *o, pom_grad_mc_result *r,
+                               pom_error *err) {
+  pom_grad_mc_options def;
+  if (!o) {
+    pom_grad_mc_options_defaults(&def);
+    o = &def;
+  }
+  memset(r, 0, sizeof *r);
+  r->n_params = g->n;
+  pom_doe_maneuvers mv = g->mv;
+  pom_unc unc = g->unc;
+  if (o->seed_set) mv.seed = unc.seed = o->seed;
+  long count = o->count > 0 ? o->count : mv.count;
+  r->metrics = calloc((size_t)count, sizeof *r->metrics);
+  r->grads = calloc((size_t)count, sizeof *r->grads);
+  if (!r->metrics || !r->grads) {
+    pom_grad_mc_free(r);
+    POM_FAIL(err, POM_ERR_NOMEM, "design gradients: out of memory for %ld maneuvers", count);
+  }
+  pom_status st = POM_OK;
+  for (long k = 0; k < count; ++k) {
+    pom_doe_maneuver man;
+    pom_doe_maneuver_draw(&man, &mv, k);
+    const double *q = mv.space == POM_DOE_SPACE_JOINT ? man.q : NULL;
+    const double *R = mv.space == POM_DOE_SPACE_JOINT ? NULL : man.R;
+    double x[POM_UNC_MAX];
+    if (unc.n > 0) pom_unc_draws(&unc, k, x);
+    pom_error e;
+    pom_error_clear(&e);
+    pom_dyn_metrics *mt = &r->metrics[k];
+    pom_dyn_grad *gr = &r->grads[k];
+    if (o->plain_fd) {
+      st = fd_set(g, g->value, unc.n > 0 ? x : NULL, q, R, g->step, mt, gr, &e);
+    } else if (unc.n > 0) {
+      model_set s;
+      st = build_set(&s, g, g->value, g->step, x, &e);
+      if (st == POM_OK) {
+        pom_dyn_data *d = NULL;
+        st = pom_dyn_data_create(&d, base(&s.nom)->model, &e);
+        if (st == POM_OK) st = run_set(g, &s, d, q, R, mt, gr, &e);
+        pom_dyn_data_destroy(d);
+        set_clear(&s, g->n);
+      }
+    } else {
+      model_set s = current(g);
+      st = run_set(g, &s, g->d, q, R, mt, gr, &e);
+    }
+    if (st == POM_ERR_NOMEM || st == POM_ERR_CONFIG || st == POM_ERR_ARG) {
+      if (err) *err = e;
+      pom_grad_mc_free(r);
+      return st;
+    }
+    if (mt->status == POM_OK && st != POM_OK) mt->status = st;
+    ++r->n;
+  }
+  /* means and their gradients */
+  for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
+    pom_dyn_dmetric *dm = &r->dmean[k];
+    double sum = 0.0, dsum[POM_GRAD_MAX_PARAMS] = {0};
+    long used = 0, defined = 0;
+    dm->why = POM_DYN_GRAD_OK;
+    for (long i = 0; i < r->n; ++i) {
+      const pom_dyn_metrics *mt = &r->metrics[i];
+      const pom_dyn_dmetric *d = grad_of(&r->grads[i], (pom_grad_metric)k);
+      double v = pom_grad_metric_value(mt, (pom_grad_metric)k);
+      if (mt->status == POM_OK && isfinite(v)) sum += v, ++used;
+      if (mt->status == POM_OK && d->defined) {
+        ++defined;
+        for (int j = 0; j < g->n; ++j)
+          dsum[j] += d->d[j];
+      } else if (dm->why == POM_DYN_GRAD_OK) {
+        dm->why = mt->status == POM_OK ? d->why : POM_DYN_GRAD_UNKNOWN;
+      }
+    }
+    r->mean[k] = used > 0 ? sum / (double)used : NAN;
+    r->n_defined[k] = defined;
+    dm->defined = r->n > 0 && defined == r->n;
+    if (!dm->defined && dm->why == POM_DYN_GRAD_OK) dm->why = POM_DYN_GRAD_UNKNOWN;
+    for (int j = 0; j < POM_DYN_SENS_MAX; ++j)
+      dm->d[j] = j < g->n ? (dm->defined ? dsum[j] / (double)r->n : NAN) : 0.0;
+  }
+  long fin = 0;
+  for (long i = 0; i < r->n; ++i)
+    fin += r->metrics[i].status == POM_OK;
+  r->n_finished = fin;
+  return POM_OK;
+}
+
+/* ---- JSON ---------------------------------------------------------------------------- */
+static void json_grad(FILE *out, const pom_dyn_dmetric *d, int n) {
+  if (!d->defined) {
+    fprintf(out, "null");
+    return;
+  }
+  pom_json_vec(out, d->d, n, 1.0);
+}
+
+static void json_one(FILE *out, const pom_grad *g, const pom_dyn_metrics *mt,
+                     const pom_dyn_grad *gr, const pom_dyn_grad *fd) {
+  const int n = pom_grad_n_params(g);
+  fprintf(out, "{\"status\": ");
+  pom_json_string(out, pom_status_name(mt->status));
+  fprintf(out, ", \"reason\": ");
+  pom_json_string(out, mt->reason);
+  fprintf(out, ", \"target\": ");
+  pom_json_vec(out, mt->target, 3, 1.0);
+  fprintf(out, ", \"metrics\": {");
+  for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
+    fprintf(out, "%s\"%s\": ", k ? ", " : "", pom_grad_metric_name((pom_grad_metric)k));
+    pom_json_number(out, pom_grad_metric_value(mt, (pom_grad_metric)k));
+  }
+  fprintf(out, "}, \"gradient\": {");
+  for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
+    fprintf(out, "%s\"%s\": ", k ? ", " : "", pom_grad_metric_name((pom_grad_metric)k));
+    json_grad(out, pom_grad_metric_grad(gr, (pom_grad_metric)k), n);
+  }
+  fprintf(out, "}, \"undefined\": {");
+  int first = 1;
+  for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
+    const pom_dyn_dmetric *d = pom_grad_metric_grad(gr, (pom_grad_metric)k);
+    if (d->defined) continue;
+    fprintf(out, "%s\"%s\": ", first ? "" : ", ", pom_grad_metric_name((pom_grad_metric)k));
+    pom_json_string(out, pom_dyn_grad_why_text(d->why));
+    first = 0;
+  }
+  fprintf(out, "}");
+  if (fd) {
+    fprintf(out, ", \"check\": {");
+    for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
+      fprintf(out, "%s\"%s\": ", k ? ", " : "", pom_grad_metric_name((pom_grad_metric)k));
+      json_grad(out, pom_grad_metric_grad(fd, (pom_grad_metric)k), n);
+    }
+    fprintf(out, "}");
+  }
+  fprintf(out, "}");
+}
+
+void pom_grad_mc_json(FILE *out, const char *cfg_path, const pom_grad *g,
+                      const pom_grad_mc_result *r, const pom_grad_mc_result *check) {
+  const int n = pom_grad_n_params(g);
+  fprintf(out, "{\"config\": ");
+  pom_json_string(out, cfg_path);
+  fprintf(out, ", \"keys\": [");
+  for (int j = 0; j < n; ++j) {
+    fprintf(out, "%s", j ? ", " : "");
+    pom_json_string(out, pom_grad_key(g, j));
+  }
+  fprintf(out, "], \"values\": [");
+  for (int j = 0; j < n; ++j) {
+    fprintf(out, "%s", j ? ", " : "");
+    pom_json_number(out, pom_grad_value(g, j));
+  }
+  fprintf(out, "], \"maneuvers\": [");
+  for (long i = 0; i < r->n; ++i) {
+    fprintf(out, "%s\n  ", i ? "," : "");
+    json_one(out, g, &r->metrics[i], &r->grads[i], check ? &check->grads[i] : NULL);
+  }
+  fprintf(out, "],\n \"finished\": %ld, \"mean\": {", r->n_finished);
+  for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
+    fprintf(out, "%s\"%s\": ", k ? ", " : "", pom_grad_metric_name((pom_grad_metric)k));
+    pom_json_number(out, r->mean[k]);
+  }
+  fprintf(out, "}, \"mean_gradient\": {");
+  for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
+    fprintf(out, "%s\"%s\": ", k ? ", " : "", pom_grad_metric_name((pom_grad_metric)k));
+    json_grad(out, &r->dmean[k], n);
+  }
+  fprintf(out, "}, \"mean_gradient_defined_in\": {");
+  for (int k = 0; k < POM_GRAD_N_METRICS; ++k)
+    fprintf(out, "%s\"%s\": %ld", k ? ", " : "", pom_grad_metric_name((pom_grad_metric)k),
+            r->n_defined[k]);
+  fprintf(out, "}}\n");
+}

@@ -1,0 +1,179 @@
+/* pom_grad.h - design gradients of maneuver metrics with respect to numeric
+ * config keys (docs/optimize.md, "Design gradients").
+ *
+ * A pom_grad holds a config and n design keys (dotted numeric keys such as
+ * "geometry.platform_radius_mm", "actuator.resistance_ohm",
+ * "controller.kp", "inertia.platform.mass_kg", or an element of a numeric
+ * array "inertia.platform.moments_kgm2[2]"). For the current values of the
+ * keys it builds the nominal model and, per key, the models at value +- h
+ * (h = step), exactly as a study builds a candidate from its config
+ * (kinematics, mechanism, dynamics; a model-based controller's own model
+ * takes the design values too), and runs maneuvers with forward
+ * sensitivities (pom_dyn_sens.h). Only rigid joints (joints.model =
+ * "rigid"): POM_ERR_ARG naming the key otherwise.
+ *
+ * Units: every derivative is per unit of the key AS WRITTEN IN THE CONFIG
+ * (per mm for a _mm key, per ohm, per unit of a dimensionless ratio); the
+ * metric's unit is SI (s, J, rad).
+ *
+ * Monte-Carlo: the config's `montecarlo` group draws the maneuvers (same
+ * targets as `pomlab montecarlo` with that config) and its optional
+ * `uncertain` group perturbs the plant per maneuver as a study does. A
+ * design key that is also uncertain: relative = true -> the plant's value is
+ * value x draw and the derivative carries the draw; absolute -> the draw
+ * replaces the value and the derivative is exactly 0.
+ *
+ * The models are built from the config's file text with its @includes:
+ * values set with pom_cfg_set_number reach the `montecarlo` group (read
+ * from cfg) but not the models; move design values with
+ * pom_grad_set_values.
+ *
+ * Library code: never prints (pom_grad_mc_json writes where it is told). Not thread-safe per
+ * pom_grad (one per thread). */
+#ifndef POM_GRAD_H
+#define POM_GRAD_H
+
+#include "pom_config.h"
+#include "pom_dyn_sens.h"
+#include "pom_dynamics.h"
+#include "pom_kinematics.h"
+#include "pom_status.h"
+
+#include <stdint.h>
+#include <stdio.h>
+
+#define POM_GRAD_MAX_PARAMS POM_DYN_SENS_MAX
+#define POM_GRAD_KEY_LEN    96
+
+/* The metrics that have gradients, in the order of the tables and JSON. */
+typedef enum {
+  POM_GRAD_ENERGY_TOTAL = 0,
+  POM_GRAD_ENERGY_1,
+  POM_GRAD_ENERGY_2,
+  POM_GRAD_ENERGY_3,
+  POM_GRAD_TRACKING_RMS_ERROR,
+  POM_GRAD_FINAL_POINTING_ERROR,
+  POM_GRAD_SETTLING_TIME_1,
+  POM_GRAD_SETTLING_TIME_2,
+  POM_GRAD_SETTLING_TIME_3,
+  POM_GRAD_EXECUTION_TIME,
+  POM_GRAD_POINTING_SETTLING_TIME,
+  POM_GRAD_N_METRICS
+} pom_grad_metric;
+
+/* "energy_total", "energy_1", ..., "pointing_settling_time" (the
+ * pom_dyn_metrics field names, one per actuator), static storage. */
+const char *pom_grad_metric_name(pom_grad_metric k);
+/* The metric's value in a run's metrics (SI). */
+double pom_grad_metric_value(const pom_dyn_metrics *mt, pom_grad_metric k);
+/* Its gradient in a run's gradients. */
+const pom_dyn_dmetric *pom_grad_metric_grad(const pom_dyn_grad *g, pom_grad_metric k);
+
+typedef struct {
+  /* h_j = rel_step x |value_j|, or rel_step x abs_floor_j when the value is
+   * 0 (abs_floor given per key, default 1): the step of the model
+   * differences inside the sensitivities (docs/optimize.md: rounding
+   * O(eps/h) against the saturation's narrow linear band, which a larger
+   * step straddles: 3e-6 measured best) */
+  double rel_step;                       /* default 3e-6 */
+  double abs_floor[POM_GRAD_MAX_PARAMS]; /* default 1 (config units) */
+  pom_dyn_sens_method method;            /* default staggered */
+  int error_control;                     /* default 1 */
+} pom_grad_options;
+
+void pom_grad_options_defaults(pom_grad_options *o);
+
+typedef struct pom_grad pom_grad;
+
+/* Reads the config (its kinematics and dynamics groups as a study's
+ * candidate, `montecarlo` and `uncertain` when present) and the keys' current
+ * values; each key must be numeric in cfg (POM_ERR_CONFIG naming file, key
+ * and value otherwise; an integer key is taken as a real), n in
+ * 1..POM_GRAD_MAX_PARAMS, no key twice. Builds the models (POM_ERR_CONFIG or
+ * POM_ERR_ARG when the design or a perturbed one is invalid, naming the key).
+ * The caller owns *out (pom_grad_destroy). */
+pom_status pom_grad_create(pom_grad **out, const pom_cfg *cfg, const char *const *keys, int n,
+                           const pom_grad_options *o, pom_error *err);
+void pom_grad_destroy(pom_grad *g);
+
+int pom_grad_n_params(const pom_grad *g);
+const char *pom_grad_key(const pom_grad *g, int j);
+double pom_grad_value(const pom_grad *g, int j); /* current value (config units) */
+double pom_grad_step(const pom_grad *g, int j);  /* current h_j (config units) */
+
+/* Moves the design to values[n] (config units) and rebuilds the models; on
+ * failure (a value the key's own validation refuses, an unassemblable
+ * design) the previous design stays and the status names the key. */
+pom_status pom_grad_set_values(pom_grad *g, const double *values, pom_error *err);
+
+/* The nominal design at the current values: geometry (IK, workspace,
+ * constraints), parameters and model. Valid until the next set_values. */
+const pom_kin_arch *pom_grad_arch(const pom_grad *g);
+const pom_dyn_params *pom_grad_params(const pom_grad *g);
+const pom_dyn_model *pom_grad_model(const pom_grad *g);
+
+/* One maneuver of the nominal plant (no uncertain draws) with gradients:
+ * to actuator setpoints q (m or rad; the same for every perturbed model),
+ * or to the platform orientation R (setpoints by each model's own IK, so
+ * that d(setpoints)/d(geometry) enters). The status is the maneuver's
+ * (metrics and gradients filled as pom_dyn_simulate_sens says); a target
+ * outside the stroke or unreachable: POM_ERR_LIMIT / POM_ERR_UNREACHABLE
+ * with metrics->status set. */
+pom_status pom_grad_maneuver_joint(pom_grad *g, const double q[3], pom_dyn_metrics *mt,
+                                   pom_dyn_grad *gr, pom_error *err);
+pom_status pom_grad_maneuver_orientation(pom_grad *g, const double R[9], pom_dyn_metrics *mt,
+                                         pom_dyn_grad *gr, pom_error *err);
+
+/* ---- Monte-Carlo ------------------------------------------------------------------ */
+typedef struct {
+  long count;    /* maneuvers; 0 = the config's montecarlo.maneuvers */
+  int seed_set;  /* 1: seed replaces montecarlo.seed (a fresh maneuver set) */
+  uint64_t seed; /* (targets and uncertain draws both follow it) */
+  int plain_fd;  /* 1: every gradient by central differences of whole simulations
+                    instead (the check; 2n + 1 plain runs per maneuver) */
+} pom_grad_mc_options;
+
+void pom_grad_mc_options_defaults(pom_grad_mc_options *o);
+
+typedef struct {
+  int n_params;
+  long n;                   /* maneuvers run */
+  long n_finished;          /* of which finished (status POM_OK) */
+  pom_dyn_metrics *metrics; /* [n] per maneuver (owned) */
+  pom_dyn_grad *grads;      /* [n] per maneuver (owned) */
+  /* means over the finished maneuvers, and their gradients: defined only
+   * when every maneuver finished and every one's derivative is defined
+   * (a never-settled time censors the mean); otherwise why = the first
+   * maneuver's reason (a failed maneuver: POM_DYN_GRAD_UNKNOWN) and
+   * n_defined counts those that were */
+  double mean[POM_GRAD_N_METRICS];
+  pom_dyn_dmetric dmean[POM_GRAD_N_METRICS];
+  long n_defined[POM_GRAD_N_METRICS];
+} pom_grad_mc_result;
+
+/* The config's maneuvers (montecarlo group, o's count and seed) with the
+ * uncertain draws, each with gradients (or, plain_fd, central differences
+ * of whole simulations). Serial. The caller frees r (pom_grad_mc_free). */
+pom_status pom_grad_montecarlo(pom_grad *g, const pom_grad_mc_options *o, pom_grad_mc_result *r,
+                               pom_error *err);
+void pom_grad_mc_free(pom_grad_mc_result *r);
+
+/* Writes a Monte-Carlo result as JSON (SI; derivatives per config unit of
+ * each key; an undefined gradient is null with its reason under
+ * "undefined"): config, keys, values, per maneuver status, target, metrics,
+ * gradient (and "check": check's whole-run differences when check is not
+ * NULL), finished, mean, mean_gradient, mean_gradient_defined_in. What
+ * `pomlab gradient --json` prints and the Python module returns. */
+void pom_grad_mc_json(FILE *out, const char *cfg_path, const pom_grad *g,
+                      const pom_grad_mc_result *r, const pom_grad_mc_result *check);
+
+/* ---- the check ------------------------------------------------------------------- */
+/* Central differences of whole simulations of one maneuver (joint q or
+ * orientation R, exactly one non-NULL) at value_j +- dh_j (dh: config units,
+ * NULL = the current steps): fd->d[j] of every metric, defined when both
+ * runs finished and the metric is finite in both. mt receives the nominal
+ * run's metrics. 2n + 1 plain simulations. */
+pom_status pom_grad_fd_maneuver(pom_grad *g, const double *q, const double *R, const double *dh,
+                                pom_dyn_metrics *mt, pom_dyn_grad *fd, pom_error *err);
+
+#endif
