@@ -10,10 +10,16 @@
 #include <string.h>
 #include <unistd.h>
 
+/* The bar (or its log lines), and in a log one line per finished
+ * optimization: each takes seconds to minutes, so a log shows what the run
+ * has done even when the bar's first line is not due yet. */
 static void on_progress(void *user, const char *phase, long done, long total) {
   pom_progress *bar = user;
-  (void)phase;
   bar->total = total;
+  if (bar->enabled && bar->log_lines)
+    fprintf(bar->out,
+            "codesign: %s: an optimization finished (%ld of %ld budgeted evaluations, %.1f s)\n",
+            phase, done, total, pom_progress_now() - bar->t_start);
   pom_progress_update(bar, done);
 }
 
