@@ -1,7 +1,9 @@
 /* test_codesign.c - the co-design's pieces with known answers
  * (docs/optimize.md section 11): the smooth quantile (its defining
  * equation, its limit the order statistic, its implicit-function
- * derivative against central differences) and the actuator size law. */
+ * derivative against central differences), the actuator size law, and
+ * the sensitivity gradient of the objectives against central differences of
+ * whole Monte-Carlo evaluations (gradient = "sensitivity", section 11.5). */
 #define _POSIX_C_SOURCE 200809L /* mkstemp */
 #include "check.h"
 #include "codesign_internal.h"
