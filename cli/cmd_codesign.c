@@ -195,6 +195,11 @@ int pom_cmd_codesign(int argc, char **argv) {
     printf("gradient-based: p95 %.4f ms, %ld simulations (%ld evaluations)%s\n", 1e3 * ef.grad_best,
            ef.grad_sims, ef.grad.evaluations,
            ef.grad.fallback_used ? ", COBYLA fallback included" : "");
+    if (pb->grad == POM_CDS_GRAD_SENS)
+      printf("  of which %ld maneuvers ran with sensitivities; %ld gradient evaluations fell back "
+             "to differences%s%s\n",
+             ef.grad.sens_runs, ef.grad.sens_fallbacks, ef.grad.sens_fallbacks ? ", last: " : "",
+             ef.grad.sens_fallbacks ? ef.grad.sens_why : "");
     printf("COBYLA:         p95 %.4f ms, %ld simulations (%ld evaluations)\n", 1e3 * ef.dfree_best,
            ef.dfree.simulations, ef.dfree.evaluations);
     if (ef.dfree_sims_to_match >= 0)

@@ -183,10 +183,6 @@ pom_status pom_cds_load(pom_cds_problem *pb, const pom_cfg *cfg, pom_error *err)
                            &pb->fd_step, err));
   POM_TRY(pom_cfg_int_opt(cfg, "codesign.optimizer.starts", 1, POM_CDS_MAX_STARTS, 2, &st, err));
   POM_TRY(pom_cfg_choice_opt(cfg, "codesign.optimizer.gradient", grad_names, 0, &gs, err));
-  if (gs == POM_CDS_GRAD_SENS)
-    return pom_cfg_error(cfg, "codesign.optimizer.gradient", NULL, err,
-                         "\"sensitivity\" needs the design gradients of the sensitivity engine, "
-                         "which this build does not have: use \"central_difference\"");
   pb->grad = (pom_cds_grad_source)gs;
   pb->max_evals = (int)me;
   pb->starts = (int)st;
@@ -552,6 +548,29 @@ static int n_threads(const pom_cds_problem *pb) {
   return t > 64 ? 64 : t;
 }
 
+void pom_cds_static_figures(const pom_cds_problem *pb, int c, const double *x, pom_cds_figures *f) {
+  f->i_limit = pb->cand[c].current_limit0 * pow(var_size(&pb->cand[c], x), 1.5);
+  /* kinematics and envelope of the nominal design (no draws) */
+  /* a design that does not build has no workspace and no envelope */
+  f->kin = 1.0;
+  f->envelope = 1e3 * pb->envelope;
+  pom_cfg *cfg = NULL;
+  pom_error ek;
+  pom_error_clear(&ek);
+  if (design_config(&cfg, pb, c, x, NULL, 0, &ek) == POM_OK) {
+    pom_kin_arch arch;
+    if (pom_kin_arch_load(&arch, cfg, &ek) == POM_OK) {
+      f->kin = kin_margin(pb, &arch);
+      pom_mechanism mech;
+      pom_kin_inertia in;
+      if (pom_kin_inertia_load(&in, &arch, cfg, &ek) == POM_OK &&
+          pom_kin_mechanism_from(&mech, &arch, &in, &ek) == POM_OK)
+        f->envelope = envelope_of(&mech);
+    }
+    pom_cfg_destroy(cfg);
+  }
+}
+
 /* Figures of n_designs designs (xs rows of POM_CDS_MAX_VARS) on one set. */
 static pom_status evaluate_many(const pom_cds_problem *pb, int c, const double *xs, int n_designs,
                                 uint64_t seed, long n, int parasitic, int strict,
@@ -623,27 +642,7 @@ static pom_status evaluate_many(const pom_cds_problem *pb, int c, const double *
       f->p95_plain = srt[r < 0 ? 0 : r];
       free(srt);
     }
-    const double *x = xs + d * POM_CDS_MAX_VARS;
-    f->i_limit = pb->cand[c].current_limit0 * pow(var_size(&pb->cand[c], x), 1.5);
-    /* kinematics and envelope of the nominal design (no draws) */
-    /* a design that does not build has no workspace and no envelope */
-    f->kin = 1.0;
-    f->envelope = 1e3 * pb->envelope;
-    pom_cfg *cfg = NULL;
-    pom_error ek;
-    pom_error_clear(&ek);
-    if (design_config(&cfg, pb, c, x, NULL, 0, &ek) == POM_OK) {
-      pom_kin_arch arch;
-      if (pom_kin_arch_load(&arch, cfg, &ek) == POM_OK) {
-        f->kin = kin_margin(pb, &arch);
-        pom_mechanism mech;
-        pom_kin_inertia in;
-        if (pom_kin_inertia_load(&in, &arch, cfg, &ek) == POM_OK &&
-            pom_kin_mechanism_from(&mech, &arch, &in, &ek) == POM_OK)
-          f->envelope = envelope_of(&mech);
-      }
-      pom_cfg_destroy(cfg);
-    }
+    pom_cds_static_figures(pb, c, xs + d * POM_CDS_MAX_VARS, f);
     if (!isfinite(f->energy)) f->energy = 0.0; /* every maneuver failed: `failed` says so */
   }
   if (st == POM_OK && strict && b.have_build_err && n_designs == 1 && figs[0].failed == (int)n) {
@@ -720,4 +719,122 @@ int pom_cds_design_keys(const pom_cds_candidate *cd, const double *x,
 double pom_cds_dx_du(const pom_cds_var *v, double x) {
   if (v->log) return x * log(10.0) * (log10(v->hi) - log10(v->lo));
   return v->hi - v->lo;
+}
+
+/* ---- sensitivities (section 11.5, gradient = "sensitivity") -------------------------- */
+pom_status pom_cds_sens_maneuvers(const pom_cds_problem *pb, int c, const double *x, uint64_t seed,
+                                  long n, pom_grad **gr, double *t, double *e,
+                                  double (*dt)[POM_CDS_MAX_VARS], double (*de)[POM_CDS_MAX_VARS],
+                                  int *ok, char *why, size_t why_cap, pom_error *err) {
+  const pom_cds_candidate *cd = &pb->cand[c];
+  const char *key[POM_GRAD_MAX_PARAMS];
+  double value[POM_CDS_MAX_KEYS];
+  double dvdx[POM_CDS_MAX_KEYS][POM_CDS_MAX_VARS];
+  *ok = 0;
+  if (pb->maneuvers.space != POM_DOE_SPACE_ORIENTATION) {
+    snprintf(why, why_cap, "joint-space maneuvers (the sensitivities follow orientation targets)");
+    return POM_OK;
+  }
+  int nd = pom_cds_design_keys(cd, x, key, value, dvdx);
+  /* the uncertain keys: one the design sets scales (relative) or replaces
+   * (absolute) that key's value; any other is one more parameter, moved to
+   * its drawn value per maneuver (its derivative unused) */
+  int unc_slot[POM_UNC_MAX];
+  int np = nd;
+  for (int j = 0; j < pb->uncertain.n; ++j) {
+    unc_slot[j] = -1;
+    for (int m = 0; m < nd; ++m)
+      if (strcmp(key[m], pb->uncertain.param[j].key) == 0) unc_slot[j] = m;
+    if (unc_slot[j] >= 0) continue;
+    if (np >= POM_GRAD_MAX_PARAMS) {
+      snprintf(why, why_cap, "%d design and uncertain keys exceed the %d parameters of a run",
+               np + 1, POM_GRAD_MAX_PARAMS);
+      return POM_OK;
+    }
+    unc_slot[j] = np;
+    key[np++] = pb->uncertain.param[j].key;
+  }
+  pom_error e2;
+  pom_error_clear(&e2);
+  if (!*gr) {
+    pom_cfg *cfg = NULL;
+    pom_status st = design_config(&cfg, pb, c, x, NULL, 0, &e2);
+    if (st == POM_OK) {
+      pom_grad_options go;
+      pom_grad_options_defaults(&go);
+      go.rigid_joints =
+          1; /* the optimization set is rigid (design_config's text does not say so) */
+      st = pom_grad_create(gr, cfg, key, np, &go, &e2);
+      pom_cfg_destroy(cfg);
+    }
+    if (st == POM_ERR_NOMEM) {
+      *err = e2;
+      return st;
+    }
+    if (st != POM_OK) {
+      *gr = NULL;
+      snprintf(why, why_cap, "the sensitivity engine refuses the design: %s", e2.message);
+      return POM_OK;
+    }
+  }
+  pom_doe_maneuvers mvs = pb->maneuvers;
+  mvs.seed = seed;
+  pom_unc unc = pb->uncertain;
+  unc.seed = seed;
+  for (long k = 0; k < n; ++k) {
+    double draws[POM_UNC_MAX], vals[POM_GRAD_MAX_PARAMS], factor[POM_GRAD_MAX_PARAMS];
+    if (unc.n > 0) pom_unc_draws(&unc, k, draws);
+    for (int m = 0; m < np; ++m) {
+      vals[m] = m < nd ? value[m] : NAN;
+      factor[m] = 1.0;
+    }
+    for (int j = 0; j < unc.n; ++j) {
+      const pom_unc_param *p = &unc.param[j];
+      int m = unc_slot[j];
+      if (p->relative) {
+        double base = m < nd ? value[m] : cd->nominal_unc[j];
+        vals[m] = base * draws[j];
+        factor[m] = draws[j]; /* d(base x draw)/d(base) */
+      } else {
+        vals[m] = draws[j];
+        factor[m] = 0.0; /* the draw replaces the design's value */
+      }
+    }
+    pom_status st = pom_grad_set_values(*gr, vals, &e2);
+    pom_doe_maneuver mv;
+    pom_doe_maneuver_draw(&mv, &mvs, k);
+    pom_dyn_metrics mt;
+    pom_dyn_grad g;
+    memset(&mt, 0, sizeof mt);
+    if (st == POM_OK) st = pom_grad_maneuver_orientation(*gr, mv.R, &mt, &g, &e2);
+    if (st == POM_ERR_NOMEM) {
+      *err = e2;
+      return st;
+    }
+    if (st != POM_OK || mt.status != POM_OK) {
+      snprintf(why, why_cap, "maneuver %ld failed in the sensitivity run: %s", k,
+               st != POM_OK ? e2.message : pom_status_name(mt.status));
+      return POM_OK;
+    }
+    double horizon = pom_grad_params(*gr)->maneuver.horizon;
+    int settled = isfinite(mt.pointing_settling_time);
+    const pom_dyn_dmetric *gt = &g.pointing_settling_time, *ge = &g.energy_total;
+    if ((settled && !gt->defined) || !ge->defined) {
+      snprintf(why, why_cap, "maneuver %ld: %s %s", k, settled && !gt->defined ? "time" : "energy",
+               pom_dyn_grad_why_text(settled && !gt->defined ? gt->why : ge->why));
+      return POM_OK;
+    }
+    t[k] = settled ? mt.pointing_settling_time : horizon;
+    e[k] = mt.energy_total;
+    for (int v = 0; v < POM_CDS_MAX_VARS; ++v) {
+      dt[k][v] = 0.0; /* an unsettled maneuver counts the horizon: no derivative */
+      de[k][v] = 0.0;
+      for (int m = 0; m < nd; ++m) {
+        if (settled) dt[k][v] += gt->d[m] * factor[m] * dvdx[m][v];
+        de[k][v] += ge->d[m] * factor[m] * dvdx[m][v];
+      }
+    }
+  }
+  *ok = 1;
+  return POM_OK;
 }

@@ -62,8 +62,8 @@ typedef struct {
 
 /* Where the per-maneuver figures and their derivatives come from. */
 typedef enum {
-  POM_CDS_GRAD_CENTRAL = 0, /* central differences of whole simulations (this branch) */
-  POM_CDS_GRAD_SENS = 1     /* CVODES forward sensitivities (pom_cds_set_gradient_source) */
+  POM_CDS_GRAD_CENTRAL = 0, /* central differences of whole simulations */
+  POM_CDS_GRAD_SENS = 1     /* CVODES forward sensitivities (study/pom_grad.h; section 11.5) */
 } pom_cds_grad_source;
 
 typedef enum { POM_CDS_ALG_SLSQP = 0, POM_CDS_ALG_MMA = 1, POM_CDS_ALG_COBYLA = 2 } pom_cds_alg;
@@ -149,6 +149,9 @@ typedef struct {
   int fallback_used;               /* COBYLA ran */
   long simulations;                /* spent by this optimization */
   long evaluations;
+  long sens_runs;      /* gradient = "sensitivity": maneuvers run with sensitivities */
+  long sens_fallbacks; /* evaluations whose gradient fell back to differences */
+  char sens_why[160];  /* the last fallback's reason ("" when none) */
   int nlopt_result;
   /* the search's record: after hist_sims[i] simulations the best feasible
    * objective was hist_best[i] (s or J); not kept by the journal */

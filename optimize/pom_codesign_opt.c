@@ -66,6 +66,11 @@ typedef struct {
   double best_u[POM_CDS_MAX_VARS];
   pom_cds_figures best_fig;
   long simulations, evaluations;
+  /* gradient = "sensitivity": the engine (one per optimization, i.e. per
+   * thread), its runs and the evaluations that fell back to differences */
+  pom_grad *gr;
+  long sens_runs, sens_fallbacks;
+  char sens_why[160];
   int n_hist;
   long hist_sims[128];
   double hist_best[128];
@@ -97,16 +102,116 @@ static int feasible_q(const opt_ctx *oc, const double q[NQ]) {
 /* The figures at u and, when want_grad, their gradients in the unit box.
  * THE one place the gradient source is chosen (docs/optimize.md 11.5):
  * central differences of whole Monte-Carlo evaluations (pb->grad ==
- * POM_CDS_GRAD_CENTRAL, this build). With the sensitivity engine
- * (study/pom_grad.h of branch x29-sens), POM_CDS_GRAD_SENS replaces the
- * time and energy rows g[0], g[1]: per maneuver k, a pom_grad on the
- * design's config (keys and values from pom_cds_design_keys, plus the
- * uncertain keys at their drawn values), pom_grad_maneuver_orientation to
- * the drawn R, then dt_k/du_i = sum_j d_j dvalue_j/dx_v dx_v/du_i
- * (pom_cds_dx_du), dT95/du = sum_k w_k dt_k/du (the smooth quantile's
- * weights) and dE/du the mean of de_k/du; the other rows stay as here
- * (kinematics: microseconds; the peak current has no sensitivity). */
+ * POM_CDS_GRAD_CENTRAL), or (POM_CDS_GRAD_SENS) sens_rows: the time and
+ * energy rows by the sensitivity engine, the static rows by differences,
+ * and these differences again wherever a maneuver's derivative is
+ * undefined. */
+static pom_status point_cd(opt_ctx *oc, const double *u, int want_grad);
+
+/* dt/du_i = sum_j d_j dvalue_j/dx_v dx_v/du_i per maneuver (the chain
+ * rule in pom_cds_sens_maneuvers and here), dT95/du = sum_k w_k dt_k/du
+ * (the smooth quantile's weights), dE/du the mean of de_k/du; kinematic
+ * margin, envelope and the size law's current limit by differences of
+ * the static figures (no simulation); the peak current held (its
+ * derivative is not known to the engine) unless the current constraint is
+ * within 20 % of active, where its row comes from whole-simulation
+ * differences as with central_difference (docs/optimize.md 11.5).
+ * *ok = 0: a derivative is undefined, nothing written. */
+static pom_status sens_rows(opt_ctx *oc, const double *u, int *ok) {
+  const pom_cds_problem *pb = oc->pb;
+  const pom_cds_candidate *cd = &pb->cand[oc->c];
+  const int n = oc->n_free;
+  const long nm = pb->maneuvers.count;
+  *ok = 0;
+  if (oc->fig.failed > 0) {
+    snprintf(oc->sens_why, sizeof oc->sens_why, "%d maneuvers failed", oc->fig.failed);
+    return POM_OK;
+  }
+  double x[POM_CDS_MAX_VARS];
+  design_of(oc, u, x);
+  double *t = malloc((size_t)nm * (3 * sizeof(double) + 2 * sizeof(double[POM_CDS_MAX_VARS])));
+  if (!t) POM_FAIL(oc->err, POM_ERR_NOMEM, "codesign: out of memory");
+  double *e = t + nm, *w = e + nm;
+  double(*dt)[POM_CDS_MAX_VARS] = (double(*)[POM_CDS_MAX_VARS])(w + nm);
+  double(*de)[POM_CDS_MAX_VARS] = dt + nm;
+  int good = 0;
+  pom_status st = pom_cds_sens_maneuvers(pb, oc->c, x, pb->maneuvers.seed, nm, &oc->gr, t, e, dt,
+                                         de, &good, oc->sens_why, sizeof oc->sens_why, oc->err);
+  oc->sens_runs += nm;
+  oc->simulations += nm; /* counted as simulations too (hist_sims) */
+  if (st != POM_OK || !good) {
+    free(t);
+    return st;
+  }
+  pom_cds_smooth_quantile(t, (int)nm, pb->quantile, pb->bandwidth, w);
+  double gs[NQ][POM_CDS_MAX_VARS];
+  memset(gs, 0, sizeof gs);
+  for (int i = 0; i < n; ++i) {
+    int v = oc->map[i];
+    double dxdu = pom_cds_dx_du(&cd->var[v], x[v]);
+    for (long k = 0; k < nm; ++k) {
+      gs[0][i] += w[k] * dt[k][v] * dxdu;
+      gs[1][i] += de[k][v] * dxdu / (double)nm;
+    }
+    gs[6][i] = gs[0][i] / pb->time_max;
+  }
+  free(t);
+  /* the static rows */
+  int near_current = oc->q[3] > -0.2;
+  for (int i = 0; i < n; ++i) {
+    double h = pb->fd_step;
+    double hh = fmin(h, 1.0 - u[i]), hl = fmin(h, u[i]);
+    double up[POM_CDS_MAX_VARS], xp[POM_CDS_MAX_VARS], xm[POM_CDS_MAX_VARS];
+    memcpy(up, u, sizeof(double) * (size_t)n);
+    up[i] = u[i] + hh;
+    design_of(oc, up, xp);
+    up[i] = u[i] - hl;
+    design_of(oc, up, xm);
+    pom_cds_figures fp = oc->fig, fm = oc->fig;
+    pom_cds_static_figures(pb, oc->c, xp, &fp);
+    pom_cds_static_figures(pb, oc->c, xm, &fm);
+    double qp[NQ], qm[NQ];
+    quantities(pb, &fp, qp);
+    quantities(pb, &fm, qm);
+    for (int k = 2; k <= 4; ++k)
+      gs[k][i] = (qp[k] - qm[k]) / (hh + hl);
+  }
+  if (near_current) {
+    /* the peak current's row from whole simulations (and nothing else) */
+    double keep[NQ][POM_CDS_MAX_VARS];
+    memcpy(keep, gs, sizeof keep);
+    oc->have_grad = 0;
+    POM_TRY(point_cd(oc, u, 1));
+    for (int i = 0; i < n; ++i)
+      keep[3][i] = oc->g[3][i];
+    memcpy(gs, keep, sizeof keep);
+  }
+  memcpy(oc->g, gs, sizeof gs);
+  *ok = 1;
+  return POM_OK;
+}
+
 static pom_status point(opt_ctx *oc, const double *u, int want_grad) {
+  const int n = oc->n_free;
+  if (oc->have && memcmp(u, oc->u, sizeof(double) * (size_t)n) == 0 &&
+      (!want_grad || oc->have_grad))
+    return POM_OK;
+  if (oc->pb->grad != POM_CDS_GRAD_SENS || !want_grad) return point_cd(oc, u, want_grad);
+  POM_TRY(point_cd(oc, u, 0));
+  int ok = 0;
+  POM_TRY(sens_rows(oc, u, &ok));
+  if (ok) {
+    oc->have_grad = 1;
+    oc->grad_undefined = 0;
+    return POM_OK;
+  }
+  /* a derivative undefined: this evaluation's gradient by differences */
+  ++oc->sens_fallbacks;
+  oc->have_grad = 0;
+  return point_cd(oc, u, 1);
+}
+
+static pom_status point_cd(opt_ctx *oc, const double *u, int want_grad) {
   const int n = oc->n_free;
   if (oc->have && memcmp(u, oc->u, sizeof(double) * (size_t)n) == 0 &&
       (!want_grad || oc->have_grad))
@@ -295,7 +400,10 @@ pom_status pom_cds_optimize(const pom_cds_problem *pb, int c, const double *x0, 
   pt->objective = objective;
   pt->eps = eps;
   int r = run_nlopt(&oc, alg, u, pb->max_evals);
-  if (oc.status != POM_OK) return oc.status;
+  if (oc.status != POM_OK) {
+    pom_grad_destroy(oc.gr);
+    return oc.status;
+  }
   pt->nlopt_result = r;
   /* derivative-free fallback: the gradient method failed, found nothing
    * feasible, or ended where the censoring makes the gradient undefined */
@@ -305,7 +413,10 @@ pom_status pom_cds_optimize(const pom_cds_problem *pb, int c, const double *x0, 
     double u2[POM_CDS_MAX_VARS];
     memcpy(u2, oc.have_best ? oc.best_u : u_start, sizeof u2);
     int r2 = run_nlopt(&oc, POM_CDS_ALG_COBYLA, u2, pb->max_evals);
-    if (oc.status != POM_OK) return oc.status;
+    if (oc.status != POM_OK) {
+      pom_grad_destroy(oc.gr);
+      return oc.status;
+    }
     pt->fallback_used = 1;
     pt->nlopt_result = r2;
   }
@@ -325,6 +436,10 @@ pom_status pom_cds_optimize(const pom_cds_problem *pb, int c, const double *x0, 
     pt->x[v] = 0.0;
   pt->simulations = oc.simulations;
   pt->evaluations = oc.evaluations;
+  pt->sens_runs = oc.sens_runs;
+  pt->sens_fallbacks = oc.sens_fallbacks;
+  snprintf(pt->sens_why, sizeof pt->sens_why, "%s", oc.sens_why);
+  pom_grad_destroy(oc.gr);
   pt->n_hist = oc.n_hist;
   memcpy(pt->hist_sims, oc.hist_sims, sizeof oc.hist_sims);
   memcpy(pt->hist_best, oc.hist_best, sizeof oc.hist_best);
@@ -704,5 +819,36 @@ pom_status pom_cds_efficiency_run(const pom_cds_problem *pb, int c, int budget, 
       out->dfree_sims_to_match = out->dfree.hist_sims[i];
       break;
     }
+  return POM_OK;
+}
+
+/* ---- the gradient at one design (the check of section 11.5) ------------------------ */
+pom_status pom_cds_gradient_at(const pom_cds_problem *pb, int c, const double *x, double q[2],
+                               double g[2][POM_CDS_MAX_VARS], long *fallbacks, char why[160],
+                               pom_error *err) {
+  const pom_cds_candidate *cd = &pb->cand[c];
+  opt_ctx oc;
+  memset(&oc, 0, sizeof oc);
+  oc.pb = pb;
+  oc.c = c;
+  oc.eps = NAN;
+  oc.err = err;
+  double u[POM_CDS_MAX_VARS];
+  for (int v = 0; v < cd->n_vars; ++v) {
+    oc.x_fixed[v] = x[v];
+    oc.map[oc.n_free] = v;
+    u[oc.n_free++] = fmin(1.0, fmax(0.0, to_u(&cd->var[v], x[v])));
+  }
+  pom_status st = point(&oc, u, 1);
+  pom_grad_destroy(oc.gr);
+  if (st != POM_OK) return st;
+  q[0] = oc.q[0];
+  q[1] = oc.q[1];
+  for (int i = 0; i < POM_CDS_MAX_VARS; ++i) {
+    g[0][i] = i < oc.n_free ? oc.g[0][i] : 0.0;
+    g[1][i] = i < oc.n_free ? oc.g[1][i] : 0.0;
+  }
+  *fallbacks = oc.sens_fallbacks;
+  snprintf(why, 160, "%s", oc.sens_why);
   return POM_OK;
 }

@@ -185,6 +185,17 @@ static pom_status variant(pom_cfg **out, const pom_grad *g, const double *values
   config_init(&tree);
   *out = NULL;
   POM_TRY_GOTO(pom_doe_tree_read_string(&tree, g->text, g->name, NULL, err), done);
+  if (g->opt.rigid_joints) {
+    config_setting_t *root = config_root_setting(&tree);
+    config_setting_t *jg = config_setting_get_member(root, "joints");
+    if (!jg) jg = config_setting_add(root, "joints", CONFIG_TYPE_GROUP);
+    config_setting_t *m = jg ? config_setting_get_member(jg, "model") : NULL;
+    if (jg && !m) m = config_setting_add(jg, "model", CONFIG_TYPE_STRING);
+    if (!m || config_setting_type(m) != CONFIG_TYPE_STRING ||
+        config_setting_set_string(m, "rigid") != CONFIG_TRUE)
+      POM_FAIL_GOTO(err, POM_ERR_CONFIG, done, "%s: joints.model cannot be set to \"rigid\"",
+                    g->name);
+  }
   for (int j = 0; j < g->n; ++j)
     POM_TRY_GOTO(set_number(&tree, g->key[j], values[j], err), done);
   for (int u = 0; x && u < g->unc.n; ++u) {

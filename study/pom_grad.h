@@ -79,6 +79,8 @@ typedef struct {
   double abs_floor[POM_GRAD_MAX_PARAMS]; /* default 1 (config units) */
   pom_dyn_sens_method method;            /* default staggered */
   int error_control;                     /* default 1 */
+  int rigid_joints; /* 1: joints.model = "rigid" whatever the config's text says (the
+                       co-design's rigid evaluation); default 0 */
 } pom_grad_options;
 
 void pom_grad_options_defaults(pom_grad_options *o);

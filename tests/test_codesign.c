@@ -1,7 +1,10 @@
 /* test_codesign.c - the co-design's pieces with known answers
  * (docs/optimize.md section 11): the smooth quantile (its defining
  * equation, its limit the order statistic, its implicit-function
- * derivative against central differences) and the actuator size law. */
+ * derivative against central differences), the actuator size law, and
+ * the sensitivity gradient of the objectives against central differences of
+ * whole Monte-Carlo evaluations (gradient = "sensitivity", section 11.5). */
+#define _POSIX_C_SOURCE 200809L /* mkstemp */
 #include "check.h"
 #include "codesign_internal.h"
 #include "pom_codesign.h"
@@ -10,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static double phi_cdf(double z) {
   return 0.5 * erfc(-z / sqrt(2.0));
@@ -114,7 +118,95 @@ static void test_key_jacobian(void) {
   check_rel(pom_cds_dx_du(&cd.var[0], xu), (xa - xb) / (2 * du), 1e-8);
 }
 
+/* The sensitivity gradient of the objectives (gradient = "sensitivity",
+ * docs/optimize.md 11.5) against central differences of whole Monte-Carlo
+ * evaluations at the 3P-S-S/S reference with size and gains free. The
+ * differences carry their own truncation error: it is estimated by two
+ * steps (h and h/2; O(h^2) so the error at h/2 is about a third of their
+ * difference) and the tolerance is that estimate x 3 plus 2 % of the
+ * gradient's largest component (the sensitivities' own step of 3e-6 and
+ * the integrator's tolerances, docs/optimize.md 12.4). */
+static void write_problem(const char *path, const char *grad, double step) {
+  FILE *f = fopen(path, "w");
+  check_true(f != NULL);
+  if (!f) return;
+  fprintf(
+      f,
+      "name = \"sens\";\n"
+      "montecarlo = { maneuvers = 4; seed = 11; space = \"orientation\"; tilt_max_deg = 6.0; "
+      "torsion_max_deg = 6.0; };\n"
+      "uncertain = ( { key = \"actuator.resistance_ohm\"; dist = \"uniform\"; min = 0.95; "
+      "max = 1.05; relative = true; } );\n"
+      "codesign = { output = \"/dev/null\"; threads = 1;\n"
+      "  requirements = { workspace_half_width_deg = 8.0; dexterity_min = 0.3; "
+      "current_limit_A = 3.0; envelope_radius_mm = 150.0; time_max_ms = 40.0; };\n"
+      "  optimizer = { max_evals = 4; starts = 1; gradient_step = %.17g; gradient = \"%s\"; };\n"
+      "  front_points = 2; reevaluate = { seed = 12; maneuvers = 6; }; };\n"
+      "candidates = ( { name = \"3P-S-S/S\"; config = \"%s/configs/3pss.cfg\";\n"
+      "  variables = ( { key = \"size\"; min = 0.6; max = 1.6; },\n"
+      "    { key = \"controller.kp\"; min = 3.0e3; max = 3.0e4; log = true; },\n"
+      "    { key = \"controller.kd_s\"; min = 1.5e-3; max = 6.0e-3; log = true; } ); } );\n",
+      step, grad, POM_SOURCE_DIR);
+  check_true(fclose(f) == 0);
+}
+
+static int gradient_of(const char *grad, double step, double q[2], double g[2][POM_CDS_MAX_VARS],
+                       long *fb, int *nv) {
+  char path[] = "/tmp/test_codesign_sens_XXXXXX";
+  int fd = mkstemp(path);
+  check_true(fd >= 0);
+  if (fd < 0) return 0;
+  close(fd);
+  write_problem(path, grad, step);
+  pom_error err;
+  pom_error_clear(&err);
+  pom_cfg *cfg = NULL;
+  pom_cds_problem *pb = calloc(1, sizeof *pb);
+  int ok = pb && pom_cfg_load(&cfg, path, &err) == POM_OK && pom_cds_load(pb, cfg, &err) == POM_OK;
+  double x[POM_CDS_MAX_VARS] = {0};
+  if (ok) {
+    *nv = pb->cand[0].n_vars;
+    for (int v = 0; v < *nv; ++v)
+      x[v] = pb->cand[0].var[v].x0;
+    char why[160];
+    ok = pom_cds_gradient_at(pb, 0, x, q, g, fb, why, &err) == POM_OK;
+    if (ok && *fb) printf("gradient '%s' fell back: %s\n", grad, why);
+  }
+  if (!ok) printf("gradient '%s': %s\n", grad, err.message);
+  check_true(ok);
+  if (pb) pom_cds_clear(pb);
+  free(pb);
+  pom_cfg_destroy(cfg);
+  unlink(path);
+  return ok;
+}
+
+static void test_sens_gradient(void) {
+  double qs[2], gs[2][POM_CDS_MAX_VARS], qc[2], gc[2][POM_CDS_MAX_VARS], qh[2],
+      gh[2][POM_CDS_MAX_VARS];
+  long fb = 0, fb2 = 0;
+  int nv = 0;
+  if (!gradient_of("sensitivity", 2e-3, qs, gs, &fb, &nv)) return;
+  check_true(fb == 0); /* every derivative defined at this design */
+  if (!gradient_of("central_difference", 2e-3, qc, gc, &fb2, &nv)) return;
+  if (!gradient_of("central_difference", 1e-3, qh, gh, &fb2, &nv)) return;
+  check_rel(qs[0], qc[0], 1e-12); /* the same figures: the same simulations */
+  check_rel(qs[1], qc[1], 1e-12);
+  for (int r = 0; r < 2; ++r) {
+    double big = 0;
+    for (int i = 0; i < nv; ++i)
+      big = fmax(big, fabs(gh[r][i]));
+    for (int i = 0; i < nv; ++i) {
+      double tol = 3.0 * fabs(gc[r][i] - gh[r][i]) + 0.02 * big;
+      printf("row %d var %d: sensitivity %.6e, differences %.6e (h/2 %.6e), tol %.2e\n", r, i,
+             gs[r][i], gc[r][i], gh[r][i], tol);
+      check_abs(gs[r][i], gh[r][i], tol);
+    }
+  }
+}
+
 int main(void) {
+  test_sens_gradient();
   test_key_jacobian();
   test_quantile();
   test_size_law();
