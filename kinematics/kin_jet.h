@@ -21,6 +21,14 @@
 
 #include <math.h>
 
+/* The jet operations are small and called with structs by value: inlined
+ * always, so that the copies vanish (docs/kinematics-tables.md section 8). */
+#if defined(__GNUC__) || defined(__clang__)
+#define JET_INLINE inline __attribute__((always_inline))
+#else
+#define JET_INLINE inline
+#endif
+
 /* ---- algebra V ----------------------------------------------------------- */
 enum { VJ_1, VJ_T, VJ_T2, VJ_S, VJ_N = VJ_S + 3 }; /* VJ_S + k: s_k */
 
@@ -28,7 +36,7 @@ typedef struct {
   double c[VJ_N];
 } pom_vjet;
 
-static inline pom_vjet vj_mul(pom_vjet a, pom_vjet b) {
+static JET_INLINE pom_vjet vj_mul(pom_vjet a, pom_vjet b) {
   const double *x = a.c, *y = b.c;
   pom_vjet r;
   r.c[VJ_1] = x[0] * y[0];
@@ -41,7 +49,7 @@ static inline pom_vjet vj_mul(pom_vjet a, pom_vjet b) {
 
 /* f(a) with f0..f3 the derivatives of f at a's constant term: a = a0 + n,
  * n^2 = n_t^2 t^2, n^3 = 0 (no monomial of degree 3). */
-static inline pom_vjet vj_apply(pom_vjet a, double f0, double f1, double f2, double f3) {
+static JET_INLINE pom_vjet vj_apply(pom_vjet a, double f0, double f1, double f2, double f3) {
   pom_vjet r;
   (void)f3;
   r.c[VJ_1] = f0;
@@ -52,7 +60,7 @@ static inline pom_vjet vj_apply(pom_vjet a, double f0, double f1, double f2, dou
 }
 
 /* d/dt (the s_k t terms it would give are truncated) */
-static inline pom_vjet vj_dt(pom_vjet a) {
+static JET_INLINE pom_vjet vj_dt(pom_vjet a) {
   pom_vjet r = {{a.c[VJ_T], 2.0 * a.c[VJ_T2], 0.0, 0.0, 0.0, 0.0}};
   return r;
 }
@@ -69,7 +77,7 @@ typedef struct {
   double c[DJ_N];
 } pom_djet;
 
-static inline pom_djet dj_mul(pom_djet a, pom_djet b) {
+static JET_INLINE pom_djet dj_mul(pom_djet a, pom_djet b) {
   const double *x = a.c, *y = b.c;
   pom_djet r;
   r.c[DJ_1] = x[0] * y[0];
@@ -95,7 +103,7 @@ static inline pom_djet dj_mul(pom_djet a, pom_djet b) {
 /* f(a) with f0..f3 the derivatives of f at a's constant term: a = a0 + n,
  * f = f0 + f1 n + f2 n^2 / 2 + f3 n^3 / 6; n^2 and n^3 written out (n^3 has
  * only the t^2 d_m terms, 3 n_t^2 n_dm). */
-static inline pom_djet dj_apply(pom_djet a, double f0, double f1, double f2, double f3) {
+static JET_INLINE pom_djet dj_apply(pom_djet a, double f0, double f1, double f2, double f3) {
   const double *n = a.c;
   const double h = 0.5 * f2, g = f3 / 6.0;
   pom_djet r;
@@ -115,7 +123,7 @@ static inline pom_djet dj_apply(pom_djet a, double f0, double f1, double f2, dou
 }
 
 /* d/dt */
-static inline pom_djet dj_dt(pom_djet a) {
+static JET_INLINE pom_djet dj_dt(pom_djet a) {
   pom_djet r;
   for (int k = 0; k < DJ_N; ++k)
     r.c[k] = 0.0;

@@ -352,11 +352,18 @@ static void omega_dir(double w[3], int spin_free, const double R1[9], const doub
       pom_v3_copy(bt->ref_home, L->joint[L->ref_joint[b]].point);                                  \
       for (int r = 0; r < 3; ++r)                                                                  \
         bt->ref[r] = (lj_).ref[b][r].c[0];                                                         \
-      BODY_COEFS(&(lj_), b, 0, R1, d1);                                                            \
+      if ((lj_).axis[b])                                                                           \
+        pom_m3_copy(R1, (lj_).Rfix[b]);                                                            \
+      else                                                                                         \
+        BODY_COEFS(&(lj_), b, 0, R1, d1);                                                          \
       for (int k = 0; k < 3; ++k) {                                                                \
         double col[3];                                                                             \
-        BODY_COEFS(&(lj_), b, (sk_) + (ss_)*k, Rd, dd);                                            \
-        omega_dir(col, (lj_).spin_free[b], R1, Rd, d1, dd);                                        \
+        if ((lj_).axis[b]) {                                                                       \
+          pom_v3_scale(col, (lj_).q.c[(sk_) + (ss_) * k], (lj_).axis[b]);                          \
+        } else {                                                                                   \
+          BODY_COEFS(&(lj_), b, (sk_) + (ss_) * k, Rd, dd);                                        \
+          omega_dir(col, (lj_).spin_free[b], R1, Rd, d1, dd);                                      \
+        }                                                                                          \
         for (int r = 0; r < 3; ++r) {                                                              \
           bt->A[3 * r + k] = (lj_).ref[b][r].c[(sk_) + (ss_)*k];                                   \
           bt->B[3 * r + k] = col[r];                                                               \
@@ -424,15 +431,22 @@ int pom_limb_twist_diff(const pom_kin_arch *arch, int i, const double R[9], cons
     for (int b = 0; b < POM_LIMB_BODIES; ++b) {
       pom_kin_body_twist *tb = &dt->body[2 + 2 * i + b], *wb = &dw->body[2 + 2 * i + b];
       double R1[9] = {0}, d1[3] = {0}, Rs[9] = {0}, ds[3] = {0};
-      BODY_COEFS(&lj, b, 0, R1, d1);
-      BODY_COEFS(&lj, b, DJ_D(k), Rs, ds);
+      if (!lj.axis[b]) {
+        BODY_COEFS(&lj, b, 0, R1, d1);
+        BODY_COEFS(&lj, b, DJ_D(k), Rs, ds);
+      }
       for (int j = 0; j < 3; ++j) {
         /* B e_j = omega along u_j; its s_k term: vee(R_us R^T + R_u R_s^T),
          * or d_s x d_u + d x d_us for an idle spin */
         double Ru[9] = {0}, du[3] = {0}, Rus[9] = {0}, dus[3] = {0}, a[3], c[3];
-        BODY_COEFS(&lj, b, DJ_U + j, Ru, du);
-        BODY_COEFS(&lj, b, DJ_US + 3 * j + k, Rus, dus);
-        if (lj.spin_free[b]) {
+        if (!lj.axis[b]) {
+          BODY_COEFS(&lj, b, DJ_U + j, Ru, du);
+          BODY_COEFS(&lj, b, DJ_US + 3 * j + k, Rus, dus);
+        }
+        if (lj.axis[b]) { /* d/ds_k of (dq/du_j) axis */
+          pom_v3_scale(a, lj.q.c[DJ_US + 3 * j + k], lj.axis[b]);
+          pom_v3_set(c, 0.0, 0.0, 0.0);
+        } else if (lj.spin_free[b]) {
           pom_v3_cross(a, ds, du);
           pom_v3_cross(c, d1, dus);
         } else {
