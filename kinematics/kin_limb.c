@@ -48,6 +48,7 @@ const char *pom_limb_kernel_name(pom_limb_kernel k) {
  * the body before it). */
 typedef struct {
   double q, row[3];
+  double cq, sq; /* R-R-R, R-S-S: cos q and sin q (the jets reuse them) */
   double p[POM_LIMB_JOINTS][3];
   double ax[POM_LIMB_JOINTS][3];
 } limb_state;
@@ -110,6 +111,8 @@ static int limb_eval(const pom_limb *L, const double R[9], int need_row, limb_st
     rrr_coef(L, v, &A, &B, &C);
     if (!angle_root(A, B, C, L->branch, &t)) return 0;
     double ct = cos(t), st = sin(t), uw = pom_v3_dot(u, w0);
+    s->cq = ct;
+    s->sq = st;
     pom_v3_cross(uxw0, u, w0);
     for (int k = 0; k < 3; ++k)
       w[k] = ct * w0[k] + st * uxw0[k] + (1.0 - ct) * uw * u[k];
@@ -162,6 +165,8 @@ static int limb_eval(const pom_limb *L, const double R[9], int need_row, limb_st
     rss_coef(L, &k, p2, &A, &B, &C);
     if (!angle_root(A, B, C, L->branch, &t)) return 0;
     double ct = cos(t), st = sin(t);
+    s->cq = ct;
+    s->sq = st;
     for (int c = 0; c < 3; ++c) {
       arm[c] = k.rpar[c] + ct * k.rperp[c] + st * k.axr[c];
       s->p[1][c] = J[0].point[c] + arm[c];
@@ -359,9 +364,9 @@ static void omega_dir(double w[3], int spin_free, const double R1[9], const doub
       for (int k = 0; k < 3; ++k) {                                                                \
         double col[3];                                                                             \
         if ((lj_).axis[b]) {                                                                       \
-          pom_v3_scale(col, (lj_).q.c[(sk_) + (ss_) * k], (lj_).axis[b]);                          \
+          pom_v3_scale(col, (lj_).q.c[(sk_) + (ss_)*k], (lj_).axis[b]);                            \
         } else {                                                                                   \
-          BODY_COEFS(&(lj_), b, (sk_) + (ss_) * k, Rd, dd);                                        \
+          BODY_COEFS(&(lj_), b, (sk_) + (ss_)*k, Rd, dd);                                          \
           omega_dir(col, (lj_).spin_free[b], R1, Rd, d1, dd);                                      \
         }                                                                                          \
         for (int r = 0; r < 3; ++r) {                                                              \
