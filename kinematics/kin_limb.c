@@ -363,7 +363,10 @@ static void omega_dir(double w[3], int spin_free, const double R1[9], const doub
         BODY_COEFS(&(lj_), b, 0, R1, d1);                                                          \
       for (int k = 0; k < 3; ++k) {                                                                \
         double col[3];                                                                             \
-        if ((lj_).axis[b]) {                                                                       \
+        if (b > 0 && (lj_).same_turn[b]) { /* turns with body b - 1 */                             \
+          for (int r = 0; r < 3; ++r)                                                              \
+            col[r] = bt[-1].B[3 * r + k];                                                          \
+        } else if ((lj_).axis[b]) {                                                                \
           pom_v3_scale(col, (lj_).q.c[(sk_) + (ss_)*k], (lj_).axis[b]);                            \
         } else {                                                                                   \
           BODY_COEFS(&(lj_), b, (sk_) + (ss_)*k, Rd, dd);                                          \
@@ -448,6 +451,13 @@ int pom_limb_twist_diff(const pom_kin_arch *arch, int i, const double R[9], cons
           BODY_COEFS(&lj, b, DJ_U + j, Ru, du);
           BODY_COEFS(&lj, b, DJ_US + 3 * j + k, Rus, dus);
         }
+        for (int r = 0; r < 3; ++r)
+          tb->A[3 * r + j] = lj.ref[b][r].c[DJ_US + 3 * j + k];
+        if (b > 0 && lj.same_turn[b]) { /* turns with body b - 1 */
+          for (int r = 0; r < 3; ++r)
+            tb->B[3 * r + j] = tb[-1].B[3 * r + j];
+          continue;
+        }
         if (lj.axis[b]) { /* d/ds_k of (dq/du_j) axis */
           pom_v3_scale(a, lj.q.c[DJ_US + 3 * j + k], lj.axis[b]);
           pom_v3_set(c, 0.0, 0.0, 0.0);
@@ -458,10 +468,8 @@ int pom_limb_twist_diff(const pom_kin_arch *arch, int i, const double R[9], cons
           omega_dir(a, 0, R1, Rus, d1, dus);
           omega_dir(c, 0, Rs, Ru, d1, du);
         }
-        for (int r = 0; r < 3; ++r) {
-          tb->A[3 * r + j] = lj.ref[b][r].c[DJ_US + 3 * j + k];
+        for (int r = 0; r < 3; ++r)
           tb->B[3 * r + j] = a[r] + c[r];
-        }
       }
       for (int r = 0; r < 3; ++r) {
         tb->a_bias[r] = 2.0 * lj.ref[b][r].c[DJ_T2D(k)];
