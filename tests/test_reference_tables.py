@@ -18,8 +18,8 @@ error of 10 us against the ~2 ms spread of a maximum's neighbours, and
 well below every difference the study reports as a finding). Every
 differing line is printed with its relative difference.
 
-The references whose gains a tuner chooses (architectures,
-paper-controllers, architectures-controllers) are not compared by default:
+The references whose gains a tuner chooses per architecture
+(architectures, architectures-controllers) are not compared by default:
 the tuner's objective is flat near its optimum, so rounding-level
 differences land it on other gains (measured: the 3-RRR K_P 1442 against
 716 at the same tuned criterion, 5.16 ms); --tuned adds them.
@@ -32,7 +32,7 @@ name the same config paths.
 Usage: test_reference_tables.py SOURCE_DIR PROGRAM [--long] [--tuned]
                                 [--rtol X] [--only NAME]...
 Without --long the short references only (paper-exact); --long adds paper
-and needs POMLAB_DOCS_LONG=1 (else exit 77, a skip). Exit 0 when every
+and paper-controllers and needs POMLAB_DOCS_LONG=1 (else exit 77, a skip). Exit 0 when every
 compared reference agrees as above, 1 otherwise (each disagreement named)."""
 
 import os
@@ -46,7 +46,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import test_docs  # noqa: E402  (REFERENCES, stable)
 
 TABLES = {"3pss.cfg": "3PSS", "3sps.cfg": "3SPS", "3rrr.cfg": "3RRR"}
-TUNED = {"architectures", "paper-controllers", "architectures-controllers"}
+TUNED = {"architectures", "architectures-controllers"}
 
 
 def decimals_unit(n):
