@@ -20,6 +20,7 @@
  *  - kappa of the home Jacobian against the home kappa of docs/catalog.md's
  *    summary table (computed independently by scripts/catalog_home.py and
  *    printed to 6 decimals): bound 1e-6, as that script's check(). */
+#include "catalog_test_util.h"
 #include "check.h"
 #include "pom_arch.h"
 #include "pom_arch_file.h"
@@ -34,32 +35,6 @@
 #include <string.h>
 
 static int n_files = 0;
-
-static char *slurp(const char *path) {
-  FILE *fp = fopen(path, "rb");
-  if (!fp) return NULL;
-  static char buf[1 << 17];
-  size_t n = fread(buf, 1, sizeof buf - 1, fp);
-  fclose(fp);
-  buf[n] = '\0';
-  char *s = malloc(n + 1);
-  if (s) memcpy(s, buf, n + 1);
-  return s;
-}
-
-/* The quoted value after a line `key = "` of text, into out. */
-static int quoted(const char *text, const char *key, char *out, size_t cap) {
-  char pat[64];
-  snprintf(pat, sizeof pat, "\n%s = \"", key);
-  const char *at = strstr(text, pat);
-  if (!at) return 0;
-  at += strlen(pat);
-  const char *end = strchr(at, '"');
-  if (!end || (size_t)(end - at) >= cap) return 0;
-  memcpy(out, at, (size_t)(end - at));
-  out[end - at] = '\0';
-  return 1;
-}
 
 /* docs/catalog.md's home kappa of the entry `id` (the summary table's last
  * column), or NAN. */

@@ -31,6 +31,7 @@
  * far above: the R-U-U link's acceleration bias scaled by 1.1 (a mutation
  * tried once) gives the figure in docs/catalog.md 2.2. The platform must
  * really move (q changes by more than 1e-4 of the stroke). */
+#include "catalog_test_util.h"
 #include "check.h"
 #include "dyn_test_util.h"
 #include "pom_arch.h"
@@ -45,32 +46,6 @@
 #include <string.h>
 
 static int n_files = 0;
-
-static char *slurp(const char *path) {
-  FILE *fp = fopen(path, "rb");
-  if (!fp) return NULL;
-  static char buf[1 << 17];
-  size_t n = fread(buf, 1, sizeof buf - 1, fp);
-  fclose(fp);
-  buf[n] = '\0';
-  char *s = malloc(n + 1);
-  if (s) memcpy(s, buf, n + 1);
-  return s;
-}
-
-/* The quoted value after a line `key = "` of text, into out. */
-static int quoted(const char *text, const char *key, char *out, size_t cap) {
-  char pat[64];
-  snprintf(pat, sizeof pat, "\n%s = \"", key);
-  const char *at = strstr(text, pat);
-  if (!at) return 0;
-  at += strlen(pat);
-  const char *end = strchr(at, '"');
-  if (!end || (size_t)(end - at) >= cap) return 0;
-  memcpy(out, at, (size_t)(end - at));
-  out[end - at] = '\0';
-  return 1;
-}
 
 /* Initial velocities of every body for the platform spin w at home. */
 static int initial_field(const pom_kin_arch *arch, const pom_mechanism *mech, const double w[3],

@@ -29,6 +29,7 @@
  *        kappa <= 20, 1e-13 * 20 / 1e-2 = 2e-10 rad.
  * Exit 77 (skipped) is decided in CMake: without libmujoco-dev this test is
  * not built and a stub exits 77 (tests/kinematics.cmake). */
+#include "catalog_test_util.h"
 #include "check.h"
 #include "pom_arch.h"
 #include "pom_arch_file.h"
@@ -47,18 +48,6 @@
 #define MAXN 64 /* dofs and equality rows this test handles */
 
 static int n_models = 0;
-
-static char *slurp(const char *path) {
-  FILE *fp = fopen(path, "rb");
-  if (!fp) return NULL;
-  static char buf[1 << 17];
-  size_t n = fread(buf, 1, sizeof buf - 1, fp);
-  fclose(fp);
-  buf[n] = '\0';
-  char *s = malloc(n + 1);
-  if (s) memcpy(s, buf, n + 1);
-  return s;
-}
 
 /* ---- small linear algebra ---------------------------------------------------- */
 /* Solves A x = b, A n x n symmetric positive definite (Cholesky, in place). */
