@@ -30,8 +30,9 @@ per() { # per-maneuver instructions of a command taking --maneuvers/--n N
 plain=$(per --n "$build/cli/pomlab-full" montecarlo "$cfg" --threads 1 --quiet)
 echo "plain maneuver: $plain instructions"
 keys=(actuator.resistance_ohm controller.kd_s actuator.force_constant_N_per_A controller.kp
-      inertia.link.mass_kg geometry.limb_length)
-for p in 1 3 6; do
+      inertia.link.mass_kg geometry.limb_length actuator.inductance_H inertia.platform.mass_kg
+      geometry.limb_lean_deg)
+for p in 1 3 6 9; do
   list=$(IFS=,; echo "${keys[*]:0:$p}")
   g=$(per --maneuvers "$build/cli/pomlab-full" gradient "$cfg" --params "$list")
   awk -v g="$g" -v pl="$plain" -v p="$p" 'BEGIN {

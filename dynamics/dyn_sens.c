@@ -41,6 +41,11 @@ struct dyn_sens {
   int root_dir[2 * POM_MECH_MAX_ACTUATORS];
   long steps_before; /* steps of the integrations before the last restart */
   long restarts;
+  /* the corrector's cache per parameter: the (t, y) of the last call, the
+   * plus model's rate there and the sensitivity rate it gave */
+  double key_t[POM_DYN_SENS_MAX];
+  int key_ok[POM_DYN_SENS_MAX];
+  double *ykey[POM_DYN_SENS_MAX], *fp_prev[POM_DYN_SENS_MAX], *fs_prev[POM_DYN_SENS_MAX];
   double *ybuf; /* [n_states] perturbed state */
   double *ydot; /* [n_states] rate at an interpolated time */
   double pbar[POM_DYN_SENS_MAX];
@@ -138,7 +143,12 @@ static double band_dp(struct dyn_sens *w, const pom_dyn_model *m, int a, int j, 
 
 /* ---- the sensitivity right-hand side ---------------------------------------- */
 /* s_j' = J s_j + df/dp_j = (f_{p+h}(y + h s_j) - f_{p-h}(y - h s_j)) / (2 h)
- * (docs/optimize.md): one evaluation of each perturbed model. */
+ * (docs/optimize.md 12.1): one evaluation of each perturbed model. The
+ * staggered corrector calls this again at the same (t, y) with a corrected
+ * s_j; the right-hand side is affine in s_j there, so the later calls add
+ * J (s_j - s_prev) as the plus model's difference along the correction,
+ * (f_{p+h}(y + h s_j) - f_{p+h}(y + h s_prev)) / h: one evaluation
+ * (docs/optimize.md 12.5 derives its error). */
 static int sens_rhs(int Ns, sunrealtype t, N_Vector yv, N_Vector ydot, int iS, N_Vector ySv,
                     N_Vector ySdot, void *user_data, N_Vector tmp1, N_Vector tmp2) {
   (void)Ns;
@@ -152,16 +162,43 @@ static int sens_rhs(int Ns, sunrealtype t, N_Vector yv, N_Vector ydot, int iS, N
   double *yp = N_VGetArrayPointer(tmp1), *fm = N_VGetArrayPointer(tmp2);
   double *out = N_VGetArrayPointer(ySdot);
   pom_dyn_data *dp = w->dx[0][iS], *dm = w->dx[1][iS];
+  double *ykey = w->ykey[iS], *fp_prev = w->fp_prev[iS], *fs_prev = w->fs_prev[iS];
   dp->t = dm->t = t;
+  const int again =
+      w->key_ok[iS] && w->key_t[iS] == t && memcmp(ykey, y, (size_t)n * sizeof *y) == 0;
   axpy(yp, y, h, s, n);
   int r = pom_dyn_eval(sp->plus[iS], dp, yp, out);
+  ++w->rhs_evals;
+  if (r) {
+    w->key_ok[iS] = 0;
+    return 1; /* recoverable: CVODES retries with a smaller step */
+  }
+  if (again) {
+    /* fS(s) = fS(s_prev) + (f_{p+h}(y + h s) - f_{p+h}(y + h s_prev)) / h */
+    const double c = 1.0 / h;
+    for (int i = 0; i < n; ++i) {
+      const double fp = out[i];
+      out[i] = fs_prev[i] + (fp - fp_prev[i]) * c;
+      fp_prev[i] = fp;
+      fs_prev[i] = out[i];
+    }
+    return 0;
+  }
+  memcpy(fp_prev, out, (size_t)n * sizeof *out);
   axpy(yp, y, -h, s, n);
-  r |= pom_dyn_eval(sp->minus[iS], dm, yp, fm);
-  w->rhs_evals += 2;
-  if (r) return 1; /* recoverable: CVODES retries with a smaller step */
+  r = pom_dyn_eval(sp->minus[iS], dm, yp, fm);
+  ++w->rhs_evals;
+  if (r) {
+    w->key_ok[iS] = 0;
+    return 1;
+  }
   const double c = 1.0 / (2.0 * h);
   for (int i = 0; i < n; ++i)
     out[i] = (out[i] - fm[i]) * c;
+  memcpy(fs_prev, out, (size_t)n * sizeof *out);
+  memcpy(ykey, y, (size_t)n * sizeof *y);
+  w->key_t[iS] = t;
+  w->key_ok[iS] = 1;
   return 0;
 }
 
@@ -201,6 +238,7 @@ static pom_status pom_dyn_sens_restart(const pom_dyn_model *m, pom_dyn_data *d, 
     POM_FAIL(err, POM_ERR_SOLVER, "restarting the sensitivities at t = %.9g s: %s", t,
              d->cvode_msg);
   ++w->restarts;
+  memset(w->key_ok, 0, sizeof w->key_ok); /* the corrector's cache: a new start */
   return POM_OK;
 }
 
@@ -216,6 +254,7 @@ static pom_status pom_dyn_sens_begin(const pom_dyn_model *m, pom_dyn_data *d, po
   }
   w->steps_before = 0;
   w->restarts = 0;
+  memset(w->key_ok, 0, sizeof w->key_ok);
   int ism = sp->method == POM_DYN_SENS_SIMULTANEOUS ? CV_SIMULTANEOUS : CV_STAGGERED;
   if (CVodeSensInit1(d->cvode, w->n, ism, sens_rhs, w->yS) != CV_SUCCESS ||
       CVodeSetSensParams(d->cvode, NULL, w->pbar, NULL) != CV_SUCCESS ||
@@ -390,6 +429,11 @@ static void ws_free(struct dyn_sens *w) {
   if (w->yS) N_VDestroyVectorArray(w->yS, w->n);
   if (w->ySt) N_VDestroyVectorArray(w->ySt, w->n);
   if (w->atolS) N_VDestroyVectorArray(w->atolS, w->n);
+  for (int j = 0; j < POM_DYN_SENS_MAX; ++j) {
+    free(w->ykey[j]);
+    free(w->fp_prev[j]);
+    free(w->fs_prev[j]);
+  }
   free(w->ybuf);
   free(w->ydot);
   free(w);
@@ -488,12 +532,29 @@ pom_status pom_dyn_simulate_sens(const pom_dyn_model *m, pom_dyn_data *d, const 
   if (!w->yS || !w->ySt || !w->atolS || !w->ybuf || !w->ydot)
     POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "allocating the sensitivity workspace");
   for (int j = 0; j < n; ++j) {
+    w->ykey[j] = malloc((size_t)m->n_states * sizeof(double));
+    w->fp_prev[j] = malloc((size_t)m->n_states * sizeof(double));
+    w->fs_prev[j] = malloc((size_t)m->n_states * sizeof(double));
+    if (!w->ykey[j] || !w->fp_prev[j] || !w->fs_prev[j])
+      POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "allocating the sensitivity workspace");
+  }
+  for (int j = 0; j < n; ++j) {
     /* the error test scales s_j by a parameter magnitude (CVODES' pbar): the
      * caller's step over the relative step a design layer would take */
     w->pbar[j] = sp->scale[j] > 0.0 ? sp->scale[j] : 1e4 * sp->step[j];
     double *at = N_VGetArrayPointer(w->atolS[j]);
     for (int i = 0; i < m->n_states; ++i)
       at[i] = m->atol[i] * (w->rtol_s / m->par.solver.rtol) / w->pbar[j];
+    /* only what a gradient reads or what feeds back enters the error test:
+     * the accumulators of positive energy, coil and bearing losses and
+     * saturated time feed nothing back (zero columns of J) and no gradient
+     * is taken of them (docs/optimize.md 12.5) */
+    for (int a = 0; a < m->n_actuators; ++a) {
+      at[m->act[a].acc_state + DYN_ACC_SOURCE_POS] = 1e30;
+      at[m->act[a].acc_state + DYN_ACC_COIL] = 1e30;
+      at[m->act[a].acc_state + DYN_ACC_BEARING] = 1e30;
+      at[m->act[a].acc_state + DYN_ACC_SATURATED] = 1e30;
+    }
     for (int side = 0; side < 2; ++side) {
       const pom_dyn_model *x = side ? sp->minus[j] : sp->plus[j];
       const double *tg = side ? sp->target_minus[j] : sp->target_plus[j];

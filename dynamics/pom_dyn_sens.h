@@ -10,7 +10,9 @@
  * directional difference along (p, y) = (1, s_j) between those two models:
  *   J s_j + df/dp_j = (f_{p+h}(y + h s_j) - f_{p-h}(y - h s_j)) / (2 h),
  * which holds for any numeric design parameter (geometry, masses and
- * inertias, coil, gains) without a derivative written per parameter. */
+ * inertias, coil, gains) without a derivative written per parameter; the
+ * corrector's later calls at the same (t, y) add the change along the
+ * correction by one plus-model evaluation (docs/optimize.md 12.5). */
 #ifndef POM_DYN_SENS_H
 #define POM_DYN_SENS_H
 
