@@ -174,4 +174,24 @@ EOF
 grep -q "geometry.crank_radius = [0-9.]* \\[1.2247\\]" "$TMP/cat.txt" \
   || bad "catalog stanza: crank_radius does not start at the .arch default 1.2247: $(grep optimum "$TMP/cat.txt")"
 
+# ---- configs/codesign-catalog.cfg co-designs every catalog file: one stanza
+# per catalog/*.arch (the three shipped types through their shipped configs,
+# as configs/catalog.cfg), and it loads: every candidate builds at its config's
+# design and at both ends of every variable (pom_cds_load; the run itself is
+# the long test test_codesign_catalog_long) ----
+CAT="$SRC/configs/codesign-catalog.cfg"
+for arch in "$SRC"/catalog/*.arch; do
+  stem=$(basename "$arch" .arch)
+  case $stem in
+    3pss | 3sps | 3rrr) want="config = \"$stem.cfg\"" ;;
+    *) want="config = \"catalog/$stem.cfg\"" ;;
+  esac
+  grep -q "$want" "$CAT" || bad "catalog codesign: no stanza for catalog/$stem.arch ($want)"
+done
+[ "$(grep -c '{ name = "C[0-9][0-9] ' "$CAT")" -eq "$(ls "$SRC"/catalog/*.arch | wc -l)" ] \
+  || bad "catalog codesign: not one candidate per catalog file"
+"$POMLAB" codesign "$CAT" --efficiency "no such candidate:2" > /dev/null 2> "$TMP/cl.err"
+grep -q "expected CANDIDATE:BUDGET with a candidate of" "$TMP/cl.err" \
+  || bad "catalog codesign: the config does not load: $(cat "$TMP/cl.err")"
+
 exit $fail
