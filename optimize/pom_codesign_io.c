@@ -327,9 +327,16 @@ pom_status pom_cds_write_svg(const pom_cds_problem *pb, const pom_cds_result *re
                              pom_error *err) {
   pom_io_file w;
   POM_TRY(pom_io_create(&w, path, err));
-  /* plot on the left, the legend in a column on the right (up to 16 names) */
-  const double legend_w = 250, W = 640 + legend_w, H = 440, L = 70, R = 20 + legend_w, T = 30,
-               B = 50;
+  /* plot on the left, the legend in a column on the right (up to 16 names),
+   * wide enough for the longest entry at about 7 px a character */
+  double legend_w = 250;
+  for (int c = 0; c < pb->n_candidates; ++c) {
+    char entry[POM_DOE_NAME_LEN + 64];
+    int len = snprintf(entry, sizeof entry, "%s (HV %.3g ms mJ)", pb->cand[c].name,
+                       1e6 * res->cand[c].hypervolume);
+    legend_w = fmax(legend_w, 7.0 * len + 10.0);
+  }
+  const double W = 640 + legend_w, H = 440, L = 70, R = 20 + legend_w, T = 30, B = 50;
   double tmin = INFINITY, tmax = -INFINITY, emin = INFINITY, emax = -INFINITY;
   for (int c = 0; c < pb->n_candidates; ++c) {
     const pom_cds_cand_result *cr = &res->cand[c];

@@ -32,8 +32,9 @@ reasons=$(grep -c "^  INFEASIBLE: no design met the requirement set; at the best
 [ "$inf" -eq "$reasons" ] || bad "$inf infeasible in the ranking, $reasons reasons given"
 # feasible rows: finite p95 triple and hypervolume > 0
 awk '/^Ranking at each/ {on = 1; next} on && /^  [0-9]+ +C[0-9][0-9] / {
-       split($0, f, / +/); hv = f[5] + 0; n3 = split(f[6], p, "/");
-       if (!(hv > 0) || n3 != 3 || !(p[2] + 0 > 0) || !(p[3] + 0 > 0)) { print "bad row: " $0; bad = 1 } }
+       if (!match($0, / [0-9.e+]+ +[0-9.]+\/[0-9.]+\/[0-9.]+ /)) { print "bad row: " $0; bad = 1; next }
+       split(substr($0, RSTART + 1, RLENGTH - 2), f, / +/); split(f[2], p, "/");
+       if (!(f[1] + 0 > 0) || !(p[2] + 0 > 0) || !(p[3] + 0 > 0)) { print "bad row: " $0; bad = 1 } }
      END {exit bad}' "$TMP/r.txt" || bad "a ranked row lacks a hypervolume or a fresh figure"
 # per candidate: the optimizer's time optimum no worse than the config design
 # on the optimizer's own maneuvers (COBYLA starts there, keeps its best feasible)
