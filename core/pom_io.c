@@ -8,6 +8,7 @@
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -229,4 +230,54 @@ pom_status pom_io_copy(const char *from, const char *to, pom_error *err) {
              failed);
   }
   return POM_OK;
+}
+
+/* ---- exclusive use of an output path ----------------------------------------------- */
+pom_status pom_io_lock_take(pom_io_lock *lk, const char *path, pom_error *err) {
+  lk->fd = -1;
+  if ((size_t)snprintf(lk->path, sizeof lk->path, "%s.lock", path) >= sizeof lk->path)
+    POM_FAIL(err, POM_ERR_ARG, "output path too long for its lock file: '%s'", path);
+  for (int attempt = 0; attempt < 8; ++attempt) {
+    int fd = open(lk->path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0)
+      POM_FAIL(err, POM_ERR_IO, "cannot create the lock file '%s': %s", lk->path, strerror(errno));
+    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+      int e = errno;
+      char owner[32] = "";
+      ssize_t n = read(fd, owner, sizeof owner - 1);
+      owner[n > 0 ? n : 0] = '\0';
+      owner[strcspn(owner, "\n")] = '\0';
+      close(fd);
+      if (e == EWOULDBLOCK)
+        POM_FAIL(err, POM_ERR_IO,
+                 "'%s' is being written by another pomlab run (process %s holds '%s'): wait for "
+                 "it to finish or choose another output; nothing was changed",
+                 path, owner[0] ? owner : "?", lk->path);
+      POM_FAIL(err, POM_ERR_IO, "cannot lock '%s': %s", lk->path, strerror(e));
+    }
+    /* the holder before us may have removed the file after we opened it:
+     * then our lock is on a file nobody else sees; take the new one */
+    struct stat held, now;
+    if (fstat(fd, &held) == 0 && stat(lk->path, &now) == 0 && held.st_ino == now.st_ino &&
+        held.st_dev == now.st_dev) {
+      char pid[32];
+      int len = snprintf(pid, sizeof pid, "%ld\n", (long)getpid());
+      if (ftruncate(fd, 0) != 0 || write(fd, pid, (size_t)len) != len) {
+        int e = errno;
+        close(fd);
+        POM_FAIL(err, POM_ERR_IO, "cannot write the lock file '%s': %s", lk->path, strerror(e));
+      }
+      lk->fd = fd;
+      return POM_OK;
+    }
+    close(fd);
+  }
+  POM_FAIL(err, POM_ERR_IO, "cannot take the lock file '%s': it keeps being replaced", lk->path);
+}
+
+void pom_io_lock_release(pom_io_lock *lk) {
+  if (lk->fd < 0) return;
+  unlink(lk->path); /* while still holding it (see pom_io_lock_take) */
+  close(lk->fd);
+  lk->fd = -1;
 }

@@ -51,4 +51,23 @@ pom_status pom_io_sync_folder(const char *path, pom_error *err);
  * failure to is removed and err names the file and the reason. */
 pom_status pom_io_copy(const char *from, const char *to, pom_error *err);
 
+/* Exclusive use of an output path by one run: PATH.lock held with flock
+ * (docs/results.md, "Writing safely"). The kernel drops the lock when the
+ * process ends however it ends (kill -9 too), so a lock file left behind
+ * never blocks the next run; the holder's pid is written in it for the
+ * message a refused run prints. fd is -1 when none is held. */
+typedef struct {
+  int fd;          /* holds the lock, -1 when none */
+  char path[1100]; /* PATH.lock */
+} pom_io_lock;
+
+/* Takes PATH.lock; while another run holds it: POM_ERR_IO and err names
+ * PATH, the holder's pid and the lock file ("is being written by another
+ * pomlab run ... nothing was changed"). Nothing else is touched. */
+pom_status pom_io_lock_take(pom_io_lock *lk, const char *path, pom_error *err);
+
+/* Removes the lock file (while still holding it) and releases it; a lock
+ * not held (fd -1) is allowed. */
+void pom_io_lock_release(pom_io_lock *lk);
+
 #endif

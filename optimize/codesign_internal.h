@@ -60,4 +60,20 @@ pom_status pom_cds_gradient_at(const pom_cds_problem *pb, int c, const double *x
                                double g[2][POM_CDS_MAX_VARS], long *fallbacks, char why[160],
                                pom_error *err);
 
+/* Why design x (figures f, optimization set) misses the requirement set, in
+ * words: the workspace term that sets the kinematic margin (pose, stroke,
+ * limit or dexterity floor), the current, envelope, failures, time bound. */
+void pom_cds_infeasible_reason(const pom_cds_problem *pb, int c, const double *x,
+                               const pom_cds_figures *f, char *why, size_t cap);
+
+/* Axis bounds for the figure: nice numbers around the data range [lo, hi]
+ * (display units) with a margin of 5 % of the range each side, a tick step
+ * of 1, 2, 2.5 or 5 x 10^k giving 4..8 intervals, *a and *b multiples of
+ * the step that hold the data; nonneg = 1 for a quantity that is never
+ * negative (a time, an energy): *a is then >= 0. A range of zero width is
+ * widened by 10 % of |lo| (or 1). *decimals: the digits after the point
+ * that print every tick exactly. */
+void pom_cds_axis_range(double lo, double hi, int nonneg, double *a, double *b, double *step,
+                        int *decimals);
+
 #endif

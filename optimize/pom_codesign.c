@@ -376,7 +376,10 @@ static pom_status design_config(pom_cfg **out, const pom_cds_problem *pb, int c,
 }
 
 /* ---- kinematic margin and envelope (section 11.1) -------------------------------------- */
-static double kin_margin(const pom_cds_problem *pb, const pom_kin_arch *arch) {
+/* why (may be NULL, cap bytes) receives the term that sets the margin: the
+ * pose and which stroke, limit or the dexterity floor, or an unreachable pose. */
+static double kin_margin(const pom_cds_problem *pb, const pom_kin_arch *arch, char *why,
+                         size_t cap) {
   const int g = pb->ws_grid;
   const double a = pb->ws_half_width;
   double m = -INFINITY;
@@ -389,12 +392,22 @@ static double kin_margin(const pom_cds_problem *pb, const pom_kin_arch *arch) {
         pom_euler_zyx_to_matrix(R, e);
         pom_kin_pose pose;
         pom_status st = pom_kin_pose_evaluate(arch, R, &pose, NULL);
+        const double deg = 180.0 / 3.14159265358979323846;
         if (!pose.reachable || st == POM_ERR_NONFINITE) {
+          if (why && 1.0 > m)
+            snprintf(why, cap, "the pose (%.1f, %.1f, %.1f) deg is unreachable", deg * e[0],
+                     deg * e[1], deg * e[2]);
           m = fmax(m, 1.0);
           continue;
         }
-        for (int l = 0; l < 3; ++l)
-          m = fmax(m, fabs(pose.q[l]) / (0.5 * arch->stroke) - 1.0);
+        for (int l = 0; l < 3; ++l) {
+          double v = fabs(pose.q[l]) / (0.5 * arch->stroke) - 1.0;
+          if (why && v > m)
+            snprintf(why, cap,
+                     "actuator %d needs %.0f %% of its half-stroke at (%.1f, %.1f, %.1f) deg",
+                     l + 1, 100 * (v + 1), deg * e[0], deg * e[1], deg * e[2]);
+          m = fmax(m, v);
+        }
         for (int kind = 1; kind < POM_KIN_LIM_KINDS; ++kind) {
           const pom_kin_limit_desc *ld = &arch->type->limits[kind];
           double b = arch->limit_bound[kind];
@@ -402,10 +415,20 @@ static double kin_margin(const pom_cds_problem *pb, const pom_kin_arch *arch) {
           for (int mem = 0; mem < 3; ++mem) {
             double v = pose.limit[3 * kind + mem];
             if (!isfinite(v)) continue;
-            m = fmax(m, ld->lower ? 1.0 - v / b : v / b - 1.0);
+            double r = ld->lower ? 1.0 - v / b : v / b - 1.0;
+            if (why && r > m)
+              snprintf(why, cap, "%s of limb %d at %.0f %% of its bound at (%.1f, %.1f, %.1f) deg",
+                       ld->key, mem + 1, 100 * v / b, deg * e[0], deg * e[1], deg * e[2]);
+            m = fmax(m, r);
           }
         }
-        if (pb->dexterity_min > 0) m = fmax(m, 1.0 - pose.dexterity / pb->dexterity_min);
+        if (pb->dexterity_min > 0) {
+          double r = 1.0 - pose.dexterity / pb->dexterity_min;
+          if (why && r > m)
+            snprintf(why, cap, "1/kappa %.3f below the floor %.2f at (%.1f, %.1f, %.1f) deg",
+                     pose.dexterity, pb->dexterity_min, deg * e[0], deg * e[1], deg * e[2]);
+          m = fmax(m, r);
+        }
       }
   return m;
 }
@@ -560,7 +583,7 @@ void pom_cds_static_figures(const pom_cds_problem *pb, int c, const double *x, p
   if (design_config(&cfg, pb, c, x, NULL, 0, &ek) == POM_OK) {
     pom_kin_arch arch;
     if (pom_kin_arch_load(&arch, cfg, &ek) == POM_OK) {
-      f->kin = kin_margin(pb, &arch);
+      f->kin = kin_margin(pb, &arch, NULL, 0);
       pom_mechanism mech;
       pom_kin_inertia in;
       if (pom_kin_inertia_load(&in, &arch, cfg, &ek) == POM_OK &&
@@ -837,4 +860,38 @@ pom_status pom_cds_sens_maneuvers(const pom_cds_problem *pb, int c, const double
   }
   *ok = 1;
   return POM_OK;
+}
+
+/* ---- why a design misses the requirements (report) ------------------------------------ */
+void pom_cds_infeasible_reason(const pom_cds_problem *pb, int c, const double *x,
+                               const pom_cds_figures *f, char *why, size_t cap) {
+  size_t n = 0;
+  why[0] = '\0';
+#define ADD(...)                                                                                   \
+  do {                                                                                             \
+    if (n < cap) n += (size_t)snprintf(why + n, cap - n, __VA_ARGS__);                             \
+  } while (0)
+  if (f->kin > 1e-6) {
+    char k[200] = "the design does not build";
+    pom_cfg *cfg = NULL;
+    pom_error ek;
+    pom_error_clear(&ek);
+    if (design_config(&cfg, pb, c, x, NULL, 0, &ek) == POM_OK) {
+      pom_kin_arch arch;
+      if (pom_kin_arch_load(&arch, cfg, &ek) == POM_OK) (void)kin_margin(pb, &arch, k, sizeof k);
+      pom_cfg_destroy(cfg);
+    }
+    ADD("%sworkspace +-%.0f deg (margin %+.3f): %s", n ? "; " : "",
+        pb->ws_half_width * 180.0 / 3.14159265358979323846, f->kin, k);
+  }
+  if (f->i_peak > f->i_limit * (1 + 1e-6))
+    ADD("%speak current %.2f A above the size law's limit %.2f A", n ? "; " : "", f->i_peak,
+        f->i_limit);
+  if (f->envelope > pb->envelope * (1 + 1e-6))
+    ADD("%senvelope %.0f mm above %.0f mm", n ? "; " : "", 1e3 * f->envelope, 1e3 * pb->envelope);
+  if (f->failed > 0) ADD("%s%d of %d maneuvers failed", n ? "; " : "", f->failed, f->n);
+  if (f->p95 > pb->time_max * (1 + 1e-6))
+    ADD("%sp95 %.1f ms above the %.0f ms bound", n ? "; " : "", 1e3 * f->p95, 1e3 * pb->time_max);
+  if (!n) ADD("no constraint is violated by more than 1e-6 at the figures kept");
+#undef ADD
 }

@@ -226,33 +226,53 @@ void pom_cds_report_text(FILE *out, const pom_cds_problem *pb, const pom_cds_res
     fprintf(out, "  time optimum:");
     for (int v = 0; v < cd->n_vars; ++v)
       fprintf(out, " %s = %.5g [%.5g]", cd->var[v].key, cr->point[0].x[v], cd->var[v].x0);
-    fprintf(out, "\n  hypervolume %.4g ms mJ, %ld simulations\n\n", 1e6 * cr->hypervolume,
+    fprintf(out, "\n  hypervolume %.4g ms mJ, %ld simulations\n", 1e6 * cr->hypervolume,
             cr->simulations);
+    if (!cr->point[0].feasible) {
+      char why[600];
+      pom_cds_infeasible_reason(pb, c, cr->point[0].x, &cr->point[0].opt, why, sizeof why);
+      fprintf(out, "  INFEASIBLE: no design met the requirement set; at the best point kept: %s\n",
+              why);
+    }
+    fprintf(out, "\n");
   }
-  fprintf(out, "Ranking at each architecture's best (fresh maneuver set, rigid joints)\n");
+  fprintf(out, "Ranking at each architecture's best (hypervolume of the re-evaluated front; p95 "
+               "at the time optimum: optimizer's set / fresh rigid / fresh parasitic)\n");
   int order[POM_CDS_MAX_CANDIDATES];
   for (int c = 0; c < pb->n_candidates; ++c)
     order[c] = c;
+    /* feasible before infeasible, then by hypervolume */
+#define RANK_KEY(i) (res->cand[order[i]].point[0].feasible ? res->cand[order[i]].hypervolume : -1.0)
   for (int i = 1; i < pb->n_candidates; ++i)
-    for (int j = i; j > 0 && res->cand[order[j - 1]].hypervolume < res->cand[order[j]].hypervolume;
-         --j) {
+    for (int j = i; j > 0 && RANK_KEY(j - 1) < RANK_KEY(j); --j) {
       int t = order[j];
       order[j] = order[j - 1];
       order[j - 1] = t;
     }
-  fprintf(out, "  %-4s %-16s %-14s %-16s %-16s %-16s\n", "rank", "candidate", "hypervolume",
-          "best p95 (ms)", "config p95 (ms)", "min energy (mJ)");
+#undef RANK_KEY
+  fprintf(out, "  %-4s %-24s %-11s %-24s %-12s %-12s %-12s\n", "rank", "candidate", "HV ms mJ",
+          "p95 opt/fresh/para ms", "E at t-opt", "min E mJ", "config p95");
   for (int i = 0; i < pb->n_candidates; ++i) {
     const pom_cds_cand_result *cr = &res->cand[order[i]];
-    fprintf(out, "  %-4d %-16s %-14.4g %-16.2f %-16.2f %-16.2f\n", i + 1, pb->cand[order[i]].name,
-            1e6 * cr->hypervolume, 1e3 * cr->point[0].fresh.p95, 1e3 * cr->nominal_fresh.p95,
-            1e3 * cr->point[cr->n_points - 1].fresh.energy);
+    const pom_cds_point *p0 = &cr->point[0];
+    char p95s[64];
+    snprintf(p95s, sizeof p95s, "%.2f/%.2f/%.2f", 1e3 * p0->opt.p95, 1e3 * p0->fresh.p95,
+             1e3 * p0->fresh_parasitic.p95);
+    if (p0->feasible)
+      fprintf(out, "  %-4d %-24s %-11.4g %-24s %-12.1f %-12.1f %-12.2f\n", i + 1,
+              pb->cand[order[i]].name, 1e6 * cr->hypervolume, p95s, 1e3 * p0->fresh.energy,
+              1e3 * cr->point[cr->n_points - 1].fresh.energy, 1e3 * cr->nominal_fresh.p95);
+    else
+      fprintf(out, "  %-4s %-24s infeasible (see its section): %s at the best point kept\n", "-",
+              pb->cand[order[i]].name, p95s);
   }
   fprintf(out, "  (hypervolume in ms mJ against the reference %.2f ms, %.2f mJ)\n",
           1e3 * res->ref_time, 1e3 * res->ref_energy);
   /* pairwise: time optima and config designs */
+  /* every pair for a few candidates; beyond 4, each against the first ranked */
   for (int a = 0; a < pb->n_candidates; ++a)
     for (int b = a + 1; b < pb->n_candidates; ++b) {
+      if (pb->n_candidates > 4 && a != order[0] && b != order[0]) continue;
       const pom_cds_cand_result *ra = &res->cand[a], *rb = &res->cand[b];
       double best = rb->point[0].fresh.p95 - ra->point[0].fresh.p95;
       double conf = rb->nominal_fresh.p95 - ra->nominal_fresh.p95;
@@ -269,31 +289,78 @@ void pom_cds_report_text(FILE *out, const pom_cds_problem *pb, const pom_cds_res
 }
 
 /* ---- figure ------------------------------------------------------------------------------ */
+void pom_cds_axis_range(double lo, double hi, int nonneg, double *a, double *b, double *step,
+                        int *decimals) {
+  if (!(hi > lo)) {
+    double w = lo != 0 ? 0.1 * fabs(lo) : 1.0;
+    lo -= w;
+    hi += w;
+  }
+  double margin = 0.05 * (hi - lo);
+  lo -= margin;
+  hi += margin;
+  if (nonneg && lo < 0) lo = 0;
+  /* the smallest nice step giving at most 8 intervals */
+  double raw = (hi - lo) / 8.0;
+  double mag = pow(10.0, floor(log10(raw)));
+  static const double nice[] = {1.0, 2.0, 2.5, 5.0, 10.0};
+  double s = 10.0 * mag;
+  for (int i = 0; i < 5; ++i)
+    if (nice[i] * mag >= raw * (1 - 1e-12)) {
+      s = nice[i] * mag;
+      break;
+    }
+  *a = floor(lo / s + 1e-9) * s;
+  *b = ceil(hi / s - 1e-9) * s;
+  if (nonneg && *a < 0) *a = 0;
+  *step = s;
+  int d = 0;
+  while (d < 9) {
+    double scaled = s * pow(10.0, d);
+    if (fabs(scaled - round(scaled)) <= 1e-9 * scaled) break;
+    ++d;
+  }
+  *decimals = d;
+}
+
 pom_status pom_cds_write_svg(const pom_cds_problem *pb, const pom_cds_result *res, const char *path,
                              pom_error *err) {
   pom_io_file w;
   POM_TRY(pom_io_create(&w, path, err));
-  const double W = 640, H = 420, L = 70, R = 20, T = 30, B = 50;
-  double tmin = INFINITY, tmax = 0, emin = INFINITY, emax = 0;
+  /* plot on the left, the legend in a column on the right (up to 16 names),
+   * wide enough for the longest entry at about 7 px a character */
+  double legend_w = 250;
+  for (int c = 0; c < pb->n_candidates; ++c) {
+    char entry[POM_DOE_NAME_LEN + 64];
+    int len = snprintf(entry, sizeof entry, "%s (HV %.3g ms mJ)", pb->cand[c].name,
+                       1e6 * res->cand[c].hypervolume);
+    legend_w = fmax(legend_w, 7.0 * len + 10.0);
+  }
+  const double W = 640 + legend_w, H = 440, L = 70, R = 20 + legend_w, T = 30, B = 50;
+  double tmin = INFINITY, tmax = -INFINITY, emin = INFINITY, emax = -INFINITY;
   for (int c = 0; c < pb->n_candidates; ++c) {
     const pom_cds_cand_result *cr = &res->cand[c];
     for (int k = -1; k < cr->n_points; ++k) {
       const pom_cds_figures *f = k < 0 ? &cr->nominal_fresh : &cr->point[k].fresh;
-      tmin = fmin(tmin, f->p95);
-      tmax = fmax(tmax, f->p95);
-      emin = fmin(emin, f->energy);
-      emax = fmax(emax, f->energy);
+      if (!isfinite(f->p95) || !isfinite(f->energy)) continue;
+      tmin = fmin(tmin, 1e3 * f->p95);
+      tmax = fmax(tmax, 1e3 * f->p95);
+      emin = fmin(emin, 1e3 * f->energy);
+      emax = fmax(emax, 1e3 * f->energy);
     }
   }
-  double dt = fmax(tmax - tmin, 1e-6) * 0.1, de = fmax(emax - emin, 1e-9) * 0.1;
-  tmin = fmax(0.0, tmin - dt);
-  tmax += dt;
-  emin = fmax(0.0, emin - de);
-  emax += de;
-#define PX(t) (L + ((t)-tmin) / (tmax - tmin) * (W - L - R))
-#define PY(e) (H - B - ((e)-emin) / (emax - emin) * (H - T - B))
-  static const char *const colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd",
-                                        "#ff7f0e", "#8c564b", "#e377c2", "#7f7f7f"};
+  if (!(tmax >= tmin)) tmin = tmax = 0;
+  if (!(emax >= emin)) emin = emax = 0;
+  /* in ms and mJ; both quantities are never negative */
+  double t0, t1, tstep, e0, e1, estep;
+  int tdec, edec;
+  pom_cds_axis_range(tmin, tmax, 1, &t0, &t1, &tstep, &tdec);
+  pom_cds_axis_range(emin, emax, 1, &e0, &e1, &estep, &edec);
+#define PX(t) (L + (1e3 * (t)-t0) / (t1 - t0) * (W - L - R))
+#define PY(e) (H - B - (1e3 * (e)-e0) / (e1 - e0) * (H - T - B))
+  static const char *const colours[] = {
+      "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#7f7f7f",
+      "#bcbd22", "#17becf", "#393b79", "#ad494a", "#637939", "#8c6d31", "#7b4173", "#3182bd"};
   FILE *f = w.f;
   fprintf(f,
           "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" "
@@ -308,12 +375,19 @@ pom_status pom_cds_write_svg(const pom_cds_problem *pb, const pom_cds_result *re
           W - R, H - B);
   fprintf(f, "<line x1=\"%.0f\" y1=\"%.0f\" x2=\"%.0f\" y2=\"%.0f\" stroke=\"black\"/>\n", L, T, L,
           H - B);
-  for (int i = 0; i <= 4; ++i) {
-    double t = tmin + (tmax - tmin) * i / 4, e = emin + (emax - emin) * i / 4;
-    fprintf(f, "<text x=\"%.1f\" y=\"%.0f\" text-anchor=\"middle\">%.1f</text>\n", PX(t),
-            H - B + 16, 1e3 * t);
-    fprintf(f, "<text x=\"%.0f\" y=\"%.1f\" text-anchor=\"end\">%.2f</text>\n", L - 4, PY(e) + 4,
-            1e3 * e);
+  for (int i = 0; t0 + i * tstep <= t1 + 1e-9 * tstep; ++i) {
+    double t = t0 + i * tstep, x = L + (t - t0) / (t1 - t0) * (W - L - R);
+    fprintf(f, "<line x1=\"%.1f\" y1=\"%.0f\" x2=\"%.1f\" y2=\"%.0f\" stroke=\"black\"/>\n", x,
+            H - B, x, H - B + 4);
+    fprintf(f, "<text x=\"%.1f\" y=\"%.0f\" text-anchor=\"middle\">%.*f</text>\n", x, H - B + 16,
+            tdec, t);
+  }
+  for (int i = 0; e0 + i * estep <= e1 + 1e-9 * estep; ++i) {
+    double e = e0 + i * estep, y = H - B - (e - e0) / (e1 - e0) * (H - T - B);
+    fprintf(f, "<line x1=\"%.0f\" y1=\"%.1f\" x2=\"%.0f\" y2=\"%.1f\" stroke=\"black\"/>\n", L - 4,
+            y, L, y);
+    fprintf(f, "<text x=\"%.0f\" y=\"%.1f\" text-anchor=\"end\">%.*f</text>\n", L - 6, y + 4, edec,
+            e);
   }
   fprintf(f, "<text x=\"%.0f\" y=\"%.0f\" text-anchor=\"middle\">p%.0f pointing time (ms)</text>\n",
           (L + W - R) / 2, H - 12, 100 * pb->quantile);
@@ -323,20 +397,23 @@ pom_status pom_cds_write_svg(const pom_cds_problem *pb, const pom_cds_result *re
           (T + H - B) / 2, (T + H - B) / 2);
   for (int c = 0; c < pb->n_candidates; ++c) {
     const pom_cds_cand_result *cr = &res->cand[c];
-    const char *col = colours[c % 8];
+    const char *col = colours[c % 16];
     fprintf(f, "<polyline fill=\"none\" stroke=\"%s\" stroke-width=\"1.5\" points=\"", col);
     for (int k = 0; k < cr->n_points; ++k)
-      fprintf(f, "%.1f,%.1f ", PX(cr->point[k].fresh.p95), PY(cr->point[k].fresh.energy));
+      if (isfinite(cr->point[k].fresh.p95) && isfinite(cr->point[k].fresh.energy))
+        fprintf(f, "%.1f,%.1f ", PX(cr->point[k].fresh.p95), PY(cr->point[k].fresh.energy));
     fprintf(f, "\"/>\n");
     for (int k = 0; k < cr->n_points; ++k)
-      fprintf(f, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"4\" fill=\"%s\"/>\n",
-              PX(cr->point[k].fresh.p95), PY(cr->point[k].fresh.energy), col);
-    fprintf(f,
-            "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"none\" stroke=\"%s\" "
-            "stroke-width=\"2\"/>\n",
-            PX(cr->nominal_fresh.p95), PY(cr->nominal_fresh.energy), col);
-    fprintf(f, "<text x=\"%.0f\" y=\"%.0f\" fill=\"%s\">%s (HV %.3g ms mJ)</text>\n", W - R - 220,
-            T + 16 + 16 * c, col, pb->cand[c].name, 1e6 * cr->hypervolume);
+      if (isfinite(cr->point[k].fresh.p95) && isfinite(cr->point[k].fresh.energy))
+        fprintf(f, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"4\" fill=\"%s\"/>\n",
+                PX(cr->point[k].fresh.p95), PY(cr->point[k].fresh.energy), col);
+    if (isfinite(cr->nominal_fresh.p95) && isfinite(cr->nominal_fresh.energy))
+      fprintf(f,
+              "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"none\" stroke=\"%s\" "
+              "stroke-width=\"2\"/>\n",
+              PX(cr->nominal_fresh.p95), PY(cr->nominal_fresh.energy), col);
+    fprintf(f, "<text x=\"%.0f\" y=\"%.0f\" fill=\"%s\">%s (HV %.3g ms mJ)</text>\n", W - legend_w,
+            T + 16 + 18 * c, col, pb->cand[c].name, 1e6 * cr->hypervolume);
   }
 #undef PX
 #undef PY

@@ -35,8 +35,7 @@ struct pom_doe_results {
   /* the file's place (docs/results.md, "Writing safely") */
   char path[POM_DOE_PATH_LEN + 16];      /* the results file as asked for */
   char open_path[POM_DOE_PATH_LEN + 16]; /* the file open: path or path.partial */
-  char lock_path[POM_DOE_PATH_LEN + 16]; /* path.lock */
-  int lock_fd;                           /* holds the lock, -1 when none */
+  pom_io_lock lock;                      /* path.lock (pom_io_lock_take) */
   int resumed;                           /* 1: opened an existing file */
   int made;                              /* 1: open_path was made by this run (created or
                                             copied): removed again when start fails */
@@ -47,59 +46,6 @@ static pom_status close_hdf5(pom_doe_results *res, pom_error *err);
 /* ---- exclusive use of a results path -------------------------------------------- */
 void pom_doe_results_partial_path(char *buf, size_t cap, const char *path) {
   snprintf(buf, cap, "%s.partial", path);
-}
-
-/* Takes PATH.lock with flock: one run at a time per results path. The kernel
- * drops the lock when the process ends however it ends (kill -9 too), so a
- * lock file left behind never blocks the next run. */
-static pom_status take_lock(pom_doe_results *res, const char *path, pom_error *err) {
-  snprintf(res->lock_path, sizeof res->lock_path, "%s.lock", path);
-  for (int attempt = 0; attempt < 8; ++attempt) {
-    int fd = open(res->lock_path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (fd < 0)
-      POM_FAIL(err, POM_ERR_IO, "cannot create the lock file '%s': %s", res->lock_path,
-               strerror(errno));
-    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
-      int e = errno;
-      char owner[32] = "";
-      ssize_t n = read(fd, owner, sizeof owner - 1);
-      owner[n > 0 ? n : 0] = '\0';
-      owner[strcspn(owner, "\n")] = '\0';
-      close(fd);
-      if (e == EWOULDBLOCK)
-        POM_FAIL(err, POM_ERR_IO,
-                 "'%s' is being written by another pomlab run (process %s holds '%s'): wait for "
-                 "it to finish or choose another output; nothing was changed",
-                 path, owner[0] ? owner : "?", res->lock_path);
-      POM_FAIL(err, POM_ERR_IO, "cannot lock '%s': %s", res->lock_path, strerror(e));
-    }
-    /* the holder before us may have removed the file after we opened it:
-     * then our lock is on a file nobody else sees; take the new one */
-    struct stat held, now;
-    if (fstat(fd, &held) == 0 && stat(res->lock_path, &now) == 0 && held.st_ino == now.st_ino &&
-        held.st_dev == now.st_dev) {
-      char pid[32];
-      int len = snprintf(pid, sizeof pid, "%ld\n", (long)getpid());
-      if (ftruncate(fd, 0) != 0 || write(fd, pid, (size_t)len) != len) {
-        int e = errno;
-        close(fd);
-        POM_FAIL(err, POM_ERR_IO, "cannot write the lock file '%s': %s", res->lock_path,
-                 strerror(e));
-      }
-      res->lock_fd = fd;
-      return POM_OK;
-    }
-    close(fd);
-  }
-  POM_FAIL(err, POM_ERR_IO, "cannot take the lock file '%s': it keeps being replaced",
-           res->lock_path);
-}
-
-static void release_lock(pom_doe_results *res) {
-  if (res->lock_fd < 0) return;
-  unlink(res->lock_path); /* while still holding it (see take_lock) */
-  close(res->lock_fd);
-  res->lock_fd = -1;
 }
 
 /* ---- the row type -------------------------------------------------------------- */
@@ -152,7 +98,7 @@ static pom_status results_alloc(pom_doe_results **out, const pom_doe_study *stud
   pom_doe_results *res = calloc(1, sizeof *res);
   if (!res) POM_FAIL(err, POM_ERR_NOMEM, "results: out of memory");
   res->file = res->row_mem = res->row_file = -1;
-  res->lock_fd = -1;
+  res->lock.fd = -1;
   res->n_candidates = study->n_candidates;
   res->n_maneuvers = study->maneuvers.count;
   res->rows = malloc((size_t)study->n_candidates * sizeof *res->rows);
@@ -666,7 +612,7 @@ static pom_status results_start(pom_doe_results **out, const char *path, const p
                   POM_DOE_PATH_LEN - 1, path);
   snprintf(res->path, sizeof res->path, "%s", path);
   /* nothing is opened before the lock is held */
-  POM_TRY_GOTO(take_lock(res, path, err), fail);
+  POM_TRY_GOTO(pom_io_lock_take(&res->lock, path, err), fail);
   char partial[sizeof res->open_path];
   pom_doe_results_partial_path(partial, sizeof partial, path);
   /* an unfinished run (path.partial) first, else a finished file */
@@ -1137,7 +1083,7 @@ static pom_status close_hdf5(pom_doe_results *res, pom_error *err) {
 
 /* Frees res after closing it; releases the lock. */
 static void results_free(pom_doe_results *res) {
-  release_lock(res);
+  pom_io_lock_release(&res->lock);
   free(res->rows);
   free(res);
 }

@@ -25,3 +25,9 @@ target_link_libraries(test_codesign PRIVATE pom_optimize)
 add_test(NAME test_codesign_cli
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_codesign.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# every catalog architecture co-designed (docs/optimize.md 11.10): label long,
+# skipped (77) unless POMLAB_LONG=1
+add_test(NAME test_codesign_catalog_long
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_codesign_catalog_long.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+set_tests_properties(test_codesign_catalog_long PROPERTIES LABELS long SKIP_RETURN_CODE 77)

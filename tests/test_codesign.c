@@ -205,10 +205,56 @@ static void test_sens_gradient(void) {
   }
 }
 
+/* The figure's axes (pom_cds_axis_range): nice bounds that hold the data,
+ * never below 0 for a non-negative quantity (the figure of the three
+ * shipped architectures once put its energy axis at -58 mJ). */
+static void test_axis_range(void) {
+  double a, b, s;
+  int d;
+  /* the energies of configs/codesign.cfg's figure: 57 .. 1215 mJ */
+  pom_cds_axis_range(57.0, 1215.0, 1, &a, &b, &s, &d);
+  check_abs(a, 0.0, 0.0);
+  check_abs(s, 200.0, 0.0); /* (1215 + 58 - 0) / 8 = 159 -> 200 */
+  check_abs(b, 1400.0, 0.0);
+  check_true(d == 0);
+  /* the same range of a quantity that may be negative goes below 0 */
+  pom_cds_axis_range(57.0, 1215.0, 0, &a, &b, &s, &d);
+  check_abs(a, -200.0, 0.0);
+  /* times 4.7 .. 32.7 ms: margin 1.4, step (29.4 + 1.4) / 8 = 3.85 -> 5 */
+  pom_cds_axis_range(6.1, 31.3, 1, &a, &b, &s, &d);
+  check_abs(s, 5.0, 0.0);
+  check_abs(a, 0.0, 0.0);
+  check_abs(b, 35.0, 0.0);
+  /* a narrow range far from 0: (1.24 + 0.124) / 8 = 0.17 -> 0.2, one decimal */
+  pom_cds_axis_range(7.06, 8.3, 1, &a, &b, &s, &d);
+  check_abs(s, 0.2, 1e-15);
+  check_true(a <= 7.06 && b >= 8.3 && a > 6.5 && b < 8.7);
+  check_true(d == 1);
+  pom_cds_axis_range(0.41, 0.52, 1, &a, &b, &s, &d); /* 0.121 / 8 = 0.015 -> 0.02 */
+  check_abs(s, 0.02, 1e-15);
+  check_true(d == 2);
+  /* 2.5-steps: 0 .. 18 + 0.9 margin, 18.9 / 8 = 2.36 -> 2.5, one decimal */
+  pom_cds_axis_range(0.0, 18.0, 1, &a, &b, &s, &d);
+  check_abs(s, 2.5, 0.0);
+  check_abs(b, 20.0, 0.0);
+  check_true(d == 1);
+  /* one point: widened, still nice and holding it */
+  pom_cds_axis_range(20.0, 20.0, 1, &a, &b, &s, &d);
+  check_true(a <= 18.0 && b >= 22.0 && a >= 0 && s > 0);
+  /* every case: at most 8 intervals */
+  const double lo[4] = {0.0, 1e-4, 3.0, 950.0}, hi[4] = {1.0, 7e-4, 1e4, 1000.0};
+  for (int i = 0; i < 4; ++i) {
+    pom_cds_axis_range(lo[i], hi[i], 1, &a, &b, &s, &d);
+    double n = (b - a) / s;
+    check_true(a >= 0 && a <= lo[i] && b >= hi[i] && n <= 8.0 + 1e-9 && n >= 3.0 - 1e-9);
+  }
+}
+
 int main(void) {
   test_sens_gradient();
   test_key_jacobian();
   test_quantile();
   test_size_law();
+  test_axis_range();
   return check_summary("test_codesign");
 }

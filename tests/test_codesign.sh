@@ -8,7 +8,8 @@
 # grid-slice check (optimizer within 1 % of the grid's best); an
 # interrupted run resumed from its journal ends with the same optima as an
 # uninterrupted one, and a second run never touches the finished file until
-# it replaces it.
+# it replaces it; a second run on an output another run is writing is
+# refused (the study's lock).
 set -u
 POMLAB=$1
 SRC=$2
@@ -123,6 +124,32 @@ printf 'pomlab codesign journal 1 0123456789abcdef\n' > "$TMP/o.h5.journal"
 "$POMLAB" codesign "$TMP/other.cfg" --out "$TMP/o.h5" --resume --quiet > /dev/null 2> "$TMP/o.err"
 [ $? -ne 0 ] && grep -q "another codesign file" "$TMP/o.err" || bad "resume: a foreign journal was not refused"
 
+# ---- one run per output (the study's lock, docs/optimize.md 11.7): a second
+# run on the same --out while the first runs is refused with a message naming
+# the file, exit 1, and the first run's journal and results are intact ----
+"$POMLAB" codesign "$TMP/run.cfg" --out "$TMP/c.h5" --threads 1 --quiet > "$TMP/c1.txt" 2> "$TMP/c1.err" &
+first=$!
+for _ in $(seq 1 600); do
+  [ -s "$TMP/c.h5.journal" ] && break
+  sleep 0.05
+done
+cp "$TMP/c.h5.journal" "$TMP/c.journal.before" 2> /dev/null || bad "lock: the first run made no journal"
+"$POMLAB" codesign "$TMP/run.cfg" --out "$TMP/c.h5" --quiet > "$TMP/c2.txt" 2> "$TMP/c2.err"
+rc=$?
+[ $rc -eq 1 ] || bad "lock: a second run on the same output exited $rc, expected 1"
+grep -q "'$TMP/c.h5' is being written by another pomlab run (process $first holds" "$TMP/c2.err" \
+  || bad "lock: the refusal does not name the file and the holder: $(cat "$TMP/c2.err")"
+# the journal only grew (the refused run neither truncated nor wrote it)
+if [ -e "$TMP/c.h5.journal" ]; then
+  cmp -s -n "$(stat -c %s "$TMP/c.journal.before")" "$TMP/c.journal.before" "$TMP/c.h5.journal" \
+    || bad "lock: the refused run changed the first run's journal"
+fi
+wait $first || bad "lock: the first run failed after the refused one: $(cat "$TMP/c1.err")"
+h5dump -d /candidates/3P_S_S_S/front_fresh "$TMP/c.h5" | grep -v HDF5 > "$TMP/c.f"
+cmp -s "$TMP/c.f" "$TMP/b.f" || bad "lock: the first run's results differ from an undisturbed run"
+[ -e "$TMP/c.h5.lock" ] && bad "lock: the finished run left its lock file"
+[ -e "$TMP/c.svg" ] || bad "lock: the first run wrote no figure"
+
 # ---- a catalog architecture is one stanza: a design parameter its config
 # leaves to the .arch file's default, a rotary coil sized by the law ----
 cat > "$TMP/cat.cfg" <<EOF
@@ -146,5 +173,25 @@ EOF
   || bad "catalog stanza: $(cat "$TMP/cat.err")"
 grep -q "geometry.crank_radius = [0-9.]* \\[1.2247\\]" "$TMP/cat.txt" \
   || bad "catalog stanza: crank_radius does not start at the .arch default 1.2247: $(grep optimum "$TMP/cat.txt")"
+
+# ---- configs/codesign-catalog.cfg co-designs every catalog file: one stanza
+# per catalog/*.arch (the three shipped types through their shipped configs,
+# as configs/catalog.cfg), and it loads: every candidate builds at its config's
+# design and at both ends of every variable (pom_cds_load; the run itself is
+# the long test test_codesign_catalog_long) ----
+CAT="$SRC/configs/codesign-catalog.cfg"
+for arch in "$SRC"/catalog/*.arch; do
+  stem=$(basename "$arch" .arch)
+  case $stem in
+    3pss | 3sps | 3rrr) want="config = \"$stem.cfg\"" ;;
+    *) want="config = \"catalog/$stem.cfg\"" ;;
+  esac
+  grep -q "$want" "$CAT" || bad "catalog codesign: no stanza for catalog/$stem.arch ($want)"
+done
+[ "$(grep -c '{ name = "C[0-9][0-9] ' "$CAT")" -eq "$(ls "$SRC"/catalog/*.arch | wc -l)" ] \
+  || bad "catalog codesign: not one candidate per catalog file"
+"$POMLAB" codesign "$CAT" --efficiency "no such candidate:2" > /dev/null 2> "$TMP/cl.err"
+grep -q "expected CANDIDATE:BUDGET with a candidate of" "$TMP/cl.err" \
+  || bad "catalog codesign: the config does not load: $(cat "$TMP/cl.err")"
 
 exit $fail
