@@ -42,10 +42,10 @@ printf '%s\n' "${jobs[@]}" | xargs -P 2 -d '\n' -n 1 bash -c '
   valgrind --tool=callgrind --callgrind-out-file=/dev/null --trace-children=no $cmd >"$out.stdout" 2>"$out.log" ||
     { echo "failed: $cmd (see $out.log)" >&2; exit 1; }
   sed -n "s/.*Collected : //p" "$out.log" >"$out.ir"'
-printf "| %-40s | %14s | %14s | %7s |\n" run old new new/old
-printf "|%s|\n" "------------------------------------------|----------------|----------------|---------"
+printf "| %-44s | %14s | %14s | %7s |\n" run old new new/old
+printf "|%s|\n" "----------------------------------------------|----------------|----------------|---------"
 for i in "${!runs[@]}"; do
   o=$(cat "$work/old_$i.ir") w=$(cat "$work/new_$i.ir")
   awk -v l="${runs[$i]%%$'\t'*}" -v o="$o" -v w="$w" \
-    'BEGIN{printf "| %-40s | %12.2f M | %12.2f M | %7.4f |\n", l, o / 1e6, w / 1e6, w / o}'
+    'BEGIN{printf "| %-44s | %12.2f M | %12.2f M | %7.4f |\n", l, o / 1e6, w / 1e6, w / o}'
 done
