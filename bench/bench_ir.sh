@@ -35,6 +35,7 @@ for i in "${!runs[@]}"; do
     jobs+=("$(src_of "$b")	${cmd//B\//$b/}	$work/${which}_$i")
   done
 done
+# shellcheck disable=SC2016 # the job's script, expanded by the inner bash
 printf '%s\n' "${jobs[@]}" | xargs -P 2 -d '\n' -n 1 bash -c '
   IFS=$'"'"'\t'"'"' read -r dir cmd out <<<"$0"
   cd "$dir"
