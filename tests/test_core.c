@@ -229,6 +229,37 @@ static void test_config(void) {
   pom_cfg_destroy(NULL);
 }
 
+/* Key paths (core/pom_config.c lookup): names matched whole, indices into
+ * lists, arrays and groups, the setting found at any depth, absent where a
+ * part is missing, out of range or not an aggregate; libconfig's other path
+ * forms (':' and '/' separators) still answer. */
+static void test_key_paths(void) {
+  pom_error err;
+  pom_cfg *cfg = load("g = { limb = 1.0; limb_length = 2.0; sub = { deep = 3.0; }; };\n"
+                      "l = ( { k = 4.0; }, { k = 5.0; v = [6.0, 7.0]; } );\n"
+                      "x = 8.0;\n",
+                      &err);
+  check_true(cfg != NULL);
+  if (!cfg) return;
+  double x = 0.0;
+  check_true(pom_cfg_real(cfg, "g.limb", 1.0, 0.0, 100.0, &x, &err) == POM_OK && x == 1.0);
+  check_true(pom_cfg_real(cfg, "g.limb_length", 1.0, 0.0, 100.0, &x, &err) == POM_OK && x == 2.0);
+  check_true(pom_cfg_real(cfg, "g.sub.deep", 1.0, 0.0, 100.0, &x, &err) == POM_OK && x == 3.0);
+  check_true(pom_cfg_real(cfg, "l.[1].k", 1.0, 0.0, 100.0, &x, &err) == POM_OK && x == 5.0);
+  check_true(pom_cfg_real(cfg, "l.[1].v.[1]", 1.0, 0.0, 100.0, &x, &err) == POM_OK && x == 7.0);
+  check_true(pom_cfg_real(cfg, "g.[1]", 1.0, 0.0, 100.0, &x, &err) == POM_OK && x == 2.0);
+  check_true(pom_cfg_real(cfg, "g:sub/deep", 1.0, 0.0, 100.0, &x, &err) == POM_OK && x == 3.0);
+  check_true(pom_cfg_length(cfg, "l") == 2 && pom_cfg_length(cfg, "l.[1].v") == 2);
+  /* a name's prefix or extension is another name */
+  check_true(!pom_cfg_has(cfg, "g.lim") && !pom_cfg_has(cfg, "g.limb_l") &&
+             !pom_cfg_has(cfg, "g.limbs"));
+  check_true(!pom_cfg_has(cfg, "l.[2]") && !pom_cfg_has(cfg, "l.[0].v") &&
+             !pom_cfg_has(cfg, "x.y") && !pom_cfg_has(cfg, "x.[0]") && !pom_cfg_has(cfg, "k") &&
+             !pom_cfg_has(cfg, "l.k") && !pom_cfg_has(cfg, "g.sub.deep.z"));
+  check_true(pom_cfg_has(cfg, "g") && pom_cfg_has(cfg, "l.[0]") && pom_cfg_has(cfg, "x"));
+  pom_cfg_destroy(cfg);
+}
+
 /* @include with a path relative to the including file and an absolute one. */
 static void test_include(void) {
   char dir[256], path[320], inc[320], sub[320];
@@ -498,6 +529,7 @@ int main(void) {
   test_rotations();
   test_rng();
   test_config();
+  test_key_paths();
   test_include();
   test_nul_byte();
   test_int_literal_key();
