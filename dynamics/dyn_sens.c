@@ -94,6 +94,7 @@ void pom_dyn_sens_spec_defaults(pom_dyn_sens_spec *s) {
   memset(s, 0, sizeof *s);
   s->method = POM_DYN_SENS_STAGGERED;
   s->error_control = 1;
+  s->peak_current = 1;
 }
 
 /* ---- angles ---------------------------------------------------------------- */
@@ -334,7 +335,7 @@ static pom_status pom_dyn_sens_step(const pom_dyn_model *m, pom_dyn_data *d, dou
   if (s->point.active && point_before_valid && s->point.t_settle != point_before)
     POM_TRY(crossing(m, d, na, -1, s->point.t_settle, err));
   /* a new peak current located in this step (dyn_peak.c ran before) */
-  if (d->peak.improved) POM_TRY(peak_dp(m, d, err));
+  if (d->peak.improved && sp->peak_current) POM_TRY(peak_dp(m, d, err));
   /* the band values after the crossings, at this step's end and interior
    * nodes (the record holds the positions; the pointing angle at the end) */
   const double *row = s->rec + (s->rec_n - 1) * DYN_REC_WIDTH;
@@ -548,7 +549,7 @@ pom_status pom_dyn_simulate_sens(const pom_dyn_model *m, pom_dyn_data *d, const 
   }
   d->sens = w;
   const int peak_on = d->peak.on;
-  d->peak.on = 1; /* the peak current's derivative needs its argmax */
+  if (sp->peak_current) d->peak.on = 1; /* the peak current's derivative needs its argmax */
   st = pom_dyn_simulate_ex(m, d, target, NULL, mt, NULL, err);
   d->peak.on = peak_on;
   d->sens = NULL;
@@ -629,7 +630,7 @@ pom_status pom_dyn_simulate_sens(const pom_dyn_model *m, pom_dyn_data *d, const 
       gr->execution_time = gr->settling_time[arg];
   }
   /* the peak current: s_i at an interior argmax (docs/optimize.md 12.2) */
-  {
+  if (sp->peak_current) {
     const dyn_peak *pk = &d->peak;
     gr->peak_time = pk->t;
     gr->peak_coil = pk->coil;

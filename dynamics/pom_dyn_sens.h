@@ -88,6 +88,8 @@ typedef struct {
                                      s_j in the error test; 0 = 1e4 h_j */
   pom_dyn_sens_method method;     /* default staggered */
   int error_control;              /* 1 (default): the sensitivities enter CVODES' error test */
+  int peak_current; /* 1 (default): locate the peak coil current and its derivative (three more
+                       evaluations per step, docs/optimize.md 12.2); 0: left undefined */
 } pom_dyn_sens_spec;
 
 /* Defaults: n 0, staggered, error control on. */

@@ -83,6 +83,7 @@ void pom_grad_options_defaults(pom_grad_options *o) {
     o->abs_floor[j] = 1.0;
   o->method = POM_DYN_SENS_STAGGERED;
   o->error_control = 1;
+  o->peak_current = 1;
 }
 
 void pom_grad_mc_options_defaults(pom_grad_mc_options *o) {
@@ -435,6 +436,7 @@ static pom_status run_set(const pom_grad *g, const model_set *s, pom_dyn_data *d
   sp.n = g->n;
   sp.method = g->opt.method;
   sp.error_control = g->opt.error_control;
+  sp.peak_current = g->opt.peak_current;
   double target[3];
   pom_error e;
   pom_error_clear(&e);
@@ -490,8 +492,8 @@ pom_status pom_grad_maneuver_orientation(pom_grad *g, const double R[9], pom_dyn
 }
 
 /* ---- central differences of whole runs --------------------------------------------------- */
-static pom_status plain_run(const pom_doe_evaluator *ev, const double *q, const double *R,
-                            pom_dyn_metrics *mt) {
+static pom_status plain_run(const pom_grad *g, const pom_doe_evaluator *ev, const double *q,
+                            const double *R, pom_dyn_metrics *mt) {
   const pom_doe_dyn_base *b = base(ev);
   pom_dyn_data *d = NULL;
   pom_error e;
@@ -507,7 +509,7 @@ static pom_status plain_run(const pom_doe_evaluator *ev, const double *q, const 
     memcpy(target, q, sizeof target);
   }
   if (st == POM_OK) st = pom_dyn_data_create(&d, b->model, &e);
-  if (st == POM_OK) pom_dyn_data_watch_peak_current(d, 1); /* the peak current's check */
+  if (st == POM_OK) pom_dyn_data_watch_peak_current(d, g->opt.peak_current); /* its check */
   if (st == POM_OK)
     st = pom_doe_dyn_run(b, d, target, mt, &e);
   else
@@ -535,7 +537,7 @@ static pom_status fd_sides(const pom_grad *g, const double *values, const double
       v[j] = values[j] + (side ? -dh[j] : dh[j]);
       pom_status sb = evaluator(&ev, g, v, x, err);
       if (sb != POM_OK) return sb;
-      r->st[side][j] = plain_run(&ev, q, R, &r->mt[side][j]);
+      r->st[side][j] = plain_run(g, &ev, q, R, &r->mt[side][j]);
       pom_doe_evaluator_clear(&ev);
     }
     v[j] = values[j];
@@ -557,7 +559,7 @@ static pom_status fd_set(const pom_grad *g, const double *values, const double *
   all_undefined(fd, g->n);
   pom_status st = evaluator(&ev, g, values, x, err);
   if (st != POM_OK) return st;
-  st = plain_run(&ev, q, R, mt);
+  st = plain_run(g, &ev, q, R, mt);
   pom_doe_evaluator_clear(&ev);
   fd_runs *r = malloc(sizeof *r);
   if (!r) POM_FAIL(err, POM_ERR_NOMEM, "design gradients: out of memory for the differences");
@@ -636,7 +638,7 @@ pom_status pom_grad_reference(pom_grad *g, const double *q, const double *R, con
   pom_doe_evaluator ev;
   pom_status st = evaluator(&ev, g, g->value, NULL, err);
   if (st != POM_OK) return st;
-  st = plain_run(&ev, q, R, mt);
+  st = plain_run(g, &ev, q, R, mt);
   pom_doe_evaluator_clear(&ev);
   fd_runs *r = malloc(3 * sizeof *r);
   if (!r) POM_FAIL(err, POM_ERR_NOMEM, "design gradients: out of memory for the reference");

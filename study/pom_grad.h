@@ -82,6 +82,8 @@ typedef struct {
   int error_control;                     /* default 1 */
   int rigid_joints; /* 1: joints.model = "rigid" whatever the config's text says (the
                        co-design's rigid evaluation); default 0 */
+  int peak_current; /* 1 (default): the peak coil current and its derivative (three more
+                       evaluations per step); 0: NaN and undefined */
 } pom_grad_options;
 
 void pom_grad_options_defaults(pom_grad_options *o);
