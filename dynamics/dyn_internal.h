@@ -646,12 +646,15 @@ extern const dyn_sens_ops pom_dyn_sens_ops;
  * the settling watch, on the step's interpolant [t0, t]; uses d->ytmp and
  * d->ftmp), end at the horizon (state y). A failed evaluation is reported
  * as a solver error at its time. */
-pom_status pom_dyn_peak_begin(const pom_dyn_model *m, pom_dyn_data *d, const double *y0,
-                              pom_error *err);
-pom_status pom_dyn_peak_step(const pom_dyn_model *m, pom_dyn_data *d, double t0, double t,
-                             pom_error *err);
-pom_status pom_dyn_peak_end(const pom_dyn_model *m, pom_dyn_data *d, double t, const double *y,
-                            pom_error *err);
+typedef struct {
+  pom_status (*begin)(const pom_dyn_model *m, pom_dyn_data *d, const double *y0, pom_error *err);
+  pom_status (*step)(const pom_dyn_model *m, pom_dyn_data *d, double t0, double t, pom_error *err);
+  pom_status (*end)(const pom_dyn_model *m, pom_dyn_data *d, double t, const double *y,
+                    pom_error *err);
+} dyn_peak_ops;
+/* The driver reaches dyn_peak.c through this table, as dyn_sens.c's (no
+ * circle of calls between the files). */
+extern const dyn_peak_ops pom_dyn_peak_ops;
 /* Ties: two candidates within this relative distance make the peak a kink
  * of max over them (docs/optimize.md 12.2). */
 #define POM_DYN_PEAK_TIE 1e-9

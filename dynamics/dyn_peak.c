@@ -73,8 +73,8 @@ static void offer(dyn_peak *pk, double v, double t, int coil, dyn_peak_where whe
   }
 }
 
-pom_status pom_dyn_peak_begin(const pom_dyn_model *m, pom_dyn_data *d, const double *y0,
-                              pom_error *err) {
+static pom_status peak_begin(const pom_dyn_model *m, pom_dyn_data *d, const double *y0,
+                             pom_error *err) {
   dyn_peak *pk = &d->peak;
   pk->value = pk->second = -1.0;
   pk->t = 0.0;
@@ -104,8 +104,8 @@ static double rate_of_coil(double t, void *ctx) {
   return rates_at(c->m, c->d, t, absi, r) ? NAN : r[c->coil];
 }
 
-pom_status pom_dyn_peak_step(const pom_dyn_model *m, pom_dyn_data *d, double t0, double t,
-                             pom_error *err) {
+static pom_status peak_step(const pom_dyn_model *m, pom_dyn_data *d, double t0, double t,
+                            pom_error *err) {
   dyn_peak *pk = &d->peak;
   pk->improved = 0;
   double absi[POM_MECH_MAX_ACTUATORS], r[POM_MECH_MAX_ACTUATORS];
@@ -131,8 +131,8 @@ pom_status pom_dyn_peak_step(const pom_dyn_model *m, pom_dyn_data *d, double t0,
   return POM_OK;
 }
 
-pom_status pom_dyn_peak_end(const pom_dyn_model *m, pom_dyn_data *d, double t, const double *y,
-                            pom_error *err) {
+static pom_status peak_end(const pom_dyn_model *m, pom_dyn_data *d, double t, const double *y,
+                           pom_error *err) {
   dyn_peak *pk = &d->peak;
   double absi[POM_MECH_MAX_ACTUATORS];
   if (currents(m, d, t, y, absi))
@@ -143,3 +143,9 @@ pom_status pom_dyn_peak_end(const pom_dyn_model *m, pom_dyn_data *d, double t, c
   pk->improved = improved;
   return POM_OK;
 }
+
+const dyn_peak_ops pom_dyn_peak_ops = {
+    .begin = peak_begin,
+    .step = peak_step,
+    .end = peak_end,
+};

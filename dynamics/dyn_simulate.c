@@ -496,7 +496,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
   track_extremes(m, d, mt);
   watched = 1;
   if (d->peak.on) { /* the peak coil current (dyn_peak.c), when asked */
-    st = pom_dyn_peak_begin(m, d, y, err);
+    st = pom_dyn_peak_ops.begin(m, d, y, err);
     if (st != POM_OK) {
       mt->status = st;
       snprintf(mt->reason, sizeof mt->reason, "%s", err ? err->message : pom_strerror(st));
@@ -555,7 +555,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
       sens_t0 = d->settle.t_prev;
     }
     st = pom_dyn_settle_step(m, d, t, y, err);
-    if (st == POM_OK && d->peak.on) st = pom_dyn_peak_step(m, d, t_start, t, err);
+    if (st == POM_OK && d->peak.on) st = pom_dyn_peak_ops.step(m, d, t_start, t, err);
     if (st == POM_OK && d->sens)
       st = pom_dyn_sens_ops.step(m, d, sens_t0, t, sens_ts, 1, sens_tp, err);
     if (st != POM_OK) {
@@ -586,7 +586,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
   }
 
   if (d->peak.on) {
-    st = pom_dyn_peak_end(m, d, t, y, err);
+    st = pom_dyn_peak_ops.end(m, d, t, y, err);
     if (st != POM_OK) {
       mt->status = st;
       snprintf(mt->reason, sizeof mt->reason, "%s", err ? err->message : pom_strerror(st));
