@@ -21,6 +21,7 @@
 static const char *unit_of(pom_grad_metric k) {
   if (k <= POM_GRAD_ENERGY_3) return "J";
   if (k <= POM_GRAD_FINAL_POINTING_ERROR) return "rad";
+  if (k == POM_GRAD_PEAK_CURRENT) return "A";
   return "s";
 }
 
@@ -203,6 +204,7 @@ int pom_cmd_gradient(int argc, char **argv) {
     mm.final_pointing_error = r.mean[POM_GRAD_FINAL_POINTING_ERROR];
     mm.execution_time = r.mean[POM_GRAD_EXECUTION_TIME];
     mm.pointing_settling_time = r.mean[POM_GRAD_POINTING_SETTLING_TIME];
+    mm.peak_current = r.mean[POM_GRAD_PEAK_CURRENT];
     for (int k = 0; k < POM_GRAD_N_METRICS; ++k)
       *(pom_dyn_dmetric *)pom_grad_metric_grad(&gm, (pom_grad_metric)k) = r.dmean[k];
     print_text(stdout, g, &mm, &gm, NULL);

@@ -250,6 +250,29 @@ typedef struct {
   double w_mech;    /* its integral, the mechanical work the drive puts in (J) */
 } dyn_validity;
 
+/* ---- the peak coil current (dyn_peak.c, docs/optimize.md 12.2) -----------
+ * Watched only when asked (pom_dyn_data_watch_peak_current, and in every
+ * sensitivity run): max over the coils and the maneuver of |i|, each
+ * interior maximum located on the interpolant as a root of sign(i) di/dt. */
+typedef enum {
+  DYN_PEAK_INTERIOR = 0, /* a smooth interior maximum (di/dt = 0) */
+  DYN_PEAK_START,        /* at t = 0 */
+  DYN_PEAK_END,          /* at the horizon */
+  DYN_PEAK_KINK          /* on a kink of i(t) (di/dt jumps: the saturation's corner) */
+} dyn_peak_where;
+
+typedef struct {
+  int on;               /* 1: watched in this data's runs */
+  double value;         /* largest |i| so far (A) */
+  double t;             /* its time (s) */
+  int coil;             /* its coil */
+  dyn_peak_where where; /* what kind of point it is */
+  double second;        /* the largest other candidate (another coil or time) (A) */
+  int improved;         /* 1 when the step just watched raised the peak */
+  double r_prev[POM_MECH_MAX_ACTUATORS]; /* sign(i) di/dt at the last step's end (A/s) */
+  double *buf;                           /* [n_states] scratch */
+} dyn_peak;
+
 struct pom_dyn_data {
   const pom_dyn_model *m;
   SUNContext ctx;
@@ -296,6 +319,7 @@ struct pom_dyn_data {
   /* added by the design gradients (issue 29, dyn_sens.c): the forward
    * sensitivities of the run under way, NULL on a plain run */
   struct dyn_sens *sens;
+  dyn_peak peak; /* the peak coil current's watch (dyn_peak.c) */
 };
 
 /* ---- formulations --------------------------------------------------------
@@ -616,6 +640,24 @@ typedef struct {
 /* The driver reaches dyn_sens.c through this table, as it reaches the
  * formulations through theirs (no circle of calls between the files). */
 extern const dyn_sens_ops pom_dyn_sens_ops;
+
+/* dyn_peak.c: the peak coil current's watch, called by the driver when
+ * d->peak.on: begin at t = 0 (state y0), one call per accepted step (after
+ * the settling watch, on the step's interpolant [t0, t]; uses d->ytmp and
+ * d->ftmp), end at the horizon (state y). A failed evaluation is reported
+ * as a solver error at its time. */
+typedef struct {
+  pom_status (*begin)(const pom_dyn_model *m, pom_dyn_data *d, const double *y0, pom_error *err);
+  pom_status (*step)(const pom_dyn_model *m, pom_dyn_data *d, double t0, double t, pom_error *err);
+  pom_status (*end)(const pom_dyn_model *m, pom_dyn_data *d, double t, const double *y,
+                    pom_error *err);
+} dyn_peak_ops;
+/* The driver reaches dyn_peak.c through this table, as dyn_sens.c's (no
+ * circle of calls between the files). */
+extern const dyn_peak_ops pom_dyn_peak_ops;
+/* Ties: two candidates within this relative distance make the peak a kink
+ * of max over them (docs/optimize.md 12.2). */
+#define POM_DYN_PEAK_TIE 1e-9
 
 /* ---- exact formulation queries (dyn_exact.c; tests and diagnostics) ------- */
 /* State layout of an exact model: first orientation state, their number (3

@@ -67,6 +67,8 @@ struct dyn_sens {
   double ds_final[POM_DYN_SENS_MAX][POM_MECH_MAX_ACTUATORS]; /* d energy[a]/dp */
   double dtheta_final[POM_DYN_SENS_MAX];
   int have_final;
+  /* the peak coil current's derivative at its argmax so far */
+  double dpeak[POM_DYN_SENS_MAX];
 };
 
 const char *pom_dyn_grad_why_text(pom_dyn_grad_why why) {
@@ -80,11 +82,15 @@ const char *pom_dyn_grad_why_text(pom_dyn_grad_why why) {
   case POM_DYN_GRAD_GRAZING:
     return "grazing band crossing";
   case POM_DYN_GRAD_TIE:
-    return "two settling times tie";
+    return "a tie (two settling times, or two peak currents)";
   case POM_DYN_GRAD_UNKNOWN:
     return "metric undefined";
   case POM_DYN_GRAD_NONFINITE:
     return "non-finite sensitivity";
+  case POM_DYN_GRAD_PEAK_EDGE:
+    return "peak current at the start or the horizon";
+  case POM_DYN_GRAD_PEAK_KINK:
+    return "peak current on a kink of the current";
   }
   return "?";
 }
@@ -93,6 +99,7 @@ void pom_dyn_sens_spec_defaults(pom_dyn_sens_spec *s) {
   memset(s, 0, sizeof *s);
   s->method = POM_DYN_SENS_STAGGERED;
   s->error_control = 1;
+  s->peak_current = 1;
 }
 
 /* ---- angles ---------------------------------------------------------------- */
@@ -139,6 +146,36 @@ static double band_dp(struct dyn_sens *w, const pom_dyn_model *m, int a, int j, 
   axpy(w->ybuf, y, -h, s, n);
   double gm = band_g(sp->minus[j], sp->target_minus[j], w->Rt[1][j], a, w->ybuf);
   return (gp - gm) / (2.0 * h);
+}
+
+/* d|i_a|/dp_j at the peak's time ts (inside the last step): the current's
+ * central directional difference between the perturbed models along
+ * (h, h s), signed as i_a (docs/optimize.md 12.2, the envelope theorem). */
+static pom_status peak_dp(const pom_dyn_model *m, pom_dyn_data *d, pom_error *err) {
+  struct dyn_sens *w = d->sens;
+  const pom_dyn_sens_spec *sp = w->spec;
+  const double ts = d->peak.t;
+  const int a = d->peak.coil;
+  if (CVodeGetDky(d->cvode, ts, 0, d->ytmp) != CV_SUCCESS ||
+      CVodeGetSensDky(d->cvode, ts, 0, w->ySt) != CV_SUCCESS)
+    POM_FAIL(err, POM_ERR_SOLVER, "CVODES refused the peak current's time %.9g s", ts);
+  const double *y = N_VGetArrayPointer(d->ytmp);
+  d->t = ts;
+  (void)pom_dyn_eval(m, d, y, NULL);
+  const double sign = d->out.current[a] < 0.0 ? -1.0 : 1.0;
+  for (int j = 0; j < w->n; ++j) {
+    const double h = sp->step[j], *sj = N_VGetArrayPointer(w->ySt[j]);
+    double i2[2];
+    for (int side = 0; side < 2; ++side) {
+      pom_dyn_data *dx = w->dx[side][j];
+      axpy(w->ybuf, y, side ? -h : h, sj, m->n_states);
+      dx->t = ts;
+      int r = pom_dyn_eval(side ? sp->minus[j] : sp->plus[j], dx, w->ybuf, NULL);
+      i2[side] = r ? NAN : dx->out.current[a];
+    }
+    w->dpeak[j] = sign * (i2[0] - i2[1]) / (2.0 * h);
+  }
+  return POM_OK;
 }
 
 /* ---- the sensitivity right-hand side ---------------------------------------- */
@@ -207,8 +244,9 @@ static int sens_rhs(int Ns, sunrealtype t, N_Vector yv, N_Vector ydot, int iS, N
  * shrinks with the loop gain (2 limit / (K_S K_P |e_dot|) for the PID): a
  * step that jumps over it leaves the sensitivities without the band's
  * contribution, the jump of a discontinuous right-hand side in the limit
- * (docs/optimize.md). Roots of u_raw -+ limit, entering only, restart the
- * integration there so that its first steps resolve the band. */
+ * (docs/optimize.md). Roots of u_raw -+ limit, entering and leaving, restart
+ * the integration there so that its first steps resolve the band and no
+ * step straddles its corners. */
 static int band_roots(sunrealtype t, N_Vector yv, sunrealtype *gout, void *user_data) {
   pom_dyn_data *d = user_data;
   const pom_dyn_model *m = d->m;
@@ -249,8 +287,11 @@ static pom_status pom_dyn_sens_begin(const pom_dyn_model *m, pom_dyn_data *d, po
   for (int j = 0; j < w->n; ++j)
     N_VConst(0.0, w->yS[j]); /* the maneuver starts at rest at home whatever p is */
   for (int a = 0; a < m->n_actuators; ++a) {
-    w->root_dir[2 * a] = -1;    /* u_raw - limit falling through 0: entering from above */
-    w->root_dir[2 * a + 1] = 1; /* u_raw + limit rising through 0: entering from below */
+    /* u_raw -+ limit through 0 either way: entering the band and leaving it
+     * (docs/optimize.md 12.1: a step across the exit corner left 8e-5 on
+     * the peak current's sensitivity, measured) */
+    w->root_dir[2 * a] = 0;
+    w->root_dir[2 * a + 1] = 0;
   }
   w->steps_before = 0;
   w->restarts = 0;
@@ -332,6 +373,8 @@ static pom_status pom_dyn_sens_step(const pom_dyn_model *m, pom_dyn_data *d, dou
   }
   if (s->point.active && point_before_valid && s->point.t_settle != point_before)
     POM_TRY(crossing(m, d, na, -1, s->point.t_settle, err));
+  /* a new peak current located in this step (dyn_peak.c ran before) */
+  if (d->peak.improved && sp->peak_current) POM_TRY(peak_dp(m, d, err));
   /* the band values after the crossings, at this step's end and interior
    * nodes (the record holds the positions; the pointing angle at the end) */
   const double *row = s->rec + (s->rec_n - 1) * DYN_REC_WIDTH;
@@ -566,7 +609,10 @@ pom_status pom_dyn_simulate_sens(const pom_dyn_model *m, pom_dyn_data *d, const 
     }
   }
   d->sens = w;
+  const int peak_on = d->peak.on;
+  if (sp->peak_current) d->peak.on = 1; /* the peak current's derivative needs its argmax */
   st = pom_dyn_simulate_ex(m, d, target, NULL, mt, NULL, err);
+  d->peak.on = peak_on;
   d->sens = NULL;
   (void)CVodeRootInit(d->cvode, 0, NULL);
   mt->steps += w->steps_before;
@@ -587,7 +633,8 @@ pom_status pom_dyn_simulate_sens(const pom_dyn_model *m, pom_dyn_data *d, const 
                             &gr->settling_time[1],
                             &gr->settling_time[2],
                             &gr->execution_time,
-                            &gr->pointing_settling_time};
+                            &gr->pointing_settling_time,
+                            &gr->peak_current};
   for (size_t k = 0; k < sizeof all / sizeof all[0]; ++k)
     undefined(all[k], n, POM_DYN_GRAD_UNKNOWN);
   if (st != POM_OK || mt->status != POM_OK || !w->have_final) goto done;
@@ -642,6 +689,20 @@ pom_status pom_dyn_simulate_sens(const pom_dyn_model *m, pom_dyn_data *d, const 
       undefined(&gr->execution_time, n, POM_DYN_GRAD_TIE);
     else
       gr->execution_time = gr->settling_time[arg];
+  }
+  /* the peak current: s_i at an interior argmax (docs/optimize.md 12.2) */
+  if (sp->peak_current) {
+    const dyn_peak *pk = &d->peak;
+    gr->peak_time = pk->t;
+    gr->peak_coil = pk->coil;
+    if (!(pk->value > 0.0) || pk->where == DYN_PEAK_START || pk->where == DYN_PEAK_END)
+      undefined(&gr->peak_current, n, POM_DYN_GRAD_PEAK_EDGE);
+    else if (pk->where == DYN_PEAK_KINK)
+      undefined(&gr->peak_current, n, POM_DYN_GRAD_PEAK_KINK);
+    else if (pk->value - pk->second <= POM_DYN_PEAK_TIE * pk->value)
+      undefined(&gr->peak_current, n, POM_DYN_GRAD_TIE);
+    else
+      defined(&gr->peak_current, n, w->dpeak);
   }
 done:
   d->sens = NULL;

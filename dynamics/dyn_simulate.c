@@ -139,8 +139,9 @@ pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_e
   d->n_samples = sample_count(p);
   d->yfinal = calloc((size_t)n, sizeof *d->yfinal);
   d->ysave = calloc((size_t)n, sizeof *d->ysave);
+  d->peak.buf = calloc((size_t)n, sizeof *d->peak.buf);
   d->jac = calloc((size_t)m->nnz, sizeof *d->jac);
-  if (!d->yfinal || !d->ysave || !d->jac)
+  if (!d->yfinal || !d->ysave || !d->peak.buf || !d->jac)
     POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "allocating final-state buffers");
   POM_TRY_GOTO(pom_dyn_settle_data(d, err), fail);
   *out = d;
@@ -163,6 +164,7 @@ void pom_dyn_data_destroy(pom_dyn_data *d) {
   free(d->settle.rec);
   free(d->yfinal);
   free(d->ysave);
+  free(d->peak.buf);
   free(d->jac);
   if (d->m) d->m->form->data_free(d);
   if (d->m && d->ctrl_work) d->m->ctrl->work_destroy(d->ctrl_work);
@@ -370,11 +372,14 @@ static void stepinfo_rerun(const pom_dyn_model *m, pom_dyn_data *d, const double
   /* a sensitivity run's re-run is plain: its sensitivities stay the first
    * run's (they were read at the horizon) */
   struct dyn_sens *sens = d->sens;
+  const int peak_on = d->peak.on; /* and the peak current stays the first run's */
   d->sens = NULL;
+  d->peak.on = 0;
   if (sens) pom_dyn_sens_ops.off(d);
   if (set_tolerances(m, d, tighten) == 0)
     st2 = pom_dyn_simulate_ex(m, d, target, init, m2, NULL, NULL);
   d->sens = sens;
+  d->peak.on = peak_on;
   if (set_tolerances(m, d, 1.0) != 0) st2 = POM_ERR_SOLVER; /* cannot happen: as configured */
   memcpy(d->yfinal, d->ysave, (size_t)m->n_states * sizeof(double));
   /* the re-run is the more accurate integration: every stepinfo time it
@@ -408,6 +413,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
   mt->horizon = p->maneuver.horizon;
   mt->pointing_settling_time = mt->final_pointing_error = mt->tracking_rms_error = NAN;
   mt->rigid_limit_ratio = mt->joint_dissipation_share = NAN;
+  mt->peak_current = NAN;
   for (int a = 0; a < 3; ++a)
     mt->target[a] = target[a];
   for (int a = 0; a < 3; ++a)
@@ -489,6 +495,14 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
   pom_dyn_validity_begin(m, d);
   track_extremes(m, d, mt);
   watched = 1;
+  if (d->peak.on) { /* the peak coil current (dyn_peak.c), when asked */
+    st = pom_dyn_peak_ops.begin(m, d, y, err);
+    if (st != POM_OK) {
+      mt->status = st;
+      snprintf(mt->reason, sizeof mt->reason, "%s", err ? err->message : pom_strerror(st));
+      goto finish;
+    }
+  }
 
   /* the trace's grid, sampled from the interpolant only when a trace is
    * kept; the metrics come from the steps (docs/dynamics.md section 8) */
@@ -515,6 +529,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
                p->solver.max_wall, t);
       goto finish;
     }
+    const double t_start = t;
     int flag = CVode(d->cvode, p->maneuver.horizon, d->y, &t, CV_ONE_STEP);
     if (flag < 0) {
       st = fail_status(d, flag, t, mt, err);
@@ -540,6 +555,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
       sens_t0 = d->settle.t_prev;
     }
     st = pom_dyn_settle_step(m, d, t, y, err);
+    if (st == POM_OK && d->peak.on) st = pom_dyn_peak_ops.step(m, d, t_start, t, err);
     if (st == POM_OK && d->sens)
       st = pom_dyn_sens_ops.step(m, d, sens_t0, t, sens_ts, 1, sens_tp, err);
     if (st != POM_OK) {
@@ -569,6 +585,15 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
     }
   }
 
+  if (d->peak.on) {
+    st = pom_dyn_peak_ops.end(m, d, t, y, err);
+    if (st != POM_OK) {
+      mt->status = st;
+      snprintf(mt->reason, sizeof mt->reason, "%s", err ? err->message : pom_strerror(st));
+      goto finish;
+    }
+    mt->peak_current = d->peak.value;
+  }
   /* energy audit at the horizon (docs/dynamics.md section 6) */
   if (d->sens) pom_dyn_sens_ops.end(m, d);
   memcpy(d->yfinal, y, (size_t)m->n_states * sizeof(double));
@@ -626,6 +651,7 @@ finish:
   if (st != POM_OK) {
     unset_not_computed(mt, d->have_final, watched);
     mt->execution_time = NAN;
+    mt->peak_current = NAN;
     mt->pointing_settled = 0;
     mt->pointing_settling_time = NAN;
     for (int a = 0; a < 3; ++a) {
@@ -642,6 +668,10 @@ pom_status pom_dyn_simulate(const pom_dyn_model *m, pom_dyn_data *d, const doubl
 }
 
 /* ---- end-of-run queries -------------------------------------------------- */
+void pom_dyn_data_watch_peak_current(pom_dyn_data *d, int on) {
+  d->peak.on = on != 0;
+}
+
 void pom_dyn_set_setpoint_path(pom_dyn_data *d, pom_dyn_setpoint_fn fn, void *ctx) {
   d->setpoint_fn = fn;
   d->setpoint_ctx = ctx;

@@ -27,10 +27,14 @@ typedef enum {
   POM_DYN_GRAD_SETTLED_AT_START, /* inside the band from t = 0 on (or no band: zero step) */
   POM_DYN_GRAD_GRAZING,          /* the last crossing grazes the band (dg/dt ~ 0) or a later
                                     excursion comes within the grazing margin of it */
-  POM_DYN_GRAD_TIE,              /* execution time: two actuators' settling times tie */
+  POM_DYN_GRAD_TIE,              /* execution time: two actuators' settling times tie; peak
+                                    current: two candidates (coils or times) tie */
   POM_DYN_GRAD_UNKNOWN,          /* the metric itself is NaN (no target orientation, no
                                     reference trajectory, a failed maneuver) */
-  POM_DYN_GRAD_NONFINITE         /* a non-finite sensitivity (an evaluation failed) */
+  POM_DYN_GRAD_NONFINITE,        /* a non-finite sensitivity (an evaluation failed) */
+  POM_DYN_GRAD_PEAK_EDGE,        /* peak current at t = 0 or at the horizon (no di/dt = 0) */
+  POM_DYN_GRAD_PEAK_KINK         /* peak current on a kink of i(t) (a jump of di/dt: the
+                                    voltage saturation's corner without coil inductance) */
 } pom_dyn_grad_why;
 
 /* Short text of a reason ("never settled", ...), static storage. */
@@ -60,7 +64,13 @@ typedef struct {
   double crossing_rate[3];
   double pointing_crossing_rate;
   long sens_rhs_evals; /* right-hand sides spent on the sensitivities (both models) */
-  long restarts;       /* restarts at a raw voltage entering its linear band */
+  long restarts;       /* restarts at a raw voltage entering or leaving its linear band */
+  /* the peak coil current (metrics->peak_current): its derivative by the
+   * envelope theorem, sign(i) di/dp at the argmax (docs/optimize.md 12.2),
+   * with the argmax's time (s) and coil (0-based) */
+  pom_dyn_dmetric peak_current; /* A */
+  double peak_time;
+  int peak_coil;
 } pom_dyn_grad;
 
 /* Sensitivity corrector: CVODES' staggered (default) or simultaneous. */
@@ -80,6 +90,8 @@ typedef struct {
                                      s_j in the error test; 0 = 1e4 h_j */
   pom_dyn_sens_method method;     /* default staggered */
   int error_control;              /* 1 (default): the sensitivities enter CVODES' error test */
+  int peak_current; /* 1 (default): locate the peak coil current and its derivative (three more
+                       evaluations per step, docs/optimize.md 12.2); 0: left undefined */
 } pom_dyn_sens_spec;
 
 /* Defaults: n 0, staggered, error control on. */

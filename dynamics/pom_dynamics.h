@@ -293,6 +293,11 @@ typedef struct {
    * POM_DYN_JOINT_SHARE_WARN not at the rigid limit (docs/dynamics.md
    * section 13b). NaN as rigid_limit_ratio */
   double joint_dissipation_share;
+  /* largest |i| over the coils and the horizon, its interior maxima located
+   * on the interpolant (A; docs/optimize.md 12.2): NaN unless the data
+   * watched it (pom_dyn_data_watch_peak_current; every sensitivity run).
+   * Not in the metric schema: no output shows it but the gradients' */
+  double peak_current;
 } pom_dyn_metrics;
 
 /* The validity rule (docs/dynamics.md section 13b): 1 when a finished
@@ -364,6 +369,12 @@ typedef void (*pom_dyn_setpoint_fn)(void *ctx, double t, double *target);
  * ctx is not owned. The frequency response's time-domain check drives a
  * small sine about a pose with it. */
 void pom_dyn_set_setpoint_path(pom_dyn_data *d, pom_dyn_setpoint_fn fn, void *ctx);
+
+/* on = 1: the following runs on d locate the peak coil current
+ * (metrics->peak_current: three more evaluations per step and a root search
+ * at each local maximum, docs/optimize.md 12.2); 0 (the default): NaN. A
+ * sensitivity run watches it whatever this says. */
+void pom_dyn_data_watch_peak_current(pom_dyn_data *d, int on);
 
 /* Parameters the model was built with (never NULL for a valid model). */
 const pom_dyn_params *pom_dyn_model_params(const pom_dyn_model *m);

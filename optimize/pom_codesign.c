@@ -787,6 +787,7 @@ pom_status pom_cds_sens_maneuvers(const pom_cds_problem *pb, int c, const double
       pom_grad_options_defaults(&go);
       go.rigid_joints =
           1; /* the optimization set is rigid (design_config's text does not say so) */
+      go.peak_current = 0; /* no objective or constraint uses it: its watch would cost */
       st = pom_grad_create(gr, cfg, key, np, &go, &e2);
       pom_cfg_destroy(cfg);
     }

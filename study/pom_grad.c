@@ -7,6 +7,7 @@
 #include "pom_json.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,76 +29,47 @@ struct pom_grad {
 };
 
 /* ---- metric table ------------------------------------------------------------------- */
-static const char *const metric_names[POM_GRAD_N_METRICS] = {"energy_total",
-                                                             "energy_1",
-                                                             "energy_2",
-                                                             "energy_3",
-                                                             "tracking_rms_error",
-                                                             "final_pointing_error",
-                                                             "settling_time_1",
-                                                             "settling_time_2",
-                                                             "settling_time_3",
-                                                             "execution_time",
-                                                             "pointing_settling_time"};
+/* Each metric's name, its value in pom_dyn_metrics and its gradient in
+ * pom_dyn_grad (element k of an array member). */
+#define METRIC(name, member, k)                                                                    \
+  {                                                                                                \
+    name, offsetof(pom_dyn_metrics, member) + (k) * sizeof(double),                                \
+        offsetof(pom_dyn_grad, member) + (k) * sizeof(pom_dyn_dmetric)                             \
+  }
+
+static const struct {
+  const char *name;
+  size_t value; /* byte offset of the double in pom_dyn_metrics */
+  size_t grad;  /* byte offset of the pom_dyn_dmetric in pom_dyn_grad */
+} metric_at[POM_GRAD_N_METRICS] = {
+    METRIC("energy_total", energy_total, 0),
+    METRIC("energy_1", energy, 0),
+    METRIC("energy_2", energy, 1),
+    METRIC("energy_3", energy, 2),
+    METRIC("tracking_rms_error", tracking_rms_error, 0),
+    METRIC("final_pointing_error", final_pointing_error, 0),
+    METRIC("settling_time_1", settling_time, 0),
+    METRIC("settling_time_2", settling_time, 1),
+    METRIC("settling_time_3", settling_time, 2),
+    METRIC("execution_time", execution_time, 0),
+    METRIC("pointing_settling_time", pointing_settling_time, 0),
+    METRIC("peak_current", peak_current, 0),
+};
 
 const char *pom_grad_metric_name(pom_grad_metric k) {
-  return (unsigned)k < POM_GRAD_N_METRICS ? metric_names[k] : "?";
+  return (unsigned)k < POM_GRAD_N_METRICS ? metric_at[k].name : "?";
 }
 
 double pom_grad_metric_value(const pom_dyn_metrics *mt, pom_grad_metric k) {
-  switch (k) {
-  case POM_GRAD_ENERGY_TOTAL:
-    return mt->energy_total;
-  case POM_GRAD_ENERGY_1:
-    return mt->energy[0];
-  case POM_GRAD_ENERGY_2:
-    return mt->energy[1];
-  case POM_GRAD_ENERGY_3:
-    return mt->energy[2];
-  case POM_GRAD_TRACKING_RMS_ERROR:
-    return mt->tracking_rms_error;
-  case POM_GRAD_FINAL_POINTING_ERROR:
-    return mt->final_pointing_error;
-  case POM_GRAD_SETTLING_TIME_1:
-    return mt->settling_time[0];
-  case POM_GRAD_SETTLING_TIME_2:
-    return mt->settling_time[1];
-  case POM_GRAD_SETTLING_TIME_3:
-    return mt->settling_time[2];
-  case POM_GRAD_EXECUTION_TIME:
-    return mt->execution_time;
-  case POM_GRAD_POINTING_SETTLING_TIME:
-    return mt->pointing_settling_time;
-  default:
-    return NAN;
-  }
+  if ((unsigned)k >= POM_GRAD_N_METRICS) return NAN;
+  double v;
+  memcpy(&v, (const char *)mt + metric_at[k].value, sizeof v);
+  return v;
 }
 
 static pom_dyn_dmetric *grad_of(pom_dyn_grad *g, pom_grad_metric k) {
-  switch (k) {
-  case POM_GRAD_ENERGY_TOTAL:
-    return &g->energy_total;
-  case POM_GRAD_ENERGY_1:
-    return &g->energy[0];
-  case POM_GRAD_ENERGY_2:
-    return &g->energy[1];
-  case POM_GRAD_ENERGY_3:
-    return &g->energy[2];
-  case POM_GRAD_TRACKING_RMS_ERROR:
-    return &g->tracking_rms_error;
-  case POM_GRAD_FINAL_POINTING_ERROR:
-    return &g->final_pointing_error;
-  case POM_GRAD_SETTLING_TIME_1:
-    return &g->settling_time[0];
-  case POM_GRAD_SETTLING_TIME_2:
-    return &g->settling_time[1];
-  case POM_GRAD_SETTLING_TIME_3:
-    return &g->settling_time[2];
-  case POM_GRAD_EXECUTION_TIME:
-    return &g->execution_time;
-  default:
-    return &g->pointing_settling_time;
-  }
+  if ((unsigned)k >= POM_GRAD_N_METRICS) k = POM_GRAD_POINTING_SETTLING_TIME;
+  return (pom_dyn_dmetric *)(void *)((char *)g + metric_at[k].grad);
 }
 
 const pom_dyn_dmetric *pom_grad_metric_grad(const pom_dyn_grad *g, pom_grad_metric k) {
@@ -111,6 +83,7 @@ void pom_grad_options_defaults(pom_grad_options *o) {
     o->abs_floor[j] = 1.0;
   o->method = POM_DYN_SENS_STAGGERED;
   o->error_control = 1;
+  o->peak_current = 1;
 }
 
 void pom_grad_mc_options_defaults(pom_grad_mc_options *o) {
@@ -243,6 +216,23 @@ static void set_clear(model_set *s, int n) {
   }
 }
 
+static model_set current(const pom_grad *g) {
+  model_set s;
+  s.nom = g->nom;
+  memcpy(s.plus, g->plus, sizeof s.plus);
+  memcpy(s.minus, g->minus, sizeof s.minus);
+  return s;
+}
+
+/* g's models and data, freed (when built). */
+static void clear_built(pom_grad *g) {
+  if (!g->built) return;
+  pom_dyn_data_destroy(g->d);
+  model_set s = current(g);
+  set_clear(&s, g->n);
+  g->built = 0;
+}
+
 /* Every model of the design values[] (steps step[]) with draws x. A failure
  * names the key whose perturbed design failed. */
 static pom_status build_set(model_set *s, const pom_grad *g, const double *values,
@@ -291,14 +281,7 @@ static pom_status adopt(pom_grad *g, model_set *s, pom_error *err) {
     set_clear(s, g->n);
     return st;
   }
-  if (g->built) {
-    pom_dyn_data_destroy(g->d);
-    pom_doe_evaluator_clear(&g->nom);
-    for (int j = 0; j < g->n; ++j) {
-      pom_doe_evaluator_clear(&g->plus[j]);
-      pom_doe_evaluator_clear(&g->minus[j]);
-    }
-  }
+  clear_built(g);
   g->nom = s->nom;
   memcpy(g->plus, s->plus, sizeof g->plus);
   memcpy(g->minus, s->minus, sizeof g->minus);
@@ -380,14 +363,7 @@ fail:
 
 void pom_grad_destroy(pom_grad *g) {
   if (!g) return;
-  if (g->built) {
-    pom_dyn_data_destroy(g->d);
-    pom_doe_evaluator_clear(&g->nom);
-    for (int j = 0; j < g->n; ++j) {
-      pom_doe_evaluator_clear(&g->plus[j]);
-      pom_doe_evaluator_clear(&g->minus[j]);
-    }
-  }
+  clear_built(g);
   free(g->text);
   free(g);
 }
@@ -446,7 +422,7 @@ static void refused(pom_dyn_metrics *mt, pom_status st, const pom_error *e) {
   mt->status = st;
   snprintf(mt->reason, sizeof mt->reason, "%s", e->message);
   mt->energy_total = mt->execution_time = mt->final_pointing_error = NAN;
-  mt->tracking_rms_error = mt->pointing_settling_time = NAN;
+  mt->tracking_rms_error = mt->pointing_settling_time = mt->peak_current = NAN;
   for (int a = 0; a < 3; ++a)
     mt->settling_time[a] = mt->energy[a] = NAN;
 }
@@ -460,6 +436,7 @@ static pom_status run_set(const pom_grad *g, const model_set *s, pom_dyn_data *d
   sp.n = g->n;
   sp.method = g->opt.method;
   sp.error_control = g->opt.error_control;
+  sp.peak_current = g->opt.peak_current;
   double target[3];
   pom_error e;
   pom_error_clear(&e);
@@ -502,14 +479,6 @@ static pom_status run_set(const pom_grad *g, const model_set *s, pom_dyn_data *d
   return st;
 }
 
-static model_set current(const pom_grad *g) {
-  model_set s;
-  s.nom = g->nom;
-  memcpy(s.plus, g->plus, sizeof s.plus);
-  memcpy(s.minus, g->minus, sizeof s.minus);
-  return s;
-}
-
 pom_status pom_grad_maneuver_joint(pom_grad *g, const double q[3], pom_dyn_metrics *mt,
                                    pom_dyn_grad *gr, pom_error *err) {
   model_set s = current(g);
@@ -523,8 +492,8 @@ pom_status pom_grad_maneuver_orientation(pom_grad *g, const double R[9], pom_dyn
 }
 
 /* ---- central differences of whole runs --------------------------------------------------- */
-static pom_status plain_run(const pom_doe_evaluator *ev, const double *q, const double *R,
-                            pom_dyn_metrics *mt) {
+static pom_status plain_run(const pom_grad *g, const pom_doe_evaluator *ev, const double *q,
+                            const double *R, pom_dyn_metrics *mt) {
   const pom_doe_dyn_base *b = base(ev);
   pom_dyn_data *d = NULL;
   pom_error e;
@@ -540,12 +509,47 @@ static pom_status plain_run(const pom_doe_evaluator *ev, const double *q, const 
     memcpy(target, q, sizeof target);
   }
   if (st == POM_OK) st = pom_dyn_data_create(&d, b->model, &e);
+  if (st == POM_OK) pom_dyn_data_watch_peak_current(d, g->opt.peak_current); /* its check */
   if (st == POM_OK)
     st = pom_doe_dyn_run(b, d, target, mt, &e);
   else
     refused(mt, st, &e);
   pom_dyn_data_destroy(d);
   return st;
+}
+
+/* The runs of one maneuver at value_j +- dh_j, one key at a time (the
+ * others at values[]): side[0][j] at the plus step, side[1][j] at the minus
+ * step, with their statuses. A design that cannot be built fails the call. */
+typedef struct {
+  pom_dyn_metrics mt[2][POM_GRAD_MAX_PARAMS];
+  pom_status st[2][POM_GRAD_MAX_PARAMS];
+} fd_runs;
+
+static pom_status fd_sides(const pom_grad *g, const double *values, const double *x,
+                           const double *q, const double *R, const double *dh, fd_runs *r,
+                           pom_error *err) {
+  double v[POM_GRAD_MAX_PARAMS];
+  memcpy(v, values, (size_t)g->n * sizeof *v);
+  for (int j = 0; j < g->n; ++j) {
+    for (int side = 0; side < 2; ++side) {
+      pom_doe_evaluator ev;
+      v[j] = values[j] + (side ? -dh[j] : dh[j]);
+      pom_status sb = evaluator(&ev, g, v, x, err);
+      if (sb != POM_OK) return sb;
+      r->st[side][j] = plain_run(g, &ev, q, R, &r->mt[side][j]);
+      pom_doe_evaluator_clear(&ev);
+    }
+    v[j] = values[j];
+  }
+  return POM_OK;
+}
+
+/* Metric k at the plus (side 0) or minus (side 1) step of key j: NaN when
+ * that run failed. */
+static double side_value(const fd_runs *r, int side, int j, int k) {
+  return r->st[side][j] == POM_OK ? pom_grad_metric_value(&r->mt[side][j], (pom_grad_metric)k)
+                                  : NAN;
 }
 
 static pom_status fd_set(const pom_grad *g, const double *values, const double *x, const double *q,
@@ -555,45 +559,114 @@ static pom_status fd_set(const pom_grad *g, const double *values, const double *
   all_undefined(fd, g->n);
   pom_status st = evaluator(&ev, g, values, x, err);
   if (st != POM_OK) return st;
-  st = plain_run(&ev, q, R, mt);
+  st = plain_run(g, &ev, q, R, mt);
   pom_doe_evaluator_clear(&ev);
-  double v[POM_GRAD_MAX_PARAMS];
-  memcpy(v, values, (size_t)g->n * sizeof *v);
-  for (int j = 0; j < g->n; ++j) {
-    pom_dyn_metrics m2[2];
-    pom_status s2[2];
-    for (int side = 0; side < 2; ++side) {
-      v[j] = values[j] + (side ? -dh[j] : dh[j]);
-      pom_status sb = evaluator(&ev, g, v, x, err);
-      if (sb != POM_OK) return sb;
-      s2[side] = plain_run(&ev, q, R, &m2[side]);
-      pom_doe_evaluator_clear(&ev);
-    }
-    v[j] = values[j];
-    for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
-      pom_dyn_dmetric *d = grad_of(fd, (pom_grad_metric)k);
-      double a = pom_grad_metric_value(&m2[0], (pom_grad_metric)k);
-      double b = pom_grad_metric_value(&m2[1], (pom_grad_metric)k);
-      d->d[j] = (a - b) / (2.0 * dh[j]);
-      int ok = s2[0] == POM_OK && s2[1] == POM_OK && isfinite(a) && isfinite(b);
-      if (j == 0)
-        d->defined = ok;
-      else
-        d->defined &= ok;
-      if (!ok) d->d[j] = NAN;
-    }
-  }
-  for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
+  fd_runs *r = malloc(sizeof *r);
+  if (!r) POM_FAIL(err, POM_ERR_NOMEM, "design gradients: out of memory for the differences");
+  pom_status sb = fd_sides(g, values, x, q, R, dh, r, err);
+  for (int k = 0; k < POM_GRAD_N_METRICS && sb == POM_OK; ++k) {
     pom_dyn_dmetric *d = grad_of(fd, (pom_grad_metric)k);
+    d->defined = 1;
+    for (int j = 0; j < g->n; ++j) {
+      double a = side_value(r, 0, j, k), b = side_value(r, 1, j, k);
+      d->d[j] = (a - b) / (2.0 * dh[j]);
+      if (!(isfinite(a) && isfinite(b))) d->defined = 0, d->d[j] = NAN;
+    }
     d->why = d->defined ? POM_DYN_GRAD_OK : POM_DYN_GRAD_UNKNOWN;
   }
-  return st;
+  free(r);
+  return sb != POM_OK ? sb : st;
 }
 
 pom_status pom_grad_fd_maneuver(pom_grad *g, const double *q, const double *R, const double *dh,
                                 pom_dyn_metrics *mt, pom_dyn_grad *fd, pom_error *err) {
   if (!q == !R) POM_FAIL(err, POM_ERR_ARG, "pom_grad_fd_maneuver: give exactly one of q and R");
   return fd_set(g, g->value, NULL, q, R, dh ? dh : g->step, mt, fd, err);
+}
+
+/* ---- the honest reference (docs/optimize.md 12.4) ------------------------------------------ */
+/* Key j of metric k from the runs at H, H/2, H/4 (r[0..2]) and the nominal
+ * value M0: D_i = (M+_i - M-_i) / (2 h_i), the Richardson pair R1 (from D_0,
+ * D_1) and R2 (from D_1, D_2); the runs' noise at step h is eta(h) =
+ * run_error |M0| / h (two runs' errors over 2h). */
+static void ref_one(pom_grad_ref *o, int j, double M0, const double Mp[3], const double Mm[3],
+                    double H, double run_error) {
+  double D[3], h[3], eta[3];
+  for (int i = 0; i < 3; ++i) {
+    h[i] = H / (double)(1 << i); /* H, H/2, H/4 */
+    D[i] = (Mp[i] - Mm[i]) / (2.0 * h[i]);
+    eta[i] = run_error * fabs(M0) / h[i];
+  }
+  const double d1 = D[0] - D[1], d2 = D[1] - D[2];
+  const double R1 = D[1] - d1 / 3.0, R2 = D[2] - d2 / 3.0;
+  /* the h^2 law: d1 = 4 d2 up to the h^4 term (half of d1 allowed) and the
+   * noise of the four differences (eta_0 + 5 eta_1 + 4 eta_2) */
+  const int law = fabs(d1 - 4.0 * d2) <= 0.5 * fabs(d1) + eta[0] + 5.0 * eta[1] + 4.0 * eta[2];
+  /* forward against backward at H/4: F - B = h C(h), C the second
+   * difference, which tends to M'' (C(H/4) within half of C(H/2)); a kink
+   * of jump J within h makes F - B -> J, C(h) ~ J / h. C's noise is
+   * 4 run_error |M0| / h^2. */
+  double C[2];
+  for (int i = 1; i < 3; ++i)
+    C[i - 1] = (Mp[i] - 2.0 * M0 + Mm[i]) / (h[i] * h[i]);
+  const double cnoise = 4.0 * run_error * fabs(M0) * (1.0 / (h[1] * h[1]) + 1.0 / (h[2] * h[2]));
+  const int sides = fabs(C[1] - C[0]) <= 0.5 * fabs(C[0]) + cnoise;
+  o->kink[j] = !(law && sides);
+  if (!o->kink[j]) {
+    o->d[j] = R2;
+    o->err[j] = fabs(R1 - R2) + 1.5 * eta[2]; /* R2's noise: (4 eta_2 + eta_1) / 3 */
+  } else {
+    o->d[j] = D[2];
+    o->err[j] = fmax(fmax(fabs(d1), fabs(d2)), h[2] * fabs(C[1])) + eta[2];
+  }
+}
+
+pom_status pom_grad_reference(pom_grad *g, const double *q, const double *R, const double *H,
+                              const double *run_error, pom_dyn_metrics *mt, pom_grad_ref *ref,
+                              pom_error *err) {
+  if (!q == !R || !run_error)
+    POM_FAIL(err, POM_ERR_ARG, "pom_grad_reference: give exactly one of q and R, and run_error");
+  for (int j = 0; j < g->n; ++j)
+    if (!(H[j] > 0.0 && isfinite(H[j])))
+      POM_FAIL(err, POM_ERR_ARG, "pom_grad_reference: %s has step %g (must be > 0)", g->key[j],
+               H[j]);
+  for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
+    ref[k].defined = 0;
+    for (int j = 0; j < POM_GRAD_MAX_PARAMS; ++j)
+      ref[k].d[j] = ref[k].err[j] = NAN, ref[k].kink[j] = 0;
+  }
+  pom_doe_evaluator ev;
+  pom_status st = evaluator(&ev, g, g->value, NULL, err);
+  if (st != POM_OK) return st;
+  st = plain_run(g, &ev, q, R, mt);
+  pom_doe_evaluator_clear(&ev);
+  fd_runs *r = malloc(3 * sizeof *r);
+  if (!r) POM_FAIL(err, POM_ERR_NOMEM, "design gradients: out of memory for the reference");
+  pom_status sb = POM_OK;
+  for (int i = 0; i < 3 && sb == POM_OK; ++i) {
+    double dh[POM_GRAD_MAX_PARAMS];
+    for (int j = 0; j < g->n; ++j)
+      dh[j] = H[j] / (double)(1 << i);
+    sb = fd_sides(g, g->value, NULL, q, R, dh, &r[i], err);
+  }
+  for (int k = 0; k < POM_GRAD_N_METRICS && sb == POM_OK && st == POM_OK; ++k) {
+    const double M0 = pom_grad_metric_value(mt, (pom_grad_metric)k);
+    ref[k].defined = isfinite(M0);
+    for (int j = 0; j < g->n; ++j) {
+      double Mp[3], Mm[3];
+      for (int i = 0; i < 3; ++i) {
+        Mp[i] = side_value(&r[i], 0, j, k);
+        Mm[i] = side_value(&r[i], 1, j, k);
+        if (!(isfinite(Mp[i]) && isfinite(Mm[i]))) ref[k].defined = 0;
+      }
+      if (ref[k].defined) ref_one(&ref[k], j, M0, Mp, Mm, H[j], run_error[k]);
+    }
+    if (!ref[k].defined)
+      for (int j = 0; j < g->n; ++j)
+        ref[k].d[j] = ref[k].err[j] = NAN, ref[k].kink[j] = 0;
+  }
+  free(r);
+  return sb != POM_OK ? sb : st;
 }
 
 /* ---- Monte-Carlo ------------------------------------------------------------------------- */
@@ -729,7 +802,9 @@ static void json_one(FILE *out, const pom_grad *g, const pom_dyn_metrics *mt,
     pom_json_string(out, pom_dyn_grad_why_text(d->why));
     first = 0;
   }
-  fprintf(out, "}");
+  fprintf(out, "}, \"peak_current_at\": {\"time\": ");
+  pom_json_number(out, isfinite(mt->peak_current) ? gr->peak_time : NAN);
+  fprintf(out, ", \"coil\": %d}", isfinite(mt->peak_current) ? gr->peak_coil + 1 : 0);
   if (fd) {
     fprintf(out, ", \"check\": {");
     for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {

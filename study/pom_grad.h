@@ -58,11 +58,12 @@ typedef enum {
   POM_GRAD_SETTLING_TIME_3,
   POM_GRAD_EXECUTION_TIME,
   POM_GRAD_POINTING_SETTLING_TIME,
+  POM_GRAD_PEAK_CURRENT, /* largest |coil current| (A), docs/optimize.md 12.2 */
   POM_GRAD_N_METRICS
 } pom_grad_metric;
 
-/* "energy_total", "energy_1", ..., "pointing_settling_time" (the
- * pom_dyn_metrics field names, one per actuator), static storage. */
+/* "energy_total", "energy_1", ..., "pointing_settling_time", "peak_current"
+ * (the pom_dyn_metrics field names, one per actuator), static storage. */
 const char *pom_grad_metric_name(pom_grad_metric k);
 /* The metric's value in a run's metrics (SI). */
 double pom_grad_metric_value(const pom_dyn_metrics *mt, pom_grad_metric k);
@@ -81,6 +82,8 @@ typedef struct {
   int error_control;                     /* default 1 */
   int rigid_joints; /* 1: joints.model = "rigid" whatever the config's text says (the
                        co-design's rigid evaluation); default 0 */
+  int peak_current; /* 1 (default): the peak coil current and its derivative (three more
+                       evaluations per step); 0: NaN and undefined */
 } pom_grad_options;
 
 void pom_grad_options_defaults(pom_grad_options *o);
@@ -163,9 +166,10 @@ void pom_grad_mc_free(pom_grad_mc_result *r);
 /* Writes a Monte-Carlo result as JSON (SI; derivatives per config unit of
  * each key; an undefined gradient is null with its reason under
  * "undefined"): config, keys, values, per maneuver status, target, metrics,
- * gradient (and "check": check's whole-run differences when check is not
- * NULL), finished, mean, mean_gradient, mean_gradient_defined_in. What
- * `pomlab gradient --json` prints and the Python module returns. */
+ * gradient, undefined, peak_current_at (the peak coil current's time, s, and
+ * coil from 1; null and 0 without one) (and "check": check's whole-run
+ * differences when check is not NULL), finished, mean, mean_gradient, mean_gradient_defined_in.
+ * What `pomlab gradient --json` prints and the Python module returns. */
 void pom_grad_mc_json(FILE *out, const char *cfg_path, const pom_grad *g,
                       const pom_grad_mc_result *r, const pom_grad_mc_result *check);
 
@@ -177,5 +181,33 @@ void pom_grad_mc_json(FILE *out, const char *cfg_path, const pom_grad *g,
  * run's metrics. 2n + 1 plain simulations. */
 pom_status pom_grad_fd_maneuver(pom_grad *g, const double *q, const double *R, const double *dh,
                                 pom_dyn_metrics *mt, pom_dyn_grad *fd, pom_error *err);
+
+/* ---- the honest reference (docs/optimize.md 12.4) ------------------------------------ */
+/* The whole-run reference of one metric's gradient: central differences at
+ * the steps H, H/2 and H/4 of each key, Richardson-extrapolated from the two
+ * smallest, with an estimate of its own error and a test of whether the
+ * metric is differentiable at all between value - H and value + H. */
+typedef struct {
+  double d[POM_GRAD_MAX_PARAMS];   /* the reference derivative (metric unit per key unit); NaN
+                                      where undefined */
+  double err[POM_GRAD_MAX_PARAMS]; /* its estimated error (same unit): the Richardson pair's
+                                      disagreement plus the runs' integration error over the
+                                      step; for a kink, the spread of the differences */
+  int kink[POM_GRAD_MAX_PARAMS];   /* 1: not differentiable at this step: the central
+                                      differences do not follow the h^2 law, or the forward and
+                                      backward differences at H/4 disagree beyond what the
+                                      curvature and the integration error explain */
+  int defined;                     /* 1: every run finished and the metric is finite in all */
+} pom_grad_ref;
+
+/* The reference of every metric (ref[POM_GRAD_N_METRICS]) of one maneuver
+ * (joint q or orientation R, exactly one non-NULL) at the steps H[j] (config
+ * units, > 0), H[j]/2 and H[j]/4; run_error[POM_GRAD_N_METRICS] is each
+ * metric's relative integration error in one run, the part of it that is
+ * not smooth in the design (docs/optimize.md 12.4 measures it at rtol
+ * 1e-12). mt receives the nominal run's metrics. 6n + 1 plain simulations. */
+pom_status pom_grad_reference(pom_grad *g, const double *q, const double *R, const double *H,
+                              const double *run_error, pom_dyn_metrics *mt, pom_grad_ref *ref,
+                              pom_error *err);
 
 #endif

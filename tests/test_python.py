@@ -422,6 +422,12 @@ def test_gradient(tmp_path):
         assert same(g["metrics"]["energy_total"], w["metrics"]["energy_total"])
         assert same(g["gradient"]["energy_total"], w["gradient"]["energy_total"])
         assert len(g["gradient"]["energy_total"]) == 2
+        # the peak coil current and its argmax (docs/optimize.md 12.2)
+        assert g["metrics"]["peak_current"] > 0
+        assert same(g["metrics"]["peak_current"], w["metrics"]["peak_current"])
+        assert same(g["gradient"]["peak_current"], w["gradient"]["peak_current"])
+        assert g["peak_current_at"] == w["peak_current_at"]
+        assert 1 <= g["peak_current_at"]["coil"] <= 3
     assert same(got["mean_gradient"]["energy_total"], want["mean_gradient"]["energy_total"])
     with pytest.raises(pomlab.PomlabError) as e:
         pomlab.gradient(CFG["3pss"], keys, maneuvers=1)

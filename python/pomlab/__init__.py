@@ -816,8 +816,10 @@ def gradient(cfg, params, *, maneuvers=None, overrides=None):
     (the config must say joints.model = "rigid"). Derivatives are per unit
     of each key as written in the config. Returns the dict `pomlab gradient
     --json` prints: per maneuver "metrics", "gradient" (a list per metric,
-    None where undefined) and "undefined" (the reasons), then "mean" and
-    "mean_gradient". Overrides may set only montecarlo.* keys: the models
+    None where undefined) and "undefined" (the reasons), the peak coil
+    current's argmax "peak_current_at" (time in s, coil from 1; its
+    derivative by the envelope theorem, docs/optimize.md 12.2), then "mean"
+    and "mean_gradient". Overrides may set only montecarlo.* keys: the models
     are built from the file's text (move a design key in the file or pass
     it in params)."""
     import json
