@@ -349,15 +349,19 @@ static void dj_platform(pom_djet out[3], const dj_motion *pf, const double x0[3]
 /* the kernels over each algebra */
 #define JT     pom_vjet
 #define JP(n_) vj_##n_
+#define JORDER 2 /* t^2 */
 #include "kin_limb_jet.inc"
 #undef JT
 #undef JP
+#undef JORDER
 
 #define JT     pom_djet
 #define JP(n_) dj_##n_
+#define JORDER 3 /* t^2 d_m */
 #include "kin_limb_jet.inc"
 #undef JT
 #undef JP
+#undef JORDER
 
 /* A body's angular velocity along a first-order direction whose coefficient
  * index is d, at the constant terms: vee(R_d R^T), or dir x dir_d for an
@@ -378,6 +382,41 @@ static void omega_dir(double w[3], int spin_free, const double R1[9], const doub
       x += Rd[3 * r + k] * R1[3 * c + k] - Rd[3 * c + k] * R1[3 * r + k];
     w[a] = 0.5 * x;
   }
+}
+
+/* A turning body's angular velocity along a first-order direction d,
+ * vee(M_d M^T) (skew: M_d = [w_d] M): m0 x m0_d + (m2 . m1_d) m0 with m_k
+ * the columns of M (the constant term) and m_k_d of M_d. */
+static inline void omega_col(double w[3], const double M[9], const double Md[9]) {
+  double m0[3] = {M[0], M[3], M[6]}, d0[3] = {Md[0], Md[3], Md[6]};
+  const double along = M[2] * Md[1] + M[5] * Md[4] + M[8] * Md[7];
+  pom_v3_cross(w, m0, d0);
+  pom_v3_axpy(w, w, along, m0);
+}
+
+/* A framed body's rotation G M H^T (G NULL: the identity), M its jets'
+ * constant term (kin_limb_jet.inc). */
+static inline void framed_rotation(double R[9], const double M[9], const double *G,
+                                   const double H[9]) {
+  double MH[9];
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      MH[3 * r + c] =
+          M[3 * r] * H[3 * c] + M[3 * r + 1] * H[3 * c + 1] + M[3 * r + 2] * H[3 * c + 2];
+  if (!G) {
+    memcpy(R, MH, sizeof MH);
+    return;
+  }
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      R[3 * r + c] = G[3 * r] * MH[c] + G[3 * r + 1] * MH[3 + c] + G[3 * r + 2] * MH[6 + c];
+}
+
+/* v = G v (an angular velocity of a framed body with has_G). */
+static inline void turn_by(double v[3], const double G[9]) {
+  const double x[3] = {v[0], v[1], v[2]};
+  for (int r = 0; r < 3; ++r)
+    v[r] = G[3 * r] * x[0] + G[3 * r + 1] * x[1] + G[3 * r + 2] * x[2];
 }
 
 /* Coefficient k of a body's jets: its rotation (9, spin fixed) or its
@@ -423,7 +462,11 @@ static void omega_dir(double w[3], int spin_free, const double R1[9], const doub
           pom_v3_scale(col, (lj_).q.c[(sk_) + (ss_)*k], (lj_).axis[b]);                            \
         } else {                                                                                   \
           BODY_COEFS(&(lj_), b, (sk_) + (ss_)*k, Rd, dd);                                          \
-          omega_dir(col, (lj_).spin_free[b], R1, Rd, d1, dd);                                      \
+          if ((lj_).spin_free[b])                                                                  \
+            pom_v3_cross(col, d1, dd);                                                             \
+          else                                                                                     \
+            omega_col(col, R1, Rd);                                                                \
+          if ((lj_).has_G[b]) turn_by(col, (lj_).G[b]);                                            \
         }                                                                                          \
         for (int r = 0; r < 3; ++r) {                                                              \
           bt->A[3 * r + k] = (lj_).ref[b][r].c[(sk_) + (ss_)*k];                                   \
@@ -438,6 +481,10 @@ static void omega_dir(double w[3], int spin_free, const double R1[9], const doub
         pom_kin_min_rotation(bt->R, L->dir_home, d1);                                              \
         bt->spin_free = 1;                                                                         \
         pom_v3_copy(bt->spin_axis, d1);                                                            \
+      } else if ((lj_).framed[b] && b > 0 && (lj_).same_turn[b]) {                                 \
+        pom_m3_copy(bt->R, bt[-1].R);                                                              \
+      } else if ((lj_).framed[b]) {                                                                \
+        framed_rotation(bt->R, R1, (lj_).has_G[b] ? (lj_).G[b] : NULL, (lj_).H[b]);                \
       } else {                                                                                     \
         pom_m3_copy(bt->R, R1);                                                                    \
       }                                                                                            \
@@ -522,7 +569,10 @@ int pom_limb_twist_diff(const pom_kin_arch *arch, int i, const double R[9], cons
           omega_dir(c, 0, Rs, Ru, d1, du);
         }
         for (int r = 0; r < 3; ++r)
-          tb->B[3 * r + j] = a[r] + c[r];
+          a[r] += c[r];
+        if (lj.has_G[b]) turn_by(a, lj.G[b]);
+        for (int r = 0; r < 3; ++r)
+          tb->B[3 * r + j] = a[r];
       }
       for (int r = 0; r < 3; ++r) {
         tb->a_bias[r] = 2.0 * lj.ref[b][r].c[DJ_T2D(k)];
@@ -826,6 +876,32 @@ static pom_status check_dir(pom_limb_dir d, const char *what, const char *body, 
 }
 
 /* The kernel's derived fields of limb L (number i + 1 in messages). */
+/* Whether the line through p along the unit a misses O (relative tolerance tol). */
+static int off_origin(const double p[3], const double a[3], double tol) {
+  double c[3];
+  pom_v3_cross(c, p, a);
+  return pom_v3_norm(c) > tol * (1.0 + pom_v3_norm(p));
+}
+
+/* R-R-R and R-U-U at home: the distal cosine from the middle axis and the
+ * platform-side axis v, the working mode through home (the branch the
+ * caller checks), no limb direction or length; fails when the three axes
+ * are coplanar (`axes` names them). */
+static pom_status rrr_home(pom_limb *L, int i, const double v[3], const char *axes, double *derived,
+                           pom_error *err) {
+  L->cos_distal = pom_v3_dot(L->joint[1].axis, v);
+  double A, B, C;
+  rrr_coef(L, v, &A, &B, &C);
+  if (fabs(B) < POM_KIN_HOME_MIN_COS * hypot(A, B))
+    POM_FAIL(err, POM_ERR_ARG,
+             "limb %d: %s coplanar at home (a leg singularity: the two working modes meet)", i + 1,
+             axes);
+  *derived = atan2(B, A) > 0.0 ? -1.0 : 1.0;
+  pom_v3_set(L->dir_home, 0.0, 0.0, 0.0);
+  L->length = 0.0;
+  return POM_OK;
+}
+
 static pom_status finish_limb(pom_limb *L, int i, double scale, pom_error *err) {
   pom_limb_joint *J = L->joint;
   int types[POM_LIMB_JOINTS];
@@ -851,24 +927,11 @@ static pom_status finish_limb(pom_limb *L, int i, double scale, pom_error *err) 
   double derived = 1.0;
   switch (L->kernel) {
   case POM_LIMB_KERNEL_RRR: {
-    for (int j = 0; j < 3; ++j) {
-      double c[3];
-      pom_v3_cross(c, J[j].point, J[j].axis);
-      if (pom_v3_norm(c) > 1e-9 * (1.0 + pom_v3_norm(J[j].point)))
+    for (int j = 0; j < 3; ++j)
+      if (off_origin(J[j].point, J[j].axis, 1e-9))
         POM_FAIL(err, POM_ERR_ARG, "limb %d: R-R-R joint %d's axis does not pass through O", i + 1,
                  j + 1);
-    }
-    L->cos_distal = pom_v3_dot(J[1].axis, J[2].axis);
-    double A, B, C;
-    rrr_coef(L, J[2].axis, &A, &B, &C);
-    if (fabs(B) < POM_KIN_HOME_MIN_COS * hypot(A, B))
-      POM_FAIL(err, POM_ERR_ARG,
-               "limb %d: the three axes are coplanar at home (a leg singularity: the two working "
-               "modes meet)",
-               i + 1);
-    derived = atan2(B, A) > 0.0 ? -1.0 : 1.0;
-    pom_v3_set(L->dir_home, 0.0, 0.0, 0.0);
-    L->length = 0.0;
+    POM_TRY(rrr_home(L, i, J[2].axis, "the three axes are", &derived, err));
     break;
   }
   case POM_LIMB_KERNEL_RUU: {
@@ -884,14 +947,12 @@ static pom_status finish_limb(pom_limb *L, int i, double scale, pom_error *err) 
         {J[0].point, J[0].axis}, {J[1].point, J[1].axis}, {J[2].point, J[2].axis2}};
     static const char *const what[3] = {"the crank's axis", "the first U's first axis",
                                         "the second U's second axis"};
-    for (int j = 0; j < 3; ++j) {
-      pom_v3_cross(c, through[j][0], through[j][1]);
-      if (pom_v3_norm(c) > tol * (1.0 + pom_v3_norm(through[j][0])))
+    for (int j = 0; j < 3; ++j)
+      if (off_origin(through[j][0], through[j][1], tol))
         POM_FAIL(err, POM_ERR_ARG,
                  "limb %d: R-U-U: %s does not pass through O and its joint centre (the limb "
                  "would not leave the platform a pure rotation: docs/kinematics-tables.md 2.5)",
                  i + 1, what[j]);
-    }
     pom_v3_cross(c, J[1].axis2, J[2].axis);
     if (pom_v3_norm(c) > tol)
       POM_FAIL(err, POM_ERR_ARG,
@@ -904,17 +965,7 @@ static pom_status finish_limb(pom_limb *L, int i, double scale, pom_error *err) 
     if (!(fabs(pom_v3_dot(J[1].point, J[1].axis)) > 0.0) ||
         !(fabs(pom_v3_dot(J[2].point, J[2].axis2)) > 0.0))
       POM_FAIL(err, POM_ERR_ARG, "limb %d: R-U-U: a U centre lies at O", i + 1);
-    L->cos_distal = pom_v3_dot(J[1].axis, J[2].axis2);
-    double A, B, C;
-    rrr_coef(L, J[2].axis2, &A, &B, &C);
-    if (fabs(B) < POM_KIN_HOME_MIN_COS * hypot(A, B))
-      POM_FAIL(err, POM_ERR_ARG,
-               "limb %d: u, w and v are coplanar at home (a leg singularity: the two working "
-               "modes meet)",
-               i + 1);
-    derived = atan2(B, A) > 0.0 ? -1.0 : 1.0;
-    pom_v3_set(L->dir_home, 0.0, 0.0, 0.0);
-    L->length = 0.0;
+    POM_TRY(rrr_home(L, i, J[2].axis2, "u, w and v are", &derived, err));
     break;
   }
   case POM_LIMB_KERNEL_UPU: {
@@ -942,8 +993,7 @@ static pom_status finish_limb(pom_limb *L, int i, double scale, pom_error *err) 
         POM_FAIL(err, POM_ERR_ARG, "limb %d: joint %d needs its two axes (U-P-U)", i + 1, j + 1);
     const double *through[2][2] = {{J[0].point, J[0].axis}, {J[2].point, J[2].axis2}};
     for (int j = 0; j < 2; ++j) {
-      pom_v3_cross(c, through[j][0], through[j][1]);
-      if (pom_v3_norm(c) > tol * (1.0 + pom_v3_norm(through[j][0])))
+      if (off_origin(through[j][0], through[j][1], tol))
         POM_FAIL(err, POM_ERR_ARG,
                  "limb %d: U-P-U: the %s U's %s axis does not pass through O and its centre "
                  "(docs/kinematics-tables.md 2.5)",
