@@ -124,11 +124,16 @@ static void rss_coef(const pom_limb *L, const rss_crank *k, const double p2[3], 
   *C = pom_v3_dot(d, d) + pom_v3_dot(k->rperp, k->rperp) - L->length * L->length;
 }
 
-/* Limb at rotation R; need_row: fail (0) at a leg singularity too. */
-static int limb_eval(const pom_limb *L, const double R[9], int need_row, limb_state *s) {
+/* Limb at rotation R; need_row: fail (0) at a leg singularity too;
+ * need_pose: also the joints' centres and axes (p, ax, ax2; an R-R-R limb
+ * leaves them out otherwise, the IK and twist ops not reading them). */
+static int limb_eval(const pom_limb *L, const double R[9], int need_row, int need_pose,
+                     limb_state *s) {
   const pom_limb_joint *J = L->joint;
-  memset(s->ax, 0, sizeof s->ax);
-  memset(s->ax2, 0, sizeof s->ax2);
+  if (need_pose) {
+    memset(s->ax, 0, sizeof s->ax);
+    memset(s->ax2, 0, sizeof s->ax2);
+  }
   switch (L->kernel) {
   case POM_LIMB_KERNEL_RRR:
   case POM_LIMB_KERNEL_RUU: {
@@ -153,6 +158,7 @@ static int limb_eval(const pom_limb *L, const double R[9], int need_row, limb_st
       pom_v3_cross(wxv, w, v);
       pom_v3_scale(s->row, 1.0 / den, wxv);
     }
+    if (L->kernel == POM_LIMB_KERNEL_RRR && !need_pose) return 1;
     pom_v3_copy(s->ax[0], u);
     pom_v3_copy(s->ax[1], w);
     pom_v3_copy(s->ax[2], v);
@@ -266,7 +272,7 @@ static int limb_eval(const pom_limb *L, const double R[9], int need_row, limb_st
 int pom_limb_ik(const pom_kin_arch *arch, int i, const double R[9], double *q, double row[3]) {
   const pom_limb_table *tb = POM_LIMB_CTABLE(arch);
   limb_state s;
-  if (!limb_eval(&tb->limb[i], R, row != NULL, &s)) return 0;
+  if (!limb_eval(&tb->limb[i], R, row != NULL, 0, &s)) return 0;
   *q = s.q;
   if (row) pom_v3_copy(row, s.row);
   return 1;
@@ -445,7 +451,9 @@ static inline void turn_by(double v[3], const double G[9]) {
     for (int b = 0; b < POM_LIMB_BODIES; ++b) {                                                    \
       pom_kin_body_twist *bt = &out->body[2 + 2 * i + b];                                          \
       double R1[9] = {0}, d1[3] = {0}, Rd[9] = {0}, dd[3] = {0};                                   \
-      pom_kin_twist_rest(bt);                                                                      \
+      /* every other field is written below */                                                     \
+      bt->spin_free = 0;                                                                           \
+      pom_v3_set(bt->spin_axis, 0.0, 0.0, 0.0);                                                    \
       pom_v3_copy(bt->ref_home, L->joint[L->ref_joint[b]].point);                                  \
       for (int r = 0; r < 3; ++r)                                                                  \
         bt->ref[r] = (lj_).ref[b][r].c[0];                                                         \
@@ -504,7 +512,7 @@ int pom_limb_twist(const pom_kin_arch *arch, int i, const double R[9], const dou
                    pom_kin_twists *out) {
   const pom_limb *L = &POM_LIMB_CTABLE(arch)->limb[i];
   limb_state st;
-  if (!limb_eval(L, R, 1, &st)) return 0;
+  if (!limb_eval(L, R, 1, 0, &st)) return 0;
   vj_motion pf = {R, {w[0], w[1], w[2]}};
   vj_limb lj;
   pom_vjet wt[POM_LIMB_BODIES][3];
@@ -520,7 +528,7 @@ int pom_limb_twist_diff(const pom_kin_arch *arch, int i, const double R[9], cons
                         pom_kin_twists *out, pom_kin_twists_diff *dout) {
   const pom_limb *L = &POM_LIMB_CTABLE(arch)->limb[i];
   limb_state st;
-  if (!limb_eval(L, R, 1, &st)) return 0;
+  if (!limb_eval(L, R, 1, 0, &st)) return 0;
   dj_motion pf = {R, {w[0], w[1], w[2]}};
   dj_limb lj;
   pom_djet wt[POM_LIMB_BODIES][3];
@@ -594,7 +602,7 @@ void pom_limb_limit_values(const pom_kin_arch *arch, const double R[9], const do
   limb_state s[3];
   (void)q; /* the kernels recompute q (the same closed form) with the joint centres */
   for (int i = 0; i < 3; ++i)
-    if (!limb_eval(&tb->limb[i], R, 0, &s[i])) {
+    if (!limb_eval(&tb->limb[i], R, 0, 1, &s[i])) {
       for (int j = 0; j < 3; ++j) {
         pom_v3_set(s[i].p[j], NAN, NAN, NAN);
         pom_v3_set(s[i].ax[j], NAN, NAN, NAN);
@@ -733,7 +741,7 @@ int pom_limb_constraint(const pom_kin_arch *arch, const double R[9], double forc
     const pom_limb *L = &tb->limb[i];
     limb_state s;
     double tw[9][6], a[5][6], z[6];
-    if (!limb_eval(L, R, 0, &s)) return 0;
+    if (!limb_eval(L, R, 0, 1, &s)) return 0;
     if (limb_screws(L, &s, tw) != 5) return 0; /* a spherical limb holds O itself */
     /* the wrench (f, m) with v_k . f + omega_k . m = 0 for the five twists:
      * the signed 5 x 5 minors of the 5 x 6 twist matrix (a 6-D cross product) */
