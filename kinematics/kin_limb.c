@@ -54,6 +54,7 @@ const char *pom_limb_kernel_name(pom_limb_kernel k) {
  * the body before it) and a U's second axis (carried by the body after). */
 typedef struct {
   double q, row[3];
+  double cq, sq; /* R-R-R, R-S-S: cos q and sin q (the jets reuse them) */
   double p[POM_LIMB_JOINTS][3];
   double ax[POM_LIMB_JOINTS][3];
   double ax2[POM_LIMB_JOINTS][3];
@@ -123,11 +124,16 @@ static void rss_coef(const pom_limb *L, const rss_crank *k, const double p2[3], 
   *C = pom_v3_dot(d, d) + pom_v3_dot(k->rperp, k->rperp) - L->length * L->length;
 }
 
-/* Limb at rotation R; need_row: fail (0) at a leg singularity too. */
-static int limb_eval(const pom_limb *L, const double R[9], int need_row, limb_state *s) {
+/* Limb at rotation R; need_row: fail (0) at a leg singularity too;
+ * need_pose: also the joints' centres and axes (p, ax, ax2; an R-R-R limb
+ * leaves them out otherwise, the IK and twist ops not reading them). */
+static int limb_eval(const pom_limb *L, const double R[9], int need_row, int need_pose,
+                     limb_state *s) {
   const pom_limb_joint *J = L->joint;
-  memset(s->ax, 0, sizeof s->ax);
-  memset(s->ax2, 0, sizeof s->ax2);
+  if (need_pose) {
+    memset(s->ax, 0, sizeof s->ax);
+    memset(s->ax2, 0, sizeof s->ax2);
+  }
   switch (L->kernel) {
   case POM_LIMB_KERNEL_RRR:
   case POM_LIMB_KERNEL_RUU: {
@@ -137,6 +143,8 @@ static int limb_eval(const pom_limb *L, const double R[9], int need_row, limb_st
     rrr_coef(L, v, &A, &B, &C);
     if (!angle_root(A, B, C, L->branch, &t)) return 0;
     double ct = cos(t), st = sin(t), uw = pom_v3_dot(u, w0);
+    s->cq = ct;
+    s->sq = st;
     pom_v3_cross(uxw0, u, w0);
     for (int k = 0; k < 3; ++k)
       w[k] = ct * w0[k] + st * uxw0[k] + (1.0 - ct) * uw * u[k];
@@ -150,6 +158,7 @@ static int limb_eval(const pom_limb *L, const double R[9], int need_row, limb_st
       pom_v3_cross(wxv, w, v);
       pom_v3_scale(s->row, 1.0 / den, wxv);
     }
+    if (L->kernel == POM_LIMB_KERNEL_RRR && !need_pose) return 1;
     pom_v3_copy(s->ax[0], u);
     pom_v3_copy(s->ax[1], w);
     pom_v3_copy(s->ax[2], v);
@@ -204,6 +213,8 @@ static int limb_eval(const pom_limb *L, const double R[9], int need_row, limb_st
     rss_coef(L, &k, p2, &A, &B, &C);
     if (!angle_root(A, B, C, L->branch, &t)) return 0;
     double ct = cos(t), st = sin(t);
+    s->cq = ct;
+    s->sq = st;
     for (int c = 0; c < 3; ++c) {
       arm[c] = k.rpar[c] + ct * k.rperp[c] + st * k.axr[c];
       s->p[1][c] = J[0].point[c] + arm[c];
@@ -261,433 +272,324 @@ static int limb_eval(const pom_limb *L, const double R[9], int need_row, limb_st
 int pom_limb_ik(const pom_kin_arch *arch, int i, const double R[9], double *q, double row[3]) {
   const pom_limb_table *tb = POM_LIMB_CTABLE(arch);
   limb_state s;
-  if (!limb_eval(&tb->limb[i], R, row != NULL, &s)) return 0;
+  if (!limb_eval(&tb->limb[i], R, row != NULL, 0, &s)) return 0;
   *q = s.q;
   if (row) pom_v3_copy(row, s.row);
   return 1;
 }
 
 /* ---- jets: the limb along a platform motion (docs/kinematics-tables.md 5) ----- */
-/* The limb's fields as jets in (t, s): q, each body's reference point and
- * either its rotation (spin fixed) or its unit direction (idle spin). */
+/* The platform motion a jet algebra sees: R(t, ...) = the rotation R moved
+ * along the algebra's directions (below); JP(platform) gives R(t, ...) x0
+ * for a platform-fixed x0. With x = R x0 and a x b the cross product:
+ *   V: R(t, s) = exp(t [w]) exp(sum s_k [e_k]) R:
+ *      x, t: w x x, t^2: w x (w x x) / 2, s_k: e_k x x.
+ *   D: R = exp(t [w + sum sigma_k e_k] + sum u_j [e_j]) exp(sum s_k [e_k]) R:
+ *      the above, t s_k: w x (e_k x x), t^2 s_k: w x (w x (e_k x x)) / 2,
+ *      sigma_k: 0, t sigma_k: e_k x x, t^2 sigma_k: (w x (e_k x x) +
+ *      e_k x (w x x)) / 2, u_j: e_j x x, u_j s_k: e_j x (e_k x x). */
 typedef struct {
-  pom_jet q;
-  pom_jet ref[POM_LIMB_BODIES][3];
-  pom_jet Rb[POM_LIMB_BODIES][9];
-  pom_jet dir[POM_LIMB_BODIES][3];
-  int spin_free[POM_LIMB_BODIES];
-} limb_jet;
+  const double *R;
+  double w[3];
+} vj_motion;
+typedef vj_motion dj_motion;
 
-enum { MODE_THETA = 0, MODE_OMEGA = 1 };
-
-/* The platform rotation as a jet: MODE_THETA R(t, s) = exp(t [T]) exp(s
- * [S]) R; MODE_OMEGA R(t, s) = exp(t [T + s S]) R; truncated at t^2, s. */
-static void platform_jet(pom_jet P[9], const double R[9], const double T[3], const double S[3],
-                         int mode) {
-  double W[9], E[9], W2[9], WE[9], EW[9], M[JET_N][9];
-  pom_m3_skew(W, T);
-  pom_m3_skew(E, S);
-  pom_m3_mul(W2, W, W);
-  pom_m3_mul(WE, W, E);
-  pom_m3_mul(EW, E, W);
-  pom_m3_identity(M[JET_1]);
-  pom_m3_copy(M[JET_T], W);
-  for (int k = 0; k < 9; ++k) {
-    M[JET_T2][k] = 0.5 * W2[k];
-    if (mode == MODE_THETA) {
-      M[JET_S][k] = E[k];
-      M[JET_TS][k] = WE[k];
-    } else {
-      M[JET_S][k] = 0.0;
-      M[JET_TS][k] = E[k];
-    }
-  }
-  if (mode == MODE_THETA) {
-    double W2E[9];
-    pom_m3_mul(W2E, W2, E);
-    for (int k = 0; k < 9; ++k)
-      M[JET_T2S][k] = 0.5 * W2E[k];
-  } else {
-    for (int k = 0; k < 9; ++k)
-      M[JET_T2S][k] = 0.5 * (WE[k] + EW[k]);
-  }
-  for (int c = 0; c < JET_N; ++c) {
-    double MR[9];
-    pom_m3_mul(MR, M[c], R);
-    for (int k = 0; k < 9; ++k)
-      P[k].c[c] = MR[k];
-  }
+/* e_k x x */
+static void ecross(double out[3], int k, const double x[3]) {
+  const int a = (k + 1) % 3, b = (k + 2) % 3;
+  out[k] = 0.0;
+  out[a] = -x[b];
+  out[b] = x[a];
 }
 
-/* The root of A cos t + B sin t + C = 0 as a jet, its constant term t0 from
- * the closed form: Newton on jets, each step doubles the order that is
- * right (1, 2, 4 > 3: two steps; a third costs little and absorbs rounding);
- * the constant term stays t0. */
-static pom_jet angle_jet(double t0, pom_jet A, pom_jet B, pom_jet C) {
-  pom_jet t = jet_const(t0);
-  for (int it = 0; it < 3; ++it) {
-    pom_jet c = jet_cos(t), s = jet_sin(t);
-    pom_jet g = jet_add(jet_add(jet_mul(A, c), jet_mul(B, s)), C);
-    pom_jet gp = jet_sub(jet_mul(B, c), jet_mul(A, s));
-    t = jet_sub(t, jet_div(g, gp));
-    t.c[JET_1] = t0;
-  }
-  return t;
-}
-
-/* Rot(u, t) for a constant unit u and an angle jet t. */
-static void rot_jet(pom_jet Rt[9], const double u[3], pom_jet t) {
-  pom_jet c = jet_cos(t), s = jet_sin(t), one_c = jet_sub(jet_const(1.0), c);
-  double K[9];
-  pom_m3_skew(K, u);
-  for (int r = 0; r < 3; ++r)
-    for (int k = 0; k < 3; ++k) {
-      pom_jet e = jet_axpy(jet_scale(K[3 * r + k], s), u[r] * u[k], one_c);
-      Rt[3 * r + k] = r == k ? jet_add(e, c) : e;
-    }
-}
-
-/* pom_kin_pair_frame (kin_arc.c) on jets: the orthonormal frame of the pair
- * (a, b), columns a, unit(b - (a.b) a) and a x that. */
-
-static void pair_frame_jet(pom_jet e[3][3], const pom_jet a[3], const pom_jet b[3]) {
-  pom_jet ab = jv_dot(a, b), e2[3];
+static void vj_platform(pom_vjet out[3], const vj_motion *pf, const double x0[3]) {
+  double x[3], wx[3], wwx[3], ex[3][3];
+  pom_m3_apply(x, pf->R, x0);
+  pom_v3_cross(wx, pf->w, x);
+  pom_v3_cross(wwx, pf->w, wx);
   for (int k = 0; k < 3; ++k)
-    e2[k] = jet_sub(b[k], jet_mul(ab, a[k]));
-  pom_jet inv = jet_recip(jet_sqrt(jv_dot(e2, e2)));
+    ecross(ex[k], k, x);
+  for (int r = 0; r < 3; ++r) {
+    pom_vjet *o = &out[r];
+    o->c[VJ_1] = x[r];
+    o->c[VJ_T] = wx[r];
+    o->c[VJ_T2] = 0.5 * wwx[r];
+    for (int k = 0; k < 3; ++k)
+      o->c[VJ_S + k] = ex[k][r];
+  }
+}
+
+static void dj_platform(pom_djet out[3], const dj_motion *pf, const double x0[3]) {
+  double x[3], wx[3], wwx[3], ex[3][3], wex[3][3], wwex[3][3], exw[3][3], eex[3][3][3];
+  pom_m3_apply(x, pf->R, x0);
+  pom_v3_cross(wx, pf->w, x);
+  pom_v3_cross(wwx, pf->w, wx);
   for (int k = 0; k < 3; ++k) {
-    e[0][k] = a[k];
-    e[1][k] = jet_mul(inv, e2[k]);
+    ecross(ex[k], k, x);
+    pom_v3_cross(wex[k], pf->w, ex[k]);
+    pom_v3_cross(wwex[k], pf->w, wex[k]);
+    ecross(exw[k], k, wx);
   }
-  jv_cross(e[2], e[0], e[1]);
-}
-
-/* out = sum_k e_k f_k^T: columns e_k (jets), F's columns f_k (constant). */
-static void frame_product(pom_jet out[9], pom_jet e[3][3], const double F[9]) {
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) {
-      pom_jet x = jet_const(0.0);
-      for (int k = 0; k < 3; ++k)
-        x = jet_axpy(x, F[3 * c + k], e[k][r]);
-      out[3 * r + c] = x;
-    }
-}
-
-static void ref_rotated(pom_jet ref[3], const pom_jet Rb[9], const double p[3]) {
-  jm_applyc(ref, Rb, p);
-}
-
-/* The limb's jets along the platform motion (T, S, mode); s is the plain
- * evaluation at R (its constant terms). */
-static void limb_jet_eval(const pom_limb *L, const double R[9], const limb_state *st,
-                          const double T[3], const double S[3], int mode, limb_jet *o) {
-  const pom_limb_joint *J = L->joint;
-  pom_jet P[9];
-  platform_jet(P, R, T, S, mode);
-  o->spin_free[0] = o->spin_free[1] = 0;
-  switch (L->kernel) {
-  case POM_LIMB_KERNEL_RRR:
-  case POM_LIMB_KERNEL_RUU: {
-    const double *u = J[0].axis, *w0 = J[1].axis;
-    pom_jet v[3], w[3], e[3][3], uj[3], w0j[3];
-    jm_applyc(v, P, platform_axis(L));
-    jv_const(uj, u);
-    jv_const(w0j, w0);
-    double uw = pom_v3_dot(u, w0), uxw[3];
-    pom_v3_cross(uxw, u, w0);
-    pom_jet uv = jv_dotc(v, u);
-    pom_jet A = jet_sub(jv_dotc(v, w0), jet_scale(uw, uv));
-    pom_jet B = jv_dotc(v, uxw);
-    pom_jet C = jet_sub(jet_scale(uw, uv), jet_const(L->cos_distal));
-    o->q = angle_jet(st->q, A, B, C);
-    rot_jet(o->Rb[0], u, o->q);
-    jm_applyc(w, o->Rb[0], w0);
-    double F0[9];
-    if (L->kernel == POM_LIMB_KERNEL_RUU) {
-      /* the link B-C: frame (d, C - B) with d = sign unit(w x v), B on the
-       * crank, C on the platform (section 2.5) */
-      pom_jet d[3], Bj[3], Cj[3], cb[3];
-      double cb0[3];
-      jv_cross(d, w, v);
-      pom_jet inv = jet_scale(middle_sign(L), jet_recip(jet_sqrt(jv_dot(d, d))));
-      jv_scale(d, inv, d);
-      jm_applyc(Bj, o->Rb[0], J[1].point);
-      jm_applyc(Cj, P, J[2].point);
-      jv_sub(cb, Cj, Bj);
-      pom_v3_sub(cb0, J[2].point, J[1].point);
-      pom_kin_pair_frame(F0, J[1].axis2, cb0);
-      pair_frame_jet(e, d, cb);
-      frame_product(o->Rb[1], e, F0);
-      ref_rotated(o->ref[0], o->Rb[0], J[0].point);
-      memcpy(o->ref[1], Bj, sizeof Bj);
-      break;
-    }
-    pom_kin_pair_frame(F0, w0, J[2].axis);
-    pair_frame_jet(e, w, v);
-    frame_product(o->Rb[1], e, F0);
-    ref_rotated(o->ref[0], o->Rb[0], J[L->ref_joint[0]].point);
-    ref_rotated(o->ref[1], o->Rb[1], J[L->ref_joint[1]].point);
-    break;
-  }
-  case POM_LIMB_KERNEL_PSS: {
-    const double *u = J[0].axis, *Bm = J[1].point;
-    pom_jet c[3], d[3], l[3], Bj[3];
-    jm_applyc(c, P, J[2].point);
-    jv_const(Bj, Bm);
-    jv_sub(d, c, Bj);
-    pom_jet du = jv_dotc(d, u);
-    pom_jet disc =
-        jet_add(jet_sub(jet_mul(du, du), jv_dot(d, d)), jet_const(L->length * L->length));
-    o->q = jet_sub(du, jet_scale(L->branch, jet_sqrt(disc)));
-    jv_sxpy(o->ref[0], o->q, u, Bj);
-    memcpy(o->ref[1], o->ref[0], sizeof o->ref[1]);
-    for (int k = 0; k < 9; ++k)
-      o->Rb[0][k] = jet_const(k % 4 == 0 ? 1.0 : 0.0);
-    jv_sub(l, c, o->ref[1]);
+  for (int j = 0; j < 3; ++j)
     for (int k = 0; k < 3; ++k)
-      o->dir[1][k] = jet_scale(1.0 / L->length, l[k]);
-    o->spin_free[1] = 1;
-    break;
-  }
-  case POM_LIMB_KERNEL_RSS: {
-    rss_crank k;
-    pom_jet p2[3], d[3], l[3], p0[3];
-    rss_crank_of(L, &k);
-    jm_applyc(p2, P, J[2].point);
-    jv_const(p0, J[0].point);
-    jv_sub(d, p2, p0);
-    for (int c = 0; c < 3; ++c)
-      d[c] = jet_sub(d[c], jet_const(k.rpar[c]));
-    pom_jet A = jet_scale(-2.0, jv_dotc(d, k.rperp));
-    pom_jet B = jet_scale(-2.0, jv_dotc(d, k.axr));
-    pom_jet C =
-        jet_add(jv_dot(d, d), jet_const(pom_v3_dot(k.rperp, k.rperp) - L->length * L->length));
-    o->q = angle_jet(st->q, A, B, C);
-    rot_jet(o->Rb[0], J[0].axis, o->q);
-    pom_jet ct = jet_cos(o->q), sn = jet_sin(o->q);
-    memcpy(o->ref[0], p0, sizeof p0);
-    for (int c = 0; c < 3; ++c)
-      o->ref[1][c] =
-          jet_axpy(jet_axpy(jet_const(J[0].point[c] + k.rpar[c]), k.rperp[c], ct), k.axr[c], sn);
-    jv_sub(l, p2, o->ref[1]);
-    for (int c = 0; c < 3; ++c)
-      o->dir[1][c] = jet_scale(1.0 / L->length, l[c]);
-    o->spin_free[1] = 1;
-    break;
-  }
-  case POM_LIMB_KERNEL_SPS:
-  case POM_LIMB_KERNEL_UPS:
-  case POM_LIMB_KERNEL_UPU: {
-    pom_jet b[3], l[3], s[3], p0[3];
-    jm_applyc(b, P, J[2].point);
-    jv_const(p0, J[0].point);
-    jv_sub(l, b, p0);
-    pom_jet n = jet_sqrt(jv_dot(l, l)), inv = jet_recip(n);
-    o->q = jet_sub(n, jet_const(L->length));
-    jv_scale(s, inv, l);
-    memcpy(o->ref[0], p0, sizeof p0);
-    memcpy(o->ref[1], b, sizeof b);
-    if (L->kernel == POM_LIMB_KERNEL_SPS) {
-      memcpy(o->dir[0], s, sizeof s);
-      memcpy(o->dir[1], s, sizeof s);
-      o->spin_free[0] = o->spin_free[1] = 1;
-      break;
-    }
-    if (L->kernel == POM_LIMB_KERNEL_UPU) {
-      /* cylinder and piston: frame (n, s), n = sign unit(p0 x R p2) (section 2.5) */
-      pom_jet nm[3], e[3][3];
-      double F0[9];
-      jv_cross(nm, p0, b);
-      pom_jet inm = jet_scale(middle_sign(L), jet_recip(jet_sqrt(jv_dot(nm, nm))));
-      jv_scale(nm, inm, nm);
-      pom_kin_pair_frame(F0, J[0].axis2, L->dir_home);
-      pair_frame_jet(e, nm, s);
-      frame_product(o->Rb[0], e, F0);
-      memcpy(o->Rb[1], o->Rb[0], sizeof o->Rb[1]);
-      break;
-    }
-    /* U-joint: R = E Rx(al) Ry(be) E^T, E = [a1 a2 s0]; x = s.s0 = cb ca,
-     * y = -s.a2 = cb sa, z = s.a1 = sb (arch_3sps.c) */
-    const double *a1 = J[0].axis, *a2 = J[0].axis2, *s0 = L->dir_home;
-    pom_jet x = jv_dotc(s, s0), y = jet_scale(-1.0, jv_dotc(s, a2)), z = jv_dotc(s, a1);
-    pom_jet rho = jet_sqrt(jet_add(jet_mul(x, x), jet_mul(y, y))), ir = jet_recip(rho);
-    pom_jet ca = jet_mul(x, ir), sa = jet_mul(y, ir), cb = rho, sb = z;
-    pom_jet Rl[9] = {cb,
-                     jet_const(0.0),
-                     sb,
-                     jet_mul(sa, sb),
-                     ca,
-                     jet_scale(-1.0, jet_mul(sa, cb)),
-                     jet_scale(-1.0, jet_mul(ca, sb)),
-                     sa,
-                     jet_mul(ca, cb)};
-    double E[9];
-    for (int c = 0; c < 3; ++c) {
-      E[3 * c + 0] = a1[c];
-      E[3 * c + 1] = a2[c];
-      E[3 * c + 2] = s0[c];
-    }
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) {
-        pom_jet acc = jet_const(0.0);
-        for (int a = 0; a < 3; ++a)
-          for (int bb = 0; bb < 3; ++bb)
-            acc = jet_axpy(acc, E[3 * r + a] * E[3 * c + bb], Rl[3 * a + bb]);
-        o->Rb[0][3 * r + c] = acc;
-      }
-    memcpy(o->Rb[1], o->Rb[0], sizeof o->Rb[1]);
-    break;
-  }
-  default:
-    break;
-  }
-}
-
-/* The body's angular velocity along t as a jet: vee(dR/dt R^T) for a body
- * whose rotation is fixed, dir x d(dir)/dt (zero spin) for an idle spin. */
-static void omega_jet(pom_jet w[3], const limb_jet *o, int b) {
-  if (o->spin_free[b]) {
-    pom_jet dd[3];
-    for (int k = 0; k < 3; ++k)
-      dd[k] = jet_dt(o->dir[b][k]);
-    jv_cross(w, o->dir[b], dd);
-    return;
-  }
-  pom_jet X[9];
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) {
-      pom_jet acc = jet_const(0.0);
-      for (int k = 0; k < 3; ++k)
-        acc = jet_add(acc, jet_mul(jet_dt(o->Rb[b][3 * r + k]), o->Rb[b][3 * c + k]));
-      X[3 * r + c] = acc;
-    }
-  w[0] = jet_scale(0.5, jet_sub(X[7], X[5]));
-  w[1] = jet_scale(0.5, jet_sub(X[2], X[6]));
-  w[2] = jet_scale(0.5, jet_sub(X[3], X[1]));
-}
-
-/* The body's angular velocity along s at s = t = 0 (a column of B when S =
- * e_k): vee(R_s R^T) or dir x dir_s. */
-static void omega_s(double w[3], const limb_jet *o, int b) {
-  if (o->spin_free[b]) {
-    double d0[3], ds[3];
-    jv_coef(d0, o->dir[b], JET_1);
-    jv_coef(ds, o->dir[b], JET_S);
-    pom_v3_cross(w, d0, ds);
-    return;
-  }
-  double X[9];
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) {
-      double acc = 0.0;
-      for (int k = 0; k < 3; ++k)
-        acc += o->Rb[b][3 * r + k].c[JET_S] * o->Rb[b][3 * c + k].c[JET_1];
-      X[3 * r + c] = acc;
-    }
-  pom_v3_set(w, 0.5 * (X[7] - X[5]), 0.5 * (X[2] - X[6]), 0.5 * (X[3] - X[1]));
-}
-
-static const double unit_e[3][3] = {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}};
-
-/* limb_twist with the three jets along (T = w, S = e_k) kept for the
- * derivatives. */
-static int twist_with_jets(const pom_kin_arch *arch, int i, const double R[9], const double w[3],
-                           pom_kin_twists *out, limb_state *st, limb_jet lj[3]) {
-  const pom_limb *L = &POM_LIMB_CTABLE(arch)->limb[i];
-  if (!limb_eval(L, R, 1, st)) return 0;
-  for (int k = 0; k < 3; ++k)
-    limb_jet_eval(L, R, st, w, unit_e[k], MODE_THETA, &lj[k]);
-  out->q[i] = st->q;
-  pom_v3_copy(out->J + 3 * i, st->row);
-  out->q_bias[i] = 2.0 * lj[0].q.c[JET_T2];
-  for (int b = 0; b < POM_LIMB_BODIES; ++b) {
-    pom_kin_body_twist *bt = &out->body[2 + 2 * i + b];
-    pom_jet wj[3];
-    pom_kin_twist_rest(bt);
-    pom_v3_copy(bt->ref_home, L->joint[L->ref_joint[b]].point);
-    jv_coef(bt->ref, lj[0].ref[b], JET_1);
+      ecross(eex[j][k], j, ex[k]);
+  for (int r = 0; r < 3; ++r) {
+    pom_djet *o = &out[r];
+    o->c[DJ_1] = x[r];
+    o->c[DJ_T] = wx[r];
+    o->c[DJ_T2] = 0.5 * wwx[r];
     for (int k = 0; k < 3; ++k) {
-      double col[3];
-      omega_s(col, &lj[k], b);
-      for (int r = 0; r < 3; ++r) {
-        bt->A[3 * r + k] = lj[k].ref[b][r].c[JET_S];
-        bt->B[3 * r + k] = col[r];
-      }
+      o->c[DJ_D(k)] = ex[k][r];
+      o->c[DJ_TD(k)] = wex[k][r];
+      o->c[DJ_T2D(k)] = 0.5 * wwex[k][r];
+      o->c[DJ_D(3 + k)] = 0.0;
+      o->c[DJ_TD(3 + k)] = ex[k][r];
+      o->c[DJ_T2D(3 + k)] = 0.5 * (wex[k][r] + exw[k][r]);
+      o->c[DJ_U + k] = ex[k][r];
+      for (int j = 0; j < 3; ++j)
+        o->c[DJ_US + 3 * j + k] = eex[j][k][r];
     }
-    for (int r = 0; r < 3; ++r)
-      bt->a_bias[r] = 2.0 * lj[0].ref[b][r].c[JET_T2];
-    omega_jet(wj, &lj[0], b);
-    jv_coef(bt->alpha_bias, wj, JET_T);
-    if (lj[0].spin_free[b]) {
-      double d0[3];
-      jv_coef(d0, lj[0].dir[b], JET_1);
-      pom_kin_min_rotation(bt->R, L->dir_home, d0);
-      bt->spin_free = 1;
-      pom_v3_copy(bt->spin_axis, d0);
-    } else {
-      for (int k = 0; k < 9; ++k)
-        bt->R[k] = lj[0].Rb[b][k].c[JET_1];
-    }
-    /* a body map that does not exist here (a U-P-S limb along its U-joint
-     * axis, an R-R-R distal link with w parallel to v): not assembled */
-    double sum = 0.0;
-    for (int k = 0; k < 9; ++k)
-      sum += bt->A[k] + bt->B[k] + bt->R[k];
-    for (int k = 0; k < 3; ++k)
-      sum += bt->a_bias[k] + bt->alpha_bias[k];
-    if (!isfinite(sum + out->q_bias[i])) return 0;
   }
+}
+
+/* the kernels over each algebra */
+#define JT     pom_vjet
+#define JP(n_) vj_##n_
+#define JORDER 2 /* t^2 */
+#include "kin_limb_jet.inc"
+#undef JT
+#undef JP
+#undef JORDER
+
+#define JT     pom_djet
+#define JP(n_) dj_##n_
+#define JORDER 3 /* t^2 d_m */
+#include "kin_limb_jet.inc"
+#undef JT
+#undef JP
+#undef JORDER
+
+/* A body's angular velocity along a first-order direction whose coefficient
+ * index is d, at the constant terms: vee(R_d R^T), or dir x dir_d for an
+ * idle spin. R1, Rd: the rotation's constant and d coefficients (row-major);
+ * dir0, dird likewise. */
+static void omega_dir(double w[3], int spin_free, const double R1[9], const double Rd[9],
+                      const double dir0[3], const double dird[3]) {
+  if (spin_free) {
+    pom_v3_cross(w, dir0, dird);
+    return;
+  }
+  /* X = Rd R1^T; w = (X32 - X23, X13 - X31, X21 - X12) / 2 */
+  static const int rc[3][2] = {{2, 1}, {0, 2}, {1, 0}};
+  for (int a = 0; a < 3; ++a) {
+    const int r = rc[a][0], c = rc[a][1];
+    double x = 0.0;
+    for (int k = 0; k < 3; ++k)
+      x += Rd[3 * r + k] * R1[3 * c + k] - Rd[3 * c + k] * R1[3 * r + k];
+    w[a] = 0.5 * x;
+  }
+}
+
+/* A turning body's angular velocity along a first-order direction d,
+ * vee(M_d M^T) (skew: M_d = [w_d] M): m0 x m0_d + (m2 . m1_d) m0 with m_k
+ * the columns of M (the constant term) and m_k_d of M_d. */
+static inline void omega_col(double w[3], const double M[9], const double Md[9]) {
+  double m0[3] = {M[0], M[3], M[6]}, d0[3] = {Md[0], Md[3], Md[6]};
+  const double along = M[2] * Md[1] + M[5] * Md[4] + M[8] * Md[7];
+  pom_v3_cross(w, m0, d0);
+  pom_v3_axpy(w, w, along, m0);
+}
+
+/* A framed body's rotation G M H^T (G NULL: the identity), M its jets'
+ * constant term (kin_limb_jet.inc). */
+static inline void framed_rotation(double R[9], const double M[9], const double *G,
+                                   const double H[9]) {
+  double MH[9];
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      MH[3 * r + c] =
+          M[3 * r] * H[3 * c] + M[3 * r + 1] * H[3 * c + 1] + M[3 * r + 2] * H[3 * c + 2];
+  if (!G) {
+    memcpy(R, MH, sizeof MH);
+    return;
+  }
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      R[3 * r + c] = G[3 * r] * MH[c] + G[3 * r + 1] * MH[3 + c] + G[3 * r + 2] * MH[6 + c];
+}
+
+/* v = G v (an angular velocity of a framed body with has_G). */
+static inline void turn_by(double v[3], const double G[9]) {
+  const double x[3] = {v[0], v[1], v[2]};
+  for (int r = 0; r < 3; ++r)
+    v[r] = G[3 * r] * x[0] + G[3 * r + 1] * x[1] + G[3 * r + 2] * x[2];
+}
+
+/* Coefficient k of a body's jets: its rotation (9, spin fixed) or its
+ * direction (3, idle spin); the other is left alone. */
+#define BODY_COEFS(lj_, b_, k_, R_, d_)                                                            \
+  do {                                                                                             \
+    if ((lj_)->spin_free[b_])                                                                      \
+      for (int e_ = 0; e_ < 3; ++e_)                                                               \
+        (d_)[e_] = (lj_)->dir[b_][e_].c[k_];                                                       \
+    else                                                                                           \
+      for (int e_ = 0; e_ < 9; ++e_)                                                               \
+        (R_)[e_] = (lj_)->Rb[b_][e_].c[k_];                                                        \
+  } while (0)
+
+/* The fields of limb_twist for limb i from its jets: q, J and the poses
+ * from the plain evaluation st and the constant terms, A e_k and B e_k from
+ * the s_k terms (coefficient sk + ss k), q_bias and a_bias = 2 c_t2, alpha_bias
+ * = the t term of the angular-velocity jet wt[b] (computed by the caller in
+ * its algebra). c(x, k): coefficient k of jet x. Written as a macro over
+ * the two algebras (their jets differ in type only). */
+#define TWIST_FILL(lj_, wt_, sk_, ss_, t_, t2_)                                                    \
+  do {                                                                                             \
+    out->q[i] = st.q;                                                                              \
+    pom_v3_copy(out->J + 3 * i, st.row);                                                           \
+    out->q_bias[i] = 2.0 * (lj_).q.c[t2_];                                                         \
+    for (int b = 0; b < POM_LIMB_BODIES; ++b) {                                                    \
+      pom_kin_body_twist *bt = &out->body[2 + 2 * i + b];                                          \
+      double R1[9] = {0}, d1[3] = {0}, Rd[9] = {0}, dd[3] = {0};                                   \
+      /* every other field is written below */                                                     \
+      bt->spin_free = 0;                                                                           \
+      pom_v3_set(bt->spin_axis, 0.0, 0.0, 0.0);                                                    \
+      pom_v3_copy(bt->ref_home, L->joint[L->ref_joint[b]].point);                                  \
+      for (int r = 0; r < 3; ++r)                                                                  \
+        bt->ref[r] = (lj_).ref[b][r].c[0];                                                         \
+      if ((lj_).axis[b])                                                                           \
+        pom_m3_copy(R1, (lj_).Rfix[b]);                                                            \
+      else                                                                                         \
+        BODY_COEFS(&(lj_), b, 0, R1, d1);                                                          \
+      for (int k = 0; k < 3; ++k) {                                                                \
+        double col[3];                                                                             \
+        if (b > 0 && (lj_).same_turn[b]) { /* turns with body b - 1 */                             \
+          for (int r = 0; r < 3; ++r)                                                              \
+            col[r] = bt[-1].B[3 * r + k];                                                          \
+        } else if ((lj_).axis[b]) {                                                                \
+          pom_v3_scale(col, (lj_).q.c[(sk_) + (ss_)*k], (lj_).axis[b]);                            \
+        } else {                                                                                   \
+          BODY_COEFS(&(lj_), b, (sk_) + (ss_)*k, Rd, dd);                                          \
+          if ((lj_).spin_free[b])                                                                  \
+            pom_v3_cross(col, d1, dd);                                                             \
+          else                                                                                     \
+            omega_col(col, R1, Rd);                                                                \
+          if ((lj_).has_G[b]) turn_by(col, (lj_).G[b]);                                            \
+        }                                                                                          \
+        for (int r = 0; r < 3; ++r) {                                                              \
+          bt->A[3 * r + k] = (lj_).ref[b][r].c[(sk_) + (ss_)*k];                                   \
+          bt->B[3 * r + k] = col[r];                                                               \
+        }                                                                                          \
+      }                                                                                            \
+      for (int r = 0; r < 3; ++r) {                                                                \
+        bt->a_bias[r] = 2.0 * (lj_).ref[b][r].c[t2_];                                              \
+        bt->alpha_bias[r] = (wt_)[b][r].c[t_];                                                     \
+      }                                                                                            \
+      if ((lj_).spin_free[b]) {                                                                    \
+        pom_kin_min_rotation(bt->R, L->dir_home, d1);                                              \
+        bt->spin_free = 1;                                                                         \
+        pom_v3_copy(bt->spin_axis, d1);                                                            \
+      } else if ((lj_).framed[b] && b > 0 && (lj_).same_turn[b]) {                                 \
+        pom_m3_copy(bt->R, bt[-1].R);                                                              \
+      } else if ((lj_).framed[b]) {                                                                \
+        framed_rotation(bt->R, R1, (lj_).has_G[b] ? (lj_).G[b] : NULL, (lj_).H[b]);                \
+      } else {                                                                                     \
+        pom_m3_copy(bt->R, R1);                                                                    \
+      }                                                                                            \
+      /* a body map that does not exist here (a U-P-S limb along its U-joint                       \
+       * axis, an R-R-R distal link with w parallel to v): not assembled */                        \
+      double sum = 0.0;                                                                            \
+      for (int k = 0; k < 9; ++k)                                                                  \
+        sum += bt->A[k] + bt->B[k] + bt->R[k];                                                     \
+      for (int k = 0; k < 3; ++k)                                                                  \
+        sum += bt->a_bias[k] + bt->alpha_bias[k];                                                  \
+      if (!isfinite(sum + out->q_bias[i])) return 0;                                               \
+    }                                                                                              \
+  } while (0)
+
+/* limb_twist: one jet evaluation in algebra V (T = w; s_0..2 = e_0..2). */
+int pom_limb_twist(const pom_kin_arch *arch, int i, const double R[9], const double w[3],
+                   pom_kin_twists *out) {
+  const pom_limb *L = &POM_LIMB_CTABLE(arch)->limb[i];
+  limb_state st;
+  if (!limb_eval(L, R, 1, 0, &st)) return 0;
+  vj_motion pf = {R, {w[0], w[1], w[2]}};
+  vj_limb lj;
+  pom_vjet wt[POM_LIMB_BODIES][3];
+  vj_limb_eval(L, &pf, &st, &lj);
+  vj_omegas(wt, &lj);
+  TWIST_FILL(lj, wt, VJ_S, 1, VJ_T, VJ_T2);
   return 1;
 }
 
-int pom_limb_twist(const pom_kin_arch *arch, int i, const double R[9], const double w[3],
-                   pom_kin_twists *out) {
-  limb_state st;
-  limb_jet lj[3];
-  return twist_with_jets(arch, i, R, w, out, &st, lj);
-}
-
+/* limb_twist_diff: one jet evaluation in algebra D (T = w; s_k, sigma_k,
+ * u_j = e_k, e_k, e_j), read as the table of docs/kinematics-tables.md 5. */
 int pom_limb_twist_diff(const pom_kin_arch *arch, int i, const double R[9], const double w[3],
                         pom_kin_twists *out, pom_kin_twists_diff *dout) {
-  limb_state st;
-  limb_jet lj[3];
-  if (!twist_with_jets(arch, i, R, w, out, &st, lj)) return 0;
   const pom_limb *L = &POM_LIMB_CTABLE(arch)->limb[i];
+  limb_state st;
+  if (!limb_eval(L, R, 1, 0, &st)) return 0;
+  dj_motion pf = {R, {w[0], w[1], w[2]}};
+  dj_limb lj;
+  pom_djet wt[POM_LIMB_BODIES][3];
+  dj_limb_eval(L, &pf, &st, &lj);
+  dj_omegas(wt, &lj);
+  TWIST_FILL(lj, wt, DJ_D(0), 3, DJ_T, DJ_T2);
   for (int k = 0; k < 3; ++k) {
-    /* rotation increment about e_k: the jets (w, e_k) give the biases'
-     * derivatives (t^2 s) and q's (s); the jets (e_j, e_k) the columns' (t s) */
     pom_kin_twists *dt = &dout->d_theta[k], *dw = &dout->d_omega[k];
-    limb_jet ej[3], om;
+    dt->q[i] = lj.q.c[DJ_D(k)];
     for (int j = 0; j < 3; ++j)
-      limb_jet_eval(L, R, &st, unit_e[j], unit_e[k], MODE_THETA, &ej[j]);
-    limb_jet_eval(L, R, &st, w, unit_e[k], MODE_OMEGA, &om);
-    dt->q[i] = lj[k].q.c[JET_S];
-    for (int j = 0; j < 3; ++j)
-      dt->J[3 * i + j] = ej[j].q.c[JET_TS];
-    dt->q_bias[i] = 2.0 * lj[k].q.c[JET_T2S];
+      dt->J[3 * i + j] = lj.q.c[DJ_US + 3 * j + k];
+    dt->q_bias[i] = 2.0 * lj.q.c[DJ_T2D(k)];
     dw->q[i] = 0.0;
     pom_v3_set(dw->J + 3 * i, 0.0, 0.0, 0.0);
-    dw->q_bias[i] = 2.0 * om.q.c[JET_T2S];
+    dw->q_bias[i] = 2.0 * lj.q.c[DJ_T2D(3 + k)];
     for (int b = 0; b < POM_LIMB_BODIES; ++b) {
       pom_kin_body_twist *tb = &dt->body[2 + 2 * i + b], *wb = &dw->body[2 + 2 * i + b];
-      pom_jet wj[3];
-      for (int j = 0; j < 3; ++j) {
-        omega_jet(wj, &ej[j], b);
-        for (int r = 0; r < 3; ++r) {
-          tb->A[3 * r + j] = ej[j].ref[b][r].c[JET_TS];
-          tb->B[3 * r + j] = wj[r].c[JET_S];
-        }
+      double R1[9] = {0}, d1[3] = {0}, Rs[9] = {0}, ds[3] = {0};
+      if (!lj.axis[b]) {
+        BODY_COEFS(&lj, b, 0, R1, d1);
+        BODY_COEFS(&lj, b, DJ_D(k), Rs, ds);
       }
-      for (int r = 0; r < 3; ++r)
-        tb->a_bias[r] = 2.0 * lj[k].ref[b][r].c[JET_T2S];
-      omega_jet(wj, &lj[k], b);
-      jv_coef(tb->alpha_bias, wj, JET_TS);
+      for (int j = 0; j < 3; ++j) {
+        /* B e_j = omega along u_j; its s_k term: vee(R_us R^T + R_u R_s^T),
+         * or d_s x d_u + d x d_us for an idle spin */
+        double Ru[9] = {0}, du[3] = {0}, Rus[9] = {0}, dus[3] = {0}, a[3], c[3];
+        if (!lj.axis[b]) {
+          BODY_COEFS(&lj, b, DJ_U + j, Ru, du);
+          BODY_COEFS(&lj, b, DJ_US + 3 * j + k, Rus, dus);
+        }
+        for (int r = 0; r < 3; ++r)
+          tb->A[3 * r + j] = lj.ref[b][r].c[DJ_US + 3 * j + k];
+        if (b > 0 && lj.same_turn[b]) { /* turns with body b - 1 */
+          for (int r = 0; r < 3; ++r)
+            tb->B[3 * r + j] = tb[-1].B[3 * r + j];
+          continue;
+        }
+        if (lj.axis[b]) { /* d/ds_k of (dq/du_j) axis */
+          pom_v3_scale(a, lj.q.c[DJ_US + 3 * j + k], lj.axis[b]);
+          pom_v3_set(c, 0.0, 0.0, 0.0);
+        } else if (lj.spin_free[b]) {
+          pom_v3_cross(a, ds, du);
+          pom_v3_cross(c, d1, dus);
+        } else {
+          omega_dir(a, 0, R1, Rus, d1, dus);
+          omega_dir(c, 0, Rs, Ru, d1, du);
+        }
+        for (int r = 0; r < 3; ++r)
+          a[r] += c[r];
+        if (lj.has_G[b]) turn_by(a, lj.G[b]);
+        for (int r = 0; r < 3; ++r)
+          tb->B[3 * r + j] = a[r];
+      }
+      for (int r = 0; r < 3; ++r) {
+        tb->a_bias[r] = 2.0 * lj.ref[b][r].c[DJ_T2D(k)];
+        tb->alpha_bias[r] = wt[b][r].c[DJ_TD(k)];
+        wb->a_bias[r] = 2.0 * lj.ref[b][r].c[DJ_T2D(3 + k)];
+        wb->alpha_bias[r] = wt[b][r].c[DJ_TD(3 + k)];
+      }
       memset(wb->A, 0, sizeof wb->A);
       memset(wb->B, 0, sizeof wb->B);
-      for (int r = 0; r < 3; ++r)
-        wb->a_bias[r] = 2.0 * om.ref[b][r].c[JET_T2S];
-      omega_jet(wj, &om, b);
-      jv_coef(wb->alpha_bias, wj, JET_TS);
     }
   }
   return 1;
@@ -700,7 +602,7 @@ void pom_limb_limit_values(const pom_kin_arch *arch, const double R[9], const do
   limb_state s[3];
   (void)q; /* the kernels recompute q (the same closed form) with the joint centres */
   for (int i = 0; i < 3; ++i)
-    if (!limb_eval(&tb->limb[i], R, 0, &s[i])) {
+    if (!limb_eval(&tb->limb[i], R, 0, 1, &s[i])) {
       for (int j = 0; j < 3; ++j) {
         pom_v3_set(s[i].p[j], NAN, NAN, NAN);
         pom_v3_set(s[i].ax[j], NAN, NAN, NAN);
@@ -839,7 +741,7 @@ int pom_limb_constraint(const pom_kin_arch *arch, const double R[9], double forc
     const pom_limb *L = &tb->limb[i];
     limb_state s;
     double tw[9][6], a[5][6], z[6];
-    if (!limb_eval(L, R, 0, &s)) return 0;
+    if (!limb_eval(L, R, 0, 1, &s)) return 0;
     if (limb_screws(L, &s, tw) != 5) return 0; /* a spherical limb holds O itself */
     /* the wrench (f, m) with v_k . f + omega_k . m = 0 for the five twists:
      * the signed 5 x 5 minors of the 5 x 6 twist matrix (a 6-D cross product) */
@@ -982,6 +884,32 @@ static pom_status check_dir(pom_limb_dir d, const char *what, const char *body, 
 }
 
 /* The kernel's derived fields of limb L (number i + 1 in messages). */
+/* Whether the line through p along the unit a misses O (relative tolerance tol). */
+static int off_origin(const double p[3], const double a[3], double tol) {
+  double c[3];
+  pom_v3_cross(c, p, a);
+  return pom_v3_norm(c) > tol * (1.0 + pom_v3_norm(p));
+}
+
+/* R-R-R and R-U-U at home: the distal cosine from the middle axis and the
+ * platform-side axis v, the working mode through home (the branch the
+ * caller checks), no limb direction or length; fails when the three axes
+ * are coplanar (`axes` names them). */
+static pom_status rrr_home(pom_limb *L, int i, const double v[3], const char *axes, double *derived,
+                           pom_error *err) {
+  L->cos_distal = pom_v3_dot(L->joint[1].axis, v);
+  double A, B, C;
+  rrr_coef(L, v, &A, &B, &C);
+  if (fabs(B) < POM_KIN_HOME_MIN_COS * hypot(A, B))
+    POM_FAIL(err, POM_ERR_ARG,
+             "limb %d: %s coplanar at home (a leg singularity: the two working modes meet)", i + 1,
+             axes);
+  *derived = atan2(B, A) > 0.0 ? -1.0 : 1.0;
+  pom_v3_set(L->dir_home, 0.0, 0.0, 0.0);
+  L->length = 0.0;
+  return POM_OK;
+}
+
 static pom_status finish_limb(pom_limb *L, int i, double scale, pom_error *err) {
   pom_limb_joint *J = L->joint;
   int types[POM_LIMB_JOINTS];
@@ -1007,24 +935,11 @@ static pom_status finish_limb(pom_limb *L, int i, double scale, pom_error *err) 
   double derived = 1.0;
   switch (L->kernel) {
   case POM_LIMB_KERNEL_RRR: {
-    for (int j = 0; j < 3; ++j) {
-      double c[3];
-      pom_v3_cross(c, J[j].point, J[j].axis);
-      if (pom_v3_norm(c) > 1e-9 * (1.0 + pom_v3_norm(J[j].point)))
+    for (int j = 0; j < 3; ++j)
+      if (off_origin(J[j].point, J[j].axis, 1e-9))
         POM_FAIL(err, POM_ERR_ARG, "limb %d: R-R-R joint %d's axis does not pass through O", i + 1,
                  j + 1);
-    }
-    L->cos_distal = pom_v3_dot(J[1].axis, J[2].axis);
-    double A, B, C;
-    rrr_coef(L, J[2].axis, &A, &B, &C);
-    if (fabs(B) < POM_KIN_HOME_MIN_COS * hypot(A, B))
-      POM_FAIL(err, POM_ERR_ARG,
-               "limb %d: the three axes are coplanar at home (a leg singularity: the two working "
-               "modes meet)",
-               i + 1);
-    derived = atan2(B, A) > 0.0 ? -1.0 : 1.0;
-    pom_v3_set(L->dir_home, 0.0, 0.0, 0.0);
-    L->length = 0.0;
+    POM_TRY(rrr_home(L, i, J[2].axis, "the three axes are", &derived, err));
     break;
   }
   case POM_LIMB_KERNEL_RUU: {
@@ -1040,14 +955,12 @@ static pom_status finish_limb(pom_limb *L, int i, double scale, pom_error *err) 
         {J[0].point, J[0].axis}, {J[1].point, J[1].axis}, {J[2].point, J[2].axis2}};
     static const char *const what[3] = {"the crank's axis", "the first U's first axis",
                                         "the second U's second axis"};
-    for (int j = 0; j < 3; ++j) {
-      pom_v3_cross(c, through[j][0], through[j][1]);
-      if (pom_v3_norm(c) > tol * (1.0 + pom_v3_norm(through[j][0])))
+    for (int j = 0; j < 3; ++j)
+      if (off_origin(through[j][0], through[j][1], tol))
         POM_FAIL(err, POM_ERR_ARG,
                  "limb %d: R-U-U: %s does not pass through O and its joint centre (the limb "
                  "would not leave the platform a pure rotation: docs/kinematics-tables.md 2.5)",
                  i + 1, what[j]);
-    }
     pom_v3_cross(c, J[1].axis2, J[2].axis);
     if (pom_v3_norm(c) > tol)
       POM_FAIL(err, POM_ERR_ARG,
@@ -1060,17 +973,7 @@ static pom_status finish_limb(pom_limb *L, int i, double scale, pom_error *err) 
     if (!(fabs(pom_v3_dot(J[1].point, J[1].axis)) > 0.0) ||
         !(fabs(pom_v3_dot(J[2].point, J[2].axis2)) > 0.0))
       POM_FAIL(err, POM_ERR_ARG, "limb %d: R-U-U: a U centre lies at O", i + 1);
-    L->cos_distal = pom_v3_dot(J[1].axis, J[2].axis2);
-    double A, B, C;
-    rrr_coef(L, J[2].axis2, &A, &B, &C);
-    if (fabs(B) < POM_KIN_HOME_MIN_COS * hypot(A, B))
-      POM_FAIL(err, POM_ERR_ARG,
-               "limb %d: u, w and v are coplanar at home (a leg singularity: the two working "
-               "modes meet)",
-               i + 1);
-    derived = atan2(B, A) > 0.0 ? -1.0 : 1.0;
-    pom_v3_set(L->dir_home, 0.0, 0.0, 0.0);
-    L->length = 0.0;
+    POM_TRY(rrr_home(L, i, J[2].axis2, "u, w and v are", &derived, err));
     break;
   }
   case POM_LIMB_KERNEL_UPU: {
@@ -1098,8 +1001,7 @@ static pom_status finish_limb(pom_limb *L, int i, double scale, pom_error *err) 
         POM_FAIL(err, POM_ERR_ARG, "limb %d: joint %d needs its two axes (U-P-U)", i + 1, j + 1);
     const double *through[2][2] = {{J[0].point, J[0].axis}, {J[2].point, J[2].axis2}};
     for (int j = 0; j < 2; ++j) {
-      pom_v3_cross(c, through[j][0], through[j][1]);
-      if (pom_v3_norm(c) > tol * (1.0 + pom_v3_norm(through[j][0])))
+      if (off_origin(through[j][0], through[j][1], tol))
         POM_FAIL(err, POM_ERR_ARG,
                  "limb %d: U-P-U: the %s U's %s axis does not pass through O and its centre "
                  "(docs/kinematics-tables.md 2.5)",
