@@ -266,7 +266,13 @@ pom_status pom_kin_pose_evaluate(const pom_kin_arch *arch, const double R[9], po
   }
   pose->reachable = 1;
   pom_kin_dexterity(pose->J, pose->sv, &pose->kappa, &pose->dexterity);
-  if (!(pose->dexterity > POM_KIN_SING_TOL)) pose->singular |= POM_KIN_SING_PARALLEL;
+  /* The eigenvalues of J^T J square the condition number: past 1e8 the
+   * smallest singular value is rounding. The flag therefore also takes
+   * s_min = |det J| / (s_max s_mid), accurate to the singularity
+   * (docs/kinematics-modes.md 6.5); the reported dexterity is unchanged. */
+  const double s01 = pose->sv[0] * pose->sv[1];
+  const double dex_det = s01 > 0.0 ? fabs(pom_m3_det(pose->J)) / (s01 * pose->sv[0]) : 0.0;
+  if (!(fmin(pose->dexterity, dex_det) > POM_KIN_SING_TOL)) pose->singular |= POM_KIN_SING_PARALLEL;
   double F[9], M[9];
   if (arch->type->constraint && arch->type->constraint(arch, R, F, M) == 3) {
     double sv[3];

@@ -619,7 +619,9 @@ static void check_crossings(void) {
  * parallel and serial flags (pom_kin_inverse_all). det_unit vanishes
  * linearly (the same slope at d = 1e-5, 1e-8, 1e-11): pomlab's
  * det_unit stays accurate to the curve, and the mode's parallel flag
- * (|det_unit| <= 1e-9) is set at d = 1e-11, not at 1e-5. */
+ * (|det_unit| <= 1e-9) is set at d = 1e-11, not at 1e-5; the pose's
+ * parallel bit (dexterity <= 1e-7, from |det J| / (s_max^2 s_mid)) from
+ * d = 1e-5 on, not at 1e-2. */
 static void report_flags(void) {
   const double ds[4] = {1e-2, 1e-5, 1e-8, 1e-11};
   double worst_slope = 0.0, worst_slope11 = 0.0;
@@ -649,6 +651,11 @@ static void report_flags(void) {
       if (m == 2) worst_slope = fmax(worst_slope, fabs(slope / slope0 - 1.0));
       if (m == 3) worst_slope11 = fmax(worst_slope11, fabs(slope / slope0 - 1.0));
       if ((m == 1 && modes[0].parallel) || (m == 3 && !modes[0].parallel)) flags_ok = 0;
+      /* the pose's parallel bit: the dexterity vanishes like d^2 (6.5), so
+       * it is ~1e-4 at d = 1e-2 (above POM_KIN_SING_TOL = 1e-7) and ~1e-10
+       * at d = 1e-5 and below (at or below it) */
+      const int par = (pose.singular & POM_KIN_SING_PARALLEL) != 0;
+      if ((m == 0 && par) || (m > 0 && !par)) flags_ok = 0;
       if (verbose)
         printf("curve (%d,%s) d = %.0e: status %d singular bits %d dexterity %.3g (Jacobi %.3g) "
                "constraint_sv %g (n_constraint %d); mode 1 det_unit %.3g parallel %d serial bits "
