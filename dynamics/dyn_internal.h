@@ -270,7 +270,8 @@ typedef struct {
   double second;        /* the largest other candidate (another coil or time) (A) */
   int improved;         /* 1 when the step just watched raised the peak */
   double r_prev[POM_MECH_MAX_ACTUATORS]; /* sign(i) di/dt at the last step's end (A/s) */
-  double *buf;                           /* [n_states] scratch */
+  double t_corner; /* the last corner of a saturated voltage (s; -inf: none yet) */
+  double *buf;     /* [n_states] scratch */
 } dyn_peak;
 
 struct pom_dyn_data {
@@ -651,6 +652,9 @@ typedef struct {
   pom_status (*step)(const pom_dyn_model *m, pom_dyn_data *d, double t0, double t, pom_error *err);
   pom_status (*end)(const pom_dyn_model *m, pom_dyn_data *d, double t, const double *y,
                     pom_error *err);
+  /* a voltage enters or leaves its saturation at t (a root the sensitivity
+   * run stops at, after the step's watch) */
+  void (*corner)(const pom_dyn_model *m, pom_dyn_data *d, double t);
 } dyn_peak_ops;
 /* The driver reaches dyn_peak.c through this table, as dyn_sens.c's (no
  * circle of calls between the files). */

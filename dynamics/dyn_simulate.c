@@ -564,6 +564,7 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
       goto finish;
     }
     if (d->sens && flag == CV_ROOT_RETURN) {
+      if (d->peak.on) pom_dyn_peak_ops.corner(m, d, t);
       st = pom_dyn_sens_ops.restart(m, d, t, err);
       if (st != POM_OK) {
         mt->status = st;
