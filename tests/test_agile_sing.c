@@ -27,6 +27,7 @@
 #include "pom_kinematics.h"
 #include "pom_math.h"
 #include "pom_rng.h"
+#include "catalog_test_util.h" /* after pom_kinematics.h */
 
 #include <math.h>
 #include <stdio.h>
@@ -40,34 +41,6 @@ static FILE *csv = NULL;
 static void fail(const char *what) {
   printf("FAIL: %s\n", what);
   check_true(0);
-}
-
-/* Loads POM_SOURCE_DIR/rel, with the architecture name replaced by arch_name
- * when not NULL (as tests/test_kin_modes.c). */
-static int load(const char *rel, const char *arch_name, pom_kin_arch *arch) {
-  char path[512];
-  snprintf(path, sizeof path, "%s/%s", POM_SOURCE_DIR, rel);
-  FILE *f = fopen(path, "rb");
-  static char text[1 << 16], edited[(1 << 16) + 256];
-  size_t n = f ? fread(text, 1, sizeof text - 1, f) : 0;
-  if (f) fclose(f);
-  text[n] = '\0';
-  snprintf(edited, sizeof edited, "%s", text);
-  if (arch_name) {
-    char *at = strstr(text, "\narchitecture = \"");
-    char *end = at ? strchr(at + 17, '"') : NULL;
-    if (!at || !end) return 0;
-    snprintf(edited, sizeof edited, "%.*s\narchitecture = \"%s%s", (int)(at - text), text,
-             arch_name, end);
-  }
-  pom_cfg *cfg = NULL;
-  pom_error e;
-  pom_error_clear(&e);
-  int ok = pom_cfg_load_string(&cfg, edited, path, &e) == POM_OK &&
-           pom_kin_arch_load(arch, cfg, &e) == POM_OK;
-  if (!ok) printf("%s: %s\n", rel, e.message);
-  pom_cfg_destroy(cfg);
-  return ok;
 }
 
 /* ---- geometry ------------------------------------------------------------ */
@@ -692,7 +665,8 @@ int main(int argc, char **argv) {
     printf("%s\n", err.message);
     return 1;
   }
-  if (!load("configs/3rrr.cfg", NULL, &eye) || !load("configs/3rrr.cfg", "3RRR-table", &eye_table))
+  if (!load_config_arch("configs/3rrr.cfg", NULL, &eye) ||
+      !load_config_arch("configs/3rrr.cfg", "3RRR-table", &eye_table))
     return 1;
   check_geometry();
   check_jacobian();

@@ -26,6 +26,7 @@
 #include "pom_limb.h"
 #include "pom_math.h"
 #include "pom_rng.h"
+#include "catalog_test_util.h" /* after pom_kinematics.h */
 
 #include <math.h>
 #include <stdio.h>
@@ -33,34 +34,6 @@
 #include <string.h>
 
 static int verbose = 0;
-
-/* Loads POM_SOURCE_DIR/rel, with the architecture name replaced by arch_name
- * when not NULL. */
-static int load(const char *rel, const char *arch_name, pom_kin_arch *arch) {
-  char path[512];
-  snprintf(path, sizeof path, "%s/%s", POM_SOURCE_DIR, rel);
-  FILE *f = fopen(path, "rb");
-  static char text[1 << 16], edited[(1 << 16) + 256];
-  size_t n = f ? fread(text, 1, sizeof text - 1, f) : 0;
-  if (f) fclose(f);
-  text[n] = '\0';
-  snprintf(edited, sizeof edited, "%s", text);
-  if (arch_name) {
-    char *at = strstr(text, "\narchitecture = \"");
-    char *end = at ? strchr(at + 17, '"') : NULL;
-    if (!at || !end) return 0;
-    snprintf(edited, sizeof edited, "%.*s\narchitecture = \"%s%s", (int)(at - text), text,
-             arch_name, end);
-  }
-  pom_cfg *cfg = NULL;
-  pom_error e;
-  pom_error_clear(&e);
-  int ok = pom_cfg_load_string(&cfg, edited, path, &e) == POM_OK &&
-           pom_kin_arch_load(arch, cfg, &e) == POM_OK;
-  if (!ok) printf("%s: %s\n", rel, e.message);
-  pom_cfg_destroy(cfg);
-  return ok;
-}
 
 /* ---- the independent sweep (docs/kinematics-modes.md section 2.3) -------- */
 
@@ -524,13 +497,13 @@ int main(int argc, char **argv) {
   pom_error_clear(&err);
   if (!check_true(pom_arch_files_register_all(&err) == POM_OK)) printf("%s\n", err.message);
   pom_kin_arch eye, general, coax;
-  check_true(load("configs/3rrr.cfg", NULL, &eye));
-  check_true(load("configs/catalog/3rrr_general.cfg", NULL, &general));
-  check_true(load("configs/catalog/3rrr_coaxial.cfg", NULL, &coax));
+  check_true(load_config_arch("configs/3rrr.cfg", NULL, &eye));
+  check_true(load_config_arch("configs/catalog/3rrr_general.cfg", NULL, &general));
+  check_true(load_config_arch("configs/catalog/3rrr_coaxial.cfg", NULL, &coax));
   pom_kin_arch orbita;
-  check_true(load("configs/catalog/orbita3d.cfg", NULL, &orbita));
+  check_true(load_config_arch("configs/catalog/orbita3d.cfg", NULL, &orbita));
   pom_kin_arch eye_table;
-  check_true(load("configs/3rrr.cfg", "3RRR-table", &eye_table));
+  check_true(load_config_arch("configs/3rrr.cfg", "3RRR-table", &eye_table));
   pom_rng rng;
   pom_rng_seed(&rng, 27u, 5u);
   test_agile_eye(&eye, &eye_table, &rng);
