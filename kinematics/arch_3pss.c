@@ -156,7 +156,8 @@ static pom_status finish(pom_kin_arch *arch, pom_error *err) {
 /* ---- inverse kinematics ------------------------------------------------------ */
 /* q and Jacobian row of limb i (docs/kinematics.md 3.1). Returns 0 when the
  * link cannot reach the slider axis. */
-static int limb(const pom_kin_arch *arch, int i, const double R[9], double *q, double row[3]) {
+static int limb(const pom_kin_arch *arch, int i, const double R[9], double *q, double row[3],
+                double *tr) {
   const pss *g = POM_KIN_CDATA(pss, arch);
   double c[3], d[3];
   pom_m3_apply(c, R, g->platform_point[i]);
@@ -177,6 +178,8 @@ static int limb(const pom_kin_arch *arch, int i, const double R[9], double *q, d
     double lu = g->branch_sign[i] * root;
     if (lu == 0.0) return 0;
     pom_v3_scale(row, 1.0 / lu, cl);
+    /* transmission |l^ . u|, |l| = L (docs/kinematics-tables.md 3.2) */
+    if (tr) *tr = fabs(lu) / L;
   }
   return 1;
 }

@@ -258,7 +258,8 @@ static int leg_angle(const rrr *g, int i, const double v[3], double *theta, doub
   return 1;
 }
 
-static int limb(const pom_kin_arch *arch, int i, const double R[9], double *q, double row[3]) {
+static int limb(const pom_kin_arch *arch, int i, const double R[9], double *q, double row[3],
+                double *tr) {
   const rrr *g = POM_KIN_CDATA(rrr, arch);
   double v[3], w[3];
   pom_m3_apply(v, R, g->platform_axis[i]);
@@ -271,6 +272,8 @@ static int limb(const pom_kin_arch *arch, int i, const double R[9], double *q, d
     if (den == 0.0) return 0; /* leg (type-1) singularity */
     pom_v3_cross(wxv, w, v);
     pom_v3_scale(row, 1.0 / den, wxv);
+    /* transmission |n^ . u|, n^ = unit(w x v) (docs/kinematics-tables.md 3.2) */
+    if (tr) *tr = fabs(den) / pom_v3_norm(wxv);
   }
   return 1;
 }

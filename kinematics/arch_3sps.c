@@ -142,7 +142,8 @@ static pom_status finish(pom_kin_arch *arch, pom_error *err) {
 }
 
 /* ---- inverse kinematics (docs/kinematics.md 3.2) ------------------------------ */
-static int limb(const pom_kin_arch *arch, int i, const double R[9], double *q, double row[3]) {
+static int limb(const pom_kin_arch *arch, int i, const double R[9], double *q, double row[3],
+                double *tr) {
   const sps *g = POM_KIN_CDATA(sps, arch);
   double b[3], v[3];
   pom_m3_apply(b, R, g->platform_point[i]);
@@ -154,6 +155,9 @@ static int limb(const pom_kin_arch *arch, int i, const double R[9], double *q, d
     double s[3];
     pom_v3_scale(s, 1.0 / n, v);
     pom_v3_cross(row, b, s);
+    /* the force along s drives the piston along s: transmission 1 (docs/kinematics-tables.md
+     * 3.2) */
+    if (tr) *tr = 1.0;
   }
   return 1;
 }

@@ -10,12 +10,14 @@
 #include <string.h>
 
 /* ---- inverse kinematics and Jacobian --------------------------------------- */
-/* q and J of all limbs; outputs untouched on failure, *bad = failing limb. */
+/* q and J of all limbs (and, with J, the transmission indices tr when
+ * non-NULL); outputs untouched on failure, *bad = failing limb. */
 static pom_status ik_rows(const pom_kin_arch *arch, const double R[9], double q[3], double J[9],
-                          int *bad, pom_error *err) {
-  double qq[3], JJ[9];
+                          double tr[3], int *bad, pom_error *err) {
+  double qq[3], JJ[9], tt[3] = {1.0, 1.0, 1.0};
+  if (tr) memcpy(tt, tr, sizeof tt); /* kept where a limb op does not write it */
   for (int i = 0; i < 3; ++i) {
-    int ok = arch->type->limb(arch, i, R, &qq[i], J ? JJ + 3 * i : NULL);
+    int ok = arch->type->limb(arch, i, R, &qq[i], J ? JJ + 3 * i : NULL, tr ? tt + i : NULL);
     if (!ok) {
       /* a NaN/Inf rotation also fails the reach tests above: say so, not
        * "unreachable" (checked here only, off the hot path) */
@@ -29,22 +31,23 @@ static pom_status ik_rows(const pom_kin_arch *arch, const double R[9], double q[
   }
   if (q) memcpy(q, qq, sizeof qq);
   if (J) memcpy(J, JJ, sizeof JJ);
+  if (tr) memcpy(tr, tt, sizeof tt);
   return POM_OK;
 }
 
 pom_status pom_kin_inverse(const pom_kin_arch *arch, const double R[9], double q[3],
                            pom_error *err) {
-  return ik_rows(arch, R, q, NULL, NULL, err);
+  return ik_rows(arch, R, q, NULL, NULL, NULL, err);
 }
 
 pom_status pom_kin_jacobian(const pom_kin_arch *arch, const double R[9], double J[9],
                             pom_error *err) {
-  return ik_rows(arch, R, NULL, J, NULL, err);
+  return ik_rows(arch, R, NULL, J, NULL, NULL, err);
 }
 
 pom_status pom_kin_inverse_jacobian(const pom_kin_arch *arch, const double R[9], double q[3],
                                     double J[9], pom_error *err) {
-  return ik_rows(arch, R, q, J, NULL, err);
+  return ik_rows(arch, R, q, J, NULL, NULL, err);
 }
 
 /* Eigenvalues (descending) of a symmetric 3x3 matrix in closed form: the
@@ -253,18 +256,30 @@ pom_status pom_kin_pose_evaluate(const pom_kin_arch *arch, const double R[9], po
   memset(pose, 0, sizeof *pose);
   pose->unreachable_limb = -1;
   pose->constraint_sv = 1.0;
-  pom_status st = ik_rows(arch, R, pose->q, pose->J, &pose->unreachable_limb, err);
+  for (int i = 0; i < 3; ++i) /* limb ops that do not write it: no serial measure */
+    pose->transmission[i] = 1.0;
+  pom_status st =
+      ik_rows(arch, R, pose->q, pose->J, pose->transmission, &pose->unreachable_limb, err);
   if (st != POM_OK) {
     pose->kappa = INFINITY;
+    memset(pose->transmission, 0, sizeof pose->transmission);
     /* a limb that assembles without its Jacobian row is at a serial (leg)
      * singularity (the limb op's contract, pom_arch.h) */
     double qi;
     int k = pose->unreachable_limb;
-    if (st == POM_ERR_UNREACHABLE && k >= 0 && arch->type->limb(arch, k, R, &qi, NULL))
+    if (st == POM_ERR_UNREACHABLE && k >= 0 && arch->type->limb(arch, k, R, &qi, NULL, NULL)) {
       pose->singular |= POM_KIN_SING_SERIAL;
+      pose->serial_limbs = 1u << k;
+    }
     return st;
   }
   pose->reachable = 1;
+  /* serial (leg) singularity: a limb's transmission index, the normalised
+   * actuator side of its row, at or below sqrt(POM_KIN_SING_TOL)
+   * (docs/kinematics-tables.md 3.2) */
+  for (int i = 0; i < 3; ++i)
+    if (!(pose->transmission[i] > POM_KIN_SERIAL_TOL)) pose->serial_limbs |= 1u << i;
+  if (pose->serial_limbs) pose->singular |= POM_KIN_SING_SERIAL;
   pom_kin_dexterity(pose->J, pose->sv, &pose->kappa, &pose->dexterity);
   /* The eigenvalues of J^T J square the condition number: past 1e8 the
    * smallest singular value is rounding. The flag therefore also takes
@@ -295,7 +310,7 @@ pom_status pom_kin_pose_evaluate(const pom_kin_arch *arch, const double R[9], po
   return POM_OK;
 }
 
-const char *pom_kin_singular_text(int singular, int serial_limb, char *buf, size_t cap) {
+const char *pom_kin_singular_text(int singular, unsigned serial_limbs, char *buf, size_t cap) {
   size_t n = 0;
   buf[0] = '\0';
   if (!singular) {
@@ -303,10 +318,13 @@ const char *pom_kin_singular_text(int singular, int serial_limb, char *buf, size
     return buf;
   }
   if (singular & POM_KIN_SING_SERIAL) {
-    if (serial_limb >= 0)
-      n += (size_t)snprintf(buf + n, cap - n, "serial (limb %d)", serial_limb + 1);
-    else
-      n += (size_t)snprintf(buf + n, cap - n, "serial");
+    const unsigned m = serial_limbs & 7u;
+    n += (size_t)snprintf(buf, cap, "serial");
+    for (int i = 0, c = 0; i < 3 && n < cap; ++i)
+      if (m >> i & 1u)
+        n += (size_t)snprintf(buf + n, cap - n, "%s%d",
+                              c++ ? ", " : (m & (m - 1u)) ? " (limbs " : " (limb ", i + 1);
+    if (m && n < cap) n += (size_t)snprintf(buf + n, cap - n, ")");
   }
   if ((singular & POM_KIN_SING_PARALLEL) && n < cap)
     n += (size_t)snprintf(buf + n, cap - n, "%sparallel", n ? ", " : "");

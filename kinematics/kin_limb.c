@@ -54,6 +54,8 @@ const char *pom_limb_kernel_name(pom_limb_kernel k) {
  * the body before it) and a U's second axis (carried by the body after). */
 typedef struct {
   double q, row[3];
+  double act;    /* the actuator side B_ii of the row's wrench (section 3): R-R-R, R-U-U
+                    (u x w) . v, P-S-S l . a, R-S-S l . (a x arm); unset otherwise */
   double cq, sq; /* R-R-R, R-S-S: cos q and sin q (the jets reuse them) */
   double p[POM_LIMB_JOINTS][3];
   double ax[POM_LIMB_JOINTS][3];
@@ -151,6 +153,7 @@ static int limb_eval(const pom_limb *L, const double R[9], int need_row, int nee
     s->q = t;
     pom_v3_cross(uxw, u, w);
     double den = pom_v3_dot(uxw, v);
+    s->act = den;
     if (den == 0.0) {
       if (need_row) return 0;
       pom_v3_set(s->row, 0.0, 0.0, 0.0);
@@ -191,6 +194,7 @@ static int limb_eval(const pom_limb *L, const double R[9], int need_row, int nee
     if (!(disc >= 0.0)) return 0;
     double root = sqrt(disc), q = du - L->branch * root, lu = L->branch * root;
     s->q = q;
+    s->act = lu;
     if (lu == 0.0) {
       if (need_row) return 0;
       pom_v3_set(s->row, 0.0, 0.0, 0.0);
@@ -223,6 +227,7 @@ static int limb_eval(const pom_limb *L, const double R[9], int need_row, int nee
     pom_v3_sub(l, p2, s->p[1]);
     pom_v3_cross(axarm, J[0].axis, arm);
     double den = pom_v3_dot(l, axarm);
+    s->act = den;
     if (den == 0.0) {
       if (need_row) return 0;
       pom_v3_set(s->row, 0.0, 0.0, 0.0);
@@ -269,12 +274,40 @@ static int limb_eval(const pom_limb *L, const double R[9], int need_row, int nee
   }
 }
 
-int pom_limb_ik(const pom_kin_arch *arch, int i, const double R[9], double *q, double row[3]) {
+/* The transmission index of a limb evaluated with its row (section 3.2):
+ * the actuator side over the norms that make it the cosine between the unit
+ * actuation wrench and the actuated joint's unit twist. */
+static double limb_transmission(const pom_limb *L, const limb_state *s) {
+  switch (L->kernel) {
+  case POM_LIMB_KERNEL_RRR:
+  case POM_LIMB_KERNEL_RUU: {
+    /* |(u x w) . v| / |w x v|, |w x v| = sin alpha2 (w, v unit, w . v = cos alpha2) */
+    const double c = L->cos_distal;
+    return fabs(s->act) / sqrt((1.0 - c) * (1.0 + c));
+  }
+  case POM_LIMB_KERNEL_PSS: /* |l . a| / |l|, |l| = L */
+    return fabs(s->act) / L->length;
+  case POM_LIMB_KERNEL_RSS: {
+    /* |l . (a x arm)| / (|l| |a x arm|), |a x arm| = |r_perp| the crank radius */
+    rss_crank k;
+    rss_crank_of(L, &k);
+    return fabs(s->act) / (L->length * pom_v3_norm(k.rperp));
+  }
+  default: /* S-P-S, U-P-S, U-P-U: the force along the limb drives the piston along it */
+    return 1.0;
+  }
+}
+
+int pom_limb_ik(const pom_kin_arch *arch, int i, const double R[9], double *q, double row[3],
+                double *tr) {
   const pom_limb_table *tb = POM_LIMB_CTABLE(arch);
   limb_state s;
   if (!limb_eval(&tb->limb[i], R, row != NULL, 0, &s)) return 0;
   *q = s.q;
-  if (row) pom_v3_copy(row, s.row);
+  if (row) {
+    pom_v3_copy(row, s.row);
+    if (tr) *tr = limb_transmission(&tb->limb[i], &s);
+  }
   return 1;
 }
 

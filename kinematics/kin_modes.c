@@ -69,15 +69,9 @@ static void mode_evaluate(const pom_kin_arch *ab, double singular_tol, pom_kin_m
   m->det = pom_m3_det(J);
   m->det_unit = pom_m3_det(N);
   m->parallel = !(fabs(m->det_unit) > singular_tol);
-  /* leg singularity: the limb's two IK roots meet */
-  const int rotary = pom_kin_type_actuator(ab->type) == POM_ACT_REVOLUTE;
-  for (int i = 0; i < 3; ++i) {
-    pom_kin_arch other = *ab;
-    if (!(ab->type->flip_branch && ab->type->flip_branch(&other, i))) continue;
-    double qo;
-    if (!ab->type->limb(&other, i, m->R, &qo, NULL)) continue;
-    if (fabs(q_diff(rotary, qo, m->pose.q[i])) <= 1e-6 * ab->stroke) m->serial |= 1u << i;
-  }
+  /* leg singularity: the pose's own criterion, the limb's transmission index
+   * (where two IK roots meet it is 0; docs/kinematics-tables.md 3.2) */
+  m->serial = m->pose.serial_limbs;
 }
 
 /* The branches of working mode k (binary, limb 1 slowest, +1 before -1)

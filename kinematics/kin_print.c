@@ -251,6 +251,14 @@ void pom_kin_print_limits(FILE *out, const pom_kin_arch *arch, const pom_kin_pos
   fprintf(out, "  violated: %s\n", buf);
 }
 
+/* ,\n  "key": [1-based limbs of the bits of mask] */
+static void json_limbs(FILE *out, const char *key, unsigned mask) {
+  fprintf(out, ",\n  \"%s\": [", key);
+  for (int i = 0, c = 0; i < 3; ++i)
+    if (mask >> i & 1u) fprintf(out, "%s%d", c++ ? ", " : "", i + 1);
+  fputc(']', out);
+}
+
 void pom_kin_pose_json(FILE *out, const pom_kin_arch *arch, const pom_kin_pose *p) {
   const pom_act_desc *u = pom_act_kind_desc(pom_kin_type_actuator(arch->type));
   fprintf(
@@ -272,7 +280,10 @@ void pom_kin_pose_json(FILE *out, const pom_kin_arch *arch, const pom_kin_pose *
       if (arch->type->limits[kind].name)
         fprintf(out, ",\n  \"%s\": null", arch->type->limits[kind].json);
     fputs(",\n  \"within_limits\": false,\n  \"violations\": []", out);
-    if (p->singular & POM_KIN_SING_SERIAL) fputs(",\n  \"singularities\": [\"serial\"]", out);
+    if (p->singular & POM_KIN_SING_SERIAL) {
+      fputs(",\n  \"singularities\": [\"serial\"]", out);
+      json_limbs(out, "serial_limbs", p->serial_limbs);
+    }
     return;
   }
   fputs(",\n  \"q\": ", out);
@@ -294,6 +305,10 @@ void pom_kin_pose_json(FILE *out, const pom_kin_arch *arch, const pom_kin_pose *
   for (int k = 0, n = 0; k < 3; ++k)
     if (p->singular & (1 << k)) fprintf(out, "%s\"%s\"", n++ ? ", " : "", sing[k]);
   fputs("]", out);
+  /* the serial measure per limb and the limbs it flags (3.2) */
+  fputs(",\n  \"transmission\": ", out);
+  pom_json_vec(out, p->transmission, 3, 1.0);
+  json_limbs(out, "serial_limbs", p->serial_limbs);
   if (p->n_constraint) {
     fputs(",\n  \"constraint_sv\": ", out);
     pom_json_number(out, p->constraint_sv);
@@ -362,6 +377,8 @@ void pom_kin_ik_report(FILE *out, int json, const char *config, const pom_kin_ar
               p->sv[2] * fj);
       fprintf(out, "condition number kappa: %.6f   dexterity 1/kappa: %.6f\n", p->kappa,
               p->dexterity);
+      fprintf(out, "transmission (0 at a limb's serial singularity): %.6g %.6g %.6g\n",
+              p->transmission[0], p->transmission[1], p->transmission[2]);
       if (p->n_constraint)
         fprintf(out,
                 "constraint forces (one per limb, no central joint): smallest singular value "
@@ -370,7 +387,7 @@ void pom_kin_ik_report(FILE *out, int json, const char *config, const pom_kin_ar
       if (p->singular) {
         char sb[80];
         fprintf(out, "singularity: %s\n",
-                pom_kin_singular_text(p->singular, p->unreachable_limb, sb, sizeof sb));
+                pom_kin_singular_text(p->singular, p->serial_limbs, sb, sizeof sb));
       }
       pom_kin_print_limits(out, arch, p);
       if (st == POM_ERR_LIMIT) fprintf(out, "limit check: FAILED - %s\n", message);

@@ -121,10 +121,16 @@ struct pom_kin_arch_type {
    * branches, unit axes, defaults of optional point sets). */
   pom_status (*finish)(pom_kin_arch *arch, pom_error *err);
   /* Limb i on the home branch at rotation R: q_i and (row non-NULL) the
-   * Jacobian row (q_dot_i = row . omega). Returns 0 when the limb cannot be
-   * assembled (or is at a leg singularity when row is asked); never
-   * allocates, never formats. */
-  int (*limb)(const pom_kin_arch *arch, int i, const double R[9], double *q, double row[3]);
+   * Jacobian row (q_dot_i = row . omega). With row, transmission (when
+   * non-NULL) receives the limb's transmission index in [0, 1]: the unit
+   * actuation wrench's power on the actuated joint's unit twist, |B_ii| of
+   * A omega = B q_dot normalised (P-S-S |l^ . a|, R-S-S |l^ . t^| with t^ the
+   * crank point's unit velocity, R-R-R |n^ . u| with n^ = unit(w x v),
+   * S-P-S 1; 0 at a serial singularity; docs/kinematics-tables.md 3.2).
+   * Returns 0 when the limb cannot be assembled (or is at a leg singularity
+   * when row is asked); never allocates, never formats. */
+  int (*limb)(const pom_kin_arch *arch, int i, const double R[9], double *q, double row[3],
+              double *transmission);
   /* Limb i's two bodies (out->body[2 + 2i], [3 + 2i]), q_i, J row and
    * q_bias at rotation R and platform angular velocity w (fixed frame).
    * Returns 0 like limb. */

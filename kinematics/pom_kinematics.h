@@ -204,11 +204,16 @@ typedef struct {
                                translate); 1 when n_constraint = 0 */
   double constraint_offset; /* largest distance of a constraint force's line from O (m): 0 when
                                the limbs leave the platform a pure rotation about O */
+  double transmission[3];   /* per limb, its transmission index in [0, 1] (the limb op, pom_arch.h):
+                               1 far from, 0 at its serial singularity; 0 when unreachable */
+  unsigned serial_limbs;    /* bit i: limb i at a serial singularity (transmission[i] <=
+                               POM_KIN_SERIAL_TOL, or it assembles without its row) */
 } pom_kin_pose;
 
-/* Bits of pom_kin_pose.singular. SERIAL: a limb assembles but its
- * actuation wrench does no work on its actuator (the IK's roots meet, the
- * limb op fails only when the Jacobian row is asked; the pose is then
+/* Bits of pom_kin_pose.singular (docs/kinematics-tables.md 3.1, 3.2).
+ * SERIAL: a limb's actuation wrench (nearly) does no work on its actuator:
+ * its transmission index is <= POM_KIN_SERIAL_TOL (serial_limbs names the
+ * limbs), or the limb assembles but its op refuses the row (the pose is then
  * unreachable). PARALLEL: the three actuation wrenches are dependent,
  * dexterity <= POM_KIN_SING_TOL: locked actuators leave the platform a
  * rotation. CONSTRAINT: the limbs' constraint forces are dependent,
@@ -217,10 +222,16 @@ enum { POM_KIN_SING_SERIAL = 1, POM_KIN_SING_PARALLEL = 2, POM_KIN_SING_CONSTRAI
 /* above the closed-form dexterity's worst error (~1e-8 when two singular
  * values nearly coincide, pom_kin_dexterity) */
 #define POM_KIN_SING_TOL 1e-7
+/* sqrt(POM_KIN_SING_TOL): the transmission index vanishes like the square
+ * root of the distance from a fold (two IK roots meet) where the dexterity
+ * vanishes like the distance from a parallel singularity, so both bits switch
+ * on at the same distance, ~1e-7 rad (docs/kinematics-tables.md 3.2) */
+#define POM_KIN_SERIAL_TOL 3.1622776601683794e-4
 
-/* "none", or the set bits of `singular` as "serial (limb 2), parallel,
- * constraint" into buf (serial_limb 0-based, -1 unknown). Returns buf. */
-const char *pom_kin_singular_text(int singular, int serial_limb, char *buf, size_t cap);
+/* "none", or the set bits of `singular` as "serial (limbs 1, 2), parallel,
+ * constraint" into buf (serial_limbs: bit i limb i, 0 unknown). Returns
+ * buf. */
+const char *pom_kin_singular_text(int singular, unsigned serial_limbs, char *buf, size_t cap);
 
 /* Evaluates the pose R: IK, J, dexterity and every limit. Returns POM_OK when
  * reachable and within limits; POM_ERR_UNREACHABLE (pose->reachable = 0,
@@ -471,8 +482,8 @@ typedef struct {
   double det;        /* det J (unit of q per rad, cubed); 0 when unreachable */
   double det_unit;   /* det of J with each row scaled to unit length, in [-1, 1]: 0 at a
                         platform (parallel) singularity, +-1 when the rows are orthonormal */
-  unsigned serial;   /* bit i: limb i at a leg (serial) singularity: its two IK roots closer
-                        than 1e-6 of the actuator range (they meet there) */
+  unsigned serial;   /* bit i: limb i at a leg (serial) singularity: pose.serial_limbs (its
+                        transmission index <= POM_KIN_SERIAL_TOL; 0 where two IK roots meet) */
   int parallel;      /* 1: platform (parallel) singularity, |det_unit| <= singular_tol */
   double residual;   /* FK: max_i |q_i(R) - q_i| (m or rad); IK: 0 */
 } pom_kin_mode;

@@ -164,7 +164,8 @@ void pom_limb_type_ops(pom_kin_arch_type *type);
 /* The generic operations (the pom_kin_arch_type contract of pom_arch.h) on
  * arch->data as a pom_limb_table. */
 pom_status pom_limb_finish(pom_kin_arch *arch, pom_error *err);
-int pom_limb_ik(const pom_kin_arch *arch, int i, const double R[9], double *q, double row[3]);
+int pom_limb_ik(const pom_kin_arch *arch, int i, const double R[9], double *q, double row[3],
+                double *transmission);
 int pom_limb_twist(const pom_kin_arch *arch, int i, const double R[9], const double w[3],
                    pom_kin_twists *out);
 int pom_limb_twist_diff(const pom_kin_arch *arch, int i, const double R[9], const double w[3],

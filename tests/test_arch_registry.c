@@ -121,7 +121,7 @@ static int radial_close(const radial_geom *g, int i, const double R[9], double C
 }
 
 static int radial_limb(const pom_kin_arch *arch, int i, const double R[9], double *q,
-                       double row[3]) {
+                       double row[3], double *tr) {
   const radial_geom *g = POM_KIN_CDATA(radial_geom, arch);
   double C[3], l[3], lu, qi, Cxl[3];
   if (!radial_close(g, i, R, C, l, &qi, &lu)) return 0;
@@ -129,6 +129,7 @@ static int radial_limb(const pom_kin_arch *arch, int i, const double R[9], doubl
   if (row) {
     pom_v3_cross(Cxl, C, l);
     pom_v3_scale(row, 1.0 / lu, Cxl);
+    if (tr) *tr = fabs(lu) / g->rod_length[i]; /* |l^ . u| */
   }
   return 1;
 }

@@ -156,7 +156,7 @@ static void constraint_pose(const pom_kin_arch *a, pom_rng *g) {
       printf("%s: constraint singularity at %.9f rad about (%.2f, %.2f, %.2f): constraint sv "
              "%.2g, dexterity %.2g, flagged: %s; halfway: constraint sv %.4f, flagged: %s\n",
              a->name, lo, k[0], k[1], k[2], p.constraint_sv, p.dexterity,
-             pom_kin_singular_text(p.singular, -1, sb, sizeof sb), ph.constraint_sv,
+             pom_kin_singular_text(p.singular, p.serial_limbs, sb, sizeof sb), ph.constraint_sv,
              ph.singular ? "yes" : "none");
       return;
     }
@@ -238,9 +238,10 @@ static void parallel_only(const pom_kin_arch *a) {
 
 /* a limb that assembles without its row: "serial" (a type whose limb 2
  * says so at every pose, built on the 3-RUU's) */
-static int fake_limb(const pom_kin_arch *arch, int i, const double R[9], double *q, double row[3]) {
+static int fake_limb(const pom_kin_arch *arch, int i, const double R[9], double *q, double row[3],
+                     double *tr) {
   if (i == 1 && row) return 0;
-  return pom_limb_ik(arch, i, R, q, row);
+  return pom_limb_ik(arch, i, R, q, row, tr);
 }
 
 static void serial(const pom_kin_arch *a) {

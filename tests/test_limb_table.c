@@ -255,10 +255,13 @@ static void against_hand_coded(const char *file, double half_deg, pom_rng *rng, 
     if (pom_kin_inverse_jacobian(&h, R, qh, Jh, NULL) != POM_OK) continue;
     ++used;
     for (int i = 0; i < 3; ++i) {
-      double q1, q2, r1[3], r2[3];
-      check_true(h.type->limb(&h, i, R, &q1, r1) && g.type->limb(&g, i, R, &q2, r2));
+      double q1, q2, r1[3], r2[3], t1 = -1.0, t2 = -2.0;
+      check_true(h.type->limb(&h, i, R, &q1, r1, &t1) && g.type->limb(&g, i, R, &q2, r2, &t2));
       record("limb op q", &q2, &q1, 1, qs);
       record("limb op J row", r2, r1, 3, qs);
+      /* the serial measure (docs/kinematics-tables.md 3.2): both write it */
+      check_true(t1 >= 0.0 && t1 <= 1.0);
+      record("limb op transmission", &t2, &t1, 1, 1.0);
       static pom_kin_twists ta, tb;
       static pom_kin_twists_diff da, db;
       memset(&ta, 0, sizeof ta);

@@ -95,6 +95,8 @@ class _Pose(ctypes.Structure):
         ("n_constraint", ctypes.c_int),
         ("constraint_sv", ctypes.c_double),
         ("constraint_offset", ctypes.c_double),
+        ("transmission", ctypes.c_double * 3),
+        ("serial_limbs", ctypes.c_uint),
     ]
 
 
@@ -480,6 +482,7 @@ def _pose_dict(arch, pose, st, err):
         d.update(within_limits=False, violations=[])
         if pose.singular & 1:
             d["singularities"] = ["serial"]
+            d["serial_limbs"] = [i + 1 for i in range(3) if pose.serial_limbs >> i & 1]
     else:
         d["q"] = _vec(pose.q, 3)
         d["jacobian"] = _vec(pose.J, 9).reshape(3, 3)
@@ -487,6 +490,8 @@ def _pose_dict(arch, pose, st, err):
         d["kappa"] = pose.kappa
         d["dexterity"] = pose.dexterity
         d["singularities"] = [n for b, n in ((1, "serial"), (2, "parallel"), (4, "constraint")) if pose.singular & b]
+        d["transmission"] = _vec(pose.transmission, 3)
+        d["serial_limbs"] = [i + 1 for i in range(3) if pose.serial_limbs >> i & 1]
         if pose.n_constraint:
             d["constraint_sv"] = pose.constraint_sv
             d["constraint_offset_m"] = pose.constraint_offset
