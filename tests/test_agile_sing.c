@@ -278,6 +278,8 @@ static void check_jacobian(void) {
   pom_rng rng;
   pom_rng_seed(&rng, 20061027, 0);
   double worst_J = 0.0, worst_F = 0.0, worst_modes = 0.0, worst_table = 0.0, maxF = -INFINITY;
+  double worst_tr = 0.0, min_tr = INFINITY;
+  int n_serial = 0, n_serial_expected = 0;
   for (int n = 0; n < 2000; ++n) {
     double qu[4], R[9], F, Jc[9];
     for (int k = 0; k < 4; ++k)
@@ -305,6 +307,26 @@ static void check_jacobian(void) {
     }
     worst_F = fmax(worst_F, fabs(F - closed_Pi(R)));
     maxF = fmax(maxF, F);
+    /* the serial measure: leg k's transmission |n^ . u_k| is |u_k x v_k|
+     * here (w_k is perpendicular to u_k and v_k; docs/kinematics-tables.md
+     * 3.2), on every working mode; the serial bit is set exactly where it
+     * is <= POM_KIN_SERIAL_TOL (a random R is that close to one of the six
+     * circles with probability ~ 6 (3e-4)^2: none expected in 2000) */
+    for (int m = 0; m < nm; ++m) {
+      unsigned expect = 0;
+      for (int k = 0; k < 3; ++k) {
+        double v[3], uxv[3];
+        pom_m3_apply(v, R, V0[k]);
+        pom_v3_cross(uxv, U[k], v);
+        const double t = pom_v3_norm(uxv);
+        worst_tr = fmax(worst_tr, fabs(modes[m].pose.transmission[k] - t));
+        min_tr = fmin(min_tr, t);
+        if (t <= POM_KIN_SERIAL_TOL) expect |= 1u << k;
+      }
+      n_serial += (modes[m].pose.singular & POM_KIN_SING_SERIAL) != 0;
+      n_serial_expected += expect != 0;
+      check_true(modes[m].pose.serial_limbs == expect && modes[m].serial == expect);
+    }
     double Ft;
     if (eval_F(&eye_table, R, &Ft, NULL))
       worst_table = fmax(worst_table, fabs(Ft - F));
@@ -319,10 +341,13 @@ static void check_jacobian(void) {
   check_true(worst_F <= 1e-12);
   check_true(worst_table <= 1e-12);
   check_true(maxF <= 0.0);
+  check_true(worst_tr <= 1e-14);
+  check_true(n_serial == n_serial_expected && n_serial == 0);
   if (verbose)
     printf("closed form at 2000 random R: J rel %.2g, 8 modes rel %.2g, F vs Pi %.2g, table vs "
-           "hand-coded F %.2g, max F %.3g\n",
-           worst_J, worst_modes, worst_F, worst_table, maxF);
+           "hand-coded F %.2g, max F %.3g; transmission vs |u_k x v_k| %.2g (smallest %.3g), "
+           "serial bit on %d of %d poses\n",
+           worst_J, worst_modes, worst_F, worst_table, maxF, worst_tr, min_tr, n_serial, 8 * 2000);
 }
 
 #define NA 48 /* azimuth phi */
@@ -594,11 +619,15 @@ static void check_crossings(void) {
  * det_unit stays accurate to the curve, and the mode's parallel flag
  * (|det_unit| <= 1e-9) is set at d = 1e-11, not at 1e-5; the pose's
  * parallel bit (dexterity <= 1e-7, from |det J| / (s_max^2 s_mid)) from
- * d = 1e-5 on, not at 1e-2. */
+ * d = 1e-5 on, not at 1e-2. The serial bit: leg k's transmission index is
+ * |u_k x v_k| = d (1 + O(d)) (the step is perpendicular to the circle's
+ * axis u_k), so the bit (transmission <= POM_KIN_SERIAL_TOL = 3.2e-4) is
+ * set at d = 1e-5 and below and names leg k alone, on every working mode,
+ * hand-coded and table alike, and is clear at d = 1e-2. */
 static void report_flags(void) {
   const double ds[4] = {1e-2, 1e-5, 1e-8, 1e-11};
-  double worst_slope = 0.0, worst_slope11 = 0.0;
-  int flags_ok = 1;
+  double worst_slope = 0.0, worst_slope11 = 0.0, worst_tr[4] = {0.0, 0.0, 0.0, 0.0};
+  int flags_ok = 1, serial_ok = 1;
   for (int id = 0; id < 6; ++id) {
     double slope0 = 0.0;
     double R0[9], g[3], H[9], w[3], V[9];
@@ -629,18 +658,42 @@ static void report_flags(void) {
        * at d = 1e-5 and below (at or below it) */
       const int par = (pose.singular & POM_KIN_SING_PARALLEL) != 0;
       if ((m == 0 && par) || (m > 0 && !par)) flags_ok = 0;
+      /* the serial bit and its limb: leg id / 2, on all 8 modes and the table */
+      const int k = id / 2;
+      const unsigned leg = m == 0 ? 0u : 1u << k;
+      pom_kin_pose tpose;
+      pom_kin_pose_evaluate(&eye_table, R, &tpose, NULL);
+      if (pose.serial_limbs != leg || tpose.serial_limbs != leg ||
+          ((pose.singular & POM_KIN_SING_SERIAL) != 0) != (m > 0) ||
+          ((tpose.singular & POM_KIN_SING_SERIAL) != 0) != (m > 0))
+        serial_ok = 0;
+      for (int j = 0; j < nm; ++j)
+        if (modes[j].pose.serial_limbs != leg || modes[j].serial != leg) serial_ok = 0;
+      worst_tr[m] = fmax(worst_tr[m], fabs(pose.transmission[k] / ds[m] - 1.0));
+      worst_tr[m] = fmax(worst_tr[m], fabs(tpose.transmission[k] / ds[m] - 1.0));
       if (verbose)
         printf("curve (%d,%s) d = %.0e: status %d singular bits %d dexterity %.3g (Jacobi %.3g) "
-               "constraint_sv %g (n_constraint %d); mode 1 det_unit %.3g parallel %d serial bits "
-               "%u\n",
+               "constraint_sv %g (n_constraint %d); transmission %.3g %.3g %.3g, serial limbs "
+               "%u; mode 1 det_unit %.3g parallel %d serial bits %u\n",
                id / 2 + 1, id % 2 ? "-" : "+", ds[m], (int)st, pose.singular, pose.dexterity,
-               sv[2] / sv[0], pose.constraint_sv, pose.n_constraint, modes[0].det_unit,
-               modes[0].parallel, modes[0].serial);
+               sv[2] / sv[0], pose.constraint_sv, pose.n_constraint, pose.transmission[0],
+               pose.transmission[1], pose.transmission[2], pose.serial_limbs,
+               modes[0].det_unit, modes[0].parallel, modes[0].serial);
     }
   }
   check_true(worst_slope <= 1e-3);
   check_true(worst_slope11 <= 5e-2);
   check_true(flags_ok);
+  /* transmission / d - 1: O(d^2) at 1e-2 (1.7e-5 measured), rounding and the
+   * start point's ~3e-13 offset at 1e-11 (3e-2 of d, as det_unit's slope) */
+  check_true(worst_tr[0] <= 1e-3 && worst_tr[1] <= 1e-3 && worst_tr[2] <= 1e-3 &&
+             worst_tr[3] <= 5e-2);
+  check_true(serial_ok);
+  if (verbose)
+    printf("serial bit: set on leg k alone at d = 1e-5, 1e-8, 1e-11 (8 modes, table), clear at "
+           "1e-2: %s; transmission of leg k / d - 1 at d = 1e-2, 1e-5, 1e-8, 1e-11: %.2g %.2g "
+           "%.2g %.2g\n",
+           serial_ok ? "yes" : "NO", worst_tr[0], worst_tr[1], worst_tr[2], worst_tr[3]);
   if (verbose)
     printf("det_unit / d at d = 1e-8 and 1e-11 that at 1e-5 to %.2g and %.2g\n", worst_slope,
            worst_slope11);
