@@ -319,11 +319,10 @@ const char *pom_kin_singular_text(int singular, unsigned serial_limbs, char *buf
   }
   if (singular & POM_KIN_SING_SERIAL) {
     const unsigned m = serial_limbs & 7u;
+    const char *first = (m & (m - 1u)) ? " (limbs " : " (limb ";
     n += (size_t)snprintf(buf, cap, "serial");
     for (int i = 0, c = 0; i < 3 && n < cap; ++i)
-      if (m >> i & 1u)
-        n += (size_t)snprintf(buf + n, cap - n, "%s%d",
-                              c++ ? ", " : (m & (m - 1u)) ? " (limbs " : " (limb ", i + 1);
+      if (m >> i & 1u) n += (size_t)snprintf(buf + n, cap - n, "%s%d", c++ ? ", " : first, i + 1);
     if (m && n < cap) n += (size_t)snprintf(buf + n, cap - n, ")");
   }
   if ((singular & POM_KIN_SING_PARALLEL) && n < cap)

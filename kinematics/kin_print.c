@@ -357,7 +357,7 @@ void pom_kin_ik_report(FILE *out, int json, const char *config, const pom_kin_ar
     if (!p->reachable) {
       fprintf(out, "reachable: NO - %s\n", message);
       if (p->singular & POM_KIN_SING_SERIAL)
-        fprintf(out, "singularity: serial (limb %d assembles, its IK roots meet)\n",
+        fprintf(out, "singularity: serial (limb %d assembles, its actuator side B_ii is 0)\n",
                 p->unreachable_limb + 1);
     } else {
       fprintf(out, "reachable: yes\n");

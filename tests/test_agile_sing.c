@@ -677,8 +677,8 @@ static void report_flags(void) {
                "%u; mode 1 det_unit %.3g parallel %d serial bits %u\n",
                id / 2 + 1, id % 2 ? "-" : "+", ds[m], (int)st, pose.singular, pose.dexterity,
                sv[2] / sv[0], pose.constraint_sv, pose.n_constraint, pose.transmission[0],
-               pose.transmission[1], pose.transmission[2], pose.serial_limbs,
-               modes[0].det_unit, modes[0].parallel, modes[0].serial);
+               pose.transmission[1], pose.transmission[2], pose.serial_limbs, modes[0].det_unit,
+               modes[0].parallel, modes[0].serial);
     }
   }
   check_true(worst_slope <= 1e-3);

@@ -120,8 +120,8 @@ static int radial_close(const radial_geom *g, int i, const double R[9], double C
   return *lu != 0.0;
 }
 
-static int radial_limb(const pom_kin_arch *arch, int i, const double R[9], double *q,
-                       double row[3], double *tr) {
+static int radial_limb(const pom_kin_arch *arch, int i, const double R[9], double *q, double row[3],
+                       double *tr) {
   const radial_geom *g = POM_KIN_CDATA(radial_geom, arch);
   double C[3], l[3], lu, qi, Cxl[3];
   if (!radial_close(g, i, R, C, l, &qi, &lu)) return 0;

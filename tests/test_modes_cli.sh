@@ -29,6 +29,22 @@ ok &= abs(a["kappa"] - m["kappa"]) <= 1e-12 * a["kappa"]
 sys.exit(0 if ok else 1)
 PYEOF
 
+# the serial bit in ik's report (docs/kinematics-tables.md 3.2): the tilt
+# about the horizontal axis at azimuth 30 deg, 1e-6 rad short of the curve
+# Gamma_1^- (v_1 = -u_1, docs/kinematics-modes.md 6.2): leg 1's transmission
+# |u_1 x v_1| ~ 1e-6, named in text, JSON and every working mode; 1e-2 rad
+# short, none (the range limit of limb 2 is exceeded: exit 1)
+NEAR=36.5867435687024,29.3338808234636,103.262610719353
+FAR=36.2664018405679,29.3980062462588,102.609371923316
+expect_rc 1 "$POMLAB" ik "$EYE" --euler-zyx $NEAR
+expect_in "$TMP/out" "singularity: serial (limb 1), parallel"
+expect_rc 1 "$POMLAB" ik "$EYE" --euler-zyx $NEAR --json
+json_check 'd["singularities"] == ["serial", "parallel"] and d["serial_limbs"] == [1] and 5e-7 < d["transmission"][0] < 2e-6 and min(d["transmission"][1:]) > 0.5'
+expect_rc 1 "$POMLAB" ik "$EYE" --euler-zyx $NEAR --all --json
+json_check 'd["count"] == 8 and all(m["serial_singular_limbs"] == [1] and m["serial_limbs"] == [1] for m in d["modes"])'
+expect_rc 1 "$POMLAB" ik "$EYE" --euler-zyx $FAR --json
+json_check 'd["singularities"] == [] and d["serial_limbs"] == [] and 5e-3 < d["transmission"][0] < 2e-2'
+
 # 4 assembly modes at a generic input; the stroke (+-30 deg) is exceeded by
 # the inputs' own q2, q3: exit 1, the report still printed
 expect_rc 1 "$POMLAB" fk "$EYE" --q 20,-35,50 --all --json

@@ -169,8 +169,8 @@ static void generic(const char *label, const pom_kin_arch *a, int pss) {
       worst_ratio = fmax(worst_ratio, fabs(ratio / ratio0[i] - 1.0));
     }
   }
-  printf("%s: %d random reachable poses: serial bit on %d, smallest transmission %.3g", label,
-         used, n_serial, min_lam);
+  printf("%s: %d random reachable poses: serial bit on %d, smallest transmission %.3g", label, used,
+         n_serial, min_lam);
   if (pss)
     printf("; |q+ - q-| / transmission = %.6g %.6g %.6g mm (2 L) to %.2g", ratio0[0] * 1e3,
            ratio0[1] * 1e3, ratio0[2] * 1e3, worst_ratio);
@@ -199,6 +199,17 @@ int main(int argc, char **argv) {
       {"configs/3pss.cfg", "3PSS-table", "3P-S-S/S table, L = 1.5 r_c", 1, 1, 6},
       {"configs/catalog/3rss_radial.cfg", NULL, "3-RSS/S radial (table)", 0, 0, 6},
       {"configs/catalog/3rss_tangential.cfg", NULL, "3-RSS/S tangential (table)", 0, 0, 6}};
+  /* the report's text names the serial limbs */
+  char sb[80];
+  check_true(
+      !strcmp(pom_kin_singular_text(POM_KIN_SING_SERIAL, 2u, sb, sizeof sb), "serial (limb 2)"));
+  check_true(
+      !strcmp(pom_kin_singular_text(POM_KIN_SING_SERIAL | POM_KIN_SING_PARALLEL, 5u, sb, sizeof sb),
+              "serial (limbs 1, 3), parallel"));
+  check_true(!strcmp(
+      pom_kin_singular_text(POM_KIN_SING_SERIAL | POM_KIN_SING_CONSTRAINT, 0u, sb, sizeof sb),
+      "serial, constraint"));
+  check_true(!strcmp(pom_kin_singular_text(0, 0u, sb, sizeof sb), "none"));
   for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
     pom_kin_arch a;
     if (!check_true(load_config_arch(cases[c].cfg, cases[c].arch, &a))) continue;
