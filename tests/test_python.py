@@ -90,6 +90,11 @@ def test_ik_equals_program(arch, angles):
         assert got[key] == want[key], key
     for key in ("q", "jacobian", "singular_values", "kappa", "dexterity"):
         assert same(got[key], want[key]), key
+    # the singular flags and the serial measure (docs/kinematics-tables.md 3.2)
+    if got["reachable"]:
+        assert got["singularities"] == want["singularities"]
+        assert got["serial_limbs"] == want["serial_limbs"]
+        assert same(got["transmission"], want["transmission"])
     for key in want:
         if key.endswith(("_deg", "_mm")) and key != "euler_zyx_deg":
             assert same(got[key], want[key]), key
