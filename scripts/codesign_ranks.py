@@ -2,7 +2,7 @@
 """Rank stability of a co-design ranking across runs (docs/optimize.md
 section 11.10): the same codesign file run at other seeds or budgets.
 
-usage: codesign_ranks.py [--metric hv|fresh|para] LABEL=REPORT.txt ...
+usage: codesign_ranks.py [--metric hv|fresh|para] [--drop PREFIX]... LABEL=REPORT.txt ...
 
 Each REPORT.txt is the standard output of one `pomlab codesign CFG` run (the
 report: a section "== NAME (config)" per candidate with its front and
@@ -13,8 +13,12 @@ larger first) and the p95 at the time optimum on the fresh maneuvers, rigid /
 parasitic, in every run; then Kendall's tau-b and Spearman's rho between the
 rankings of every pair of runs; then the ranks that are established and the
 ties, by the metric chosen (default hv; fresh = fresh rigid p95 at the time
-optimum, smaller first; para = the same, parasitic):
+optimum, smaller first; para = the same, parasitic). --drop leaves out the
+candidates whose name starts with PREFIX (one that differs between the runs
+for a reason of its own):
 
+- (hv only when every run has the same hypervolume reference point, i.e.
+  the same fresh set: a hypervolume on another reference does not compare)
 - a candidate's spread is the interval [min, max] of its metric over the
   runs;
 - two candidates are told apart when their intervals do not overlap (every
@@ -69,6 +73,9 @@ def exact_hypervolumes(h5):
     return out
 
 
+REFERENCES = {}  # report path -> its hypervolume reference point (text)
+
+
 def parse_report(path):
     """{name: {"hv": float, "fresh": float, "para": float, "opt": float}}"""
     out = {}
@@ -79,6 +86,9 @@ def parse_report(path):
             m = re.match(r"^Results: (.*\.h5); figure:", line)
             if m:
                 h5 = m.group(1)
+            m = re.search(r"against the reference ([0-9.]+ ms, [0-9.]+ mJ)", line)
+            if m:
+                REFERENCES[path] = m.group(1)
             m = re.match(r"^== (.*) \((.*)\)\s*$", line)
             if m:
                 name = m.group(1)
@@ -168,9 +178,13 @@ def fmt(v, spec):
 
 def main(argv):
     metric = "hv"
+    drop = []
     args = list(argv[1:])
-    if len(args) >= 2 and args[0] == "--metric":
-        metric = args[1]
+    while len(args) >= 2 and args[0] in ("--metric", "--drop"):
+        if args[0] == "--metric":
+            metric = args[1]
+        else:
+            drop.append(args[1])
         args = args[2:]
     if metric not in ("hv", "fresh", "para") or len(args) < 2 or any("=" not in a for a in args):
         sys.stderr.write(__doc__)
@@ -183,6 +197,9 @@ def main(argv):
         except (OSError, ValueError) as e:
             sys.stderr.write("codesign_ranks.py: %s\n" % e)
             return 1
+    for _, rep in runs:
+        for n in [n for n in rep if any(n.startswith(d) for d in drop)]:
+            del rep[n]
     names = list(runs[0][1])
     for label, rep in runs[1:]:
         if set(rep) != set(names):
@@ -220,6 +237,11 @@ def main(argv):
             print("  %-10s vs %-10s  tau %.3f  rho %.3f" % (runs[i][0], runs[j][0],
                                                             kendall_tau_b(a, b), spearman(a, b)))
     print()
+    refs = sorted(set(REFERENCES.get(a.split("=", 1)[1], "?") for a in args))
+    if metric == "hv" and len(refs) > 1:
+        print("No spread: the runs' hypervolumes have different reference points (%s; another "
+              "fresh set), so only their ranks compare" % "; ".join(refs))
+        return 0
     print("Spread per candidate (min..max of the metric over the runs) and tie groups "
           "(neighbours' intervals overlap)")
     groups = []
