@@ -7,6 +7,7 @@
 #include "pom_io.h"
 #include "pom_progress.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -53,8 +54,74 @@ static int parse_slice(const char *s, const pom_cds_problem *pb, int *c, int *v1
   return *c >= 0;
 }
 
+/* --sweep CANDIDATE:N. */
+static int parse_sweep(const char *s, const pom_cds_problem *pb, int *c, int *n) {
+  char buf[256];
+  snprintf(buf, sizeof buf, "%s", s);
+  char *p = strrchr(buf, ':');
+  if (!p) return 0;
+  *p++ = '\0';
+  char *end = NULL;
+  long m = strtol(p, &end, 10);
+  if (end == p || *end || m < 2 || m > 200) return 0;
+  *n = (int)m;
+  *c = -1;
+  for (int k = 0; k < pb->n_candidates; ++k)
+    if (strcmp(pb->cand[k].name, buf) == 0) *c = k;
+  return *c >= 0;
+}
+
+static void print_sweep_row(const char *key, double x, const pom_cds_problem *pb,
+                            const pom_cds_figures *f) {
+  printf("%-34s %12.6g %9.4f %9.4f %10.3f %10.5f %8.4f %8.4f %9.3f %3d %3d %s\n", key, x,
+         1e3 * f->p95, 1e3 * f->p95_plain, 1e3 * f->energy, f->kin, f->i_peak, f->i_limit,
+         1e3 * f->envelope, f->failed, f->unsettled, pom_cds_feasible(pb, f) ? "yes" : "no");
+}
+
+/* --sweep: every variable alone across its box, the others at the config's
+ * design (docs/optimize.md 11.6). */
+static int run_sweep(const pom_cds_problem *pb, int c, int n) {
+  const pom_cds_candidate *cd = &pb->cand[c];
+  pom_error err;
+  pom_error_clear(&err);
+  double x0[POM_CDS_MAX_VARS] = {0};
+  for (int v = 0; v < cd->n_vars; ++v)
+    x0[v] = cd->var[v].x0;
+  pom_cds_figures f0;
+  double *xs = calloc((size_t)cd->n_vars * (size_t)n, sizeof *xs);
+  pom_cds_figures *figs = calloc((size_t)cd->n_vars * (size_t)n, sizeof *figs);
+  if (!xs || !figs) {
+    free(xs);
+    free(figs);
+    fprintf(stderr, "pomlab codesign: --sweep: out of memory\n");
+    return 1;
+  }
+  pom_status st =
+      pom_cds_evaluate(pb, c, x0, pb->maneuvers.seed, pb->maneuvers.count, 0, &f0, &err);
+  if (st == POM_OK) st = pom_cds_sweep(pb, c, n, xs, figs, &err);
+  if (st != POM_OK) {
+    free(xs);
+    free(figs);
+    pom_cli_report("codesign", &err);
+    return pom_cli_exit_code(st);
+  }
+  printf("sweep of %s: each variable alone across its box (%d points), the others at the "
+         "config's design; %ld maneuvers (seed %llu), rigid\n",
+         cd->name, n, pb->maneuvers.count, (unsigned long long)pb->maneuvers.seed);
+  printf("%-34s %12s %9s %9s %10s %10s %8s %8s %9s %3s %3s %s\n", "variable", "value", "p95_ms",
+         "p95os_ms", "energy_mJ", "kin_margin", "i_peak_A", "i_lim_A", "env_mm", "fai", "uns",
+         "feasible");
+  print_sweep_row("config_design", NAN, pb, &f0);
+  for (int v = 0; v < cd->n_vars; ++v)
+    for (int j = 0; j < n; ++j)
+      print_sweep_row(cd->var[v].key, xs[v * n + j], pb, &figs[v * n + j]);
+  free(xs);
+  free(figs);
+  return 0;
+}
+
 int pom_cmd_codesign(int argc, char **argv) {
-  const char *cfg_path = NULL, *out = NULL, *slice = NULL, *effic = NULL;
+  const char *cfg_path = NULL, *out = NULL, *slice = NULL, *effic = NULL, *sweep = NULL;
   int quiet = 0, resume = 0, threads = -1;
   const pom_opt opts[] = {
       {.name = "--out",
@@ -82,6 +149,13 @@ int pom_cmd_codesign(int argc, char **argv) {
        .help = "instead of the co-design: the grid-slice check of candidate CAND over its "
                "variables V1 and V2 (1-based) on an N x N grid against the optimizer",
        .text = &slice},
+      {.name = "--sweep",
+       .kind = POM_OPT_TEXT,
+       .arg = "CAND:N",
+       .help = "instead of the co-design: each variable of candidate CAND alone at N points "
+               "across its box, the others at the config's design; the objective and "
+               "every constraint's figure per point",
+       .text = &sweep},
       {.name = "--efficiency",
        .kind = POM_OPT_TEXT,
        .arg = "CAND:BUDGET",
@@ -98,7 +172,7 @@ int pom_cmd_codesign(int argc, char **argv) {
   const pom_cli_spec spec = {
       .name = "codesign",
       .usage = "CFG [--out FILE.h5] [--resume] [--threads N] [--slice CAND:V1:V2:N]\n"
-               "       [--efficiency CAND:BUDGET] [--quiet]",
+               "       [--sweep CAND:N] [--efficiency CAND:BUDGET] [--quiet]",
       .about = "Co-designs each candidate architecture: its geometry, an actuator size (one coil\n"
                "family scaled by size) and its controller gains, on robust statistics of the\n"
                "closed-loop Monte-Carlo metrics (smooth p95 pointing time, mean energy) under\n"
@@ -137,6 +211,19 @@ int pom_cmd_codesign(int argc, char **argv) {
     goto done;
   }
   if (threads >= 0) pb->threads = threads;
+  if (sweep) {
+    int c = 0, n = 0;
+    if (!parse_sweep(sweep, pb, &c, &n)) {
+      fprintf(stderr,
+              "pomlab codesign: --sweep '%s': expected CANDIDATE:N with a candidate of %s "
+              "and 2..200 points\n",
+              sweep, cfg_path);
+      code = 2;
+      goto done;
+    }
+    code = run_sweep(pb, c, n);
+    goto done;
+  }
   if (slice) {
     int c = 0, v1 = 0, v2 = 0, n = 0;
     if (!parse_slice(slice, pb, &c, &v1, &v2, &n)) {

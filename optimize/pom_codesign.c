@@ -4,6 +4,7 @@
 #define _POSIX_C_SOURCE 200809L /* sysconf */
 #include "codesign_internal.h"
 #include "pom_arch.h"
+#include "pom_dynamics.h"
 #include "pom_kinematics.h"
 #include "pom_math.h"
 
@@ -230,6 +231,10 @@ pom_status pom_cds_load(pom_cds_problem *pb, const pom_cfg *cfg, pom_error *err)
       return lst;
     }
     pom_status s2 = sized_keys(cd, ccfg, cfg, k, err);
+    pom_dyn_params prm;
+    pom_dyn_params_defaults(&prm);
+    if (s2 == POM_OK) s2 = pom_dyn_params_load(&prm, ccfg, err);
+    cd->horizon = prm.maneuver.horizon;
     snprintf(k, sizeof k, "candidates.[%d].variables", c);
     int nv = pom_cfg_length(cfg, k);
     if (s2 == POM_OK && (!pom_cfg_is_list(cfg, k) || nv < 1 || nv > POM_CDS_MAX_VARS))
@@ -546,8 +551,12 @@ static void *batch_worker(void *arg) {
     } else if (st != POM_OK) {
       /* a design the model refuses (a value its own validation rejects, a
        * geometry that does not assemble): the maneuver fails, the design is
-       * infeasible, the search goes on */
+       * infeasible, the search goes on; its time counts at the horizon (as
+       * an unsettled maneuver: never better than a real design; at 0 it made
+       * the refused side of a box look like the best objective, section
+       * 11.10) */
       b->out[j].failed = 1;
+      b->out[j].t = b->pb->cand[b->c].horizon;
       pthread_mutex_lock(&b->lock);
       if (!b->have_build_err) {
         b->have_build_err = 1;

@@ -55,8 +55,10 @@ typedef struct {
   pom_cds_var var[POM_CDS_MAX_VARS];
   int n_sized; /* keys scaled by the size law (section 11.2) */
   pom_cds_sized_key sized[POM_CDS_MAX_SIZED_KEYS];
-  int rotary;                      /* 1: rotary actuators (torque constant ~ s^2) */
-  double current_limit0;           /* A at size 1 (codesign.requirements.current_limit_A) */
+  int rotary;            /* 1: rotary actuators (torque constant ~ s^2) */
+  double current_limit0; /* A at size 1 (codesign.requirements.current_limit_A) */
+  double horizon;        /* s: the config's maneuver horizon; a maneuver of a design the model
+                          * refuses counts there, as an unsettled one (section 11.1) */
   double nominal_unc[POM_UNC_MAX]; /* the config's value of each uncertain key (NaN absent) */
 } pom_cds_candidate;
 
@@ -220,6 +222,19 @@ pom_status pom_cds_efficiency_run(const pom_cds_problem *pb, int c, int budget, 
 
 pom_status pom_cds_grid_slice(const pom_cds_problem *pb, int c, int v1, int v2, int n,
                               pom_cds_slice *out, pom_error *err);
+
+/* Whether figures f meet the requirement set as the optimizer tests it
+ * (kinematic margin, current, envelope, no failure, time bound; no energy
+ * bound). */
+int pom_cds_feasible(const pom_cds_problem *pb, const pom_cds_figures *f);
+
+/* The 1-D sweeps of candidate c (docs/optimize.md 11.6): for every variable
+ * v, the config's design with variable v alone at n points evenly spaced
+ * across its box (in log10 on a log axis), on the optimization set, rigid.
+ * xs[v * n + j] receives the value, figs[v * n + j] its figures (arrays of
+ * n_vars * n). */
+pom_status pom_cds_sweep(const pom_cds_problem *pb, int c, int n, double *xs, pom_cds_figures *figs,
+                         pom_error *err);
 
 /* Writes the results file: to PATH.tmp.PID, synced, renamed over path only
  * when every write succeeded. */

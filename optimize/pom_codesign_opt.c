@@ -729,6 +729,39 @@ pom_status pom_cds_run(const pom_cds_problem *pb, const char *journal, int resum
   return POM_OK;
 }
 
+/* ---- 1-D sweeps (section 11.6) ------------------------------------------------------ */
+int pom_cds_feasible(const pom_cds_problem *pb, const pom_cds_figures *f) {
+  double q[NQ];
+  quantities(pb, f, q);
+  opt_ctx tmp;
+  memset(&tmp, 0, sizeof tmp);
+  tmp.eps = NAN;
+  return feasible_q(&tmp, q);
+}
+
+pom_status pom_cds_sweep(const pom_cds_problem *pb, int c, int n, double *xs, pom_cds_figures *figs,
+                         pom_error *err) {
+  const pom_cds_candidate *cd = &pb->cand[c];
+  if (n < 2 || n > 200) POM_FAIL(err, POM_ERR_ARG, "sweep: %d points (2..200)", n);
+  double *rows = calloc((size_t)n * POM_CDS_MAX_VARS, sizeof *rows);
+  if (!rows) POM_FAIL(err, POM_ERR_NOMEM, "sweep: out of memory");
+  pom_status st = POM_OK;
+  for (int v = 0; v < cd->n_vars && st == POM_OK; ++v) {
+    /* one variable per batch */
+    for (int j = 0; j < n; ++j) {
+      double *x = rows + j * POM_CDS_MAX_VARS;
+      for (int w = 0; w < cd->n_vars; ++w)
+        x[w] = cd->var[w].x0;
+      x[v] = to_x(&cd->var[v], (double)j / (n - 1));
+      xs[v * n + j] = x[v];
+    }
+    st = pom_cds_evaluate_many(pb, c, rows, n, pb->maneuvers.seed, pb->maneuvers.count, 0,
+                               figs + v * n, err);
+  }
+  free(rows);
+  return st;
+}
+
 /* ---- grid-slice check (section 11.6) --------------------------------------------------- */
 pom_status pom_cds_grid_slice(const pom_cds_problem *pb, int c, int v1, int v2, int n,
                               pom_cds_slice *out, pom_error *err) {
