@@ -6,14 +6,18 @@
  * pipeline does. Two searched gains only (a map is two-dimensional).
  *
  * Usage:
- *   tune_map STUDY.cfg CANDIDATE grid N OUT.csv
+ *   tune_map STUDY.cfg CANDIDATE grid N OUT.csv [Z0LO Z0HI Z1LO Z1HI]
  *     the criterion at N x N gains, evenly spaced over the box in the
  *     tuner's own variables (log10 of a log-searched gain), both edges
- *     included; CANDIDATE is the candidate's name or its 1-based index
+ *     included, or over the given part of it; CANDIDATE is the candidate's
+ *     name or its 1-based index
  *   tune_map STUDY.cfg CANDIDATE path OUT.csv [LOCAL_STARTS]
  *     every criterion evaluation of the tuner's search (the candidate's
  *     optimizer, LOCAL_STARTS overriding tuning.optimizer.local_starts), in
  *     order, with its stage (g = global, l = local), then the result
+ *   tune_map STUDY.cfg CANDIDATE prepare
+ *     the study's own pipeline for the candidate (sizing, tuning with its
+ *     optimizer; no files): the tuned gains and criterion, one line
  * Columns: stage, z0, z1 (search variables), the two gains (SI), criterion,
  * mean execution time (ms), largest overshoot (%), largest saturation time
  * (ms), unsettled maneuvers. */
@@ -82,14 +86,16 @@ static int fail(const pom_error *err) {
 }
 
 int main(int argc, char **argv) {
-  if (argc < 5 || (strcmp(argv[3], "grid") != 0 && strcmp(argv[3], "path") != 0)) {
-    fprintf(stderr, "usage: tune_map STUDY.cfg CANDIDATE grid N OUT.csv\n"
-                    "       tune_map STUDY.cfg CANDIDATE path OUT.csv [LOCAL_STARTS]\n");
+  int prepare = argc == 4 && strcmp(argv[3], "prepare") == 0;
+  if (!prepare && (argc < 5 || (strcmp(argv[3], "grid") != 0 && strcmp(argv[3], "path") != 0))) {
+    fprintf(stderr, "usage: tune_map STUDY.cfg CANDIDATE grid N OUT.csv [Z0LO Z0HI Z1LO Z1HI]\n"
+                    "       tune_map STUDY.cfg CANDIDATE path OUT.csv [LOCAL_STARTS]\n"
+                    "       tune_map STUDY.cfg CANDIDATE prepare\n");
     return 2;
   }
   int grid = strcmp(argv[3], "grid") == 0;
-  if (grid && argc != 6) {
-    fprintf(stderr, "tune_map: grid takes N and OUT.csv\n");
+  if (grid && argc != 6 && argc != 10) {
+    fprintf(stderr, "tune_map: grid takes N, OUT.csv and optionally a part of the box\n");
     return 2;
   }
   pom_error err;
@@ -108,6 +114,29 @@ int main(int argc, char **argv) {
   if (c < 0 || c >= study.n_candidates) {
     fprintf(stderr, "tune_map: no candidate '%s' in %s\n", argv[2], argv[1]);
     return 2;
+  }
+  if (prepare) {
+    pom_pipeline_options po;
+    memset(&po, 0, sizeof po);
+    po.no_files = 1;
+    double t0 = now_s();
+    if (pom_pipeline_prepare(&study.candidates[c].eval, "tune_map", &po, &err) != POM_OK)
+      return fail(&err);
+    const pom_pipeline_record *r = pom_pipeline_record_of(&study.candidates[c].eval);
+    if (!r || !r->tuned) {
+      fprintf(stderr, "tune_map: candidate '%s' is not tuned in the study\n",
+              study.candidates[c].name);
+      return 2;
+    }
+    printf("%s | kp %.6g | kd_s %.6g | criterion %.6g ms (config gains %.6g) | mean execution "
+           "%.6g ms | %ld evaluations | tuning %.1f s, sizing %.1f s, %.1f s in all\n",
+           study.candidates[c].name, r->tuned_gains.kp, r->tuned_gains.kd,
+           r->tuned_eval.criterion * 1e3, r->config_eval.criterion * 1e3,
+           r->tuned_eval.mean_execution * 1e3, r->tuning_evaluations, r->tuning_time,
+           r->sizing_time, now_s() - t0);
+    pom_doe_study_clear(&study);
+    pom_cfg_destroy(scfg);
+    return 0;
   }
   if (pom_cfg_load_string(&ccfg, study.candidates[c].resolved, study.candidates[c].name, &err) !=
           POM_OK ||
@@ -135,6 +164,15 @@ int main(int argc, char **argv) {
   double t0 = now_s();
   if (grid) {
     int n = atoi(argv[4]);
+    if (argc == 10) {
+      double g0 = atof(argv[6]), g1 = atof(argv[7]), h0 = atof(argv[8]), h1 = atof(argv[9]);
+      if (!(g0 >= lo[0] && g0 < g1 && g1 <= hi[0] && h0 >= lo[1] && h0 < h1 && h1 <= hi[1])) {
+        fprintf(stderr, "tune_map: the part [%g, %g] x [%g, %g] is not inside the box\n", g0, g1,
+                h0, h1);
+        return 2;
+      }
+      lo[0] = g0, hi[0] = g1, lo[1] = h0, hi[1] = h1;
+    }
     if (n < 2 || n > 201) {
       fprintf(stderr, "tune_map: N = %s, expected 2..201\n", argv[4]);
       return 2;
