@@ -4,7 +4,7 @@ with the tuner's path through it, as an SVG (docs/catalog.md section 10.1,
 docs/catalog-c07-tuning.svg).
 
 usage: tune_basins.py MAP.csv [ZOOM.csv] --path PATH.csv [--path PATH2.csv]
-                      [--title TEXT] -o OUT.svg
+                      [--title TEXT] -o OUT.svg   (TEXT: lines split at '|')
 
 MAP.csv (and ZOOM.csv, a finer map of a part of the box, drawn as a second
 panel) are written by `build/bench/tune_map STUDY CANDIDATE grid N F.csv`,
@@ -116,12 +116,18 @@ class Panel:
             ya, yb = self.py(min(self.zy[1], b + d1 / 2)), self.py(max(self.zy[0], b - d1 / 2))
             fill = colour(t)
             hatch = c > float(r["mean_execution_ms"]) * (1 + 1e-9)
-            svg.append(f'<rect x="{xa:.2f}" y="{ya:.2f}" width="{xb - xa + 0.3:.2f}" '
-                       f'height="{yb - ya + 0.3:.2f}" fill="{fill}"'
-                       + (' stroke="none"/>' if not hatch else '/>'))
+            svg.append(f'<rect x="{xa:.1f}" y="{ya:.1f}" width="{xb - xa + 0.3:.1f}" '
+                       f'height="{yb - ya + 0.3:.1f}" fill="{fill}"/>')
             if hatch:
-                svg.append(f'<rect x="{xa:.2f}" y="{ya:.2f}" width="{xb - xa + 0.3:.2f}" '
-                           f'height="{yb - ya + 0.3:.2f}" fill="url(#hatch)"/>')
+                svg.append(f'<rect x="{xa:.1f}" y="{ya:.1f}" width="{xb - xa + 0.3:.1f}" '
+                           f'height="{yb - ya + 0.3:.1f}" fill="url(#hatch)"/>')
+
+    def clip(self, svg, ident):
+        x1, x2 = self.x0 + ML, self.x0 + W - MR
+        y1, y2 = self.y0 + MT, self.y0 + H - MB
+        svg.append(f'<clipPath id="{ident}"><rect x="{x1:.1f}" y="{y1:.1f}" '
+                   f'width="{x2 - x1:.1f}" height="{y2 - y1:.1f}"/></clipPath>')
+        svg.append(f'<g clip-path="url(#{ident})" shape-rendering="crispEdges">')
 
     def path(self, svg, rows):
         for r in rows:
@@ -130,14 +136,13 @@ class Panel:
                            f'cy="{self.py(float(r["z1"])):.1f}" r="2.6" fill="white" '
                            'stroke="black" stroke-width="0.8"/>')
         for k, run in enumerate(runs(rows)):
-            pts = [(self.px(a), self.py(b)) for a, b in run if self.inside(a, b)]
-            if len(pts) < 1:
-                continue
+            pts = [(self.px(a), self.py(b)) for a, b in run]
             col = RUN_COLORS[k % len(RUN_COLORS)]
             svg.append('<polyline fill="none" stroke="%s" stroke-width="1.4" points="%s"/>'
                        % (col, " ".join("%.1f,%.1f" % p for p in pts)))
-            svg.append(f'<circle cx="{pts[0][0]:.1f}" cy="{pts[0][1]:.1f}" r="4" fill="none" '
-                       f'stroke="{col}" stroke-width="1.6"/>')
+            if self.inside(*run[0]):  # the run's start
+                svg.append(f'<circle cx="{pts[0][0]:.1f}" cy="{pts[0][1]:.1f}" r="4" '
+                           f'fill="none" stroke="{col}" stroke-width="1.6"/>')
         for r in rows:
             if r["stage"] == "best" and self.inside(float(r["z0"]), float(r["z1"])):
                 x, y = self.px(float(r["z0"])), self.py(float(r["z1"]))
@@ -165,7 +170,9 @@ def main(argv):
         sys.stderr.write(__doc__)
         return 2
     crit = [float(r["criterion_ms"]) for r in maps[0]]
-    cmin, cmax = min(crit), min(max(crit), 10.0 * min(crit))
+    # the colours span the criterion's best value to 2.5 times it: the valley
+    # and its walls; everything above (mostly penalised gains) is yellow
+    cmin, cmax = min(crit), min(max(crit), 2.5 * min(crit))
     svg = []
     panels = []
     for m, rows in enumerate(maps):
@@ -177,9 +184,12 @@ def main(argv):
         h0, h1 = (zx[1] - zx[0]) / (n0 - 1) / 2, (zy[1] - zy[0]) / (n1 - 1) / 2
         zx, zy = (zx[0] - h0, zx[1] + h0), (zy[0] - h1, zy[1] + h1)
         p = Panel(m * W, 0, zx, zy, ("whole box" if m == 0 else "zoom: the overshoot edge"))
+        p.clip(svg, "panel%d" % m)
         p.cells(svg, rows, cmin, cmax)
+        svg.append('</g><g clip-path="url(#panel%d)">' % m)  # the paths drawn smooth
         for pr in paths:
             p.path(svg, pr)
+        svg.append("</g>")
         p.frame(svg)
         panels.append(p)
         if m == 1:  # the zoom's outline on the whole box
@@ -196,20 +206,21 @@ def main(argv):
         y = y2 - t * (y2 - y1)
         svg.append(f'<rect x="{bx}" y="{y - (y2 - y1) / 99:.2f}" width="16" '
                    f'height="{(y2 - y1) / 99 + 0.4:.2f}" fill="{colour(t)}"/>')
-    for v in (5, 6, 7, 8, 10, 15, 20, 30, 50, 100, 200, 400):
+    for v in (5, 6, 7, 8, 9, 10, 12, 15, 20, 30, 50, 100, 200, 400):
         if cmin <= v <= cmax:
             t = (math.log(v) - math.log(cmin)) / (math.log(cmax) - math.log(cmin))
             y = y2 - t * (y2 - y1)
             svg.append(f'<text x="{bx + 20}" y="{y + 4:.1f}">{v:g}</text>')
     svg.append(f'<text x="{bx}" y="{y1 - 10}">J (ms)</text>')
     width = len(maps) * W + BAR
-    head = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{H + 40}" '
+    head = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{H + 46}" '
             'font-family="sans-serif" font-size="11">',
             '<defs><pattern id="hatch" width="5" height="5" patternUnits="userSpaceOnUse" '
             'patternTransform="rotate(45)"><line x1="0" y1="0" x2="0" y2="5" stroke="white" '
             'stroke-opacity="0.45" stroke-width="1.2"/></pattern></defs>',
-            f'<rect width="{width}" height="{H + 40}" fill="white"/>']
-    foot = [f'<text x="8" y="{H + 28}">{title}</text>', "</svg>"]
+            f'<rect width="{width}" height="{H + 46}" fill="white"/>']
+    foot = [f'<text x="8" y="{H + 14 + 14 * k}">{t}</text>' for k, t in enumerate(title.split("|"))]
+    foot.append("</svg>")
     with open(out, "w") as f:
         f.write("\n".join(head + svg + foot) + "\n")
     return 0
