@@ -6,6 +6,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
@@ -21,6 +22,8 @@ void pom_opt_defaults(pom_opt_options *opts) {
   opts->max_time = 0.0;
   opts->seed = 2385;
   opts->population = 0;
+  opts->local_starts = 1;
+  opts->local_start_separation = 0.1;
 }
 
 const char *pom_opt_result_name(int r) {
@@ -65,7 +68,29 @@ typedef struct {
   double best_x[POM_OPT_MAX_DIM];
   double best_f;
   int have_best;
+  /* every point of the global stage with its value, when the local stage
+   * starts from several of them: pts[k * (n + 1)] = x..., f */
+  int record;
+  double *pts;
+  long n_pts, cap_pts;
 } driver;
+
+/* Appends (x, f) to dr->pts. 0 when out of memory. */
+static int record_point(driver *dr, const double *x, double f) {
+  size_t w = (size_t)dr->n + 1;
+  if (dr->n_pts == dr->cap_pts) {
+    long cap = dr->cap_pts ? 2 * dr->cap_pts : 64;
+    double *p = realloc(dr->pts, sizeof(double) * w * (size_t)cap);
+    if (!p) return 0;
+    dr->pts = p;
+    dr->cap_pts = cap;
+  }
+  double *row = dr->pts + w * (size_t)dr->n_pts;
+  memcpy(row, x, sizeof(double) * (size_t)dr->n);
+  row[dr->n] = f;
+  ++dr->n_pts;
+  return 1;
+}
 
 static double callback(unsigned n, const double *x, double *grad, void *data) {
   driver *dr = data;
@@ -80,6 +105,12 @@ static double callback(unsigned n, const double *x, double *grad, void *data) {
   if (st != POM_OK) {
     /* Stop NLopt; the value returned below is never used as a result. */
     dr->status = st;
+    nlopt_force_stop(dr->opt);
+    return -HUGE_VAL;
+  }
+  if (dr->record && !record_point(dr, x, f)) {
+    dr->status = pom_error_set(dr->err, POM_ERR_NOMEM, __FILE__, __LINE__,
+                               "optimizer: out of memory recording the global stage's points");
     nlopt_force_stop(dr->opt);
     return -HUGE_VAL;
   }
@@ -145,6 +176,51 @@ static int run_stage(nlopt_algorithm alg, int n, const double lo[], const double
   return (int)r;
 }
 
+/* Order of the recorded points: larger f first, then earlier. */
+typedef struct {
+  double f;
+  long k;
+} ranked;
+
+static int ranked_cmp(const void *a, const void *b) {
+  const ranked *p = a, *q = b;
+  if (p->f != q->f) return p->f > q->f ? -1 : 1;
+  return (p->k > q->k) - (p->k < q->k);
+}
+
+/* The starts of the local stage (docs/optimize.md, section 4): the global
+ * stage's best point (starts[0], the single start's), then, best first, each
+ * recorded point at least `sep` of the box width away, in some variable, from
+ * every start taken, up to k_max. Returns the number of starts, 0 when out of
+ * memory. */
+static int pick_starts(const driver *dr, int n, const double lo[], const double hi[], int k_max,
+                       double sep, double starts[][POM_OPT_MAX_DIM]) {
+  size_t w = (size_t)n + 1;
+  memcpy(starts[0], dr->best_x, sizeof(double) * (size_t)n);
+  int m = 1;
+  if (k_max <= 1 || dr->n_pts == 0) return m;
+  ranked *r = malloc(sizeof *r * (size_t)dr->n_pts);
+  if (!r) return 0;
+  for (long k = 0; k < dr->n_pts; ++k) {
+    r[k].f = dr->pts[w * (size_t)k + (size_t)n];
+    r[k].k = k;
+  }
+  qsort(r, (size_t)dr->n_pts, sizeof *r, ranked_cmp);
+  for (long j = 0; j < dr->n_pts && m < k_max; ++j) {
+    const double *x = dr->pts + w * (size_t)r[j].k;
+    int apart = 1;
+    for (int s = 0; s < m && apart; ++s) {
+      double d = 0.0;
+      for (int i = 0; i < n; ++i)
+        d = fmax(d, fabs(x[i] - starts[s][i]) / (hi[i] - lo[i]));
+      apart = d >= sep;
+    }
+    if (apart) memcpy(starts[m++], x, sizeof(double) * (size_t)n);
+  }
+  free(r);
+  return m;
+}
+
 pom_status pom_opt_maximize(int n, const double lo[], const double hi[], const double x0[],
                             pom_opt_objective f, void *ctx, const pom_opt_options *opts,
                             pom_opt_result *res, pom_error *err) {
@@ -166,6 +242,12 @@ pom_status pom_opt_maximize(int n, const double lo[], const double hi[], const d
   if (opts->global_max_evals < 1 || opts->local_max_evals < 1)
     POM_FAIL(err, POM_ERR_ARG, "optimizer: evaluation budgets %ld, %ld must be positive",
              opts->global_max_evals, opts->local_max_evals);
+  if (opts->local_starts < 1 || opts->local_starts > POM_OPT_MAX_STARTS)
+    POM_FAIL(err, POM_ERR_ARG, "optimizer: %d local starts, expected 1..%d", opts->local_starts,
+             POM_OPT_MAX_STARTS);
+  if (!(opts->local_start_separation > 0.0 && opts->local_start_separation <= 1.0))
+    POM_FAIL(err, POM_ERR_ARG, "optimizer: local start separation %g, expected (0, 1]",
+             opts->local_start_separation);
 
   driver dr;
   memset(&dr, 0, sizeof dr);
@@ -173,7 +255,12 @@ pom_status pom_opt_maximize(int n, const double lo[], const double hi[], const d
   dr.ctx = ctx;
   dr.err = err;
   dr.n = n;
+  dr.record = opts->local_starts > 1 && opts->global != POM_OPT_GLOBAL_NONE &&
+              opts->local != POM_OPT_LOCAL_NONE;
+  res->local_best_run = -1;
   double x[POM_OPT_MAX_DIM];
+  double starts[POM_OPT_MAX_STARTS][POM_OPT_MAX_DIM];
+  int n_starts = 1;
   for (int i = 0; i < n; ++i)
     x[i] = x0 ? fmin(hi[i], fmax(lo[i], x0[i])) : 0.5 * (lo[i] + hi[i]);
 
@@ -200,27 +287,46 @@ pom_status pom_opt_maximize(int n, const double lo[], const double hi[], const d
       goto out;
     }
     if (dr.have_best) memcpy(x, dr.best_x, sizeof(double) * (size_t)n);
+    if (dr.record && dr.have_best) {
+      n_starts =
+          pick_starts(&dr, n, lo, hi, opts->local_starts, opts->local_start_separation, starts);
+      if (n_starts == 0) {
+        st = pom_error_set(err, POM_ERR_NOMEM, __FILE__, __LINE__,
+                           "optimizer: out of memory choosing the local starts");
+        goto out;
+      }
+    }
+    dr.record = 0;
   }
+  if (n_starts == 1) memcpy(starts[0], x, sizeof(double) * (size_t)n);
   if (opts->local != POM_OPT_LOCAL_NONE) {
     long before = dr.evals;
-    res->result_local =
-        run_stage(local_alg(opts->local), n, lo, hi, x, opts->local_max_evals, 0.0,
-                  opts->local_ftol_abs, opts->local_xtol_rel, opts, &dr, msg, sizeof msg);
-    res->evals_local = dr.evals - before;
-    if (dr.status != POM_OK) {
-      st = dr.status;
-      pom_error_prefix(err, "local stage (%s) stopped", pom_opt_result_name(res->result_local));
-      goto out;
-    }
-    /* Round-off-limited ends keep the best point found; it is recorded in
-     * result_local for the caller to see. */
-    if (res->result_local < 0 && res->result_local != NLOPT_ROUNDOFF_LIMITED) {
-      st = pom_error_set(err, POM_ERR_NLOPT, __FILE__, __LINE__, "local stage: %s%s%s",
-                         pom_opt_result_name(res->result_local), msg[0] ? ": " : "", msg);
-      goto out;
+    for (int s = 0; s < n_starts; ++s) {
+      double best_before = dr.have_best ? dr.best_f : -HUGE_VAL;
+      memcpy(x, starts[s], sizeof(double) * (size_t)n);
+      int r = run_stage(local_alg(opts->local), n, lo, hi, x, opts->local_max_evals, 0.0,
+                        opts->local_ftol_abs, opts->local_xtol_rel, opts, &dr, msg, sizeof msg);
+      res->local_runs = s + 1;
+      res->evals_local = dr.evals - before;
+      if (s == 0 || dr.status != POM_OK || (dr.have_best && dr.best_f > best_before))
+        res->result_local = r;
+      if (dr.status != POM_OK) {
+        st = dr.status;
+        pom_error_prefix(err, "local stage (%s) stopped", pom_opt_result_name(r));
+        goto out;
+      }
+      /* Round-off-limited ends keep the best point found; it is recorded in
+       * result_local for the caller to see. */
+      if (r < 0 && r != NLOPT_ROUNDOFF_LIMITED) {
+        st = pom_error_set(err, POM_ERR_NLOPT, __FILE__, __LINE__, "local stage: %s%s%s",
+                           pom_opt_result_name(r), msg[0] ? ": " : "", msg);
+        goto out;
+      }
+      if (dr.have_best && dr.best_f > best_before) res->local_best_run = s;
     }
   }
 out:
+  free(dr.pts);
   timespec_get(&t1, TIME_UTC);
   res->wall_time = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
   if (dr.have_best) {

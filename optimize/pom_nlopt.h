@@ -10,7 +10,8 @@
 
 #include "pom_status.h"
 
-#define POM_OPT_MAX_DIM 16 /* largest number of variables */
+#define POM_OPT_MAX_DIM    16 /* largest number of variables */
+#define POM_OPT_MAX_STARTS 16 /* most starts of the local stage */
 
 /* Objective: writes f(x) to *f. Non-OK status (with err filled) aborts the
  * optimization; a non-finite *f with POM_OK is reported as POM_ERR_NONFINITE. */
@@ -45,6 +46,14 @@ typedef struct {
   unsigned long
       seed;       /* seed of NLopt's generator for the stochastic global stages (default 2385) */
   int population; /* 0 = NLopt's default */
+  /* Multi-start local stage (docs/optimize.md, section 4): the local stage
+   * runs from the best `local_starts` global-stage points that lie at least
+   * `local_start_separation` of the box apart (in some variable, each
+   * variable measured as a fraction of its box width) and the best point of
+   * all is kept. 1 (the default) runs it once from the global stage's best
+   * point; without a global stage there is one start, x0. */
+  int local_starts;              /* default 1 */
+  double local_start_separation; /* fraction of the box, (0, 1] (default 0.1) */
 } pom_opt_options;
 
 /* Outcome. */
@@ -53,10 +62,13 @@ typedef struct {
   double x[POM_OPT_MAX_DIM]; /* best point found */
   double f;                  /* objective there */
   long evals_global;         /* objective calls of each stage */
-  long evals_local;
-  int result_global; /* nlopt_result of each stage (0 = stage not run) */
-  int result_local;
-  double wall_time; /* s, both stages */
+  long evals_local;          /* (every local run together) */
+  int local_runs;            /* local runs made (1 unless local_starts > 1; 0 = none) */
+  int local_best_run;        /* the run that found the best point (0-based), -1 when the
+                                global stage's best point stayed best or no local run */
+  int result_global;         /* nlopt_result of each stage (0 = stage not run) */
+  int result_local;          /* (of local run local_best_run, else of the first) */
+  double wall_time;          /* s, both stages */
 } pom_opt_result;
 
 void pom_opt_defaults(pom_opt_options *opts);

@@ -384,6 +384,7 @@ static pom_status tune(pipe_ctx *ctx, const pom_pipeline_options *o, relay *rl, 
   r->tuned_gains = res.best;
   r->tuned_eval = res.best_eval;
   r->tuning_time = now_s() - t0;
+  r->tuning_evaluations = res.opt.evals_global + res.opt.evals_local + 2;
 done:
   if (st != POM_OK) pom_error_prefix(err, "pipeline tuning");
   return st;

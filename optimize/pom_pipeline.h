@@ -69,6 +69,8 @@ typedef struct {
   pom_tune_eval config_geometry_eval;    /* the config's geometry with the config's gains, same
                                             maneuvers and criterion (docs/optimize.md 10) */
   double tuning_time;                    /* s */
+  long tuning_evaluations;               /* criterion evaluations of the tuning (both stages, the
+                                            config's gains and the result) */
 } pom_pipeline_record;
 
 /* Evaluator factory for pom_doe_study_load / pom_doe_study_single: reads and

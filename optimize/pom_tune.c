@@ -106,6 +106,12 @@ static pom_status load_opt(const pom_cfg *cfg, pom_opt_options *o, pom_error *er
                            &o->local_xtol_rel, err));
   POM_TRY(pom_cfg_int_opt(cfg, "tuning.optimizer.seed", 0, 2147483647L, (long)o->seed, &v, err));
   o->seed = (unsigned long)v;
+  /* the multi-start local stage (docs/optimize.md 9): off by default */
+  POM_TRY(pom_cfg_int_opt(cfg, "tuning.optimizer.local_starts", 1, POM_OPT_MAX_STARTS,
+                          o->local_starts, &v, err));
+  o->local_starts = (int)v;
+  POM_TRY(pom_cfg_real_opt(cfg, "tuning.optimizer.local_start_separation", 1.0, 1e-3, 1.0,
+                           o->local_start_separation, &o->local_start_separation, err));
   return POM_OK;
 }
 
@@ -332,10 +338,11 @@ typedef struct {
 } tune_ctx;
 
 /* Criterion evaluations of a run at most: the config's gains, the global
-   and local searches, the result. */
+   search, the local search from each of its starts, the result. */
 static long max_evals(const pom_tune_problem *pb) {
+  long starts = pb->opt.global != POM_OPT_GLOBAL_NONE ? pb->opt.local_starts : 1;
   return 2 + (long)pb->opt.global_max_evals * (pb->opt.global != POM_OPT_GLOBAL_NONE) +
-         (long)pb->opt.local_max_evals * (pb->opt.local != POM_OPT_LOCAL_NONE);
+         starts * (long)pb->opt.local_max_evals * (pb->opt.local != POM_OPT_LOCAL_NONE);
 }
 
 static void report(tune_ctx *c) {

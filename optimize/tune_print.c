@@ -35,12 +35,18 @@ void pom_tune_report_text(FILE *out, const pom_tune_problem *pb, const pom_tune_
           pb->saturation_time_max * 1e3);
   print_eval(out, "config", &r->initial, &r->initial_eval);
   print_eval(out, "tuned", &r->best, &r->best_eval);
-  fprintf(out,
-          "  %ld criterion evaluations (%ld global %s, %ld local %s), %ld simulations, "
-          "%.2f s\n  wrote %s\n\n",
+  fprintf(out, "  %ld criterion evaluations (%ld global %s, %ld local %s",
           r->opt.evals_global + r->opt.evals_local, r->opt.evals_global,
           pom_opt_result_name(r->opt.result_global), r->opt.evals_local,
-          pom_opt_result_name(r->opt.result_local), r->simulations, r->opt.wall_time, path);
+          pom_opt_result_name(r->opt.result_local));
+  /* the multi-start local stage (tuning.optimizer.local_starts > 1) */
+  if (r->opt.local_runs > 1 && r->opt.local_best_run >= 0)
+    fprintf(out, " from %d starts, the best from start %d", r->opt.local_runs,
+            r->opt.local_best_run + 1);
+  else if (r->opt.local_runs > 1)
+    fprintf(out, " from %d starts, none better than the global stage", r->opt.local_runs);
+  fprintf(out, "), %ld simulations, %.2f s\n  wrote %s\n\n", r->simulations, r->opt.wall_time,
+          path);
 }
 
 void pom_tune_report_json(FILE *out, const pom_tune_problem *pbs, const pom_tune_result *res, int n,

@@ -9,6 +9,7 @@
 
 #include <nlopt.h>
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -574,6 +575,72 @@ static pom_status recording(void *ctx, const double x[], double *f, pom_error *e
   return POM_OK;
 }
 
+/* Two basins on [0, 1]^2 (docs/optimize.md, section 4): a broad peak of
+ * height 1 at (0.5, 0.55), where DIRECT-L's first samples cluster, and a
+ * narrow one of height 1.3 at (0.85, 0.15), between its samples. */
+static pom_status two_basins(void *ctx, const double x[], double *f, pom_error *err) {
+  (void)ctx;
+  (void)err;
+  double ra = (x[0] - 0.5) * (x[0] - 0.5) + (x[1] - 0.55) * (x[1] - 0.55);
+  double rb = (x[0] - 0.85) * (x[0] - 0.85) + (x[1] - 0.15) * (x[1] - 0.15);
+  *f = exp(-ra / (2.0 * 0.15 * 0.15)) + 1.3 * exp(-rb / (2.0 * 0.03 * 0.03));
+  return POM_OK;
+}
+
+/* The multi-start local stage finds the better of two basins where the
+ * single start (the global stage's best point) does not; one start is the
+ * single-start run itself. */
+static void test_local_starts(void) {
+  const double lo[2] = {0.0, 0.0}, hi[2] = {1.0, 1.0};
+  pom_opt_options o;
+  pom_opt_defaults(&o);
+  check_true(o.local_starts == 1 && o.local_start_separation == 0.1);
+  o.global = POM_OPT_GLOBAL_DIRECT_L;
+  o.global_max_evals = 40;
+  o.local_max_evals = 40;
+  o.local_xtol_rel = 1e-3;
+  pom_opt_result one, two, many, apart;
+  pom_error err;
+  check_true(pom_opt_maximize(2, lo, hi, NULL, two_basins, NULL, &o, &one, &err) == POM_OK);
+  /* the broad peak (the narrow one adds 1.3 exp(-0.2825 / 0.0018), nothing,
+   * there); BOBYQA's x tolerance 1e-3 leaves f within 1e-4 of its top */
+  check_abs(one.f, 1.0, 1e-4);
+  check_abs(one.x[0], 0.5, 0.01);
+  check_true(one.local_runs == 1);
+  o.local_starts = 2;
+  check_true(pom_opt_maximize(2, lo, hi, NULL, two_basins, NULL, &o, &two, &err) == POM_OK);
+  /* the narrow peak: 1.3 plus the broad one's exp(-0.2825 / 0.045) = 0.0019;
+   * x within 1e-3 of its top costs at most 1.3 / 0.03^2 / 2 * (1e-3)^2 = 7e-4 */
+  check_abs(two.f, 1.3 + exp(-0.2825 / 0.045), 1e-3);
+  check_abs(two.x[0], 0.85, 0.01);
+  check_abs(two.x[1], 0.15, 0.01);
+  check_true(two.local_runs == 2 && two.local_best_run == 1);
+  /* the same global stage, and the first local run is the single start's */
+  check_true(two.evals_global == one.evals_global && two.evals_local > one.evals_local);
+  o.local_starts = 4;
+  check_true(pom_opt_maximize(2, lo, hi, NULL, two_basins, NULL, &o, &many, &err) == POM_OK);
+  check_true(many.f == two.f && many.local_runs == 4 && many.evals_local > two.evals_local);
+  /* starts a whole box apart: only the global stage's best is one */
+  o.local_start_separation = 1.0;
+  check_true(pom_opt_maximize(2, lo, hi, NULL, two_basins, NULL, &o, &apart, &err) == POM_OK);
+  check_true(apart.local_runs == 1 && apart.f == one.f && apart.evals_local == one.evals_local);
+  /* refused options */
+  o.local_start_separation = 0.0;
+  check_true(pom_opt_maximize(2, lo, hi, NULL, two_basins, NULL, &o, &apart, &err) == POM_ERR_ARG);
+  o.local_start_separation = 0.1;
+  o.local_starts = POM_OPT_MAX_STARTS + 1;
+  check_true(pom_opt_maximize(2, lo, hi, NULL, two_basins, NULL, &o, &apart, &err) == POM_ERR_ARG);
+  o.local_starts = 0;
+  check_true(pom_opt_maximize(2, lo, hi, NULL, two_basins, NULL, &o, &apart, &err) == POM_ERR_ARG);
+  /* without a global stage there is one start, x0 */
+  o.local_starts = 3;
+  o.global = POM_OPT_GLOBAL_NONE;
+  const double x0[2] = {0.45, 0.6};
+  check_true(pom_opt_maximize(2, lo, hi, x0, two_basins, NULL, &o, &apart, &err) == POM_OK);
+  check_true(apart.local_runs == 1 && apart.evals_global == 0);
+  check_abs(apart.f, 1.0, 1e-4);
+}
+
 static void test_nlopt(void) {
   const double lo[2] = {-5.12, -5.12}, hi[2] = {5.12, 5.12};
   pom_opt_options o;
@@ -648,5 +715,6 @@ int main(void) {
   test_rsm_reference();
   test_desirability();
   test_nlopt();
+  test_local_starts();
   return check_summary("test_optimize");
 }

@@ -145,6 +145,72 @@ static void test_search(void) {
   remove(path);
 }
 
+/* tuning.optimizer.local_starts and local_start_separation (docs/optimize.md
+ * 9): read, range-checked with file, line and key, a misspelt name refused
+ * as an unknown key; the progress bound counts every local run. */
+static pom_status load_tuning(pom_tune_problem *p, const char *tuning, pom_error *err) {
+  char text[1024];
+  /* (an empty group is an unknown key: none then) */
+  snprintf(text, sizeof text, "@include \"%s/configs/3pss.cfg\"\n%s%s%s\n", POM_SOURCE_DIR,
+           tuning[0] ? "tuning = { " : "", tuning, tuning[0] ? " };" : "");
+  pom_cfg *cfg = NULL;
+  pom_status st = pom_cfg_load_string(&cfg, text, "<starts>", err);
+  if (st == POM_OK) st = pom_tune_load(p, cfg, err);
+  const char *const scopes[] = {"tuning", NULL};
+  if (st == POM_OK) st = pom_cfg_check_unknown(cfg, scopes, NULL, err);
+  pom_cfg_destroy(cfg);
+  return st;
+}
+
+static void test_local_starts_keys(void) {
+  static pom_tune_problem p;
+  pom_error err;
+  pom_error_clear(&err);
+  check_true(load_tuning(&p, "", &err) == POM_OK);
+  check_true(p.opt.local_starts == 1 && p.opt.local_start_separation == 0.1);
+  check_true(load_tuning(&p, "optimizer = { local_starts = 3; local_start_separation = 0.25; };",
+                         &err) == POM_OK);
+  check_true(p.opt.local_starts == 3 && p.opt.local_start_separation == 0.25);
+  static const char *const bad[] = {"optimizer = { local_starts = 0; };",
+                                    "optimizer = { local_starts = 17; };",
+                                    "optimizer = { local_starts = 2.5; };",
+                                    "optimizer = { local_starts = \"2\"; };",
+                                    "optimizer = { local_start_separation = 0.0; };",
+                                    "optimizer = { local_start_separation = 1.5; };"};
+  for (size_t k = 0; k < sizeof bad / sizeof bad[0]; ++k) {
+    pom_error_clear(&err);
+    check_true(load_tuning(&p, bad[k], &err) == POM_ERR_CONFIG);
+    check_true(strstr(err.message, "<starts>:2") != NULL);
+    check_true(strstr(err.message, "tuning.optimizer.local_start") != NULL);
+  }
+  pom_error_clear(&err);
+  check_true(load_tuning(&p, "optimizer = { local_start = 3; };", &err) == POM_ERR_CONFIG);
+  check_true(strstr(err.message, "local_start") != NULL);
+
+  /* five global evaluations, two local runs of at most 3 each: the bound
+   * 2 + 5 + 2 x 3 */
+  pom_tune_problem q = pb;
+  q.n_maneuvers = 1;
+  q.n_vars = 1;
+  q.var[0] = POM_TUNE_KD;
+  q.lo[0] = 1e-3;
+  q.hi[0] = 2e-2;
+  q.log_scale[0] = 1;
+  q.opt.global = POM_OPT_GLOBAL_DIRECT_L;
+  q.opt.global_max_evals = 5;
+  q.opt.local_max_evals = 3;
+  q.opt.local_starts = 2;
+  q.opt.local_start_separation = 0.05;
+  progress_seen seen = {0, 0, 0, 0};
+  q.progress = on_progress;
+  q.progress_user = &seen;
+  pom_tune_result res;
+  check_true(pom_tune_run(&q, &res, &err) == POM_OK);
+  check_true(res.opt.local_runs == 2);
+  check_true(seen.calls == res.opt.evals_global + res.opt.evals_local + 2);
+  check_true(seen.last_done == 13 && seen.bound == 13 && seen.out_of_order == 0);
+}
+
 /* A failing simulation stops the search with its own status: never a value. */
 static void test_failure(void) {
   pom_error err;
@@ -165,6 +231,7 @@ int main(void) {
   if (!load()) return check_summary("test_optimize_tune") + 1;
   test_criterion();
   test_search();
+  test_local_starts_keys();
   test_failure();
   return check_summary("test_optimize_tune");
 }
