@@ -79,6 +79,30 @@ typedef struct {
   nlopt_opt opt;
 } opt_ctx;
 
+/* oc for candidate c of pb started at x0 (config units; NULL: the config's
+ * design), the variables with free_vars[v] != 0 free (NULL: all), the
+ * objective (0 time, 1 energy) and the energy bound eps (NaN: none); u0
+ * receives the start in the unit box of the free variables. */
+static void opt_ctx_init(opt_ctx *oc, const pom_cds_problem *pb, int c, const double *x0,
+                         const int *free_vars, int objective, double eps, double *u0,
+                         pom_error *err) {
+  const pom_cds_candidate *cd = &pb->cand[c];
+  memset(oc, 0, sizeof *oc);
+  oc->pb = pb;
+  oc->c = c;
+  oc->objective = objective;
+  oc->eps = eps;
+  oc->err = err;
+  oc->status = POM_OK;
+  for (int v = 0; v < cd->n_vars; ++v) {
+    double xv = x0 ? x0[v] : cd->var[v].x0;
+    oc->x_fixed[v] = xv;
+    if (free_vars && !free_vars[v]) continue;
+    u0[oc->n_free] = fmin(1.0, fmax(0.0, to_u(&cd->var[v], xv)));
+    oc->map[oc->n_free++] = v;
+  }
+}
+
 static void design_of(const opt_ctx *oc, const double *u, double *x) {
   const pom_cds_candidate *cd = &oc->pb->cand[oc->c];
   memcpy(x, oc->x_fixed, sizeof(double) * POM_CDS_MAX_VARS);
@@ -373,23 +397,9 @@ pom_status pom_cds_optimize(const pom_cds_problem *pb, int c, const double *x0, 
                             pom_error *err) {
   const pom_cds_candidate *cd = &pb->cand[c];
   opt_ctx oc;
-  memset(&oc, 0, sizeof oc);
-  oc.pb = pb;
-  oc.c = c;
-  oc.objective = objective;
-  oc.eps = eps;
-  oc.err = err;
-  oc.status = POM_OK;
-  double xs[POM_CDS_MAX_VARS];
-  for (int v = 0; v < cd->n_vars; ++v) {
-    xs[v] = x0 ? x0[v] : cd->var[v].x0;
-    oc.x_fixed[v] = xs[v];
-    if (!free_vars || free_vars[v]) oc.map[oc.n_free++] = v;
-  }
-  if (oc.n_free < 1) POM_FAIL(err, POM_ERR_ARG, "codesign: no free variable");
   double u[POM_CDS_MAX_VARS];
-  for (int i = 0; i < oc.n_free; ++i)
-    u[i] = fmin(1.0, fmax(0.0, to_u(&cd->var[oc.map[i]], xs[oc.map[i]])));
+  opt_ctx_init(&oc, pb, c, x0, free_vars, objective, eps, u, err);
+  if (oc.n_free < 1) POM_FAIL(err, POM_ERR_ARG, "codesign: no free variable");
   /* scales: the figures at the start (positive) */
   POM_TRY(point(&oc, u, 0));
   oc.t_ref = oc.q[0] > 0 ? oc.q[0] : 1e-3;
@@ -826,19 +836,9 @@ pom_status pom_cds_efficiency_run(const pom_cds_problem *pb, int c, int budget, 
 pom_status pom_cds_gradient_at(const pom_cds_problem *pb, int c, const double *x, double q[2],
                                double g[2][POM_CDS_MAX_VARS], long *fallbacks, char why[160],
                                pom_error *err) {
-  const pom_cds_candidate *cd = &pb->cand[c];
   opt_ctx oc;
-  memset(&oc, 0, sizeof oc);
-  oc.pb = pb;
-  oc.c = c;
-  oc.eps = NAN;
-  oc.err = err;
   double u[POM_CDS_MAX_VARS];
-  for (int v = 0; v < cd->n_vars; ++v) {
-    oc.x_fixed[v] = x[v];
-    oc.map[oc.n_free] = v;
-    u[oc.n_free++] = fmin(1.0, fmax(0.0, to_u(&cd->var[v], x[v])));
-  }
+  opt_ctx_init(&oc, pb, c, x, NULL, 0, NAN, u, err);
   pom_status st = point(&oc, u, 1);
   pom_grad_destroy(oc.gr);
   if (st != POM_OK) return st;
