@@ -500,10 +500,12 @@ pom_status pom_grad_set_point(pom_grad *g, const double *values, const double *d
   double keep[POM_GRAD_MAX_PARAMS][POM_GRAD_MAX_PARAMS];
   const int keep_identity = g->identity;
   memcpy(keep, g->dir, sizeof keep);
-  if (dirs) POM_TRY(set_dirs(g, dirs, err));
-  steps_of(g, values, step, scale);
+  pom_status st = dirs ? set_dirs(g, dirs, err) : POM_OK;
   model_set s;
-  pom_status st = build_set(&s, g, values, step, NULL, err);
+  if (st == POM_OK) {
+    steps_of(g, values, step, scale);
+    st = build_set(&s, g, values, step, NULL, err);
+  }
   if (st == POM_OK) st = adopt(g, &s, err);
   if (st != POM_OK) {
     /* the previous design and directions stay */

@@ -17,7 +17,7 @@
  *      for bit (same steps, same models), and a zero direction has
  *      derivative 0 while the others are unchanged;
  *   4. the step and scale of a direction: pbar = min_m |v_m| / |c_m|,
- *      h = rel_step pbar.
+ *      h = rel_step pbar; a refused direction leaves the previous ones.
  * Elasticities are taken with the direction's scale pbar (the move of s
  * that changes some key by its own magnitude). */
 #include "check.h"
@@ -198,6 +198,15 @@ int main(int argc, char **argv) {
          worst_sum, worst_ref, compared);
   /* 4 energies, 5 settling times, the final pointing error, the peak current */
   check_true(argc == 4 || compared == 11);
+  /* a refused direction (a non-finite coefficient) leaves the previous
+   * design and directions in place */
+  double bad[2 * NK];
+  memcpy(bad, dirs, sizeof bad);
+  bad[NK + 2] = NAN;
+  check_true(pom_grad_set_point(dir, v, bad, &err) == POM_ERR_ARG);
+  check_rel(pom_grad_dir(dir, 0, 3), c[3], 0.0);
+  check_abs(pom_grad_dir(dir, 1, 2), 0.0, 0.0);
+  check_rel(pom_grad_scale(dir, 0), pbar, 1e-15);
   pom_grad_destroy(single);
   pom_grad_destroy(dir);
   pom_grad_destroy(ident);
