@@ -283,11 +283,19 @@ int pom_cmd_codesign(int argc, char **argv) {
     printf("gradient-based: p95 %.4f ms, %ld simulations (%ld evaluations)%s\n", 1e3 * ef.grad_best,
            ef.grad_sims, ef.grad.evaluations,
            ef.grad.fallback_used ? ", COBYLA fallback included" : "");
-    if (pb->grad == POM_CDS_GRAD_SENS)
-      printf("  of which %ld maneuvers ran with sensitivities; %ld gradient evaluations fell back "
-             "to differences%s%s\n",
-             ef.grad.sens_runs, ef.grad.sens_fallbacks, ef.grad.sens_fallbacks ? ", last: " : "",
-             ef.grad.sens_fallbacks ? ef.grad.sens_why : "");
+    if (pb->grad == POM_CDS_GRAD_SENS) {
+      const pom_cds_point *gp = &ef.grad;
+      printf("  of which %ld maneuvers ran with sensitivities (p = %d), %ld plain, %ld in "
+             "differences; %ld gradient evaluations fell back to differences%s%s\n",
+             gp->sens_runs, gp->sens_params, gp->simulations - gp->sens_runs - gp->fallback_sims,
+             gp->fallback_sims, gp->sens_fallbacks, gp->sens_fallbacks ? ", last: " : "",
+             gp->sens_fallbacks ? gp->sens_why : "");
+      printf("  current row: %ld from the peak current's derivative, %ld by differences, %ld "
+             "held (more than 20 %% from active)%s%s\n",
+             gp->peak_rows, gp->peak_fallbacks, gp->peak_held,
+             gp->peak_fallbacks ? "; last difference: " : "",
+             gp->peak_fallbacks ? gp->peak_why : "");
+    }
     printf("COBYLA:         p95 %.4f ms, %ld simulations (%ld evaluations)\n", 1e3 * ef.dfree_best,
            ef.dfree.simulations, ef.dfree.evaluations);
     if (ef.dfree_sims_to_match >= 0)

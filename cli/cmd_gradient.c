@@ -96,9 +96,13 @@ int pom_cmd_gradient(int argc, char **argv) {
       .about = "The metrics of the config's Monte-Carlo maneuvers and their derivatives with\n"
                "respect to design keys, by forward sensitivities through the exact (rigid-joint)\n"
                "formulation (docs/optimize.md, \"Design gradients\"): per maneuver and of the\n"
-               "means. A settling time's derivative is undefined where the time is censored,\n"
-               "zero from the start or its last band crossing grazes the band; it is printed as\n"
-               "such, never as a number.",
+               "means: the energies, the tracking and final pointing errors, the settling and\n"
+               "execution times and the peak coil current (its time and coil in the JSON). A\n"
+               "settling time's derivative is undefined where the time is censored, zero from\n"
+               "the start or its last band crossing grazes the band; the peak current's where\n"
+               "its maximum is at the start or the horizon, on a kink or near a saturated\n"
+               "voltage's corner of i(t), or ties with another coil or time (section 12.2). An\n"
+               "undefined derivative is printed as such, with its reason, never as a number.",
       .notes = "Needs joints.model = \"rigid\". Exit status: 0 done (failed maneuvers are\n"
                "reported); 1 runtime failure; 2 usage or config error.",
       .opts = opts,

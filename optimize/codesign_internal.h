@@ -32,33 +32,58 @@ int pom_cds_design_keys(const pom_cds_candidate *cd, const double *x,
 /* dx_v/du_v of the unit-box map (linear or log10) at x_v. */
 double pom_cds_dx_du(const pom_cds_var *v, double x);
 
+/* The peak coil current of every maneuver of a sensitivity run (the
+ * located maximum, docs/optimize.md 12.2) and its derivative per design
+ * variable where defined (why: the reason where not). Arrays of n. */
+typedef struct {
+  double *value;                 /* A */
+  double (*d)[POM_CDS_MAX_VARS]; /* A per config unit of x_v; 0 where undefined */
+  int *defined;
+  pom_dyn_grad_why *why;
+} pom_cds_sens_peak;
+
 /* The figures of every maneuver 0..n-1 of seed at design x by the
  * sensitivity engine (study/pom_grad.h; docs/optimize.md 11.5): the
  * pointing time t[k] (the horizon when unsettled), the energy e[k], and
  * their derivatives per design variable (config units) dt[k][v], de[k][v]
- * (an unsettled time has derivative 0). *gr is the caller's pom_grad (NULL
- * the first time: created here and reused; the caller destroys it); one
- * per thread. *ok = 0 with the reason in why when a derivative is undefined
- * (a failed maneuver, a grazing or censored crossing, a design the engine
- * refuses): the caller falls back to differences. Errors: out of memory
- * only. */
-pom_status pom_cds_sens_maneuvers(const pom_cds_problem *pb, int c, const double *x, uint64_t seed,
-                                  long n, pom_grad **gr, double *t, double *e,
-                                  double (*dt)[POM_CDS_MAX_VARS], double (*de)[POM_CDS_MAX_VARS],
-                                  int *ok, char *why, size_t why_cap, pom_error *err);
+ * (an unsettled time has derivative 0), one sensitivity parameter per
+ * design variable (the size variable's direction: the size law's tangent
+ * over its keys); a variable with active[v] == 0 (active NULL: all are
+ * active) gets a zero direction, costs nothing and has derivative 0. peak (NULL: not watched)
+ * receives the peak currents and their derivatives, whose undefined ones do not unset *ok. *gr is
+ * the caller's pom_grad (NULL the first time: created here and reused; the caller destroys it); one
+ * per thread. *ok = 0 with the reason in why when a time or energy derivative is undefined (a
+ * failed maneuver, a grazing or censored crossing, a design the engine refuses): the caller falls
+ * back to differences. Errors: out of memory only. */
+pom_status pom_cds_sens_maneuvers(const pom_cds_problem *pb, int c, const double *x,
+                                  const int *active, uint64_t seed, long n, pom_grad **gr,
+                                  double *t, double *e, double (*dt)[POM_CDS_MAX_VARS],
+                                  double (*de)[POM_CDS_MAX_VARS], pom_cds_sens_peak *peak, int *ok,
+                                  char *why, size_t why_cap, pom_error *err);
 
 /* The figures of design x that need no simulation: kinematic margin,
  * envelope, the size law's current limit (in f; the rest untouched). */
 void pom_cds_static_figures(const pom_cds_problem *pb, int c, const double *x, pom_cds_figures *f);
 
-/* The smooth p95 q[0] (s) and mean energy q[1] (J) of design x (config
- * units, every variable free) on the optimization set, and their gradients
- * in the unit box g[0], g[1] by the problem's gradient source (pb->grad;
- * fd_step for the differences); *fallbacks = 1 when the sensitivity path
- * fell back to differences, why says why. The check of docs/optimize.md 11.5. */
-pom_status pom_cds_gradient_at(const pom_cds_problem *pb, int c, const double *x, double q[2],
-                               double g[2][POM_CDS_MAX_VARS], long *fallbacks, char why[160],
-                               pom_error *err);
+/* The check of docs/optimize.md 11.5 at one design: the smooth p95 q[0]
+ * (s), the mean energy q[1] (J) and the current constraint q[2] = I_peak /
+ * I_max(s) - 1 on the optimization set, their gradients g[0..2] in the unit
+ * box (every variable free) by the problem's gradient source (pb->grad;
+ * fd_step for the differences), and the sensitivity path's counters (the
+ * pom_cds_point fields of the same names). */
+typedef struct {
+  double q[3];
+  double g[3][POM_CDS_MAX_VARS];
+  long fallbacks;      /* 1: the whole gradient fell back to differences (why) */
+  long peak_rows;      /* 1: the current row from the peak current's derivative */
+  long peak_fallbacks; /* 1: the current row by differences (peak_why) */
+  long peak_held;      /* 1: the current row held (more than 20 % from active) */
+  char why[160];
+  char peak_why[160];
+} pom_cds_grad_check;
+
+pom_status pom_cds_gradient_at(const pom_cds_problem *pb, int c, const double *x,
+                               pom_cds_grad_check *out, pom_error *err);
 
 /* Why design x (figures f, optimization set) misses the requirement set, in
  * words: the workspace term that sets the kinematic margin (pose, stroke,

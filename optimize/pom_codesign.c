@@ -754,10 +754,24 @@ double pom_cds_dx_du(const pom_cds_var *v, double x) {
 }
 
 /* ---- sensitivities (section 11.5, gradient = "sensitivity") -------------------------- */
-pom_status pom_cds_sens_maneuvers(const pom_cds_problem *pb, int c, const double *x, uint64_t seed,
-                                  long n, pom_grad **gr, double *t, double *e,
-                                  double (*dt)[POM_CDS_MAX_VARS], double (*de)[POM_CDS_MAX_VARS],
-                                  int *ok, char *why, size_t why_cap, pom_error *err) {
+/* The directions of the sensitivity parameters, one per design variable v
+ * (docs/optimize.md 11.5, 12.1): dirs[v][m] = d(plant value of key m)/dx_v =
+ * factor_m dvalue_m/dx_v (factor: the relative draw, 0 for an absolute one)
+ * over the np keys (the nd design keys, then the uncertain keys the design
+ * does not set, which no direction moves); an inactive variable (fixed in
+ * this optimization) gets a zero direction. */
+static void sens_dirs(int n_vars, const int *active, int nd, int np, const double *factor,
+                      double dvdx[POM_CDS_MAX_KEYS][POM_CDS_MAX_VARS], double *dirs) {
+  for (int v = 0; v < n_vars; ++v)
+    for (int m = 0; m < np; ++m)
+      dirs[v * np + m] = m < nd && (!active || active[v]) ? factor[m] * dvdx[m][v] : 0.0;
+}
+
+pom_status pom_cds_sens_maneuvers(const pom_cds_problem *pb, int c, const double *x,
+                                  const int *active, uint64_t seed, long n, pom_grad **gr,
+                                  double *t, double *e, double (*dt)[POM_CDS_MAX_VARS],
+                                  double (*de)[POM_CDS_MAX_VARS], pom_cds_sens_peak *peak, int *ok,
+                                  char *why, size_t why_cap, pom_error *err) {
   const pom_cds_candidate *cd = &pb->cand[c];
   const char *key[POM_GRAD_MAX_PARAMS];
   double value[POM_CDS_MAX_KEYS];
@@ -768,6 +782,8 @@ pom_status pom_cds_sens_maneuvers(const pom_cds_problem *pb, int c, const double
     return POM_OK;
   }
   int nd = pom_cds_design_keys(cd, x, key, value, dvdx);
+  const int nv = cd->n_vars;
+  double dirs[POM_CDS_MAX_VARS * POM_GRAD_MAX_PARAMS];
   /* the uncertain keys: one the design sets scales (relative) or replaces
    * (absolute) that key's value; any other is one more parameter, moved to
    * its drawn value per maneuver (its derivative unused) */
@@ -796,8 +812,12 @@ pom_status pom_cds_sens_maneuvers(const pom_cds_problem *pb, int c, const double
       pom_grad_options_defaults(&go);
       go.rigid_joints =
           1; /* the optimization set is rigid (design_config's text does not say so) */
-      go.peak_current = 0; /* no objective or constraint uses it: its watch would cost */
-      st = pom_grad_create(gr, cfg, key, np, &go, &e2);
+      go.peak_current = 0; /* turned on per call below, when the caller asks */
+      double one[POM_GRAD_MAX_PARAMS];
+      for (int m = 0; m < np; ++m)
+        one[m] = 1.0;
+      sens_dirs(nv, active, nd, np, one, dvdx, dirs);
+      st = pom_grad_create_dirs(gr, cfg, key, np, dirs, nv, &go, &e2);
       pom_cfg_destroy(cfg);
     }
     if (st == POM_ERR_NOMEM) {
@@ -810,6 +830,7 @@ pom_status pom_cds_sens_maneuvers(const pom_cds_problem *pb, int c, const double
       return POM_OK;
     }
   }
+  pom_grad_watch_peak_current(*gr, peak != NULL);
   pom_doe_maneuvers mvs = pb->maneuvers;
   mvs.seed = seed;
   pom_unc unc = pb->uncertain;
@@ -833,7 +854,8 @@ pom_status pom_cds_sens_maneuvers(const pom_cds_problem *pb, int c, const double
         factor[m] = 0.0; /* the draw replaces the design's value */
       }
     }
-    pom_status st = pom_grad_set_values(*gr, vals, &e2);
+    sens_dirs(nv, active, nd, np, factor, dvdx, dirs);
+    pom_status st = pom_grad_set_point(*gr, vals, dirs, &e2);
     pom_doe_maneuver mv;
     pom_doe_maneuver_draw(&mv, &mvs, k);
     pom_dyn_metrics mt;
@@ -859,13 +881,20 @@ pom_status pom_cds_sens_maneuvers(const pom_cds_problem *pb, int c, const double
     }
     t[k] = settled ? mt.pointing_settling_time : horizon;
     e[k] = mt.energy_total;
+    /* the parameters are the design variables themselves (their
+     * directions carry the size law's tangent and the draws) */
     for (int v = 0; v < POM_CDS_MAX_VARS; ++v) {
-      dt[k][v] = 0.0; /* an unsettled maneuver counts the horizon: no derivative */
-      de[k][v] = 0.0;
-      for (int m = 0; m < nd; ++m) {
-        if (settled) dt[k][v] += gt->d[m] * factor[m] * dvdx[m][v];
-        de[k][v] += ge->d[m] * factor[m] * dvdx[m][v];
-      }
+      /* an unsettled maneuver counts the horizon: no derivative */
+      dt[k][v] = v < nv && settled ? gt->d[v] : 0.0;
+      de[k][v] = v < nv ? ge->d[v] : 0.0;
+    }
+    if (peak) {
+      const pom_dyn_dmetric *gp = &g.peak_current;
+      peak->value[k] = mt.peak_current;
+      peak->defined[k] = gp->defined && isfinite(mt.peak_current);
+      peak->why[k] = gp->why;
+      for (int v = 0; v < POM_CDS_MAX_VARS; ++v)
+        peak->d[k][v] = v < nv && peak->defined[k] ? gp->d[v] : 0.0;
     }
   }
   *ok = 1;

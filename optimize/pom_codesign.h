@@ -152,8 +152,17 @@ typedef struct {
   long simulations;                /* spent by this optimization */
   long evaluations;
   long sens_runs;      /* gradient = "sensitivity": maneuvers run with sensitivities */
+  int sens_params;     /* sensitivity parameters of each such run (the free variables) */
   long sens_fallbacks; /* evaluations whose gradient fell back to differences */
   char sens_why[160];  /* the last fallback's reason ("" when none) */
+  long peak_rows;      /* gradients whose current row came from the peak current's
+                          derivative (section 11.5) */
+  long peak_fallbacks; /* current rows by whole-simulation differences: a maneuver's peak
+                          derivative undefined (or a tie between maneuvers) near active */
+  long peak_held;      /* current rows held at the size law's limit alone: undefined, and the
+                          constraint more than 20 % from active */
+  char peak_why[160];  /* the last current-row fallback's reason */
+  long fallback_sims;  /* simulations spent on differences (both kinds of fallback) */
   int nlopt_result;
   /* the search's record: after hist_sims[i] simulations the best feasible
    * objective was hist_best[i] (s or J); not kept by the journal */

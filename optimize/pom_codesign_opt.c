@@ -70,7 +70,10 @@ typedef struct {
    * thread), its runs and the evaluations that fell back to differences */
   pom_grad *gr;
   long sens_runs, sens_fallbacks;
+  int sens_params;
   char sens_why[160];
+  long peak_rows, peak_fallbacks, peak_held, fallback_sims;
+  char peak_why[160];
   int n_hist;
   long hist_sims[128];
   double hist_best[128];
@@ -78,6 +81,30 @@ typedef struct {
   pom_error *err;
   nlopt_opt opt;
 } opt_ctx;
+
+/* oc for candidate c of pb started at x0 (config units; NULL: the config's
+ * design), the variables with free_vars[v] != 0 free (NULL: all), the
+ * objective (0 time, 1 energy) and the energy bound eps (NaN: none); u0
+ * receives the start in the unit box of the free variables. */
+static void opt_ctx_init(opt_ctx *oc, const pom_cds_problem *pb, int c, const double *x0,
+                         const int *free_vars, int objective, double eps, double *u0,
+                         pom_error *err) {
+  const pom_cds_candidate *cd = &pb->cand[c];
+  memset(oc, 0, sizeof *oc);
+  oc->pb = pb;
+  oc->c = c;
+  oc->objective = objective;
+  oc->eps = eps;
+  oc->err = err;
+  oc->status = POM_OK;
+  for (int v = 0; v < cd->n_vars; ++v) {
+    double xv = x0 ? x0[v] : cd->var[v].x0;
+    oc->x_fixed[v] = xv;
+    if (free_vars && !free_vars[v]) continue;
+    u0[oc->n_free] = fmin(1.0, fmax(0.0, to_u(&cd->var[v], xv)));
+    oc->map[oc->n_free++] = v;
+  }
+}
 
 static void design_of(const opt_ctx *oc, const double *u, double *x) {
   const pom_cds_candidate *cd = &oc->pb->cand[oc->c];
@@ -108,15 +135,21 @@ static int feasible_q(const opt_ctx *oc, const double q[NQ]) {
  * undefined. */
 static pom_status point_cd(opt_ctx *oc, const double *u, int want_grad);
 
-/* dt/du_i = sum_j d_j dvalue_j/dx_v dx_v/du_i per maneuver (the chain
- * rule in pom_cds_sens_maneuvers and here), dT95/du = sum_k w_k dt_k/du
- * (the smooth quantile's weights), dE/du the mean of de_k/du; kinematic
- * margin, envelope and the size law's current limit by differences of
- * the static figures (no simulation); the peak current held (its
- * derivative is not known to the engine) unless the current constraint is
- * within 20 % of active, where its row comes from whole-simulation
- * differences as with central_difference (docs/optimize.md 11.5).
- * *ok = 0: a derivative is undefined, nothing written. */
+/* The time and energy rows by the sensitivity engine: dt_k/du_i =
+ * (dt_k/dx_v) (dx_v/du_i), one sensitivity parameter per design variable
+ * (pom_cds_sens_maneuvers), dT95/du = sum_k w_k dt_k/du (the smooth
+ * quantile's weights), dE/du the mean of de_k/du; kinematic margin,
+ * envelope and the size law's current limit by differences of the static
+ * figures (no simulation). The current row, q3 = I/I_max(s) - 1 with I the
+ * largest peak over the maneuvers: dq3/du = (dI/du)/I_max - I dI_max/du /
+ * I_max^2, dI/du the peak derivative of the maneuver that attains the
+ * largest peak (envelope theorem, docs/optimize.md 11.5, 12.2), watched
+ * while the constraint is within 20 % of active. Where that maneuver's
+ * derivative is undefined (a kink, a corner, a tie of coils) or two
+ * maneuvers tie: within 20 % of active the row alone comes from
+ * whole-simulation differences (counted in peak_fallbacks), farther the
+ * peak is held (only the limit moves; peak_held). *ok = 0: a time or
+ * energy derivative is undefined, nothing written. */
 static pom_status sens_rows(opt_ctx *oc, const double *u, int *ok) {
   const pom_cds_problem *pb = oc->pb;
   const pom_cds_candidate *cd = &pb->cand[oc->c];
@@ -129,15 +162,27 @@ static pom_status sens_rows(opt_ctx *oc, const double *u, int *ok) {
   }
   double x[POM_CDS_MAX_VARS];
   design_of(oc, u, x);
-  double *t = malloc((size_t)nm * (3 * sizeof(double) + 2 * sizeof(double[POM_CDS_MAX_VARS])));
+  const int near_current = oc->q[3] > -0.2;
+  const size_t row = sizeof(double[POM_CDS_MAX_VARS]);
+  double *t =
+      malloc((size_t)nm * (4 * sizeof(double) + 3 * row + sizeof(int) + sizeof(pom_dyn_grad_why)));
   if (!t) POM_FAIL(oc->err, POM_ERR_NOMEM, "codesign: out of memory");
-  double *e = t + nm, *w = e + nm;
-  double(*dt)[POM_CDS_MAX_VARS] = (double(*)[POM_CDS_MAX_VARS])(w + nm);
+  double *e = t + nm, *w = e + nm, *ip = w + nm;
+  double(*dt)[POM_CDS_MAX_VARS] = (double(*)[POM_CDS_MAX_VARS])(ip + nm);
   double(*de)[POM_CDS_MAX_VARS] = dt + nm;
+  double(*dip)[POM_CDS_MAX_VARS] = de + nm;
+  int *ip_ok = (int *)(void *)(dip + nm);
+  pom_dyn_grad_why *ip_why = (pom_dyn_grad_why *)(void *)(ip_ok + nm);
+  pom_cds_sens_peak peak = {ip, dip, ip_ok, ip_why};
+  int active[POM_CDS_MAX_VARS] = {0};
+  for (int i = 0; i < n; ++i)
+    active[oc->map[i]] = 1;
   int good = 0;
-  pom_status st = pom_cds_sens_maneuvers(pb, oc->c, x, pb->maneuvers.seed, nm, &oc->gr, t, e, dt,
-                                         de, &good, oc->sens_why, sizeof oc->sens_why, oc->err);
+  pom_status st = pom_cds_sens_maneuvers(pb, oc->c, x, active, pb->maneuvers.seed, nm, &oc->gr, t,
+                                         e, dt, de, near_current ? &peak : NULL, &good,
+                                         oc->sens_why, sizeof oc->sens_why, oc->err);
   oc->sens_runs += nm;
+  oc->sens_params = n;
   oc->simulations += nm; /* counted as simulations too (hist_sims) */
   if (st != POM_OK || !good) {
     free(t);
@@ -155,9 +200,7 @@ static pom_status sens_rows(opt_ctx *oc, const double *u, int *ok) {
     }
     gs[6][i] = gs[0][i] / pb->time_max;
   }
-  free(t);
-  /* the static rows */
-  int near_current = oc->q[3] > -0.2;
+  /* the static rows (and the current limit's part of the current row) */
   for (int i = 0; i < n; ++i) {
     double h = pb->fd_step;
     double hh = fmin(h, 1.0 - u[i]), hl = fmin(h, u[i]);
@@ -176,12 +219,52 @@ static pom_status sens_rows(opt_ctx *oc, const double *u, int *ok) {
     for (int k = 2; k <= 4; ++k)
       gs[k][i] = (qp[k] - qm[k]) / (hh + hl);
   }
-  if (near_current) {
+  /* the peak current's part: the maneuver with the largest peak */
+  int current_fd = 0;
+  if (near_current && oc->fig.i_limit > 0) {
+    long k1 = -1, k2 = -1;
+    for (long k = 0; k < nm; ++k) {
+      if (k1 < 0 || ip[k] > ip[k1]) {
+        k2 = k1;
+        k1 = k;
+      } else if (k2 < 0 || ip[k] > ip[k2]) {
+        k2 = k;
+      }
+    }
+    /* a tie: the two largest located peaks closer than the sampled
+     * figure's own deficit (twice its distance from the located largest)
+     * or 1e-9: which maneuver's sampled maximum is the largest is then not
+     * known to the derivative's accuracy (docs/optimize.md 11.5) */
+    double gap_tol = 1e-9 * fabs(ip[k1]) + 2.0 * fabs(ip[k1] - oc->fig.i_peak);
+    if (!isfinite(ip[k1]) || !ip_ok[k1]) {
+      snprintf(oc->peak_why, sizeof oc->peak_why, "maneuver %ld (the largest peak): %s", k1,
+               pom_dyn_grad_why_text(ip_why[k1]));
+      current_fd = 1;
+    } else if (k2 >= 0 && ip[k1] - ip[k2] <= gap_tol) {
+      snprintf(oc->peak_why, sizeof oc->peak_why,
+               "maneuvers %ld and %ld tie for the largest peak (%.6g and %.6g A)", k1, k2, ip[k1],
+               ip[k2]);
+      current_fd = 1;
+    } else {
+      for (int i = 0; i < n; ++i) {
+        int v = oc->map[i];
+        gs[3][i] += dip[k1][v] * pom_cds_dx_du(&cd->var[v], x[v]) / oc->fig.i_limit;
+      }
+      ++oc->peak_rows;
+    }
+  } else {
+    ++oc->peak_held; /* more than 20 % from active: the peak held, the limit moves */
+  }
+  free(t);
+  if (current_fd) {
     /* the peak current's row from whole simulations (and nothing else) */
+    ++oc->peak_fallbacks;
     double keep[NQ][POM_CDS_MAX_VARS];
     memcpy(keep, gs, sizeof keep);
+    long sims0 = oc->simulations;
     oc->have_grad = 0;
     POM_TRY(point_cd(oc, u, 1));
+    oc->fallback_sims += oc->simulations - sims0;
     for (int i = 0; i < n; ++i)
       keep[3][i] = oc->g[3][i];
     memcpy(gs, keep, sizeof keep);
@@ -208,7 +291,10 @@ static pom_status point(opt_ctx *oc, const double *u, int want_grad) {
   /* a derivative undefined: this evaluation's gradient by differences */
   ++oc->sens_fallbacks;
   oc->have_grad = 0;
-  return point_cd(oc, u, 1);
+  long sims0 = oc->simulations;
+  POM_TRY(point_cd(oc, u, 1));
+  oc->fallback_sims += oc->simulations - sims0;
+  return POM_OK;
 }
 
 static pom_status point_cd(opt_ctx *oc, const double *u, int want_grad) {
@@ -373,23 +459,9 @@ pom_status pom_cds_optimize(const pom_cds_problem *pb, int c, const double *x0, 
                             pom_error *err) {
   const pom_cds_candidate *cd = &pb->cand[c];
   opt_ctx oc;
-  memset(&oc, 0, sizeof oc);
-  oc.pb = pb;
-  oc.c = c;
-  oc.objective = objective;
-  oc.eps = eps;
-  oc.err = err;
-  oc.status = POM_OK;
-  double xs[POM_CDS_MAX_VARS];
-  for (int v = 0; v < cd->n_vars; ++v) {
-    xs[v] = x0 ? x0[v] : cd->var[v].x0;
-    oc.x_fixed[v] = xs[v];
-    if (!free_vars || free_vars[v]) oc.map[oc.n_free++] = v;
-  }
-  if (oc.n_free < 1) POM_FAIL(err, POM_ERR_ARG, "codesign: no free variable");
   double u[POM_CDS_MAX_VARS];
-  for (int i = 0; i < oc.n_free; ++i)
-    u[i] = fmin(1.0, fmax(0.0, to_u(&cd->var[oc.map[i]], xs[oc.map[i]])));
+  opt_ctx_init(&oc, pb, c, x0, free_vars, objective, eps, u, err);
+  if (oc.n_free < 1) POM_FAIL(err, POM_ERR_ARG, "codesign: no free variable");
   /* scales: the figures at the start (positive) */
   POM_TRY(point(&oc, u, 0));
   oc.t_ref = oc.q[0] > 0 ? oc.q[0] : 1e-3;
@@ -437,8 +509,14 @@ pom_status pom_cds_optimize(const pom_cds_problem *pb, int c, const double *x0, 
   pt->simulations = oc.simulations;
   pt->evaluations = oc.evaluations;
   pt->sens_runs = oc.sens_runs;
+  pt->sens_params = oc.sens_params;
   pt->sens_fallbacks = oc.sens_fallbacks;
   snprintf(pt->sens_why, sizeof pt->sens_why, "%s", oc.sens_why);
+  pt->peak_rows = oc.peak_rows;
+  pt->peak_fallbacks = oc.peak_fallbacks;
+  pt->peak_held = oc.peak_held;
+  snprintf(pt->peak_why, sizeof pt->peak_why, "%s", oc.peak_why);
+  pt->fallback_sims = oc.fallback_sims;
   pom_grad_destroy(oc.gr);
   pt->n_hist = oc.n_hist;
   memcpy(pt->hist_sims, oc.hist_sims, sizeof oc.hist_sims);
@@ -856,32 +934,26 @@ pom_status pom_cds_efficiency_run(const pom_cds_problem *pb, int c, int budget, 
 }
 
 /* ---- the gradient at one design (the check of section 11.5) ------------------------ */
-pom_status pom_cds_gradient_at(const pom_cds_problem *pb, int c, const double *x, double q[2],
-                               double g[2][POM_CDS_MAX_VARS], long *fallbacks, char why[160],
-                               pom_error *err) {
-  const pom_cds_candidate *cd = &pb->cand[c];
+pom_status pom_cds_gradient_at(const pom_cds_problem *pb, int c, const double *x,
+                               pom_cds_grad_check *out, pom_error *err) {
   opt_ctx oc;
-  memset(&oc, 0, sizeof oc);
-  oc.pb = pb;
-  oc.c = c;
-  oc.eps = NAN;
-  oc.err = err;
   double u[POM_CDS_MAX_VARS];
-  for (int v = 0; v < cd->n_vars; ++v) {
-    oc.x_fixed[v] = x[v];
-    oc.map[oc.n_free] = v;
-    u[oc.n_free++] = fmin(1.0, fmax(0.0, to_u(&cd->var[v], x[v])));
-  }
+  memset(out, 0, sizeof *out);
+  opt_ctx_init(&oc, pb, c, x, NULL, 0, NAN, u, err);
   pom_status st = point(&oc, u, 1);
   pom_grad_destroy(oc.gr);
   if (st != POM_OK) return st;
-  q[0] = oc.q[0];
-  q[1] = oc.q[1];
-  for (int i = 0; i < POM_CDS_MAX_VARS; ++i) {
-    g[0][i] = i < oc.n_free ? oc.g[0][i] : 0.0;
-    g[1][i] = i < oc.n_free ? oc.g[1][i] : 0.0;
+  const int rows[3] = {0, 1, 3};
+  for (int r = 0; r < 3; ++r) {
+    out->q[r] = oc.q[rows[r]];
+    for (int i = 0; i < POM_CDS_MAX_VARS; ++i)
+      out->g[r][i] = i < oc.n_free ? oc.g[rows[r]][i] : 0.0;
   }
-  *fallbacks = oc.sens_fallbacks;
-  snprintf(why, 160, "%s", oc.sens_why);
+  out->fallbacks = oc.sens_fallbacks;
+  out->peak_rows = oc.peak_rows;
+  out->peak_fallbacks = oc.peak_fallbacks;
+  out->peak_held = oc.peak_held;
+  snprintf(out->why, sizeof out->why, "%s", oc.sens_why);
+  snprintf(out->peak_why, sizeof out->peak_why, "%s", oc.peak_why);
   return POM_OK;
 }

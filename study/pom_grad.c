@@ -15,10 +15,15 @@
 struct pom_grad {
   char *text;                  /* the config with its includes resolved (libconfig text) */
   char name[POM_DOE_PATH_LEN]; /* the config's path, for messages */
-  int n;
+  int n_keys;
   char key[POM_GRAD_MAX_PARAMS][POM_GRAD_KEY_LEN];
-  double value[POM_GRAD_MAX_PARAMS]; /* current design (config units) */
-  double step[POM_GRAD_MAX_PARAMS];
+  double value[POM_GRAD_MAX_PARAMS]; /* current design (config units), per key */
+  /* the parameters: directions in the keys' space (docs/optimize.md 12.1) */
+  int n;                                                /* parameters */
+  int identity;                                         /* 1: parameter j is key j */
+  double dir[POM_GRAD_MAX_PARAMS][POM_GRAD_MAX_PARAMS]; /* [j][m]: d key_m / d a_j */
+  double step[POM_GRAD_MAX_PARAMS];  /* h_j (units of a_j); 0 for a zero direction */
+  double scale[POM_GRAD_MAX_PARAMS]; /* pbar_j = h_j / rel_step (units of a_j) */
   pom_grad_options opt;
   pom_doe_maneuvers mv;
   pom_unc unc;
@@ -169,13 +174,13 @@ static pom_status variant(pom_cfg **out, const pom_grad *g, const double *values
       POM_FAIL_GOTO(err, POM_ERR_CONFIG, done, "%s: joints.model cannot be set to \"rigid\"",
                     g->name);
   }
-  for (int j = 0; j < g->n; ++j)
+  for (int j = 0; j < g->n_keys; ++j)
     POM_TRY_GOTO(set_number(&tree, g->key[j], values[j], err), done);
   for (int u = 0; x && u < g->unc.n; ++u) {
     const pom_unc_param *p = &g->unc.param[u];
     if (controller_only && !p->controller_drawn) continue;
     double nominal = g->unc_nominal[u];
-    for (int j = 0; j < g->n; ++j)
+    for (int j = 0; j < g->n_keys; ++j)
       if (strcmp(g->key[j], p->key) == 0) nominal = values[j]; /* the design moves it */
     POM_TRY_GOTO(pom_doe_tree_set_number(&tree, p->key, p->relative ? nominal * x[u] : x[u], err),
                  done);
@@ -233,8 +238,37 @@ static void clear_built(pom_grad *g) {
   g->built = 0;
 }
 
-/* Every model of the design values[] (steps step[]) with draws x. A failure
- * names the key whose perturbed design failed. */
+/* The keys' values of the design values[] moved by t along parameter j's
+ * direction: v = values + t dir_j (only the keys the direction moves, so
+ * that the others keep their bits). */
+static void along(const pom_grad *g, const double *values, int j, double t, double *v) {
+  memcpy(v, values, (size_t)g->n_keys * sizeof *v);
+  for (int m = 0; m < g->n_keys; ++m)
+    if (g->dir[j][m] != 0.0) v[m] = values[m] + t * g->dir[j][m];
+}
+
+/* Parameter j's name in messages: its key, or the keys of its direction. */
+static void param_name(const pom_grad *g, int j, char *out, size_t cap) {
+  size_t n = 0;
+  out[0] = '\0';
+  if (g->identity) {
+    snprintf(out, cap, "%s", g->key[j]);
+    return;
+  }
+  n += (size_t)snprintf(out, cap, "direction %d (", j + 1);
+  int first = 1;
+  for (int m = 0; m < g->n_keys && n < cap; ++m)
+    if (g->dir[j][m] != 0.0) {
+      n += (size_t)snprintf(out + n, cap - n, "%s%.6g %s", first ? "" : " + ", g->dir[j][m],
+                            g->key[m]);
+      first = 0;
+    }
+  if (n < cap) snprintf(out + n, cap - n, ")");
+}
+
+/* Every model of the design values[] (steps step[] along the parameters'
+ * directions) with draws x; a zero direction (step 0) has none. A failure
+ * names the parameter whose perturbed design failed. */
 static pom_status build_set(model_set *s, const pom_grad *g, const double *values,
                             const double *step, const double *x, pom_error *err) {
   memset(s, 0, sizeof *s);
@@ -249,28 +283,49 @@ static pom_status build_set(model_set *s, const pom_grad *g, const double *value
              g->name, pom_dyn_joint_model_name(joints));
   }
   double v[POM_GRAD_MAX_PARAMS];
-  memcpy(v, values, (size_t)g->n * sizeof *v);
   for (int j = 0; j < g->n; ++j) {
+    if (step[j] == 0.0) continue; /* a zero direction: derivative 0, no model */
     for (int side = 0; side < 2; ++side) {
-      v[j] = values[j] + (side ? -step[j] : step[j]);
+      along(g, values, j, side ? -step[j] : step[j], v);
       pom_error e;
       pom_error_clear(&e);
       st = evaluator(side ? &s->minus[j] : &s->plus[j], g, v, x, &e);
       if (st != POM_OK) {
         set_clear(s, g->n);
+        if (g->identity)
+          return pom_error_set(err, st, __FILE__, __LINE__,
+                               "%s: %s = %.10g (the design %s its step): %s", g->name, g->key[j],
+                               v[j], side ? "minus" : "plus", e.message);
+        char name[256];
+        param_name(g, j, name, sizeof name);
         return pom_error_set(err, st, __FILE__, __LINE__,
-                             "%s: %s = %.10g (the design %s its step): %s", g->name, g->key[j],
-                             v[j], side ? "minus" : "plus", e.message);
+                             "%s: %s moved by %+.10g (the design %s its step): %s", g->name, name,
+                             side ? -step[j] : step[j], side ? "minus" : "plus", e.message);
       }
     }
-    v[j] = values[j];
   }
   return POM_OK;
 }
 
-static void steps_of(const pom_grad *g, const double *values, double *step) {
-  for (int j = 0; j < g->n; ++j)
-    step[j] = g->opt.rel_step * (values[j] != 0.0 ? fabs(values[j]) : g->opt.abs_floor[j]);
+/* The step h_j and scale pbar_j of every parameter (docs/optimize.md 12.1):
+ * pbar_j = min over the keys m it moves of r_m / |c_jm| (r_m = |value_m|,
+ * or abs_floor_m at 0), the move of a_j that changes some key by its own
+ * magnitude, and h_j = rel_step pbar_j, so that no key moves by more than
+ * rel_step of itself. A single key (c = 1): h = rel_step |value|, pbar =
+ * |value|. A zero direction: both 0. */
+static void steps_of(const pom_grad *g, const double *values, double *step, double *scale) {
+  for (int j = 0; j < g->n; ++j) {
+    double pbar = INFINITY;
+    for (int m = 0; m < g->n_keys; ++m) {
+      double c = fabs(g->dir[j][m]);
+      if (c == 0.0) continue;
+      double r = values[m] != 0.0 ? fabs(values[m]) : g->opt.abs_floor[m];
+      pbar = fmin(pbar, r / c);
+    }
+    if (!isfinite(pbar)) pbar = 0.0;
+    scale[j] = pbar;
+    step[j] = g->opt.rel_step * pbar;
+  }
 }
 
 /* Moves the built models of s into g (freeing g's). */
@@ -293,11 +348,38 @@ static pom_status adopt(pom_grad *g, model_set *s, pom_error *err) {
 /* ---- create ------------------------------------------------------------------------------ */
 pom_status pom_grad_create(pom_grad **out, const pom_cfg *cfg, const char *const *keys, int n,
                            const pom_grad_options *o, pom_error *err) {
+  return pom_grad_create_dirs(out, cfg, keys, n, NULL, n, o, err);
+}
+
+/* Copies the directions (NULL: the identity) into g; POM_ERR_ARG for a
+ * non-finite coefficient. */
+static pom_status set_dirs(pom_grad *g, const double *dirs, pom_error *err) {
+  g->identity = dirs == NULL;
+  for (int j = 0; j < g->n; ++j)
+    for (int m = 0; m < g->n_keys; ++m) {
+      double c = dirs ? dirs[j * g->n_keys + m] : (j == m ? 1.0 : 0.0);
+      if (!isfinite(c))
+        POM_FAIL(err, POM_ERR_ARG, "%s: direction %d has a non-finite coefficient for '%s'",
+                 g->name, j + 1, g->key[m]);
+      g->dir[j][m] = c;
+    }
+  return POM_OK;
+}
+
+pom_status pom_grad_create_dirs(pom_grad **out, const pom_cfg *cfg, const char *const *keys,
+                                int n_keys, const double *dirs, int n_params,
+                                const pom_grad_options *o, pom_error *err) {
   if (!out || !cfg || !keys) POM_FAIL(err, POM_ERR_ARG, "pom_grad_create: NULL argument");
   *out = NULL;
+  const int n = n_keys;
   if (n < 1 || n > POM_GRAD_MAX_PARAMS)
     POM_FAIL(err, POM_ERR_ARG, "%s: %d design keys (1 to %d)", pom_cfg_path(cfg), n,
              POM_GRAD_MAX_PARAMS);
+  if (n_params < 1 || n_params > POM_GRAD_MAX_PARAMS || (!dirs && n_params != n_keys))
+    POM_FAIL(err, POM_ERR_ARG,
+             "%s: %d parameters over %d keys (1 to %d; as many as keys without "
+             "directions)",
+             pom_cfg_path(cfg), n_params, n_keys, POM_GRAD_MAX_PARAMS);
   pom_status st = POM_OK;
   config_t tree;
   config_init(&tree);
@@ -319,7 +401,8 @@ pom_status pom_grad_create(pom_grad **out, const pom_cfg *cfg, const char *const
   else
     snprintf(dir, sizeof dir, ".");
   POM_TRY_GOTO(pom_doe_tree_read_string(&tree, pom_cfg_text(cfg), g->name, dir, err), fail);
-  g->n = n;
+  g->n_keys = n;
+  g->n = n_params;
   for (int j = 0; j < n; ++j) {
     if (!keys[j] || strlen(keys[j]) >= POM_GRAD_KEY_LEN)
       POM_FAIL_GOTO(err, POM_ERR_CONFIG, fail, "%s: design key %d is missing or too long", g->name,
@@ -351,6 +434,7 @@ pom_status pom_grad_create(pom_grad **out, const pom_cfg *cfg, const char *const
                     "%s: uncertain key '%s' is relative but has no value in the config", g->name,
                     g->unc.param[u].key);
   }
+  POM_TRY_GOTO(set_dirs(g, dirs, err), fail);
   POM_TRY_GOTO(pom_grad_set_values(g, g->value, err), fail);
   config_destroy(&tree);
   *out = g;
@@ -368,17 +452,30 @@ void pom_grad_destroy(pom_grad *g) {
   free(g);
 }
 
+void pom_grad_watch_peak_current(pom_grad *g, int on) {
+  g->opt.peak_current = on != 0;
+}
+
 int pom_grad_n_params(const pom_grad *g) {
   return g->n;
 }
+int pom_grad_n_keys(const pom_grad *g) {
+  return g->n_keys;
+}
 const char *pom_grad_key(const pom_grad *g, int j) {
-  return j >= 0 && j < g->n ? g->key[j] : NULL;
+  return j >= 0 && j < g->n_keys ? g->key[j] : NULL;
 }
 double pom_grad_value(const pom_grad *g, int j) {
-  return j >= 0 && j < g->n ? g->value[j] : NAN;
+  return j >= 0 && j < g->n_keys ? g->value[j] : NAN;
 }
 double pom_grad_step(const pom_grad *g, int j) {
   return j >= 0 && j < g->n ? g->step[j] : NAN;
+}
+double pom_grad_scale(const pom_grad *g, int j) {
+  return j >= 0 && j < g->n ? g->scale[j] : NAN;
+}
+double pom_grad_dir(const pom_grad *g, int j, int m) {
+  return j >= 0 && j < g->n && m >= 0 && m < g->n_keys ? g->dir[j][m] : NAN;
 }
 const pom_kin_arch *pom_grad_arch(const pom_grad *g) {
   return &base(&g->nom)->arch;
@@ -391,16 +488,34 @@ const pom_dyn_model *pom_grad_model(const pom_grad *g) {
 }
 
 pom_status pom_grad_set_values(pom_grad *g, const double *values, pom_error *err) {
-  double step[POM_GRAD_MAX_PARAMS];
-  for (int j = 0; j < g->n; ++j)
+  return pom_grad_set_point(g, values, NULL, err);
+}
+
+pom_status pom_grad_set_point(pom_grad *g, const double *values, const double *dirs,
+                              pom_error *err) {
+  double step[POM_GRAD_MAX_PARAMS], scale[POM_GRAD_MAX_PARAMS];
+  for (int j = 0; j < g->n_keys; ++j)
     if (!isfinite(values[j]))
       POM_FAIL(err, POM_ERR_ARG, "%s: %s = %g is not finite", g->name, g->key[j], values[j]);
-  steps_of(g, values, step);
+  double keep[POM_GRAD_MAX_PARAMS][POM_GRAD_MAX_PARAMS];
+  const int keep_identity = g->identity;
+  memcpy(keep, g->dir, sizeof keep);
+  pom_status st = dirs ? set_dirs(g, dirs, err) : POM_OK;
   model_set s;
-  POM_TRY(build_set(&s, g, values, step, NULL, err));
-  POM_TRY(adopt(g, &s, err));
-  memmove(g->value, values, (size_t)g->n * sizeof *values);
+  if (st == POM_OK) {
+    steps_of(g, values, step, scale);
+    st = build_set(&s, g, values, step, NULL, err);
+  }
+  if (st == POM_OK) st = adopt(g, &s, err);
+  if (st != POM_OK) {
+    /* the previous design and directions stay */
+    memcpy(g->dir, keep, sizeof keep);
+    g->identity = keep_identity;
+    return st;
+  }
+  memmove(g->value, values, (size_t)g->n_keys * sizeof *values);
   memcpy(g->step, step, sizeof step);
+  memcpy(g->scale, scale, sizeof scale);
   return POM_OK;
 }
 
@@ -427,13 +542,41 @@ static void refused(pom_dyn_metrics *mt, pom_status st, const pom_error *e) {
     mt->settling_time[a] = mt->energy[a] = NAN;
 }
 
+/* The engine's gradients of the np parameters par[] spread over the n of
+ * g: a zero direction's derivative is 0 where the metric's is defined (with
+ * no engine parameter at all, where the metric itself is finite). */
+static void expand(pom_dyn_grad *gr, const pom_dyn_metrics *mt, pom_status st, const int *par,
+                   int np, int n) {
+  for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
+    pom_dyn_dmetric *dm = grad_of(gr, (pom_grad_metric)k);
+    if (np == 0) {
+      int fin = st == POM_OK && mt->status == POM_OK &&
+                isfinite(pom_grad_metric_value(mt, (pom_grad_metric)k));
+      dm->defined = fin;
+      dm->why = fin ? POM_DYN_GRAD_OK : POM_DYN_GRAD_UNKNOWN;
+    }
+    double dd[POM_GRAD_MAX_PARAMS];
+    for (int j = 0; j < n; ++j)
+      dd[j] = dm->defined ? 0.0 : NAN;
+    for (int i = 0; i < np; ++i)
+      dd[par[i]] = dm->d[i];
+    memcpy(dm->d, dd, (size_t)n * sizeof *dd);
+  }
+  gr->n_params = n;
+}
+
 /* One maneuver on a model set: joint targets q (all models) or orientation R
  * (each model's IK). */
 static pom_status run_set(const pom_grad *g, const model_set *s, pom_dyn_data *d, const double *q,
                           const double *R, pom_dyn_metrics *mt, pom_dyn_grad *gr, pom_error *err) {
+  /* the engine's parameters: those with a direction (a zero direction's
+   * derivative is 0 and needs no run) */
+  int par[POM_GRAD_MAX_PARAMS], np = 0;
+  for (int j = 0; j < g->n; ++j)
+    if (g->step[j] > 0.0) par[np++] = j;
   pom_dyn_sens_spec sp;
   pom_dyn_sens_spec_defaults(&sp);
-  sp.n = g->n;
+  sp.n = np;
   sp.method = g->opt.method;
   sp.error_control = g->opt.error_control;
   sp.peak_current = g->opt.peak_current;
@@ -447,15 +590,16 @@ static pom_status run_set(const pom_grad *g, const model_set *s, pom_dyn_data *d
     memset(&man, 0, sizeof man);
     memcpy(man.R, R, sizeof man.R);
     st = pom_doe_dyn_targets(s->nom.ctx, &man, target, &e);
-    for (int j = 0; j < g->n && st == POM_OK; ++j) {
-      st = pom_kin_inverse(&base(&s->plus[j])->arch, R, sp.target_plus[j], &e);
-      if (st == POM_OK) st = pom_kin_inverse(&base(&s->minus[j])->arch, R, sp.target_minus[j], &e);
+    for (int i = 0; i < np && st == POM_OK; ++i) {
+      st = pom_kin_inverse(&base(&s->plus[par[i]])->arch, R, sp.target_plus[i], &e);
+      if (st == POM_OK)
+        st = pom_kin_inverse(&base(&s->minus[par[i]])->arch, R, sp.target_minus[i], &e);
     }
   } else {
     memcpy(target, q, sizeof target);
-    for (int j = 0; j < g->n; ++j) {
-      memcpy(sp.target_plus[j], q, sizeof target);
-      memcpy(sp.target_minus[j], q, sizeof target);
+    for (int i = 0; i < np; ++i) {
+      memcpy(sp.target_plus[i], q, sizeof target);
+      memcpy(sp.target_minus[i], q, sizeof target);
     }
   }
   if (st != POM_OK) {
@@ -463,14 +607,23 @@ static pom_status run_set(const pom_grad *g, const model_set *s, pom_dyn_data *d
     if (err) *err = e;
     return st;
   }
-  for (int j = 0; j < g->n; ++j) {
-    sp.plus[j] = base(&s->plus[j])->model;
-    sp.minus[j] = base(&s->minus[j])->model;
-    sp.step[j] = g->step[j];
-    sp.scale[j] = g->value[j] != 0.0 ? fabs(g->value[j]) : g->opt.abs_floor[j];
+  for (int i = 0; i < np; ++i) {
+    sp.plus[i] = base(&s->plus[par[i]])->model;
+    sp.minus[i] = base(&s->minus[par[i]])->model;
+    sp.step[i] = g->step[par[i]];
+    sp.scale[i] = g->scale[par[i]];
   }
   const pom_doe_dyn_base *b = base(&s->nom);
-  st = pom_dyn_simulate_sens(b->model, d, target, &sp, mt, gr, err);
+  if (np > 0) {
+    st = pom_dyn_simulate_sens(b->model, d, target, &sp, mt, gr, err);
+  } else {
+    /* every direction zero: a plain run (watching the peak current as a
+     * sensitivity run would), every defined derivative 0 */
+    pom_dyn_data_watch_peak_current(d, g->opt.peak_current);
+    st = pom_doe_dyn_run(b, d, target, mt, err);
+    pom_dyn_data_watch_peak_current(d, 0); /* the data's plain runs do not watch it */
+  }
+  if (np < g->n) expand(gr, mt, st, par, np, g->n);
   if (st == POM_OK) {
     /* the study's rule: a run that leaves the stroke is a failure */
     st = pom_doe_check_final_stroke_kind(mt, b->arch.stroke, b->params.actuator.kind, err);
@@ -530,17 +683,19 @@ static pom_status fd_sides(const pom_grad *g, const double *values, const double
                            const double *q, const double *R, const double *dh, fd_runs *r,
                            pom_error *err) {
   double v[POM_GRAD_MAX_PARAMS];
-  memcpy(v, values, (size_t)g->n * sizeof *v);
   for (int j = 0; j < g->n; ++j) {
+    if (g->step[j] == 0.0) { /* a zero direction: both sides are the nominal design */
+      r->st[0][j] = r->st[1][j] = POM_ERR_ARG;
+      continue;
+    }
     for (int side = 0; side < 2; ++side) {
       pom_doe_evaluator ev;
-      v[j] = values[j] + (side ? -dh[j] : dh[j]);
+      along(g, values, j, side ? -dh[j] : dh[j], v);
       pom_status sb = evaluator(&ev, g, v, x, err);
       if (sb != POM_OK) return sb;
       r->st[side][j] = plain_run(g, &ev, q, R, &r->mt[side][j]);
       pom_doe_evaluator_clear(&ev);
     }
-    v[j] = values[j];
   }
   return POM_OK;
 }
@@ -568,6 +723,10 @@ static pom_status fd_set(const pom_grad *g, const double *values, const double *
     pom_dyn_dmetric *d = grad_of(fd, (pom_grad_metric)k);
     d->defined = 1;
     for (int j = 0; j < g->n; ++j) {
+      if (g->step[j] == 0.0) {
+        d->d[j] = 0.0;
+        continue;
+      }
       double a = side_value(r, 0, j, k), b = side_value(r, 1, j, k);
       d->d[j] = (a - b) / (2.0 * dh[j]);
       if (!(isfinite(a) && isfinite(b))) d->defined = 0, d->d[j] = NAN;
@@ -653,6 +812,10 @@ pom_status pom_grad_reference(pom_grad *g, const double *q, const double *R, con
     const double M0 = pom_grad_metric_value(mt, (pom_grad_metric)k);
     ref[k].defined = isfinite(M0);
     for (int j = 0; j < g->n; ++j) {
+      if (g->step[j] == 0.0) { /* a zero direction: exactly 0 */
+        ref[k].d[j] = ref[k].err[j] = 0.0;
+        continue;
+      }
       double Mp[3], Mm[3];
       for (int i = 0; i < 3; ++i) {
         Mp[i] = side_value(&r[i], 0, j, k);
@@ -818,20 +981,31 @@ static void json_one(FILE *out, const pom_grad *g, const pom_dyn_metrics *mt,
 
 void pom_grad_mc_json(FILE *out, const char *cfg_path, const pom_grad *g,
                       const pom_grad_mc_result *r, const pom_grad_mc_result *check) {
-  const int n = pom_grad_n_params(g);
+  const int nk = pom_grad_n_keys(g);
   fprintf(out, "{\"config\": ");
   pom_json_string(out, cfg_path);
   fprintf(out, ", \"keys\": [");
-  for (int j = 0; j < n; ++j) {
+  for (int j = 0; j < nk; ++j) {
     fprintf(out, "%s", j ? ", " : "");
     pom_json_string(out, pom_grad_key(g, j));
   }
   fprintf(out, "], \"values\": [");
-  for (int j = 0; j < n; ++j) {
+  for (int j = 0; j < nk; ++j) {
     fprintf(out, "%s", j ? ", " : "");
     pom_json_number(out, pom_grad_value(g, j));
   }
-  fprintf(out, "], \"maneuvers\": [");
+  fprintf(out, "]");
+  if (!g->identity) {
+    /* the parameters the gradients are with respect to: one row of key
+     * coefficients each */
+    fprintf(out, ", \"directions\": [");
+    for (int j = 0; j < g->n; ++j) {
+      fprintf(out, "%s", j ? ", " : "");
+      pom_json_vec(out, g->dir[j], nk, 1.0);
+    }
+    fprintf(out, "]");
+  }
+  fprintf(out, ", \"maneuvers\": [");
   for (long i = 0; i < r->n; ++i) {
     fprintf(out, "%s\n  ", i ? "," : "");
     json_one(out, g, &r->metrics[i], &r->grads[i], check ? &check->grads[i] : NULL);
@@ -844,7 +1018,7 @@ void pom_grad_mc_json(FILE *out, const char *cfg_path, const pom_grad *g,
   fprintf(out, "}, \"mean_gradient\": {");
   for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
     fprintf(out, "%s\"%s\": ", k ? ", " : "", pom_grad_metric_name((pom_grad_metric)k));
-    json_grad(out, &r->dmean[k], n);
+    json_grad(out, &r->dmean[k], g->n);
   }
   fprintf(out, "}, \"mean_gradient_defined_in\": {");
   for (int k = 0; k < POM_GRAD_N_METRICS; ++k)

@@ -72,7 +72,8 @@ const pom_dyn_dmetric *pom_grad_metric_grad(const pom_dyn_grad *g, pom_grad_metr
 
 typedef struct {
   /* h_j = rel_step x |value_j|, or rel_step x abs_floor_j when the value is
-   * 0 (abs_floor given per key, default 1): the step of the model
+   * 0 (abs_floor given per key, default 1; along a direction:
+   * pom_grad_step): the step of the model
    * differences inside the sensitivities (docs/optimize.md: rounding
    * O(eps/h) against the saturation's narrow linear band, which a larger
    * step straddles: 3e-6 measured best) */
@@ -101,15 +102,47 @@ pom_status pom_grad_create(pom_grad **out, const pom_cfg *cfg, const char *const
                            const pom_grad_options *o, pom_error *err);
 void pom_grad_destroy(pom_grad *g);
 
-int pom_grad_n_params(const pom_grad *g);
-const char *pom_grad_key(const pom_grad *g, int j);
-double pom_grad_value(const pom_grad *g, int j); /* current value (config units) */
-double pom_grad_step(const pom_grad *g, int j);  /* current h_j (config units) */
+/* Parameters along directions (docs/optimize.md 12.1): n_keys keys whose
+ * values the design sets (pom_grad_set_values moves them all), and
+ * n_params parameters a_j, each a direction in the keys' space:
+ * dirs[j * n_keys + m] = d key_m / d a_j (config units of key m per unit of
+ * a_j). The derivatives are with respect to the a_j: dM/da_j = sum_m
+ * dirs[j][m] dM/dkey_m, taken in ONE sensitivity parameter per direction
+ * (e.g. the actuator size law's tangent over its keys). A key no direction
+ * moves is set but not differentiated (an uncertain draw); a zero direction
+ * has derivative 0 and costs nothing. dirs NULL: the identity (n_params =
+ * n_keys, parameter j is key j: pom_grad_create). */
+pom_status pom_grad_create_dirs(pom_grad **out, const pom_cfg *cfg, const char *const *keys,
+                                int n_keys, const double *dirs, int n_params,
+                                const pom_grad_options *o, pom_error *err);
 
-/* Moves the design to values[n] (config units) and rebuilds the models; on
- * failure (a value the key's own validation refuses, an unassemblable
- * design) the previous design stays and the status names the key. */
+int pom_grad_n_params(const pom_grad *g); /* parameters (directions) */
+int pom_grad_n_keys(const pom_grad *g);   /* keys (= parameters without directions) */
+const char *pom_grad_key(const pom_grad *g, int m);
+double pom_grad_value(const pom_grad *g, int m); /* key m's current value (config units) */
+/* Parameter j's current step h_j and scale pbar_j (units of a_j; config
+ * units of the key without directions): pbar_j = min over the keys m the
+ * direction moves of |value_m| / |dirs[j][m]| (abs_floor_m for a value 0),
+ * h_j = rel_step pbar_j: no key moves by more than rel_step of itself. 0
+ * for a zero direction. */
+double pom_grad_step(const pom_grad *g, int j);
+double pom_grad_scale(const pom_grad *g, int j);
+double pom_grad_dir(const pom_grad *g, int j, int m); /* dirs[j][m] */
+
+/* Turns the peak coil current's watch and derivative on or off for the next
+ * runs (pom_grad_options.peak_current; the co-design asks for it only
+ * while the current constraint is near active, docs/optimize.md 11.5). */
+void pom_grad_watch_peak_current(pom_grad *g, int on);
+
+/* Moves the design to values[n_keys] (config units) and rebuilds the
+ * models; on failure (a value the key's own validation refuses, an
+ * unassemblable design) the previous design stays and the status names the
+ * key. */
 pom_status pom_grad_set_values(pom_grad *g, const double *values, pom_error *err);
+/* The same, with the directions replaced by dirs (n_params x n_keys, as in
+ * pom_grad_create_dirs; NULL: unchanged); on failure both stay. */
+pom_status pom_grad_set_point(pom_grad *g, const double *values, const double *dirs,
+                              pom_error *err);
 
 /* The nominal design at the current values: geometry (IK, workspace,
  * constraints), parameters and model. Valid until the next set_values. */
@@ -175,9 +208,11 @@ void pom_grad_mc_json(FILE *out, const char *cfg_path, const pom_grad *g,
 
 /* ---- the check ------------------------------------------------------------------- */
 /* Central differences of whole simulations of one maneuver (joint q or
- * orientation R, exactly one non-NULL) at value_j +- dh_j (dh: config units,
- * NULL = the current steps): fd->d[j] of every metric, defined when both
- * runs finished and the metric is finite in both. mt receives the nominal
+ * orientation R, exactly one non-NULL) at a_j +- dh_j, i.e. the keys at
+ * value +- dh_j dirs[j] (dh: units of a_j, config units of the key without
+ * directions; NULL = the current steps): fd->d[j] of every metric, defined
+ * when both runs finished and the metric is finite in both (0 for a zero
+ * direction). mt receives the nominal
  * run's metrics. 2n + 1 plain simulations. */
 pom_status pom_grad_fd_maneuver(pom_grad *g, const double *q, const double *R, const double *dh,
                                 pom_dyn_metrics *mt, pom_dyn_grad *fd, pom_error *err);
@@ -201,8 +236,9 @@ typedef struct {
 } pom_grad_ref;
 
 /* The reference of every metric (ref[POM_GRAD_N_METRICS]) of one maneuver
- * (joint q or orientation R, exactly one non-NULL) at the steps H[j] (config
- * units, > 0), H[j]/2 and H[j]/4; run_error[POM_GRAD_N_METRICS] is each
+ * (joint q or orientation R, exactly one non-NULL) at the steps H[j] (> 0;
+ * units of a_j, the key's config units without directions), H[j]/2 and H[j]/4
+ * along each direction; run_error[POM_GRAD_N_METRICS] is each
  * metric's relative integration error in one run, the part of it that is
  * not smooth in the design (docs/optimize.md 12.4 measures it at rtol
  * 1e-12). mt receives the nominal run's metrics. 6n + 1 plain simulations. */
