@@ -90,8 +90,8 @@ typedef struct {
                                      s_j in the error test; 0 = 1e4 h_j */
   pom_dyn_sens_method method;     /* default staggered */
   int error_control;              /* 1 (default): the sensitivities enter CVODES' error test */
-  int peak_current; /* 1 (default): locate the peak coil current and its derivative (three more
-                       evaluations per step, docs/optimize.md 12.2); 0: left undefined */
+  int peak_current;    /* 1 (default): locate the peak coil current and its derivative (three more
+                          evaluations per step, docs/optimize.md 12.2); 0: left undefined */
   double noise_margin; /* how far above the differencing's rounding the sensitivities' relative
                           tolerance stays: max(rtol, noise_margin eps scale_j / step_j)
                           (docs/optimize.md 12.1, 12.4); in [POM_DYN_SENS_MARGIN_MIN,

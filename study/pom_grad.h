@@ -80,10 +80,10 @@ typedef struct {
   double abs_floor[POM_GRAD_MAX_PARAMS]; /* default 1 (config units) */
   pom_dyn_sens_method method;            /* default staggered */
   int error_control;                     /* default 1 */
-  int rigid_joints; /* 1: joints.model = "rigid" whatever the config's text says (the
-                       co-design's rigid evaluation); default 0 */
-  int peak_current; /* 1 (default): the peak coil current and its derivative (three more
-                       evaluations per step); 0: NaN and undefined */
+  int rigid_joints;         /* 1: joints.model = "rigid" whatever the config's text says (the
+                               co-design's rigid evaluation); default 0 */
+  int peak_current;         /* 1 (default): the peak coil current and its derivative (three more
+                               evaluations per step); 0: NaN and undefined */
   double sens_noise_margin; /* the sensitivities' accuracy: their relative tolerance is
                                max(rtol, margin eps / rel_step) (pom_dyn_sens_spec.noise_margin,
                                docs/optimize.md 12.4); default POM_DYN_SENS_MARGIN_DEFAULT (1e3);

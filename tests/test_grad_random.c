@@ -31,6 +31,11 @@
  * and skipped): a long run split into ranges that run side by side.
  * --margin M (anywhere): the sensitivities' noise margin
  * (pom_grad_options.sens_noise_margin, default 1e3; docs/optimize.md 12.4).
+ * --rel-step R: the sensitivities' differencing step (pom_grad_options.rel_step,
+ * default 3e-6).
+ * --against M0: each case's sensitivities also at the noise margin M0; the
+ * energies' worst error at --margin must then be within 1e-5 and at most a
+ * third of M0's (test_grad_random_margin).
  * --cases A,B,...: run only these cases (of the first argv[1]).
  * --ref-cache PREFIX: the references (which do not depend on the
  * sensitivities' settings) are read from PREFIX.N (case N) when present and
@@ -101,7 +106,8 @@ static const arch_case archs[] = {
      {1.2, 1.2, 1.2, 1.2, 1.0, 1.1}},
 };
 
-/* The shipped config with rigid joints and rtol RTOL, as a string config. */
+/* The shipped config with rigid joints, rtol RTOL and no wall-clock budget,
+ * as a string config. */
 static pom_cfg *rigid_config(const char *file) {
   char path[512];
   snprintf(path, sizeof path, "%s/configs/%s", POM_SOURCE_DIR, file);
@@ -122,7 +128,10 @@ static pom_cfg *rigid_config(const char *file) {
     snprintf(line, sizeof line, "%.*s", (int)(len < sizeof line ? len : sizeof line - 1), p);
     const char *t = line + strspn(line, " \t");
     if (strncmp(t, "rtol", 4) == 0 && strchr(t, '=')) {
-      strcat(out, "  rtol = " RTOL ";\n");
+      /* no wall-clock budget: at a small noise margin a 3S-P-S/S
+       * sensitivity run takes over 60 s on a loaded machine (the steps
+       * stay bounded by solver.max_steps) */
+      strcat(out, "  rtol = " RTOL ";\n  max_wall_s = 0.0;\n");
     } else if (strncmp(t, "model", 5) == 0 && strchr(t, '=') && strstr(t, "parasitic")) {
       strcat(out, "  model = \"rigid\";\n");
     } else {
@@ -191,7 +200,7 @@ typedef struct {
  * the design v of architecture a, into t; returns the case's worst energy
  * elasticity error. */
 static double compare(tally *t, int a, const double *v, int nk, const pom_dyn_metrics *mt,
-                    const pom_dyn_grad *gr, const pom_grad_ref *ref, double shift) {
+                      const pom_dyn_grad *gr, const pom_grad_ref *ref, double shift) {
   double worst_energy = 0.0;
   for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
     if (k == POM_GRAD_TRACKING_RMS_ERROR) continue; /* the PID follows no trajectory */
@@ -253,9 +262,9 @@ static void print_tally(const tally *t, long ran) {
            "%.0e; worst elasticity error %.2e (reference error <= %.1e); not compared: %ld "
            "reference not differentiable at this step, %ld reference unresolved, %ld gradient "
            "undefined\n",
-           class_name[cls], class_bound[cls], class_bound_all[cls], t->compared[cls],
-           t->over[cls], t->failed[cls], class_bound_all[cls], t->worst[cls], t->worst_ref[cls],
-           t->kink[cls], t->unresolved[cls], t->undefined[cls]);
+           class_name[cls], class_bound[cls], class_bound_all[cls], t->compared[cls], t->over[cls],
+           t->failed[cls], class_bound_all[cls], t->worst[cls], t->worst_ref[cls], t->kink[cls],
+           t->unresolved[cls], t->undefined[cls]);
   printf("undefined gradients by reason:");
   for (int w = 1; w <= POM_DYN_GRAD_PEAK_KINK; ++w)
     if (t->why[w]) printf(" %s %ld;", pom_dyn_grad_why_text((pom_dyn_grad_why)w), t->why[w]);
@@ -266,13 +275,15 @@ static void print_tally(const tally *t, long ran) {
 
 int main(int argc, char **argv) {
   /* the named options first, then the positional arguments */
-  double margin = POM_DYN_SENS_MARGIN_DEFAULT, against = 0.0;
+  double margin = POM_DYN_SENS_MARGIN_DEFAULT, against = 0.0, rel_step = 0.0;
   const char *list = NULL, *cache = NULL;
   char *pos[4] = {argv[0], NULL, NULL, NULL};
   int npos = 1;
   for (int i = 1; i < argc; ++i) {
     if (strcmp(argv[i], "--margin") == 0 && i + 1 < argc) {
       margin = atof(argv[++i]);
+    } else if (strcmp(argv[i], "--rel-step") == 0 && i + 1 < argc) {
+      rel_step = atof(argv[++i]);
     } else if (strcmp(argv[i], "--against") == 0 && i + 1 < argc) {
       against = atof(argv[++i]);
     } else if (strcmp(argv[i], "--cases") == 0 && i + 1 < argc) {
@@ -289,8 +300,11 @@ int main(int argc, char **argv) {
   setvbuf(stdout, NULL, _IOLBF, 0); /* a long run's progress as it goes */
   /* the long run (9 min on 2 cores) only when asked, as test_docs_long */
   const char *lg = getenv("POMLAB_LONG"), *dl = getenv("POMLAB_DOCS_LONG");
-  if (cases > 10 && !(lg && strcmp(lg, "1") == 0) && !(dl && strcmp(dl, "1") == 0)) {
-    printf("skipped: %d cases run with POMLAB_LONG=1\n", cases);
+  int to_run = 0;
+  for (int c = first > 0 ? first : 0; c < cases; ++c)
+    to_run += in_list(list, c);
+  if (to_run > 10 && !(lg && strcmp(lg, "1") == 0) && !(dl && strcmp(dl, "1") == 0)) {
+    printf("skipped: %d cases run with POMLAB_LONG=1\n", to_run);
     return 77;
   }
   pom_rng rng;
@@ -307,6 +321,7 @@ int main(int argc, char **argv) {
     pom_grad_options opt;
     pom_grad_options_defaults(&opt);
     opt.sens_noise_margin = tl[t].margin;
+    if (rel_step > 0.0) opt.rel_step = rel_step;
     for (int a = 0; a < 2; ++a) {
       pom_cfg *cfg = rigid_config(archs[a].file);
       check_true(cfg != NULL);
@@ -355,8 +370,7 @@ int main(int argc, char **argv) {
       run_error[k] = class_run_error[metric_class(k)];
     pom_grad_ref ref[POM_GRAD_N_METRICS];
     if (!cached_reference(cache, c, ref, 0))
-      check_true(pom_grad_reference(tl[0].gs[a], q, NULL, H, run_error, &m0, ref, &err) ==
-                     POM_OK &&
+      check_true(pom_grad_reference(tl[0].gs[a], q, NULL, H, run_error, &m0, ref, &err) == POM_OK &&
                  cached_reference(cache, c, ref, 1));
     for (int t = 0; t < ns; ++t) {
       printf("case %3d %s q (%+.3f, %+.3f, %+.3f) mm, margin %g: %ld steps, %ld sensitivity "
@@ -377,14 +391,15 @@ int main(int argc, char **argv) {
   /* the comparison must have happened: most derivatives compared */
   check_true(t0->compared[0] >= ran * 4 * nk * 3 / 4);
   check_true(t0->compared[1] >= ran * nk);
-  /* the peak current: 222 of 600 on the 100 designs (56 near a corner) */
-  check_true(t0->compared[3] >= ran * nk / 4);
+  /* the peak current: 222 of 600 on the 100 designs (56 near a corner);
+   * over a few cases only, all maxima may lie at corners */
+  if (ran >= 10) check_true(t0->compared[3] >= ran * nk / 4);
   if (ns == 2) {
     /* the knob tightens the energies: their worst error at --margin within
      * the issue's 1e-5 and at most a third of --against's (docs/optimize.md
      * 12.4: the tolerance a tenth, the error of case 0 1.3e-5 -> 8.8e-7) */
-    printf("energies: worst elasticity error %.2e at margin %g against %.2e at %g\n",
-           t0->worst[0], t0->margin, tl[1].worst[0], tl[1].margin);
+    printf("energies: worst elasticity error %.2e at margin %g against %.2e at %g\n", t0->worst[0],
+           t0->margin, tl[1].worst[0], tl[1].margin);
     check_true(t0->worst[0] <= class_bound[0]);
     check_true(3.0 * t0->worst[0] <= tl[1].worst[0]);
   }

@@ -820,9 +820,9 @@ def gradient(cfg, params, *, maneuvers=None, sens_margin=None, overrides=None):
     current's argmax "peak_current_at" (time in s, coil from 1; its
     derivative by the envelope theorem, docs/optimize.md 12.2), then "mean"
     and "mean_gradient". sens_margin sets gradient.sens_noise_margin (the
-    sensitivities' accuracy, docs/optimize.md 12.4: 1e3 by default, 1e2 for
-    energies within 1e-5 at about 1.2x the cost at rtol 1e-12; checked as
-    the file's key is). Overrides may set only montecarlo.* keys and
+    sensitivities' accuracy, docs/optimize.md 12.4: 1e3 by default; smaller
+    is more accurate at more steps, and acts only when solver.rtol is below
+    margin x 7.4e-11; checked as the file's key is). Overrides may set only montecarlo.* keys and
     gradient.sens_noise_margin: the models are built from the file's text
     (move a design key in the file or pass it in params)."""
     import json
