@@ -369,9 +369,11 @@ int main(int argc, char **argv) {
     for (int k = 0; k < POM_GRAD_N_METRICS; ++k)
       run_error[k] = class_run_error[metric_class(k)];
     pom_grad_ref ref[POM_GRAD_N_METRICS];
-    if (!cached_reference(cache, c, ref, 0))
+    if (!cached_reference(cache, c, ref, 0)) {
       check_true(pom_grad_reference(tl[0].gs[a], q, NULL, H, run_error, &m0, ref, &err) == POM_OK &&
                  cached_reference(cache, c, ref, 1));
+      printf("case %3d: the plain run %ld steps\n", c, m0.steps);
+    }
     for (int t = 0; t < ns; ++t) {
       printf("case %3d %s q (%+.3f, %+.3f, %+.3f) mm, margin %g: %ld steps, %ld sensitivity "
              "right-hand sides, %ld restarts\n",
