@@ -16,11 +16,17 @@
 /* ---- config keys ---------------------------------------------------------------- */
 pom_status pom_api_known_groups(pom_cfg_groups *g, pom_error *err) {
   if (!g) POM_FAIL(err, POM_ERR_ARG, "pom_api_known_groups: NULL argument");
-  const char *const *const lists[] = {pom_kin_model_groups(), pom_kin_ws_groups(),
-                                      pom_dyn_param_groups(), pom_doe_study_groups(),
-                                      pom_doe_sens_groups(),  pom_tradeoff_groups(),
-                                      pom_syn_groups(),       pom_tune_groups(),
-                                      pom_cap_groups(),       NULL};
+  const char *const *const lists[] = {pom_kin_model_groups(),
+                                      pom_kin_ws_groups(),
+                                      pom_dyn_param_groups(),
+                                      pom_doe_study_groups(),
+                                      pom_doe_sens_groups(),
+                                      pom_grad_groups(),
+                                      pom_tradeoff_groups(),
+                                      pom_syn_groups(),
+                                      pom_tune_groups(),
+                                      pom_cap_groups(),
+                                      NULL};
   pom_cfg_groups_init(g);
   for (int k = 0; lists[k]; ++k)
     POM_TRY(pom_cfg_groups_add(g, lists[k], err));

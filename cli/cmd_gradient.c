@@ -57,7 +57,7 @@ static void print_text(FILE *out, const pom_grad *g, const pom_dyn_metrics *mt,
 
 int pom_cmd_gradient(int argc, char **argv) {
   const char *cfg_path = NULL, *params = NULL;
-  const char *n_text = NULL, *seed_text = NULL;
+  const char *n_text = NULL, *seed_text = NULL, *margin_text = NULL;
   int json = 0, check = 0;
   const pom_opt opts[] = {
       {.name = "--params",
@@ -78,6 +78,14 @@ int pom_cmd_gradient(int argc, char **argv) {
        .key = "montecarlo.seed",
        .help = "study seed",
        .text = &seed_text},
+      {.name = "--sens-margin",
+       .kind = POM_OPT_NUMBER,
+       .arg = "M",
+       .key = POM_GRAD_KEY_NOISE_MARGIN,
+       .help = "the sensitivities' accuracy, in [1, 1e6]: their relative tolerance is "
+               "max(solver.rtol, M eps / 3e-6) (default 1e3; smaller = more accurate at more "
+               "steps, acting only below solver.rtol = M x 7.4e-11; docs/optimize.md 12.4)",
+       .text = &margin_text},
       {.name = "--check",
        .kind = POM_OPT_FLAG,
        .help = "also the central differences of whole simulations (step 1e-3 x |value|) beside "

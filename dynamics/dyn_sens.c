@@ -22,11 +22,6 @@ static const double gl_node[2] = {0.21132486540518711775, 0.78867513459481288225
  * ~ 1e-16 |q| / eps; at 1e-8 x 0.1 s both are below 1e-9 of the rate. */
 #define SENS_RATE_EPS 1e-8
 
-/* How far above the differencing's rounding the sensitivities' relative
- * tolerance stays (docs/optimize.md, measured: at 10 the error test of
- * the 3P-S-S/S maneuver (3, -3, 3) mm took 9x the steps). */
-#define SENS_NOISE_MARGIN 1e3
-
 /* The per-run workspace (d->sens). */
 struct dyn_sens {
   const pom_dyn_sens_spec *spec;
@@ -100,6 +95,7 @@ void pom_dyn_sens_spec_defaults(pom_dyn_sens_spec *s) {
   s->method = POM_DYN_SENS_STAGGERED;
   s->error_control = 1;
   s->peak_current = 1;
+  s->noise_margin = POM_DYN_SENS_MARGIN_DEFAULT;
 }
 
 /* ---- angles ---------------------------------------------------------------- */
@@ -491,6 +487,9 @@ static pom_status check_spec(const pom_dyn_model *m, const pom_dyn_sens_spec *sp
   if (!(sp->n >= 1 && sp->n <= POM_DYN_SENS_MAX))
     POM_FAIL(err, POM_ERR_ARG, "design gradients: %d parameters (1 to %d)", sp->n,
              POM_DYN_SENS_MAX);
+  if (!(sp->noise_margin >= POM_DYN_SENS_MARGIN_MIN && sp->noise_margin <= POM_DYN_SENS_MARGIN_MAX))
+    POM_FAIL(err, POM_ERR_ARG, "design gradients: noise margin %g outside [%g, %g]",
+             sp->noise_margin, POM_DYN_SENS_MARGIN_MIN, POM_DYN_SENS_MARGIN_MAX);
   for (int j = 0; j < sp->n; ++j) {
     if (!(sp->step[j] > 0.0 && isfinite(sp->step[j])))
       POM_FAIL(err, POM_ERR_ARG, "design gradients: parameter %d has step %g (must be > 0)", j + 1,
@@ -560,12 +559,12 @@ pom_status pom_dyn_simulate_sens(const pom_dyn_model *m, pom_dyn_data *d, const 
   w->n = n;
   /* the sensitivities' relative tolerance: the state's, but not below what
    * the differencing resolves: rounding leaves eps / (h_j / pbar_j) of
-   * each right-hand side in s_j', and the error test must stay
-   * SENS_NOISE_MARGIN above it or it chases the noise (docs/optimize.md) */
+   * each right-hand side in s_j', and the error test must stay the noise
+   * margin above it or it chases the noise (docs/optimize.md 12.1, 12.4) */
   w->rtol_s = m->par.solver.rtol;
   for (int j = 0; j < n; ++j) {
     double pb = sp->scale[j] > 0.0 ? sp->scale[j] : 1e4 * sp->step[j];
-    w->rtol_s = fmax(w->rtol_s, SENS_NOISE_MARGIN * DBL_EPSILON * pb / sp->step[j]);
+    w->rtol_s = fmax(w->rtol_s, sp->noise_margin * DBL_EPSILON * pb / sp->step[j]);
   }
   w->yS = N_VCloneVectorArray(n, d->y);
   w->ySt = N_VCloneVectorArray(n, d->y);

@@ -90,11 +90,23 @@ typedef struct {
                                      s_j in the error test; 0 = 1e4 h_j */
   pom_dyn_sens_method method;     /* default staggered */
   int error_control;              /* 1 (default): the sensitivities enter CVODES' error test */
-  int peak_current; /* 1 (default): locate the peak coil current and its derivative (three more
-                       evaluations per step, docs/optimize.md 12.2); 0: left undefined */
+  int peak_current;    /* 1 (default): locate the peak coil current and its derivative (three more
+                          evaluations per step, docs/optimize.md 12.2); 0: left undefined */
+  double noise_margin; /* how far above the differencing's rounding the sensitivities' relative
+                          tolerance stays: max(rtol, noise_margin eps scale_j / step_j)
+                          (docs/optimize.md 12.1, 12.4); in [POM_DYN_SENS_MARGIN_MIN,
+                          POM_DYN_SENS_MARGIN_MAX], default POM_DYN_SENS_MARGIN_DEFAULT; smaller
+                          = more accurate sensitivities at more steps */
 } pom_dyn_sens_spec;
 
-/* Defaults: n 0, staggered, error control on. */
+/* The noise margin's default and range (docs/optimize.md 12.4: at 10 the
+ * error test chases the rounding noise, 9x the steps on one maneuver). */
+#define POM_DYN_SENS_MARGIN_DEFAULT 1e3
+#define POM_DYN_SENS_MARGIN_MIN     1.0
+#define POM_DYN_SENS_MARGIN_MAX     1e6
+
+/* Defaults: n 0, staggered, error control on, peak current on, noise margin
+ * POM_DYN_SENS_MARGIN_DEFAULT. */
 void pom_dyn_sens_spec_defaults(pom_dyn_sens_spec *s);
 
 /* One maneuver of model m on data d to `target` (as pom_dyn_simulate; the

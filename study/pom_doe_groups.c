@@ -14,6 +14,8 @@ static const char *const study_groups[] = {"name",       "montecarlo", "study",
 static const char *const montecarlo_groups[] = {"montecarlo", NULL};
 /* What pom_doe_sens_load reads (on top of the study's groups). */
 static const char *const sens_groups[] = {"sensitivity", NULL};
+/* What pom_grad_create reads beyond the models' and the Monte-Carlo's. */
+static const char *const grad_groups[] = {"gradient", NULL};
 /* What pom_tradeoff_load reads. */
 static const char *const tradeoff_groups[] = {"tradeoff", NULL};
 
@@ -25,6 +27,9 @@ const char *const *pom_doe_montecarlo_groups(void) {
 }
 const char *const *pom_doe_sens_groups(void) {
   return sens_groups;
+}
+const char *const *pom_grad_groups(void) {
+  return grad_groups;
 }
 const char *const *pom_tradeoff_groups(void) {
   return tradeoff_groups;

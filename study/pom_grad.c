@@ -89,6 +89,7 @@ void pom_grad_options_defaults(pom_grad_options *o) {
   o->method = POM_DYN_SENS_STAGGERED;
   o->error_control = 1;
   o->peak_current = 1;
+  o->sens_noise_margin = POM_DYN_SENS_MARGIN_DEFAULT;
 }
 
 void pom_grad_mc_options_defaults(pom_grad_mc_options *o) {
@@ -392,6 +393,18 @@ pom_status pom_grad_create_dirs(pom_grad **out, const pom_cfg *cfg, const char *
   if (!(g->opt.rel_step > 0.0 && g->opt.rel_step < 0.1))
     POM_FAIL_GOTO(err, POM_ERR_ARG, fail, "design gradients: rel_step %g outside (0, 0.1)",
                   g->opt.rel_step);
+  /* the sensitivities' accuracy: the config's key (a file's or a command
+   * line's value, one check) replaces the options' */
+  POM_TRY_GOTO(pom_cfg_real_opt(cfg, POM_GRAD_KEY_NOISE_MARGIN, 1.0, POM_DYN_SENS_MARGIN_MIN,
+                                POM_DYN_SENS_MARGIN_MAX, g->opt.sens_noise_margin,
+                                &g->opt.sens_noise_margin, err),
+               fail);
+  /* a misspelt key of the group is an error, as in any group a command reads */
+  POM_TRY_GOTO(pom_cfg_check_unknown(cfg, pom_grad_groups(), NULL, err), fail);
+  if (!(g->opt.sens_noise_margin >= POM_DYN_SENS_MARGIN_MIN &&
+        g->opt.sens_noise_margin <= POM_DYN_SENS_MARGIN_MAX))
+    POM_FAIL_GOTO(err, POM_ERR_ARG, fail, "design gradients: sens_noise_margin %g outside [%g, %g]",
+                  g->opt.sens_noise_margin, POM_DYN_SENS_MARGIN_MIN, POM_DYN_SENS_MARGIN_MAX);
   snprintf(g->name, sizeof g->name, "%s", pom_cfg_path(cfg));
   char dir[POM_DOE_PATH_LEN];
   snprintf(dir, sizeof dir, "%s", g->name);
@@ -580,6 +593,7 @@ static pom_status run_set(const pom_grad *g, const model_set *s, pom_dyn_data *d
   sp.method = g->opt.method;
   sp.error_control = g->opt.error_control;
   sp.peak_current = g->opt.peak_current;
+  sp.noise_margin = g->opt.sens_noise_margin;
   double target[3];
   pom_error e;
   pom_error_clear(&e);

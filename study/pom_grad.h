@@ -81,13 +81,28 @@ typedef struct {
   double abs_floor[POM_GRAD_MAX_PARAMS]; /* default 1 (config units) */
   pom_dyn_sens_method method;            /* default staggered */
   int error_control;                     /* default 1 */
-  int rigid_joints; /* 1: joints.model = "rigid" whatever the config's text says (the
-                       co-design's rigid evaluation); default 0 */
-  int peak_current; /* 1 (default): the peak coil current and its derivative (three more
-                       evaluations per step); 0: NaN and undefined */
+  int rigid_joints;         /* 1: joints.model = "rigid" whatever the config's text says (the
+                               co-design's rigid evaluation); default 0 */
+  int peak_current;         /* 1 (default): the peak coil current and its derivative (three more
+                               evaluations per step); 0: NaN and undefined */
+  double sens_noise_margin; /* the sensitivities' accuracy: their relative tolerance is
+                               max(rtol, margin eps / rel_step) (pom_dyn_sens_spec.noise_margin,
+                               docs/optimize.md 12.4); default POM_DYN_SENS_MARGIN_DEFAULT (1e3);
+                               the config key gradient.sens_noise_margin, when present, replaces
+                               it */
 } pom_grad_options;
 
 void pom_grad_options_defaults(pom_grad_options *o);
+
+/* The config key of the sensitivities' noise margin (`pomlab gradient
+ * --sens-margin`), read by pom_grad_create from cfg (so a command-line value
+ * set with pom_cfg_set_number reaches it) and checked against
+ * [POM_DYN_SENS_MARGIN_MIN, POM_DYN_SENS_MARGIN_MAX]. */
+#define POM_GRAD_KEY_NOISE_MARGIN "gradient.sens_noise_margin"
+
+/* The top-level config names pom_grad_create reads beyond the models' and
+ * the Monte-Carlo's: {"gradient", NULL}. */
+const char *const *pom_grad_groups(void);
 
 typedef struct pom_grad pom_grad;
 

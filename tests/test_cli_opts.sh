@@ -27,7 +27,7 @@ declare -A options=(
   [tradeoff]="--accuracy --maneuvers --repeats --csv --quiet"
   [view]="-o --pose --trace --frame --frames --workspace --compare --png --mp4 --size --fps"
   [export]="--mjcf"
-  [gradient]="--params --maneuvers --seed --check --json"
+  [gradient]="--params --maneuvers --seed --sens-margin --check --json"
 )
 for cmd in "${!options[@]}"; do
   expect_rc 0 "$POMLAB" "$cmd" --help
@@ -93,4 +93,16 @@ import json, sys, math
 d = json.load(open('$TMP/out'))
 g = d['maneuvers'][0]['gradient']['energy_total']
 sys.exit(0 if len(g) == 1 and math.isfinite(g[0]) and d['keys'] == ['actuator.resistance_ohm'] else 1)"
+# the sensitivities' accuracy (docs/optimize.md 12.4): the key's own check from the flag and the
+# file alike, and a misspelt key of the gradient group refused
+expect_rc 2 "$POMLAB" gradient "$TMP/rigid.cfg" --params actuator.resistance_ohm --maneuvers 1 \
+  --sens-margin 0.5
+expect_err "--sens-margin"
+expect_err "gradient.sens_noise_margin"
+printf 'gradient = { sens_noise_margin = 2e6; };\n' | cat "$TMP/rigid.cfg" - >"$TMP/margin.cfg"
+expect_rc 2 "$POMLAB" gradient "$TMP/margin.cfg" --params actuator.resistance_ohm --maneuvers 1
+expect_err "gradient.sens_noise_margin"
+printf 'gradient = { sens_noise_margn = 300.0; };\n' | cat "$TMP/rigid.cfg" - >"$TMP/typo.cfg"
+expect_rc 2 "$POMLAB" gradient "$TMP/typo.cfg" --params actuator.resistance_ohm --maneuvers 1
+expect_err "gradient.sens_noise_margn"
 finish test_cli_opts

@@ -28,7 +28,19 @@
  * argv[2]: an elasticity added to every sensitivity before the comparison
  * (default 0): the test must then fail (test_grad_random_perturbed).
  * argv[3]: the first case to run (default 0; the cases before it are drawn
- * and skipped): a long run split into ranges that run side by side. */
+ * and skipped): a long run split into ranges that run side by side.
+ * --margin M (anywhere): the sensitivities' noise margin
+ * (pom_grad_options.sens_noise_margin, default 1e3; docs/optimize.md 12.4).
+ * --rel-step R: the sensitivities' differencing step (pom_grad_options.rel_step,
+ * default 3e-6).
+ * --against M0: each case's sensitivities also at the noise margin M0; the
+ * energies' worst error at --margin must then be within 1e-5 and at most a
+ * third of M0's (test_grad_random_margin).
+ * --cases A,B,...: run only these cases (of the first argv[1]).
+ * --ref-cache PREFIX: the references (which do not depend on the
+ * sensitivities' settings) are read from PREFIX.N (case N) when present and
+ * written there otherwise: the same cases at several margins run the 37
+ * whole simulations of each reference once (same build only). */
 #include "check.h"
 #include "pom_grad.h"
 #include "pom_rng.h"
@@ -66,11 +78,11 @@ static const char *const class_name[4] = {"energy", "settling-time", "pointing",
 static const double class_bound[4] = {1e-5, 1e-4, 1e-3, 1e-4};
 /* The bound every derivative must meet; at most 5 % of a class may lie
  * between class_bound and it. The sensitivities are integrated to the
- * relative tolerance max(rtol, 1e3 eps pbar / h) = 7.4e-8 (dyn_sens.c's
- * SENS_NOISE_MARGIN against the differencing's rounding, docs/optimize.md
- * 12.1), which leaves up to ~3e-5 of elasticity on a few energies
- * (measured; at a margin of 1e2 the worst energy of case 0 drops
- * from 1.3e-5 to 8.8e-7 at 2.7x the steps, so it is that tolerance). */
+ * relative tolerance max(rtol, M eps pbar / h) = 7.4e-8 at the default noise
+ * margin M = 1e3 (against the differencing's rounding, docs/optimize.md 12.1,
+ * 12.4), which leaves up to 2e-5 of elasticity on a few energies (measured on
+ * the 100 designs: 3 of 2315 beyond 1e-5, cases 56 and 70; at M = 3e2 their
+ * worst energies are 1.1e-6 and 4.2e-7, so it is that tolerance). */
 static const double class_bound_all[4] = {4e-5, 1e-4, 1e-3, 1e-4};
 #define OVER_SHARE 0.05
 
@@ -94,7 +106,8 @@ static const arch_case archs[] = {
      {1.2, 1.2, 1.2, 1.2, 1.0, 1.1}},
 };
 
-/* The shipped config with rigid joints and rtol RTOL, as a string config. */
+/* The shipped config with rigid joints, rtol RTOL and no wall-clock budget,
+ * as a string config. */
 static pom_cfg *rigid_config(const char *file) {
   char path[512];
   snprintf(path, sizeof path, "%s/configs/%s", POM_SOURCE_DIR, file);
@@ -115,7 +128,10 @@ static pom_cfg *rigid_config(const char *file) {
     snprintf(line, sizeof line, "%.*s", (int)(len < sizeof line ? len : sizeof line - 1), p);
     const char *t = line + strspn(line, " \t");
     if (strncmp(t, "rtol", 4) == 0 && strchr(t, '=')) {
-      strcat(out, "  rtol = " RTOL ";\n");
+      /* no wall-clock budget: at a small noise margin a 3S-P-S/S
+       * sensitivity run takes over 60 s on a loaded machine (the steps
+       * stay bounded by solver.max_steps) */
+      strcat(out, "  rtol = " RTOL ";\n  max_wall_s = 0.0;\n");
     } else if (strncmp(t, "model", 5) == 0 && strchr(t, '=') && strstr(t, "parasitic")) {
       strcat(out, "  model = \"rigid\";\n");
     } else {
@@ -141,43 +157,189 @@ static int metric_class(int k) {
   return 1;
 }
 
+/* The reference of case c in the cache PREFIX.c: read (write 0; 0 when
+ * absent) or written (write 1; 0 on a write error). No cache: 0 on a read,
+ * 1 on a write. */
+static int cached_reference(const char *prefix, int c, pom_grad_ref *ref, int write) {
+  if (!prefix) return write;
+  char path[512];
+  snprintf(path, sizeof path, "%s.%d", prefix, c);
+  FILE *f = fopen(path, write ? "wb" : "rb");
+  if (!f) return 0;
+  size_t n = write ? fwrite(ref, sizeof *ref, POM_GRAD_N_METRICS, f)
+                   : fread(ref, sizeof *ref, POM_GRAD_N_METRICS, f);
+  int ok = fclose(f) == 0 && n == POM_GRAD_N_METRICS;
+  if (!ok && write) printf("  reference cache %s: write failed\n", path);
+  return ok;
+}
+
+/* Whether case c is in the comma-separated list (NULL: every case). */
+static int in_list(const char *list, int c) {
+  if (!list) return 1;
+  for (const char *p = list; *p;) {
+    char *end = NULL;
+    long v = strtol(p, &end, 10);
+    if (end == p) return 0;
+    if (v == c) return 1;
+    p = *end == ',' ? end + 1 : end;
+  }
+  return 0;
+}
+
+/* What one setting of the sensitivities measured over the cases. */
+typedef struct {
+  double margin;
+  pom_grad *gs[2];
+  long compared[4], failed[4], over[4], kink[4], unresolved[4], undefined[4], ref_undefined;
+  long why[POM_DYN_GRAD_PEAK_KINK + 1];
+  double worst[4], worst_ref[4];
+  long steps, sens_evals;
+} tally;
+
+/* Compares one case's gradients gr (metrics mt) with the reference ref at
+ * the design v of architecture a, into t; returns the case's worst energy
+ * elasticity error. */
+static double compare(tally *t, int a, const double *v, int nk, const pom_dyn_metrics *mt,
+                      const pom_dyn_grad *gr, const pom_grad_ref *ref, double shift) {
+  double worst_energy = 0.0;
+  for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
+    if (k == POM_GRAD_TRACKING_RMS_ERROR) continue; /* the PID follows no trajectory */
+    const pom_dyn_dmetric *d = pom_grad_metric_grad(gr, (pom_grad_metric)k);
+    const char *name = pom_grad_metric_name((pom_grad_metric)k);
+    double M = pom_grad_metric_value(mt, (pom_grad_metric)k);
+    int cls = metric_class(k);
+    if (!d->defined) {
+      ++t->undefined[cls];
+      ++t->why[d->why];
+      continue;
+    }
+    if (!ref[k].defined) { /* a perturbed run failed or lost the metric: say so */
+      printf("  %s: the reference is undefined (a perturbed run failed)\n", name);
+      ++t->ref_undefined;
+      check_true(0);
+      continue;
+    }
+    const double tol = class_bound[cls];
+    for (int j = 0; j < nk; ++j) {
+      double s = fabs(v[j]) / fabs(M);
+      double sens = d->d[j] + shift / s;
+      double e = fabs(sens - ref[k].d[j]) * s, E = ref[k].err[j] * s;
+      if (!(E <= REF_SHARE * tol)) {
+        if (ref[k].kink[j]) {
+          ++t->kink[cls];
+          printf("  %s / %s: reference not differentiable at this step (spread %.1e; sens "
+                 "%+.6e, D(H/4) %+.6e)\n",
+                 name, archs[a].keys[j], E, d->d[j], ref[k].d[j]);
+        } else {
+          ++t->unresolved[cls];
+        }
+        continue;
+      }
+      ++t->compared[cls];
+      t->worst[cls] = fmax(t->worst[cls], e);
+      if (cls == 0) worst_energy = fmax(worst_energy, e);
+      t->worst_ref[cls] = fmax(t->worst_ref[cls], E);
+      if (!(e <= tol + E)) {
+        const double all = class_bound_all[cls];
+        ++t->over[cls];
+        if (!(e <= all + E)) ++t->failed[cls];
+        printf("  %s %s / %s: sens %+.9e ref %+.9e (+- %.1e) elasticity error %.2e > %.0e + "
+               "%.1e%s\n",
+               e <= all + E ? "beyond the bound" : "FAIL", name, archs[a].keys[j], sens,
+               ref[k].d[j], ref[k].err[j], e, tol, E,
+               ref[k].kink[j] ? " (kink test fired, spread small)" : "");
+        check_true(e <= all + E);
+      }
+    }
+  }
+  return worst_energy;
+}
+
+static void print_tally(const tally *t, long ran) {
+  printf("noise margin %g:\n", t->margin);
+  for (int cls = 0; cls < 4; ++cls)
+    printf("%-13s bound %.0e (all within %.0e): %ld compared, %ld beyond the bound, %ld beyond "
+           "%.0e; worst elasticity error %.2e (reference error <= %.1e); not compared: %ld "
+           "reference not differentiable at this step, %ld reference unresolved, %ld gradient "
+           "undefined\n",
+           class_name[cls], class_bound[cls], class_bound_all[cls], t->compared[cls], t->over[cls],
+           t->failed[cls], class_bound_all[cls], t->worst[cls], t->worst_ref[cls], t->kink[cls],
+           t->unresolved[cls], t->undefined[cls]);
+  printf("undefined gradients by reason:");
+  for (int w = 1; w <= POM_DYN_GRAD_PEAK_KINK; ++w)
+    if (t->why[w]) printf(" %s %ld;", pom_dyn_grad_why_text((pom_dyn_grad_why)w), t->why[w]);
+  printf("\nreferences undefined (a perturbed run failed): %ld\n", t->ref_undefined);
+  printf("sensitivity runs of the %ld cases: %ld steps, %ld sensitivity right-hand sides\n", ran,
+         t->steps, t->sens_evals);
+}
+
 int main(int argc, char **argv) {
-  int cases = argc > 1 ? atoi(argv[1]) : 10;
-  double shift = argc > 2 ? atof(argv[2]) : 0.0;
-  int first = argc > 3 ? atoi(argv[3]) : 0;
+  /* the named options first, then the positional arguments */
+  double margin = POM_DYN_SENS_MARGIN_DEFAULT, against = 0.0, rel_step = 0.0;
+  const char *list = NULL, *cache = NULL;
+  char *pos[4] = {argv[0], NULL, NULL, NULL};
+  int npos = 1;
+  for (int i = 1; i < argc; ++i) {
+    if (strcmp(argv[i], "--margin") == 0 && i + 1 < argc) {
+      margin = atof(argv[++i]);
+    } else if (strcmp(argv[i], "--rel-step") == 0 && i + 1 < argc) {
+      rel_step = atof(argv[++i]);
+    } else if (strcmp(argv[i], "--against") == 0 && i + 1 < argc) {
+      against = atof(argv[++i]);
+    } else if (strcmp(argv[i], "--cases") == 0 && i + 1 < argc) {
+      list = argv[++i];
+    } else if (strcmp(argv[i], "--ref-cache") == 0 && i + 1 < argc) {
+      cache = argv[++i];
+    } else if (npos < 4) {
+      pos[npos++] = argv[i];
+    }
+  }
+  int cases = npos > 1 ? atoi(pos[1]) : 10;
+  double shift = npos > 2 ? atof(pos[2]) : 0.0;
+  int first = npos > 3 ? atoi(pos[3]) : 0;
   setvbuf(stdout, NULL, _IOLBF, 0); /* a long run's progress as it goes */
   /* the long run (9 min on 2 cores) only when asked, as test_docs_long */
   const char *lg = getenv("POMLAB_LONG"), *dl = getenv("POMLAB_DOCS_LONG");
-  if (cases > 10 && !(lg && strcmp(lg, "1") == 0) && !(dl && strcmp(dl, "1") == 0)) {
-    printf("skipped: %d cases run with POMLAB_LONG=1\n", cases);
+  int to_run = 0;
+  for (int c = first > 0 ? first : 0; c < cases; ++c)
+    to_run += in_list(list, c);
+  if (to_run > 10 && !(lg && strcmp(lg, "1") == 0) && !(dl && strcmp(dl, "1") == 0)) {
+    printf("skipped: %d cases run with POMLAB_LONG=1\n", to_run);
     return 77;
   }
   pom_rng rng;
   pom_rng_seed(&rng, 20261129, 29);
-  long compared[4] = {0}, failed[4] = {0}, over[4] = {0}, kink[4] = {0}, unresolved[4] = {0};
-  long undefined[4] = {0}, ref_undefined = 0;
-  long why[POM_DYN_GRAD_PEAK_KINK + 1] = {0};
-  double worst[4] = {0}, worst_ref[4] = {0};
+  /* the setting under test, and with --against the one it is compared with */
+  tally tl[2];
+  memset(tl, 0, sizeof tl);
+  tl[0].margin = margin;
+  tl[1].margin = against;
+  const int ns = against > 0.0 ? 2 : 1;
+  long ran = 0;
   int nk = 6;
-  pom_grad *gs[2] = {NULL, NULL};
-  for (int a = 0; a < 2; ++a) {
-    pom_cfg *cfg = rigid_config(archs[a].file);
-    check_true(cfg != NULL);
-    if (!cfg) return check_summary("test_grad_random");
-    pom_error err;
-    pom_status st = pom_grad_create(&gs[a], cfg, archs[a].keys, nk, NULL, &err);
-    if (st != POM_OK) printf("  create: %s\n", err.message);
-    check_true(st == POM_OK);
-    pom_cfg_destroy(cfg);
-    if (st != POM_OK) return check_summary("test_grad_random");
+  for (int t = 0; t < ns; ++t) {
+    pom_grad_options opt;
+    pom_grad_options_defaults(&opt);
+    opt.sens_noise_margin = tl[t].margin;
+    if (rel_step > 0.0) opt.rel_step = rel_step;
+    for (int a = 0; a < 2; ++a) {
+      pom_cfg *cfg = rigid_config(archs[a].file);
+      check_true(cfg != NULL);
+      if (!cfg) return check_summary("test_grad_random");
+      pom_error err;
+      pom_status st = pom_grad_create(&tl[t].gs[a], cfg, archs[a].keys, nk, &opt, &err);
+      if (st != POM_OK) printf("  create: %s\n", err.message);
+      check_true(st == POM_OK);
+      pom_cfg_destroy(cfg);
+      if (st != POM_OK) return check_summary("test_grad_random");
+    }
   }
   double nominal[2][6];
   for (int a = 0; a < 2; ++a)
     for (int j = 0; j < nk; ++j)
-      nominal[a][j] = pom_grad_value(gs[a], j);
+      nominal[a][j] = pom_grad_value(tl[0].gs[a], j);
   for (int c = 0; c < cases; ++c) {
     int a = c % 2;
-    pom_grad *g = gs[a];
     double v[6], q[3];
     for (int j = 0; j < nk; ++j)
       v[j] = nominal[a][j] *
@@ -185,100 +347,66 @@ int main(int argc, char **argv) {
     for (int i = 0; i < 3; ++i)
       q[i] = 3e-3 * (2.0 * pom_rng_uniform(&rng) - 1.0);
     pom_error err;
-    if (c < first) continue;
-    if (pom_grad_set_values(g, v, &err) != POM_OK) {
-      printf("case %d: design refused: %s\n", c, err.message);
-      check_true(0);
-      continue;
+    if (c < first || !in_list(list, c)) continue;
+    ++ran;
+    pom_dyn_metrics mt[2], m0;
+    pom_dyn_grad gr[2];
+    int ok = 1;
+    for (int t = 0; t < ns && ok; ++t) {
+      if (pom_grad_set_values(tl[t].gs[a], v, &err) != POM_OK) {
+        printf("case %d: design refused: %s\n", c, err.message);
+        ok = 0;
+      } else if (pom_grad_maneuver_joint(tl[t].gs[a], q, &mt[t], &gr[t], &err) != POM_OK) {
+        printf("case %d (%s): maneuver failed: %s\n", c, archs[a].file, mt[t].reason);
+        ok = 0;
+      }
     }
-    pom_dyn_metrics mt, m0;
-    pom_dyn_grad gr;
-    pom_status st = pom_grad_maneuver_joint(g, q, &mt, &gr, &err);
-    if (st != POM_OK) {
-      printf("case %d (%s): maneuver failed: %s\n", c, archs[a].file, mt.reason);
-      check_true(0);
-      continue;
-    }
+    check_true(ok);
+    if (!ok) continue;
     double H[6], run_error[POM_GRAD_N_METRICS];
     for (int j = 0; j < nk; ++j)
       H[j] = REF_STEP * fabs(v[j]);
     for (int k = 0; k < POM_GRAD_N_METRICS; ++k)
       run_error[k] = class_run_error[metric_class(k)];
     pom_grad_ref ref[POM_GRAD_N_METRICS];
-    check_true(pom_grad_reference(g, q, NULL, H, run_error, &m0, ref, &err) == POM_OK);
-    printf("case %3d %s q (%+.3f, %+.3f, %+.3f) mm: %ld steps, %ld restarts\n", c, archs[a].file,
-           q[0] * 1e3, q[1] * 1e3, q[2] * 1e3, mt.steps, gr.restarts);
-    for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
-      if (k == POM_GRAD_TRACKING_RMS_ERROR) continue; /* the PID follows no trajectory */
-      const pom_dyn_dmetric *d = pom_grad_metric_grad(&gr, (pom_grad_metric)k);
-      const char *name = pom_grad_metric_name((pom_grad_metric)k);
-      double M = pom_grad_metric_value(&mt, (pom_grad_metric)k);
-      int cls = metric_class(k);
-      if (!d->defined) {
-        ++undefined[cls];
-        ++why[d->why];
-        continue;
-      }
-      if (!ref[k].defined) { /* a perturbed run failed or lost the metric: say so */
-        printf("  %s: the reference is undefined (a perturbed run failed)\n", name);
-        ++ref_undefined;
-        check_true(0);
-        continue;
-      }
-      const double tol = class_bound[cls];
-      for (int j = 0; j < nk; ++j) {
-        double s = fabs(v[j]) / fabs(M);
-        double sens = d->d[j] + shift / s;
-        double e = fabs(sens - ref[k].d[j]) * s, E = ref[k].err[j] * s;
-        if (!(E <= REF_SHARE * tol)) {
-          if (ref[k].kink[j]) {
-            ++kink[cls];
-            printf("  %s / %s: reference not differentiable at this step (spread %.1e; sens "
-                   "%+.6e, D(H/4) %+.6e)\n",
-                   name, archs[a].keys[j], E, d->d[j], ref[k].d[j]);
-          } else {
-            ++unresolved[cls];
-          }
-          continue;
-        }
-        ++compared[cls];
-        worst[cls] = fmax(worst[cls], e);
-        worst_ref[cls] = fmax(worst_ref[cls], E);
-        if (!(e <= tol + E)) {
-          const double all = class_bound_all[cls];
-          ++over[cls];
-          if (!(e <= all + E)) ++failed[cls];
-          printf("  %s %s / %s: sens %+.9e ref %+.9e (+- %.1e) elasticity error %.2e > %.0e + "
-                 "%.1e%s\n",
-                 e <= all + E ? "beyond the bound" : "FAIL", name, archs[a].keys[j], sens,
-                 ref[k].d[j], ref[k].err[j], e, tol, E,
-                 ref[k].kink[j] ? " (kink test fired, spread small)" : "");
-          check_true(e <= all + E);
-        }
-      }
+    if (!cached_reference(cache, c, ref, 0)) {
+      check_true(pom_grad_reference(tl[0].gs[a], q, NULL, H, run_error, &m0, ref, &err) == POM_OK &&
+                 cached_reference(cache, c, ref, 1));
+      printf("case %3d: the plain run %ld steps\n", c, m0.steps);
+    }
+    for (int t = 0; t < ns; ++t) {
+      printf("case %3d %s q (%+.3f, %+.3f, %+.3f) mm, margin %g: %ld steps, %ld sensitivity "
+             "right-hand sides, %ld restarts\n",
+             c, archs[a].file, q[0] * 1e3, q[1] * 1e3, q[2] * 1e3, tl[t].margin, mt[t].steps,
+             gr[t].sens_rhs_evals, gr[t].restarts);
+      tl[t].steps += mt[t].steps;
+      tl[t].sens_evals += gr[t].sens_rhs_evals;
+      double we = compare(&tl[t], a, v, nk, &mt[t], &gr[t], ref, shift);
+      printf("  margin %g: worst energy elasticity error %.2e\n", tl[t].margin, we);
     }
   }
+  for (int t = 0; t < ns; ++t)
+    print_tally(&tl[t], ran);
+  const tally *t0 = &tl[0];
   for (int cls = 0; cls < 4; ++cls)
-    printf("%-13s bound %.0e (all within %.0e): %ld compared, %ld beyond the bound, %ld beyond "
-           "%.0e; worst elasticity error %.2e (reference error <= %.1e); not compared: %ld "
-           "reference not differentiable at this step, %ld reference unresolved, %ld gradient "
-           "undefined\n",
-           class_name[cls], class_bound[cls], class_bound_all[cls], compared[cls], over[cls],
-           failed[cls], class_bound_all[cls], worst[cls], worst_ref[cls], kink[cls],
-           unresolved[cls], undefined[cls]);
-  printf("undefined gradients by reason:");
-  for (int w = 1; w <= POM_DYN_GRAD_PEAK_KINK; ++w)
-    if (why[w]) printf(" %s %ld;", pom_dyn_grad_why_text((pom_dyn_grad_why)w), why[w]);
-  printf("\nreferences undefined (a perturbed run failed): %ld\n", ref_undefined);
-  for (int cls = 0; cls < 4; ++cls)
-    check_true((double)over[cls] <= OVER_SHARE * (double)compared[cls]);
+    check_true((double)t0->over[cls] <= OVER_SHARE * (double)t0->compared[cls]);
   /* the comparison must have happened: most derivatives compared */
-  const long ran = cases - (first > 0 ? first : 0);
-  check_true(compared[0] >= ran * 4 * nk * 3 / 4);
-  check_true(compared[1] >= ran * nk);
-  /* the peak current: 222 of 600 on the 100 designs (56 near a corner) */
-  check_true(compared[3] >= ran * nk / 4);
-  pom_grad_destroy(gs[0]);
-  pom_grad_destroy(gs[1]);
+  check_true(t0->compared[0] >= ran * 4 * nk * 3 / 4);
+  check_true(t0->compared[1] >= ran * nk);
+  /* the peak current: 222 of 600 on the 100 designs (56 near a corner);
+   * over a few cases only, all maxima may lie at corners */
+  if (ran >= 10) check_true(t0->compared[3] >= ran * nk / 4);
+  if (ns == 2) {
+    /* the knob tightens the energies: their worst error at --margin within
+     * the issue's 1e-5 and at most a third of --against's (docs/optimize.md
+     * 12.4: the tolerance a tenth, the error of case 0 1.3e-5 -> 8.8e-7) */
+    printf("energies: worst elasticity error %.2e at margin %g against %.2e at %g\n", t0->worst[0],
+           t0->margin, tl[1].worst[0], tl[1].margin);
+    check_true(t0->worst[0] <= class_bound[0]);
+    check_true(3.0 * t0->worst[0] <= tl[1].worst[0]);
+  }
+  for (int t = 0; t < ns; ++t)
+    for (int a = 0; a < 2; ++a)
+      pom_grad_destroy(tl[t].gs[a]);
   return check_summary("test_grad_random");
 }

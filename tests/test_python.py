@@ -439,3 +439,37 @@ def test_gradient(tmp_path):
     assert "rigid" in str(e.value)
     with pytest.raises(pomlab.PomlabError):
         pomlab.gradient(cfg, keys, maneuvers=1, overrides={"controller.kp": 1e4})
+
+
+def test_gradient_sens_margin(tmp_path):
+    """The sensitivities' accuracy (docs/optimize.md 12.4): sens_margin is
+    gradient.sens_noise_margin, the same as `pomlab gradient --sens-margin`
+    and as the file's key; it acts only below rtol = margin x 7.4e-11 (at
+    the shipped rtol 1e-6 the same doubles) and a value outside [1, 1e6] is
+    refused naming the key and the value."""
+    cfg = _rigid_3pss(tmp_path)
+    keys = ["actuator.resistance_ohm"]
+    base = pomlab.gradient(cfg, keys, maneuvers=1)
+    loose = pomlab.gradient(cfg, keys, maneuvers=1, sens_margin=30)
+    assert same(loose["maneuvers"][0]["gradient"]["energy_total"],
+                base["maneuvers"][0]["gradient"]["energy_total"])
+    tight = tmp_path / "tight.cfg"
+    tight.write_text(re.sub(r"rtol = [^;]*;", "rtol = 1e-9;", open(cfg).read()))
+    a = pomlab.gradient(str(tight), keys, maneuvers=1)
+    b = pomlab.gradient(str(tight), keys, maneuvers=1, sens_margin=30)
+    want = run_json("gradient", str(tight), "--params", keys[0], "--maneuvers", "1",
+                    "--sens-margin", "30")
+    assert same(b["maneuvers"][0]["gradient"]["energy_total"],
+                want["maneuvers"][0]["gradient"]["energy_total"])
+    assert b["maneuvers"][0]["gradient"]["energy_total"] != a["maneuvers"][0]["gradient"]["energy_total"]
+    infile = tmp_path / "infile.cfg"
+    infile.write_text(open(tight).read() + "\ngradient = { sens_noise_margin = 30.0; };\n")
+    c = pomlab.gradient(str(infile), keys, maneuvers=1)
+    assert same(c["maneuvers"][0]["gradient"]["energy_total"],
+                want["maneuvers"][0]["gradient"]["energy_total"])
+    with pytest.raises(pomlab.PomlabError) as e:
+        pomlab.gradient(cfg, keys, maneuvers=1, sens_margin=0.5)
+    assert "gradient.sens_noise_margin" in str(e.value) and "0.5" in str(e.value)
+    p = subprocess.run([PROGRAM, "gradient", cfg, "--params", keys[0], "--sens-margin", "2e6"],
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 2 and "sens_noise_margin" in p.stderr and "2000000" in p.stderr

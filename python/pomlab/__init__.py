@@ -813,7 +813,7 @@ def study(cfg, *, n=None, threads=0, output=None, resume=False, summary=True, pl
     return _run_study(_as_config(cfg, extra), False, output, threads, resume, summary, plots)
 
 
-def gradient(cfg, params, *, maneuvers=None, overrides=None):
+def gradient(cfg, params, *, maneuvers=None, sens_margin=None, overrides=None):
     """Design gradients (docs/optimize.md section 12): the metrics of the
     config's Monte-Carlo maneuvers and their derivatives with respect to
     the numeric config keys `params` (a list, at most 16; an array element
@@ -824,16 +824,22 @@ def gradient(cfg, params, *, maneuvers=None, overrides=None):
     None where undefined) and "undefined" (the reasons), the peak coil
     current's argmax "peak_current_at" (time in s, coil from 1; its
     derivative by the envelope theorem, docs/optimize.md 12.2), then "mean"
-    and "mean_gradient". Overrides may set only montecarlo.* keys: the models
-    are built from the file's text (move a design key in the file or pass
-    it in params)."""
+    and "mean_gradient". sens_margin sets gradient.sens_noise_margin (the
+    sensitivities' accuracy, docs/optimize.md 12.4: 1e3 by default; smaller
+    is more accurate at more steps, and acts only when solver.rtol is below
+    margin x 7.4e-11; checked as the file's key is). Overrides may set only montecarlo.* keys and
+    gradient.sens_noise_margin: the models are built from the file's text
+    (move a design key in the file or pass it in params)."""
     import json
 
+    if sens_margin is not None:
+        overrides = dict(overrides or {})
+        overrides["gradient.sens_noise_margin"] = sens_margin
     cfg = _as_config(cfg, overrides)
     for key in cfg.overrides:
-        if not key.startswith("montecarlo."):
-            _refuse("gradient: override %r: only montecarlo.* keys reach the gradient's models; "
-                    "set it in the file" % key)
+        if not key.startswith("montecarlo.") and key != "gradient.sens_noise_margin":
+            _refuse("gradient: override %r: only montecarlo.* keys and gradient.sens_noise_margin "
+                    "reach the gradient; set it in the file" % key)
     keys = [_no_nul("params", str(k)) for k in params]
     if not keys or len(keys) > 16:
         _refuse("gradient: give 1 to 16 keys in params")
