@@ -86,6 +86,22 @@ void pom_kin_dexterity(const double J[9], double sv[3], double *kappa, double *d
   if (kappa) *kappa = dex > 0.0 ? s[0] / s[2] : INFINITY;
 }
 
+/* s_min / s_max of J from det J, the largest singular value s_max and that
+ * of the cofactor matrix (s_max s_mid), each accurate to rounding however
+ * ill-conditioned J is (docs/kinematics-modes.md 6.5). */
+static double dexterity_accurate(const double J[9], double s_max) {
+  const double c[9] = {
+      J[4] * J[8] - J[5] * J[7], J[5] * J[6] - J[3] * J[8], J[3] * J[7] - J[4] * J[6],
+      J[2] * J[7] - J[1] * J[8], J[0] * J[8] - J[2] * J[6], J[1] * J[6] - J[0] * J[7],
+      J[1] * J[5] - J[2] * J[4], J[2] * J[3] - J[0] * J[5], J[0] * J[4] - J[1] * J[3]};
+  const double det = J[0] * c[0] + J[1] * c[1] + J[2] * c[2];
+  double CtC[9], w[3];
+  pom_m3_tmul(CtC, c, c);
+  sym3_eigenvalues(w, CtC);
+  const double s01 = sqrt(fmax(fmax(w[0], w[1]), fmax(w[2], 0.0)));
+  return s01 > 0.0 && s_max > 0.0 ? fabs(det) / (s01 * s_max) : 0.0;
+}
+
 double pom_kin_dexterity_bound(const double J[9]) {
   /* cofactors C (adj J = C^T), det J along the first row */
   const double c[9] = {
@@ -281,13 +297,14 @@ pom_status pom_kin_pose_evaluate(const pom_kin_arch *arch, const double R[9], po
     if (!(pose->transmission[i] > POM_KIN_SERIAL_TOL)) pose->serial_limbs |= 1u << i;
   if (pose->serial_limbs) pose->singular |= POM_KIN_SING_SERIAL;
   pom_kin_dexterity(pose->J, pose->sv, &pose->kappa, &pose->dexterity);
-  /* The eigenvalues of J^T J square the condition number: past 1e8 the
-   * smallest singular value is rounding. The flag therefore also takes
-   * s_min = |det J| / (s_max s_mid), accurate to the singularity
+  /* The eigenvalues of J^T J square the condition number: past 1e8 the two
+   * smallest singular values are rounding. The flag therefore takes
+   * s_min / s_max = |det J| / (s_max ||adj J||_2), since ||adj J||_2 =
+   * s_max s_mid: the largest eigenvalues of J^T J and C^T C (C the
+   * cofactors) and det J are accurate to the singularity
    * (docs/kinematics-modes.md 6.5); the reported dexterity is unchanged. */
-  const double s01 = pose->sv[0] * pose->sv[1];
-  const double dex_det = s01 > 0.0 ? fabs(pom_m3_det(pose->J)) / (s01 * pose->sv[0]) : 0.0;
-  if (!(fmin(pose->dexterity, dex_det) > POM_KIN_SING_TOL)) pose->singular |= POM_KIN_SING_PARALLEL;
+  const double dex_det = dexterity_accurate(pose->J, pose->sv[0]);
+  if (!(dex_det > POM_KIN_SING_TOL)) pose->singular |= POM_KIN_SING_PARALLEL;
   double F[9], M[9];
   if (arch->type->constraint && arch->type->constraint(arch, R, F, M) == 3) {
     double sv[3];

@@ -76,7 +76,7 @@ static int reachable(const pom_kin_arch *a, const double axis[3], double t, int 
 
 /* 1. the edge of the reachable set along 12 axes */
 static void edges(const char *label, const pom_kin_arch *a, int min_edges) {
-  int n_edges = 0, set_ok = 1, clear_ok = 1, names_ok = 1, n_par = 0;
+  int n_edges = 0, set_ok = 1, clear_ok = 1, names_ok = 1, n_par = 0, n_par10 = 0;
   double worst_law = 0.0, lam_min = INFINITY, lam_max = 0.0;
   for (int e = 0; e < 12; ++e) {
     /* axes off the 3-fold symmetry (no two limbs fold at once) */
@@ -118,6 +118,7 @@ static void edges(const char *label, const pom_kin_arch *a, int min_edges) {
       if (m == 0 && ser) clear_ok = 0;
       if (m >= 2 && !(ser && (p.serial_limbs >> bad & 1u))) set_ok = 0;
       if (m >= 2 && (p.singular & POM_KIN_SING_PARALLEL)) ++n_par;
+      if (m == 2 && (p.singular & POM_KIN_SING_PARALLEL)) ++n_par10;
       if (verbose)
         printf("%s axis %d: edge at %.6f rad (limb %d), delta %.0e: transmission %.3g %.3g %.3g, "
                "serial limbs %u, bits %d, dexterity %.3g\n",
@@ -138,6 +139,11 @@ static void edges(const char *label, const pom_kin_arch *a, int min_edges) {
   check_true(n_edges >= min_edges);
   check_true(worst_law <= 1e-2);
   check_true(set_ok && clear_ok && names_ok);
+  /* beside a fold the failing limb's row grows like 1/lambda, so J's
+   * dexterity falls like lambda ~ sqrt(delta): about 1e-6 at delta = 1e-10,
+   * where the parallel bit (dexterity <= 1e-7, measured accurately) must be
+   * clear; at 1e-12 it may reach 1e-7 (docs/kinematics-modes.md 6.5) */
+  check_true(n_par10 == 0);
 }
 
 /* 2. random reachable poses: the bit clear; on P-S-S limbs lambda = |q+ - q-| / (2 L) */
