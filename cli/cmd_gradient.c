@@ -83,7 +83,7 @@ int pom_cmd_gradient(int argc, char **argv) {
        .arg = "M",
        .key = POM_GRAD_KEY_NOISE_MARGIN,
        .help = "the sensitivities' accuracy, in [1, 1e6]: their relative tolerance is "
-               "max(solver.rtol, M eps / 3e-6) (default 1e3; smaller = more accurate at more "
+               "max(solver.rtol, M eps / 3e-6) (default 3e2; smaller = more accurate at more "
                "steps, acting only below solver.rtol = M x 7.4e-11; docs/optimize.md 12.4)",
        .text = &margin_text},
       {.name = "--check",

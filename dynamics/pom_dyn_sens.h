@@ -100,8 +100,11 @@ typedef struct {
 } pom_dyn_sens_spec;
 
 /* The noise margin's default and range (docs/optimize.md 12.4: at 10 the
- * error test chases the rounding noise, 9x the steps on one maneuver). */
-#define POM_DYN_SENS_MARGIN_DEFAULT 1e3
+ * error test chases the rounding noise, 9x the steps on one maneuver; at
+ * 3e2 every energy of the 100-design check meets the issue's 1e-5, at 1e3
+ * three of 2315 did not; the margin acts only below rtol = margin x
+ * 7.4e-11, so the shipped rtol 1e-6 runs the same steps either way). */
+#define POM_DYN_SENS_MARGIN_DEFAULT 3e2
 #define POM_DYN_SENS_MARGIN_MIN     1.0
 #define POM_DYN_SENS_MARGIN_MAX     1e6
 

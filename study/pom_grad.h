@@ -87,7 +87,7 @@ typedef struct {
                                evaluations per step); 0: NaN and undefined */
   double sens_noise_margin; /* the sensitivities' accuracy: their relative tolerance is
                                max(rtol, margin eps / rel_step) (pom_dyn_sens_spec.noise_margin,
-                               docs/optimize.md 12.4); default POM_DYN_SENS_MARGIN_DEFAULT (1e3);
+                               docs/optimize.md 12.4); default POM_DYN_SENS_MARGIN_DEFAULT (3e2);
                                the config key gradient.sens_noise_margin, when present, replaces
                                it */
 } pom_grad_options;

@@ -16,9 +16,9 @@
  * has a tiny derivative whose relative error says nothing). Bounds (the
  * issue's): energies 1e-5, settling times 1e-4; the final pointing error (a
  * ~1e-6 rad residual) 1e-3; the peak coil current 1e-4. A derivative meets
- * its bound when |sens - ref| <= bound + E; every one must meet
- * class_bound_all (4e-5 for energies, the sensitivities' own integration
- * tolerance) and at most 5 % of a class may miss the issue's bound. A reference whose E exceeds
+ * its bound when |sens - ref| <= bound + E, and every compared derivative
+ * of the setting under test must meet it (with --against, the other
+ * setting is measured and printed, not held to it). A reference whose E exceeds
  * REF_SHARE of the bound cannot check the derivative to the bound: counted as "reference not
  * differentiable at this step" when its kink test fired, as "reference
  * unresolved" otherwise, never compared and never dropped silently; so is a
@@ -30,7 +30,7 @@
  * argv[3]: the first case to run (default 0; the cases before it are drawn
  * and skipped): a long run split into ranges that run side by side.
  * --margin M (anywhere): the sensitivities' noise margin
- * (pom_grad_options.sens_noise_margin, default 1e3; docs/optimize.md 12.4).
+ * (pom_grad_options.sens_noise_margin, default 3e2; docs/optimize.md 12.4).
  * --rel-step R: the sensitivities' differencing step (pom_grad_options.rel_step,
  * default 3e-6).
  * --against M0: each case's sensitivities also at the noise margin M0; the
@@ -76,15 +76,11 @@ static const char *const class_name[4] = {"energy", "settling-time", "pointing",
  * voltage's corner is reported undefined (docs/optimize.md 12.2; before,
  * up to 2.7e-2 there), the 100-design run too (worst 4.8e-7). */
 static const double class_bound[4] = {1e-5, 1e-4, 1e-3, 1e-4};
-/* The bound every derivative must meet; at most 5 % of a class may lie
- * between class_bound and it. The sensitivities are integrated to the
- * relative tolerance max(rtol, M eps pbar / h) = 7.4e-8 at the default noise
- * margin M = 1e3 (against the differencing's rounding, docs/optimize.md 12.1,
- * 12.4), which leaves up to 2e-5 of elasticity on a few energies (measured on
- * the 100 designs: 3 of 2315 beyond 1e-5, cases 56 and 70; at M = 3e2 their
- * worst energies are 1.1e-6 and 4.2e-7, so it is that tolerance). */
-static const double class_bound_all[4] = {4e-5, 1e-4, 1e-3, 1e-4};
-#define OVER_SHARE 0.05
+/* The sensitivities are integrated to the relative tolerance max(rtol, M eps
+ * pbar / h) = 2.2e-8 at the default noise margin M = 3e2 (against the
+ * differencing's rounding, docs/optimize.md 12.1, 12.4): every one of the
+ * 2315 energies of the 100 designs within 1e-5 (at M = 1e3, 7.4e-8, three
+ * were not: cases 56 and 70, up to 1.96e-5). */
 
 typedef struct {
   const char *file;
@@ -190,7 +186,8 @@ static int in_list(const char *list, int c) {
 typedef struct {
   double margin;
   pom_grad *gs[2];
-  long compared[4], failed[4], over[4], kink[4], unresolved[4], undefined[4], ref_undefined;
+  int held; /* 1: the setting under test, each derivative held to its bound */
+  long compared[4], over[4], kink[4], unresolved[4], undefined[4], ref_undefined;
   long why[POM_DYN_GRAD_PEAK_KINK + 1];
   double worst[4], worst_ref[4];
   long steps, sens_evals;
@@ -240,15 +237,12 @@ static double compare(tally *t, int a, const double *v, int nk, const pom_dyn_me
       if (cls == 0) worst_energy = fmax(worst_energy, e);
       t->worst_ref[cls] = fmax(t->worst_ref[cls], E);
       if (!(e <= tol + E)) {
-        const double all = class_bound_all[cls];
         ++t->over[cls];
-        if (!(e <= all + E)) ++t->failed[cls];
         printf("  %s %s / %s: sens %+.9e ref %+.9e (+- %.1e) elasticity error %.2e > %.0e + "
                "%.1e%s\n",
-               e <= all + E ? "beyond the bound" : "FAIL", name, archs[a].keys[j], sens,
-               ref[k].d[j], ref[k].err[j], e, tol, E,
-               ref[k].kink[j] ? " (kink test fired, spread small)" : "");
-        check_true(e <= all + E);
+               t->held ? "FAIL" : "beyond the bound", name, archs[a].keys[j], sens, ref[k].d[j],
+               ref[k].err[j], e, tol, E, ref[k].kink[j] ? " (kink test fired, spread small)" : "");
+        check_true(!t->held);
       }
     }
   }
@@ -258,13 +252,11 @@ static double compare(tally *t, int a, const double *v, int nk, const pom_dyn_me
 static void print_tally(const tally *t, long ran) {
   printf("noise margin %g:\n", t->margin);
   for (int cls = 0; cls < 4; ++cls)
-    printf("%-13s bound %.0e (all within %.0e): %ld compared, %ld beyond the bound, %ld beyond "
-           "%.0e; worst elasticity error %.2e (reference error <= %.1e); not compared: %ld "
-           "reference not differentiable at this step, %ld reference unresolved, %ld gradient "
-           "undefined\n",
-           class_name[cls], class_bound[cls], class_bound_all[cls], t->compared[cls], t->over[cls],
-           t->failed[cls], class_bound_all[cls], t->worst[cls], t->worst_ref[cls], t->kink[cls],
-           t->unresolved[cls], t->undefined[cls]);
+    printf("%-13s bound %.0e: %ld compared, %ld beyond the bound; worst elasticity error %.2e "
+           "(reference error <= %.1e); not compared: %ld reference not differentiable at this "
+           "step, %ld reference unresolved, %ld gradient undefined\n",
+           class_name[cls], class_bound[cls], t->compared[cls], t->over[cls], t->worst[cls],
+           t->worst_ref[cls], t->kink[cls], t->unresolved[cls], t->undefined[cls]);
   printf("undefined gradients by reason:");
   for (int w = 1; w <= POM_DYN_GRAD_PEAK_KINK; ++w)
     if (t->why[w]) printf(" %s %ld;", pom_dyn_grad_why_text((pom_dyn_grad_why)w), t->why[w]);
@@ -313,6 +305,7 @@ int main(int argc, char **argv) {
   tally tl[2];
   memset(tl, 0, sizeof tl);
   tl[0].margin = margin;
+  tl[0].held = 1;
   tl[1].margin = against;
   const int ns = against > 0.0 ? 2 : 1;
   long ran = 0;
@@ -388,8 +381,6 @@ int main(int argc, char **argv) {
   for (int t = 0; t < ns; ++t)
     print_tally(&tl[t], ran);
   const tally *t0 = &tl[0];
-  for (int cls = 0; cls < 4; ++cls)
-    check_true((double)t0->over[cls] <= OVER_SHARE * (double)t0->compared[cls]);
   /* the comparison must have happened: most derivatives compared */
   check_true(t0->compared[0] >= ran * 4 * nk * 3 / 4);
   check_true(t0->compared[1] >= ran * nk);

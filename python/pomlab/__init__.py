@@ -825,7 +825,7 @@ def gradient(cfg, params, *, maneuvers=None, sens_margin=None, overrides=None):
     current's argmax "peak_current_at" (time in s, coil from 1; its
     derivative by the envelope theorem, docs/optimize.md 12.2), then "mean"
     and "mean_gradient". sens_margin sets gradient.sens_noise_margin (the
-    sensitivities' accuracy, docs/optimize.md 12.4: 1e3 by default; smaller
+    sensitivities' accuracy, docs/optimize.md 12.4: 3e2 by default; smaller
     is more accurate at more steps, and acts only when solver.rtol is below
     margin x 7.4e-11; checked as the file's key is). Overrides may set only montecarlo.* keys and
     gradient.sens_noise_margin: the models are built from the file's text
