@@ -55,9 +55,38 @@ static void print_text(FILE *out, const pom_grad *g, const pom_dyn_metrics *mt,
   }
 }
 
+/* One row per metric of a set's statistics (values v, gradients d; fd the
+ * check's, or NULL): a metric whose value is NaN and gradient unknown is
+ * left out. */
+static void print_set(const pom_grad *g, int n, const double *v, const pom_dyn_dmetric *d,
+                      const pom_dyn_dmetric *fd) {
+  pom_dyn_metrics mm;
+  pom_dyn_grad gm, gf;
+  memset(&mm, 0, sizeof mm);
+  memset(&gm, 0, sizeof gm);
+  memset(&gf, 0, sizeof gf);
+  gm.n_params = gf.n_params = n;
+  mm.energy_total = v[POM_GRAD_ENERGY_TOTAL];
+  for (int a = 0; a < 3; ++a) {
+    mm.energy[a] = v[POM_GRAD_ENERGY_1 + a];
+    mm.settling_time[a] = v[POM_GRAD_SETTLING_TIME_1 + a];
+  }
+  mm.tracking_rms_error = v[POM_GRAD_TRACKING_RMS_ERROR];
+  mm.final_pointing_error = v[POM_GRAD_FINAL_POINTING_ERROR];
+  mm.execution_time = v[POM_GRAD_EXECUTION_TIME];
+  mm.pointing_settling_time = v[POM_GRAD_POINTING_SETTLING_TIME];
+  mm.peak_current = v[POM_GRAD_PEAK_CURRENT];
+  for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
+    *(pom_dyn_dmetric *)pom_grad_metric_grad(&gm, (pom_grad_metric)k) = d[k];
+    if (fd) *(pom_dyn_dmetric *)pom_grad_metric_grad(&gf, (pom_grad_metric)k) = fd[k];
+  }
+  print_text(stdout, g, &mm, &gm, fd ? &gf : NULL);
+}
+
 int pom_cmd_gradient(int argc, char **argv) {
   const char *cfg_path = NULL, *params = NULL;
-  const char *n_text = NULL, *seed_text = NULL, *margin_text = NULL;
+  const char *n_text = NULL, *seed_text = NULL, *margin_text = NULL, *q_text = NULL,
+             *bw_text = NULL;
   int json = 0, check = 0;
   const pom_opt opts[] = {
       {.name = "--params",
@@ -86,6 +115,20 @@ int pom_cmd_gradient(int argc, char **argv) {
                "max(solver.rtol, M eps / 3e-6) (default 3e2; smaller = more accurate at more "
                "steps, acting only below solver.rtol = M x 7.4e-11; docs/optimize.md 12.4)",
        .text = &margin_text},
+      {.name = "--quantile",
+       .kind = POM_OPT_NUMBER,
+       .arg = "P",
+       .key = POM_GRAD_KEY_QUANTILE,
+       .help = "the smooth robust statistic of the times over the maneuvers: the kernel-smoothed "
+               "P-quantile, in [0.01, 0.99] (default 0.95; docs/optimize.md 11.3, 12.3)",
+       .text = &q_text},
+      {.name = "--bandwidth-ms",
+       .kind = POM_OPT_NUMBER,
+       .arg = "H",
+       .key = POM_GRAD_KEY_BANDWIDTH,
+       .help = "its Gaussian kernel's bandwidth, ms, in [1e-3, 1e3] (default 1, as the "
+               "co-design's)",
+       .text = &bw_text},
       {.name = "--check",
        .kind = POM_OPT_FLAG,
        .help = "also the central differences of whole simulations (step 1e-3 x |value|) beside "
@@ -109,7 +152,8 @@ int pom_cmd_gradient(int argc, char **argv) {
                "settling time's derivative is undefined where the time is censored, zero from\n"
                "the start or its last band crossing grazes the band; the peak current's where\n"
                "its maximum is at the start or the horizon, on a kink or near a saturated\n"
-               "voltage's corner of i(t), or ties with another coil or time (section 12.2). An\n"
+               "voltage's corner of i(t), or ties with another coil or time (section 12.2). Of\n"
+               "the set: the means and the smooth quantiles of the times (--quantile). An\n"
                "undefined derivative is printed as such, with its reason, never as a number.",
       .notes = "Needs joints.model = \"rigid\". Exit status: 0 done (failed maneuvers are\n"
                "reported); 1 runtime failure; 2 usage or config error.",
@@ -202,24 +246,12 @@ int pom_cmd_gradient(int argc, char **argv) {
     printf("\nmeans over the %ld finished of %ld maneuvers (a mean's derivative needs every "
            "maneuver's):\n",
            r.n_finished, r.n);
-    pom_dyn_metrics mm;
-    pom_dyn_grad gm;
-    memset(&mm, 0, sizeof mm);
-    memset(&gm, 0, sizeof gm);
-    gm.n_params = n;
-    mm.energy_total = r.mean[POM_GRAD_ENERGY_TOTAL];
-    for (int a = 0; a < 3; ++a) {
-      mm.energy[a] = r.mean[POM_GRAD_ENERGY_1 + a];
-      mm.settling_time[a] = r.mean[POM_GRAD_SETTLING_TIME_1 + a];
-    }
-    mm.tracking_rms_error = r.mean[POM_GRAD_TRACKING_RMS_ERROR];
-    mm.final_pointing_error = r.mean[POM_GRAD_FINAL_POINTING_ERROR];
-    mm.execution_time = r.mean[POM_GRAD_EXECUTION_TIME];
-    mm.pointing_settling_time = r.mean[POM_GRAD_POINTING_SETTLING_TIME];
-    mm.peak_current = r.mean[POM_GRAD_PEAK_CURRENT];
-    for (int k = 0; k < POM_GRAD_N_METRICS; ++k)
-      *(pom_dyn_dmetric *)pom_grad_metric_grad(&gm, (pom_grad_metric)k) = r.dmean[k];
-    print_text(stdout, g, &mm, &gm, NULL);
+    print_set(g, n, r.mean, r.dmean, check ? c.dmean : NULL);
+    printf("\nsmooth %g-quantiles of the times over the %ld maneuvers (Gaussian kernel, bandwidth "
+           "%g ms; d/dp = sum_i w_i dt_i/dp, defined as the means'; docs/optimize.md 11.3, "
+           "12.3):\n",
+           r.quantile_p, r.n, 1e3 * r.quantile_bandwidth);
+    print_set(g, n, r.quantile, r.dquantile, check ? c.dquantile : NULL);
   }
   pom_grad_mc_free(&r);
   pom_grad_mc_free(&c);

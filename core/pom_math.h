@@ -131,4 +131,12 @@ void pom_quat_rate(double qdot[4], const double q[4], const double omega_fixed[3
 void pom_quat_from_euler_zyx(double q[4], const double e[3]);
 pom_status pom_quat_to_euler_zyx(double e[3], const double q[4]);
 
+/* ---- statistics ---------------------------------------------------------- */
+/* The kernel-smoothed p-quantile of t[0..n-1] with a Gaussian kernel of
+ * bandwidth h > 0 (docs/optimize.md 11.3): the q with
+ * (1/n) sum_i Phi((q - t_i)/h) = p, 0 < p < 1, to 1e-15 relative; with w,
+ * also dq/dt_i = phi(z_i) / sum_j phi(z_j) (the implicit-function theorem;
+ * positive, summing to 1). NaN when n < 1. */
+double pom_smooth_quantile(const double *t, int n, double p, double h, double *w);
+
 #endif

@@ -25,46 +25,9 @@ double pom_cds_size_law(double nominal, double exponent, double s) {
   return nominal * pow(s, exponent);
 }
 
-/* ---- smooth quantile (section 11.3) ------------------------------------------------ */
-static double phi_cdf(double z) {
-  return 0.5 * erfc(-z / sqrt(2.0));
-}
-
+/* ---- smooth quantile (section 11.3): core's, under the co-design's name -------------- */
 double pom_cds_smooth_quantile(const double *t, int n, double p, double h, double *w) {
-  if (n < 1) return NAN;
-  double lo = t[0], hi = t[0];
-  for (int i = 1; i < n; ++i) {
-    lo = fmin(lo, t[i]);
-    hi = fmax(hi, t[i]);
-  }
-  /* F(q) = (1/n) sum Phi((q - t_i)/h) is increasing from 0 to 1: bisection on
-   * a bracket that holds the root, then Newton polish */
-  lo -= 10.0 * h;
-  hi += 10.0 * h;
-  double q = 0.5 * (lo + hi);
-  for (int it = 0; it < 200; ++it) {
-    q = 0.5 * (lo + hi);
-    double F = 0.0;
-    for (int i = 0; i < n; ++i)
-      F += phi_cdf((q - t[i]) / h);
-    F /= n;
-    if (F < p)
-      lo = q;
-    else
-      hi = q;
-    if (hi - lo <= 1e-15 * fmax(1.0, fabs(q))) break;
-  }
-  if (w) {
-    double s = 0.0;
-    for (int i = 0; i < n; ++i) {
-      double z = (q - t[i]) / h;
-      w[i] = exp(-0.5 * z * z);
-      s += w[i];
-    }
-    for (int i = 0; i < n; ++i)
-      w[i] = s > 0 ? w[i] / s : 1.0 / n;
-  }
-  return q;
+  return pom_smooth_quantile(t, n, p, h, w);
 }
 
 /* ---- loading ---------------------------------------------------------------------- */

@@ -3,6 +3,7 @@
  * builds a candidate, then pom_dyn_simulate_sens per maneuver, and the
  * Monte-Carlo means with their gradients. */
 #include "pom_grad.h"
+#include "pom_math.h"
 #include "study_internal.h"
 #include "pom_json.h"
 
@@ -90,6 +91,8 @@ void pom_grad_options_defaults(pom_grad_options *o) {
   o->error_control = 1;
   o->peak_current = 1;
   o->sens_noise_margin = POM_DYN_SENS_MARGIN_DEFAULT;
+  o->quantile = 0.95;
+  o->quantile_bandwidth = 1e-3;
 }
 
 void pom_grad_mc_options_defaults(pom_grad_mc_options *o) {
@@ -399,8 +402,26 @@ pom_status pom_grad_create_dirs(pom_grad **out, const pom_cfg *cfg, const char *
                                 POM_DYN_SENS_MARGIN_MAX, g->opt.sens_noise_margin,
                                 &g->opt.sens_noise_margin, err),
                fail);
+  /* the smooth quantile of the times (a file's or a command line's value,
+   * the same check) */
+  POM_TRY_GOTO(pom_cfg_real_opt(cfg, POM_GRAD_KEY_QUANTILE, 1.0, POM_GRAD_QUANTILE_MIN,
+                                POM_GRAD_QUANTILE_MAX, g->opt.quantile, &g->opt.quantile, err),
+               fail);
+  POM_TRY_GOTO(pom_cfg_real_opt(cfg, POM_GRAD_KEY_BANDWIDTH, 1e-3, POM_GRAD_BANDWIDTH_MIN_MS,
+                                POM_GRAD_BANDWIDTH_MAX_MS, g->opt.quantile_bandwidth,
+                                &g->opt.quantile_bandwidth, err),
+               fail);
   /* a misspelt key of the group is an error, as in any group a command reads */
   POM_TRY_GOTO(pom_cfg_check_unknown(cfg, pom_grad_groups(), NULL, err), fail);
+  if (!(g->opt.quantile >= POM_GRAD_QUANTILE_MIN && g->opt.quantile <= POM_GRAD_QUANTILE_MAX &&
+        g->opt.quantile_bandwidth >= 1e-3 * POM_GRAD_BANDWIDTH_MIN_MS &&
+        g->opt.quantile_bandwidth <= 1e-3 * POM_GRAD_BANDWIDTH_MAX_MS))
+    POM_FAIL_GOTO(err, POM_ERR_ARG, fail,
+                  "design gradients: quantile %g outside [%g, %g] or bandwidth %g ms outside "
+                  "[%g, %g]",
+                  g->opt.quantile, POM_GRAD_QUANTILE_MIN, POM_GRAD_QUANTILE_MAX,
+                  1e3 * g->opt.quantile_bandwidth, POM_GRAD_BANDWIDTH_MIN_MS,
+                  POM_GRAD_BANDWIDTH_MAX_MS);
   if (!(g->opt.sens_noise_margin >= POM_DYN_SENS_MARGIN_MIN &&
         g->opt.sens_noise_margin <= POM_DYN_SENS_MARGIN_MAX))
     POM_FAIL_GOTO(err, POM_ERR_ARG, fail, "design gradients: sens_noise_margin %g outside [%g, %g]",
@@ -846,6 +867,53 @@ pom_status pom_grad_reference(pom_grad *g, const double *q, const double *R, con
   return sb != POM_OK ? sb : st;
 }
 
+/* The smooth quantile of each time metric over the set and its gradient,
+ * dq/dp = sum_i w_i dt_i/dp with w_i = dq/dt_i (docs/optimize.md 11.3,
+ * 12.3); defined as the means are: every maneuver finished with that
+ * derivative defined (a censored time, a failed maneuver: undefined, with
+ * the first maneuver's reason). */
+static int is_time_metric(pom_grad_metric k) {
+  return (k >= POM_GRAD_SETTLING_TIME_1 && k <= POM_GRAD_SETTLING_TIME_3) ||
+         k == POM_GRAD_EXECUTION_TIME || k == POM_GRAD_POINTING_SETTLING_TIME;
+}
+
+static void smooth_quantiles(const pom_grad *g, pom_grad_mc_result *r) {
+  r->quantile_p = g->opt.quantile;
+  r->quantile_bandwidth = g->opt.quantile_bandwidth;
+  for (int k = 0; k < POM_GRAD_N_METRICS; ++k) {
+    pom_dyn_dmetric *dq = &r->dquantile[k];
+    r->quantile[k] = NAN;
+    dq->defined = 0;
+    dq->why = POM_DYN_GRAD_UNKNOWN;
+    for (int j = 0; j < POM_DYN_SENS_MAX; ++j)
+      dq->d[j] = j < g->n ? NAN : 0.0;
+    if (!is_time_metric((pom_grad_metric)k) || r->n < 1) continue;
+    double *t = malloc((size_t)r->n * 2 * sizeof *t);
+    if (!t) continue; /* left undefined */
+    double *w = t + r->n;
+    int all = 1;
+    for (long i = 0; i < r->n && all; ++i) {
+      t[i] = pom_grad_metric_value(&r->metrics[i], (pom_grad_metric)k);
+      all = r->metrics[i].status == POM_OK && isfinite(t[i]);
+    }
+    if (all)
+      r->quantile[k] = pom_smooth_quantile(t, (int)r->n, r->quantile_p, r->quantile_bandwidth, w);
+    /* the gradient under the means' rule (their reason when undefined) */
+    dq->why = r->dmean[k].why;
+    if (all && r->dmean[k].defined) {
+      dq->defined = 1;
+      dq->why = POM_DYN_GRAD_OK;
+      for (int j = 0; j < g->n; ++j) {
+        double s = 0.0;
+        for (long i = 0; i < r->n; ++i)
+          s += w[i] * grad_of(&r->grads[i], (pom_grad_metric)k)->d[j];
+        dq->d[j] = s;
+      }
+    }
+    free(t);
+  }
+}
+
 /* ---- Monte-Carlo ------------------------------------------------------------------------- */
 void pom_grad_mc_free(pom_grad_mc_result *r) {
   if (!r) return;
@@ -935,6 +1003,7 @@ pom_status pom_grad_montecarlo(pom_grad *g, const pom_grad_mc_options *o, pom_gr
     for (int j = 0; j < POM_DYN_SENS_MAX; ++j)
       dm->d[j] = j < g->n ? (dm->defined ? dsum[j] / (double)r->n : NAN) : 0.0;
   }
+  smooth_quantiles(g, r);
   long fin = 0;
   for (long i = 0; i < r->n; ++i)
     fin += r->metrics[i].status == POM_OK;
@@ -1038,5 +1107,30 @@ void pom_grad_mc_json(FILE *out, const char *cfg_path, const pom_grad *g,
   for (int k = 0; k < POM_GRAD_N_METRICS; ++k)
     fprintf(out, "%s\"%s\": %ld", k ? ", " : "", pom_grad_metric_name((pom_grad_metric)k),
             r->n_defined[k]);
-  fprintf(out, "}}\n");
+  fprintf(out, "},\n \"quantile\": {\"p\": ");
+  pom_json_number(out, r->quantile_p);
+  fprintf(out, ", \"bandwidth_s\": ");
+  pom_json_number(out, r->quantile_bandwidth);
+  fprintf(out, ", \"value\": {");
+  for (int k = 0, first = 1; k < POM_GRAD_N_METRICS; ++k) {
+    if (!is_time_metric((pom_grad_metric)k)) continue;
+    fprintf(out, "%s\"%s\": ", first ? "" : ", ", pom_grad_metric_name((pom_grad_metric)k));
+    pom_json_number(out, r->quantile[k]);
+    first = 0;
+  }
+  fprintf(out, "}, \"gradient\": {");
+  for (int k = 0, first = 1; k < POM_GRAD_N_METRICS; ++k) {
+    if (!is_time_metric((pom_grad_metric)k)) continue;
+    fprintf(out, "%s\"%s\": ", first ? "" : ", ", pom_grad_metric_name((pom_grad_metric)k));
+    json_grad(out, &r->dquantile[k], g->n);
+    first = 0;
+  }
+  fprintf(out, "}, \"undefined\": {");
+  for (int k = 0, first = 1; k < POM_GRAD_N_METRICS; ++k) {
+    if (!is_time_metric((pom_grad_metric)k) || r->dquantile[k].defined) continue;
+    fprintf(out, "%s\"%s\": ", first ? "" : ", ", pom_grad_metric_name((pom_grad_metric)k));
+    pom_json_string(out, pom_dyn_grad_why_text(r->dquantile[k].why));
+    first = 0;
+  }
+  fprintf(out, "}}}\n");
 }

@@ -81,15 +81,22 @@ typedef struct {
   double abs_floor[POM_GRAD_MAX_PARAMS]; /* default 1 (config units) */
   pom_dyn_sens_method method;            /* default staggered */
   int error_control;                     /* default 1 */
-  int rigid_joints;         /* 1: joints.model = "rigid" whatever the config's text says (the
-                               co-design's rigid evaluation); default 0 */
-  int peak_current;         /* 1 (default): the peak coil current and its derivative (three more
-                               evaluations per step); 0: NaN and undefined */
-  double sens_noise_margin; /* the sensitivities' accuracy: their relative tolerance is
-                               max(rtol, margin eps / rel_step) (pom_dyn_sens_spec.noise_margin,
-                               docs/optimize.md 12.4); default POM_DYN_SENS_MARGIN_DEFAULT (3e2);
-                               the config key gradient.sens_noise_margin, when present, replaces
-                               it */
+  int rigid_joints;          /* 1: joints.model = "rigid" whatever the config's text says (the
+                                co-design's rigid evaluation); default 0 */
+  int peak_current;          /* 1 (default): the peak coil current and its derivative (three more
+                                evaluations per step); 0: NaN and undefined */
+  double sens_noise_margin;  /* the sensitivities' accuracy: their relative tolerance is
+                                max(rtol, margin eps / rel_step) (pom_dyn_sens_spec.noise_margin,
+                                docs/optimize.md 12.4); default POM_DYN_SENS_MARGIN_DEFAULT (3e2);
+                                the config key gradient.sens_noise_margin, when present, replaces
+                                it */
+  double quantile;           /* the smooth robust statistic of the times over a Monte-Carlo set
+                                (pom_grad_montecarlo): the kernel-smoothed quantile of
+                                docs/optimize.md 11.3 at this probability, in [0.01, 0.99]; default
+                                0.95; the key gradient.quantile replaces it */
+  double quantile_bandwidth; /* its kernel's bandwidth (s) > 0; default 1e-3 (the co-design's
+                                bandwidth_ms); the key gradient.quantile_bandwidth_ms (ms)
+                                replaces it */
 } pom_grad_options;
 
 void pom_grad_options_defaults(pom_grad_options *o);
@@ -99,6 +106,14 @@ void pom_grad_options_defaults(pom_grad_options *o);
  * set with pom_cfg_set_number reaches it) and checked against
  * [POM_DYN_SENS_MARGIN_MIN, POM_DYN_SENS_MARGIN_MAX]. */
 #define POM_GRAD_KEY_NOISE_MARGIN "gradient.sens_noise_margin"
+/* The smooth quantile's probability and bandwidth (ms) (`pomlab gradient
+ * --quantile`, `--bandwidth-ms`), read and checked as the noise margin. */
+#define POM_GRAD_KEY_QUANTILE     "gradient.quantile"
+#define POM_GRAD_KEY_BANDWIDTH    "gradient.quantile_bandwidth_ms"
+#define POM_GRAD_QUANTILE_MIN     0.01
+#define POM_GRAD_QUANTILE_MAX     0.99
+#define POM_GRAD_BANDWIDTH_MIN_MS 1e-3
+#define POM_GRAD_BANDWIDTH_MAX_MS 1e3
 
 /* The top-level config names pom_grad_create reads beyond the models' and
  * the Monte-Carlo's: {"gradient", NULL}. */
@@ -202,6 +217,14 @@ typedef struct {
   double mean[POM_GRAD_N_METRICS];
   pom_dyn_dmetric dmean[POM_GRAD_N_METRICS];
   long n_defined[POM_GRAD_N_METRICS];
+  /* the smooth quantile (options quantile, quantile_bandwidth) of each time
+   * metric (the settling times, execution time, pointing settling time; NaN
+   * and undefined for the others) and its gradient sum_i w_i dt_i/dp
+   * (docs/optimize.md 12.3): defined under the means' rule (every maneuver
+   * finished with its derivative defined: a censored time censors it) */
+  double quantile_p, quantile_bandwidth; /* (s) */
+  double quantile[POM_GRAD_N_METRICS];
+  pom_dyn_dmetric dquantile[POM_GRAD_N_METRICS];
 } pom_grad_mc_result;
 
 /* The config's maneuvers (montecarlo group, o's count and seed) with the
@@ -216,7 +239,8 @@ void pom_grad_mc_free(pom_grad_mc_result *r);
  * "undefined"): config, keys, values, per maneuver status, target, metrics,
  * gradient, undefined, peak_current_at (the peak coil current's time, s, and
  * coil from 1; null and 0 without one) (and "check": check's whole-run
- * differences when check is not NULL), finished, mean, mean_gradient, mean_gradient_defined_in.
+ * differences when check is not NULL), finished, mean, mean_gradient, mean_gradient_defined_in,
+ * quantile (p, bandwidth_s, value, gradient, undefined: the times' smooth quantile).
  * What `pomlab gradient --json` prints and the Python module returns. */
 void pom_grad_mc_json(FILE *out, const char *cfg_path, const pom_grad *g,
                       const pom_grad_mc_result *r, const pom_grad_mc_result *check);

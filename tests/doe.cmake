@@ -58,6 +58,8 @@ add_test(NAME test_doe_sweep
 # a parameter along a direction of keys (the size law's tangent): docs/optimize.md 12.1
 pom_add_test(test_grad_dir test_grad_dir.c)
 target_link_libraries(test_grad_dir PRIVATE pom_study pom_dynamics pom_kinematics pom_core)
+pom_add_test(test_grad_quantile test_grad_quantile.c)
+target_link_libraries(test_grad_quantile PRIVATE pom_study pom_dynamics pom_kinematics pom_core)
 pom_add_test(test_grad_random test_grad_random.c)
 target_link_libraries(test_grad_random PRIVATE pom_study pom_dynamics pom_kinematics pom_core)
 add_test(NAME test_grad_random_long COMMAND test_grad_random 100 WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})

@@ -27,7 +27,7 @@ declare -A options=(
   [tradeoff]="--accuracy --maneuvers --repeats --csv --quiet"
   [view]="-o --pose --trace --frame --frames --workspace --compare --png --mp4 --size --fps"
   [export]="--mjcf"
-  [gradient]="--params --maneuvers --seed --sens-margin --check --json"
+  [gradient]="--params --maneuvers --seed --sens-margin --quantile --bandwidth-ms --check --json"
 )
 for cmd in "${!options[@]}"; do
   expect_rc 0 "$POMLAB" "$cmd" --help
@@ -102,6 +102,15 @@ expect_err "gradient.sens_noise_margin"
 printf 'gradient = { sens_noise_margin = 2e6; };\n' | cat "$TMP/rigid.cfg" - >"$TMP/margin.cfg"
 expect_rc 2 "$POMLAB" gradient "$TMP/margin.cfg" --params actuator.resistance_ohm --maneuvers 1
 expect_err "gradient.sens_noise_margin"
+# the smooth quantile's probability and bandwidth (docs/optimize.md 12.3): the same check from
+# the flag and the file
+expect_rc 2 "$POMLAB" gradient "$TMP/rigid.cfg" --params actuator.resistance_ohm --maneuvers 1 \
+  --quantile 1.5
+expect_err "--quantile"
+expect_err "gradient.quantile"
+printf 'gradient = { quantile_bandwidth_ms = 0.0; };\n' | cat "$TMP/rigid.cfg" - >"$TMP/bw.cfg"
+expect_rc 2 "$POMLAB" gradient "$TMP/bw.cfg" --params actuator.resistance_ohm --maneuvers 1
+expect_err "gradient.quantile_bandwidth_ms"
 printf 'gradient = { sens_noise_margn = 300.0; };\n' | cat "$TMP/rigid.cfg" - >"$TMP/typo.cfg"
 expect_rc 2 "$POMLAB" gradient "$TMP/typo.cfg" --params actuator.resistance_ohm --maneuvers 1
 expect_err "gradient.sens_noise_margn"

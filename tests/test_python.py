@@ -434,6 +434,22 @@ def test_gradient(tmp_path):
         assert g["peak_current_at"] == w["peak_current_at"]
         assert 1 <= g["peak_current_at"]["coil"] <= 3
     assert same(got["mean_gradient"]["energy_total"], want["mean_gradient"]["energy_total"])
+    # the smooth robust statistic of the times (docs/optimize.md 12.3): its
+    # gradient is sum_i w_i dt_i/dp, weights positive and summing to 1, so
+    # it lies between the maneuvers' derivatives
+    q = got["quantile"]
+    assert q == want["quantile"] and q["p"] == 0.95 and q["bandwidth_s"] == 1e-3
+    assert "energy_total" not in q["value"]
+    for j in range(2):
+        per = [m["gradient"]["execution_time"][j] for m in got["maneuvers"]]
+        assert min(per) - 1e-12 * abs(max(per)) <= q["gradient"]["execution_time"][j] \
+            <= max(per) + 1e-12 * abs(max(per))
+    q2 = pomlab.gradient(cfg, keys, maneuvers=2, quantile=0.5, bandwidth_ms=2)["quantile"]
+    assert q2["p"] == 0.5 and q2["bandwidth_s"] == 2e-3
+    assert q2["value"]["execution_time"] < q["value"]["execution_time"]
+    with pytest.raises(pomlab.PomlabError) as e:
+        pomlab.gradient(cfg, keys, maneuvers=1, quantile=1.5)
+    assert "gradient.quantile" in str(e.value) and "1.5" in str(e.value)
     with pytest.raises(pomlab.PomlabError) as e:
         pomlab.gradient(CFG["3pss"], keys, maneuvers=1)
     assert "rigid" in str(e.value)

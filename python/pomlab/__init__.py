@@ -813,7 +813,8 @@ def study(cfg, *, n=None, threads=0, output=None, resume=False, summary=True, pl
     return _run_study(_as_config(cfg, extra), False, output, threads, resume, summary, plots)
 
 
-def gradient(cfg, params, *, maneuvers=None, sens_margin=None, overrides=None):
+def gradient(cfg, params, *, maneuvers=None, sens_margin=None, quantile=None, bandwidth_ms=None,
+             overrides=None):
     """Design gradients (docs/optimize.md section 12): the metrics of the
     config's Monte-Carlo maneuvers and their derivatives with respect to
     the numeric config keys `params` (a list, at most 16; an array element
@@ -824,22 +825,30 @@ def gradient(cfg, params, *, maneuvers=None, sens_margin=None, overrides=None):
     None where undefined) and "undefined" (the reasons), the peak coil
     current's argmax "peak_current_at" (time in s, coil from 1; its
     derivative by the envelope theorem, docs/optimize.md 12.2), then "mean"
-    and "mean_gradient". sens_margin sets gradient.sens_noise_margin (the
+    and "mean_gradient", and "quantile": the smooth robust statistic of the
+    times over the maneuvers (the kernel-smoothed quantile of
+    docs/optimize.md 11.3 and 12.3; "p", "bandwidth_s", "value",
+    "gradient", "undefined"); quantile and bandwidth_ms set
+    gradient.quantile (default 0.95) and gradient.quantile_bandwidth_ms
+    (default 1), checked as the file's keys are. sens_margin sets gradient.sens_noise_margin (the
     sensitivities' accuracy, docs/optimize.md 12.4: 3e2 by default; smaller
     is more accurate at more steps, and acts only when solver.rtol is below
     margin x 7.4e-11; checked as the file's key is). Overrides may set only montecarlo.* keys and
-    gradient.sens_noise_margin: the models are built from the file's text
-    (move a design key in the file or pass it in params)."""
+    gradient.* keys: the models are built from the file's text (move a
+    design key in the file or pass it in params)."""
     import json
 
-    if sens_margin is not None:
-        overrides = dict(overrides or {})
-        overrides["gradient.sens_noise_margin"] = sens_margin
+    for key, value in (("gradient.sens_noise_margin", sens_margin),
+                       ("gradient.quantile", quantile),
+                       ("gradient.quantile_bandwidth_ms", bandwidth_ms)):
+        if value is not None:
+            overrides = dict(overrides or {})
+            overrides[key] = value
     cfg = _as_config(cfg, overrides)
     for key in cfg.overrides:
-        if not key.startswith("montecarlo.") and key != "gradient.sens_noise_margin":
-            _refuse("gradient: override %r: only montecarlo.* keys and gradient.sens_noise_margin "
-                    "reach the gradient; set it in the file" % key)
+        if not key.startswith("montecarlo.") and not key.startswith("gradient."):
+            _refuse("gradient: override %r: only montecarlo.* and gradient.* keys reach the "
+                    "gradient; set it in the file" % key)
     keys = [_no_nul("params", str(k)) for k in params]
     if not keys or len(keys) > 16:
         _refuse("gradient: give 1 to 16 keys in params")
