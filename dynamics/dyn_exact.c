@@ -1018,6 +1018,9 @@ static int exact_linsys(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, sun
   const int n = m->n_states, nb = exact_of(m)->n_jac;
   d->t = t; /* the differenced evaluations at the Jacobian's time */
   if (!jok || !d->jac_valid) {
+    int rl = pom_dyn_rhs_if_lazy(d, t, y, fy); /* fy skipped by a sensitivity run */
+    if (rl != 0) return rl;
+    d->t = t;
     int r = pom_dyn_exact_jacobian(d, N_VGetArrayPointer(y), N_VGetArrayPointer(fy),
                                    N_VGetArrayPointer(tmp1), N_VGetArrayPointer(tmp2));
     if (r != 0) return r;

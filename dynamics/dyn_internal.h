@@ -15,6 +15,7 @@
 #include <sundials/sundials_context.h>
 #include <sundials/sundials_linearsolver.h>
 #include <sundials/sundials_matrix.h>
+#include <sundials/sundials_nonlinearsolver.h>
 
 /* states per body: displacement u (3), momentum p (3), principal angular
  * momentum h' (3), orientation (3 Euler angles or 4 quaternion components) */
@@ -321,6 +322,19 @@ struct pom_dyn_data {
    * sensitivities of the run under way, NULL on a plain run */
   struct dyn_sens *sens;
   dyn_peak peak; /* the peak coil current's watch (dyn_peak.c) */
+  /* the state's Newton solver (CVODE's own, attached by us so that a
+   * staggered sensitivity run can skip the state's right-hand side that
+   * CVODES evaluates at the converged y for the sensitivities' right-hand
+   * side, which ours does not read; docs/optimize.md 12.5) */
+  SUNNonlinearSolver nls;
+  int sens_lazy_f; /* 1 while a staggered sensitivity run may skip it */
+  int nls_in;      /* inside the state's Newton solve */
+  int nls_first;   /* no residual evaluated yet in this solve */
+  int f_pending;   /* the solve converged: CVODES' next f call is the skippable one */
+  N_Vector nls_f;  /* the vector the Newton's residual evaluates f into */
+  double nls_t;    /* the time of that solve */
+  N_Vector f_lazy; /* a vector CVODES holds as f(t, y) that was not evaluated, or NULL */
+  long f_skipped;  /* evaluations skipped in this run */
 };
 
 /* ---- formulations --------------------------------------------------------
@@ -471,6 +485,9 @@ double pom_dyn_stored(const pom_dyn_model *m, pom_dyn_data *d, const double *y);
 
 /* dyn_simulate.c: the CVODE RHS callback (counts and flags, then eval). */
 int pom_dyn_cvode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data);
+/* A linear-system callback's fy: evaluated now if the right-hand side
+ * skipped it (pom_dyn_data.f_lazy). 0, or the evaluation's return. */
+int pom_dyn_rhs_if_lazy(pom_dyn_data *d, sunrealtype t, N_Vector y, N_Vector fy);
 
 /* dyn_actuator.c: coil and controller of actuator a at coordinate q (m or
  * rad) and rate qd (m/s or rad/s), shared by both formulations: sets d->out's

@@ -3,8 +3,9 @@
  * a smooth function of the design where the maximum is interior and its
  * design derivative is the current's sensitivity at the argmax (the
  * envelope theorem, docs/optimize.md 12.2). Watched only when asked: the
- * rate of every coil's current is a directional difference along the state's
- * rate, three evaluations per accepted step. */
+ * rate of every coil's current is the flux state's rate over L (inductive
+ * coils), or a directional difference along the state's rate, three
+ * evaluations per accepted step (quasi-static coils). */
 #include "dyn_internal.h"
 
 #include <math.h>
@@ -39,10 +40,33 @@ static int currents(const pom_dyn_model *m, pom_dyn_data *d, double t, const dou
   return r || d->out.nonfinite;
 }
 
-/* |i| and r = sign(i) di/dt of every coil at (t, y) with rate yd: the
- * central difference along (1, yd). 0, or 1 when an evaluation failed. */
+/* 1 when every coil's current is its flux state over L (an inductive coil,
+ * dyn_actuator.c): then i and di/dt come from the state and its rate. */
+static int inductive(const pom_dyn_model *m) {
+  for (int a = 0; a < m->n_actuators; ++a)
+    if (m->act[a].flux_state < 0) return 0;
+  return 1;
+}
+
+/* |i| and r = sign(i) di/dt of every coil at (t, y) with rate yd. An
+ * inductive coil: i = lambda / L as the law computes it, di/dt = lambda' / L
+ * exactly, no evaluation; a quasi-static one, i = (u - K_m q') / R_c: the
+ * central difference along (1, yd), three evaluations. 0, or 1 when an
+ * evaluation failed or a value is not finite. */
 static int rates(const pom_dyn_model *m, pom_dyn_data *d, double t, const double *y,
                  const double *yd, double *absi, double *r) {
+  if (inductive(m)) {
+    const double L = m->par.actuator.inductance;
+    int bad = 0;
+    for (int a = 0; a < m->n_actuators; ++a) {
+      const int k = m->act[a].flux_state;
+      const double i = y[k] / L;
+      absi[a] = fabs(i);
+      r[a] = (i < 0.0 ? -1.0 : 1.0) * (yd[k] / L);
+      bad |= !isfinite(i) || !isfinite(r[a]);
+    }
+    return bad;
+  }
   const int n = m->n_states;
   const double eps = PEAK_RATE_EPS * m->par.maneuver.horizon;
   double *buf = d->peak.buf;

@@ -181,7 +181,8 @@ static pom_status peak_dp(const pom_dyn_model *m, pom_dyn_data *d, pom_error *er
  * s_j; the right-hand side is affine in s_j there, so the later calls add
  * J (s_j - s_prev) as the plus model's difference along the correction,
  * (f_{p+h}(y + h s_j) - f_{p+h}(y + h s_prev)) / h: one evaluation
- * (docs/optimize.md 12.5 derives its error). */
+ * (docs/optimize.md 12.5 derives its error). ydot, CVODES' f(t, y), is not
+ * read: the driver skips that evaluation (dyn_simulate.c, sens_lazy_f). */
 static int sens_rhs(int Ns, sunrealtype t, N_Vector yv, N_Vector ydot, int iS, N_Vector ySv,
                     N_Vector ySdot, void *user_data, N_Vector tmp1, N_Vector tmp2) {
   (void)Ns;
@@ -610,7 +611,11 @@ pom_status pom_dyn_simulate_sens(const pom_dyn_model *m, pom_dyn_data *d, const 
   d->sens = w;
   const int peak_on = d->peak.on;
   if (sp->peak_current) d->peak.on = 1; /* the peak current's derivative needs its argmax */
+  /* the staggered corrector's f at the converged y feeds only sens_rhs's
+   * ydot, which is not read: skipped (dyn_simulate.c, docs/optimize.md 12.5) */
+  d->sens_lazy_f = sp->method == POM_DYN_SENS_STAGGERED;
   st = pom_dyn_simulate_ex(m, d, target, NULL, mt, NULL, err);
+  d->sens_lazy_f = 0;
   d->peak.on = peak_on;
   d->sens = NULL;
   (void)CVodeRootInit(d->cvode, 0, NULL);

@@ -7,6 +7,7 @@
 
 #include <cvode/cvode_ls.h>
 #include <math.h>
+#include <sunnonlinsol/sunnonlinsol_newton.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -67,6 +68,25 @@ double pom_dyn_stored(const pom_dyn_model *m, pom_dyn_data *d, const double *y) 
 
 int pom_dyn_cvode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data) {
   pom_dyn_data *d = user_data;
+  if (d->nls_in) {
+    if (d->nls_first) { /* the Newton's residual: CVODE's f vector of this step */
+      d->nls_f = ydot;
+      d->nls_t = t;
+      d->nls_first = 0;
+    }
+  } else if (d->f_pending) {
+    /* CVODES' staggered corrector evaluates f at the converged y into the
+     * same vector, only to hand it to the sensitivities' right-hand side,
+     * which does not read it (dyn_sens.c): skipped, and marked so that a
+     * linear-system setup that does read it evaluates it then */
+    d->f_pending = 0;
+    if (ydot == d->nls_f && t == d->nls_t) {
+      d->f_lazy = ydot;
+      ++d->f_skipped;
+      return 0;
+    }
+  }
+  if (ydot == d->f_lazy) d->f_lazy = NULL;
   d->t = t;
   ++d->rhs_count;
   if (d->setpoint_fn) d->setpoint_fn(d->setpoint_ctx, t, d->target);
@@ -76,6 +96,29 @@ int pom_dyn_cvode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
   d->euler_singular_count += d->out.euler_singular;
   d->nonfinite_count += d->out.nonfinite;
   d->kin_fail_count += d->out.kin_fail;
+  return r;
+}
+
+int pom_dyn_rhs_if_lazy(pom_dyn_data *d, sunrealtype t, N_Vector y, N_Vector fy) {
+  if (!d->f_lazy || fy != d->f_lazy) return 0;
+  return pom_dyn_cvode_rhs(t, y, fy, d);
+}
+
+/* The state's Newton solve: SUNDIALS' own, marking the converged solve of
+ * a staggered sensitivity run (pom_dyn_cvode_rhs). A plain run goes
+ * through the same solver with nothing marked: the same arithmetic. */
+static int state_newton_solve(SUNNonlinearSolver nls, N_Vector y0, N_Vector ycor, N_Vector w,
+                              sunrealtype tol, sunbooleantype setup, void *mem) {
+  void *ud = NULL;
+  if (CVodeGetUserData(mem, &ud) != CV_SUCCESS || !ud)
+    return SUNNonlinSolSolve_Newton(nls, y0, ycor, w, tol, setup, mem);
+  pom_dyn_data *d = ud;
+  d->nls_in = d->nls_first = 1;
+  d->f_pending = 0;
+  d->nls_f = NULL;
+  int r = SUNNonlinSolSolve_Newton(nls, y0, ycor, w, tol, setup, mem);
+  d->nls_in = 0;
+  d->f_pending = r == SUN_NLS_SUCCESS && d->sens && d->sens_lazy_f && d->nls_f;
   return r;
 }
 
@@ -121,6 +164,13 @@ pom_status pom_dyn_data_create(pom_dyn_data **out, const pom_dyn_model *m, pom_e
       CVodeSetStabLimDet(d->cvode, p->solver.stability_limit_detection ? 1 : 0) != CV_SUCCESS ||
       (p->solver.max_step > 0 && CVodeSetMaxStep(d->cvode, p->solver.max_step) != CV_SUCCESS))
     POM_FAIL_GOTO(err, POM_ERR_SOLVER, fail, "configuring CVODE: %s", d->cvode_msg);
+  /* the state's Newton solver: CVODE's default, made here to mark its
+   * converged solves (state_newton_solve) */
+  d->nls = SUNNonlinSol_Newton(d->y, d->ctx);
+  if (!d->nls) POM_FAIL_GOTO(err, POM_ERR_NOMEM, fail, "creating CVODE's Newton solver");
+  d->nls->ops->solve = state_newton_solve;
+  if (CVodeSetNonlinearSolver(d->cvode, d->nls) != CV_SUCCESS)
+    POM_FAIL_GOTO(err, POM_ERR_SOLVER, fail, "attaching the Newton solver: %s", d->cvode_msg);
   /* the rigid path's Newton accuracy at high loop gain (dyn_exact_order.c) */
   if (m->newton_coef > 0.0 && CVodeSetNonlinConvCoef(d->cvode, m->newton_coef) != CV_SUCCESS)
     POM_FAIL_GOTO(err, POM_ERR_SOLVER, fail, "configuring CVODE: %s", d->cvode_msg);
@@ -154,6 +204,7 @@ fail:
 void pom_dyn_data_destroy(pom_dyn_data *d) {
   if (!d) return;
   if (d->cvode) CVodeFree(&d->cvode);
+  if (d->nls) SUNNonlinSolFree(d->nls);
   if (d->LS) SUNLinSolFree(d->LS);
   if (d->A) SUNMatDestroy(d->A);
   if (d->y) N_VDestroy(d->y);
@@ -460,6 +511,9 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
   d->below_min_dexterity = 0;
   d->cvode_msg[0] = '\0';
   d->have_final = 0;
+  d->f_pending = 0;
+  d->f_lazy = NULL;
+  d->f_skipped = 0;
   if (tr) tr->n = 0, tr->n_actuators = m->n_actuators;
   /* the target orientation: FK of the setpoints on the home branch, where
    * the architecture is known (docs/results.md section 1b) */
