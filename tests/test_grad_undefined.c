@@ -51,7 +51,7 @@ static const char *const keys[NK] = {"controller.kp", "actuator.resistance_ohm"}
 
 /* the relative steps of the whole-run differences that probe the jump (at
  * the grazing band) and the smooth change (at the other) */
-static const double DH[2] = {1e-3, 1e-4};
+static const double DH[4] = {1e-3, 1e-4, 1e-4, 1e-5};
 
 /* configs/3pss.cfg with rigid joints, rtol 1e-10, no wall-clock budget,
  * tau_D = 2e-4 s, the settling band (percent) and the trace every 1 us, and
@@ -272,26 +272,26 @@ static void grazing(const char *pomlab, const char *dir) {
   check_true(grazing_peak(g, q, &a, &P, &tp));
   pom_grad_destroy(g);
   if (a < 0) return;
-  static const double deltas[2] = {5e-4, 3e-3};
-  double jump[2] = {0.0, 0.0}, gap = 0.0;
-  for (int c = 0; c < 2; ++c) {
+  static const double deltas[4] = {5e-4, 3e-3, -5e-4, -3e-3};
+  double jump[4] = {0.0, 0.0, 0.0, 0.0}, gap = 0.0;
+  for (int c = 0; c < 4; ++c) {
     const double band = 100.0 * P * (1.0 + deltas[c]);
     g = make_grad(band);
     check_true(g != NULL);
     if (!g) return;
     check_true(one_maneuver(g, &mt, &gr));
     const pom_dyn_dmetric *d = &gr.settling_time[a];
-    printf("band %.9f %% (the peak %+.0e of the band below its edge): settling time %d %.6f ms "
+    printf("band %.9f %% (the peak %+.0e of the band from its edge): settling time %d %.6f ms "
            "(the peak at %.6f ms), crossing rate %.4g /s: ",
            band, -deltas[c], a + 1, mt.settling_time[a] * 1e3, tp * 1e3, gr.crossing_rate[a]);
     if (d->defined)
       printf("d/d K_P %+.6e s, d/d R_c %+.6e s/ohm\n", d->d[0], d->d[1]);
     else
       printf("undefined: %s\n", pom_dyn_grad_why_text(d->why));
-    /* the crossing is before the peak */
-    check_true(mt.settled[a] && mt.settling_time[a] < tp);
-    gap = tp - mt.settling_time[a];
-    if (c == 0) {
+    /* the crossing is before the peak, or (the peak above the edge) just after it */
+    check_true(mt.settled[a] && (c < 2 ? mt.settling_time[a] < tp : mt.settling_time[a] > tp));
+    if (c == 0) gap = tp - mt.settling_time[a];
+    if (c % 2 == 0) {
       check_true(!d->defined && d->why == POM_DYN_GRAD_GRAZING);
       check_true(isnan(d->d[0]) && isnan(d->d[1]));
     } else {
@@ -310,16 +310,18 @@ static void grazing(const char *pomlab, const char *dir) {
     jump[c] = fabs(fd.settling_time[a].d[1]) * 2.0 * dh[1];
     /* defined: the whole-run difference is the derivative (1 % for the
      * differences' integration error at rtol 1e-10 over 2e-4 |R_c|) */
-    if (c == 1) check_rel(fd.settling_time[a].d[1], d->d[1], 1e-2);
+    if (c % 2 == 1) check_rel(fd.settling_time[a].d[1], d->d[1], 1e-2);
     if (c == 0) check_true(cli_grazing(pomlab, dir, band, a));
     pom_grad_destroy(g);
   }
-  /* at the grazing band the time jumps across the peak within +-1e-3 |R_c|
-   * (by more than a tenth of the time from the crossing to the peak) */
-  printf("t*(R_c + h) - t*(R_c - h): %.6f ms grazing (h = %.0e |R_c|), %.6f ms defined (h = "
-         "%.0e |R_c|); the crossing %.6f ms before the peak\n",
-         jump[0] * 1e3, DH[0], jump[1] * 1e3, DH[1], gap * 1e3);
-  check_true(jump[0] > 0.1 * gap);
+  /* at the grazing bands the time jumps across the peak within +-1e-3 |R_c|
+   * below the edge and +-1e-4 |R_c| above it (by more than a tenth of the
+   * time from the crossing to the peak) */
+  printf("t*(R_c + h) - t*(R_c - h): %.6f ms grazing below (h = %.0e |R_c|), %.6f ms defined (h "
+         "= %.0e |R_c|), %.6f ms grazing above (h = %.0e |R_c|); the crossing %.6f ms before the "
+         "peak\n",
+         jump[0] * 1e3, DH[0], jump[1] * 1e3, DH[1], jump[2] * 1e3, DH[2], gap * 1e3);
+  check_true(jump[0] > 0.1 * gap && jump[2] > 0.1 * gap);
 }
 
 static void settled_at_start(void) {
