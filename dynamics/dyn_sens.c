@@ -385,8 +385,18 @@ static pom_status pom_dyn_sens_step(const pom_dyn_model *m, pom_dyn_data *d, dou
             fmax(before, fabs(row[DYN_REC_Q + i * POM_MECH_MAX_ACTUATORS + a] - b->ref) - b->band);
     POM_TRY(crossing(m, d, a, a, b->t_settle, before, err));
   }
-  if (s->point.active && point_before_valid && s->point.t_settle != point_before)
-    POM_TRY(crossing(m, d, na, -1, s->point.t_settle, -INFINITY, err));
+  if (s->point.active && point_before_valid && s->point.t_settle != point_before) {
+    /* the pointing angle is not recorded at the nodes: interpolated */
+    double before = -INFINITY;
+    for (int i = 0; i < 2; ++i) {
+      const double ti = t0 + gl_node[i] * (t - t0);
+      if (!(ti < s->point.t_settle)) continue;
+      if (CVodeGetDky(d->cvode, ti, 0, d->ytmp) != CV_SUCCESS)
+        POM_FAIL(err, POM_ERR_SOLVER, "CVODES refused t = %.9g s", ti);
+      before = fmax(before, band_g(m, d->target, d->R_target, -1, N_VGetArrayPointer(d->ytmp)));
+    }
+    POM_TRY(crossing(m, d, na, -1, s->point.t_settle, before, err));
+  }
   /* a new peak current located in this step (dyn_peak.c ran before) */
   if (d->peak.improved && sp->peak_current) POM_TRY(peak_dp(m, d, err));
   /* the band values after the crossings, at this step's end and interior

@@ -31,7 +31,10 @@
  *    no band) must give POM_DYN_GRAD_SETTLED_AT_START for that actuator's
  *    settling time while the others are defined; the zero target for every
  *    actuator and for the execution time; and the JSON writes null with the
- *    reason "settled from the start".
+ *    reason "settled from the start". The band at its widest, 100 % of the
+ *    step (every actuator starts on the band's edge): no settling time has
+ *    a derivative (settled from the start, or grazing: a crossing at t ~ 0
+ *    from rest where rounding put the home pose a hair outside).
  *
  * argv[1]: the pomlab executable; argv[2]: a folder for the config file the
  * CLI reads. */
@@ -379,6 +382,25 @@ static void settled_at_start(void) {
       check_true(!x->defined && x->why == POM_DYN_GRAD_SETTLED_AT_START);
     }
   }
+  pom_grad_destroy(g);
+  /* the widest band, 100 % of the step: every actuator starts on its edge
+   * (|0 - q_set| = b; rounding of the home pose may put it a hair outside,
+   * and the time is then a crossing at t ~ 0 from rest, dg/dt ~ 0): never
+   * a number */
+  g = make_grad(100.0);
+  check_true(g != NULL);
+  if (!g) return;
+  pom_dyn_metrics mt;
+  pom_dyn_grad gr;
+  check_true(one_maneuver(g, &mt, &gr));
+  for (int a = 0; a < 3; ++a) {
+    const pom_dyn_dmetric *d = &gr.settling_time[a];
+    printf("band 100 %%: settling time %d %.3g s: %s\n", a + 1, mt.settling_time[a],
+           d->defined ? "defined" : pom_dyn_grad_why_text(d->why));
+    check_true(!d->defined &&
+               (d->why == POM_DYN_GRAD_SETTLED_AT_START || d->why == POM_DYN_GRAD_GRAZING));
+  }
+  check_true(!gr.execution_time.defined);
   pom_grad_destroy(g);
 }
 
