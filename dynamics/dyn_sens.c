@@ -56,6 +56,10 @@ struct dyn_sens {
   double g_prev[POM_MECH_MAX_ACTUATORS + 1][2]; /* two previous band values after the crossing */
   int n_after[POM_MECH_MAX_ACTUATORS + 1];
   double later_max[POM_MECH_MAX_ACTUATORS + 1]; /* largest later local maximum of g */
+  /* the largest g since the last crossing, and at a crossing the largest
+   * over the excursion it ends (-inf for the first: the move itself) */
+  double run_max[POM_MECH_MAX_ACTUATORS + 1];
+  double exc_max[POM_MECH_MAX_ACTUATORS + 1];
   /* the tracking integral's derivative */
   double dtrack[POM_DYN_SENS_MAX];
   /* at the horizon */
@@ -306,6 +310,7 @@ static pom_status pom_dyn_sens_begin(const pom_dyn_model *m, pom_dyn_data *d, po
     w->have_cross[k] = w->cross_bad[k] = 0;
     w->n_after[k] = 0;
     w->later_max[k] = -INFINITY;
+    w->run_max[k] = w->exc_max[k] = -INFINITY;
   }
   memset(w->dtrack, 0, sizeof w->dtrack);
   w->have_final = 0;
@@ -313,9 +318,10 @@ static pom_status pom_dyn_sens_begin(const pom_dyn_model *m, pom_dyn_data *d, po
 }
 
 /* Records the derivative of band k's crossing at t* (k = n_actuators: the
- * pointing band, model index a = -1). */
+ * pointing band, model index a = -1); before: the largest band value at this
+ * step's nodes before t* (-inf: none). */
 static pom_status crossing(const pom_dyn_model *m, pom_dyn_data *d, int k, int a, double ts,
-                           pom_error *err) {
+                           double before, pom_error *err) {
   struct dyn_sens *w = d->sens;
   const int n = m->n_states;
   if (CVodeGetDky(d->cvode, ts, 0, d->ytmp) != CV_SUCCESS ||
@@ -332,6 +338,10 @@ static pom_status crossing(const pom_dyn_model *m, pom_dyn_data *d, int k, int a
   double rate = (g1 - g0) / (2.0 * eps);
   w->t_cross[k] = ts;
   w->rate[k] = rate;
+  /* the excursion outside the band this crossing ends: its largest sampled
+   * value (a re-entry: every crossing but the first follows an exit) */
+  w->exc_max[k] = w->have_cross[k] ? fmax(w->run_max[k], before) : -INFINITY;
+  w->run_max[k] = -INFINITY;
   w->have_cross[k] = 1;
   w->cross_bad[k] = 0;
   w->n_after[k] = 0;
@@ -348,6 +358,7 @@ static pom_status crossing(const pom_dyn_model *m, pom_dyn_data *d, int k, int a
  * consecutive values is a later excursion toward the band edge. */
 static void after_crossing(struct dyn_sens *w, int k, double g) {
   if (!w->have_cross[k]) return;
+  w->run_max[k] = fmax(w->run_max[k], g);
   if (w->n_after[k] >= 2 && w->g_prev[k][1] > w->g_prev[k][0] && w->g_prev[k][1] >= g)
     w->later_max[k] = fmax(w->later_max[k], w->g_prev[k][1]);
   w->g_prev[k][0] = w->g_prev[k][1];
@@ -362,19 +373,35 @@ static pom_status pom_dyn_sens_step(const pom_dyn_model *m, pom_dyn_data *d, dou
   const pom_dyn_sens_spec *sp = w->spec;
   const dyn_settle *s = &d->settle;
   const int na = m->n_actuators;
-  /* crossings located in this step */
+  /* crossings located in this step, with the band values at the step's
+   * interior nodes before them (the record holds the positions) */
+  const double *row = s->rec + (s->rec_n - 1) * DYN_REC_WIDTH;
   for (int a = 0; a < na; ++a) {
     const dyn_band *b = &s->act[a];
-    if (!b->active) continue;
-    if (b->t_settle != t_settle_before[a]) POM_TRY(crossing(m, d, a, a, b->t_settle, err));
+    if (!b->active || b->t_settle == t_settle_before[a]) continue;
+    double before = -INFINITY;
+    for (int i = 0; i < 2; ++i)
+      if (t0 + gl_node[i] * (t - t0) < b->t_settle)
+        before =
+            fmax(before, fabs(row[DYN_REC_Q + i * POM_MECH_MAX_ACTUATORS + a] - b->ref) - b->band);
+    POM_TRY(crossing(m, d, a, a, b->t_settle, before, err));
   }
-  if (s->point.active && point_before_valid && s->point.t_settle != point_before)
-    POM_TRY(crossing(m, d, na, -1, s->point.t_settle, err));
+  if (s->point.active && point_before_valid && s->point.t_settle != point_before) {
+    /* the pointing angle is not recorded at the nodes: interpolated */
+    double before = -INFINITY;
+    for (int i = 0; i < 2; ++i) {
+      const double ti = t0 + gl_node[i] * (t - t0);
+      if (!(ti < s->point.t_settle)) continue;
+      if (CVodeGetDky(d->cvode, ti, 0, d->ytmp) != CV_SUCCESS)
+        POM_FAIL(err, POM_ERR_SOLVER, "CVODES refused t = %.9g s", ti);
+      before = fmax(before, band_g(m, d->target, d->R_target, -1, N_VGetArrayPointer(d->ytmp)));
+    }
+    POM_TRY(crossing(m, d, na, -1, s->point.t_settle, before, err));
+  }
   /* a new peak current located in this step (dyn_peak.c ran before) */
   if (d->peak.improved && sp->peak_current) POM_TRY(peak_dp(m, d, err));
   /* the band values after the crossings, at this step's end and interior
    * nodes (the record holds the positions; the pointing angle at the end) */
-  const double *row = s->rec + (s->rec_n - 1) * DYN_REC_WIDTH;
   for (int a = 0; a < na; ++a) {
     const dyn_band *b = &s->act[a];
     if (!b->active || !w->have_cross[a]) continue;
@@ -537,7 +564,8 @@ static void settling_grad(pom_dyn_dmetric *g, const struct dyn_sens *w, int k, i
   } else if (w->cross_bad[k]) {
     undefined(g, n, POM_DYN_GRAD_NONFINITE);
   } else if (!(fabs(w->rate[k]) >= POM_DYN_GRAD_GRAZE * band / horizon) ||
-             w->later_max[k] > -POM_DYN_GRAD_GRAZE_MARGIN * band) {
+             w->later_max[k] > -POM_DYN_GRAD_GRAZE_MARGIN * band ||
+             (w->exc_max[k] > -INFINITY && w->exc_max[k] <= POM_DYN_GRAD_GRAZE_MARGIN * band)) {
     undefined(g, n, POM_DYN_GRAD_GRAZING);
   } else {
     defined(g, n, w->dt[k]);

@@ -25,8 +25,9 @@ typedef enum {
   POM_DYN_GRAD_OK = 0,           /* defined */
   POM_DYN_GRAD_NEVER_SETTLED,    /* outside the band at the horizon: the time is censored */
   POM_DYN_GRAD_SETTLED_AT_START, /* inside the band from t = 0 on (or no band: zero step) */
-  POM_DYN_GRAD_GRAZING,          /* the last crossing grazes the band (dg/dt ~ 0) or a later
-                                    excursion comes within the grazing margin of it */
+  POM_DYN_GRAD_GRAZING,          /* the last crossing grazes the band (dg/dt ~ 0), a later
+                                    excursion comes within the grazing margin of it, or the
+                                    excursion outside it ends peaks within that margin */
   POM_DYN_GRAD_TIE,              /* execution time: two actuators' settling times tie; peak
                                     current: two candidates (coils or times) tie */
   POM_DYN_GRAD_UNKNOWN,          /* the metric itself is NaN (no target orientation, no
@@ -126,8 +127,10 @@ pom_status pom_dyn_simulate_sens(const pom_dyn_model *m, pom_dyn_data *d, const 
 
 /* The grazing margin: a crossing whose |dg/dt| is below
  * POM_DYN_GRAD_GRAZE x band / horizon, or after which the band function
- * comes back within POM_DYN_GRAD_GRAZE_MARGIN x band of the band edge, is
- * reported POM_DYN_GRAD_GRAZING (docs/optimize.md). */
+ * comes back within POM_DYN_GRAD_GRAZE_MARGIN x band of the band edge, or
+ * that ends an excursion outside the band peaking within
+ * POM_DYN_GRAD_GRAZE_MARGIN x band of the edge, is reported
+ * POM_DYN_GRAD_GRAZING (docs/optimize.md 12.2). */
 #define POM_DYN_GRAD_GRAZE        1e-2
 #define POM_DYN_GRAD_GRAZE_MARGIN 1e-3
 

@@ -60,6 +60,20 @@ pom_add_test(test_grad_dir test_grad_dir.c)
 target_link_libraries(test_grad_dir PRIVATE pom_study pom_dynamics pom_kinematics pom_core)
 pom_add_test(test_grad_quantile test_grad_quantile.c)
 target_link_libraries(test_grad_quantile PRIVATE pom_study pom_dynamics pom_kinematics pom_core)
+# the tracking error's gradient (the PID with feedforward) against the whole-run reference
+pom_add_test(test_grad_track test_grad_track.c)
+target_link_libraries(test_grad_track PRIVATE pom_study pom_dynamics pom_kinematics pom_core)
+# settling-time derivatives reported undefined, never as a number: a grazing
+# band crossing (found at run time; also through pomlab gradient, text and
+# JSON) and an actuator settled from the start (docs/optimize.md 12.4)
+add_executable(test_grad_undefined test_grad_undefined.c)
+target_include_directories(test_grad_undefined PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
+target_compile_definitions(test_grad_undefined PRIVATE POM_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
+target_link_libraries(test_grad_undefined PRIVATE pom_options pom_study pom_dynamics pom_kinematics pom_core)
+file(MAKE_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR}/grad_undefined)
+add_test(NAME test_grad_undefined
+  COMMAND test_grad_undefined $<TARGET_FILE:pomlab> ${CMAKE_CURRENT_BINARY_DIR}/grad_undefined
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 pom_add_test(test_grad_random test_grad_random.c)
 target_link_libraries(test_grad_random PRIVATE pom_study pom_dynamics pom_kinematics pom_core)
 add_test(NAME test_grad_random_long COMMAND test_grad_random 100 WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
