@@ -59,6 +59,10 @@ typedef struct {
   double current_limit0; /* A at size 1 (codesign.requirements.current_limit_A) */
   double horizon;        /* s: the config's maneuver horizon; a maneuver of a design the model
                           * refuses counts there, as an unsettled one (section 11.1) */
+  double voltage_limit0; /* V: the config's drive saturation and whether its coils have their
+                          * inductance: with the size law they give a failed maneuver's worst
+                          * energy and peak current (section 11.1, "A failed maneuver") */
+  int coil_inductance;
   double nominal_unc[POM_UNC_MAX]; /* the config's value of each uncertain key (NaN absent) */
 } pom_cds_candidate;
 
