@@ -116,9 +116,12 @@ void pom_cds_clear(pom_cds_problem *pb);
 
 /* Figures of a design on a maneuver set. */
 typedef struct {
+  /* a failed maneuver (a refused design's: every one) counts at the drive's
+   * worst case, section 11.1: time at the horizon, energy n V^2 T / R, peak
+   * current sqrt of that over 2 L */
   double p95;       /* smooth quantile of the pointing time (s); unsettled at the horizon */
   double p95_plain; /* the empirical quantile (order statistic, s) */
-  double energy;    /* mean expended energy (J) */
+  double energy;    /* mean expended energy over the n maneuvers (J) */
   double i_peak;    /* largest coil current (A) */
   double i_limit;   /* the size law's current limit (A) */
   double kin;       /* kinematic margin: <= 0 holds (workspace grid: dexterity, strokes, limits) */
