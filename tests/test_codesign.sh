@@ -246,6 +246,21 @@ awk -v V="$V" -v R="$R" -v L="$L" -v T="$T" '
          print "base cone 10: energy " $5 " mJ, peak " $7 " A; want " 1e3 * B " mJ, " I " A"; bad = 1}}
      END {exit bad || n != 2}' "$TMP/orb.txt" \
   || bad "refused design: energy and peak current not at the drive's bound"
+# a quasi-static coil (scene.coil_inductance = false) has no current bound
+# without the mechanism: the refused row's peak counts at twice the size
+# law's limit (3 A at size 1: 6 A), its energy still at B
+sed 's/coil_inductance = true;/coil_inductance = false;/' "$SRC/configs/catalog/orbita3d.cfg" > "$TMP/orbq_c.cfg"
+grep -q "coil_inductance = false;" "$TMP/orbq_c.cfg" || bad "quasi-static coil: no coil_inductance key to turn off"
+sed "s#$SRC/configs/catalog/orbita3d.cfg#$TMP/orbq_c.cfg#" "$TMP/orb.cfg" > "$TMP/orbq.cfg"
+"$POMLAB" codesign "$TMP/orbq.cfg" --sweep "C06:2" > "$TMP/orbq.txt" 2> "$TMP/orbq.err" \
+  || bad "refused design, quasi-static coil: $(cat "$TMP/orbq.err")"
+awk -v V="$V" -v R="$R" -v T="$T" '
+     BEGIN {B = 3 * V * V * T * 1e-3 / R}
+     /^geometry.base_cone_deg / {n++
+       if (n == 2 && (($5 - 1e3 * B) ^ 2 > 1e-3 ^ 2 || ($7 - 6) ^ 2 > 1e-4 ^ 2 || $10 != 2)) {
+         print "base cone 10: energy " $5 " mJ, peak " $7 " A; want " 1e3 * B " mJ, 6 A"; bad = 1}}
+     END {exit bad || n != 2}' "$TMP/orbq.txt" \
+  || bad "refused design, quasi-static coil: not at the bound and twice the current limit"
 
 # ---- and the energy optimum is not drawn to the refused side: with the base
 # cone in the box (its only feasible value 0, the start) the energy optimum
