@@ -198,6 +198,8 @@ pom_status pom_cds_load(pom_cds_problem *pb, const pom_cfg *cfg, pom_error *err)
     pom_dyn_params_defaults(&prm);
     if (s2 == POM_OK) s2 = pom_dyn_params_load(&prm, ccfg, err);
     cd->horizon = prm.maneuver.horizon;
+    cd->voltage_limit0 = prm.actuator.voltage_limit;
+    cd->coil_inductance = prm.scene.coil_inductance;
     snprintf(k, sizeof k, "candidates.[%d].variables", c);
     int nv = pom_cfg_length(cfg, k);
     if (s2 == POM_OK && (!pom_cfg_is_list(cfg, k) || nv < 1 || nv > POM_CDS_MAX_VARS))
@@ -301,6 +303,32 @@ static double design_value(const pom_cds_candidate *cd, const double *x, const c
   return NAN;
 }
 
+/* The value maneuver draws give the uncertain key j at design x: a relative
+ * draw multiplies the design's value (or the config's when the design sets
+ * none), an absolute one replaces it; config = the candidate's value of the
+ * key when it is not an uncertain one's (NaN: take nominal_unc). */
+static double drawn_value(const pom_cds_problem *pb, int c, const double *x, const double *draws,
+                          int j, double config) {
+  const pom_cds_candidate *cd = &pb->cand[c];
+  const pom_unc_param *p = &pb->uncertain.param[j];
+  if (!p->relative) return draws[j];
+  double base = design_value(cd, x, p->key);
+  if (!isfinite(base)) base = isfinite(config) ? config : cd->nominal_unc[j];
+  return base * draws[j];
+}
+
+/* The value maneuver `draws` (NULL: none) give a key at design x, without
+ * building anything: the uncertain group's draw, else the design's value,
+ * else config (the candidate config's value). */
+static double plant_value(const pom_cds_problem *pb, int c, const double *x, const double *draws,
+                          const char *key, double config) {
+  for (int j = 0; draws && j < pb->uncertain.n; ++j)
+    if (strcmp(pb->uncertain.param[j].key, key) == 0)
+      return drawn_value(pb, c, x, draws, j, config);
+  double v = design_value(&pb->cand[c], x, key);
+  return isfinite(v) ? v : config;
+}
+
 static pom_status set_num(pom_cfg *cfg, const char *key, double v, pom_error *err) {
   char text[64];
   snprintf(text, sizeof text, "%.17g", v);
@@ -325,16 +353,8 @@ static pom_status design_config(pom_cfg **out, const pom_cds_problem *pb, int c,
   if (st == POM_OK)
     st = pom_cfg_set_string(cfg, "joints.model", parasitic ? "parasitic" : "rigid", "the co-design",
                             err);
-  for (int j = 0; draws && j < pb->uncertain.n && st == POM_OK; ++j) {
-    const pom_unc_param *p = &pb->uncertain.param[j];
-    double v = draws[j];
-    if (p->relative) {
-      double base = design_value(cd, x, p->key);
-      if (!isfinite(base)) base = cd->nominal_unc[j];
-      v = base * draws[j];
-    }
-    st = set_num(cfg, p->key, v, err);
-  }
+  for (int j = 0; draws && j < pb->uncertain.n && st == POM_OK; ++j)
+    st = set_num(cfg, pb->uncertain.param[j].key, drawn_value(pb, c, x, draws, j, NAN), err);
   if (st != POM_OK) {
     pom_cfg_destroy(cfg);
     return st;
@@ -415,15 +435,43 @@ typedef struct {
   int failed, settled;
 } mv_out;
 
+/* THE one rule for a maneuver that gives no figures (docs/optimize.md 11.1,
+ * "A failed maneuver"): a design the model refuses (a value its own
+ * validation rejects, a geometry that does not assemble), an unreachable
+ * target, a failed simulation. It counts at the worst case the drive allows,
+ * from the config, the size law and the maneuver's draws alone (nothing is
+ * built): the time at the horizon; the energy at B = n V^2 T / R, every
+ * coil stalled at the voltage limit for the whole horizon, which no maneuver
+ * exceeds (up to the gravity drop, 11.1); the peak current at
+ * sqrt(B / (2 L)), the coil's magnetic energy bound, or, for a quasi-static
+ * coil (no bound without the mechanism), twice the size law's limit. Each
+ * is continuous in the design, so a refused side of a box reads as the
+ * worst time, energy and current, never as the best (11.10). */
+static void failed_maneuver(const pom_cds_problem *pb, int c, const double *x, const double *draws,
+                            mv_out *o) {
+  const pom_cds_candidate *cd = &pb->cand[c];
+  const double n_coils = 3.0;
+  double v = plant_value(pb, c, x, draws, "actuator.voltage_limit_V", cd->voltage_limit0);
+  double r = plant_value(pb, c, x, draws, "actuator.resistance_ohm", NAN);
+  double l = plant_value(pb, c, x, draws, "actuator.inductance_H", NAN);
+  memset(o, 0, sizeof *o);
+  o->failed = 1;
+  o->t = cd->horizon;
+  o->e = n_coils * v * v * cd->horizon / r;
+  o->i_peak = cd->coil_inductance && l > 0 ? sqrt(o->e / (2.0 * l))
+                                           : 2.0 * cd->current_limit0 * pow(var_size(cd, x), 1.5);
+}
+
 /* One maneuver: design config (with draws), IK of the drawn orientation,
- * simulation with a trace (for the peak current). */
+ * simulation with a trace (for the peak current). Until it succeeds, o holds
+ * failed_maneuver's worst case. */
 static pom_status run_maneuver(const pom_cds_problem *pb, int c, const double *x, uint64_t seed,
                                long k, int parasitic, mv_out *o, pom_error *err) {
-  memset(o, 0, sizeof *o);
   double draws[POM_UNC_MAX];
   pom_unc unc = pb->uncertain;
   unc.seed = seed;
   if (unc.n > 0) pom_unc_draws(&unc, k, draws);
+  failed_maneuver(pb, c, x, unc.n > 0 ? draws : NULL, o);
   pom_cfg *cfg = NULL;
   POM_TRY(design_config(&cfg, pb, c, x, unc.n > 0 ? draws : NULL, parasitic, err));
   pom_doe_evaluator ev;
@@ -439,10 +487,7 @@ static pom_status run_maneuver(const pom_cds_problem *pb, int c, const double *x
   double horizon = base->params.maneuver.horizon;
   pom_error e2;
   pom_error_clear(&e2);
-  o->t = horizon;
-  o->e = NAN;
   if (ev.targets(ev.ctx, &mv, q, &e2) != POM_OK) {
-    o->failed = 1;
     pom_doe_evaluator_clear(&ev);
     return POM_OK;
   }
@@ -458,12 +503,12 @@ static pom_status run_maneuver(const pom_cds_problem *pb, int c, const double *x
       if (pom_doe_mech_actuator_kind(&base->mech, &kind, &e2) == POM_OK)
         rs = pom_doe_check_final_stroke_kind(&mt, base->arch.stroke, kind, &e2);
     }
-    if (rs != POM_OK || mt.status != POM_OK) {
-      o->failed = 1;
-    } else {
+    if (rs == POM_OK && mt.status == POM_OK) {
+      o->failed = 0;
       o->settled = isfinite(mt.pointing_settling_time);
       o->t = o->settled ? mt.pointing_settling_time : horizon;
       o->e = mt.energy_total;
+      o->i_peak = 0.0;
       for (int s = 0; s < tr->n; ++s)
         for (int a = 0; a < tr->n_actuators; ++a)
           o->i_peak = fmax(o->i_peak, fabs(tr->current[3 * s + a]));
@@ -514,12 +559,9 @@ static void *batch_worker(void *arg) {
     } else if (st != POM_OK) {
       /* a design the model refuses (a value its own validation rejects, a
        * geometry that does not assemble): the maneuver fails, the design is
-       * infeasible, the search goes on; its time counts at the horizon (as
-       * an unsettled maneuver: never better than a real design; at 0 it made
-       * the refused side of a box look like the best objective, section
-       * 11.10) */
-      b->out[j].failed = 1;
-      b->out[j].t = b->pb->cand[b->c].horizon;
+       * infeasible, the search goes on; run_maneuver left the worst case of
+       * failed_maneuver in out[j] (at 0 the refused side of a box looked
+       * like the best objective, section 11.10) */
       pthread_mutex_lock(&b->lock);
       if (!b->have_build_err) {
         b->have_build_err = 1;
@@ -607,21 +649,17 @@ static pom_status evaluate_many(const pom_cds_problem *pb, int c, const double *
     memset(f, 0, sizeof *f);
     const mv_out *o = b.out + (long)d * n;
     double esum = 0;
-    long ne = 0;
     for (long k = 0; k < n; ++k) {
+      /* a failed maneuver at its worst case (failed_maneuver) */
       t[k] = o[k].t;
-      if (o[k].failed)
-        ++f->failed;
-      else {
-        esum += o[k].e;
-        ++ne;
-      }
+      esum += o[k].e;
+      if (o[k].failed) ++f->failed;
       if (!o[k].settled) ++f->unsettled;
       f->i_peak = fmax(f->i_peak, o[k].i_peak);
     }
     f->n = (int)n;
     f->simulations = n;
-    f->energy = ne ? esum / (double)ne : NAN;
+    f->energy = esum / (double)n;
     f->p95 = pom_cds_smooth_quantile(t, (int)n, pb->quantile, pb->bandwidth, NULL);
     /* order statistic: the ceil(p n)-th smallest */
     double *srt = malloc((size_t)n * sizeof *srt);
@@ -638,7 +676,6 @@ static pom_status evaluate_many(const pom_cds_problem *pb, int c, const double *
       free(srt);
     }
     pom_cds_static_figures(pb, c, xs + d * POM_CDS_MAX_VARS, f);
-    if (!isfinite(f->energy)) f->energy = 0.0; /* every maneuver failed: `failed` says so */
   }
   if (st == POM_OK && strict && b.have_build_err && n_designs == 1 && figs[0].failed == (int)n) {
     /* a single design none of whose maneuvers could even be built: say why */
@@ -886,12 +923,15 @@ void pom_cds_infeasible_reason(const pom_cds_problem *pb, int c, const double *x
     ADD("%sworkspace +-%.0f deg (margin %+.3f): %s", n ? "; " : "",
         pb->ws_half_width * 180.0 / 3.14159265358979323846, f->kin, k);
   }
-  if (f->i_peak > f->i_limit * (1 + 1e-6))
+  if (f->failed == 0 && f->i_peak > f->i_limit * (1 + 1e-6))
     ADD("%speak current %.2f A above the size law's limit %.2f A", n ? "; " : "", f->i_peak,
         f->i_limit);
   if (f->envelope > pb->envelope * (1 + 1e-6))
     ADD("%senvelope %.0f mm above %.0f mm", n ? "; " : "", 1e3 * f->envelope, 1e3 * pb->envelope);
-  if (f->failed > 0) ADD("%s%d of %d maneuvers failed", n ? "; " : "", f->failed, f->n);
+  if (f->failed > 0)
+    ADD("%s%d of %d maneuvers failed (each counted at the horizon and the drive's worst energy "
+        "and current)",
+        n ? "; " : "", f->failed, f->n);
   if (f->p95 > pb->time_max * (1 + 1e-6))
     ADD("%sp95 %.1f ms above the %.0f ms bound", n ? "; " : "", 1e3 * f->p95, 1e3 * pb->time_max);
   if (!n) ADD("no constraint is violated by more than 1e-6 at the figures kept");

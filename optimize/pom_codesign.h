@@ -59,6 +59,10 @@ typedef struct {
   double current_limit0; /* A at size 1 (codesign.requirements.current_limit_A) */
   double horizon;        /* s: the config's maneuver horizon; a maneuver of a design the model
                           * refuses counts there, as an unsettled one (section 11.1) */
+  double voltage_limit0; /* V: the config's drive saturation and whether its coils have their
+                          * inductance: with the size law they give a failed maneuver's worst
+                          * energy and peak current (section 11.1, "A failed maneuver") */
+  int coil_inductance;
   double nominal_unc[POM_UNC_MAX]; /* the config's value of each uncertain key (NaN absent) */
 } pom_cds_candidate;
 
@@ -112,9 +116,12 @@ void pom_cds_clear(pom_cds_problem *pb);
 
 /* Figures of a design on a maneuver set. */
 typedef struct {
+  /* a failed maneuver (a refused design's: every one) counts at the drive's
+   * worst case, section 11.1: time at the horizon, energy n V^2 T / R, peak
+   * current sqrt of that over 2 L */
   double p95;       /* smooth quantile of the pointing time (s); unsettled at the horizon */
   double p95_plain; /* the empirical quantile (order statistic, s) */
-  double energy;    /* mean expended energy (J) */
+  double energy;    /* mean expended energy over the n maneuvers (J) */
   double i_peak;    /* largest coil current (A) */
   double i_limit;   /* the size law's current limit (A) */
   double kin;       /* kinematic margin: <= 0 holds (workspace grid: dexterity, strokes, limits) */
