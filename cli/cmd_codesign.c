@@ -211,7 +211,9 @@ int pom_cmd_codesign(int argc, char **argv) {
                "each optimum re-evaluated on a fresh maneuver set and on the parasitic model,\n"
                "and the candidates ranked at their best (docs/optimize.md section 11).",
       .notes = "Exit status: 0 ok; 1 a run or a write failed (the journal keeps the finished\n"
-               "optimizations: --resume); 2 usage or config error.",
+               "optimizations: --resume); 2 usage or config error (also an output - the\n"
+               "results file, the figure, the journal, the lock - that is the same file as\n"
+               "an input or as another output; nothing is done).",
       .opts = opts,
       .n_opts = POM_CLI_N(opts),
       .args = &cfg_path,

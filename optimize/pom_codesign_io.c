@@ -244,8 +244,9 @@ void pom_cds_report_text(FILE *out, const pom_cds_problem *pb, const pom_cds_res
         if (pom_cds_rdw_below(pb, &cr->point[k]))
           fprintf(out, "%s %d (%.1f deg)", m++ ? "," : "", k + 1, cr->point[k].rdw_deg);
       fprintf(out,
-              ": the workspace constraint checks %d^3 poses of the required cube, the dense "
-              "grid of the true RDW finds a pose between them that fails\n",
+              ": the optimizer's workspace constraint checks only %d^3 poses of the required "
+              "cube; the true RDW (every pose of the workspace grid) falls short "
+              "(docs/optimize.md 11.6)\n",
               pb->ws_grid);
     }
     fprintf(out, "  time optimum:");
