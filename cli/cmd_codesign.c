@@ -5,6 +5,7 @@
 #include "pom_cli.h"
 #include "pom_codesign.h"
 #include "pom_io.h"
+#include "pom_job.h"
 #include "pom_progress.h"
 
 #include <math.h>
@@ -120,6 +121,36 @@ static int run_sweep(const pom_cds_problem *pb, int c, int n) {
   return 0;
 }
 
+/* The files a co-design run writes (the results file and its temporary
+ * copy, the figure and its copy, the resume journal, the lock) against those
+ * it reads: 0, or 2 (same file, printed) / 1 (no memory). */
+static int check_paths(const char *cfg_path, const pom_cds_problem *pb, const char *path,
+                       const char *origin, const char *journal, const char *svg) {
+  pom_job_paths *p = pom_job_paths_create("codesign");
+  pom_job_paths_config(p, cfg_path, "the config");
+  for (int c = 0; c < pb->n_candidates; ++c) {
+    char what[POM_DOE_NAME_LEN + 32];
+    snprintf(what, sizeof what, "the config of candidate '%s'", pb->cand[c].name);
+    pom_job_paths_config(p, pb->cand[c].config, what);
+  }
+  char what[64], lock[1300], tmp[1300], svg_tmp[1300];
+  snprintf(what, sizeof what, "the results file (%s)", origin);
+  pom_job_paths_output(p, path, what);
+  /* the names pom_cds_write_h5 and pom_io_create write before their rename,
+   * and pom_io_lock_take's lock file */
+  snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
+  snprintf(svg_tmp, sizeof svg_tmp, "%s.tmp.%ld", svg, (long)getpid());
+  snprintf(lock, sizeof lock, "%s.lock", path);
+  pom_job_paths_output(p, tmp, "the results file's temporary copy");
+  pom_job_paths_output(p, svg, "the figure");
+  pom_job_paths_output(p, svg_tmp, "the figure's temporary copy");
+  pom_job_paths_output(p, journal, "the resume journal");
+  pom_job_paths_output(p, lock, "the lock file");
+  int rc = pom_job_paths_check(p, stderr, NULL);
+  pom_job_paths_destroy(p);
+  return rc;
+}
+
 int pom_cmd_codesign(int argc, char **argv) {
   const char *cfg_path = NULL, *out = NULL, *slice = NULL, *effic = NULL, *sweep = NULL;
   int quiet = 0, resume = 0, threads = -1;
@@ -180,7 +211,9 @@ int pom_cmd_codesign(int argc, char **argv) {
                "each optimum re-evaluated on a fresh maneuver set and on the parasitic model,\n"
                "and the candidates ranked at their best (docs/optimize.md section 11).",
       .notes = "Exit status: 0 ok; 1 a run or a write failed (the journal keeps the finished\n"
-               "optimizations: --resume); 2 usage or config error.",
+               "optimizations: --resume); 2 usage or config error (also an output - the\n"
+               "results file, the figure, the journal, the lock - that is the same file as\n"
+               "an input or as another output; nothing is done).",
       .opts = opts,
       .n_opts = POM_CLI_N(opts),
       .args = &cfg_path,
@@ -327,6 +360,12 @@ int pom_cmd_codesign(int argc, char **argv) {
   size_t L = strlen(svg);
   if (L > 3 && strcmp(svg + L - 3, ".h5") == 0) svg[L - 3] = '\0';
   strncat(svg, ".svg", sizeof svg - strlen(svg) - 1);
+  /* outputs never overwrite inputs, as a study's (docs/results.md,
+   * "Writing safely"; the study's check, job/pom_job.h): every file this
+   * run writes against the codesign file, every candidate's config and the
+   * files they include, before the lock or the journal is touched */
+  code = check_paths(cfg_path, pb, path, out ? "--out" : "codesign.output", journal, svg);
+  if (code) goto done;
   /* one run per output, as a study (docs/optimize.md 11.7): the lock is
    * taken before the journal is touched and held until the files are
    * written; a second run on the same output is refused, nothing changed */

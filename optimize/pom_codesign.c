@@ -718,6 +718,12 @@ pom_status pom_cds_rdw_deg(const pom_cds_problem *pb, int c, const double *x, do
   return st;
 }
 
+int pom_cds_rdw_below(const pom_cds_problem *pb, const pom_cds_point *p) {
+  /* rdw_deg is a multiple of the resolution taken to degrees: 1e-9 deg of
+   * slack for the rounding of that product and of the requirement's own */
+  return !(p->rdw_deg >= pb->ws_half_width * 180.0 / POM_PI - 1e-9);
+}
+
 int pom_cds_design_keys(const pom_cds_candidate *cd, const double *x,
                         const char *key[POM_CDS_MAX_KEYS], double value[POM_CDS_MAX_KEYS],
                         double dvalue_dx[POM_CDS_MAX_KEYS][POM_CDS_MAX_VARS]) {

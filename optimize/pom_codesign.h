@@ -153,7 +153,7 @@ typedef struct {
   pom_cds_figures opt;             /* the optimizer's figures (optimization set) */
   pom_cds_figures fresh;           /* re-evaluated: fresh set, rigid */
   pom_cds_figures fresh_parasitic; /* fresh set, parasitic joints */
-  double rdw_deg;                  /* pom_kin_workspace at the optimum */
+  double rdw_deg;                  /* pom_kin_workspace at the optimum (pom_cds_rdw_below) */
   int feasible;                    /* constraints hold at the optimizer's figures */
   int fallback_used;               /* COBYLA ran */
   long simulations;                /* spent by this optimization */
@@ -243,6 +243,15 @@ pom_status pom_cds_grid_slice(const pom_cds_problem *pb, int c, int v1, int v2, 
  * (kinematic margin, current, envelope, no failure, time bound; no energy
  * bound). */
 int pom_cds_feasible(const pom_cds_problem *pb, const pom_cds_figures *f);
+
+/* Whether the true regular dexterous workspace at front point p (its
+ * rdw_deg, pom_kin_workspace on the candidate's workspace.resolution grid,
+ * a multiple of it) is below the required half-width (to 1e-9 deg). On a
+ * feasible point: the workspace_grid^3 poses of g_kin passed but the dense
+ * grid does not reach the requirement (for a requirement between two grid
+ * steps, the RDW is the step below it). Only reported (docs/optimize.md
+ * 11.6); the optimizer never sees it. */
+int pom_cds_rdw_below(const pom_cds_problem *pb, const pom_cds_point *p);
 
 /* The 1-D sweeps of candidate c (docs/optimize.md 11.6): for every variable
  * v, the config's design with variable v alone at n points evenly spaced

@@ -4,6 +4,7 @@
 #include "codesign_internal.h"
 #include "pom_h5.h"
 #include "pom_io.h"
+#include "pom_math.h"
 #include "pom_version.h"
 
 #include <errno.h>
@@ -21,6 +22,10 @@ static const char *const fig_columns[NFIG] = {"p95_smooth_s",    "p95_order_stat
                                               "current_limit_A", "kinematic_margin",
                                               "envelope_m",      "failed",
                                               "unsettled",       "maneuvers"};
+
+/* Columns of a front_info row: the last is pom_cds_rdw_below (1: the true
+ * RDW at the point is below the required half-width; docs/optimize.md 11.6). */
+#define NINFO 9
 
 static void fig_row(const pom_cds_figures *f, double *r) {
   r[0] = f->p95;
@@ -88,7 +93,7 @@ static pom_status write_candidate(hid_t file, const pom_cds_problem *pb, const p
   size_t K = (size_t)cr->n_points;
   double *x = calloc(K * nv + 1, sizeof *x);
   double *fo = calloc(K * NFIG + 1, sizeof *fo), *ff = calloc(K * NFIG + 1, sizeof *ff),
-         *fp = calloc(K * NFIG + 1, sizeof *fp), *info = calloc(K * 8 + 1, sizeof *info);
+         *fp = calloc(K * NFIG + 1, sizeof *fp), *info = calloc(K * NINFO + 1, sizeof *info);
   if (!x || !fo || !ff || !fp || !info)
     st = pom_error_set(err, POM_ERR_NOMEM, __FILE__, __LINE__, "results: out of memory");
   for (size_t k = 0; k < K && st == POM_OK; ++k) {
@@ -97,7 +102,7 @@ static pom_status write_candidate(hid_t file, const pom_cds_problem *pb, const p
     fig_row(&p->opt, fo + k * NFIG);
     fig_row(&p->fresh, ff + k * NFIG);
     fig_row(&p->fresh_parasitic, fp + k * NFIG);
-    double *in = info + k * 8;
+    double *in = info + k * NINFO;
     in[0] = p->objective;
     in[1] = p->eps;
     in[2] = p->feasible;
@@ -106,22 +111,24 @@ static pom_status write_candidate(hid_t file, const pom_cds_problem *pb, const p
     in[5] = (double)p->simulations;
     in[6] = (double)p->evaluations;
     in[7] = p->rdw_deg;
+    in[8] = pom_cds_rdw_below(pb, p);
   }
-  size_t d2[2] = {K, nv}, df[2] = {K, NFIG}, di[2] = {K, 8};
+  size_t d2[2] = {K, nv}, df[2] = {K, NFIG}, di[2] = {K, NINFO};
   if (st == POM_OK) st = pom_h5_write_doubles(g, "front_x", 2, d2, x, err);
   if (st == POM_OK) st = pom_h5_write_doubles(g, "front_optimizer", 2, df, fo, err);
   if (st == POM_OK) st = pom_h5_write_doubles(g, "front_fresh", 2, df, ff, err);
   if (st == POM_OK) st = pom_h5_write_doubles(g, "front_fresh_parasitic", 2, df, fp, err);
   if (st == POM_OK) st = pom_h5_write_doubles(g, "front_info", 2, di, info, err);
-  static const char *const info_cols[8] = {"objective (0 time, 1 energy)",
-                                           "energy_bound_J",
-                                           "feasible",
-                                           "fallback_used",
-                                           "nlopt_result",
-                                           "simulations",
-                                           "evaluations",
-                                           "rdw_deg"};
-  if (st == POM_OK) st = pom_h5_write_strings(g, "front_info_columns", 8, info_cols, 40, err);
+  static const char *const info_cols[NINFO] = {"objective (0 time, 1 energy)",
+                                               "energy_bound_J",
+                                               "feasible",
+                                               "fallback_used",
+                                               "nlopt_result",
+                                               "simulations",
+                                               "evaluations",
+                                               "rdw_deg",
+                                               "rdw_below_required"};
+  if (st == POM_OK) st = pom_h5_write_strings(g, "front_info_columns", NINFO, info_cols, 40, err);
   free(x);
   free(fo);
   free(ff);
@@ -145,6 +152,7 @@ static pom_status write_all(hid_t file, const pom_cds_problem *pb, const pom_cds
   POM_TRY(pom_h5_attr_string(file, "created_utc", when, err));
   POM_TRY(pom_h5_attr_string(file, "codesign_name", pb->name, err));
   POM_TRY(pom_h5_attr_string(file, "codesign_source", pb->source, err));
+  POM_TRY(pom_h5_attr_double(file, "required_rdw_deg", pb->ws_half_width * 180.0 / POM_PI, err));
   POM_TRY(pom_h5_attr_double(file, "reference_time_s", res->ref_time, err));
   POM_TRY(pom_h5_attr_double(file, "reference_energy_J", res->ref_energy, err));
   POM_TRY(pom_h5_attr_int64(file, "simulations", res->simulations, err));
@@ -184,6 +192,7 @@ static void fig_cell(FILE *out, const pom_cds_figures *f) {
 }
 
 void pom_cds_report_text(FILE *out, const pom_cds_problem *pb, const pom_cds_result *res) {
+  const double req_deg = pb->ws_half_width * 180.0 / POM_PI;
   fprintf(out,
           "Co-design '%s': %d candidates, %ld maneuvers (seed %llu), re-evaluated on %ld "
           "(seed %llu)\n",
@@ -192,9 +201,9 @@ void pom_cds_report_text(FILE *out, const pom_cds_problem *pb, const pom_cds_res
   fprintf(out,
           "Requirements: RDW >= %.1f deg at 1/kappa >= %.2f, current <= limit of the size "
           "law, envelope <= %.0f mm; time = smooth p%.0f of the pointing settling time "
-          "(h = %.2f ms)\n\n",
-          pb->ws_half_width * 180.0 / 3.14159265358979323846, pb->dexterity_min, 1e3 * pb->envelope,
-          100 * pb->quantile, 1e3 * pb->bandwidth);
+          "(h = %.2f ms), <= %.1f ms at every front point\n\n",
+          req_deg, pb->dexterity_min, 1e3 * pb->envelope, 100 * pb->quantile, 1e3 * pb->bandwidth,
+          1e3 * pb->time_max);
   for (int c = 0; c < pb->n_candidates; ++c) {
     const pom_cds_candidate *cd = &pb->cand[c];
     const pom_cds_cand_result *cr = &res->cand[c];
@@ -220,8 +229,25 @@ void pom_cds_report_text(FILE *out, const pom_cds_problem *pb, const pom_cds_res
       fig_cell(out, &p->fresh);
       fprintf(out, "   ");
       fig_cell(out, &p->fresh_parasitic);
-      fprintf(out, "   %-8.0f %-6s %ld%s\n", p->rdw_deg, p->feasible ? "yes" : "NO", p->simulations,
+      char rdw[32];
+      snprintf(rdw, sizeof rdw, "%.1f%s", p->rdw_deg, pom_cds_rdw_below(pb, p) ? " *" : "");
+      fprintf(out, "   %-8s %-6s %ld%s\n", rdw, p->feasible ? "yes" : "NO", p->simulations,
               p->fallback_used ? " (COBYLA fallback)" : "");
+    }
+    /* the flag (docs/optimize.md 11.6): g_kin checks only its grid's poses */
+    int n_below = 0;
+    for (int k = 0; k < cr->n_points; ++k)
+      n_below += pom_cds_rdw_below(pb, &cr->point[k]);
+    if (n_below) {
+      fprintf(out, "  * RDW BELOW THE REQUIREMENT (%.1f deg) at point", req_deg);
+      for (int k = 0, m = 0; k < cr->n_points; ++k)
+        if (pom_cds_rdw_below(pb, &cr->point[k]))
+          fprintf(out, "%s %d (%.1f deg)", m++ ? "," : "", k + 1, cr->point[k].rdw_deg);
+      fprintf(out,
+              ": the optimizer's workspace constraint checks only %d^3 poses of the required "
+              "cube; the true RDW (every pose of the workspace grid) falls short "
+              "(docs/optimize.md 11.6)\n",
+              pb->ws_grid);
     }
     fprintf(out, "  time optimum:");
     for (int v = 0; v < cd->n_vars; ++v)
@@ -258,10 +284,14 @@ void pom_cds_report_text(FILE *out, const pom_cds_problem *pb, const pom_cds_res
     char p95s[64];
     snprintf(p95s, sizeof p95s, "%.2f/%.2f/%.2f", 1e3 * p0->opt.p95, 1e3 * p0->fresh.p95,
              1e3 * p0->fresh_parasitic.p95);
+    char below[96] = "";
+    if (pom_cds_rdw_below(pb, p0))
+      snprintf(below, sizeof below, " (RDW %.1f < %.1f deg at the time optimum)", p0->rdw_deg,
+               req_deg);
     if (p0->feasible)
-      fprintf(out, "  %-4d %-24s %-11.4g %-24s %-12.1f %-12.1f %-12.2f\n", i + 1,
+      fprintf(out, "  %-4d %-24s %-11.4g %-24s %-12.1f %-12.1f %-12.2f%s\n", i + 1,
               pb->cand[order[i]].name, 1e6 * cr->hypervolume, p95s, 1e3 * p0->fresh.energy,
-              1e3 * cr->point[cr->n_points - 1].fresh.energy, 1e3 * cr->nominal_fresh.p95);
+              1e3 * cr->point[cr->n_points - 1].fresh.energy, 1e3 * cr->nominal_fresh.p95, below);
     else
       fprintf(out, "  %-4s %-24s infeasible (see its section): %s at the best point kept\n", "-",
               pb->cand[order[i]].name, p95s);

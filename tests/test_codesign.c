@@ -3,11 +3,14 @@
  * equation, its limit the order statistic, its implicit-function
  * derivative against central differences), the actuator size law, and
  * the sensitivity gradient of the objectives against central differences of
- * whole Monte-Carlo evaluations (gradient = "sensitivity", section 11.5). */
+ * whole Monte-Carlo evaluations (gradient = "sensitivity", section 11.5),
+ * and the flag of an optimum whose true RDW is below the requirement
+ * (section 11.6). */
 #define _POSIX_C_SOURCE 200809L /* mkstemp */
 #include "check.h"
 #include "codesign_internal.h"
 #include "pom_codesign.h"
+#include "pom_math.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -209,6 +212,99 @@ static void test_sens_gradient(void) {
   }
 }
 
+/* The RDW flag (pom_cds_rdw_below, docs/optimize.md 11.6). Its rule on
+ * given figures: the requirement to the rounding of degrees (a multiple of
+ * the resolution taken to degrees and back) holds, anything below it or not
+ * a number is flagged. Then on the 3P-S-S/S reference (configs/3pss.cfg,
+ * 1 deg grid, 1/kappa >= 0.3): `pomlab workspace` finds an RDW of +-13 deg,
+ * the cube of 14 failing at a corner (the stroke of a limb). Required 13:
+ * the 27 poses of g_kin pass and the RDW meets it, not flagged. Required
+ * 13.3: the 27 poses at +-13.3 deg pass (checked pose by pose with `pomlab
+ * ik`: every one reachable, within limits, 1/kappa >= 0.3), so g_kin <= 0,
+ * but the RDW on the 1 deg grid is 13: flagged (the case of a requirement
+ * between two grid steps that section 11.6 states). Required 14: a corner
+ * fails, g_kin > 0 and flagged. */
+static int rdw_case(double required_deg, double dexterity_min, double *kin, double *rdw,
+                    int *below) {
+  char path[] = "/tmp/test_codesign_rdw_XXXXXX";
+  int fd = mkstemp(path);
+  check_true(fd >= 0);
+  if (fd < 0) return 0;
+  FILE *f = fdopen(fd, "w");
+  check_true(f != NULL);
+  if (!f) return 0;
+  fprintf(f,
+          "name = \"rdw\";\n"
+          "montecarlo = { maneuvers = 2; seed = 11; space = \"orientation\"; tilt_max_deg = 6.0; "
+          "torsion_max_deg = 6.0; };\n"
+          "codesign = { output = \"/dev/null\"; threads = 1;\n"
+          "  requirements = { workspace_half_width_deg = %.17g; dexterity_min = %.17g; "
+          "current_limit_A = 3.0; envelope_radius_mm = 150.0; time_max_ms = 40.0; }; };\n"
+          "candidates = ( { name = \"3P-S-S/S\"; config = \"%s/configs/3pss.cfg\";\n"
+          "  variables = ( { key = \"size\"; min = 0.6; max = 1.6; } ); } );\n",
+          required_deg, dexterity_min, POM_SOURCE_DIR);
+  check_true(fclose(f) == 0);
+  pom_error err;
+  pom_error_clear(&err);
+  pom_cfg *cfg = NULL;
+  pom_cds_problem *pb = calloc(1, sizeof *pb);
+  int ok = pb && pom_cfg_load(&cfg, path, &err) == POM_OK && pom_cds_load(pb, cfg, &err) == POM_OK;
+  if (ok) {
+    double x[POM_CDS_MAX_VARS] = {pb->cand[0].var[0].x0};
+    pom_cds_figures fig;
+    memset(&fig, 0, sizeof fig);
+    pom_cds_static_figures(pb, 0, x, &fig);
+    *kin = fig.kin;
+    pom_cds_point pt;
+    memset(&pt, 0, sizeof pt);
+    ok = pom_cds_rdw_deg(pb, 0, x, &pt.rdw_deg, &err) == POM_OK;
+    *rdw = pt.rdw_deg;
+    *below = pom_cds_rdw_below(pb, &pt);
+  }
+  if (!ok) printf("rdw case %g deg at %g: %s\n", required_deg, dexterity_min, err.message);
+  check_true(ok);
+  if (pb) pom_cds_clear(pb);
+  free(pb);
+  pom_cfg_destroy(cfg);
+  unlink(path);
+  return ok;
+}
+
+static void test_rdw_flag(void) {
+  pom_cds_problem *pb = calloc(1, sizeof *pb);
+  check_true(pb != NULL);
+  if (!pb) return;
+  pb->ws_half_width = 10.0 * (POM_PI / 180.0); /* as pom_cds_load reads 10 deg */
+  pom_cds_point pt;
+  memset(&pt, 0, sizeof pt);
+  pt.rdw_deg = 10.0 * (POM_PI / 180.0) * 180.0 / POM_PI; /* 10 steps of 1 deg */
+  check_true(!pom_cds_rdw_below(pb, &pt));
+  pt.rdw_deg = 13.0;
+  check_true(!pom_cds_rdw_below(pb, &pt));
+  pt.rdw_deg = 10.0 - 1e-6;
+  check_true(pom_cds_rdw_below(pb, &pt));
+  pt.rdw_deg = 9.0;
+  check_true(pom_cds_rdw_below(pb, &pt));
+  pt.rdw_deg = -180.0 / POM_PI; /* pom_kin_workspace's -1 rad: home fails */
+  check_true(pom_cds_rdw_below(pb, &pt));
+  pt.rdw_deg = NAN;
+  check_true(pom_cds_rdw_below(pb, &pt));
+  free(pb);
+
+  const double required[3] = {13.0, 13.3, 14.0};
+  const int kin_holds[3] = {1, 1, 0}, flagged[3] = {0, 1, 1};
+  for (int k = 0; k < 3; ++k) {
+    double kin = NAN, rdw = NAN;
+    int below = -1;
+    if (!rdw_case(required[k], 0.3, &kin, &rdw, &below)) continue;
+    printf("RDW flag: required +-%.1f deg: g_kin %.4f, RDW %.1f deg, flagged %d\n", required[k],
+           kin, rdw, below);
+    check_true((kin <= 0.0) == kin_holds[k]);
+    check_abs(rdw, 13.0, 1e-9);
+    check_true(below == flagged[k]);
+  }
+}
+
 /* The figure's axes (pom_cds_axis_range): nice bounds that hold the data,
  * never below 0 for a non-negative quantity (the figure of the three
  * shipped architectures once put its energy axis at -58 mJ). */
@@ -255,6 +351,7 @@ static void test_axis_range(void) {
 }
 
 int main(void) {
+  test_rdw_flag();
   test_sens_gradient();
   test_key_jacobian();
   test_quantile();

@@ -9,7 +9,8 @@
 # sweeps (--sweep: the config's design in the middle of every box); an
 # interrupted run resumed from its journal ends with the same optima as an
 # uninterrupted one, and a second run never touches the finished file until
-# it replaces it; a second run on an output another run is writing is
+# it replaces it; the flag of a front point whose true RDW is below the
+# requirement (section 11.6); a second run on an output another run is writing is
 # refused (the study's lock).
 set -u
 POMLAB=$1
@@ -90,6 +91,32 @@ done
 read -r conf best < <(awk '/config.s design: optimizer set/ {c = $5} /^  1 +min t/ {b = $4} END {print c, b}' "$TMP/a.txt")
 awk -v c="$conf" -v b="$best" 'BEGIN {exit !(b + 0 > 0 && b <= c + 1e-9)}' \
   || bad "run: time optimum p95 $best ms above the config design's $conf ms"
+
+# ---- the RDW flag (docs/optimize.md 11.6): front_info's last column is 1
+# where the true RDW (its rdw_deg column) is below required_rdw_deg. At 8 deg
+# (the run above; the reference geometry's RDW is 13 deg, the variables leave
+# the geometry alone) no point is flagged; at 13.3 deg the 27 poses of g_kin
+# still pass (test_codesign.c) but the RDW on the 1 deg grid is 13: every
+# point is flagged, in its row, under the front and in the ranking ----
+flags() { # FILE.h5: "rdw_deg:flag" per front point
+  h5dump -d /candidates/3P_S_S_S/front_info "$1" | awk '/^ *\([0-9]+,0\):/ {
+    sub(/^ *\([0-9]+,0\): */, ""); sub(/, *$/, ""); n = split($0, f, /, */); print f[n - 1] ":" f[n]}' | tr '\n' ' '
+}
+h5dump -d /candidates/3P_S_S_S/front_info_columns "$TMP/a.h5" | grep -q '"rdw_below_required"' \
+  || bad "rdw flag: no front_info column rdw_below_required"
+h5dump -a /required_rdw_deg "$TMP/a.h5" | grep -q "(0): 8$" || bad "rdw flag: required_rdw_deg is not 8"
+[ "$(flags "$TMP/a.h5")" = "13:0 13:0 " ] || bad "rdw flag at 8 deg: '$(flags "$TMP/a.h5")', want 13:0 13:0"
+grep -q "RDW BELOW\|RDW deg .*\*\|< 8.0 deg" "$TMP/a.txt" && bad "rdw flag: a point flagged at 8 deg"
+sed 's/workspace_half_width_deg = 8.0;/workspace_half_width_deg = 13.3;/; s/max_evals = 4;/max_evals = 2;/' \
+  "$TMP/run.cfg" > "$TMP/rdw.cfg"
+"$POMLAB" codesign "$TMP/rdw.cfg" --out "$TMP/rdw.h5" --quiet > "$TMP/rdw.txt" 2> "$TMP/rdw.err" \
+  || bad "rdw flag run: $(cat "$TMP/rdw.err")"
+[ "$(flags "$TMP/rdw.h5")" = "13:1 13:1 " ] || bad "rdw flag at 13.3 deg: '$(flags "$TMP/rdw.h5")', want 13:1 13:1"
+[ "$(grep -c '^  [12] .* 13\.0 \* ' "$TMP/rdw.txt")" -eq 2 ] || bad "rdw flag: the point rows lack '13.0 *'"
+grep -q "^  \* RDW BELOW THE REQUIREMENT (13.3 deg) at point 1 (13.0 deg), 2 (13.0 deg): " "$TMP/rdw.txt" \
+  || bad "rdw flag: no line under the front: $(grep RDW "$TMP/rdw.txt")"
+grep -q "^  1 .*(RDW 13.0 < 13.3 deg at the time optimum)$" "$TMP/rdw.txt" \
+  || bad "rdw flag: the ranking row lacks the note: $(grep -A3 '^Ranking' "$TMP/rdw.txt")"
 
 # ---- grid-slice check: the optimizer within 1 % of a 7 x 7 grid's best ----
 "$POMLAB" codesign "$TMP/run.cfg" --slice "3P-S-S/S:2:3:7" > "$TMP/slice.txt" 2> "$TMP/slice.err" \

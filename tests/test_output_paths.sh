@@ -4,7 +4,8 @@
 # and before any work, an output that is the same file as its config, a file
 # the config includes, a candidate's config or another output of the run (by
 # device and inode, or by resolved path where it does not exist yet); the
-# tabular file's name rule; --tabular makes its folder like --out, and a
+# tabular file's name rule; codesign's results file, figure, journal and lock
+# against its inputs (issue 29, item 2); --tabular makes its folder like --out, and a
 # folder it cannot write is refused before the work.
 # Usage: test_output_paths.sh PATH/TO/pomlab SOURCE_DIR
 set -u
@@ -105,6 +106,74 @@ cp cand.cfg "s_$STEM.geometry.cfg"
 sed "s|@include \"3pss.cfg\"|@include \"s_$STEM.geometry.cfg\"|" "$SRC/configs/synth_3pss.cfg" >syn.cfg
 expect_rc 2 "$POMLAB" synth syn.cfg --out s_ --quiet
 expect_err "pomlab synth: the geometry file (--out PREFIX + name) 's_$STEM.geometry.cfg' is the same file as a file included by the config"
+
+# --- codesign (issue 29, item 2): the study's rule for every file it writes ---
+# the results file, its figure (R.svg), the resume journal (R.h5.journal) and
+# the lock (R.h5.lock) against the codesign file, a file it includes and
+# every candidate's config; refused before the lock or the journal is made
+cp "$SRC/configs/3pss.cfg" cand.cfg
+printf 'uncertain = ( { key = "actuator.resistance_ohm"; dist = "uniform"; min = 0.95; max = 1.05; relative = true; } );\n' >cds_inc.cfg
+# codesign_file NAME [OUTPUT]: a small co-design of cand.cfg (as test_codesign.sh's)
+codesign_file() {
+  cat >"$1" <<CFG
+name = "small";
+montecarlo = { maneuvers = 2; seed = 11; space = "orientation"; tilt_max_deg = 6.0; torsion_max_deg = 6.0; };
+@include "cds_inc.cfg"
+codesign = {
+  output = "${2:-cds.h5}";
+  threads = 1;
+  requirements = { workspace_half_width_deg = 8.0; dexterity_min = 0.3; current_limit_A = 3.0;
+                   envelope_radius_mm = 150.0; time_max_ms = 40.0; };
+  optimizer = { max_evals = 2; starts = 1; };
+  front_points = 2;
+  reevaluate = { seed = 12; maneuvers = 2; };
+};
+candidates = ( { name = "A"; config = "cand.cfg";
+  variables = ( { key = "size"; min = 0.6; max = 1.6; },
+                { key = "controller.kp"; min = 3.0e3; max = 3.0e4; log = true; } ); } );
+CFG
+}
+codesign_file small.cfg
+codesign_file D.svg
+codesign_file J.h5.journal
+codesign_file L.h5.lock
+codesign_file O.cfg O.cfg
+sums_c() { md5sum small.cfg cds_inc.cfg cand.cfg D.svg J.h5.journal L.h5.lock O.cfg; }
+# refused_c DESCRIPTION TEXT ARGS...: exit 2, TEXT on stderr, every input's
+# bytes unchanged and nothing made (no results file, figure, journal, lock)
+refused_c() {
+  local what=$1 text=$2
+  shift 2
+  local before files
+  before=$(sums_c)
+  files=$(ls -A)
+  expect_rc 2 "$POMLAB" codesign "$@" --quiet
+  expect_err "pomlab codesign: $text"
+  check "codesign $what: inputs untouched" [ "$before" = "$(sums_c)" ]
+  check "codesign $what: nothing made" [ "$files" = "$(ls -A)" ]
+}
+refused_c "--out = config" "the results file (--out) 'small.cfg' is the same file as the config 'small.cfg'" \
+  small.cfg --out small.cfg
+refused_c "--out = candidate config" "the results file (--out) 'cand.cfg' is the same file as the config of candidate 'A'" \
+  small.cfg --out cand.cfg
+refused_c "--out = included file" "the results file (--out) 'cds_inc.cfg' is the same file as a file included by the config" \
+  small.cfg --out cds_inc.cfg
+refused_c "the figure = config" "the figure 'D.svg' is the same file as the config 'D.svg'" \
+  D.svg --out D.h5
+refused_c "the journal = config" "the resume journal 'J.h5.journal' is the same file as the config 'J.h5.journal'" \
+  J.h5.journal --out J.h5
+refused_c "the journal = config, --resume" "the resume journal 'J.h5.journal' is the same file as the config" \
+  J.h5.journal --out J.h5 --resume
+refused_c "the lock = config" "the lock file 'L.h5.lock' is the same file as the config 'L.h5.lock'" \
+  L.h5.lock --out L.h5
+refused_c "codesign.output = config" "the results file (codesign.output) 'O.cfg' is the same file as the config 'O.cfg'" \
+  O.cfg
+ln -s small.cfg cds_sym.h5
+refused_c "--out a symbolic link to the config" "the results file (--out) 'cds_sym.h5' is the same file as the config 'small.cfg'" \
+  small.cfg --out cds_sym.h5
+ln cand.cfg cds_hard.h5
+refused_c "--out a hard link of the candidate's config" "the results file (--out) 'cds_hard.h5' is the same file as the config of candidate 'A'" \
+  small.cfg --out cds_hard.h5
 
 # --- item 2: the tabular name rule -------------------------------------------
 refused "--tabular F_candidates.csv" "--tabular 'F_candidates.csv': a name ending in _candidates.csv is the candidates table of another name" \
