@@ -27,6 +27,7 @@
 #define POM_CDS_MAX_VARS       10
 #define POM_CDS_MAX_FRONT      8
 #define POM_CDS_MAX_STARTS     8
+#define POM_CDS_MAX_HIST       512 /* improvements kept per optimization */
 #define POM_CDS_KEY_LEN        96
 #define POM_CDS_MAX_SIZED_KEYS 6
 
@@ -171,11 +172,18 @@ typedef struct {
   char peak_why[160];  /* the last current-row fallback's reason */
   long fallback_sims;  /* simulations spent on differences (both kinds of fallback) */
   int nlopt_result;
-  /* the search's record: after hist_sims[i] simulations the best feasible
-   * objective was hist_best[i] (s or J); not kept by the journal */
-  int n_hist;
-  long hist_sims[128];
-  double hist_best[128];
+  double cpu;      /* process CPU time of this optimization (s) */
+  double cpu_sens; /* of which inside the sensitivity runs (s) */
+  /* the search's record, one entry per improvement of the best feasible
+   * objective: after hist_sims[i] simulations (hist_sens[i] of them with
+   * sensitivities) and hist_cpu[i] s of process CPU it was hist_best[i] (s
+   * or J); hist_full: an improvement came after the record was full (the
+   * record then ends early). Not kept by the journal. */
+  int n_hist, hist_full;
+  long hist_sims[POM_CDS_MAX_HIST];
+  long hist_sens[POM_CDS_MAX_HIST];
+  double hist_cpu[POM_CDS_MAX_HIST];
+  double hist_best[POM_CDS_MAX_HIST];
 } pom_cds_point;
 
 typedef struct {
@@ -190,7 +198,8 @@ typedef struct {
 typedef struct {
   pom_cds_cand_result cand[POM_CDS_MAX_CANDIDATES];
   double ref_time, ref_energy; /* hypervolume reference point */
-  long simulations;
+  long simulations;            /* in the optimizations */
+  long other_simulations;      /* the config designs' figures and the re-evaluations */
   double wall;
   int resumed_tasks; /* tasks read from the journal */
 } pom_cds_result;
@@ -225,13 +234,32 @@ typedef struct {
 
 /* The efficiency check (section 11.8): the time optimum of candidate c from
  * the config's design by the gradient-based algorithm and by COBYLA with
- * `budget` evaluations; sims_to_match = the simulations COBYLA needed to come
- * within rel_tol of the gradient-based optimum's objective (-1: never). */
+ * `budget` evaluations, on the same maneuvers. For each method and each
+ * target (the best final objective of the two; COBYLA's final objective)
+ * the simulations, sensitivity runs and CPU until its best feasible
+ * objective first came within rel_tol of the target (from the points'
+ * records). sens_cost: the plain-run equivalents of one sensitivity run in
+ * the gradient-based run (its CPU per sensitivity run over its CPU per
+ * plain run; NaN without sensitivity runs). */
+typedef struct {
+  int reached;    /* 1 reached; 0 not within the run; -1 unknown (record full) */
+  long sims;      /* simulations counted until then (sensitivity runs included) */
+  long sens_runs; /* of which with sensitivities */
+  double cpu;     /* process CPU of the optimization until then (s) */
+} pom_cds_reach;
+
 typedef struct {
   pom_cds_point grad, dfree;
-  long grad_sims, dfree_sims_to_match;
+  long grad_sims;
   double grad_best, dfree_best;
+  double target; /* min(grad_best, dfree_best), s; NaN: none feasible */
+  pom_cds_reach grad_to_target, dfree_to_target;
+  pom_cds_reach grad_to_dfree, dfree_to_dfree; /* to COBYLA's final objective */
+  double sens_cost;
 } pom_cds_efficiency;
+
+/* When the record of p first came within rel_tol of target (section 11.8). */
+void pom_cds_first_within(const pom_cds_point *p, double target, double rel_tol, pom_cds_reach *r);
 
 pom_status pom_cds_efficiency_run(const pom_cds_problem *pb, int c, int budget, double rel_tol,
                                   pom_cds_efficiency *out, pom_error *err);

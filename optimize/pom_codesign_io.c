@@ -314,7 +314,10 @@ void pom_cds_report_text(FILE *out, const pom_cds_problem *pb, const pom_cds_res
               1e3 * fabs(best), 1e3 * ra->nominal_fresh.p95, 1e3 * rb->nominal_fresh.p95,
               conf >= 0 ? pb->cand[a].name : pb->cand[b].name, 1e3 * fabs(conf));
     }
-  fprintf(out, "Simulations: %ld; wall time %.1f s%s\n", res->simulations, res->wall,
+  fprintf(out,
+          "Simulations: %ld in the optimizations, %ld in the config designs' figures and the "
+          "re-evaluations; wall time %.1f s%s\n",
+          res->simulations, res->other_simulations, res->wall,
           res->resumed_tasks ? " (this run; resumed tasks re-evaluated, not re-optimized)" : "");
 }
 

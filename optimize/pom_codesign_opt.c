@@ -74,13 +74,23 @@ typedef struct {
   char sens_why[160];
   long peak_rows, peak_fallbacks, peak_held, fallback_sims;
   char peak_why[160];
-  int n_hist;
-  long hist_sims[128];
-  double hist_best[128];
+  double cpu0, cpu_sens; /* process CPU at the start; spent in sensitivity runs */
+  int n_hist, hist_full;
+  long hist_sims[POM_CDS_MAX_HIST];
+  long hist_sens[POM_CDS_MAX_HIST];
+  double hist_cpu[POM_CDS_MAX_HIST];
+  double hist_best[POM_CDS_MAX_HIST];
   pom_status status;
   pom_error *err;
   nlopt_opt opt;
 } opt_ctx;
+
+/* The process's CPU time (s): the efficiency record's clock (section 11.8). */
+static double cpu_now(void) {
+  struct timespec ts;
+  if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts) != 0) return NAN;
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
 
 /* oc for candidate c of pb started at x0 (config units; NULL: the config's
  * design), the variables with free_vars[v] != 0 free (NULL: all), the
@@ -97,6 +107,7 @@ static void opt_ctx_init(opt_ctx *oc, const pom_cds_problem *pb, int c, const do
   oc->eps = eps;
   oc->err = err;
   oc->status = POM_OK;
+  oc->cpu0 = cpu_now();
   for (int v = 0; v < cd->n_vars; ++v) {
     double xv = x0 ? x0[v] : cd->var[v].x0;
     oc->x_fixed[v] = xv;
@@ -178,9 +189,11 @@ static pom_status sens_rows(opt_ctx *oc, const double *u, int *ok) {
   for (int i = 0; i < n; ++i)
     active[oc->map[i]] = 1;
   int good = 0;
+  const double cpu_s0 = cpu_now();
   pom_status st = pom_cds_sens_maneuvers(pb, oc->c, x, active, pb->maneuvers.seed, nm, &oc->gr, t,
                                          e, dt, de, near_current ? &peak : NULL, &good,
                                          oc->sens_why, sizeof oc->sens_why, oc->err);
+  oc->cpu_sens += cpu_now() - cpu_s0;
   oc->sens_runs += nm;
   oc->sens_params = n;
   oc->simulations += nm; /* counted as simulations too (hist_sims) */
@@ -357,9 +370,15 @@ static pom_status point_cd(opt_ctx *oc, const double *u, int want_grad) {
   }
   if (oc->have_best) {
     double b = oc->objective == 0 ? oc->best_fig.p95 : oc->best_fig.energy;
-    if (oc->n_hist < 128 && (oc->n_hist == 0 || b < oc->hist_best[oc->n_hist - 1])) {
-      oc->hist_sims[oc->n_hist] = oc->simulations;
-      oc->hist_best[oc->n_hist++] = b;
+    if (oc->n_hist == 0 || b < oc->hist_best[oc->n_hist - 1]) {
+      if (oc->n_hist < POM_CDS_MAX_HIST) {
+        oc->hist_sims[oc->n_hist] = oc->simulations;
+        oc->hist_sens[oc->n_hist] = oc->sens_runs;
+        oc->hist_cpu[oc->n_hist] = cpu_now() - oc->cpu0;
+        oc->hist_best[oc->n_hist++] = b;
+      } else {
+        oc->hist_full = 1;
+      }
     }
   }
   return POM_OK;
@@ -518,8 +537,13 @@ pom_status pom_cds_optimize(const pom_cds_problem *pb, int c, const double *x0, 
   snprintf(pt->peak_why, sizeof pt->peak_why, "%s", oc.peak_why);
   pt->fallback_sims = oc.fallback_sims;
   pom_grad_destroy(oc.gr);
+  pt->cpu = cpu_now() - oc.cpu0;
+  pt->cpu_sens = oc.cpu_sens;
   pt->n_hist = oc.n_hist;
+  pt->hist_full = oc.hist_full;
   memcpy(pt->hist_sims, oc.hist_sims, sizeof oc.hist_sims);
+  memcpy(pt->hist_sens, oc.hist_sens, sizeof oc.hist_sens);
+  memcpy(pt->hist_cpu, oc.hist_cpu, sizeof oc.hist_cpu);
   memcpy(pt->hist_best, oc.hist_best, sizeof oc.hist_best);
   pt->done = 1;
   return POM_OK;
@@ -773,6 +797,10 @@ pom_status pom_cds_run(const pom_cds_problem *pb, const char *journal, int resum
     }
     if (st != POM_OK) pom_error_prefix(err, "candidate '%s', re-evaluation", cd->name);
     res->simulations += cr->simulations;
+    res->other_simulations += cr->nominal.simulations + cr->nominal_fresh.simulations;
+    for (int k = 0; k < K; ++k)
+      res->other_simulations +=
+          cr->point[k].fresh.simulations + cr->point[k].fresh_parasitic.simulations;
   }
   free(je);
   if (st != POM_OK) return st;
@@ -910,6 +938,24 @@ pom_status pom_cds_grid_slice(const pom_cds_problem *pb, int c, int v1, int v2, 
 }
 
 /* ---- efficiency (section 11.8) ---------------------------------------------------------- */
+void pom_cds_first_within(const pom_cds_point *p, double target, double rel_tol, pom_cds_reach *r) {
+  memset(r, 0, sizeof *r);
+  r->cpu = NAN;
+  for (int i = 0; i < p->n_hist; ++i)
+    if (p->hist_best[i] <= target * (1.0 + rel_tol)) {
+      r->reached = 1;
+      r->sims = p->hist_sims[i];
+      r->sens_runs = p->hist_sens[i];
+      r->cpu = p->hist_cpu[i];
+      return;
+    }
+  /* not in the record: not reached, or unknown when improvements were lost */
+  r->reached = p->hist_full ? -1 : 0;
+  r->sims = p->simulations;
+  r->sens_runs = p->sens_runs;
+  r->cpu = p->cpu;
+}
+
 pom_status pom_cds_efficiency_run(const pom_cds_problem *pb, int c, int budget, double rel_tol,
                                   pom_cds_efficiency *out, pom_error *err) {
   memset(out, 0, sizeof *out);
@@ -924,12 +970,20 @@ pom_status pom_cds_efficiency_run(const pom_cds_problem *pb, int c, int budget, 
   free(p2);
   if (st != POM_OK) return st;
   out->dfree_best = out->dfree.feasible ? out->dfree.opt.p95 : NAN;
-  out->dfree_sims_to_match = -1;
-  for (int i = 0; i < out->dfree.n_hist; ++i)
-    if (out->dfree.hist_best[i] <= out->grad_best * (1.0 + rel_tol)) {
-      out->dfree_sims_to_match = out->dfree.hist_sims[i];
-      break;
-    }
+  /* the common target: the better final objective (fmin ignores a NaN) */
+  out->target = fmin(out->grad_best, out->dfree_best);
+  pom_cds_first_within(&out->grad, out->target, rel_tol, &out->grad_to_target);
+  pom_cds_first_within(&out->dfree, out->target, rel_tol, &out->dfree_to_target);
+  pom_cds_first_within(&out->grad, out->dfree_best, rel_tol, &out->grad_to_dfree);
+  pom_cds_first_within(&out->dfree, out->dfree_best, rel_tol, &out->dfree_to_dfree);
+  /* a sensitivity run in plain runs: CPU per sensitivity run over CPU per
+   * plain run, both from the gradient-based run itself */
+  const pom_cds_point *g = &out->grad;
+  long plain = g->simulations - g->sens_runs;
+  double cpu_plain = g->cpu - g->cpu_sens;
+  out->sens_cost = g->sens_runs > 0 && plain > 0 && cpu_plain > 0
+                       ? (g->cpu_sens / (double)g->sens_runs) / (cpu_plain / (double)plain)
+                       : NAN;
   return POM_OK;
 }
 

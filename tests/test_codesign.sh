@@ -147,6 +147,54 @@ awk '/^size / {n++; want = 3 * $2 ^ 1.5; if ((n == 1 && $2 != 0.5) || (n == 3 &&
 "$POMLAB" codesign "$TMP/sw.cfg" --sweep "nobody:5" > /dev/null 2> "$TMP/sw2.err"
 [ $? -eq 2 ] && grep -q "nobody" "$TMP/sw2.err" || bad "sweep: unknown candidate accepted"
 
+# ---- efficiency (docs/optimize.md 11.8): each method counted until it first
+# came within 0.5 % of the same target (the better final objective), from its
+# own record; never COBYLA's whole run against the gradient-based run's part.
+# Checks: the target is the better of the two finals; each count to it is at
+# most that run's total; the printed ratio is the quotient of the two counts
+# to the target; COBYLA reaches its own final objective; with sensitivities
+# the plain-run equivalents are plain + cost x sensitivity runs and a
+# sensitivity run (p = 3: the plain system and 3 sensitivity systems) costs
+# more than one plain run ----
+eff_check() { # OUT
+  awk '
+    function num(s) { gsub(/[^0-9.]/, "", s); return s + 0 }
+    /^gradient-based: p95/ { G = $3; N = $5 }
+    /^COBYLA: +p95/ { D = $3; M = $5 }
+    /^to within 0.5 % of the common target/ { blk = 1; T = $(NF - 2) }
+    /^to within 0.5 % of COBYLA.s final/ { blk = 2 }
+    blk == 1 && /^  gradient-based: [0-9]/ { kg = $2 }
+    blk == 1 && /^  COBYLA: +[0-9]/ { kd = $2 }
+    blk == 1 && /^  COBYLA: +not within/ { kd = M; gt = 1 }
+    blk == 1 && /^  COBYLA \/ gradient-based:/ { r = $4 == ">" ? num($5) : num($4) }
+    blk == 2 && /^  COBYLA: +[0-9]/ { kown = $2 }
+    /plain-run equivalents/ && /^  gradient-based: [0-9]/ {
+      split($0, a, "; "); split(a[2], b, " "); sens = b[1]; plain = b[4]; eq = b[6] }
+    /a sensitivity run cost/ { cost = $5 }
+    END {
+      best = G < D ? G : D
+      if (G == "" || D == "" || T == "") { print "lines missing"; exit 1 }
+      if ((T - best) ^ 2 > 1e-8) { print "target " T " is not min(" G ", " D ")"; exit 1 }
+      if (kg == "" || kg > N) { print "gradient-based count " kg " of " N; exit 1 }
+      if (kd == "" || kd > M) { print "COBYLA count " kd " of " M; exit 1 }
+      if (r == "" || (r - kd / kg) ^ 2 > 0.006 ^ 2) { print "ratio " r " is not " kd " / " kg; exit 1 }
+      if (T != D && (kown == "" || kown > M)) { print "COBYLA to its own final: " kown; exit 1 }
+      if (want_sens) {
+        if (cost == "" || cost <= 1) { print "sensitivity run cost " cost; exit 1 }
+        # eq printed to the unit, cost to 0.01
+        if (sens == "" || sens <= 0 || (eq - (plain + cost * sens)) ^ 2 > (0.5 + 0.005 * sens + 1e-9) ^ 2) {
+          print "plain-run equivalents " eq " vs " plain " + " cost " x " sens; exit 1 }
+      }
+    }' want_sens="${2:-0}" "$1"
+}
+"$POMLAB" codesign "$TMP/run.cfg" --efficiency "3P-S-S/S:12" --threads 1 > "$TMP/ef.txt" 2> "$TMP/ef.err" \
+  || bad "efficiency: $(cat "$TMP/ef.err")"
+eff_check "$TMP/ef.txt" || bad "efficiency: $(cat "$TMP/ef.txt")"
+sed 's/gradient_step = 0.02;/gradient_step = 0.02; gradient = "sensitivity";/' "$TMP/run.cfg" > "$TMP/efs.cfg"
+"$POMLAB" codesign "$TMP/efs.cfg" --efficiency "3P-S-S/S:12" --threads 1 > "$TMP/efs.txt" 2> "$TMP/efs.err" \
+  || bad "efficiency, sensitivities: $(cat "$TMP/efs.err")"
+eff_check "$TMP/efs.txt" 1 || bad "efficiency, sensitivities: $(cat "$TMP/efs.txt")"
+
 # ---- resume: kill a run after its first finished task, resume, compare ----
 sum_before=$(md5sum < "$TMP/a.h5")
 "$POMLAB" codesign "$TMP/run.cfg" --out "$TMP/a.h5" --quiet > /dev/null 2>&1 &
