@@ -994,6 +994,11 @@ static pom_status check_paths(const pom_doe_study *study, const pom_job_options 
   if (output[0]) {
     pom_doe_results_partial_path(partial, sizeof partial, output);
     pom_job_paths_output(p, partial, "the unfinished results file");
+    /* and the results' lock (pom_doe_results takes OUTPUT.lock, truncating
+     * it: a config of that name would be lost) */
+    char lock[POM_DOE_PATH_LEN + 8];
+    snprintf(lock, sizeof lock, "%s.lock", output);
+    pom_job_paths_output(p, lock, "the lock file");
     if (o->summary) {
       pom_job_summary_dir(summary, sizeof summary - 12, output);
       strcat(summary, "/summary.md");

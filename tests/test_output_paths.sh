@@ -83,6 +83,13 @@ refused "the candidates table = the results file" "the candidates table (--tabul
   "${STUDY[@]}" --out q_candidates.csv --tabular q.csv
 refused "the results file = the summary" "is the same file as the summary 'o/summary.md'" \
   "$POMLAB" study S.cfg --quiet --no-plots --out o.h5 --tabular o/summary.md
+# the results' lock (OUTPUT.lock, truncated when taken): a config of that name
+cp S.cfg SL.h5.lock
+before_l=$(md5sum SL.h5.lock)
+expect_rc 2 "$POMLAB" study SL.h5.lock --quiet --no-plots --no-summary --out SL.h5
+expect_err "the lock file 'SL.h5.lock' is the same file as the config 'SL.h5.lock'"
+check "study: a config named like the lock untouched" [ "$before_l" = "$(md5sum SL.h5.lock)" ]
+check "study: nothing made beside the refused lock run" [ ! -e SL.h5 ]
 # montecarlo, simulate, tradeoff, workspace, tune, synth
 refused "montecarlo --out = config" "pomlab montecarlo: the results file (--out) 'cand.cfg' is the same file as the config" \
   "$POMLAB" montecarlo cand.cfg --n 1 --out cand.cfg --quiet
