@@ -21,6 +21,7 @@
  * Elasticities are taken with the direction's scale pbar (the move of s
  * that changes some key by its own magnitude). */
 #include "check.h"
+#include "grad_test_util.h"
 #include "pom_grad.h"
 
 #include <math.h>
@@ -31,24 +32,7 @@
 /* configs/3pss.cfg with the solver's rtol at 1e-12 (the tolerance the
  * class bounds were measured at, docs/optimize.md 12.4). */
 static pom_cfg *tight_config(void) {
-  char path[512];
-  snprintf(path, sizeof path, "%s/configs/3pss.cfg", POM_SOURCE_DIR);
-  FILE *f = fopen(path, "rb");
-  if (!f) return NULL;
-  static char text[1 << 16];
-  size_t n = fread(text, 1, sizeof text - 1, f);
-  fclose(f);
-  text[n] = '\0';
-  char *r = strstr(text, "rtol = 1.0e-6;");
-  if (!r) return NULL;
-  memcpy(r, "rtol = 1e-12; ", 14); /* same length */
-  pom_cfg *cfg = NULL;
-  pom_error err;
-  if (pom_cfg_load_string(&cfg, text, path, &err) != POM_OK) {
-    printf("config: %s\n", err.message);
-    return NULL;
-  }
-  return cfg;
+  return shipped_with_rtol("3pss.cfg", "1e-12");
 }
 
 #define NK 4

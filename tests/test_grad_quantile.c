@@ -21,6 +21,7 @@
  * maneuvers, the mean all alike), and the quantile's value must equal
  * pom_smooth_quantile of the maneuvers' times. */
 #include "check.h"
+#include "grad_test_util.h"
 #include "pom_grad.h"
 #include "pom_math.h"
 
@@ -35,21 +36,9 @@
 
 /* configs/3pss.cfg at rtol 1e-10 with N_MAN maneuvers. */
 static pom_cfg *config(void) {
-  char path[512];
-  snprintf(path, sizeof path, "%s/configs/3pss.cfg", POM_SOURCE_DIR);
-  FILE *f = fopen(path, "rb");
-  if (!f) return NULL;
-  static char text[1 << 16];
-  size_t n = fread(text, 1, sizeof text - 1, f);
-  fclose(f);
-  text[n] = '\0';
-  char *r = strstr(text, "rtol = 1.0e-6;");
-  if (!r) return NULL;
-  memcpy(r, "rtol = 1e-10; ", 14); /* same length */
-  pom_cfg *cfg = NULL;
+  pom_cfg *cfg = shipped_with_rtol("3pss.cfg", "1e-10");
   pom_error err;
-  if (pom_cfg_load_string(&cfg, text, path, &err) != POM_OK ||
-      pom_cfg_set_number(cfg, "montecarlo.maneuvers", "6", "test", &err) != POM_OK) {
+  if (cfg && pom_cfg_set_number(cfg, "montecarlo.maneuvers", "6", "test", &err) != POM_OK) {
     printf("config: %s\n", err.message);
     pom_cfg_destroy(cfg);
     return NULL;

@@ -43,6 +43,7 @@
  * the integration's own, 1e-5 of it moves with rtol, and its elasticities
  * change sign between rtol 1e-12 and 2e-12. */
 #include "check.h"
+#include "grad_test_util.h"
 #include "pom_grad.h"
 
 #include <math.h>
@@ -89,13 +90,8 @@ static const track_case cases[2] = {{1, 2e-3, {1.5, -2.0, 0.8}, H0, RUN_ERROR0},
  * feedforward along a minimum-jerk reference of 10 ms. */
 static pom_cfg *ff_config(const char *rtol, const track_case *tc) {
   char path[512];
-  snprintf(path, sizeof path, "%s/configs/3pss.cfg", POM_SOURCE_DIR);
-  FILE *f = fopen(path, "rb");
-  if (!f) return NULL;
   static char text[1 << 16], out[(1 << 16) + 512];
-  size_t n = fread(text, 1, sizeof text - 1, f);
-  fclose(f);
-  text[n] = '\0';
+  if (!shipped_text("3pss.cfg", text, sizeof text, path)) return NULL;
   out[0] = '\0';
   int in_controller = 0;
   for (const char *p = text; *p;) {

@@ -40,6 +40,7 @@
  * CLI reads. */
 #define _POSIX_C_SOURCE 200809L /* popen */
 #include "check.h"
+#include "grad_test_util.h"
 #include "pom_grad.h"
 
 #include <math.h>
@@ -61,13 +62,8 @@ static const double DH[4] = {1e-3, 1e-4, 1e-4, 1e-5};
  * one Monte-Carlo maneuver, as text into out. */
 static int config_text(char *out, size_t cap, double band_percent) {
   char path[512];
-  snprintf(path, sizeof path, "%s/configs/3pss.cfg", POM_SOURCE_DIR);
-  FILE *f = fopen(path, "rb");
-  if (!f) return 0;
   static char text[1 << 16];
-  size_t n = fread(text, 1, sizeof text - 1, f);
-  fclose(f);
-  text[n] = '\0';
+  if (!shipped_text("3pss.cfg", text, sizeof text, path)) return 0;
   out[0] = '\0';
   size_t used = 0;
   for (const char *p = text; *p;) {
