@@ -65,6 +65,10 @@ double pom_dyn_actuator_law(const pom_dyn_model *m, pom_dyn_data *d, int a, doub
   u_raw += d->u_inject[a]; /* 0 but where a loop is broken (dyn_freq.c) */
   double lim = ap->voltage_limit;
   double u = u_raw > lim ? lim : (u_raw < -lim ? -lim : u_raw);
+  /* a perturbed model's evaluation for the sensitivities: the nominal's
+   * saturation pattern, so that the difference is the derivative of one
+   * smooth piece (dyn_sens.c, docs/optimize.md 12.1) */
+  if (d->sat_frozen) u = d->sat_mode[a] ? d->sat_mode[a] * lim : u_raw;
   double i;
   if (ac->flux_state >= 0)
     i = y[ac->flux_state] / ap->inductance;

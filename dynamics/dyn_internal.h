@@ -321,6 +321,12 @@ struct pom_dyn_data {
   /* added by the design gradients (issue 29, dyn_sens.c): the forward
    * sensitivities of the run under way, NULL on a plain run */
   struct dyn_sens *sens;
+  /* a sensitivity evaluation of a perturbed model (dyn_sens.c): 1 while
+   * the saturation follows sat_mode (+1 at +limit, -1 at -limit, 0 the
+   * linear band: u = u_raw unclipped), the nominal run's pattern, instead
+   * of its own raw voltage (docs/optimize.md 12.1) */
+  int sat_frozen;
+  int sat_mode[POM_MECH_MAX_ACTUATORS];
   dyn_peak peak; /* the peak coil current's watch (dyn_peak.c) */
   /* the state's Newton solver (CVODE's own, attached by us so that a
    * staggered sensitivity run can skip the state's right-hand side that

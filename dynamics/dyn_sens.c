@@ -34,8 +34,14 @@ struct dyn_sens {
   N_Vector *atolS; /* [n] absolute tolerances of the sensitivities */
   double rtol_s;   /* their relative tolerance */
   int root_dir[2 * POM_MECH_MAX_ACTUATORS];
+  int root_info[2 * POM_MECH_MAX_ACTUATORS];
+  /* the nominal's saturation pattern since the last restart (+1 at +limit,
+   * -1 at -limit, 0 in the linear band), which every perturbed model's
+   * evaluation follows (docs/optimize.md 12.1) */
+  int mode[POM_MECH_MAX_ACTUATORS];
   long steps_before; /* steps of the integrations before the last restart */
   long restarts;
+  long resyncs; /* restarts at a step end whose pattern disagreed with mode */
   /* the corrector's cache per parameter: the (t, y) of the last call, the
    * plus model's rate there and the sensitivity rate it gave */
   double key_t[POM_DYN_SENS_MAX];
@@ -262,8 +268,36 @@ static int band_roots(sunrealtype t, N_Vector yv, sunrealtype *gout, void *user_
   return 0;
 }
 
-static pom_status pom_dyn_sens_restart(const pom_dyn_model *m, pom_dyn_data *d, double t,
-                                       pom_error *err) {
+/* The saturation pattern of a raw voltage u at limit lim, as the clamp has
+ * it (at u = +-lim exactly: saturated, the same voltage either way). */
+static int sat_mode_of(double u, double lim) {
+  return u >= lim ? 1 : (u <= -lim ? -1 : 0);
+}
+
+/* Whether u agrees with the pattern mode within MODE_SLACK of the limit (at
+ * a root the nominal stands on the corner itself, to the root finding's
+ * tolerance, on either side). */
+#define MODE_SLACK 1e-6
+static int mode_agrees(int mode, double u, double lim) {
+  const double slack = MODE_SLACK * lim;
+  if (mode > 0) return u >= lim - slack;
+  if (mode < 0) return u <= -lim + slack;
+  return fabs(u) <= lim + slack;
+}
+
+/* The perturbed models' evaluations follow w->mode from now on. */
+static void freeze_modes(struct dyn_sens *w, int na) {
+  for (int side = 0; side < 2; ++side)
+    for (int j = 0; j < w->n; ++j) {
+      pom_dyn_data *dx = w->dx[side][j];
+      dx->sat_frozen = 1;
+      for (int a = 0; a < na; ++a)
+        dx->sat_mode[a] = w->mode[a];
+    }
+}
+
+/* CVODES restarted at t from the state and sensitivities there. */
+static pom_status sens_reinit(const pom_dyn_model *m, pom_dyn_data *d, double t, pom_error *err) {
   struct dyn_sens *w = d->sens;
   double tret = t;
   long steps = 0;
@@ -276,9 +310,27 @@ static pom_status pom_dyn_sens_restart(const pom_dyn_model *m, pom_dyn_data *d, 
       CVodeSetStopTime(d->cvode, m->par.maneuver.horizon) != CV_SUCCESS)
     POM_FAIL(err, POM_ERR_SOLVER, "restarting the sensitivities at t = %.9g s: %s", t,
              d->cvode_msg);
-  ++w->restarts;
   memset(w->key_ok, 0, sizeof w->key_ok); /* the corrector's cache: a new start */
   return POM_OK;
+}
+
+/* At a root of band_roots: the pattern of the actuators whose raw voltage
+ * crossed a limit follows the crossing's direction (u_raw - limit rising:
+ * +limit entered; falling: left; u_raw + limit rising: -limit left;
+ * falling: entered), then the restart. */
+static pom_status pom_dyn_sens_restart(const pom_dyn_model *m, pom_dyn_data *d, double t,
+                                       pom_error *err) {
+  struct dyn_sens *w = d->sens;
+  const int na = m->n_actuators;
+  if (CVodeGetRootInfo(d->cvode, w->root_info) != CV_SUCCESS)
+    POM_FAIL(err, POM_ERR_SOLVER, "reading the roots at t = %.9g s: %s", t, d->cvode_msg);
+  for (int a = 0; a < na; ++a) {
+    if (w->root_info[2 * a]) w->mode[a] = w->root_info[2 * a] > 0 ? 1 : 0;
+    if (w->root_info[2 * a + 1]) w->mode[a] = w->root_info[2 * a + 1] > 0 ? 0 : -1;
+  }
+  freeze_modes(w, na);
+  ++w->restarts;
+  return sens_reinit(m, d, t, err);
 }
 
 /* ---- hooks of the driver (dyn_simulate.c) ------------------------------------ */
@@ -314,6 +366,13 @@ static pom_status pom_dyn_sens_begin(const pom_dyn_model *m, pom_dyn_data *d, po
   }
   memset(w->dtrack, 0, sizeof w->dtrack);
   w->have_final = 0;
+  /* the saturation pattern at rest at home, the nominal's clamp there */
+  w->resyncs = 0;
+  d->t = 0.0;
+  (void)pom_dyn_eval(m, d, N_VGetArrayPointer(d->y), NULL);
+  for (int a = 0; a < m->n_actuators; ++a)
+    w->mode[a] = sat_mode_of(d->out.u_raw[a], m->par.actuator.voltage_limit);
+  freeze_modes(w, m->n_actuators);
   return POM_OK;
 }
 
@@ -443,6 +502,23 @@ static pom_status pom_dyn_sens_step(const pom_dyn_model *m, pom_dyn_data *d, dou
         w->dtrack[j] += 0.5 * h * (e2[0] - e2[1]) / (2.0 * hj);
       }
     }
+  }
+  /* the pattern at the step's end against the nominal's clamp: a pair of
+   * crossings inside one step is a sign change that the root finding does
+   * not see; the perturbed models then follow the nominal again from here */
+  d->t = t;
+  (void)pom_dyn_eval(m, d, N_VGetArrayPointer(d->y), NULL);
+  const double lim = m->par.actuator.voltage_limit;
+  int agree = 1;
+  for (int a = 0; a < na; ++a)
+    if (!mode_agrees(w->mode[a], d->out.u_raw[a], lim)) {
+      w->mode[a] = sat_mode_of(d->out.u_raw[a], lim);
+      agree = 0;
+    }
+  if (!agree) {
+    freeze_modes(w, na);
+    ++w->resyncs;
+    POM_TRY(sens_reinit(m, d, t, err));
   }
   return POM_OK;
 }
@@ -649,6 +725,7 @@ pom_status pom_dyn_simulate_sens(const pom_dyn_model *m, pom_dyn_data *d, const 
   (void)CVodeRootInit(d->cvode, 0, NULL);
   mt->steps += w->steps_before;
   gr->restarts = w->restarts;
+  gr->resyncs = w->resyncs;
   CVodeSensFree(d->cvode);
   gr->sens_rhs_evals = w->rhs_evals;
 

@@ -66,6 +66,10 @@ typedef struct {
   double pointing_crossing_rate;
   long sens_rhs_evals; /* right-hand sides spent on the sensitivities (both models) */
   long restarts;       /* restarts at a raw voltage entering or leaving its linear band */
+  /* restarts where the nominal's saturation pattern at a step's end
+   * disagreed with the one the sensitivities followed (two crossings
+   * inside one step; docs/optimize.md 12.1) */
+  long resyncs;
   /* the peak coil current (metrics->peak_current): its derivative by the
    * envelope theorem, sign(i) di/dp at the argmax (docs/optimize.md 12.2),
    * with the argmax's time (s) and coil (0-based) */

@@ -18,8 +18,7 @@
  * issue's): energies 1e-5, settling times 1e-4; the final pointing error (a
  * ~1e-6 rad residual) 1e-3; the peak coil current 1e-4. A derivative meets
  * its bound when |sens - ref| <= bound + E, and every compared derivative
- * of the setting under test must meet it (with --against, the other
- * setting is measured and printed, not held to it). A reference whose E exceeds
+ * must meet it (with --against, at both noise margins). A reference whose E exceeds
  * REF_SHARE of the bound cannot check the derivative to the bound: counted as "reference not
  * differentiable at this step" when its kink test fired, as "reference
  * unresolved" otherwise, never compared and never dropped silently; so is a
@@ -34,10 +33,15 @@
  * (pom_grad_options.sens_noise_margin, default 3e2; docs/optimize.md 12.4).
  * --rel-step R: the sensitivities' differencing step (pom_grad_options.rel_step,
  * default 3e-6).
- * --against M0: each case's sensitivities also at the noise margin M0; the
- * energies' worst error at --margin must then be within 1e-5 and at most a
- * third of M0's (test_grad_random_margin).
+ * --against M0: each case's sensitivities also at the noise margin M0, held
+ * to the same bounds: since the perturbed models follow the nominal's
+ * saturation pattern (docs/optimize.md 12.1), the error does not follow
+ * the margin, and a design that meets the bounds at one margin and not at
+ * another is the defect that change removed (test_grad_random_margin,
+ * test_grad_random_3rrr_margin).
  * --cases A,B,...: run only these cases (of the first argv[1]).
+ * --verbose: every compared derivative printed with its error, not only
+ * those beyond their bound.
  * --ref-cache PREFIX: the references (which do not depend on the
  * sensitivities' settings) are read from PREFIX.N (case N) when present and
  * written there otherwise: the same cases at several margins run the 37
@@ -129,6 +133,9 @@ static const arch_case archs[] = {
 };
 #define N_ARCHS ((int)(sizeof archs / sizeof archs[0]))
 
+/* --verbose: every compared derivative printed, not only those beyond */
+static int verbose;
+
 /* The shipped config with rigid joints, rtol RTOL and no wall-clock budget,
  * as a string config. */
 static pom_cfg *rigid_config(const char *file) {
@@ -213,7 +220,6 @@ static int in_list(const char *list, int c) {
 typedef struct {
   double margin;
   pom_grad *gs[N_ARCHS];
-  int held; /* 1: the setting under test, each derivative held to its bound */
   long compared[4], over[4], kink[4], unresolved[4], undefined[4], ref_undefined, light;
   long why[POM_DYN_GRAD_PEAK_KINK + 1];
   double worst[4], worst_ref[4];
@@ -260,6 +266,9 @@ static double compare(tally *t, int a, const double *v, int nk, const pom_dyn_me
         continue;
       }
       ++t->compared[cls];
+      if (verbose)
+        printf("  %s / %s: sens %+.9e ref %+.9e elasticity error %.2e (reference %.1e)\n", name,
+               archs[a].keys[j], sens, ref[k].d[j], e, E);
       t->worst[cls] = fmax(t->worst[cls], e);
       if (cls == 0) worst_energy = fmax(worst_energy, e);
       t->worst_ref[cls] = fmax(t->worst_ref[cls], E);
@@ -267,9 +276,9 @@ static double compare(tally *t, int a, const double *v, int nk, const pom_dyn_me
         ++t->over[cls];
         printf("  %s %s / %s: sens %+.9e ref %+.9e (+- %.1e) elasticity error %.2e > %.0e + "
                "%.1e%s\n",
-               t->held ? "FAIL" : "beyond the bound", name, archs[a].keys[j], sens, ref[k].d[j],
-               ref[k].err[j], e, tol, E, ref[k].kink[j] ? " (kink test fired, spread small)" : "");
-        check_true(!t->held);
+               "FAIL", name, archs[a].keys[j], sens, ref[k].d[j], ref[k].err[j], e, tol, E,
+               ref[k].kink[j] ? " (kink test fired, spread small)" : "");
+        check_true(0);
       }
     }
   }
@@ -311,6 +320,8 @@ int main(int argc, char **argv) {
       list = argv[++i];
     } else if (strcmp(argv[i], "--ref-cache") == 0 && i + 1 < argc) {
       cache = argv[++i];
+    } else if (strcmp(argv[i], "--verbose") == 0) {
+      verbose = 1;
     } else if (strcmp(argv[i], "--arch") == 0 && i + 1 < argc) {
       arch_file = argv[++i];
     } else if (npos < 4) {
@@ -342,11 +353,10 @@ int main(int argc, char **argv) {
   }
   pom_rng rng;
   pom_rng_seed(&rng, 20261129, 29);
-  /* the setting under test, and with --against the one it is compared with */
+  /* the setting under test, and with --against the other margin */
   tally tl[2];
   memset(tl, 0, sizeof tl);
   tl[0].margin = margin;
-  tl[0].held = 1;
   tl[1].margin = against;
   const int ns = against > 0.0 ? 2 : 1;
   long ran = 0;
@@ -428,9 +438,9 @@ int main(int argc, char **argv) {
     }
     for (int t = 0; t < ns; ++t) {
       printf("case %3d %s q (%+.3f, %+.3f, %+.3f) %s, margin %g: %ld steps, %ld sensitivity "
-             "right-hand sides, %ld restarts\n",
+             "right-hand sides, %ld restarts (%ld resyncs)\n",
              c, archs[a].file, q[0] * 1e3, q[1] * 1e3, q[2] * 1e3, archs[a].unit, tl[t].margin,
-             mt[t].steps, gr[t].sens_rhs_evals, gr[t].restarts);
+             mt[t].steps, gr[t].sens_rhs_evals, gr[t].restarts, gr[t].resyncs);
       tl[t].steps += mt[t].steps;
       tl[t].sens_evals += gr[t].sens_rhs_evals;
       double we = compare(&tl[t], a, v, nk, &mt[t], &gr[t], ref, shift);
@@ -449,13 +459,11 @@ int main(int argc, char **argv) {
    * over a few cases only, all maxima may lie at corners */
   if (ran >= 10) check_true(t0->compared[3] >= ran * nk / 4);
   if (ns == 2) {
-    /* the knob tightens the energies: their worst error at --margin within
-     * the issue's 1e-5 and at most a third of --against's (docs/optimize.md
-     * 12.4: the tolerance a tenth, the error of case 0 1.3e-5 -> 8.8e-7) */
-    printf("energies: worst elasticity error %.2e at margin %g against %.2e at %g\n", t0->worst[0],
+    /* both margins were held to the bounds above (compare); the energies'
+     * worst errors side by side */
+    printf("energies: worst elasticity error %.2e at margin %g, %.2e at %g\n", t0->worst[0],
            t0->margin, tl[1].worst[0], tl[1].margin);
-    check_true(t0->worst[0] <= class_bound[0]);
-    check_true(3.0 * t0->worst[0] <= tl[1].worst[0]);
+    check_true(tl[1].compared[0] >= ran * 4 * nk * 3 / 4);
   }
   for (int t = 0; t < ns; ++t)
     for (int a = 0; a < N_ARCHS; ++a)
