@@ -107,6 +107,25 @@ h5dump -d /candidates/3P_S_S_S/front_info_columns "$TMP/a.h5" | grep -q '"rdw_be
 h5dump -a /required_rdw_deg "$TMP/a.h5" | grep -q "(0): 8$" || bad "rdw flag: required_rdw_deg is not 8"
 [ "$(flags "$TMP/a.h5")" = "13:0 13:0 " ] || bad "rdw flag at 8 deg: '$(flags "$TMP/a.h5")', want 13:0 13:0"
 grep -q "RDW BELOW\|RDW deg .*\*\|< 8.0 deg" "$TMP/a.txt" && bad "rdw flag: a point flagged at 8 deg"
+# ---- how each optimization stopped, in the report (docs/optimize.md 11.7):
+# per front point the algorithm, NLopt's result name and the evaluations,
+# the same as front_info's nlopt_result and evaluations columns ----
+info_stops() { # FILE.h5: "pt K CODE EVALS" per front point (CODE as NLopt's number)
+  h5dump -d /candidates/3P_S_S_S/front_info "$1" | awk '/^ *\([0-9]+,0\):/ {
+    sub(/^ *\([0-9]+,0\): */, ""); sub(/, *$/, ""); split($0, f, /, */); ++k
+    printf "pt %d %d %d\n", k, f[5], f[7]}'
+}
+stops=$(grep "^  optimizer stops:" "$TMP/a.txt")
+[ -n "$stops" ] || bad "stops: the report has no 'optimizer stops' line"
+code_of() { case "$1" in NLOPT_SUCCESS) echo 1 ;; NLOPT_STOPVAL_REACHED) echo 2 ;;
+  NLOPT_FTOL_REACHED) echo 3 ;; NLOPT_XTOL_REACHED) echo 4 ;; NLOPT_MAXEVAL_REACHED) echo 5 ;;
+  NLOPT_MAXTIME_REACHED) echo 6 ;; NLOPT_ROUNDOFF_LIMITED) echo -4 ;; *) echo "?$1" ;; esac; }
+printed=$(printf '%s\n' "$stops" | sed 's/^  optimizer stops://' | tr ';' '\n' |
+  sed -E 's/^ *pt ([0-9]+) (SLSQP|MMA|COBYLA \(fallback\)) (NLOPT_[A-Z_]+) after ([0-9]+) evaluations$/\1 \3 \4/' |
+  while read -r k name ev; do echo "pt $k $(code_of "$name") $ev"; done)
+[ "$printed" = "$(info_stops "$TMP/a.h5")" ] \
+  || bad "stops: report '$stops' against front_info '$(info_stops "$TMP/a.h5" | tr '\n' ' ')'"
+
 sed 's/workspace_half_width_deg = 8.0;/workspace_half_width_deg = 13.3;/; s/max_evals = 4;/max_evals = 2;/' \
   "$TMP/run.cfg" > "$TMP/rdw.cfg"
 "$POMLAB" codesign "$TMP/rdw.cfg" --out "$TMP/rdw.h5" --quiet > "$TMP/rdw.txt" 2> "$TMP/rdw.err" \
