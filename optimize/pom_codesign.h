@@ -26,6 +26,9 @@
 #define POM_CDS_MAX_CANDIDATES 16
 #define POM_CDS_MAX_VARS       10
 #define POM_CDS_MAX_FRONT      8
+/* an epsilon point no more than this fraction faster than its start is stuck
+ * and starts again from the time optimum (docs/optimize.md 11.5) */
+#define POM_CDS_STUCK_TOL      1e-3
 #define POM_CDS_MAX_STARTS     8
 #define POM_CDS_MAX_HIST       512 /* improvements kept per optimization */
 #define POM_CDS_KEY_LEN        96
@@ -172,6 +175,8 @@ typedef struct {
   char peak_why[160];  /* the last current-row fallback's reason */
   long fallback_sims;  /* simulations spent on differences (both kinds of fallback) */
   int nlopt_result;
+  int restarted;   /* an epsilon point stuck on its start ran again from the time optimum
+                      (section 11.5): 1 the first run kept, 2 the second; 0 not */
   double cpu;      /* process CPU time of this optimization (s) */
   double cpu_sens; /* of which inside the sensitivity runs (s) */
   /* the search's record, one entry per improvement of the best feasible

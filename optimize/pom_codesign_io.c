@@ -264,10 +264,15 @@ void pom_cds_report_text(FILE *out, const pom_cds_problem *pb, const pom_cds_res
     fprintf(out, "  optimizer stops:");
     for (int k = 0; k < cr->n_points; ++k) {
       const pom_cds_point *p = &cr->point[k];
-      fprintf(out, "%s pt %d %s%s %s after %ld evaluations", k ? ";" : "", k + 1,
+      fprintf(out, "%s pt %d %s%s %s after %ld evaluations%s", k ? ";" : "", k + 1,
               p->fallback_used ? "" : alg_label(pb->alg),
               p->fallback_used ? "COBYLA (fallback)" : "", pom_opt_result_name(p->nlopt_result),
-              p->evaluations);
+              p->evaluations,
+              p->restarted == 2   ? " (stuck on its start; the second start, from the time "
+                                    "optimum, kept)"
+              : p->restarted == 1 ? " (stuck on its start; the second start, from the time "
+                                    "optimum, was worse)"
+                                  : "");
     }
     fprintf(out, "\n");
     if (!cr->point[0].feasible) {

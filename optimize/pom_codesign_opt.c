@@ -564,7 +564,9 @@ typedef struct {
   pom_cds_point pt;
 } journal_entry;
 
-#define MAX_TASKS (POM_CDS_MAX_STARTS + POM_CDS_MAX_FRONT)
+/* the time starts, the energy optimum, the epsilon points and their second
+ * starts (from the time optimum) */
+#define MAX_TASKS (POM_CDS_MAX_STARTS + 2 * POM_CDS_MAX_FRONT)
 
 static pom_status journal_append(const char *path, int c, int task, const pom_cds_point *pt, int nv,
                                  pom_error *err) {
@@ -773,16 +775,36 @@ pom_status pom_cds_run(const pom_cds_problem *pb, const char *journal, int resum
      * energy optimum's side (each start meets its bound: the previous
      * point's energy is below the next, larger, bound) */
     double e_hi = best.opt.energy, e_lo = pe.opt.energy;
-    const double *xprev = pe.x;
+    const pom_cds_point *prev = &pe;
     for (int k = K - 2; k >= 1 && st == POM_OK; --k) {
       double eps = e_hi - (e_hi - e_lo) * k / (K - 1);
       pom_cds_point *p = &cr->point[k];
-      st = task(pb, c, pb->starts + k, xprev, 0, eps, je, nj, journal, &ps, p, &res->resumed_tasks,
-                err);
+      st = task(pb, c, pb->starts + k, prev->x, 0, eps, je, nj, journal, &ps, p,
+                &res->resumed_tasks, err);
       if (st != POM_OK) break;
       p->eps = eps;
       cr->simulations += p->simulations;
-      xprev = p->x;
+      /* stuck on its start (docs/optimize.md 11.5): no feasible design at
+       * least 0.1 % faster than the start, whose energy leaves the bound
+       * slack. A second start from the time optimum, on the bound's other
+       * side; the better of the two is the front point. */
+      if (!(p->feasible && p->opt.p95 < (1.0 - POM_CDS_STUCK_TOL) * prev->opt.p95)) {
+        pom_cds_point q;
+        ps.total += pb->max_evals;
+        st = task(pb, c, pb->starts + K - 1 + k, best.x, 0, eps, je, nj, journal, &ps, &q,
+                  &res->resumed_tasks, err);
+        if (st != POM_OK) break;
+        q.eps = eps;
+        cr->simulations += q.simulations;
+        long sims = p->simulations + q.simulations, evals = p->evaluations + q.evaluations;
+        int take = (q.feasible && !p->feasible) ||
+                   (q.feasible == p->feasible && pt_obj(&q, 0) < pt_obj(p, 0));
+        if (take) *p = q;
+        p->restarted = take ? 2 : 1;
+        p->simulations = sims;
+        p->evaluations = evals;
+      }
+      prev = p;
     }
     if (st != POM_OK) break;
     /* honest figures: a fresh maneuver set, rigid and parasitic */
