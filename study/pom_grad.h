@@ -97,6 +97,10 @@ typedef struct {
   double quantile_bandwidth; /* its kernel's bandwidth (s) > 0; default 1e-3 (the co-design's
                                 bandwidth_ms); the key gradient.quantile_bandwidth_ms (ms)
                                 replaces it */
+  double solver_rtol;        /* > 0: every run's solver.rtol instead of the config's (the
+                                whole-run differences of `pomlab gradient --check` run tighter
+                                than the file; the caller checks it as solver.rtol is checked);
+                                0 (default): the config's */
 } pom_grad_options;
 
 void pom_grad_options_defaults(pom_grad_options *o);
