@@ -166,12 +166,12 @@ typedef struct {
   int sens_params;     /* sensitivity parameters of each such run (the free variables) */
   long sens_fallbacks; /* evaluations whose gradient fell back to differences */
   char sens_why[160];  /* the last fallback's reason ("" when none) */
-  long peak_rows;      /* gradients whose current row came from the peak current's
-                          derivative (section 11.5) */
-  long peak_fallbacks; /* current rows by whole-simulation differences: a maneuver's peak
-                          derivative undefined (or a tie between maneuvers) near active */
-  long peak_held;      /* current rows held at the size law's limit alone: undefined, and the
-                          constraint more than 20 % from active */
+  long peak_rows;      /* per-maneuver current rows (one per maneuver and gradient, section
+                          11.5) from that maneuver's peak current derivative */
+  long peak_fallbacks; /* such rows by differences of that maneuver alone (2n runs): its peak
+                          derivative undefined (a kink, an edge, a tie) near active */
+  long peak_held;      /* such rows held at the size law's limit alone: undefined, and the
+                          maneuver's constraint more than 20 % from active */
   char peak_why[160];  /* the last current-row fallback's reason */
   long fallback_sims;  /* simulations spent on differences (both kinds of fallback) */
   int nlopt_result;
@@ -244,7 +244,7 @@ typedef struct {
  * the simulations, sensitivity runs and CPU until its best feasible
  * objective first came within rel_tol of the target (from the points'
  * records). sens_cost: the plain-run equivalents of one sensitivity run in
- * the gradient-based run (its CPU per sensitivity run over its CPU per
+ * the gradient-based run (its CPU per sensitivity run over COBYLA's CPU per
  * plain run; NaN without sensitivity runs). */
 typedef struct {
   int reached;    /* 1 reached; 0 not within the run; -1 unknown (record full) */

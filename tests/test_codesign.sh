@@ -71,6 +71,17 @@ write "$TMP/e_unknown.cfg" 'frnt_points = 3;'
 expect_err e_unknown "e_unknown.cfg" "frnt_points"
 sed 's/max_evals = 4;/algorithm = "newton"; max_evals = 4;/' "$TMP/run.cfg" > "$TMP/e_alg.cfg"
 expect_err e_alg "e_alg.cfg" "codesign.optimizer.algorithm" "newton"
+# --gradient SOURCE sets codesign.optimizer.gradient through the key's own
+# check: a bad value names the key and the value (and the option) as the
+# file's does, exit 2
+sed 's/max_evals = 4;/gradient = "exact"; max_evals = 4;/' "$TMP/run.cfg" > "$TMP/e_grad.cfg"
+expect_err e_grad "e_grad.cfg" "codesign.optimizer.gradient" '"exact"' 'expected one of "central_difference", "sensitivity"'
+"$POMLAB" codesign "$TMP/run.cfg" --gradient exact --quiet > /dev/null 2> "$TMP/e_gflag.err"
+rc=$?
+[ $rc -eq 2 ] || bad "--gradient exact: exit $rc, expected 2"
+for p in "--gradient" "codesign.optimizer.gradient" '"exact"' 'expected one of "central_difference", "sensitivity"'; do
+  grep -q -- "$p" "$TMP/e_gflag.err" || bad "--gradient exact: stderr lacks '$p': $(cat "$TMP/e_gflag.err")"
+done
 
 # ---- a small run end to end ----
 write "$TMP/run.cfg"
@@ -191,7 +202,10 @@ awk '/^size / {n++; want = 3 * $2 ^ 1.5; if ((n == 1 && $2 != 0.5) || (n == 3 &&
 # to the target; COBYLA reaches its own final objective; with sensitivities
 # the plain-run equivalents are plain + cost x sensitivity runs and a
 # sensitivity run (p = 3: the plain system and 3 sensitivity systems) costs
-# more than one plain run ----
+# more than one plain run; with sensitivities a gradient point runs no plain
+# Monte-Carlo (section 11.5, "One run per point"): the gradient-based run's
+# simulations are its sensitivity runs and its differences, no plain run,
+# unless a whole gradient fell back to differences ----
 eff_check() { # OUT
   awk '
     function num(s) { gsub(/[^0-9.]/, "", s); return s + 0 }
@@ -207,6 +221,9 @@ eff_check() { # OUT
     /plain-run equivalents/ && /^  gradient-based: [0-9]/ {
       split($0, a, "; "); split(a[2], b, " "); sens = b[1]; plain = b[4]; eq = b[6] }
     /a sensitivity run cost/ { cost = $5 }
+    /^  of which .* maneuvers ran with sensitivities/ {
+      split($0, w, ", "); split(w[2], pl, " "); nplain = pl[1]
+      split($0, sc, "; "); split(sc[2], fb, " "); nfb = fb[1] }
     END {
       best = G < D ? G : D
       if (G == "" || D == "" || T == "") { print "lines missing"; exit 1 }
@@ -217,6 +234,7 @@ eff_check() { # OUT
       if (T != D && (kown == "" || kown > M)) { print "COBYLA to its own final: " kown; exit 1 }
       if (want_sens) {
         if (cost == "" || cost <= 1) { print "sensitivity run cost " cost; exit 1 }
+        if (nplain == "" || (nfb == 0 && nplain != 0)) { print "plain runs " nplain " with " nfb " fallbacks"; exit 1 }
         # eq printed to the unit, cost to 0.01
         if (sens == "" || sens <= 0 || (eq - (plain + cost * sens)) ^ 2 > (0.5 + 0.005 * sens + 1e-9) ^ 2) {
           print "plain-run equivalents " eq " vs " plain " + " cost " x " sens; exit 1 }
@@ -226,8 +244,8 @@ eff_check() { # OUT
 "$POMLAB" codesign "$TMP/run.cfg" --efficiency "3P-S-S/S:12" --threads 1 > "$TMP/ef.txt" 2> "$TMP/ef.err" \
   || bad "efficiency: $(cat "$TMP/ef.err")"
 eff_check "$TMP/ef.txt" || bad "efficiency: $(cat "$TMP/ef.txt")"
-sed 's/gradient_step = 0.02;/gradient_step = 0.02; gradient = "sensitivity";/' "$TMP/run.cfg" > "$TMP/efs.cfg"
-"$POMLAB" codesign "$TMP/efs.cfg" --efficiency "3P-S-S/S:12" --threads 1 > "$TMP/efs.txt" 2> "$TMP/efs.err" \
+# the sensitivity source by --gradient (the file key's path: test_codesign.c)
+"$POMLAB" codesign "$TMP/run.cfg" --gradient sensitivity --efficiency "3P-S-S/S:12" --threads 1 > "$TMP/efs.txt" 2> "$TMP/efs.err" \
   || bad "efficiency, sensitivities: $(cat "$TMP/efs.err")"
 eff_check "$TMP/efs.txt" 1 || bad "efficiency, sensitivities: $(cat "$TMP/efs.txt")"
 
