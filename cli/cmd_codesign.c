@@ -152,7 +152,8 @@ static int check_paths(const char *cfg_path, const pom_cds_problem *pb, const ch
 }
 
 int pom_cmd_codesign(int argc, char **argv) {
-  const char *cfg_path = NULL, *out = NULL, *slice = NULL, *effic = NULL, *sweep = NULL;
+  const char *cfg_path = NULL, *out = NULL, *slice = NULL, *effic = NULL, *sweep = NULL,
+             *gradient = NULL;
   int quiet = 0, resume = 0, threads = -1;
   const pom_opt opts[] = {
       {.name = "--out",
@@ -174,6 +175,13 @@ int pom_cmd_codesign(int argc, char **argv) {
        .ival = &threads,
        .lo = 0,
        .hi = 256},
+      {.name = "--gradient",
+       .kind = POM_OPT_CHOICE,
+       .arg = "SOURCE",
+       .key = "codesign.optimizer.gradient",
+       .help = "the gradient source, \"central_difference\" or \"sensitivity\" (default "
+               "codesign.optimizer.gradient; docs/optimize.md 11.5)",
+       .text = &gradient},
       {.name = "--slice",
        .kind = POM_OPT_TEXT,
        .arg = "CAND:V1:V2:N",
@@ -203,8 +211,9 @@ int pom_cmd_codesign(int argc, char **argv) {
   };
   const pom_cli_spec spec = {
       .name = "codesign",
-      .usage = "CFG [--out FILE.h5] [--resume] [--threads N] [--slice CAND:V1:V2:N]\n"
-               "       [--sweep CAND:N] [--efficiency CAND:BUDGET] [--quiet]",
+      .usage =
+          "CFG [--out FILE.h5] [--resume] [--threads N] [--gradient SOURCE]\n"
+          "       [--slice CAND:V1:V2:N] [--sweep CAND:N] [--efficiency CAND:BUDGET] [--quiet]",
       .about = "Co-designs each candidate architecture: its geometry, an actuator size (one coil\n"
                "family scaled by size) and its controller gains, on robust statistics of the\n"
                "closed-loop Monte-Carlo metrics (smooth p95 pointing time, mean energy) under\n"
@@ -238,7 +247,8 @@ int pom_cmd_codesign(int argc, char **argv) {
     code = 1;
     goto done;
   }
-  pom_status st = pom_cds_load(pb, cfg, &err);
+  pom_status st = pom_cli_opts_apply(&spec, cfg, &err);
+  if (st == POM_OK) st = pom_cds_load(pb, cfg, &err);
   if (st != POM_OK) {
     pom_cli_report("codesign", &err);
     code = pom_cli_exit_code(st);
@@ -324,16 +334,16 @@ int pom_cmd_codesign(int argc, char **argv) {
              gp->sens_runs, gp->sens_params, gp->simulations - gp->sens_runs - gp->fallback_sims,
              gp->fallback_sims, gp->sens_fallbacks, gp->sens_fallbacks ? ", last: " : "",
              gp->sens_fallbacks ? gp->sens_why : "");
-      printf("  current row: %ld from the peak current's derivative, %ld by differences, %ld "
-             "held (more than 20 %% from active)%s%s\n",
+      printf("  current rows (one per maneuver and point): %ld from the peak current's "
+             "derivative, %ld by differences of that maneuver, %ld held (more than 20 %% from "
+             "active)%s%s\n",
              gp->peak_rows, gp->peak_fallbacks, gp->peak_held,
              gp->peak_fallbacks ? "; last difference: " : "",
              gp->peak_fallbacks ? gp->peak_why : "");
       if (isfinite(ef.sens_cost))
         printf("  a sensitivity run cost %.2f plain runs of CPU here (%.2f s in %ld sensitivity "
-               "runs, %.2f s in %ld plain)\n",
-               ef.sens_cost, gp->cpu_sens, gp->sens_runs, gp->cpu - gp->cpu_sens,
-               gp->simulations - gp->sens_runs);
+               "runs; COBYLA's plain runs %.2f s in %ld)\n",
+               ef.sens_cost, gp->cpu_sens, gp->sens_runs, ef.dfree.cpu, ef.dfree.simulations);
     }
     printf("COBYLA:         p95 %.4f ms, %ld simulations (%ld evaluations), %.2f s CPU\n",
            1e3 * ef.dfree_best, ef.dfree.simulations, ef.dfree.evaluations, ef.dfree.cpu);

@@ -14,9 +14,15 @@
 
 /* Relative step of the whole-run differences of --check: the runs'
  * integration error over 2 dh against the O(dh^2) truncation
- * (docs/optimize.md); at the shipped rtol 1e-6 the check is only as good as
- * rtol / dh allows, so tighten solver.rtol for a strict one. */
+ * (docs/optimize.md 12.6). */
 #define CHECK_REL_STEP 1e-3
+/* The check's default solver.rtol, when the config's is looser: a run's
+ * integration error, about rtol of a metric and not smooth in the design,
+ * divided by the step dh = 1e-3 |p| must stay below what the check is to
+ * show. At the shipped rtol 1e-6 that noise (1e-3 of the derivative's
+ * scale, measured up to 4x the derivative itself) buries the comparison;
+ * at 1e-10 it is 1e-7 (docs/optimize.md 12.6). */
+#define CHECK_RTOL_DEFAULT 1e-10
 
 static const char *unit_of(pom_grad_metric k) {
   if (k <= POM_GRAD_ENERGY_3) return "J";
@@ -86,7 +92,7 @@ static void print_set(const pom_grad *g, int n, const double *v, const pom_dyn_d
 int pom_cmd_gradient(int argc, char **argv) {
   const char *cfg_path = NULL, *params = NULL;
   const char *n_text = NULL, *seed_text = NULL, *margin_text = NULL, *q_text = NULL,
-             *bw_text = NULL;
+             *bw_text = NULL, *check_rtol_text = NULL;
   int json = 0, check = 0;
   const pom_opt opts[] = {
       {.name = "--params",
@@ -132,9 +138,17 @@ int pom_cmd_gradient(int argc, char **argv) {
       {.name = "--check",
        .kind = POM_OPT_FLAG,
        .help = "also the central differences of whole simulations (step 1e-3 x |value|) beside "
-               "each gradient",
+               "each gradient, run at a tight solver.rtol (--check-rtol)",
        .flag = &check,
        .set = 1},
+      {.name = "--check-rtol",
+       .kind = POM_OPT_TEXT,
+       .arg = "R",
+       .help = "solver.rtol of --check's runs, checked as solver.rtol in a file (default: the "
+               "config's, or 1e-10 where the config's is looser: at 1e-6 the runs' integration "
+               "noise over the step buries the comparison; docs/optimize.md 12.6); the "
+               "gradients keep the config's",
+       .text = &check_rtol_text},
       {.name = "--json",
        .kind = POM_OPT_FLAG,
        .help = "JSON on stdout (SI units)",
@@ -165,6 +179,10 @@ int pom_cmd_gradient(int argc, char **argv) {
   if (prc >= 0) return prc;
   if (!cfg_path || !params) {
     pom_cli_opts_usage(&spec, stderr);
+    return 2;
+  }
+  if (check_rtol_text && !check) {
+    fprintf(stderr, "pomlab gradient: --check-rtol %s: only with --check\n", check_rtol_text);
     return 2;
   }
   char list[4096];
@@ -202,6 +220,7 @@ int pom_cmd_gradient(int argc, char **argv) {
   st = pom_grad_montecarlo(g, NULL, &r, &err);
   pom_grad_mc_result c;
   memset(&c, 0, sizeof c);
+  double check_rtol = 0.0;
   if (st == POM_OK && check) {
     /* the same maneuvers by whole-run differences at CHECK_REL_STEP */
     pom_grad_destroy(g);
@@ -215,6 +234,17 @@ int pom_cmd_gradient(int argc, char **argv) {
       return 2;
     }
     st = pom_cli_opts_apply(&spec, cfg, &err);
+    /* the check's rtol: --check-rtol (checked by the solver's reader, the
+     * message naming the flag), else the config's or CHECK_RTOL_DEFAULT */
+    if (st == POM_OK && check_rtol_text)
+      st = pom_cfg_set_number(cfg, "solver.rtol", check_rtol_text, "--check-rtol", &err);
+    /* the range of the file's solver.rtol (pom_dyn_params_schema.h) */
+    if (st == POM_OK)
+      st =
+          pom_cfg_real_opt(cfg, "solver.rtol", 1.0, POM_DYN_RTOL_MIN, 0.1, 1e-6, &check_rtol, &err);
+    if (st == POM_OK && !check_rtol_text && check_rtol > CHECK_RTOL_DEFAULT)
+      check_rtol = CHECK_RTOL_DEFAULT;
+    o.solver_rtol = check_rtol;
     if (st == POM_OK) st = pom_grad_create(&g, cfg, keys, n, &o, &err);
     pom_cfg_destroy(cfg);
     pom_grad_mc_options mo;
@@ -236,6 +266,10 @@ int pom_cmd_gradient(int argc, char **argv) {
     for (int j = 0; j < n; ++j)
       printf(" %s = %.10g", pom_grad_key(g, j), pom_grad_value(g, j));
     printf("\n(derivatives per unit of each key as written in the config; SI metrics)\n");
+    if (check)
+      printf("(whole-run diff.: central differences of whole simulations at step %g |value|, "
+             "solver.rtol %g; the gradients at the config's)\n",
+             CHECK_REL_STEP, check_rtol);
     for (long i = 0; i < r.n; ++i) {
       const pom_dyn_metrics *mt = &r.metrics[i];
       printf("\nmaneuver %ld: target (%.6g, %.6g, %.6g) SI: %s%s%s\n", i + 1, mt->target[0],

@@ -13,6 +13,14 @@ pom_status pom_cds_evaluate_many(const pom_cds_problem *pb, int c, const double 
                                  uint64_t seed, long n, int parasitic, pom_cds_figures *figs,
                                  pom_error *err);
 
+/* The same on maneuvers k0..k0+n-1 of seed (the same targets and draws as
+ * in the whole set), plain runs, with every maneuver's sampled peak current
+ * in peaks[n_designs][n] (NULL: not wanted): the per-maneuver current
+ * constraints of docs/optimize.md 11.5 and their differences. */
+pom_status pom_cds_evaluate_peaks(const pom_cds_problem *pb, int c, const double *xs, int n_designs,
+                                  uint64_t seed, long k0, long n, pom_cds_figures *figs,
+                                  double *peaks, pom_error *err);
+
 /* The regular dexterous workspace of design x by pom_kin_workspace (deg), at
  * the requirement's dexterity floor with every limit checked. */
 pom_status pom_cds_rdw_deg(const pom_cds_problem *pb, int c, const double *x, double *deg,
@@ -44,12 +52,14 @@ typedef struct {
 
 /* The figures of every maneuver 0..n-1 of seed at design x by the
  * sensitivity engine (study/pom_grad.h; docs/optimize.md 11.5): the
+ * design's figures in *fig (the same aggregation as a plain evaluation's,
+ * the peak current the located maximum, >= the sampled one), the
  * pointing time t[k] (the horizon when unsettled), the energy e[k], and
  * their derivatives per design variable (config units) dt[k][v], de[k][v]
  * (an unsettled time has derivative 0), one sensitivity parameter per
  * design variable (the size variable's direction: the size law's tangent
  * over its keys); a variable with active[v] == 0 (active NULL: all are
- * active) gets a zero direction, costs nothing and has derivative 0. peak (NULL: not watched)
+ * active) gets a zero direction, costs nothing and has derivative 0. peak (always watched)
  * receives the peak currents and their derivatives, whose undefined ones do not unset *ok. *gr is
  * the caller's pom_grad (NULL the first time: created here and reused; the caller destroys it); one
  * per thread. *ok = 0 with the reason in why when a time or energy derivative is undefined (a
@@ -58,8 +68,9 @@ typedef struct {
 pom_status pom_cds_sens_maneuvers(const pom_cds_problem *pb, int c, const double *x,
                                   const int *active, uint64_t seed, long n, pom_grad **gr,
                                   double *t, double *e, double (*dt)[POM_CDS_MAX_VARS],
-                                  double (*de)[POM_CDS_MAX_VARS], pom_cds_sens_peak *peak, int *ok,
-                                  char *why, size_t why_cap, pom_error *err);
+                                  double (*de)[POM_CDS_MAX_VARS], pom_cds_sens_peak *peak,
+                                  pom_cds_figures *fig, int *ok, char *why, size_t why_cap,
+                                  pom_error *err);
 
 /* The figures of design x that need no simulation: kinematic margin,
  * envelope, the size law's current limit (in f; the rest untouched). */
@@ -69,15 +80,25 @@ void pom_cds_static_figures(const pom_cds_problem *pb, int c, const double *x, p
  * (s), the mean energy q[1] (J) and the current constraint q[2] = I_peak /
  * I_max(s) - 1 on the optimization set, their gradients g[0..2] in the unit
  * box (every variable free) by the problem's gradient source (pb->grad;
- * fd_step for the differences), and the sensitivity path's counters (the
- * pom_cds_point fields of the same names). */
+ * fd_step for the differences), the split current constraints of the first
+ * n_man maneuvers man_q[k] = P_k / I_max(s) - 1 and their rows man_g[k]
+ * (the sensitivity source: the located peak and its derivative; central
+ * differences: the sampled peak, differenced) and where each row came from, the simulations spent
+ * (of which with sensitivities) and the sensitivity path's counters (the pom_cds_point fields of
+ * the same names; the current rows counted per maneuver). */
+#define POM_CDS_CHECK_MANEUVERS 16
 typedef struct {
   double q[3];
   double g[3][POM_CDS_MAX_VARS];
+  int n_man;
+  double man_q[POM_CDS_CHECK_MANEUVERS];
+  double man_g[POM_CDS_CHECK_MANEUVERS][POM_CDS_MAX_VARS];
+  int man_src[POM_CDS_CHECK_MANEUVERS]; /* 0 the peak's derivative, 1 differences, 2 held */
+  long simulations, sens_runs;
   long fallbacks;      /* 1: the whole gradient fell back to differences (why) */
-  long peak_rows;      /* 1: the current row from the peak current's derivative */
-  long peak_fallbacks; /* 1: the current row by differences (peak_why) */
-  long peak_held;      /* 1: the current row held (more than 20 % from active) */
+  long peak_rows;      /* maneuver rows from the peak current's derivative */
+  long peak_fallbacks; /* maneuver rows by differences of that maneuver (peak_why) */
+  long peak_held;      /* maneuver rows held (more than 20 % from active) */
   char why[160];
   char peak_why[160];
 } pom_cds_grad_check;

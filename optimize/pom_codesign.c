@@ -520,12 +520,13 @@ static pom_status run_maneuver(const pom_cds_problem *pb, int c, const double *x
   return st;
 }
 
-/* A batch of maneuvers over designs: job j = (design j / n, maneuver j % n). */
+/* A batch of maneuvers over designs: job j = (design j / n, maneuver k0 + j % n). */
 typedef struct {
   const pom_cds_problem *pb;
   int c;
   const double *xs; /* [n_designs][POM_CDS_MAX_VARS] */
   uint64_t seed;
+  long k0; /* the first maneuver of the set (0: the whole set) */
   long n;
   int parasitic;
   long n_jobs;
@@ -548,7 +549,7 @@ static void *batch_worker(void *arg) {
     pom_error e;
     pom_error_clear(&e);
     pom_status st = run_maneuver(b->pb, b->c, b->xs + (j / b->n) * POM_CDS_MAX_VARS, b->seed,
-                                 j % b->n, b->parasitic, &b->out[j], &e);
+                                 b->k0 + j % b->n, b->parasitic, &b->out[j], &e);
     if (st == POM_ERR_NOMEM) {
       pthread_mutex_lock(&b->lock);
       if (b->status == POM_OK) {
@@ -608,16 +609,58 @@ void pom_cds_static_figures(const pom_cds_problem *pb, int c, const double *x, p
   }
 }
 
-/* Figures of n_designs designs (xs rows of POM_CDS_MAX_VARS) on one set. */
+/* THE one aggregation of a design's maneuvers into its figures (both
+ * sources: the plain runs of evaluate_many and the sensitivity runs of
+ * pom_cds_sens_maneuvers, docs/optimize.md 11.5): a failed maneuver at its
+ * worst case (failed_maneuver), the smooth and the order-statistic
+ * quantile of the times, the mean energy, the largest peak, the static
+ * figures. t: scratch of n. */
+static void figures_of(const pom_cds_problem *pb, int c, const double *x, const mv_out *o, long n,
+                       double *t, pom_cds_figures *f) {
+  memset(f, 0, sizeof *f);
+  double esum = 0;
+  for (long k = 0; k < n; ++k) {
+    /* a failed maneuver at its worst case (failed_maneuver) */
+    t[k] = o[k].t;
+    esum += o[k].e;
+    if (o[k].failed) ++f->failed;
+    if (!o[k].settled) ++f->unsettled;
+    f->i_peak = fmax(f->i_peak, o[k].i_peak);
+  }
+  f->n = (int)n;
+  f->simulations = n;
+  f->energy = esum / (double)n;
+  f->p95 = pom_cds_smooth_quantile(t, (int)n, pb->quantile, pb->bandwidth, NULL);
+  /* order statistic: the ceil(p n)-th smallest */
+  double *srt = malloc((size_t)n * sizeof *srt);
+  if (srt) {
+    memcpy(srt, t, (size_t)n * sizeof *srt);
+    for (long i = 1; i < n; ++i)
+      for (long j = i; j > 0 && srt[j - 1] > srt[j]; --j) {
+        double tmp = srt[j];
+        srt[j] = srt[j - 1];
+        srt[j - 1] = tmp;
+      }
+    long r = (long)ceil(pb->quantile * (double)n) - 1;
+    f->p95_plain = srt[r < 0 ? 0 : r];
+    free(srt);
+  }
+  pom_cds_static_figures(pb, c, x, f);
+}
+
+/* Figures of n_designs designs (xs rows of POM_CDS_MAX_VARS) on maneuvers
+ * k0..k0+n-1 of one set; peaks (NULL: not wanted) receives every
+ * maneuver's sampled peak current, [n_designs][n]. */
 static pom_status evaluate_many(const pom_cds_problem *pb, int c, const double *xs, int n_designs,
-                                uint64_t seed, long n, int parasitic, int strict,
-                                pom_cds_figures *figs, pom_error *err) {
+                                uint64_t seed, long k0, long n, int parasitic, int strict,
+                                pom_cds_figures *figs, double *peaks, pom_error *err) {
   batch b;
   memset(&b, 0, sizeof b);
   b.pb = pb;
   b.c = c;
   b.xs = xs;
   b.seed = seed;
+  b.k0 = k0;
   b.n = n;
   b.parasitic = parasitic;
   b.n_jobs = n * n_designs;
@@ -645,37 +688,10 @@ static pom_status evaluate_many(const pom_cds_problem *pb, int c, const double *
   pom_status st = b.status;
   if (st != POM_OK) *err = b.err;
   for (int d = 0; d < n_designs && st == POM_OK; ++d) {
-    pom_cds_figures *f = &figs[d];
-    memset(f, 0, sizeof *f);
     const mv_out *o = b.out + (long)d * n;
-    double esum = 0;
-    for (long k = 0; k < n; ++k) {
-      /* a failed maneuver at its worst case (failed_maneuver) */
-      t[k] = o[k].t;
-      esum += o[k].e;
-      if (o[k].failed) ++f->failed;
-      if (!o[k].settled) ++f->unsettled;
-      f->i_peak = fmax(f->i_peak, o[k].i_peak);
-    }
-    f->n = (int)n;
-    f->simulations = n;
-    f->energy = esum / (double)n;
-    f->p95 = pom_cds_smooth_quantile(t, (int)n, pb->quantile, pb->bandwidth, NULL);
-    /* order statistic: the ceil(p n)-th smallest */
-    double *srt = malloc((size_t)n * sizeof *srt);
-    if (srt) {
-      memcpy(srt, t, (size_t)n * sizeof *srt);
-      for (long i = 1; i < n; ++i)
-        for (long j = i; j > 0 && srt[j - 1] > srt[j]; --j) {
-          double tmp = srt[j];
-          srt[j] = srt[j - 1];
-          srt[j - 1] = tmp;
-        }
-      long r = (long)ceil(pb->quantile * (double)n) - 1;
-      f->p95_plain = srt[r < 0 ? 0 : r];
-      free(srt);
-    }
-    pom_cds_static_figures(pb, c, xs + d * POM_CDS_MAX_VARS, f);
+    figures_of(pb, c, xs + d * POM_CDS_MAX_VARS, o, n, t, &figs[d]);
+    for (long k = 0; peaks && k < n; ++k)
+      peaks[(long)d * n + k] = o[k].i_peak;
   }
   if (st == POM_OK && strict && b.have_build_err && n_designs == 1 && figs[0].failed == (int)n) {
     /* a single design none of whose maneuvers could even be built: say why */
@@ -691,13 +707,19 @@ pom_status pom_cds_evaluate(const pom_cds_problem *pb, int c, const double *x, u
                             long n, int parasitic, pom_cds_figures *out, pom_error *err) {
   double xs[POM_CDS_MAX_VARS] = {0};
   memcpy(xs, x, sizeof(double) * (size_t)pb->cand[c].n_vars);
-  return evaluate_many(pb, c, xs, 1, seed, n, parasitic, 1, out, err);
+  return evaluate_many(pb, c, xs, 1, seed, 0, n, parasitic, 1, out, NULL, err);
 }
 
 pom_status pom_cds_evaluate_many(const pom_cds_problem *pb, int c, const double *xs, int n_designs,
                                  uint64_t seed, long n, int parasitic, pom_cds_figures *figs,
                                  pom_error *err) {
-  return evaluate_many(pb, c, xs, n_designs, seed, n, parasitic, 0, figs, err);
+  return evaluate_many(pb, c, xs, n_designs, seed, 0, n, parasitic, 0, figs, NULL, err);
+}
+
+pom_status pom_cds_evaluate_peaks(const pom_cds_problem *pb, int c, const double *xs, int n_designs,
+                                  uint64_t seed, long k0, long n, pom_cds_figures *figs,
+                                  double *peaks, pom_error *err) {
+  return evaluate_many(pb, c, xs, n_designs, seed, k0, n, 0, 0, figs, peaks, err);
 }
 
 pom_status pom_cds_rdw_deg(const pom_cds_problem *pb, int c, const double *x, double *deg,
@@ -773,11 +795,102 @@ static void sens_dirs(int n_vars, const int *active, int nd, int np, const doubl
       dirs[v * np + m] = m < nd && (!active || active[v]) ? factor[m] * dvdx[m][v] : 0.0;
 }
 
+/* The maneuvers of pom_cds_sens_maneuvers: *good = 0 (why) when one has no
+ * figures or no time or energy derivative; POM_OK unless out of memory. */
+static pom_status sens_runs(const pom_cds_problem *pb, const pom_cds_candidate *cd, pom_grad **gr,
+                            uint64_t seed, long n, int nd, int np, int nv, const int *active,
+                            const double *value, double dvdx[POM_CDS_MAX_KEYS][POM_CDS_MAX_VARS],
+                            const int *unc_slot, double *t, double *e,
+                            double (*dt)[POM_CDS_MAX_VARS], double (*de)[POM_CDS_MAX_VARS],
+                            pom_cds_sens_peak *peak, mv_out *o, int *good, char *why,
+                            size_t why_cap, pom_error *err) {
+  double dirs[POM_CDS_MAX_VARS * POM_GRAD_MAX_PARAMS];
+  pom_error e2;
+  pom_error_clear(&e2);
+  *good = 0;
+  pom_doe_maneuvers mvs = pb->maneuvers;
+  mvs.seed = seed;
+  pom_unc unc = pb->uncertain;
+  unc.seed = seed;
+  for (long k = 0; k < n; ++k) {
+    double draws[POM_UNC_MAX], vals[POM_GRAD_MAX_PARAMS], factor[POM_GRAD_MAX_PARAMS];
+    if (unc.n > 0) pom_unc_draws(&unc, k, draws);
+    for (int m = 0; m < np; ++m) {
+      vals[m] = m < nd ? value[m] : NAN;
+      factor[m] = 1.0;
+    }
+    for (int j = 0; j < unc.n; ++j) {
+      const pom_unc_param *p = &unc.param[j];
+      int m = unc_slot[j];
+      if (p->relative) {
+        double base = m < nd ? value[m] : cd->nominal_unc[j];
+        vals[m] = base * draws[j];
+        factor[m] = draws[j]; /* d(base x draw)/d(base) */
+      } else {
+        vals[m] = draws[j];
+        factor[m] = 0.0; /* the draw replaces the design's value */
+      }
+    }
+    sens_dirs(nv, active, nd, np, factor, dvdx, dirs);
+    pom_status st = pom_grad_set_point(*gr, vals, dirs, &e2);
+    pom_doe_maneuver mv;
+    pom_doe_maneuver_draw(&mv, &mvs, k);
+    pom_dyn_metrics mt;
+    pom_dyn_grad g;
+    memset(&mt, 0, sizeof mt);
+    if (st == POM_OK) st = pom_grad_maneuver_orientation(*gr, mv.R, &mt, &g, &e2);
+    if (st == POM_ERR_NOMEM) {
+      *err = e2;
+      return st;
+    }
+    if (st != POM_OK || mt.status != POM_OK) {
+      snprintf(why, why_cap, "maneuver %ld failed in the sensitivity run: %s", k,
+               st != POM_OK ? e2.message : pom_status_name(mt.status));
+      return POM_OK;
+    }
+    if (!isfinite(mt.peak_current)) {
+      snprintf(why, why_cap, "maneuver %ld: no peak current located", k);
+      return POM_OK;
+    }
+    double horizon = pom_grad_params(*gr)->maneuver.horizon;
+    int settled = isfinite(mt.pointing_settling_time);
+    const pom_dyn_dmetric *gt = &g.pointing_settling_time, *ge = &g.energy_total;
+    if ((settled && !gt->defined) || !ge->defined) {
+      snprintf(why, why_cap, "maneuver %ld: %s %s", k, settled && !gt->defined ? "time" : "energy",
+               pom_dyn_grad_why_text(settled && !gt->defined ? gt->why : ge->why));
+      return POM_OK;
+    }
+    t[k] = settled ? mt.pointing_settling_time : horizon;
+    e[k] = mt.energy_total;
+    o[k].t = t[k];
+    o[k].e = e[k];
+    o[k].i_peak = mt.peak_current; /* located (>= the plain run's sampled peak) */
+    o[k].settled = settled;
+    o[k].failed = 0;
+    /* the parameters are the design variables themselves (their
+     * directions carry the size law's tangent and the draws) */
+    for (int v = 0; v < POM_CDS_MAX_VARS; ++v) {
+      /* an unsettled maneuver counts the horizon: no derivative */
+      dt[k][v] = v < nv && settled ? gt->d[v] : 0.0;
+      de[k][v] = v < nv ? ge->d[v] : 0.0;
+    }
+    const pom_dyn_dmetric *gp = &g.peak_current;
+    peak->value[k] = mt.peak_current;
+    peak->defined[k] = gp->defined;
+    peak->why[k] = gp->why;
+    for (int v = 0; v < POM_CDS_MAX_VARS; ++v)
+      peak->d[k][v] = v < nv && peak->defined[k] ? gp->d[v] : 0.0;
+  }
+  *good = 1;
+  return POM_OK;
+}
+
 pom_status pom_cds_sens_maneuvers(const pom_cds_problem *pb, int c, const double *x,
                                   const int *active, uint64_t seed, long n, pom_grad **gr,
                                   double *t, double *e, double (*dt)[POM_CDS_MAX_VARS],
-                                  double (*de)[POM_CDS_MAX_VARS], pom_cds_sens_peak *peak, int *ok,
-                                  char *why, size_t why_cap, pom_error *err) {
+                                  double (*de)[POM_CDS_MAX_VARS], pom_cds_sens_peak *peak,
+                                  pom_cds_figures *fig, int *ok, char *why, size_t why_cap,
+                                  pom_error *err) {
   const pom_cds_candidate *cd = &pb->cand[c];
   const char *key[POM_GRAD_MAX_PARAMS];
   double value[POM_CDS_MAX_KEYS];
@@ -836,75 +949,19 @@ pom_status pom_cds_sens_maneuvers(const pom_cds_problem *pb, int c, const double
       return POM_OK;
     }
   }
-  pom_grad_watch_peak_current(*gr, peak != NULL);
-  pom_doe_maneuvers mvs = pb->maneuvers;
-  mvs.seed = seed;
-  pom_unc unc = pb->uncertain;
-  unc.seed = seed;
-  for (long k = 0; k < n; ++k) {
-    double draws[POM_UNC_MAX], vals[POM_GRAD_MAX_PARAMS], factor[POM_GRAD_MAX_PARAMS];
-    if (unc.n > 0) pom_unc_draws(&unc, k, draws);
-    for (int m = 0; m < np; ++m) {
-      vals[m] = m < nd ? value[m] : NAN;
-      factor[m] = 1.0;
-    }
-    for (int j = 0; j < unc.n; ++j) {
-      const pom_unc_param *p = &unc.param[j];
-      int m = unc_slot[j];
-      if (p->relative) {
-        double base = m < nd ? value[m] : cd->nominal_unc[j];
-        vals[m] = base * draws[j];
-        factor[m] = draws[j]; /* d(base x draw)/d(base) */
-      } else {
-        vals[m] = draws[j];
-        factor[m] = 0.0; /* the draw replaces the design's value */
-      }
-    }
-    sens_dirs(nv, active, nd, np, factor, dvdx, dirs);
-    pom_status st = pom_grad_set_point(*gr, vals, dirs, &e2);
-    pom_doe_maneuver mv;
-    pom_doe_maneuver_draw(&mv, &mvs, k);
-    pom_dyn_metrics mt;
-    pom_dyn_grad g;
-    memset(&mt, 0, sizeof mt);
-    if (st == POM_OK) st = pom_grad_maneuver_orientation(*gr, mv.R, &mt, &g, &e2);
-    if (st == POM_ERR_NOMEM) {
-      *err = e2;
-      return st;
-    }
-    if (st != POM_OK || mt.status != POM_OK) {
-      snprintf(why, why_cap, "maneuver %ld failed in the sensitivity run: %s", k,
-               st != POM_OK ? e2.message : pom_status_name(mt.status));
-      return POM_OK;
-    }
-    double horizon = pom_grad_params(*gr)->maneuver.horizon;
-    int settled = isfinite(mt.pointing_settling_time);
-    const pom_dyn_dmetric *gt = &g.pointing_settling_time, *ge = &g.energy_total;
-    if ((settled && !gt->defined) || !ge->defined) {
-      snprintf(why, why_cap, "maneuver %ld: %s %s", k, settled && !gt->defined ? "time" : "energy",
-               pom_dyn_grad_why_text(settled && !gt->defined ? gt->why : ge->why));
-      return POM_OK;
-    }
-    t[k] = settled ? mt.pointing_settling_time : horizon;
-    e[k] = mt.energy_total;
-    /* the parameters are the design variables themselves (their
-     * directions carry the size law's tangent and the draws) */
-    for (int v = 0; v < POM_CDS_MAX_VARS; ++v) {
-      /* an unsettled maneuver counts the horizon: no derivative */
-      dt[k][v] = v < nv && settled ? gt->d[v] : 0.0;
-      de[k][v] = v < nv ? ge->d[v] : 0.0;
-    }
-    if (peak) {
-      const pom_dyn_dmetric *gp = &g.peak_current;
-      peak->value[k] = mt.peak_current;
-      peak->defined[k] = gp->defined && isfinite(mt.peak_current);
-      peak->why[k] = gp->why;
-      for (int v = 0; v < POM_CDS_MAX_VARS; ++v)
-        peak->d[k][v] = v < nv && peak->defined[k] ? gp->d[v] : 0.0;
-    }
+  /* the peak is always watched: it is the point's current figure */
+  pom_grad_watch_peak_current(*gr, 1);
+  mv_out *o = malloc((size_t)n * sizeof *o);
+  if (!o) POM_FAIL(err, POM_ERR_NOMEM, "codesign: out of memory");
+  int good = 0;
+  pom_status st = sens_runs(pb, cd, gr, seed, n, nd, np, nv, active, value, dvdx, unc_slot, t, e,
+                            dt, de, peak, o, &good, why, why_cap, err);
+  if (st == POM_OK && good) {
+    figures_of(pb, c, x, o, n, t, fig);
+    *ok = 1;
   }
-  *ok = 1;
-  return POM_OK;
+  free(o);
+  return st;
 }
 
 /* ---- why a design misses the requirements (report) ------------------------------------ */

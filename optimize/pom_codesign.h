@@ -26,6 +26,9 @@
 #define POM_CDS_MAX_CANDIDATES 16
 #define POM_CDS_MAX_VARS       10
 #define POM_CDS_MAX_FRONT      8
+/* an epsilon point no more than this fraction faster than its start is stuck
+ * and starts again from the time optimum (docs/optimize.md 11.5) */
+#define POM_CDS_STUCK_TOL      1e-3
 #define POM_CDS_MAX_STARTS     8
 #define POM_CDS_MAX_HIST       512 /* improvements kept per optimization */
 #define POM_CDS_KEY_LEN        96
@@ -163,15 +166,17 @@ typedef struct {
   int sens_params;     /* sensitivity parameters of each such run (the free variables) */
   long sens_fallbacks; /* evaluations whose gradient fell back to differences */
   char sens_why[160];  /* the last fallback's reason ("" when none) */
-  long peak_rows;      /* gradients whose current row came from the peak current's
-                          derivative (section 11.5) */
-  long peak_fallbacks; /* current rows by whole-simulation differences: a maneuver's peak
-                          derivative undefined (or a tie between maneuvers) near active */
-  long peak_held;      /* current rows held at the size law's limit alone: undefined, and the
-                          constraint more than 20 % from active */
+  long peak_rows;      /* per-maneuver current rows (one per maneuver and gradient, section
+                          11.5) from that maneuver's peak current derivative */
+  long peak_fallbacks; /* such rows by differences of that maneuver alone (2n runs): its peak
+                          derivative undefined (a kink, an edge, a tie) near active */
+  long peak_held;      /* such rows held at the size law's limit alone: undefined, and the
+                          maneuver's constraint more than 20 % from active */
   char peak_why[160];  /* the last current-row fallback's reason */
   long fallback_sims;  /* simulations spent on differences (both kinds of fallback) */
   int nlopt_result;
+  int restarted;   /* an epsilon point stuck on its start ran again from the time optimum
+                      (section 11.5): 1 the first run kept, 2 the second; 0 not */
   double cpu;      /* process CPU time of this optimization (s) */
   double cpu_sens; /* of which inside the sensitivity runs (s) */
   /* the search's record, one entry per improvement of the best feasible
@@ -239,7 +244,7 @@ typedef struct {
  * the simulations, sensitivity runs and CPU until its best feasible
  * objective first came within rel_tol of the target (from the points'
  * records). sens_cost: the plain-run equivalents of one sensitivity run in
- * the gradient-based run (its CPU per sensitivity run over its CPU per
+ * the gradient-based run (its CPU per sensitivity run over COBYLA's CPU per
  * plain run; NaN without sensitivity runs). */
 typedef struct {
   int reached;    /* 1 reached; 0 not within the run; -1 unknown (record full) */

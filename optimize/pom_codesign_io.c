@@ -5,6 +5,7 @@
 #include "pom_h5.h"
 #include "pom_io.h"
 #include "pom_math.h"
+#include "pom_nlopt.h"
 #include "pom_version.h"
 
 #include <errno.h>
@@ -187,6 +188,10 @@ pom_status pom_cds_write_h5(const pom_cds_problem *pb, const pom_cds_result *res
 }
 
 /* ---- text ------------------------------------------------------------------------------ */
+static const char *alg_label(pom_cds_alg a) {
+  return a == POM_CDS_ALG_SLSQP ? "SLSQP" : a == POM_CDS_ALG_MMA ? "MMA" : "COBYLA";
+}
+
 static void fig_cell(FILE *out, const pom_cds_figures *f) {
   fprintf(out, "%7.2f ms %7.2f mJ", 1e3 * f->p95, 1e3 * f->energy);
 }
@@ -254,6 +259,22 @@ void pom_cds_report_text(FILE *out, const pom_cds_problem *pb, const pom_cds_res
       fprintf(out, " %s = %.5g [%.5g]", cd->var[v].key, cr->point[0].x[v], cd->var[v].x0);
     fprintf(out, "\n  hypervolume %.4g ms mJ, %ld simulations\n", 1e6 * cr->hypervolume,
             cr->simulations);
+    /* how each optimization stopped: a budget or a failure shows here, not
+     * only in the results file's front_info */
+    fprintf(out, "  optimizer stops:");
+    for (int k = 0; k < cr->n_points; ++k) {
+      const pom_cds_point *p = &cr->point[k];
+      fprintf(out, "%s pt %d %s%s %s after %ld evaluations%s", k ? ";" : "", k + 1,
+              p->fallback_used ? "" : alg_label(pb->alg),
+              p->fallback_used ? "COBYLA (fallback)" : "", pom_opt_result_name(p->nlopt_result),
+              p->evaluations,
+              p->restarted == 2   ? " (stuck on its start; the second start, from the time "
+                                    "optimum, kept)"
+              : p->restarted == 1 ? " (stuck on its start; the second start, from the time "
+                                    "optimum, was worse)"
+                                  : "");
+    }
+    fprintf(out, "\n");
     if (!cr->point[0].feasible) {
       char why[600];
       pom_cds_infeasible_reason(pb, c, cr->point[0].x, &cr->point[0].opt, why, sizeof why);

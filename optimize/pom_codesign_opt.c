@@ -69,6 +69,17 @@ typedef struct {
   /* gradient = "sensitivity": the engine (one per optimization, i.e. per
    * thread), its runs and the evaluations that fell back to differences */
   pom_grad *gr;
+  /* spec: this NLopt run is gradient-based with the sensitivity source:
+   * every point it evaluates is a sensitivity run (its figures and its
+   * gradient in one), and the current constraint is split per maneuver
+   * (docs/optimize.md 11.5, "One run per point" and "The current rows") */
+  int spec;
+  long nm;                         /* maneuvers of the optimization set */
+  double *pk;                      /* [nm] each maneuver's peak current at the cached point (A) */
+  double (*gpk)[POM_CDS_MAX_VARS]; /* [nm] d(pk_k / I_max(s) - 1)/du (have_grad) */
+  int *pk_src;      /* [nm] where row k came from: 0 the derivative, 1 differences, 2 held */
+  int sens_refused; /* the sensitivity run refused the point sens_refused_u */
+  double sens_refused_u[POM_CDS_MAX_VARS];
   long sens_runs, sens_fallbacks;
   int sens_params;
   char sens_why[160];
@@ -108,6 +119,12 @@ static void opt_ctx_init(opt_ctx *oc, const pom_cds_problem *pb, int c, const do
   oc->err = err;
   oc->status = POM_OK;
   oc->cpu0 = cpu_now();
+  oc->nm = pb->maneuvers.count;
+  oc->pk = calloc((size_t)oc->nm, sizeof *oc->pk);
+  oc->gpk = calloc((size_t)oc->nm, sizeof *oc->gpk);
+  oc->pk_src = calloc((size_t)oc->nm, sizeof *oc->pk_src);
+  if (!oc->pk || !oc->gpk || !oc->pk_src)
+    oc->status = pom_error_set(err, POM_ERR_NOMEM, __FILE__, __LINE__, "codesign: out of memory");
   for (int v = 0; v < cd->n_vars; ++v) {
     double xv = x0 ? x0[v] : cd->var[v].x0;
     oc->x_fixed[v] = xv;
@@ -115,6 +132,17 @@ static void opt_ctx_init(opt_ctx *oc, const pom_cds_problem *pb, int c, const do
     u0[oc->n_free] = fmin(1.0, fmax(0.0, to_u(&cd->var[v], xv)));
     oc->map[oc->n_free++] = v;
   }
+}
+
+static void opt_ctx_free(opt_ctx *oc) {
+  pom_grad_destroy(oc->gr);
+  oc->gr = NULL;
+  free(oc->pk);
+  free(oc->gpk);
+  free(oc->pk_src);
+  oc->pk = NULL;
+  oc->gpk = NULL;
+  oc->pk_src = NULL;
 }
 
 static void design_of(const opt_ctx *oc, const double *u, double *x) {
@@ -140,67 +168,140 @@ static int feasible_q(const opt_ctx *oc, const double q[NQ]) {
 /* The figures at u and, when want_grad, their gradients in the unit box.
  * THE one place the gradient source is chosen (docs/optimize.md 11.5):
  * central differences of whole Monte-Carlo evaluations (pb->grad ==
- * POM_CDS_GRAD_CENTRAL), or (POM_CDS_GRAD_SENS) sens_rows: the time and
- * energy rows by the sensitivity engine, the static rows by differences,
- * and these differences again wherever a maneuver's derivative is
+ * POM_CDS_GRAD_CENTRAL), or (POM_CDS_GRAD_SENS) sens_point: one
+ * sensitivity run per maneuver gives the point's figures and the time,
+ * energy and current rows together; the static rows by differences of the
+ * static figures; whole-simulation differences wherever a derivative is
  * undefined. */
 static pom_status point_cd(opt_ctx *oc, const double *u, int want_grad);
 
-/* The time and energy rows by the sensitivity engine: dt_k/du_i =
- * (dt_k/dx_v) (dx_v/du_i), one sensitivity parameter per design variable
+/* The best feasible point and the efficiency record (section 11.8), after
+ * the evaluation of u (figures in oc->fig, oc->q; simulations counted). */
+static void record_best(opt_ctx *oc, const double *u) {
+  const int n = oc->n_free;
+  double obj = objective_of(oc, oc->q);
+  if (feasible_q(oc, oc->q) && (!oc->have_best || obj < oc->best_obj)) {
+    oc->have_best = 1;
+    oc->best_obj = obj;
+    memcpy(oc->best_u, u, sizeof(double) * (size_t)n);
+    oc->best_fig = oc->fig;
+  }
+  if (oc->have_best) {
+    double b = oc->objective == 0 ? oc->best_fig.p95 : oc->best_fig.energy;
+    if (oc->n_hist == 0 || b < oc->hist_best[oc->n_hist - 1]) {
+      if (oc->n_hist < POM_CDS_MAX_HIST) {
+        oc->hist_sims[oc->n_hist] = oc->simulations;
+        oc->hist_sens[oc->n_hist] = oc->sens_runs;
+        oc->hist_cpu[oc->n_hist] = cpu_now() - oc->cpu0;
+        oc->hist_best[oc->n_hist++] = b;
+      } else {
+        oc->hist_full = 1;
+      }
+    }
+  }
+}
+
+/* Maneuver k's current row by whole-simulation differences of that
+ * maneuver alone (2n plain runs): rows[i] = d(P_k / I_max(s) - 1)/du_i.
+ * A difference across which the maneuver fails marks the gradient
+ * undefined (the COBYLA fallback, 11.5). */
+static pom_status peak_row_fd(opt_ctx *oc, const double *u, long k, double *rows) {
+  const pom_cds_problem *pb = oc->pb;
+  const int n = oc->n_free;
+  double xs[2 * POM_CDS_MAX_VARS * POM_CDS_MAX_VARS];
+  double span[POM_CDS_MAX_VARS];
+  memset(xs, 0, sizeof xs);
+  for (int i = 0; i < n; ++i) {
+    double up[POM_CDS_MAX_VARS];
+    double hh = fmin(pb->fd_step, 1.0 - u[i]), hl = fmin(pb->fd_step, u[i]);
+    memcpy(up, u, sizeof(double) * (size_t)n);
+    up[i] = u[i] + hh;
+    design_of(oc, up, xs + (2 * i) * POM_CDS_MAX_VARS);
+    up[i] = u[i] - hl;
+    design_of(oc, up, xs + (2 * i + 1) * POM_CDS_MAX_VARS);
+    span[i] = hh + hl;
+  }
+  pom_cds_figures figs[2 * POM_CDS_MAX_VARS];
+  double peaks[2 * POM_CDS_MAX_VARS];
+  POM_TRY(
+      pom_cds_evaluate_peaks(pb, oc->c, xs, 2 * n, pb->maneuvers.seed, k, 1, figs, peaks, oc->err));
+  for (int d = 0; d < 2 * n; ++d) {
+    oc->simulations += figs[d].simulations;
+    oc->fallback_sims += figs[d].simulations;
+    if (figs[d].failed) oc->grad_undefined = 1;
+  }
+  for (int i = 0; i < n; ++i) {
+    double cp = peaks[2 * i] / figs[2 * i].i_limit - 1.0;
+    double cm = peaks[2 * i + 1] / figs[2 * i + 1].i_limit - 1.0;
+    rows[i] = (cp - cm) / span[i];
+  }
+  return POM_OK;
+}
+
+/* One point by the sensitivity engine (gradient = "sensitivity"): every
+ * maneuver of the optimization set once with sensitivities, which gives
+ * the point's figures (the same aggregation as a plain evaluation, the
+ * peak current located) and, from the same runs: dt_k/du_i = (dt_k/dx_v)
+ * (dx_v/du_i), one sensitivity parameter per design variable
  * (pom_cds_sens_maneuvers), dT95/du = sum_k w_k dt_k/du (the smooth
  * quantile's weights), dE/du the mean of de_k/du; kinematic margin,
  * envelope and the size law's current limit by differences of the static
- * figures (no simulation). The current row, q3 = I/I_max(s) - 1 with I the
- * largest peak over the maneuvers: dq3/du = (dI/du)/I_max - I dI_max/du /
- * I_max^2, dI/du the peak derivative of the maneuver that attains the
- * largest peak (envelope theorem, docs/optimize.md 11.5, 12.2), watched
- * while the constraint is within 20 % of active. Where that maneuver's
- * derivative is undefined (a kink, a corner, a tie of coils) or two
- * maneuvers tie: within 20 % of active the row alone comes from
- * whole-simulation differences (counted in peak_fallbacks), farther the
- * peak is held (only the limit moves; peak_held). *ok = 0: a time or
- * energy derivative is undefined, nothing written. */
-static pom_status sens_rows(opt_ctx *oc, const double *u, int *ok) {
+ * figures (no simulation). The current rows, one per maneuver (the split
+ * constraint c_k = P_k / I_max(s) - 1 <= 0, 11.5): dc_k/du = (dP_k/du) /
+ * I_max + P_k d(1/I_max)/du, dP_k/du the peak's derivative (envelope
+ * theorem, 12.2); where it is undefined (a kink, an edge, a tie of coils
+ * or of local maxima), within 20 % of active that maneuver's row comes
+ * from differences of that maneuver alone (peak_fallbacks), farther its
+ * peak is held (only the limit moves; peak_held). The aggregate row q3
+ * (the largest peak; pom_cds_gradient_at) is the row of the maneuver with
+ * the largest peak. *ok = 0: a maneuver has no figures or no time or
+ * energy derivative (why in sens_why); nothing written but the counts. */
+static pom_status sens_point(opt_ctx *oc, const double *u, int *ok) {
   const pom_cds_problem *pb = oc->pb;
   const pom_cds_candidate *cd = &pb->cand[oc->c];
   const int n = oc->n_free;
-  const long nm = pb->maneuvers.count;
+  const long nm = oc->nm;
   *ok = 0;
-  if (oc->fig.failed > 0) {
-    snprintf(oc->sens_why, sizeof oc->sens_why, "%d maneuvers failed", oc->fig.failed);
-    return POM_OK;
-  }
   double x[POM_CDS_MAX_VARS];
   design_of(oc, u, x);
-  const int near_current = oc->q[3] > -0.2;
   const size_t row = sizeof(double[POM_CDS_MAX_VARS]);
   double *t =
-      malloc((size_t)nm * (4 * sizeof(double) + 3 * row + sizeof(int) + sizeof(pom_dyn_grad_why)));
+      malloc((size_t)nm * (3 * sizeof(double) + 3 * row + sizeof(int) + sizeof(pom_dyn_grad_why)));
   if (!t) POM_FAIL(oc->err, POM_ERR_NOMEM, "codesign: out of memory");
-  double *e = t + nm, *w = e + nm, *ip = w + nm;
-  double(*dt)[POM_CDS_MAX_VARS] = (double(*)[POM_CDS_MAX_VARS])(ip + nm);
+  double *e = t + nm, *w = e + nm;
+  double(*dt)[POM_CDS_MAX_VARS] = (double(*)[POM_CDS_MAX_VARS])(w + nm);
   double(*de)[POM_CDS_MAX_VARS] = dt + nm;
   double(*dip)[POM_CDS_MAX_VARS] = de + nm;
   int *ip_ok = (int *)(void *)(dip + nm);
   pom_dyn_grad_why *ip_why = (pom_dyn_grad_why *)(void *)(ip_ok + nm);
+  double *ip = oc->pk;
   pom_cds_sens_peak peak = {ip, dip, ip_ok, ip_why};
   int active[POM_CDS_MAX_VARS] = {0};
   for (int i = 0; i < n; ++i)
     active[oc->map[i]] = 1;
   int good = 0;
+  pom_cds_figures fig;
+  memset(&fig, 0, sizeof fig);
   const double cpu_s0 = cpu_now();
-  pom_status st = pom_cds_sens_maneuvers(pb, oc->c, x, active, pb->maneuvers.seed, nm, &oc->gr, t,
-                                         e, dt, de, near_current ? &peak : NULL, &good,
-                                         oc->sens_why, sizeof oc->sens_why, oc->err);
+  pom_status st =
+      pom_cds_sens_maneuvers(pb, oc->c, x, active, pb->maneuvers.seed, nm, &oc->gr, t, e, dt, de,
+                             &peak, &fig, &good, oc->sens_why, sizeof oc->sens_why, oc->err);
   oc->cpu_sens += cpu_now() - cpu_s0;
   oc->sens_runs += nm;
   oc->sens_params = n;
   oc->simulations += nm; /* counted as simulations too (hist_sims) */
   if (st != POM_OK || !good) {
+    oc->have = 0; /* oc->pk was overwritten */
     free(t);
     return st;
   }
+  ++oc->evaluations;
+  memcpy(oc->u, u, sizeof(double) * (size_t)n);
+  oc->have = 1;
+  oc->have_grad = 1;
+  oc->grad_undefined = 0;
+  oc->fig = fig;
+  quantities(pb, &fig, oc->q);
   pom_cds_smooth_quantile(t, (int)nm, pb->quantile, pb->bandwidth, w);
   double gs[NQ][POM_CDS_MAX_VARS];
   memset(gs, 0, sizeof gs);
@@ -213,7 +314,8 @@ static pom_status sens_rows(opt_ctx *oc, const double *u, int *ok) {
     }
     gs[6][i] = gs[0][i] / pb->time_max;
   }
-  /* the static rows (and the current limit's part of the current row) */
+  /* the static rows, and d(1/I_max)/du for the current rows */
+  double dinv[POM_CDS_MAX_VARS];
   for (int i = 0; i < n; ++i) {
     double h = pb->fd_step;
     double hh = fmin(h, 1.0 - u[i]), hl = fmin(h, u[i]);
@@ -231,58 +333,38 @@ static pom_status sens_rows(opt_ctx *oc, const double *u, int *ok) {
     quantities(pb, &fm, qm);
     for (int k = 2; k <= 4; ++k)
       gs[k][i] = (qp[k] - qm[k]) / (hh + hl);
+    dinv[i] = (1.0 / fp.i_limit - 1.0 / fm.i_limit) / (hh + hl);
   }
-  /* the peak current's part: the maneuver with the largest peak */
-  int current_fd = 0;
-  if (near_current && oc->fig.i_limit > 0) {
-    long k1 = -1, k2 = -1;
-    for (long k = 0; k < nm; ++k) {
-      if (k1 < 0 || ip[k] > ip[k1]) {
-        k2 = k1;
-        k1 = k;
-      } else if (k2 < 0 || ip[k] > ip[k2]) {
-        k2 = k;
-      }
-    }
-    /* a tie: the two largest located peaks closer than the sampled
-     * figure's own deficit (twice its distance from the located largest)
-     * or 1e-9: which maneuver's sampled maximum is the largest is then not
-     * known to the derivative's accuracy (docs/optimize.md 11.5) */
-    double gap_tol = 1e-9 * fabs(ip[k1]) + 2.0 * fabs(ip[k1] - oc->fig.i_peak);
-    if (!isfinite(ip[k1]) || !ip_ok[k1]) {
-      snprintf(oc->peak_why, sizeof oc->peak_why, "maneuver %ld (the largest peak): %s", k1,
-               pom_dyn_grad_why_text(ip_why[k1]));
-      current_fd = 1;
-    } else if (k2 >= 0 && ip[k1] - ip[k2] <= gap_tol) {
-      snprintf(oc->peak_why, sizeof oc->peak_why,
-               "maneuvers %ld and %ld tie for the largest peak (%.6g and %.6g A)", k1, k2, ip[k1],
-               ip[k2]);
-      current_fd = 1;
-    } else {
+  /* the current rows, one per maneuver */
+  const double ilim = oc->fig.i_limit;
+  long k1 = 0;
+  for (long k = 0; k < nm; ++k) {
+    if (ip[k] > ip[k1]) k1 = k;
+    for (int i = 0; i < n; ++i)
+      oc->gpk[k][i] = ip[k] * dinv[i]; /* the limit's part */
+    oc->pk_src[k] = ip_ok[k] ? 0 : ip[k] / ilim - 1.0 > -0.2 ? 1 : 2;
+    if (ip_ok[k]) {
       for (int i = 0; i < n; ++i) {
         int v = oc->map[i];
-        gs[3][i] += dip[k1][v] * pom_cds_dx_du(&cd->var[v], x[v]) / oc->fig.i_limit;
+        oc->gpk[k][i] += dip[k][v] * pom_cds_dx_du(&cd->var[v], x[v]) / ilim;
       }
       ++oc->peak_rows;
+    } else if (ip[k] / ilim - 1.0 > -0.2) {
+      snprintf(oc->peak_why, sizeof oc->peak_why, "maneuver %ld: %s", k,
+               pom_dyn_grad_why_text(ip_why[k]));
+      ++oc->peak_fallbacks;
+      st = peak_row_fd(oc, u, k, oc->gpk[k]);
+      if (st != POM_OK) break;
+    } else {
+      ++oc->peak_held; /* more than 20 % from active: the peak held, the limit moves */
     }
-  } else {
-    ++oc->peak_held; /* more than 20 % from active: the peak held, the limit moves */
   }
   free(t);
-  if (current_fd) {
-    /* the peak current's row from whole simulations (and nothing else) */
-    ++oc->peak_fallbacks;
-    double keep[NQ][POM_CDS_MAX_VARS];
-    memcpy(keep, gs, sizeof keep);
-    long sims0 = oc->simulations;
-    oc->have_grad = 0;
-    POM_TRY(point_cd(oc, u, 1));
-    oc->fallback_sims += oc->simulations - sims0;
-    for (int i = 0; i < n; ++i)
-      keep[3][i] = oc->g[3][i];
-    memcpy(gs, keep, sizeof keep);
-  }
+  POM_TRY(st);
+  for (int i = 0; i < n; ++i)
+    gs[3][i] = oc->gpk[k1][i];
   memcpy(oc->g, gs, sizeof gs);
+  record_best(oc, u);
   *ok = 1;
   return POM_OK;
 }
@@ -292,15 +374,22 @@ static pom_status point(opt_ctx *oc, const double *u, int want_grad) {
   if (oc->have && memcmp(u, oc->u, sizeof(double) * (size_t)n) == 0 &&
       (!want_grad || oc->have_grad))
     return POM_OK;
-  if (oc->pb->grad != POM_CDS_GRAD_SENS || !want_grad) return point_cd(oc, u, want_grad);
-  POM_TRY(point_cd(oc, u, 0));
-  int ok = 0;
-  POM_TRY(sens_rows(oc, u, &ok));
-  if (ok) {
-    oc->have_grad = 1;
-    oc->grad_undefined = 0;
-    return POM_OK;
+  if (oc->pb->grad != POM_CDS_GRAD_SENS) return point_cd(oc, u, want_grad);
+  /* one sensitivity run per maneuver gives the figures and the gradient:
+   * at every point that asks for a gradient, and at every point of a
+   * gradient-based run (SLSQP's line search asks for none, then for the
+   * gradient at the point it accepts: one run serves both, and every value
+   * that run sees comes from the same integration, 11.5) */
+  const int refused =
+      oc->sens_refused && memcmp(u, oc->sens_refused_u, sizeof(double) * (size_t)n) == 0;
+  if ((want_grad || oc->spec) && !refused) {
+    int ok = 0;
+    POM_TRY(sens_point(oc, u, &ok));
+    if (ok) return POM_OK;
+    oc->sens_refused = 1;
+    memcpy(oc->sens_refused_u, u, sizeof(double) * (size_t)n);
   }
+  if (!want_grad) return point_cd(oc, u, 0);
   /* a derivative undefined: this evaluation's gradient by differences */
   ++oc->sens_fallbacks;
   oc->have_grad = 0;
@@ -335,8 +424,25 @@ static pom_status point_cd(opt_ctx *oc, const double *u, int want_grad) {
   for (int d = 0; d < nd; ++d)
     design_of(oc, up[d], xs + d * POM_CDS_MAX_VARS);
   pom_cds_figures figs[1 + 2 * POM_CDS_MAX_VARS];
-  POM_TRY(pom_cds_evaluate_many(pb, oc->c, xs, nd, pb->maneuvers.seed, pb->maneuvers.count, 0, figs,
-                                oc->err));
+  /* with every maneuver's (sampled) peak: the split current constraints of
+   * the sensitivity source and pom_cds_gradient_at's per-maneuver rows; the
+   * figures are those of pom_cds_evaluate_many (the same runs, the same
+   * aggregation) */
+  double *peaks = malloc((size_t)nd * (size_t)oc->nm * sizeof *peaks);
+  if (!peaks) POM_FAIL(oc->err, POM_ERR_NOMEM, "codesign: out of memory");
+  pom_status st = pom_cds_evaluate_peaks(pb, oc->c, xs, nd, pb->maneuvers.seed, 0, oc->nm, figs,
+                                         peaks, oc->err);
+  for (long k = 0; k < oc->nm && st == POM_OK; ++k) {
+    oc->pk[k] = peaks[k];
+    oc->pk_src[k] = 1;
+    for (int i = 0; i < n && want_grad; ++i) {
+      double cp = peaks[(1 + 2 * i) * oc->nm + k] / figs[1 + 2 * i].i_limit - 1.0;
+      double cm = peaks[(2 + 2 * i) * oc->nm + k] / figs[2 + 2 * i].i_limit - 1.0;
+      oc->gpk[k][i] = (cp - cm) / (h_hi[i] + h_lo[i]);
+    }
+  }
+  free(peaks);
+  POM_TRY(st);
   for (int d = 0; d < nd; ++d)
     oc->simulations += figs[d].simulations;
   ++oc->evaluations;
@@ -361,26 +467,7 @@ static pom_status point_cd(opt_ctx *oc, const double *u, int want_grad) {
         oc->grad_undefined = 1;
     }
   }
-  double obj = objective_of(oc, oc->q);
-  if (feasible_q(oc, oc->q) && (!oc->have_best || obj < oc->best_obj)) {
-    oc->have_best = 1;
-    oc->best_obj = obj;
-    memcpy(oc->best_u, u, sizeof(double) * (size_t)n);
-    oc->best_fig = figs[0];
-  }
-  if (oc->have_best) {
-    double b = oc->objective == 0 ? oc->best_fig.p95 : oc->best_fig.energy;
-    if (oc->n_hist == 0 || b < oc->hist_best[oc->n_hist - 1]) {
-      if (oc->n_hist < POM_CDS_MAX_HIST) {
-        oc->hist_sims[oc->n_hist] = oc->simulations;
-        oc->hist_sens[oc->n_hist] = oc->sens_runs;
-        oc->hist_cpu[oc->n_hist] = cpu_now() - oc->cpu0;
-        oc->hist_best[oc->n_hist++] = b;
-      } else {
-        oc->hist_full = 1;
-      }
-    }
-  }
+  record_best(oc, u);
   return POM_OK;
 }
 
@@ -404,10 +491,12 @@ static double nl_objective(unsigned n, const double *u, double *grad, void *data
 }
 
 /* Constraint m: 0 kinematics, 1 current, 2 envelope, 3 failures, 4 time
- * bound, 5 energy bound. */
+ * bound, 5 energy bound; k >= 0: the current constraint of maneuver k alone
+ * (split, oc->spec). */
 typedef struct {
   opt_ctx *oc;
   int m;
+  long k;
 } con_data;
 
 static double nl_constraint(unsigned n, const double *u, double *grad, void *data) {
@@ -416,6 +505,13 @@ static double nl_constraint(unsigned n, const double *u, double *grad, void *dat
   if (oc->status != POM_OK) return HUGE_VAL;
   pom_status st = point(oc, u, grad != NULL);
   if (st != POM_OK) return nl_fail(oc, st);
+  if (cdt->k >= 0) {
+    /* maneuver k's current: P_k / I_max(s) - 1 (11.5, "The current rows") */
+    if (grad)
+      for (unsigned i = 0; i < n; ++i)
+        grad[i] = oc->gpk[cdt->k][i];
+    return oc->fig.i_limit > 0 ? oc->pk[cdt->k] / oc->fig.i_limit - 1.0 : 0.0;
+  }
   int k = cdt->m == 5 ? 1 : cdt->m == 4 ? 6 : 2 + cdt->m;
   double scale = cdt->m == 5 ? oc->eps : 1.0;
   double off = cdt->m == 5 ? 1.0 : 0.0;
@@ -451,12 +547,28 @@ static int run_nlopt(opt_ctx *oc, pom_cds_alg alg, double *u, int max_evals) {
   nlopt_set_lower_bounds(opt, lo);
   nlopt_set_upper_bounds(opt, hi);
   nlopt_set_min_objective(opt, nl_objective, oc);
-  con_data cd[6];
+  /* the sensitivity source in a gradient-based run: every point by one
+   * sensitivity run per maneuver, the current constraint one per maneuver */
+  oc->spec = oc->pb->grad == POM_CDS_GRAD_SENS && alg != POM_CDS_ALG_COBYLA;
   int nc = isfinite(oc->eps) ? 6 : 5;
+  long ncd = nc + (oc->spec ? oc->nm : 0);
+  con_data *cd = malloc((size_t)ncd * sizeof *cd);
+  if (!cd) {
+    nlopt_destroy(opt);
+    oc->opt = NULL;
+    return NLOPT_OUT_OF_MEMORY;
+  }
+  long ic = 0;
   for (int m = 0; m < nc; ++m) {
-    cd[m].oc = oc;
-    cd[m].m = m;
-    nlopt_add_inequality_constraint(opt, nl_constraint, &cd[m], 1e-6);
+    if (m == 1 && oc->spec) {
+      for (long k = 0; k < oc->nm; ++k) {
+        cd[ic] = (con_data){oc, 1, k};
+        nlopt_add_inequality_constraint(opt, nl_constraint, &cd[ic++], 1e-6);
+      }
+      continue;
+    }
+    cd[ic] = (con_data){oc, m, -1};
+    nlopt_add_inequality_constraint(opt, nl_constraint, &cd[ic++], 1e-6);
   }
   nlopt_set_maxeval(opt, max_evals);
   if (oc->pb->xtol_rel > 0) nlopt_set_xtol_rel(opt, oc->pb->xtol_rel);
@@ -469,7 +581,9 @@ static int run_nlopt(opt_ctx *oc, pom_cds_alg alg, double *u, int max_evals) {
   double f = 0;
   nlopt_result r = nlopt_optimize(opt, u, &f);
   nlopt_destroy(opt);
+  free(cd);
   oc->opt = NULL;
+  oc->spec = 0;
   return (int)r;
 }
 
@@ -480,9 +594,21 @@ pom_status pom_cds_optimize(const pom_cds_problem *pb, int c, const double *x0, 
   opt_ctx oc;
   double u[POM_CDS_MAX_VARS];
   opt_ctx_init(&oc, pb, c, x0, free_vars, objective, eps, u, err);
-  if (oc.n_free < 1) POM_FAIL(err, POM_ERR_ARG, "codesign: no free variable");
-  /* scales: the figures at the start (positive) */
-  POM_TRY(point(&oc, u, 0));
+  if (oc.status != POM_OK || oc.n_free < 1) {
+    opt_ctx_free(&oc);
+    if (oc.status != POM_OK) return oc.status;
+    POM_FAIL(err, POM_ERR_ARG, "codesign: no free variable");
+  }
+  /* scales: the figures at the start (positive); with the sensitivity
+   * source and a gradient-based algorithm the start is its first point
+   * (it asks for the gradient there): one sensitivity run serves both */
+  oc.spec = pb->grad == POM_CDS_GRAD_SENS && alg != POM_CDS_ALG_COBYLA;
+  pom_status st0 = point(&oc, u, oc.spec);
+  oc.spec = 0;
+  if (st0 != POM_OK) {
+    opt_ctx_free(&oc);
+    return st0;
+  }
   oc.t_ref = oc.q[0] > 0 ? oc.q[0] : 1e-3;
   oc.e_ref = oc.q[1] > 0 ? oc.q[1] : 1e-3;
   double u_start[POM_CDS_MAX_VARS];
@@ -492,7 +618,7 @@ pom_status pom_cds_optimize(const pom_cds_problem *pb, int c, const double *x0, 
   pt->eps = eps;
   int r = run_nlopt(&oc, alg, u, pb->max_evals);
   if (oc.status != POM_OK) {
-    pom_grad_destroy(oc.gr);
+    opt_ctx_free(&oc);
     return oc.status;
   }
   pt->nlopt_result = r;
@@ -505,7 +631,7 @@ pom_status pom_cds_optimize(const pom_cds_problem *pb, int c, const double *x0, 
     memcpy(u2, oc.have_best ? oc.best_u : u_start, sizeof u2);
     int r2 = run_nlopt(&oc, POM_CDS_ALG_COBYLA, u2, pb->max_evals);
     if (oc.status != POM_OK) {
-      pom_grad_destroy(oc.gr);
+      opt_ctx_free(&oc);
       return oc.status;
     }
     pt->fallback_used = 1;
@@ -536,7 +662,7 @@ pom_status pom_cds_optimize(const pom_cds_problem *pb, int c, const double *x0, 
   pt->peak_held = oc.peak_held;
   snprintf(pt->peak_why, sizeof pt->peak_why, "%s", oc.peak_why);
   pt->fallback_sims = oc.fallback_sims;
-  pom_grad_destroy(oc.gr);
+  opt_ctx_free(&oc);
   pt->cpu = cpu_now() - oc.cpu0;
   pt->cpu_sens = oc.cpu_sens;
   pt->n_hist = oc.n_hist;
@@ -564,7 +690,9 @@ typedef struct {
   pom_cds_point pt;
 } journal_entry;
 
-#define MAX_TASKS (POM_CDS_MAX_STARTS + POM_CDS_MAX_FRONT)
+/* the time starts, the energy optimum, the epsilon points and their second
+ * starts (from the time optimum) */
+#define MAX_TASKS (POM_CDS_MAX_STARTS + 2 * POM_CDS_MAX_FRONT)
 
 static pom_status journal_append(const char *path, int c, int task, const pom_cds_point *pt, int nv,
                                  pom_error *err) {
@@ -720,6 +848,10 @@ pom_status pom_cds_run(const pom_cds_problem *pb, const char *journal, int resum
     t0 = (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
   }
   uint64_t hash = fnv1a(pb->config_text);
+  /* the gradient source may come from the command line (--gradient), which
+   * the file's text does not show: a journal of the other source is
+   * another problem (central differences keep the file's own hash) */
+  if (pb->grad == POM_CDS_GRAD_SENS) hash = fnv1a("gradient = sensitivity") ^ (hash * 31u);
   journal_entry *je = calloc(POM_CDS_MAX_CANDIDATES * MAX_TASKS, sizeof *je);
   if (!je) POM_FAIL(err, POM_ERR_NOMEM, "codesign: out of memory");
   int nj = 0;
@@ -773,16 +905,36 @@ pom_status pom_cds_run(const pom_cds_problem *pb, const char *journal, int resum
      * energy optimum's side (each start meets its bound: the previous
      * point's energy is below the next, larger, bound) */
     double e_hi = best.opt.energy, e_lo = pe.opt.energy;
-    const double *xprev = pe.x;
+    const pom_cds_point *prev = &pe;
     for (int k = K - 2; k >= 1 && st == POM_OK; --k) {
       double eps = e_hi - (e_hi - e_lo) * k / (K - 1);
       pom_cds_point *p = &cr->point[k];
-      st = task(pb, c, pb->starts + k, xprev, 0, eps, je, nj, journal, &ps, p, &res->resumed_tasks,
-                err);
+      st = task(pb, c, pb->starts + k, prev->x, 0, eps, je, nj, journal, &ps, p,
+                &res->resumed_tasks, err);
       if (st != POM_OK) break;
       p->eps = eps;
       cr->simulations += p->simulations;
-      xprev = p->x;
+      /* stuck on its start (docs/optimize.md 11.5): no feasible design at
+       * least 0.1 % faster than the start, whose energy leaves the bound
+       * slack. A second start from the time optimum, on the bound's other
+       * side; the better of the two is the front point. */
+      if (!(p->feasible && p->opt.p95 < (1.0 - POM_CDS_STUCK_TOL) * prev->opt.p95)) {
+        pom_cds_point q;
+        ps.total += pb->max_evals;
+        st = task(pb, c, pb->starts + K - 1 + k, best.x, 0, eps, je, nj, journal, &ps, &q,
+                  &res->resumed_tasks, err);
+        if (st != POM_OK) break;
+        q.eps = eps;
+        cr->simulations += q.simulations;
+        long sims = p->simulations + q.simulations, evals = p->evaluations + q.evaluations;
+        int take = (q.feasible && !p->feasible) ||
+                   (q.feasible == p->feasible && pt_obj(&q, 0) < pt_obj(p, 0));
+        if (take) *p = q;
+        p->restarted = take ? 2 : 1;
+        p->simulations = sims;
+        p->evaluations = evals;
+      }
+      prev = p;
     }
     if (st != POM_OK) break;
     /* honest figures: a fresh maneuver set, rigid and parasitic */
@@ -976,13 +1128,14 @@ pom_status pom_cds_efficiency_run(const pom_cds_problem *pb, int c, int budget, 
   pom_cds_first_within(&out->dfree, out->target, rel_tol, &out->dfree_to_target);
   pom_cds_first_within(&out->grad, out->dfree_best, rel_tol, &out->grad_to_dfree);
   pom_cds_first_within(&out->dfree, out->dfree_best, rel_tol, &out->dfree_to_dfree);
-  /* a sensitivity run in plain runs: CPU per sensitivity run over CPU per
-   * plain run, both from the gradient-based run itself */
-  const pom_cds_point *g = &out->grad;
-  long plain = g->simulations - g->sens_runs;
-  double cpu_plain = g->cpu - g->cpu_sens;
-  out->sens_cost = g->sens_runs > 0 && plain > 0 && cpu_plain > 0
-                       ? (g->cpu_sens / (double)g->sens_runs) / (cpu_plain / (double)plain)
+  /* a sensitivity run in plain runs: CPU per sensitivity run (inside the
+   * engine, the gradient-based run) over CPU per plain run (COBYLA's whole
+   * run: plain runs only, model building and static figures included; the
+   * gradient-based run has few or no plain runs of its own since a point
+   * is one sensitivity run, docs/optimize.md 11.8) */
+  const pom_cds_point *g = &out->grad, *d = &out->dfree;
+  out->sens_cost = g->sens_runs > 0 && d->simulations > 0 && d->cpu > 0
+                       ? (g->cpu_sens / (double)g->sens_runs) / (d->cpu / (double)d->simulations)
                        : NAN;
   return POM_OK;
 }
@@ -994,20 +1147,32 @@ pom_status pom_cds_gradient_at(const pom_cds_problem *pb, int c, const double *x
   double u[POM_CDS_MAX_VARS];
   memset(out, 0, sizeof *out);
   opt_ctx_init(&oc, pb, c, x, NULL, 0, NAN, u, err);
-  pom_status st = point(&oc, u, 1);
-  pom_grad_destroy(oc.gr);
-  if (st != POM_OK) return st;
+  pom_status st = oc.status != POM_OK ? oc.status : point(&oc, u, 1);
+  if (st != POM_OK) {
+    opt_ctx_free(&oc);
+    return st;
+  }
   const int rows[3] = {0, 1, 3};
   for (int r = 0; r < 3; ++r) {
     out->q[r] = oc.q[rows[r]];
     for (int i = 0; i < POM_CDS_MAX_VARS; ++i)
       out->g[r][i] = i < oc.n_free ? oc.g[rows[r]][i] : 0.0;
   }
+  out->n_man = (int)(oc.nm < POM_CDS_CHECK_MANEUVERS ? oc.nm : POM_CDS_CHECK_MANEUVERS);
+  for (int k = 0; k < out->n_man; ++k) {
+    out->man_q[k] = oc.fig.i_limit > 0 ? oc.pk[k] / oc.fig.i_limit - 1.0 : 0.0;
+    out->man_src[k] = oc.pk_src[k];
+    for (int i = 0; i < POM_CDS_MAX_VARS; ++i)
+      out->man_g[k][i] = i < oc.n_free ? oc.gpk[k][i] : 0.0;
+  }
+  out->simulations = oc.simulations;
+  out->sens_runs = oc.sens_runs;
   out->fallbacks = oc.sens_fallbacks;
   out->peak_rows = oc.peak_rows;
   out->peak_fallbacks = oc.peak_fallbacks;
   out->peak_held = oc.peak_held;
   snprintf(out->why, sizeof out->why, "%s", oc.sens_why);
   snprintf(out->peak_why, sizeof out->peak_why, "%s", oc.peak_why);
+  opt_ctx_free(&oc);
   return POM_OK;
 }

@@ -178,6 +178,8 @@ static pom_status variant(pom_cfg **out, const pom_grad *g, const double *values
       POM_FAIL_GOTO(err, POM_ERR_CONFIG, done, "%s: joints.model cannot be set to \"rigid\"",
                     g->name);
   }
+  if (g->opt.solver_rtol > 0.0)
+    POM_TRY_GOTO(pom_doe_tree_set_number(&tree, "solver.rtol", g->opt.solver_rtol, err), done);
   for (int j = 0; j < g->n_keys; ++j)
     POM_TRY_GOTO(set_number(&tree, g->key[j], values[j], err), done);
   for (int u = 0; x && u < g->unc.n; ++u) {

@@ -97,6 +97,10 @@ typedef struct {
   double quantile_bandwidth; /* its kernel's bandwidth (s) > 0; default 1e-3 (the co-design's
                                 bandwidth_ms); the key gradient.quantile_bandwidth_ms (ms)
                                 replaces it */
+  double solver_rtol;        /* > 0: every run's solver.rtol instead of the config's (the
+                                whole-run differences of `pomlab gradient --check` run tighter
+                                than the file; the caller checks it as solver.rtol is checked);
+                                0 (default): the config's */
 } pom_grad_options;
 
 void pom_grad_options_defaults(pom_grad_options *o);
@@ -160,8 +164,9 @@ double pom_grad_scale(const pom_grad *g, int j);
 double pom_grad_dir(const pom_grad *g, int j, int m); /* dirs[j][m] */
 
 /* Turns the peak coil current's watch and derivative on or off for the next
- * runs (pom_grad_options.peak_current; the co-design asks for it only
- * while the current constraint is near active, docs/optimize.md 11.5). */
+ * runs (pom_grad_options.peak_current; the co-design turns it on at every
+ * sensitivity point, whose peak current figure it is, docs/optimize.md
+ * 11.5). */
 void pom_grad_watch_peak_current(pom_grad *g, int on);
 
 /* Moves the design to values[n_keys] (config units) and rebuilds the

@@ -63,6 +63,10 @@ target_link_libraries(test_grad_quantile PRIVATE pom_study pom_dynamics pom_kine
 # the tracking error's gradient (the PID with feedforward) against the whole-run reference
 pom_add_test(test_grad_track test_grad_track.c)
 target_link_libraries(test_grad_track PRIVATE pom_study pom_dynamics pom_kinematics pom_core)
+# pomlab gradient --check: whole-run differences at a tight rtol (docs/optimize.md 12.6)
+add_test(NAME test_gradient_check
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/test_gradient_check.sh $<TARGET_FILE:pomlab> ${CMAKE_SOURCE_DIR}
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 # settling-time derivatives reported undefined, never as a number: a grazing
 # band crossing (found at run time; also through pomlab gradient, text and
 # JSON) and an actuator settled from the start (docs/optimize.md 12.4)

@@ -27,7 +27,7 @@ declare -A options=(
   [tradeoff]="--accuracy --maneuvers --repeats --csv --quiet"
   [view]="-o --pose --trace --frame --frames --workspace --compare --png --mp4 --size --fps"
   [export]="--mjcf"
-  [gradient]="--params --maneuvers --seed --sens-margin --quantile --bandwidth-ms --check --json"
+  [gradient]="--params --maneuvers --seed --sens-margin --quantile --bandwidth-ms --check --check-rtol --json"
 )
 for cmd in "${!options[@]}"; do
   expect_rc 0 "$POMLAB" "$cmd" --help
