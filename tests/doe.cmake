@@ -80,6 +80,12 @@ add_test(NAME test_grad_undefined
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 pom_add_test(test_grad_random test_grad_random.c)
 target_link_libraries(test_grad_random PRIVATE pom_study pom_dynamics pom_kinematics pom_core)
+# the 100 designs: since the perturbed models follow the nominal's saturation
+# pattern every energy within 1e-5 (worst 8.7e-7), but case 68's settling time
+# of actuator 2 against tau_D (a 3 um target, a 60 nm band) misses 1e-4 at
+# 1.32e-4 (6.2e-5 before): the differencing's rounding, which scatters that
+# derivative by +-1.6e-4 with the step in either engine (docs/optimize.md
+# 12.4, "Two settling times beyond 1e-4")
 add_test(NAME test_grad_random_long COMMAND test_grad_random 100 WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 set_tests_properties(test_grad_random_long PROPERTIES LABELS long SKIP_RETURN_CODE 77)
 # case 70, whose energy_1 missed 1e-5 at the noise margin 1e3 (1.96e-5 against
