@@ -420,6 +420,7 @@ int main(int argc, char **argv) {
       continue;
     }
     ++ran;
+    if (ok && zd > 0.0) printf("case %3d: drive mode damping ratio %.3g\n", c, zd);
     for (int t = 0; t < ns && ok; ++t)
       if (pom_grad_maneuver_joint(tl[t].gs[a], q, &mt[t], &gr[t], &err) != POM_OK) {
         printf("case %d (%s): maneuver failed: %s\n", c, archs[a].file, mt[t].reason);
