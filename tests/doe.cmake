@@ -123,11 +123,18 @@ add_test(NAME test_grad_random_catalog_c09 COMMAND test_grad_random 128 0 0 --ca
 add_test(NAME test_grad_random_catalog_perturbed COMMAND test_grad_random 1 3e-4 0
          --arch catalog/3ruu_wrist.cfg WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 set_tests_properties(test_grad_random_catalog_perturbed PROPERTIES WILL_FAIL TRUE)
+# C13 case 19: energy_1 beyond 1e-5 at every noise margin (1.61e-4 at the
+# default), within at the sensitivities' differencing step 3e-5 with the same
+# tolerance (margin 3e3; measured 4.15e-6): the error is that step's
+add_test(NAME test_grad_random_catalog_c13_relstep COMMAND test_grad_random 20 0 19
+         --arch catalog/3ruu_wrist.cfg --rel-step 3e-5 --margin 3e3
+         WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# long-labelled: C11 passes; C13 and C09 FAIL today on energies (docs)
 add_test(NAME test_grad_random_catalog_c11_long COMMAND test_grad_random 60 0 0
          --arch catalog/3pss_inclined.cfg WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
-add_test(NAME test_grad_random_catalog_c13_long COMMAND test_grad_random 30 0 0
+add_test(NAME test_grad_random_catalog_c13_long COMMAND test_grad_random 60 0 0
          --arch catalog/3ruu_wrist.cfg WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
-add_test(NAME test_grad_random_catalog_c09_long COMMAND test_grad_random 200 0 0
+add_test(NAME test_grad_random_catalog_c09_long COMMAND test_grad_random 600 0 0
          --arch catalog/3rss_radial.cfg WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 set_tests_properties(test_grad_random_catalog_c11_long test_grad_random_catalog_c13_long
   test_grad_random_catalog_c09_long PROPERTIES LABELS long SKIP_RETURN_CODE 77)

@@ -35,7 +35,10 @@
  * --rel-step R: the sensitivities' differencing step (pom_grad_options.rel_step,
  * default 3e-6).
  * --ref-step S: the reference's largest step H = S |p| (default REF_STEP,
- * 4e-3): a reference that moves with it was not differentiable there.
+ * 4e-3): a reference that moves with it was not differentiable there
+ * (the cache of --ref-cache does not record it: one step per PREFIX).
+ * --dry: each case only drawn and classified (runs, or not run and why),
+ * nothing simulated; the checks then fail (nothing compared).
  * --against M0: each case's sensitivities also at the noise margin M0; the
  * energies' worst error at --margin must then be within 1e-5 and at most a
  * third of M0's (test_grad_random_margin).
@@ -341,6 +344,7 @@ int main(int argc, char **argv) {
   /* the named options first, then the positional arguments */
   double margin = POM_DYN_SENS_MARGIN_DEFAULT, against = 0.0, rel_step = 0.0, ref_step = REF_STEP;
   const char *list = NULL, *cache = NULL, *arch_file = NULL;
+  int dry = 0;
   char *pos[4] = {argv[0], NULL, NULL, NULL};
   int npos = 1;
   for (int i = 1; i < argc; ++i) {
@@ -348,6 +352,8 @@ int main(int argc, char **argv) {
       margin = atof(argv[++i]);
     } else if (strcmp(argv[i], "--rel-step") == 0 && i + 1 < argc) {
       rel_step = atof(argv[++i]);
+    } else if (strcmp(argv[i], "--dry") == 0) {
+      dry = 1;
     } else if (strcmp(argv[i], "--ref-step") == 0 && i + 1 < argc) {
       ref_step = atof(argv[++i]);
     } else if (strcmp(argv[i], "--against") == 0 && i + 1 < argc) {
@@ -487,6 +493,10 @@ int main(int argc, char **argv) {
              c, archs[a].file, archs[a].keys[edge], wd, zd);
       for (int t = 0; t < ns; ++t)
         ++tl[t].light_ref;
+      continue;
+    }
+    if (dry) {
+      printf("case %3d %s: runs\n", c, archs[a].file);
       continue;
     }
     ++ran;
