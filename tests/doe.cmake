@@ -116,3 +116,33 @@ add_test(NAME test_grad_random_3rrr_margin COMMAND test_grad_random 79 0 0 --arc
 add_test(NAME test_grad_random_3rrr_perturbed COMMAND test_grad_random 1 3e-4 0 --arch 3rrr.cfg
          WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 set_tests_properties(test_grad_random_3rrr_perturbed PROPERTIES WILL_FAIL TRUE)
+# the same check on catalog architectures (kinematics from the .arch limb
+# tables by jets; each with its keys, ranges and targets in archs[] of
+# test_grad_random.c; docs/optimize.md 12.4, "Catalog architectures"): C11
+# 3-PSS/S inclined (linear coils), C13 3-RUU wrist and C09 3-RSS/S radial
+# (rotary coils); most C09 draws lie outside BDF 3's sector (not run), so its
+# plain cases are two that run, 78 and 127
+add_test(NAME test_grad_random_catalog_c11 COMMAND test_grad_random 2 0 0
+         --arch catalog/3pss_inclined.cfg WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+add_test(NAME test_grad_random_catalog_c13 COMMAND test_grad_random 3 0 0
+         --arch catalog/3ruu_wrist.cfg WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+add_test(NAME test_grad_random_catalog_c09 COMMAND test_grad_random 128 0 0 --cases 78,127
+         --arch catalog/3rss_radial.cfg WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+add_test(NAME test_grad_random_catalog_perturbed COMMAND test_grad_random 1 3e-4 0
+         --arch catalog/3ruu_wrist.cfg WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+set_tests_properties(test_grad_random_catalog_perturbed PROPERTIES WILL_FAIL TRUE)
+# C13 case 19: energy_1 beyond 1e-5 at every noise margin (1.61e-4 at the
+# default), within at the sensitivities' differencing step 3e-5 with the same
+# tolerance (margin 3e3; measured 4.15e-6): the error is that step's
+add_test(NAME test_grad_random_catalog_c13_relstep COMMAND test_grad_random 20 0 19
+         --arch catalog/3ruu_wrist.cfg --rel-step 3e-5 --margin 3e3
+         WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+# long-labelled: C11 passes; C13 and C09 FAIL today on energies (docs)
+add_test(NAME test_grad_random_catalog_c11_long COMMAND test_grad_random 60 0 0
+         --arch catalog/3pss_inclined.cfg WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+add_test(NAME test_grad_random_catalog_c13_long COMMAND test_grad_random 60 0 0
+         --arch catalog/3ruu_wrist.cfg WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+add_test(NAME test_grad_random_catalog_c09_long COMMAND test_grad_random 600 0 0
+         --arch catalog/3rss_radial.cfg WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+set_tests_properties(test_grad_random_catalog_c11_long test_grad_random_catalog_c13_long
+  test_grad_random_catalog_c09_long PROPERTIES LABELS long SKIP_RETURN_CODE 77)

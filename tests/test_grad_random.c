@@ -33,6 +33,11 @@
  * (pom_grad_options.sens_noise_margin, default 3e2; docs/optimize.md 12.4).
  * --rel-step R: the sensitivities' differencing step (pom_grad_options.rel_step,
  * default 3e-6).
+ * --ref-step S: the reference's largest step H = S |p| (default REF_STEP,
+ * 4e-3): a reference that moves with it was not differentiable there
+ * (the cache of --ref-cache does not record it: one step per PREFIX).
+ * --dry: each case only drawn and classified (runs, or not run and why),
+ * nothing simulated; the checks then fail (nothing compared).
  * --against M0: each case's sensitivities also at the noise margin M0, held
  * to the same bounds: since the perturbed models follow the nominal's
  * saturation pattern (docs/optimize.md 12.1), the error does not follow
@@ -48,10 +53,14 @@
  * whole simulations of each reference once (same build only).
  * --arch FILE: every case on that architecture only (3pss.cfg, 3sps.cfg or
  * 3rrr.cfg: the 3-RRR with rotary voice coils, its own keys, ranges and
- * targets within +-0.2 rad; test_grad_random_3rrr); without it the cases
+ * targets within +-0.2 rad; test_grad_random_3rrr; or a catalog
+ * architecture, catalog/3rss_radial.cfg, catalog/3ruu_wrist.cfg or
+ * catalog/3pss_inclined.cfg, each with its keys, ranges and targets in
+ * archs[]: test_grad_random_catalog); without it the cases
  * alternate the 3P-S-S/S and 3S-P-S/S, the sequence of docs/optimize.md
  * 12.4's tables. */
 #include "check.h"
+#include "pom_arch_file.h"
 #include "pom_dyn_print.h"
 #include "pom_grad.h"
 #include "pom_rng.h"
@@ -132,6 +141,42 @@ static const arch_case archs[] = {
      {1.2, 1.2, 1.2, 1.2, 1.2, 1.05},
      0.2,
      "mrad"},
+    /* Catalog architectures (docs/catalog.md; kinematics from the .arch limb
+     * tables by jets), only with --arch. The catalog configs carry no
+     * montecarlo ranges: the ranges are the 3-RRR's (+-20 % on the drive
+     * and the masses, +-5 % on the geometry key the config writes; the
+     * .arch defaults are not config keys). C09: rotary voice coils on a
+     * radial crank, the 3-RRR's actuator group and the same 15 mm lever
+     * (sigma = 1 rad/rad), so the 3-RRR's +-0.2 rad targets (the rotor's
+     * range +-30 deg) */
+    {"catalog/3rss_radial.cfg",
+     {"actuator.resistance_ohm", "actuator.torque_constant_Nm_per_A", "controller.kp",
+      "controller.kd_s", "inertia.crank.mass_kg", "geometry.platform_radius_mm"},
+     {0.8, 0.8, 0.8, 0.8, 0.8, 0.95},
+     {1.2, 1.2, 1.2, 1.2, 1.2, 1.05},
+     0.2,
+     "mrad"},
+    /* C13: the 3-RUU wrist (universal joints, revolute pairs only; the
+     * crank an arc body of the .arch); its scale u_radius_mm sets only the
+     * bodies' sizes and inertias (the angles fix the kinematics), the link
+     * mass its own group's; the 3-RRR's actuator and angles (C03), so the
+     * same +-0.2 rad targets */
+    {"catalog/3ruu_wrist.cfg",
+     {"actuator.resistance_ohm", "actuator.torque_constant_Nm_per_A", "controller.kp",
+      "controller.kd_s", "inertia.link.mass_kg", "geometry.u_radius_mm"},
+     {0.8, 0.8, 0.8, 0.8, 0.8, 0.95},
+     {1.2, 1.2, 1.2, 1.2, 1.2, 1.05},
+     0.2,
+     "mrad"},
+    /* C11: the 3P-S-S/S with inclined pistons, the linear voice coils of
+     * configs/3pss.cfg: its +-3 mm targets (half the +-6 mm stroke) */
+    {"catalog/3pss_inclined.cfg",
+     {"actuator.resistance_ohm", "actuator.force_constant_N_per_A", "controller.kp",
+      "controller.kd_s", "inertia.piston.mass_kg", "geometry.platform_radius_mm"},
+     {0.8, 0.8, 0.8, 0.8, 0.8, 0.95},
+     {1.2, 1.2, 1.2, 1.2, 1.2, 1.05},
+     3e-3,
+     "mm"},
 };
 #define N_ARCHS ((int)(sizeof archs / sizeof archs[0]))
 
@@ -222,7 +267,7 @@ static int in_list(const char *list, int c) {
 typedef struct {
   double margin;
   pom_grad *gs[N_ARCHS];
-  long compared[4], over[4], kink[4], unresolved[4], undefined[4], ref_undefined, light;
+  long compared[4], over[4], kink[4], unresolved[4], undefined[4], ref_undefined, light, light_ref;
   long why[POM_DYN_GRAD_PEAK_KINK + 1];
   double worst[4], worst_ref[4];
   long steps, sens_evals;
@@ -299,16 +344,18 @@ static void print_tally(const tally *t, long ran) {
   for (int w = 1; w <= POM_DYN_GRAD_PEAK_KINK; ++w)
     if (t->why[w]) printf(" %s %ld;", pom_dyn_grad_why_text((pom_dyn_grad_why)w), t->why[w]);
   printf("\nreferences undefined (a perturbed run failed): %ld\n", t->ref_undefined);
-  printf("designs not run, their drive mode outside BDF 3's sector (high loop gain): %ld\n",
-         t->light);
+  printf("designs not run, their drive mode outside BDF 3's sector (high loop gain): %ld; a "
+         "reference design's: %ld\n",
+         t->light, t->light_ref);
   printf("sensitivity runs of the %ld cases: %ld steps, %ld sensitivity right-hand sides\n", ran,
          t->steps, t->sens_evals);
 }
 
 int main(int argc, char **argv) {
   /* the named options first, then the positional arguments */
-  double margin = POM_DYN_SENS_MARGIN_DEFAULT, against = 0.0, rel_step = 0.0;
+  double margin = POM_DYN_SENS_MARGIN_DEFAULT, against = 0.0, rel_step = 0.0, ref_step = REF_STEP;
   const char *list = NULL, *cache = NULL, *arch_file = NULL;
+  int dry = 0;
   char *pos[4] = {argv[0], NULL, NULL, NULL};
   int npos = 1;
   for (int i = 1; i < argc; ++i) {
@@ -316,6 +363,10 @@ int main(int argc, char **argv) {
       margin = atof(argv[++i]);
     } else if (strcmp(argv[i], "--rel-step") == 0 && i + 1 < argc) {
       rel_step = atof(argv[++i]);
+    } else if (strcmp(argv[i], "--dry") == 0) {
+      dry = 1;
+    } else if (strcmp(argv[i], "--ref-step") == 0 && i + 1 < argc) {
+      ref_step = atof(argv[++i]);
     } else if (strcmp(argv[i], "--against") == 0 && i + 1 < argc) {
       against = atof(argv[++i]);
     } else if (strcmp(argv[i], "--cases") == 0 && i + 1 < argc) {
@@ -336,9 +387,20 @@ int main(int argc, char **argv) {
   for (int a = 0; a < N_ARCHS && arch_file; ++a)
     if (strcmp(arch_file, archs[a].file) == 0) only = a;
   if (arch_file && only < 0) {
-    printf("--arch %s: not one of the test's architectures (3pss.cfg, 3sps.cfg, 3rrr.cfg)\n",
-           arch_file);
+    printf("--arch %s: not one of the test's architectures:", arch_file);
+    for (int a = 0; a < N_ARCHS; ++a)
+      printf(" %s", archs[a].file);
+    printf("\n");
     return 1;
+  }
+  /* a catalog architecture: its .arch file registered (the shipped
+   * catalog/, as pomlab does) before its config is loaded */
+  if (only >= 0 && strncmp(archs[only].file, "catalog/", 8) == 0) {
+    pom_error err;
+    if (pom_arch_files_register_all(&err) != POM_OK) {
+      printf("architecture files: %s\n", err.message);
+      return 1;
+    }
   }
   int cases = npos > 1 ? atoi(pos[1]) : 10;
   double shift = npos > 2 ? atof(pos[2]) : 0.0;
@@ -419,6 +481,36 @@ int main(int argc, char **argv) {
         ++tl[t].light;
       continue;
     }
+    /* The same for the reference's designs v +- h e_j (h = H, H/2, H/4): a
+     * design next to the sector's edge has perturbed designs beyond it,
+     * whose runs stop at solver.max_steps (measured: catalog/3rss_radial.cfg
+     * case 180, every reference undefined). Not run either, printed. */
+    int edge = -1;
+    for (int j = 0; j < nk && ok && edge < 0; ++j)
+      for (int s = 0; s < 6 && edge < 0; ++s) {
+        double w[6];
+        memcpy(w, v, sizeof w);
+        w[j] += (s % 2 ? -1.0 : 1.0) * ref_step * fabs(v[j]) / (double)(1 << (s / 2));
+        if (pom_grad_set_values(tl[0].gs[a], w, &err) != POM_OK) {
+          printf("case %d: design refused: %s\n", c, err.message);
+          ok = 0;
+        } else if (pom_dyn_drive_mode_light(pom_grad_model(tl[0].gs[a]), &wd, &zd)) {
+          edge = j;
+        }
+      }
+    if (ok && pom_grad_set_values(tl[0].gs[a], v, &err) != POM_OK) ok = 0;
+    if (ok && edge >= 0) {
+      printf("case %3d %s: not run: a reference design (%s moved) rings at %.3g rad/s, damping "
+             "ratio %.3g (below 0.070)\n",
+             c, archs[a].file, archs[a].keys[edge], wd, zd);
+      for (int t = 0; t < ns; ++t)
+        ++tl[t].light_ref;
+      continue;
+    }
+    if (dry) {
+      printf("case %3d %s: runs\n", c, archs[a].file);
+      continue;
+    }
     ++ran;
     if (ok && zd > 0.0) printf("case %3d: drive mode damping ratio %.3g\n", c, zd);
     for (int t = 0; t < ns && ok; ++t)
@@ -430,7 +522,7 @@ int main(int argc, char **argv) {
     if (!ok) continue;
     double H[6], run_error[POM_GRAD_N_METRICS];
     for (int j = 0; j < nk; ++j)
-      H[j] = REF_STEP * fabs(v[j]);
+      H[j] = ref_step * fabs(v[j]);
     for (int k = 0; k < POM_GRAD_N_METRICS; ++k)
       run_error[k] = class_run_error[metric_class(k)];
     pom_grad_ref ref[POM_GRAD_N_METRICS];
