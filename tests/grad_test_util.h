@@ -42,4 +42,14 @@ static inline pom_cfg *shipped_with_rtol(const char *file, const char *rtol) {
   return cfg;
 }
 
+/* The line at *p (its newline kept, cut to cap - 1 bytes) into line, *p
+ * moved past it; returns the line past its leading blanks. */
+static inline const char *next_line(const char **p, char *line, size_t cap) {
+  const char *nl = strchr(*p, '\n');
+  size_t len = nl ? (size_t)(nl - *p + 1) : strlen(*p);
+  snprintf(line, cap, "%.*s", (int)(len < cap ? len : cap - 1), *p);
+  *p += len;
+  return line + strspn(line, " \t");
+}
+
 #endif

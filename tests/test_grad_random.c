@@ -60,6 +60,7 @@
  * alternate the 3P-S-S/S and 3S-P-S/S, the sequence of docs/optimize.md
  * 12.4's tables. */
 #include "check.h"
+#include "grad_test_util.h"
 #include "pom_arch_file.h"
 #include "pom_dyn_print.h"
 #include "pom_grad.h"
@@ -199,11 +200,8 @@ static pom_cfg *rigid_config(const char *file) {
   out[0] = '\0';
   const char *p = text;
   while (*p) {
-    const char *nl = strchr(p, '\n');
-    size_t len = nl ? (size_t)(nl - p + 1) : strlen(p);
     char line[1024];
-    snprintf(line, sizeof line, "%.*s", (int)(len < sizeof line ? len : sizeof line - 1), p);
-    const char *t = line + strspn(line, " \t");
+    const char *t = next_line(&p, line, sizeof line);
     if (strncmp(t, "rtol", 4) == 0 && strchr(t, '=')) {
       /* no wall-clock budget: at a small noise margin a 3S-P-S/S
        * sensitivity run takes over 60 s on a loaded machine (the steps
@@ -216,7 +214,6 @@ static pom_cfg *rigid_config(const char *file) {
       if (strncmp(t, "joints = {", 10) == 0 && !strstr(text, "model = \"rigid\""))
         strcat(out, "  model = \"rigid\";\n");
     }
-    p += len;
   }
   pom_cfg *cfg = NULL;
   pom_error err;

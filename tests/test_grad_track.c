@@ -95,12 +95,8 @@ static pom_cfg *ff_config(const char *rtol, const track_case *tc) {
   out[0] = '\0';
   int in_controller = 0;
   for (const char *p = text; *p;) {
-    const char *nl = strchr(p, '\n');
-    size_t len = nl ? (size_t)(nl - p + 1) : strlen(p);
     char line[1024];
-    snprintf(line, sizeof line, "%.*s", (int)(len < sizeof line ? len : sizeof line - 1), p);
-    p += len;
-    const char *t = line + strspn(line, " \t");
+    const char *t = next_line(&p, line, sizeof line);
     if (in_controller) {
       if (strncmp(t, "};", 2) == 0) in_controller = 0;
       continue;

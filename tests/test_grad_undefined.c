@@ -67,12 +67,8 @@ static int config_text(char *out, size_t cap, double band_percent) {
   out[0] = '\0';
   size_t used = 0;
   for (const char *p = text; *p;) {
-    const char *nl = strchr(p, '\n');
-    size_t len = nl ? (size_t)(nl - p + 1) : strlen(p);
     char line[1024];
-    snprintf(line, sizeof line, "%.*s", (int)(len < sizeof line ? len : sizeof line - 1), p);
-    p += len;
-    const char *t = line + strspn(line, " \t");
+    const char *t = next_line(&p, line, sizeof line);
     char rep[256];
     if (strncmp(t, "rtol", 4) == 0 && strchr(t, '='))
       snprintf(rep, sizeof rep, "  rtol = 1e-10;\n  max_wall_s = 0.0;\n");
