@@ -17,11 +17,6 @@
 /* Gauss-Legendre nodes of the tracking quadrature (dyn_settle.c). */
 static const double gl_node[2] = {0.21132486540518711775, 0.78867513459481288225};
 
-/* Time step of the crossing rate dg/dt by central differences along the
- * state's rate (a fraction of the horizon): truncation ~ g''' eps^2, rounding
- * ~ 1e-16 |q| / eps; at 1e-8 x 0.1 s both are below 1e-9 of the rate. */
-#define SENS_RATE_EPS 1e-8
-
 /* The per-run workspace (d->sens). */
 struct dyn_sens {
   const pom_dyn_sens_spec *spec;
@@ -152,6 +147,36 @@ static double band_dp(struct dyn_sens *w, const pom_dyn_model *m, int a, int j, 
   axpy(w->ybuf, y, -h, s, n);
   double gm = band_g(sp->minus[j], sp->target_minus[j], w->Rt[1][j], a, w->ybuf);
   return (gp - gm) / (2.0 * h);
+}
+
+/* dg/dt of a band function at state y of the nominal model, from the
+ * state's own rates, not a difference along y' (docs/optimize.md 12.2, "The
+ * crossing rate"): an actuator's g = |q_a - q_a*| - band has dg/dt =
+ * sign(q_a - q_a*) q_dot_a with q_dot_a = J_a omega (the model's outputs);
+ * the pointing angle theta = |rotvec(R*^T R)| has dtheta/dt = n . R^T omega
+ * (n the rotation's unit axis, omega the platform's angular velocity in the
+ * fixed frame, the exact path's state). A difference of g along y' over
+ * 1e-8 of the horizon rounds at eps times the limb lengths (cm) the IK
+ * forms q_a from, whatever q_a's own size: at a band of tens of nanometres,
+ * where q_dot_a is small, that reached 1.6e-4 of the rate (case 68 of
+ * 12.4). NaN where the model cannot
+ * be evaluated (the crossing is then reported undefined). Leaves d->out
+ * and d->t at the crossing (the step's end evaluates again). */
+static double band_rate(const pom_dyn_model *m, pom_dyn_data *d, int a, const double *y) {
+  if (a >= 0) {
+    if (pom_dyn_eval(m, d, y, NULL)) return NAN;
+    return (d->out.q[a] < d->target[a] ? -1.0 : 1.0) * d->out.q_dot[a];
+  }
+  int ori, n_ori, om;
+  if (!pom_dyn_exact_layout(m, &ori, &n_ori, &om)) return NAN;
+  double R[9], E[9], rv[3], wb[3];
+  m->form->platform_rotation(m, y, R);
+  pom_m3_tmul(E, d->R_target, R);
+  pom_m3_rotvec(rv, E);
+  const double th = pom_v3_norm(rv);
+  if (!(th > 0.0)) return NAN;
+  pom_m3_tapply(wb, R, y + om);
+  return pom_v3_dot(rv, wb) / th;
 }
 
 /* d|i_a|/dp_j at the peak's time ts (inside the last step): the current's
@@ -382,19 +407,12 @@ static pom_status pom_dyn_sens_begin(const pom_dyn_model *m, pom_dyn_data *d, po
 static pom_status crossing(const pom_dyn_model *m, pom_dyn_data *d, int k, int a, double ts,
                            double before, pom_error *err) {
   struct dyn_sens *w = d->sens;
-  const int n = m->n_states;
   if (CVodeGetDky(d->cvode, ts, 0, d->ytmp) != CV_SUCCESS ||
-      CVodeGetDky(d->cvode, ts, 1, d->ftmp) != CV_SUCCESS ||
       CVodeGetSensDky(d->cvode, ts, 0, w->ySt) != CV_SUCCESS)
     POM_FAIL(err, POM_ERR_SOLVER, "CVODES refused the crossing time %.9g s", ts);
-  const double *y = N_VGetArrayPointer(d->ytmp), *yd = N_VGetArrayPointer(d->ftmp);
-  const double *Rt = d->R_target;
-  const double eps = SENS_RATE_EPS * m->par.maneuver.horizon;
-  axpy(w->ybuf, y, eps, yd, n);
-  double g1 = band_g(m, d->target, Rt, a, w->ybuf);
-  axpy(w->ybuf, y, -eps, yd, n);
-  double g0 = band_g(m, d->target, Rt, a, w->ybuf);
-  double rate = (g1 - g0) / (2.0 * eps);
+  const double *y = N_VGetArrayPointer(d->ytmp);
+  d->t = ts;
+  const double rate = band_rate(m, d, a, y);
   w->t_cross[k] = ts;
   w->rate[k] = rate;
   /* the excursion outside the band this crossing ends: its largest sampled
