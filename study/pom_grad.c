@@ -933,6 +933,9 @@ pom_status pom_grad_montecarlo(pom_grad *g, const pom_grad_mc_options *o, pom_gr
   }
   memset(r, 0, sizeof *r);
   r->n_params = g->n;
+  r->plain_fd = o->plain_fd;
+  r->rel_step = g->opt.rel_step;
+  r->solver_rtol = pom_dyn_model_params(base(&g->nom)->model)->solver.rtol;
   pom_doe_maneuvers mv = g->mv;
   pom_unc unc = g->unc;
   if (o->seed_set) mv.seed = unc.seed = o->seed;
@@ -1064,6 +1067,18 @@ static void json_one(FILE *out, const pom_grad *g, const pom_dyn_metrics *mt,
   fprintf(out, "}");
 }
 
+/* {"gradients": "sensitivities" | "whole-run differences", "rel_step": h,
+ * "solver_rtol": rtol} of a Monte-Carlo result */
+static void json_method(FILE *out, const pom_grad_mc_result *r) {
+  fprintf(out, "{\"gradients\": ");
+  pom_json_string(out, r->plain_fd ? "whole-run differences" : "sensitivities");
+  fprintf(out, ", \"rel_step\": ");
+  pom_json_number(out, r->rel_step);
+  fprintf(out, ", \"solver_rtol\": ");
+  pom_json_number(out, r->solver_rtol);
+  fprintf(out, "}");
+}
+
 void pom_grad_mc_json(FILE *out, const char *cfg_path, const pom_grad *g,
                       const pom_grad_mc_result *r, const pom_grad_mc_result *check) {
   const int nk = pom_grad_n_keys(g);
@@ -1134,5 +1149,11 @@ void pom_grad_mc_json(FILE *out, const char *cfg_path, const pom_grad *g,
     pom_json_string(out, pom_dyn_grad_why_text(r->dquantile[k].why));
     first = 0;
   }
-  fprintf(out, "}}}\n");
+  fprintf(out, "}},\n \"method\": ");
+  json_method(out, r);
+  if (check) {
+    fprintf(out, ", \"check_method\": ");
+    json_method(out, check);
+  }
+  fprintf(out, "}\n");
 }

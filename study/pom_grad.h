@@ -230,6 +230,12 @@ typedef struct {
   double quantile_p, quantile_bandwidth; /* (s) */
   double quantile[POM_GRAD_N_METRICS];
   pom_dyn_dmetric dquantile[POM_GRAD_N_METRICS];
+  /* how the gradients were computed: plain_fd as in the options, the
+   * relative step (the sensitivities' differencing or the whole-run
+   * differences') and the runs' solver.rtol */
+  int plain_fd;
+  double rel_step;
+  double solver_rtol;
 } pom_grad_mc_result;
 
 /* The config's maneuvers (montecarlo group, o's count and seed) with the
@@ -245,7 +251,9 @@ void pom_grad_mc_free(pom_grad_mc_result *r);
  * gradient, undefined, peak_current_at (the peak coil current's time, s, and
  * coil from 1; null and 0 without one) (and "check": check's whole-run
  * differences when check is not NULL), finished, mean, mean_gradient, mean_gradient_defined_in,
- * quantile (p, bandwidth_s, value, gradient, undefined: the times' smooth quantile).
+ * quantile (p, bandwidth_s, value, gradient, undefined: the times' smooth quantile),
+ * method (how r's gradients were computed: "sensitivities" or "whole-run differences",
+ * rel_step, solver_rtol) and, with check, check_method (the same of check's).
  * What `pomlab gradient --json` prints and the Python module returns. */
 void pom_grad_mc_json(FILE *out, const char *cfg_path, const pom_grad *g,
                       const pom_grad_mc_result *r, const pom_grad_mc_result *check);

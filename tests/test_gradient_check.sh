@@ -46,6 +46,22 @@ for m in d["maneuvers"]:
 print("%.3e" % w)
 PY
 }
+# the JSON says how both sides were computed (method, check_method)
+methods() { # FILE -> "grad step rtol | grad step rtol"
+  python3 - "$1" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+f = lambda m: "%s %g %g" % (m["gradients"], m["rel_step"], m["solver_rtol"])
+print(f(d["method"]) + " | " + f(d["check_method"]))
+PY
+}
+md=$(methods "$TMP/d.json")
+ml=$(methods "$TMP/l.json")
+[ "$md" = "sensitivities 3e-06 1e-06 | whole-run differences 0.001 1e-10" ] \
+  || bad "default: method and check_method say '$md'"
+[ "$ml" = "sensitivities 3e-06 1e-06 | whole-run differences 0.001 1e-06" ] \
+  || bad "--check-rtol 1e-6: method and check_method say '$ml'"
+
 wd=$(worst "$TMP/d.json")
 wl=$(worst "$TMP/l.json")
 echo "worst energy elasticity error: check at 1e-10 $wd, at 1e-6 $wl"
