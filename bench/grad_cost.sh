@@ -9,7 +9,8 @@
 # replaces the config's solver.rtol and lifts its wall-clock budget (the
 # sensitivities' noise margin only
 # acts below rtol = margin x 7.4e-11, docs/optimize.md 12.4); MARGIN=100
-# passes --sens-margin to `pomlab gradient`.
+# passes --sens-margin to `pomlab gradient`; ERRTEST=off passes
+# --sens-error-test off (docs/optimize.md 12.5, "The error test").
 set -eu
 build=${1:?usage: grad_cost.sh BUILD [CFG]}
 src=$(cd "$(dirname "$0")/.." && pwd)
@@ -28,6 +29,7 @@ if [ -n "${RTOL:-}" ]; then
 fi
 margin=()
 [ -n "${MARGIN:-}" ] && margin=(--sens-margin "$MARGIN")
+[ -n "${ERRTEST:-}" ] && margin+=(--sens-error-test "$ERRTEST")
 ir() { # instructions of a command
   valgrind --tool=callgrind --callgrind-out-file="$tmp/cg.out" "$@" > /dev/null 2> "$tmp/err" ||
     { cat "$tmp/err" >&2; exit 1; }
@@ -50,5 +52,5 @@ for p in ${PS:-1 3 6 9}; do
   list=$(IFS=,; echo "${keys[*]:0:$p}")
   g=$(per --maneuvers "$build/cli/pomlab-full" gradient "$cfg" --params "$list" ${margin[@]+"${margin[@]}"})
   awk -v g="$g" -v pl="$plain" -v p="$p" 'BEGIN {
-    printf "p = %d: %d instructions per maneuver = %.2f x plain (bound 1 + p = %d)\n", p, g, g / pl, 1 + p }'
+    printf "p = %d: %.0f instructions per maneuver = %.2f x plain (bound 1 + p = %d)\n", p, g, g / pl, 1 + p }'
 done

@@ -92,7 +92,8 @@ static void print_set(const pom_grad *g, int n, const double *v, const pom_dyn_d
 int pom_cmd_gradient(int argc, char **argv) {
   const char *cfg_path = NULL, *params = NULL;
   const char *n_text = NULL, *seed_text = NULL, *margin_text = NULL, *q_text = NULL,
-             *bw_text = NULL, *check_rtol_text = NULL;
+             *bw_text = NULL, *check_rtol_text = NULL,
+             *errtest_text = NULL;
   int json = 0, check = 0;
   const pom_opt opts[] = {
       {.name = "--params",
@@ -121,6 +122,15 @@ int pom_cmd_gradient(int argc, char **argv) {
                "max(solver.rtol, M eps / 3e-6) (default 3e2; smaller = more accurate at more "
                "steps, acting only below solver.rtol = M x 7.4e-11; docs/optimize.md 12.4)",
        .text = &margin_text},
+      {.name = "--sens-error-test",
+       .kind = POM_OPT_CHOICE,
+       .arg = "on|off",
+       .key = POM_GRAD_KEY_ERROR_TEST,
+       .help = "whether the sensitivities enter the integrator's error test (default on; off: "
+               "the state's steps carry them, as accurate at a tight solver.rtol such as 1e-10 "
+               "for far fewer steps, 10-20x less accurate at the shipped 1e-6; docs/optimize.md "
+               "12.5)",
+       .text = &errtest_text},
       {.name = "--quantile",
        .kind = POM_OPT_NUMBER,
        .arg = "P",

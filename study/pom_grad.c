@@ -404,6 +404,14 @@ pom_status pom_grad_create_dirs(pom_grad **out, const pom_cfg *cfg, const char *
                                 POM_DYN_SENS_MARGIN_MAX, g->opt.sens_noise_margin,
                                 &g->opt.sens_noise_margin, err),
                fail);
+  /* the sensitivities in the error test or not (a file's or a command
+   * line's value, one check) */
+  {
+    static const char *const onoff[] = {"off", "on", NULL};
+    int on = g->opt.error_control ? 1 : 0;
+    POM_TRY_GOTO(pom_cfg_choice_opt(cfg, POM_GRAD_KEY_ERROR_TEST, onoff, on, &on, err), fail);
+    g->opt.error_control = on;
+  }
   /* the smooth quantile of the times (a file's or a command line's value,
    * the same check) */
   POM_TRY_GOTO(pom_cfg_real_opt(cfg, POM_GRAD_KEY_QUANTILE, 1.0, POM_GRAD_QUANTILE_MIN,

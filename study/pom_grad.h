@@ -80,7 +80,9 @@ typedef struct {
   double rel_step;                       /* default 3e-6 */
   double abs_floor[POM_GRAD_MAX_PARAMS]; /* default 1 (config units) */
   pom_dyn_sens_method method;            /* default staggered */
-  int error_control;                     /* default 1 */
+  int error_control;                     /* 1 (default): the sensitivities enter the error
+                                            test; the key gradient.sens_error_test ("on",
+                                            "off"), when present, replaces it */
   int rigid_joints;          /* 1: joints.model = "rigid" whatever the config's text says (the
                                 co-design's rigid evaluation); default 0 */
   int peak_current;          /* 1 (default): the peak coil current and its derivative (three more
@@ -110,6 +112,12 @@ void pom_grad_options_defaults(pom_grad_options *o);
  * set with pom_cfg_set_number reaches it) and checked against
  * [POM_DYN_SENS_MARGIN_MIN, POM_DYN_SENS_MARGIN_MAX]. */
 #define POM_GRAD_KEY_NOISE_MARGIN "gradient.sens_noise_margin"
+/* Whether the sensitivities enter CVODES' error test (`pomlab gradient
+ * --sens-error-test`): "on" (default) or "off", read by pom_grad_create from
+ * cfg into error_control as the noise margin is. Off, the state's steps
+ * carry them: as accurate at a tight solver.rtol for far fewer steps, less
+ * accurate at a loose one (docs/optimize.md 12.5, "The error test"). */
+#define POM_GRAD_KEY_ERROR_TEST "gradient.sens_error_test"
 /* The smooth quantile's probability and bandwidth (ms) (`pomlab gradient
  * --quantile`, `--bandwidth-ms`), read and checked as the noise margin. */
 #define POM_GRAD_KEY_QUANTILE     "gradient.quantile"

@@ -27,7 +27,7 @@ declare -A options=(
   [tradeoff]="--accuracy --maneuvers --repeats --csv --quiet"
   [view]="-o --pose --trace --frame --frames --workspace --compare --png --mp4 --size --fps"
   [export]="--mjcf"
-  [gradient]="--params --maneuvers --seed --sens-margin --quantile --bandwidth-ms --check --check-rtol --json"
+  [gradient]="--params --maneuvers --seed --sens-margin --sens-error-test --quantile --bandwidth-ms --check --check-rtol --json"
 )
 for cmd in "${!options[@]}"; do
   expect_rc 0 "$POMLAB" "$cmd" --help
@@ -102,6 +102,15 @@ expect_err "gradient.sens_noise_margin"
 printf 'gradient = { sens_noise_margin = 2e6; };\n' | cat "$TMP/rigid.cfg" - >"$TMP/margin.cfg"
 expect_rc 2 "$POMLAB" gradient "$TMP/margin.cfg" --params actuator.resistance_ohm --maneuvers 1
 expect_err "gradient.sens_noise_margin"
+# the sensitivities' error test (docs/optimize.md 12.5): on or off, the same check from the flag
+# and the file
+expect_rc 2 "$POMLAB" gradient "$TMP/rigid.cfg" --params actuator.resistance_ohm --maneuvers 1 \
+  --sens-error-test maybe
+expect_err "--sens-error-test"
+expect_err "gradient.sens_error_test"
+printf 'gradient = { sens_error_test = "no"; };\n' | cat "$TMP/rigid.cfg" - >"$TMP/errtest.cfg"
+expect_rc 2 "$POMLAB" gradient "$TMP/errtest.cfg" --params actuator.resistance_ohm --maneuvers 1
+expect_err "gradient.sens_error_test"
 # the smooth quantile's probability and bandwidth (docs/optimize.md 12.3): the same check from
 # the flag and the file
 expect_rc 2 "$POMLAB" gradient "$TMP/rigid.cfg" --params actuator.resistance_ohm --maneuvers 1 \

@@ -33,6 +33,9 @@
  * (pom_grad_options.sens_noise_margin, default 3e2; docs/optimize.md 12.4).
  * --rel-step R: the sensitivities' differencing step (pom_grad_options.rel_step,
  * default 3e-6).
+ * --error-test off: the sensitivities out of CVODES' error test
+ * (pom_grad_options.error_control 0, gradient.sens_error_test = "off";
+ * docs/optimize.md 12.5, "The error test"); the check runs at rtol 1e-12.
  * --ref-step S: the reference's largest step H = S |p| (default REF_STEP,
  * 4e-3): a reference that moves with it was not differentiable there
  * (the cache of --ref-cache does not record it: one step per PREFIX).
@@ -352,7 +355,7 @@ int main(int argc, char **argv) {
   /* the named options first, then the positional arguments */
   double margin = POM_DYN_SENS_MARGIN_DEFAULT, against = 0.0, rel_step = 0.0, ref_step = REF_STEP;
   const char *list = NULL, *cache = NULL, *arch_file = NULL;
-  int dry = 0;
+  int dry = 0, error_test = 1;
   char *pos[4] = {argv[0], NULL, NULL, NULL};
   int npos = 1;
   for (int i = 1; i < argc; ++i) {
@@ -360,6 +363,13 @@ int main(int argc, char **argv) {
       margin = atof(argv[++i]);
     } else if (strcmp(argv[i], "--rel-step") == 0 && i + 1 < argc) {
       rel_step = atof(argv[++i]);
+    } else if (strcmp(argv[i], "--error-test") == 0 && i + 1 < argc) {
+      const char *v = argv[++i];
+      if (strcmp(v, "on") != 0 && strcmp(v, "off") != 0) {
+        printf("--error-test %s: on or off\n", v);
+        return 2;
+      }
+      error_test = strcmp(v, "on") == 0;
     } else if (strcmp(argv[i], "--dry") == 0) {
       dry = 1;
     } else if (strcmp(argv[i], "--ref-step") == 0 && i + 1 < argc) {
@@ -427,6 +437,7 @@ int main(int argc, char **argv) {
     pom_grad_options_defaults(&opt);
     opt.sens_noise_margin = tl[t].margin;
     if (rel_step > 0.0) opt.rel_step = rel_step;
+    opt.error_control = error_test;
     for (int a = 0; a < N_ARCHS; ++a) {
       if (only >= 0 ? a != only : a >= 2) continue;
       pom_cfg *cfg = rigid_config(archs[a].file);

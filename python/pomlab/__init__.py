@@ -814,7 +814,7 @@ def study(cfg, *, n=None, threads=0, output=None, resume=False, summary=True, pl
 
 
 def gradient(cfg, params, *, maneuvers=None, sens_margin=None, quantile=None, bandwidth_ms=None,
-             overrides=None):
+             sens_error_test=None, overrides=None):
     """Design gradients (docs/optimize.md section 12): the metrics of the
     config's Monte-Carlo maneuvers and their derivatives with respect to
     the numeric config keys `params` (a list, at most 16; an array element
@@ -833,12 +833,16 @@ def gradient(cfg, params, *, maneuvers=None, sens_margin=None, quantile=None, ba
     (default 1), checked as the file's keys are. sens_margin sets gradient.sens_noise_margin (the
     sensitivities' accuracy, docs/optimize.md 12.4: 3e2 by default; smaller
     is more accurate at more steps, and acts only when solver.rtol is below
-    margin x 7.4e-11; checked as the file's key is). Overrides may set only montecarlo.* keys and
+    margin x 7.4e-11; checked as the file's key is). sens_error_test ("on" or "off") sets
+    gradient.sens_error_test: whether the sensitivities enter the integrator's error test
+    (docs/optimize.md 12.5: off is as accurate at a tight solver.rtol for far fewer steps,
+    less accurate at a loose one). Overrides may set only montecarlo.* keys and
     gradient.* keys: the models are built from the file's text (move a
     design key in the file or pass it in params)."""
     import json
 
     for key, value in (("gradient.sens_noise_margin", sens_margin),
+                       ("gradient.sens_error_test", sens_error_test),
                        ("gradient.quantile", quantile),
                        ("gradient.quantile_bandwidth_ms", bandwidth_ms)):
         if value is not None:
