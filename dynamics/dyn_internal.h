@@ -284,6 +284,13 @@ struct pom_dyn_data {
   SUNLinearSolver LS;
   dyn_body_eval be[POM_MECH_MAX_BODIES];
   dyn_outputs out;
+  /* a sensitivity run: the raw voltages of the driver's evaluation at the
+   * last step's end (dyn_simulate.c), which the saturation pattern's check
+   * of dyn_sens.c reads instead of evaluating the same (t, y) again */
+  double u_raw_step[POM_MECH_MAX_ACTUATORS];
+  /* 1 while d->out holds the band roots' last evaluation (dyn_sens.c):
+   * cleared by every pom_dyn_eval on d */
+  int out_from_roots;
   double target[POM_MECH_MAX_ACTUATORS];
   long rhs_count;     /* all RHS evaluations (CVODE + Jacobian) */
   long jac_rhs_count; /* RHS evaluations inside the Jacobian */
@@ -660,6 +667,11 @@ typedef struct {
   pom_status (*restart)(const pom_dyn_model *m, pom_dyn_data *d, double t, pom_error *err);
   /* CVODES' sensitivities off for a plain re-run inside a sensitivity run */
   void (*off)(pom_dyn_data *d);
+  /* 1 when d->out already holds the outputs at (t, y): the last evaluation
+   * on d was the band roots' at that t and bit-identical y (CVODES checks
+   * the roots at each step's end last), so the driver's per-step
+   * evaluation would repeat it */
+  int (*out_at)(const pom_dyn_model *m, const pom_dyn_data *d, double t, const double *y);
 } dyn_sens_ops;
 /* The driver reaches dyn_sens.c through this table, as it reaches the
  * formulations through theirs (no circle of calls between the files). */

@@ -144,7 +144,10 @@ static pom_status peak_step(const pom_dyn_model *m, pom_dyn_data *d, double t0, 
   dyn_peak *pk = &d->peak;
   pk->improved = 0;
   double absi[POM_MECH_MAX_ACTUATORS], r[POM_MECH_MAX_ACTUATORS];
-  if (rates_at(m, d, t, absi, r))
+  /* at the step's end the state is CVODES' y_n itself (the interpolant
+   * there, bit for bit); only its rate is interpolated */
+  if (CVodeGetDky(d->cvode, t, 1, d->ftmp) != CV_SUCCESS ||
+      rates(m, d, t, N_VGetArrayPointer(d->y), N_VGetArrayPointer(d->ftmp), absi, r))
     POM_FAIL(err, POM_ERR_SOLVER, "peak current: the evaluation at t = %.9g s failed", t);
   for (int a = 0; a < m->n_actuators; ++a) {
     /* |i| rising at the step's start, not at its end: a maximum inside */

@@ -43,6 +43,9 @@ struct dyn_sens {
   int key_ok[POM_DYN_SENS_MAX];
   double *ykey[POM_DYN_SENS_MAX], *fp_prev[POM_DYN_SENS_MAX], *fs_prev[POM_DYN_SENS_MAX];
   double *ybuf; /* [n_states] perturbed state */
+  /* the band roots' last evaluation on d: its (t, y) */
+  double roots_t;
+  double *roots_y; /* [n_states] */
   double *ydot; /* [n_states] rate at an interpolated time */
   double pbar[POM_DYN_SENS_MAX];
   long rhs_evals;
@@ -283,14 +286,31 @@ static int band_roots(sunrealtype t, N_Vector yv, sunrealtype *gout, void *user_
   pom_dyn_data *d = user_data;
   const pom_dyn_model *m = d->m;
   const double lim = m->par.actuator.voltage_limit;
+  struct dyn_sens *w = d->sens;
+  const double *y = N_VGetArrayPointer(yv);
   d->t = t;
-  int r = pom_dyn_eval(m, d, N_VGetArrayPointer(yv), NULL);
+  int r = pom_dyn_eval(m, d, y, NULL);
   for (int a = 0; a < m->n_actuators; ++a) {
     double u = r ? 0.0 : d->out.u_raw[a];
     gout[2 * a] = u - lim;
     gout[2 * a + 1] = u + lim;
   }
+  /* the key of d->out (pom_dyn_sens_ops.out_at); a plain re-run inside a
+   * sensitivity run (dyn_simulate.c, stepinfo_rerun) keeps the roots with
+   * d->sens NULL */
+  if (w) {
+    d->out_from_roots = 1;
+    w->roots_t = t;
+    memcpy(w->roots_y, y, (size_t)m->n_states * sizeof *y);
+  }
   return 0;
+}
+
+static int pom_dyn_sens_out_at(const pom_dyn_model *m, const pom_dyn_data *d, double t,
+                               const double *y) {
+  const struct dyn_sens *w = d->sens;
+  return d->out_from_roots && w->roots_t == t &&
+         memcmp(w->roots_y, y, (size_t)m->n_states * sizeof *y) == 0;
 }
 
 /* The saturation pattern of a raw voltage u at limit lim, as the clamp has
@@ -525,12 +545,11 @@ static pom_status pom_dyn_sens_step(const pom_dyn_model *m, pom_dyn_data *d, dou
    * crossings inside one step is a sign change that the root finding does
    * not see; the perturbed models then follow the nominal again from here */
   d->t = t;
-  (void)pom_dyn_eval(m, d, N_VGetArrayPointer(d->y), NULL);
   const double lim = m->par.actuator.voltage_limit;
   int agree = 1;
-  for (int a = 0; a < na; ++a)
-    if (!mode_agrees(w->mode[a], d->out.u_raw[a], lim)) {
-      w->mode[a] = sat_mode_of(d->out.u_raw[a], lim);
+  for (int a = 0; a < na; ++a) /* the driver's evaluation at (t, y_n) */
+    if (!mode_agrees(w->mode[a], d->u_raw_step[a], lim)) {
+      w->mode[a] = sat_mode_of(d->u_raw_step[a], lim);
       agree = 0;
     }
   if (!agree) {
@@ -578,6 +597,7 @@ const dyn_sens_ops pom_dyn_sens_ops = {
     .step = pom_dyn_sens_step,
     .end = pom_dyn_sens_end,
     .restart = pom_dyn_sens_restart,
+    .out_at = pom_dyn_sens_out_at,
     .off = pom_dyn_sens_off,
 };
 
@@ -597,6 +617,7 @@ static void ws_free(struct dyn_sens *w) {
   }
   free(w->ybuf);
   free(w->ydot);
+  free(w->roots_y);
   free(w);
 }
 
@@ -694,7 +715,8 @@ pom_status pom_dyn_simulate_sens(const pom_dyn_model *m, pom_dyn_data *d, const 
   w->atolS = N_VCloneVectorArray(n, d->y);
   w->ybuf = calloc((size_t)m->n_states, sizeof *w->ybuf);
   w->ydot = calloc((size_t)m->n_states, sizeof *w->ydot);
-  if (!w->yS || !w->ySt || !w->atolS || !w->ybuf || !w->ydot)
+  w->roots_y = calloc((size_t)m->n_states, sizeof *w->roots_y);
+  if (!w->yS || !w->ySt || !w->atolS || !w->ybuf || !w->ydot || !w->roots_y)
     POM_FAIL_GOTO(err, POM_ERR_NOMEM, done, "allocating the sensitivity workspace");
   for (int j = 0; j < n; ++j) {
     w->ykey[j] = malloc((size_t)m->n_states * sizeof(double));

@@ -58,6 +58,7 @@ static double sample_time(const pom_dyn_params *p, int k) {
 
 /* ---- the formulation's RHS ---------------------------------------------- */
 int pom_dyn_eval(const pom_dyn_model *m, pom_dyn_data *d, const double *y, double *ydot) {
+  d->out_from_roots = 0;
   if (d->setpoint_fn) d->setpoint_fn(d->setpoint_ctx, d->t, d->target);
   return m->form->eval(m, d, y, ydot);
 }
@@ -594,8 +595,14 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
       st = fail_status(d, CV_RHSFUNC_FAIL, t, mt, err);
       goto finish;
     }
+    /* extremes at every internal step (in a sensitivity run, the band
+     * roots' evaluation at the same (t, y) when it was the last) */
+    if (!(d->sens && pom_dyn_sens_ops.out_at(m, d, t, y))) {
+      d->t = t;
+      pom_dyn_eval(m, d, y, NULL);
+    }
     d->t = t;
-    pom_dyn_eval(m, d, y, NULL); /* extremes at every internal step */
+    if (d->sens) memcpy(d->u_raw_step, d->out.u_raw, sizeof d->u_raw_step);
     if (below_dexterity_floor(m, d)) {
       st = fail_status(d, CV_SUCCESS, t, mt, err);
       goto finish;
