@@ -92,8 +92,7 @@ static void print_set(const pom_grad *g, int n, const double *v, const pom_dyn_d
 int pom_cmd_gradient(int argc, char **argv) {
   const char *cfg_path = NULL, *params = NULL;
   const char *n_text = NULL, *seed_text = NULL, *margin_text = NULL, *q_text = NULL,
-             *bw_text = NULL, *check_rtol_text = NULL,
-             *errtest_text = NULL;
+             *bw_text = NULL, *check_rtol_text = NULL, *errtest_text = NULL;
   int json = 0, check = 0;
   const pom_opt opts[] = {
       {.name = "--params",

@@ -46,7 +46,7 @@ struct dyn_sens {
   /* the band roots' last evaluation on d: its (t, y) */
   double roots_t;
   double *roots_y; /* [n_states] */
-  double *ydot; /* [n_states] rate at an interpolated time */
+  double *ydot;    /* [n_states] rate at an interpolated time */
   double pbar[POM_DYN_SENS_MAX];
   long rhs_evals;
   int failed; /* a non-finite difference */
