@@ -162,9 +162,9 @@ static double band_dp(struct dyn_sens *w, const pom_dyn_model *m, int a, int j, 
  * 1e-8 of the horizon rounds at eps times the limb lengths (cm) the IK
  * forms q_a from, whatever q_a's own size: at a band of tens of nanometres,
  * where q_dot_a is small, that reached 1.6e-4 of the rate (case 68 of
- * 12.4). NaN where the model cannot
- * be evaluated (the crossing is then reported undefined). Leaves d->out
- * and d->t at the crossing (the step's end evaluates again). */
+ * 12.4). NaN where the model cannot be evaluated (the crossing is then
+ * reported undefined). Leaves d->out and d->t at the crossing: the step's
+ * pattern check reads the driver's own step-end values (d->u_raw_step). */
 static double band_rate(const pom_dyn_model *m, pom_dyn_data *d, int a, const double *y) {
   if (a >= 0) {
     if (pom_dyn_eval(m, d, y, NULL)) return NAN;

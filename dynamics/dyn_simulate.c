@@ -597,11 +597,8 @@ pom_status pom_dyn_simulate_ex(const pom_dyn_model *m, pom_dyn_data *d, const do
     }
     /* extremes at every internal step (in a sensitivity run, the band
      * roots' evaluation at the same (t, y) when it was the last) */
-    if (!(d->sens && pom_dyn_sens_ops.out_at(m, d, t, y))) {
-      d->t = t;
-      pom_dyn_eval(m, d, y, NULL);
-    }
     d->t = t;
+    if (!(d->sens && pom_dyn_sens_ops.out_at(m, d, t, y))) pom_dyn_eval(m, d, y, NULL);
     if (d->sens) memcpy(d->u_raw_step, d->out.u_raw, sizeof d->u_raw_step);
     if (below_dexterity_floor(m, d)) {
       st = fail_status(d, CV_SUCCESS, t, mt, err);
